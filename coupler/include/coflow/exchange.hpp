@@ -1,0 +1,132 @@
+// M x N exchange of cell fields and of point records between two components
+// over an intercommunicator.
+//
+// Both sides know both decompositions (they read the same configuration), so
+// the communication map is computed locally, once, from block intersections.
+// After setup only point-to-point messages flow, into preallocated buffers.
+#pragma once
+
+#include <mpi.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "coflow/decomposition.hpp"
+
+namespace coflow::coupler {
+
+// consistent: values are copied (velocity); the receiver's ghost layer is filled too.
+// conservative: sums are preserved (momentum sources); the sender's ghost layer
+// is included and added into the owning receiver cells.
+enum class Transfer { consistent, conservative };
+
+struct FieldSpec {
+  std::string name;
+  int components = 1;
+  Transfer transfer = Transfer::consistent;
+  int ghost = 0;  // width of the ghost layer of the local arrays, on both sides
+};
+
+// Local arrays cover the block grown by the ghost width; x runs fastest and the
+// components of a cell are contiguous: ((k * ny + j) * nx + i) * components + c.
+class FieldExchange {
+ public:
+  enum class Role { sender, receiver };
+
+  FieldExchange(MPI_Comm inter, Role role, const Decomposition& mine, int my_rank,
+                const Decomposition& remote, FieldSpec spec, int tag);
+  ~FieldExchange();
+  FieldExchange(const FieldExchange&) = delete;
+  FieldExchange& operator=(const FieldExchange&) = delete;
+
+  const FieldSpec& spec() const { return spec_; }
+  // The local array's box (global, unwrapped cell coordinates).
+  const Box& local_box() const { return local_box_; }
+  std::size_t local_size() const { return static_cast<std::size_t>(local_box_.volume()) * spec_.components; }
+  long local_index(const Index3& global) const;  // cell index in the local array
+
+  // Dense: every cell of the map. send() returns once the data is packed; the
+  // messages complete in the background (before the next send, or in flush()).
+  void send(std::span<const double> local);
+  // Consistent: overwrites the cells received (owned + ghost). Conservative:
+  // zeroes the owned cells, then adds every contribution to them.
+  void receive(std::span<double> local);
+
+  // Sparse: only listed cells travel. `cells` are global (possibly unwrapped)
+  // indices within the sender's local box; `values` holds `components` per cell.
+  void send_sparse(std::span<const Index3> cells, std::span<const double> values);
+  // Appends received cells (as local-array cell indices) and their values.
+  void receive_sparse(std::vector<long>& cells, std::vector<double>& values);
+
+  void flush();  // complete outstanding sends
+  std::size_t peers() const { return peers_.size(); }
+
+ private:
+  struct Peer {
+    int rank = 0;
+    std::vector<long> cells;  // local cell indices in message order
+    std::vector<double> buffer;
+    std::vector<std::byte> sparse;
+    MPI_Request request = MPI_REQUEST_NULL;
+  };
+  void build(const Decomposition& mine, int my_rank, const Decomposition& remote);
+
+  MPI_Comm inter_;
+  Role role_;
+  FieldSpec spec_;
+  int tag_;
+  Box local_box_;
+  Box owned_;
+  Decomposition mine_;
+  Decomposition remote_;
+  std::vector<Peer> peers_;
+  std::vector<int> peer_of_;  // remote rank -> index in peers_, or -1
+  std::vector<MPI_Request> requests_;
+  std::vector<MPI_Request> sparse_requests_;
+  bool sends_pending_ = false;
+};
+
+// Routes fixed-size records to the ranks of a remote decomposition that own
+// their position (and, with a ghost width, to ranks whose ghost layer holds
+// them), and brings per-record results back to the origin in the original order.
+class PointExchange {
+ public:
+  enum class Role { origin, destination };
+
+  // `lower` and `spacing` map positions to cells of the destination's grid.
+  PointExchange(MPI_Comm inter, Role role, const Decomposition& destination,
+                std::array<double, 3> lower, std::array<double, 3> spacing,
+                std::size_t record_bytes, std::size_t result_bytes, int tag, int ghost = 0);
+
+  // origin: send one record per position.
+  void send(std::span<const std::byte> records, std::span<const std::array<double, 3>> positions);
+  // destination: all records addressed to this rank, grouped by origin rank in
+  // rank order, each group in the origin's order. `owned[i]` is 1 when this
+  // rank owns record i's position, 0 for a ghost copy.
+  void receive(std::vector<std::byte>& records, std::vector<std::uint8_t>& owned);
+  // destination: one result per received record, same order.
+  void send_results(std::span<const std::byte> results);
+  // origin: results in the order of send(). A record that went to several
+  // ranks gets `combine(into, from)` for each extra copy (e.g. summing forces).
+  void receive_results(std::span<std::byte> results,
+                       void (*combine)(std::byte* into, const std::byte* from) = nullptr);
+
+ private:
+  MPI_Comm inter_;
+  Role role_;
+  Decomposition dest_;
+  std::array<double, 3> lower_, spacing_;
+  std::size_t record_bytes_, result_bytes_;
+  int tag_, ghost_;
+  int remote_size_ = 0;
+  // origin bookkeeping, reused across calls
+  std::vector<int> send_counts_, recv_counts_, send_displs_, recv_displs_;
+  std::vector<std::vector<std::uint32_t>> routed_;  // per destination: record indices
+  std::vector<std::byte> out_, in_;
+  std::size_t nrecords_ = 0;
+};
+
+}  // namespace coflow::coupler

@@ -1,0 +1,86 @@
+// The run directory shared by all components (layout: ARCHITECTURE.md,
+// "Output"): parallel HDF5 snapshots, CSV series, the XDMF index, summary.json.
+#pragma once
+
+#include <mpi.h>
+
+#include <array>
+#include <cstdint>
+#include <fstream>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "coflow/decomposition.hpp"
+
+namespace coflow::output {
+
+// Write a whole file under a temporary name, then rename it into place, so a
+// reader never sees a half-written file.
+void atomic_write(const std::string& path, const std::string& content);
+
+std::string snapshot_name(long step);  // "step_000042.h5"
+
+// A CSV time series; only the process that creates it writes.
+class Series {
+ public:
+  Series() = default;
+  Series(const std::string& path, std::vector<std::string> columns);
+  void row(std::span<const double> values);
+  bool is_open() const { return out_.is_open(); }
+
+ private:
+  std::ofstream out_;
+  std::size_t columns_ = 0;
+};
+
+// A field of the local array (block grown by `ghost`), `components` per cell.
+struct GridField {
+  std::string name;
+  int components = 1;
+  std::span<const double> data;
+};
+
+// Collective over `comm`: writes the owned part of each field into one HDF5
+// file with datasets [nz][ny][nx] or [nz][ny][nx][c], and the attributes time
+// and step. Written to a temporary name and renamed.
+void write_grid(MPI_Comm comm, const std::string& path, double time, long step,
+                const coupler::Index3& cells, const coupler::Box& owned, const coupler::Box& local,
+                const std::vector<GridField>& fields);
+
+struct PointField {
+  std::string name;
+  int components = 1;  // 1 or 3
+  std::span<const double> data;
+};
+
+// Collective over `comm`: each rank contributes its `count` points.
+void write_points(MPI_Comm comm, const std::string& path, double time, long step, std::size_t count,
+                  std::span<const std::int64_t> id, std::span<const std::int32_t> species,
+                  const std::vector<PointField>& fields);
+
+// Read back (serial) for restarts, tests and initial conditions.
+std::vector<double> read_dataset(const std::string& path, const std::string& name,
+                                 std::vector<std::size_t>* dims = nullptr);
+double read_time(const std::string& path);
+
+// The snapshot index of one component, kept in <dir>/<component>/index.csv, and
+// the ParaView index <dir>/run.xdmf rebuilt from every component's index.
+struct SnapshotInfo {
+  long step = 0;
+  double time = 0.0;
+  std::size_t count = 0;  // points (particles); 0 for grids
+};
+void append_index(const std::string& dir, const std::string& component, const SnapshotInfo& info,
+                  const std::vector<std::string>& fields);
+
+struct GridGeometry {
+  std::array<double, 3> lower{}, spacing{};
+  std::array<long, 3> cells{};
+};
+void write_xdmf(const std::string& dir, const GridGeometry& grid);
+
+// JSON string literal with escapes.
+std::string json_quote(const std::string& s);
+
+}  // namespace coflow::output

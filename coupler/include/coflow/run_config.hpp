@@ -1,0 +1,134 @@
+// The top-level configuration: run, coupling, domain, gravity, plus one section
+// per component whose schema the component contributes through a `Catalog`.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "coflow/config.hpp"
+
+namespace coflow::config {
+
+struct OutputParams {
+  std::string dir;                 // default out/<run.name>
+  double every = 0.0;              // s between snapshots; 0 = none
+  StringList fields{"velocity", "pressure"};
+  AutoDouble series_every;         // auto = every
+  bool collision_events = false;
+  void visit(Visitor& v);
+};
+
+struct CheckpointParams {
+  double every = 0.0;  // s; 0 = none
+  int keep = 2;
+  void visit(Visitor& v);
+};
+
+struct RunParams {
+  std::string name;
+  double end_time = 0.0;
+  OutputParams output;
+  CheckpointParams checkpoint;
+  std::uint64_t seed = 12345;
+  void visit(Visitor& v);
+};
+
+struct CouplingParams {
+  std::string scheme = "serial-explicit";
+  AutoDouble window;
+  double timeout = 300.0;  // s a rank may wait for a partner before the run is aborted
+  void visit(Visitor& v);
+};
+
+struct DomainParams {
+  Vec3 lower{0, 0, 0};
+  Vec3 upper{1, 1, 1};
+  Int3 cells{1, 1, 1};
+  Bool3 periodic{false, false, false};
+  void visit(Visitor& v);
+  Vec3 spacing() const;
+  bool two_dimensional() const { return cells[2] == 1; }
+};
+
+// The section of a component that the coupler needs to know about, whatever
+// the variant: its variant name and its rank layout.
+struct ComponentInfo {
+  std::string section;   // "fluid", "immersed", "particles"
+  std::string variant;   // solver or method name
+  int ranks = 1;
+  AutoInt3 decomposition;
+  bool present = false;
+};
+
+struct Config;
+
+// How a component declares its section. `visit` reads the whole section
+// (including `solver`/`method`, `ranks`, `decomposition`) and fills `info`.
+struct ComponentSchema {
+  std::string section;
+  std::string selector;  // "solver" or "method"
+  std::vector<std::string> variants;
+  std::string doc;
+  std::function<void(Visitor&, const Config&, ComponentInfo&)> visit;
+};
+
+using Catalog = std::vector<ComponentSchema>;
+
+struct Config {
+  std::string file;                    // as given by the user
+  RunParams run;
+  CouplingParams coupling;
+  DomainParams domain;
+  Vec3 gravity{0, 0, 0};
+  std::map<std::string, ComponentInfo> components;  // by section name; only present ones
+  YAML::Node resolved;                 // every key, defaults filled in
+  std::uint64_t hash = 0;              // of the resolved configuration
+
+  bool has(const std::string& section) const { return components.count(section) != 0; }
+  const ComponentInfo& component(const std::string& section) const { return components.at(section); }
+  std::string output_dir() const;
+};
+
+// The standard order of components in an MPMD launch.
+inline const std::vector<std::string>& component_order() {
+  static const std::vector<std::string> order{"fluid", "immersed", "particles"};
+  return order;
+}
+
+// Read, validate and resolve a configuration. Throws ConfigError listing every
+// problem. `overrides` are `key.path=value` assignments applied first.
+Config parse_config(const std::string& file, const Catalog& catalog,
+                    const std::vector<std::string>& overrides = {});
+Config parse_config_node(YAML::Node root, const std::string& file, const Catalog& catalog);
+
+// Visit the whole schema (for `coflow variants` and docs/config.md).
+void describe_config(Visitor& v, const Catalog& catalog);
+
+// Declare the common keys of a component section (selector, ranks, decomposition).
+void visit_component_common(Visitor& v, const ComponentSchema& schema, ComponentInfo& info);
+
+// Re-read a section of a resolved configuration into a Params struct.
+template <class P>
+P read_section(const Config& cfg, const std::string& path_in_resolved, const std::string& path_label) {
+  YAML::Node n = cfg.resolved;
+  std::string rest = path_in_resolved, part;
+  while (!rest.empty()) {
+    const auto dot = rest.find('.');
+    part = rest.substr(0, dot);
+    n = n[part];
+    rest = dot == std::string::npos ? "" : rest.substr(dot + 1);
+  }
+  P p;
+  Reader r(n, cfg.file, path_label);
+  p.visit(r);
+  r.finish();
+  r.check();
+  return p;
+}
+
+std::uint64_t hash_text(const std::string& text);
+
+}  // namespace coflow::config

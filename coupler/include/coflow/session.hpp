@@ -1,0 +1,117 @@
+// A component's view of a coupled run: its communicator, the intercommunicators
+// to its partners, the time windows, the output directory, failure handling and
+// the end-of-run summary. See docs/protocol.md for the calling sequence.
+#pragma once
+
+#include <mpi.h>
+
+#include <functional>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "coflow/decomposition.hpp"
+#include "coflow/run_config.hpp"
+#include "coflow/trace.hpp"
+
+namespace coflow::coupler {
+
+// Thrown by a solver for a physical failure (NaN, Mach limit): aborts the run.
+class SolverError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct Args {
+  std::string config;
+  std::string restart;  // checkpoint directory, or empty
+  std::vector<std::string> overrides;
+};
+
+class Session {
+ public:
+  // After MPI_Init: discovery, checks, intercommunicators, run directory, logs.
+  Session(std::string component, config::Config cfg, Args args);
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  const std::string& component() const { return component_; }
+  const config::Config& config() const { return cfg_; }
+  const Args& args() const { return args_; }
+  MPI_Comm comm() const { return comm_; }
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  // True when this component was launched alone (component-level runs).
+  bool standalone() const { return standalone_; }
+
+  // Partners present in this launch, and the intercommunicator to each.
+  bool has_partner(const std::string& component) const { return inter_.count(component) != 0; }
+  MPI_Comm partner(const std::string& component) const;
+
+  // This component's decomposition of the fluid grid, and any other's.
+  Decomposition decomposition() const { return decomposition_of(component_, size_); }
+  Decomposition decomposition_of(const std::string& component, int ranks) const;
+  int partner_ranks(const std::string& component) const;
+
+  // --- time windows -------------------------------------------------------
+  // Collective over every component: each offers its preferred window (the
+  // fluid its step; 0 for no preference). The result is coupling.window when
+  // given, else the smallest offer. Sets the number of windows to cover end_time.
+  double negotiate_window(double preferred);
+  double window() const { return window_; }
+  long windows() const { return windows_; }
+  // Whether a snapshot / series row falls at the end of window w (1-based);
+  // window 0 is the initial state.
+  bool snapshot_due(long w) const;
+  bool series_due(long w) const;
+  // Progress for the launcher (world rank 0 reports, throttled).
+  void window_done(long w);
+
+  // --- output ---------------------------------------------------------------
+  const std::string& output_dir() const { return dir_; }
+  std::string component_dir() const { return dir_ + "/" + component_; }
+  // Record a snapshot in the component's index and rebuild run.xdmf.
+  void snapshot_written(long step, double time, std::size_t count, const std::vector<std::string>& fields);
+  // Final scalars reported in summary.json (component rank 0 only).
+  void set_final(const std::string& key, double value);
+
+  // --- end -------------------------------------------------------------------
+  // Collective over every component: gathers traces, writes summary.json.
+  void finish();
+  // Log, tell the launcher, abort the whole run. Never returns.
+  [[noreturn]] void fail(const std::string& reason, int code = 1);
+
+ private:
+  void discover();
+  void prepare_output();
+
+  std::string component_;
+  config::Config cfg_;
+  Args args_;
+  MPI_Comm comm_ = MPI_COMM_NULL;
+  int rank_ = 0, size_ = 1, world_rank_ = 0, world_size_ = 1;
+  bool standalone_ = true;
+  std::map<std::string, MPI_Comm> inter_;
+  std::map<std::string, int> ranks_of_;  // component -> ranks in this launch
+  std::string dir_;
+  double window_ = 0.0;
+  long windows_ = 0;
+  double start_ = 0.0;
+  double last_progress_ = 0.0;
+  std::vector<std::pair<std::string, double>> finals_;
+  bool finished_ = false;
+};
+
+// Everything a component's main() does around its solver: MPI start, command
+// line, strict config (exit 2 on a bad file, before any intercommunicator),
+// the session, and turning any exception into a whole-run abort.
+int run_component(const std::string& component, int argc, char** argv,
+                  const config::Catalog& catalog, const std::function<void(Session&)>& body);
+
+// Format of the lines the launcher reads from the components' output.
+inline constexpr const char* kProgressTag = "@coflow progress";
+inline constexpr const char* kFailedTag = "@coflow failed";
+
+}  // namespace coflow::coupler

@@ -1,0 +1,490 @@
+// coflow: the launcher. Validates a configuration, composes the MPMD launch of
+// the component executables, runs it without a shell, shows progress, and
+// reports how the run ended.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <yaml-cpp/yaml.h>
+
+#include "coflow/catalog.hpp"
+#include "coflow/output.hpp"
+#include "coflow/session.hpp"
+
+namespace fs = std::filesystem;
+using coflow::config::Config;
+using coflow::config::ConfigError;
+
+namespace {
+
+volatile sig_atomic_t g_child = 0;
+
+void forward_signal(int sig) {
+  if (g_child > 0) kill(g_child, sig);
+}
+
+std::string self_dir() {
+  std::error_code ec;
+  const fs::path p = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string(".") : p.parent_path().string();
+}
+
+// Quote for display only; nothing here is ever passed to a shell.
+std::string quoted(const std::string& s) {
+  if (!s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-./=:,+@%") == std::string::npos)
+    return s;
+  std::string o = "'";
+  for (char c : s) o += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return o + "'";
+}
+
+std::string join_cmd(const std::vector<std::string>& argv) {
+  std::string s;
+  for (const auto& a : argv) s += (s.empty() ? "" : " ") + quoted(a);
+  return s;
+}
+
+std::string find_in_path(const std::string& exe) {
+  if (exe.find('/') != std::string::npos) return fs::exists(exe) ? exe : "";
+  const char* path = std::getenv("PATH");
+  std::stringstream ss(path ? path : "");
+  for (std::string dir; std::getline(ss, dir, ':');) {
+    const fs::path p = fs::path(dir) / exe;
+    if (!dir.empty() && access(p.c_str(), X_OK) == 0) return p.string();
+  }
+  return "";
+}
+
+struct Launch {
+  std::vector<std::string> components;  // in launch order
+  std::vector<int> ranks;
+  std::vector<std::string> exes;
+  int total = 0;
+};
+
+Launch plan(const Config& cfg, const std::map<std::string, std::string>& exe_override) {
+  Launch l;
+  const std::string bin = self_dir();
+  for (const auto& c : coflow::config::component_order()) {
+    if (!cfg.has(c)) continue;
+    l.components.push_back(c);
+    l.ranks.push_back(cfg.component(c).ranks);
+    auto it = exe_override.find(c);
+    l.exes.push_back(it != exe_override.end() ? fs::absolute(it->second).string() : bin + "/coflow-" + c);
+    l.total += cfg.component(c).ranks;
+  }
+  return l;
+}
+
+std::vector<std::string> mpirun_argv(const Launch& l, const std::string& config_path, const std::string& restart) {
+  std::vector<std::string> a{"mpirun"};
+  if (const char* m = std::getenv("COFLOW_MPIRUN")) a[0] = m;
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  if (l.total > static_cast<int>(cores)) {
+    a.push_back("--oversubscribe");
+    a.push_back("--bind-to");
+    a.push_back("none");
+  }
+  for (std::size_t i = 0; i < l.components.size(); ++i) {
+    if (i) a.push_back(":");
+    a.insert(a.end(), {"-np", std::to_string(l.ranks[i]), l.exes[i], config_path});
+    if (!restart.empty()) a.insert(a.end(), {"--restart", restart});
+  }
+  return a;
+}
+
+// ------------------------------------------------------------- progress ---
+
+class Progress {
+ public:
+  explicit Progress(bool tty) : tty_(tty) {}
+  void update(double t, double end, long w, long windows, double wall) {
+    const double frac = end > 0 ? std::clamp(t / end, 0.0, 1.0) : 1.0;
+    const double rate = wall > 0 ? w / wall : 0.0;
+    const double eta = rate > 0 ? (windows - w) / rate : 0.0;
+    if (tty_) {
+      const int width = 30, fill = static_cast<int>(frac * width);
+      std::string bar(fill, '#');
+      bar += std::string(width - fill, ' ');
+      std::fprintf(stdout, "\r[%s] %5.1f%%  t = %.4g / %.4g s  %.1f windows/s  ETA %s   ", bar.c_str(),
+                   100 * frac, t, end, rate, eta_text(eta).c_str());
+      std::fflush(stdout);
+      shown_ = true;
+    } else if (frac >= next_ || w == windows) {
+      std::fprintf(stdout, "progress: %3.0f%%  t = %.4g / %.4g s  %.1f windows/s  ETA %s\n", 100 * frac, t, end,
+                   rate, eta_text(eta).c_str());
+      std::fflush(stdout);
+      next_ = std::floor(frac * 10 + 1e-9) / 10 + 0.1;
+    }
+  }
+  void clear() {
+    if (tty_ && shown_) {
+      std::fprintf(stdout, "\r%*s\r", 110, "");
+      std::fflush(stdout);
+      shown_ = false;
+    }
+  }
+  void done() {
+    if (tty_ && shown_) std::fprintf(stdout, "\n");
+    shown_ = false;
+  }
+
+ private:
+  static std::string eta_text(double s) {
+    if (s < 60) return fmt::format("{:.0f} s", s);
+    if (s < 3600) return fmt::format("{:.0f} min {:02.0f} s", std::floor(s / 60), std::fmod(s, 60));
+    return fmt::format("{:.1f} h", s / 3600);
+  }
+  bool tty_;
+  bool shown_ = false;
+  double next_ = 0.0;
+};
+
+struct Failure {
+  std::string component;
+  std::string rank;
+  std::string reason;
+};
+
+// Runs argv with stdout+stderr piped to us; returns the exit status.
+int run_child(const std::vector<std::string>& argv, const Launch& launch, Progress& progress,
+              Failure& failure) {
+  int fds[2];
+  if (pipe(fds) != 0) throw std::runtime_error("pipe failed");
+  std::vector<char*> cargv;
+  for (const auto& a : argv) cargv.push_back(const_cast<char*>(a.c_str()));
+  cargv.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error("fork failed");
+  if (pid == 0) {
+    dup2(fds[1], STDOUT_FILENO);
+    dup2(fds[1], STDERR_FILENO);
+    close(fds[0]);
+    close(fds[1]);
+    execvp(cargv[0], cargv.data());
+    std::fprintf(stderr, "coflow: cannot start %s: %s\n", cargv[0], std::strerror(errno));
+    _exit(127);
+  }
+  g_child = pid;
+  close(fds[1]);
+  signal(SIGINT, forward_signal);
+  signal(SIGTERM, forward_signal);
+
+  FILE* in = fdopen(fds[0], "r");
+  char* line = nullptr;
+  size_t cap = 0;
+  const std::string ptag = coflow::coupler::kProgressTag, ftag = coflow::coupler::kFailedTag;
+  while (getline(&line, &cap, in) > 0) {
+    std::string s(line);
+    if (!s.empty() && s.back() == '\n') s.pop_back();
+    if (s.rfind(ptag, 0) == 0) {
+      double t = 0, end = 0, wall = 0;
+      long w = 0, n = 0;
+      if (std::sscanf(s.c_str() + ptag.size(), "%lf %lf %ld %ld %lf", &t, &end, &w, &n, &wall) == 5)
+        progress.update(t, end, w, n, wall);
+      continue;
+    }
+    if (s.rfind(ftag, 0) == 0) {
+      std::istringstream is(s.substr(ftag.size()));
+      Failure f;
+      is >> f.component >> f.rank;
+      std::getline(is, f.reason);
+      if (!f.reason.empty() && f.reason[0] == ' ') f.reason.erase(0, 1);
+      if (failure.component.empty()) failure = f;
+      continue;
+    }
+    // Open MPI's own report of a process that died.
+    if (failure.component.empty()) {
+      const auto at = s.find("process rank ");
+      if (at != std::string::npos && (s.find("exited on signal") != std::string::npos ||
+                                      s.find("non-zero status") != std::string::npos)) {
+        int r = std::atoi(s.c_str() + at + 13), first = 0;
+        for (std::size_t i = 0; i < launch.components.size(); ++i) {
+          if (r < first + launch.ranks[i]) {
+            failure = {launch.components[i], std::to_string(r - first), s};
+            break;
+          }
+          first += launch.ranks[i];
+        }
+      }
+    }
+    progress.clear();
+    std::fprintf(stderr, "%s\n", s.c_str());
+    std::fflush(stderr);
+  }
+  free(line);
+  fclose(in);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  g_child = 0;
+  progress.done();
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return 1;
+}
+
+void print_summary(const std::string& dir) {
+  YAML::Node s;
+  try {
+    s = YAML::LoadFile(dir + "/summary.json");
+  } catch (const std::exception&) {
+    std::printf("coflow: finished, but %s/summary.json is missing or unreadable\n", dir.c_str());
+    return;
+  }
+  std::printf("\ncoflow: run '%s' %s in %.2f s wall (%ld windows of %.4g s, %s)\n",
+              s["name"].as<std::string>().c_str(), s["status"].as<std::string>() == "ok" ? "finished" : "FAILED",
+              s["wall_s"].as<double>(), s["windows"].as<long>(), s["window"].as<double>(),
+              s["scheme"].as<std::string>().c_str());
+  std::printf("  %-10s %-16s %5s %9s %10s %10s %10s %10s %12s\n", "component", "variant", "ranks", "steps",
+              "wall s", "compute s", "exchange s", "wait s", "MB moved");
+  for (const auto& c : coflow::config::component_order()) {
+    const YAML::Node n = s["components"][c];
+    if (!n) continue;
+    std::printf("  %-10s %-16s %5d %9ld %10.3f %10.3f %10.3f %10.3f %12.2f\n", c.c_str(),
+                n["variant"].as<std::string>().c_str(), n["ranks"].as<int>(), n["steps"].as<long>(),
+                n["wall_s"].as<double>(), n["compute_s"].as<double>(), n["exchange_s"].as<double>(),
+                n["wait_s"].as<double>(),
+                (n["bytes_sent"].as<double>() + n["bytes_received"].as<double>()) / 1e6);
+  }
+  std::printf("  output: %s  (open %s/run.xdmf in ParaView)\n", dir.c_str(), dir.c_str());
+}
+
+void write_failed_summary(const Config& cfg, const Failure& f, int code, double wall) {
+  const std::string dir = cfg.output_dir();
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  const std::string json = fmt::format(
+      "{{\n  \"name\": {},\n  \"status\": \"failed\",\n  \"failed_component\": {},\n  \"failed_rank\": {},\n"
+      "  \"reason\": {},\n  \"exit_code\": {},\n  \"wall_s\": {:.6f}\n}}\n",
+      coflow::output::json_quote(cfg.run.name), coflow::output::json_quote(f.component),
+      coflow::output::json_quote(f.rank), coflow::output::json_quote(f.reason), code, wall);
+  try {
+    coflow::output::atomic_write(dir + "/summary.json", json);
+  } catch (const std::exception&) {
+  }
+}
+
+// --------------------------------------------------------------- docs -----
+
+void print_variants(bool markdown) {
+  using coflow::config::Describer;
+  if (markdown) {
+    std::printf("# coflow configuration reference\n\n");
+    std::printf("Generated by `coflow variants --markdown` from the same declarations the parser\n"
+                "uses; `tests` check that this file is up to date. All quantities are SI.\n\n");
+    std::printf("| key | type | default | rule | meaning |\n|---|---|---|---|---|\n");
+    Describer d;
+    coflow::config::describe_config(d, coflow::catalog());
+    auto cell = [](std::string s) {  // a '|' would end the table cell
+      for (std::size_t at = 0; (at = s.find('|', at)) != std::string::npos; at += 2) s.replace(at, 1, "\\|");
+      return s;
+    };
+    for (const auto& r : d.rows())
+      std::printf("| `%s` | %s | %s | %s | %s |\n", r.path.c_str(), cell(r.type).c_str(),
+                  r.default_value.empty() ? "" : ("`" + cell(r.default_value) + "`").c_str(), cell(r.rule).c_str(),
+                  cell(r.doc).c_str());
+    std::printf("\n## Variants\n\n");
+    for (const auto& v : coflow::variant_infos())
+      std::printf("- `%s.%s = %s`: %s\n", v.component.c_str(), v.component == "immersed" ? "method" : "solver",
+                  v.name.c_str(), v.summary.c_str());
+    std::printf("- `<component>.solver|method = external`: your own executable, run with "
+                "`coflow run --exe <component>=PATH` (see docs/protocol.md).\n");
+    return;
+  }
+  for (const auto& comp : coflow::config::component_order()) {
+    std::printf("%s:\n", comp.c_str());
+    for (const auto& v : coflow::variant_infos()) {
+      if (v.component != comp) continue;
+      std::printf("  %-16s %s\n", v.name.c_str(), v.summary.c_str());
+      if (v.params_section.empty()) continue;
+      Describer d(comp + "." + v.params_section);
+      v.describe(d);
+      for (const auto& r : d.rows())
+        std::printf("      %-34s %-16s default %-10s %s%s%s\n", r.path.c_str(), r.type.c_str(),
+                    r.default_value.c_str(), r.doc.c_str(), r.rule.empty() ? "" : "; ", r.rule.c_str());
+    }
+    std::printf("  %-16s your own executable: coflow run --exe %s=PATH (docs/protocol.md)\n", "external", comp.c_str());
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"coflow: partitioned co-simulation of particle-laden flows"};
+  app.require_subcommand(1);
+
+  std::string cfg_path, launcher = "mpirun", restart;
+  std::vector<std::string> overrides, exes;
+  bool dry = false, markdown = false;
+
+  auto* run = app.add_subcommand("run", "validate a configuration and run it");
+  run->add_option("config", cfg_path, "run configuration (YAML)")->required();
+  run->add_flag("--dry-run", dry, "print the launch command and stop");
+  run->add_option("--launcher", launcher, "mpirun (default) or srun")->check(CLI::IsMember({"mpirun", "srun"}));
+  run->add_option("--restart", restart, "restart from a checkpoint directory");
+  run->add_option("--set", overrides, "override a key: --set fluid.lbm.tau=0.9 (repeatable)");
+  run->add_option("--exe", exes, "use your own executable for a component: --exe fluid=PATH");
+
+  auto* val = app.add_subcommand("validate", "check a configuration and print the resolved one");
+  val->add_option("config", cfg_path, "run configuration (YAML)")->required();
+  val->add_option("--set", overrides, "override a key: key.path=value");
+
+  auto* var = app.add_subcommand("variants", "list solvers, methods and their options");
+  var->add_flag("--markdown", markdown, "print the full configuration reference in Markdown");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);
+    return rc == 0 ? 0 : 2;
+  }
+
+  if (var->parsed()) {
+    print_variants(markdown);
+    return 0;
+  }
+
+  Config cfg;
+  try {
+    cfg = coflow::config::parse_config(cfg_path, coflow::catalog(), overrides);
+  } catch (const ConfigError& e) {
+    std::cerr << e.what() << std::endl;
+    return 2;
+  }
+
+  if (val->parsed()) {
+    std::cout << "# " << cfg_path << ": valid\n" << YAML::Dump(cfg.resolved) << std::endl;
+    return 0;
+  }
+
+  std::map<std::string, std::string> exe_override;
+  for (const auto& e : exes) {
+    const auto eq = e.find('=');
+    const std::string comp = e.substr(0, eq == std::string::npos ? 0 : eq);
+    const auto& order = coflow::config::component_order();
+    if (eq == std::string::npos || std::find(order.begin(), order.end(), comp) == order.end()) {
+      std::cerr << "--exe " << e << ": expected COMPONENT=PATH with COMPONENT one of fluid, immersed, particles\n";
+      return 2;
+    }
+    if (!fs::exists(e.substr(eq + 1))) {
+      std::cerr << "--exe " << e << ": no such file\n";
+      return 2;
+    }
+    exe_override[comp] = e.substr(eq + 1);
+  }
+  if (!restart.empty() && !fs::is_directory(restart)) {
+    std::cerr << "--restart " << restart << ": no such checkpoint directory\n";
+    return 2;
+  }
+
+  const Launch launch = plan(cfg, exe_override);
+  const std::string dir = cfg.output_dir();
+  const std::string resolved = dir + "/config.yaml";
+
+  if (launcher == "srun") {
+    // srun --multi-prog: one line per rank range, the program and its arguments.
+    std::string conf;
+    int first = 0;
+    for (std::size_t i = 0; i < launch.components.size(); ++i) {
+      conf += fmt::format("{}-{} {} {}{}\n", first, first + launch.ranks[i] - 1, launch.exes[i], resolved,
+                          restart.empty() ? "" : " --restart " + restart);
+      first += launch.ranks[i];
+    }
+    const std::string conf_path = dir + "/multi-prog.conf";
+    const std::vector<std::string> argv_srun{"srun", "-n", std::to_string(launch.total), "--multi-prog", conf_path};
+    std::printf("%s\n", join_cmd(argv_srun).c_str());
+    if (dry) {
+      std::printf("%s", conf.c_str());
+      return 0;
+    }
+    fs::create_directories(dir);
+    coflow::output::atomic_write(resolved, YAML::Dump(cfg.resolved) + "\n");
+    coflow::output::atomic_write(conf_path, conf);
+    if (find_in_path("srun").empty()) {
+      std::cerr << "coflow: srun not found on PATH; the multi-prog file is " << conf_path << "\n";
+      return 1;
+    }
+    std::vector<char*> a;
+    for (const auto& s : argv_srun) a.push_back(const_cast<char*>(s.c_str()));
+    a.push_back(nullptr);
+    execvp(a[0], a.data());
+    std::perror("coflow: exec srun");
+    return 1;
+  }
+
+  const auto argv_mpi = mpirun_argv(launch, resolved, restart);
+  if (dry) {
+    std::printf("%s\n", join_cmd(argv_mpi).c_str());
+    return 0;
+  }
+  if (find_in_path(argv_mpi[0]).empty()) {
+    std::cerr << "coflow: '" << argv_mpi[0] << "' not found; install Open MPI (scripts/setup does)\n";
+    return 1;
+  }
+  for (const auto& exe : launch.exes)
+    if (access(exe.c_str(), X_OK) != 0) {
+      std::cerr << "coflow: component executable " << exe << " is missing; build it (scripts/setup)\n";
+      return 1;
+    }
+  if (geteuid() == 0) {
+    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+  }
+
+  // A fresh run directory: stale snapshots or a stale summary would mislead.
+  if (restart.empty()) {
+    std::error_code ec;
+    for (const char* sub : {"fluid", "particles", "immersed", "series", "events", "logs"}) fs::remove_all(dir + "/" + sub, ec);
+    fs::remove(dir + "/summary.json", ec);
+    fs::remove(dir + "/run.xdmf", ec);
+  }
+  fs::create_directories(dir);
+  coflow::output::atomic_write(resolved, YAML::Dump(cfg.resolved) + "\n");
+
+  std::printf("coflow: running '%s' with %s\n", cfg.run.name.c_str(),
+              fmt::format("{}", fmt::join(launch.components, " + ")).c_str());
+  std::fflush(stdout);
+  Progress progress(isatty(STDOUT_FILENO));
+  Failure failure;
+  const double t0 = coflow::coupler::now();
+  const int rc = run_child(argv_mpi, launch, progress, failure);
+  const double wall = coflow::coupler::now() - t0;
+
+  if (rc == 0) {
+    print_summary(dir);
+    return 0;
+  }
+  if (failure.component.empty()) {
+    std::ifstream f(dir + "/logs/FAILED");
+    std::string first;
+    if (std::getline(f, first)) {
+      std::istringstream is(first);
+      is >> failure.component;
+      failure.reason = first;
+    }
+  }
+  write_failed_summary(cfg, failure, rc, wall);
+  if (failure.component.empty())
+    std::fprintf(stderr, "\ncoflow: run failed (exit status %d); see %s/logs/\n", rc, dir.c_str());
+  else
+    std::fprintf(stderr, "\ncoflow: run failed in component '%s' (rank %s): %s\n  logs: %s/logs/\n",
+                 failure.component.c_str(), failure.rank.c_str(), failure.reason.c_str(), dir.c_str());
+  return rc == 2 ? 2 : 1;
+}

@@ -1,0 +1,469 @@
+#include "coflow/exchange.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "coflow/trace.hpp"
+#include "coflow/wait.hpp"
+
+namespace coflow::coupler {
+
+namespace {
+
+int remote_size_of(MPI_Comm inter) {
+  int n = 0;
+  MPI_Comm_remote_size(inter, &n);
+  return n;
+}
+
+// Visits the cells of a box in z, y, x order.
+template <class F>
+void for_cells(const Box& b, F&& f) {
+  for (long k = b.lo[2]; k < b.hi[2]; ++k)
+    for (long j = b.lo[1]; j < b.hi[1]; ++j)
+      for (long i = b.lo[0]; i < b.hi[0]; ++i) f(Index3{i, j, k});
+}
+
+Index3 sub(const Index3& a, const Index3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+
+}  // namespace
+
+FieldExchange::FieldExchange(MPI_Comm inter, Role role, const Decomposition& mine, int my_rank,
+                             const Decomposition& remote, FieldSpec spec, int tag)
+    : inter_(inter), role_(role), spec_(std::move(spec)), tag_(tag), mine_(mine), remote_(remote) {
+  if (mine.cells() != remote.cells())
+    throw std::invalid_argument("field exchange between different grids");
+  owned_ = mine.block(my_rank);
+  local_box_ = owned_.grown(mine.ghost(spec_.ghost));
+  build(mine, my_rank, remote);
+}
+
+FieldExchange::~FieldExchange() {
+  // Outstanding sends must complete before their buffers go away.
+  try {
+    flush();
+  } catch (...) {
+  }
+}
+
+long FieldExchange::local_index(const Index3& g) const {
+  const Index3 l = sub(g, local_box_.lo);
+  return (l[2] * local_box_.extent(1) + l[1]) * local_box_.extent(0) + l[0];
+}
+
+// The map. For a consistent field, data flows from the sender's owned block to
+// the receiver's grown (ghost-including) block; for a conservative field, from
+// the sender's grown block to the receiver's owned block. Periodic images are
+// handled by shifting boxes by multiples of the domain size. Both sides walk the
+// same (sender, receiver, shift) regions in the same order.
+void FieldExchange::build(const Decomposition& mine, int my_rank, const Decomposition& remote) {
+  const bool sender = role_ == Role::sender;
+  const Decomposition& sdec = sender ? mine : remote;
+  const Decomposition& rdec = sender ? remote : mine;
+  const Index3 g = mine.ghost(spec_.ghost);
+  const auto shifts = mine.image_shifts();
+  const bool cons = spec_.transfer == Transfer::conservative;
+  const int npeer = remote.ranks();
+
+  for (int p = 0; p < npeer; ++p) {
+    const int s = sender ? my_rank : p;
+    const int r = sender ? p : my_rank;
+    // Source region (sender frame, unwrapped) and target region (receiver frame).
+    const Box src = cons ? sdec.clip(sdec.block(s).grown(g)) : sdec.block(s);
+    const Box dst = cons ? rdec.block(r) : rdec.clip(rdec.block(r).grown(g));
+    Peer peer;
+    peer.rank = p;
+    for (const auto& sh : shifts) {
+      // Consistent: region in receiver frame = src shifted ∩ dst.
+      // Conservative: region in sender frame = src ∩ dst shifted.
+      const Box region = cons ? intersect(src, dst.shifted(sh)) : intersect(src.shifted(sh), dst);
+      if (region.empty()) continue;
+      for_cells(region, [&](const Index3& c) {
+        Index3 local_cell;
+        if (cons)  // c in sender frame; receiver cell is c - shift
+          local_cell = sender ? c : sub(c, sh);
+        else  // c in receiver frame; sender cell is c - shift
+          local_cell = sender ? sub(c, sh) : c;
+        peer.cells.push_back(local_index(local_cell));
+      });
+    }
+    if (peer.cells.empty()) continue;
+    peer.buffer.resize(peer.cells.size() * spec_.components);
+    peers_.push_back(std::move(peer));
+  }
+  requests_.resize(peers_.size(), MPI_REQUEST_NULL);
+  peer_of_.assign(remote.ranks(), -1);
+  for (std::size_t i = 0; i < peers_.size(); ++i) peer_of_[peers_[i].rank] = static_cast<int>(i);
+  for (std::size_t i = 0; i < peers_.size(); ++i) {
+    auto& p = peers_[i];
+    const int n = static_cast<int>(p.buffer.size());
+    if (sender)
+      MPI_Send_init(p.buffer.data(), n, MPI_DOUBLE, p.rank, tag_, inter_, &p.request);
+    else
+      MPI_Recv_init(p.buffer.data(), n, MPI_DOUBLE, p.rank, tag_, inter_, &p.request);
+  }
+}
+
+void FieldExchange::flush() {
+  if (sends_pending_) {
+    for (std::size_t i = 0; i < peers_.size(); ++i) requests_[i] = peers_[i].request;
+    wait_all(requests_, fmt::format("the delivery of field '{}'", spec_.name));
+    sends_pending_ = false;
+  }
+  if (!sparse_requests_.empty()) {
+    wait_all(sparse_requests_, fmt::format("the delivery of sparse field '{}'", spec_.name));
+    sparse_requests_.clear();
+  }
+}
+
+void FieldExchange::send(std::span<const double> local) {
+  if (role_ != Role::sender) throw std::logic_error("send() on the receiving side");
+  if (local.size() != local_size())
+    throw std::invalid_argument(fmt::format("field '{}': local array has {} values, expected {}",
+                                            spec_.name, local.size(), local_size()));
+  flush();
+  Timer t(trace().exchange_s);
+  const int nc = spec_.components;
+  for (auto& p : peers_) {
+    double* out = p.buffer.data();
+    for (long c : p.cells) {
+      const double* in = local.data() + c * nc;
+      for (int k = 0; k < nc; ++k) *out++ = in[k];
+    }
+    MPI_Start(&p.request);
+    trace().bytes_sent += p.buffer.size() * sizeof(double);
+  }
+  ++trace().exchanges;
+  sends_pending_ = !peers_.empty();
+}
+
+void FieldExchange::receive(std::span<double> local) {
+  if (role_ != Role::receiver) throw std::logic_error("receive() on the sending side");
+  if (local.size() != local_size())
+    throw std::invalid_argument(fmt::format("field '{}': local array has {} values, expected {}",
+                                            spec_.name, local.size(), local_size()));
+  const int nc = spec_.components;
+  const bool cons = spec_.transfer == Transfer::conservative;
+  {
+    Timer t(trace().exchange_s);
+    for (std::size_t i = 0; i < peers_.size(); ++i) {
+      MPI_Start(&peers_[i].request);
+      requests_[i] = peers_[i].request;
+    }
+    if (cons)
+      for_cells(owned_, [&](const Index3& c) {
+        double* v = local.data() + local_index(c) * nc;
+        for (int k = 0; k < nc; ++k) v[k] = 0.0;
+      });
+  }
+  wait_all(requests_, fmt::format("field '{}'", spec_.name));
+  Timer t(trace().exchange_s);
+  for (auto& p : peers_) {
+    const double* in = p.buffer.data();
+    if (cons) {
+      for (long c : p.cells) {
+        double* v = local.data() + c * nc;
+        for (int k = 0; k < nc; ++k) v[k] += *in++;
+      }
+    } else {
+      for (long c : p.cells) {
+        double* v = local.data() + c * nc;
+        for (int k = 0; k < nc; ++k) v[k] = *in++;
+      }
+    }
+    trace().bytes_received += p.buffer.size() * sizeof(double);
+  }
+  ++trace().exchanges;
+}
+
+// Sparse messages: a sequence of records {int64 receiver-frame cell; double values[nc]}.
+void FieldExchange::send_sparse(std::span<const Index3> cells, std::span<const double> values) {
+  if (role_ != Role::sender) throw std::logic_error("send_sparse() on the receiving side");
+  const int nc = spec_.components;
+  if (values.size() != cells.size() * nc)
+    throw std::invalid_argument(fmt::format("field '{}': {} values for {} cells", spec_.name,
+                                            values.size(), cells.size()));
+  flush();
+  Timer t(trace().exchange_s);
+  const bool cons = spec_.transfer == Transfer::conservative;
+  const std::size_t rec = sizeof(std::int64_t) + nc * sizeof(double);
+  const auto shifts = mine_.image_shifts();
+  const Index3 g = mine_.ghost(spec_.ghost);
+  for (auto& p : peers_) p.sparse.clear();
+  auto append = [&](int peer, const Index3& cell, const double* v) {
+    auto& buf = peers_[peer].sparse;
+    const std::size_t at = buf.size();
+    buf.resize(at + rec);
+    const std::int64_t key = (static_cast<std::int64_t>(cell[2] + (1 << 20)) << 42) |
+                             (static_cast<std::int64_t>(cell[1] + (1 << 20)) << 21) |
+                             static_cast<std::int64_t>(cell[0] + (1 << 20));
+    std::memcpy(buf.data() + at, &key, sizeof key);
+    std::memcpy(buf.data() + at + sizeof key, v, nc * sizeof(double));
+  };
+  for (std::size_t n = 0; n < cells.size(); ++n) {
+    const Index3& c = cells[n];
+    const double* v = values.data() + n * nc;
+    if (!local_box_.contains(c))
+      throw std::invalid_argument(fmt::format("field '{}': sparse cell ({}, {}, {}) outside the local box",
+                                              spec_.name, c[0], c[1], c[2]));
+    if (cons) {
+      if (mine_.clip(Box{c, {c[0] + 1, c[1] + 1, c[2] + 1}}).empty()) continue;  // outside a wall
+      const Index3 w = mine_.wrap(c);
+      const int owner = remote_.owner(w);
+      if (owner >= 0 && peer_of_[owner] >= 0) append(peer_of_[owner], w, v);
+    } else {
+      if (!owned_.contains(c)) continue;  // consistent: only owned values are sent
+      for (const auto& p : peers_) {
+        const Box dst = remote_.clip(remote_.block(p.rank).grown(g));
+        for (const auto& sh : shifts) {
+          const Index3 img{c[0] + sh[0], c[1] + sh[1], c[2] + sh[2]};
+          if (dst.contains(img)) append(peer_of_[p.rank], img, v);
+        }
+      }
+    }
+  }
+  sparse_requests_.resize(peers_.size());
+  for (std::size_t i = 0; i < peers_.size(); ++i) {
+    auto& p = peers_[i];
+    MPI_Isend(p.sparse.data(), static_cast<int>(p.sparse.size()), MPI_BYTE, p.rank, tag_ + 1, inter_,
+              &sparse_requests_[i]);
+    trace().bytes_sent += p.sparse.size();
+  }
+  ++trace().exchanges;
+}
+
+void FieldExchange::receive_sparse(std::vector<long>& cells, std::vector<double>& values) {
+  if (role_ != Role::receiver) throw std::logic_error("receive_sparse() on the sending side");
+  const int nc = spec_.components;
+  const std::size_t rec = sizeof(std::int64_t) + nc * sizeof(double);
+  for (auto& p : peers_) {
+    MPI_Status st = wait_probe(p.rank, tag_ + 1, inter_, fmt::format("sparse field '{}'", spec_.name));
+    Timer t(trace().exchange_s);
+    int bytes = 0;
+    MPI_Get_count(&st, MPI_BYTE, &bytes);
+    p.sparse.resize(bytes);
+    MPI_Recv(p.sparse.data(), bytes, MPI_BYTE, p.rank, tag_ + 1, inter_, MPI_STATUS_IGNORE);
+    trace().bytes_received += bytes;
+    const std::size_t n = bytes / rec;
+    for (std::size_t i = 0; i < n; ++i) {
+      std::int64_t key = 0;
+      std::memcpy(&key, p.sparse.data() + i * rec, sizeof key);
+      const Index3 c{(key & ((1 << 21) - 1)) - (1 << 20), ((key >> 21) & ((1 << 21) - 1)) - (1 << 20),
+                     ((key >> 42) & ((1 << 21) - 1)) - (1 << 20)};
+      cells.push_back(local_index(c));
+      const std::size_t at = values.size();
+      values.resize(at + nc);
+      std::memcpy(values.data() + at, p.sparse.data() + i * rec + sizeof key, nc * sizeof(double));
+    }
+  }
+  ++trace().exchanges;
+}
+
+}  // namespace coflow::coupler
+
+// ------------------------------------------------------------ PointExchange --
+
+namespace coflow::coupler {
+
+PointExchange::PointExchange(MPI_Comm inter, Role role, const Decomposition& destination,
+                             std::array<double, 3> lower, std::array<double, 3> spacing,
+                             std::size_t record_bytes, std::size_t result_bytes, int tag, int ghost)
+    : inter_(inter),
+      role_(role),
+      dest_(destination),
+      lower_(lower),
+      spacing_(spacing),
+      record_bytes_(record_bytes),
+      result_bytes_(result_bytes),
+      tag_(tag),
+      ghost_(ghost) {
+  remote_size_ = remote_size_of(inter);
+  send_counts_.assign(remote_size_, 0);
+  recv_counts_.assign(remote_size_, 0);
+  send_displs_.assign(remote_size_, 0);
+  recv_displs_.assign(remote_size_, 0);
+  routed_.resize(remote_size_);
+}
+
+namespace {
+
+// Collective on the intercommunicator, waited on with the deadline.
+void alltoall_counts(const std::vector<int>& send, std::vector<int>& recv, MPI_Comm inter,
+                     const char* what) {
+  MPI_Request r;
+  MPI_Ialltoall(send.data(), 1, MPI_INT, recv.data(), 1, MPI_INT, inter, &r);
+  wait_one(r, what);
+}
+
+void alltoallv_bytes(const std::vector<std::byte>& out, const std::vector<int>& sc,
+                     const std::vector<int>& sd, std::vector<std::byte>& in,
+                     const std::vector<int>& rc, const std::vector<int>& rd, MPI_Comm inter,
+                     const char* what) {
+  MPI_Request r;
+  MPI_Ialltoallv(out.data(), sc.data(), sd.data(), MPI_BYTE, in.data(), rc.data(), rd.data(),
+                 MPI_BYTE, inter, &r);
+  wait_one(r, what);
+}
+
+void prefix(const std::vector<int>& counts, std::vector<int>& displs) {
+  long total = 0;
+  for (std::size_t i = 0; i < counts.size(); ++i) {
+    displs[i] = static_cast<int>(total);
+    total += counts[i];
+  }
+  if (total > INT_MAX) throw std::overflow_error("point exchange message larger than 2 GiB");
+}
+
+long total_of(const std::vector<int>& counts) {
+  long t = 0;
+  for (int c : counts) t += c;
+  return t;
+}
+
+}  // namespace
+
+void PointExchange::send(std::span<const std::byte> records,
+                         std::span<const std::array<double, 3>> positions) {
+  if (role_ != Role::origin) throw std::logic_error("PointExchange::send on the destination side");
+  if (records.size() != positions.size() * record_bytes_)
+    throw std::invalid_argument("point exchange: records and positions differ in count");
+  Timer t(trace().exchange_s);
+  nrecords_ = positions.size();
+  for (auto& r : routed_) r.clear();
+  const Index3 g = dest_.ghost(ghost_);
+  const auto shifts = dest_.image_shifts();
+  std::vector<int> extra;  // reused per record
+  for (std::size_t n = 0; n < positions.size(); ++n) {
+    Index3 c{};
+    for (int d = 0; d < 3; ++d) {
+      long i = static_cast<long>(std::floor((positions[n][d] - lower_[d]) / spacing_[d]));
+      if (!dest_.periodic()[d]) i = std::clamp(i, 0L, dest_.cells()[d] - 1);
+      c[d] = i;
+    }
+    const int owner = dest_.owner(c);
+    routed_[owner].push_back(static_cast<std::uint32_t>(n));
+    if (ghost_ == 0) continue;
+    // Ghost copies: only records near the owner's block boundary can be in
+    // another rank's ghost layer.
+    const Box& ob = dest_.block(owner);
+    const Index3 w = dest_.wrap(c);
+    bool near = false;
+    for (int d = 0; d < 3; ++d) near = near || w[d] - ob.lo[d] < g[d] || ob.hi[d] - 1 - w[d] < g[d];
+    if (!near) continue;
+    for (int r = 0; r < dest_.ranks(); ++r) {
+      if (r == owner) continue;
+      const Box gb = dest_.block(r).grown(g);
+      for (const auto& sh : shifts) {
+        if (gb.contains(Index3{w[0] + sh[0], w[1] + sh[1], w[2] + sh[2]})) {
+          routed_[r].push_back(static_cast<std::uint32_t>(n) | 0x80000000u);  // ghost copy
+          break;
+        }
+      }
+    }
+  }
+  const std::size_t rec = record_bytes_ + 1;
+  for (int r = 0; r < remote_size_; ++r) send_counts_[r] = static_cast<int>(routed_[r].size() * rec);
+  prefix(send_counts_, send_displs_);
+  out_.resize(total_of(send_counts_));
+  for (int r = 0; r < remote_size_; ++r) {
+    std::byte* o = out_.data() + send_displs_[r];
+    for (std::uint32_t tagged : routed_[r]) {
+      const std::uint32_t n = tagged & 0x7fffffffu;
+      *o++ = std::byte{static_cast<unsigned char>((tagged & 0x80000000u) ? 0 : 1)};
+      std::memcpy(o, records.data() + n * record_bytes_, record_bytes_);
+      o += record_bytes_;
+    }
+  }
+  alltoall_counts(send_counts_, recv_counts_, inter_, "point-exchange counts");
+  prefix(recv_counts_, recv_displs_);
+  in_.resize(total_of(recv_counts_));
+  alltoallv_bytes(out_, send_counts_, send_displs_, in_, recv_counts_, recv_displs_, inter_,
+                  "point records");
+  trace().bytes_sent += out_.size();
+  ++trace().exchanges;
+}
+
+void PointExchange::receive(std::vector<std::byte>& records, std::vector<std::uint8_t>& owned) {
+  if (role_ != Role::destination) throw std::logic_error("PointExchange::receive on the origin side");
+  Timer t(trace().exchange_s);
+  std::fill(send_counts_.begin(), send_counts_.end(), 0);
+  prefix(send_counts_, send_displs_);
+  out_.clear();
+  alltoall_counts(send_counts_, recv_counts_, inter_, "point-exchange counts");
+  prefix(recv_counts_, recv_displs_);
+  in_.resize(total_of(recv_counts_));
+  alltoallv_bytes(out_, send_counts_, send_displs_, in_, recv_counts_, recv_displs_, inter_,
+                  "point records");
+  const std::size_t rec = record_bytes_ + 1;
+  const std::size_t n = in_.size() / rec;
+  records.resize(n * record_bytes_);
+  owned.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    owned[i] = static_cast<std::uint8_t>(in_[i * rec]);
+    std::memcpy(records.data() + i * record_bytes_, in_.data() + i * rec + 1, record_bytes_);
+  }
+  nrecords_ = n;
+  // Remember per-origin counts for the way back.
+  for (int r = 0; r < remote_size_; ++r) routed_[r].assign(recv_counts_[r] / rec, 0);
+  trace().bytes_received += in_.size();
+  ++trace().exchanges;
+}
+
+void PointExchange::send_results(std::span<const std::byte> results) {
+  if (role_ != Role::destination) throw std::logic_error("send_results on the origin side");
+  if (results.size() != nrecords_ * result_bytes_)
+    throw std::invalid_argument("point exchange: one result per received record is needed");
+  Timer t(trace().exchange_s);
+  for (int r = 0; r < remote_size_; ++r) send_counts_[r] = static_cast<int>(routed_[r].size() * result_bytes_);
+  prefix(send_counts_, send_displs_);
+  out_.assign(results.begin(), results.end());
+  std::fill(recv_counts_.begin(), recv_counts_.end(), 0);
+  prefix(recv_counts_, recv_displs_);
+  in_.clear();
+  alltoall_counts(send_counts_, recv_counts_, inter_, "point-result counts");
+  alltoallv_bytes(out_, send_counts_, send_displs_, in_, recv_counts_, recv_displs_, inter_,
+                  "point results");
+  trace().bytes_sent += out_.size();
+}
+
+void PointExchange::receive_results(std::span<std::byte> results,
+                                    void (*combine)(std::byte*, const std::byte*)) {
+  if (role_ != Role::origin) throw std::logic_error("receive_results on the destination side");
+  if (results.size() != nrecords_ * result_bytes_)
+    throw std::invalid_argument("point exchange: results must hold one entry per sent record");
+  Timer t(trace().exchange_s);
+  std::fill(send_counts_.begin(), send_counts_.end(), 0);
+  prefix(send_counts_, send_displs_);
+  out_.clear();
+  alltoall_counts(send_counts_, recv_counts_, inter_, "point-result counts");
+  prefix(recv_counts_, recv_displs_);
+  in_.resize(total_of(recv_counts_));
+  alltoallv_bytes(out_, send_counts_, send_displs_, in_, recv_counts_, recv_displs_, inter_,
+                  "point results");
+  // Owner copies first, so that ghost copies combine into a defined value.
+  for (int r = 0; r < remote_size_; ++r) {
+    const std::byte* in = in_.data() + recv_displs_[r];
+    for (std::uint32_t tagged : routed_[r]) {
+      if (!(tagged & 0x80000000u))
+        std::memcpy(results.data() + tagged * result_bytes_, in, result_bytes_);
+      in += result_bytes_;
+    }
+  }
+  for (int r = 0; r < remote_size_; ++r) {
+    const std::byte* in = in_.data() + recv_displs_[r];
+    for (std::uint32_t tagged : routed_[r]) {
+      if ((tagged & 0x80000000u) && combine)
+        combine(results.data() + (tagged & 0x7fffffffu) * result_bytes_, in);
+      in += result_bytes_;
+    }
+  }
+  trace().bytes_received += in_.size();
+  ++trace().exchanges;
+}
+
+}  // namespace coflow::coupler

@@ -1,0 +1,351 @@
+#include "coflow/output.hpp"
+
+#include <hdf5.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace coflow::output {
+
+namespace fs = std::filesystem;
+
+void atomic_write(const std::string& path, const std::string& content) {
+  const std::string tmp = fmt::format("{}.tmp.{}", path, ::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(fmt::format("cannot write '{}'", tmp));
+    out << content;
+    out.flush();
+    if (!out) throw std::runtime_error(fmt::format("failed writing '{}' (disk full?)", tmp));
+  }
+  fs::rename(tmp, path);
+}
+
+std::string snapshot_name(long step) { return fmt::format("step_{:06d}.h5", step); }
+
+Series::Series(const std::string& path, std::vector<std::string> columns) : columns_(columns.size()) {
+  out_.open(path, std::ios::trunc);
+  if (!out_) throw std::runtime_error(fmt::format("cannot write '{}'", path));
+  for (std::size_t i = 0; i < columns.size(); ++i) out_ << (i ? "," : "") << columns[i];
+  out_ << '\n';
+  out_.flush();
+}
+
+void Series::row(std::span<const double> values) {
+  if (!out_.is_open()) return;
+  if (values.size() != columns_) throw std::logic_error("series row with the wrong number of values");
+  std::string line;
+  for (std::size_t i = 0; i < values.size(); ++i) line += fmt::format("{}{:.17g}", i ? "," : "", values[i]);
+  out_ << line << '\n';
+  out_.flush();
+}
+
+std::string json_quote(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) {
+    switch (c) {
+      case '"': o += "\\\""; break;
+      case '\\': o += "\\\\"; break;
+      case '\n': o += "\\n"; break;
+      case '\t': o += "\\t"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20)
+          o += fmt::format("\\u{:04x}", static_cast<int>(c));
+        else
+          o += c;
+    }
+  }
+  return o + "\"";
+}
+
+// ------------------------------------------------------------------ HDF5 ---
+
+namespace {
+
+void h5check(herr_t e, const char* what) {
+  if (e < 0) throw std::runtime_error(fmt::format("HDF5 error while {}", what));
+}
+
+hid_t check_id(hid_t id, const char* what) {
+  if (id < 0) throw std::runtime_error(fmt::format("HDF5 error while {}", what));
+  return id;
+}
+
+hid_t create_parallel(MPI_Comm comm, const std::string& path) {
+  hid_t fapl = check_id(H5Pcreate(H5P_FILE_ACCESS), "creating a property list");
+  h5check(H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL), "selecting MPI-IO");
+  hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+  H5Pclose(fapl);
+  return check_id(f, ("creating " + path).c_str());
+}
+
+void write_scalar_attr(hid_t obj, const char* name, double v) {
+  hid_t s = H5Screate(H5S_SCALAR);
+  hid_t a = H5Acreate2(obj, name, H5T_NATIVE_DOUBLE, s, H5P_DEFAULT, H5P_DEFAULT);
+  h5check(H5Awrite(a, H5T_NATIVE_DOUBLE, &v), "writing an attribute");
+  H5Aclose(a);
+  H5Sclose(s);
+}
+
+void write_long_attr(hid_t obj, const char* name, long v) {
+  hid_t s = H5Screate(H5S_SCALAR);
+  hid_t a = H5Acreate2(obj, name, H5T_NATIVE_LONG, s, H5P_DEFAULT, H5P_DEFAULT);
+  h5check(H5Awrite(a, H5T_NATIVE_LONG, &v), "writing an attribute");
+  H5Aclose(a);
+  H5Sclose(s);
+}
+
+// Write `local` (this rank's part, starting at `offset`) into a new dataset.
+void write_block(hid_t file, const std::string& name, hid_t type, const std::vector<hsize_t>& global,
+                 const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
+                 const void* local) {
+  const int rank = static_cast<int>(global.size());
+  hid_t fs_ = H5Screate_simple(rank, global.data(), nullptr);
+  hid_t ds = check_id(H5Dcreate2(file, name.c_str(), type, fs_, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                      ("creating dataset " + name).c_str());
+  hsize_t n = 1;
+  for (auto c : count) n *= c;
+  hid_t ms = H5Screate_simple(rank, count.data(), nullptr);
+  if (n == 0) {
+    H5Sselect_none(fs_);
+    H5Sselect_none(ms);
+  } else {
+    h5check(H5Sselect_hyperslab(fs_, H5S_SELECT_SET, offset.data(), nullptr, count.data(), nullptr),
+            "selecting a hyperslab");
+  }
+  hid_t xfer = H5Pcreate(H5P_DATASET_XFER);
+  H5Pset_dxpl_mpio(xfer, H5FD_MPIO_COLLECTIVE);
+  h5check(H5Dwrite(ds, type, ms, fs_, xfer, local), ("writing dataset " + name).c_str());
+  H5Pclose(xfer);
+  H5Sclose(ms);
+  H5Dclose(ds);
+  H5Sclose(fs_);
+}
+
+void finish_file(MPI_Comm comm, hid_t f, const std::string& tmp, const std::string& path) {
+  h5check(H5Fclose(f), "closing a file");
+  MPI_Barrier(comm);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (rank == 0) fs::rename(tmp, path);
+}
+
+std::string tmp_name(MPI_Comm comm, const std::string& path) {
+  // Same name on every rank of the collective.
+  return path + ".tmp";
+}
+
+}  // namespace
+
+void write_grid(MPI_Comm comm, const std::string& path, double time, long step,
+                const coupler::Index3& cells, const coupler::Box& owned, const coupler::Box& local,
+                const std::vector<GridField>& fields) {
+  const std::string tmp = tmp_name(comm, path);
+  hid_t f = create_parallel(comm, tmp);
+  write_scalar_attr(f, "time", time);
+  write_long_attr(f, "step", step);
+  const long nx = owned.extent(0), ny = owned.extent(1), nz = owned.extent(2);
+  const long lx = local.extent(0), ly = local.extent(1);
+  std::vector<double> buf;
+  for (const auto& fld : fields) {
+    const int nc = fld.components;
+    buf.resize(static_cast<std::size_t>(nx * ny * nz * nc));
+    std::size_t o = 0;
+    for (long k = owned.lo[2]; k < owned.hi[2]; ++k)
+      for (long j = owned.lo[1]; j < owned.hi[1]; ++j)
+        for (long i = owned.lo[0]; i < owned.hi[0]; ++i) {
+          const long li = ((k - local.lo[2]) * ly + (j - local.lo[1])) * lx + (i - local.lo[0]);
+          for (int c = 0; c < nc; ++c) buf[o++] = fld.data[li * nc + c];
+        }
+    std::vector<hsize_t> g{hsize_t(cells[2]), hsize_t(cells[1]), hsize_t(cells[0])};
+    std::vector<hsize_t> off{hsize_t(owned.lo[2]), hsize_t(owned.lo[1]), hsize_t(owned.lo[0])};
+    std::vector<hsize_t> cnt{hsize_t(nz), hsize_t(ny), hsize_t(nx)};
+    if (nc > 1) {
+      g.push_back(nc);
+      off.push_back(0);
+      cnt.push_back(nc);
+    }
+    write_block(f, fld.name, H5T_NATIVE_DOUBLE, g, off, cnt, buf.data());
+  }
+  finish_file(comm, f, tmp, path);
+}
+
+void write_points(MPI_Comm comm, const std::string& path, double time, long step, std::size_t count,
+                  std::span<const std::int64_t> id, std::span<const std::int32_t> species,
+                  const std::vector<PointField>& fields) {
+  unsigned long long n = count, offset = 0, total = 0;
+  MPI_Exscan(&n, &offset, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (rank == 0) offset = 0;
+  MPI_Allreduce(&n, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
+  const std::string tmp = tmp_name(comm, path);
+  hid_t f = create_parallel(comm, tmp);
+  write_scalar_attr(f, "time", time);
+  write_long_attr(f, "step", step);
+  write_block(f, "id", H5T_NATIVE_INT64, {total}, {offset}, {n}, id.data());
+  write_block(f, "species", H5T_NATIVE_INT32, {total}, {offset}, {n}, species.data());
+  for (const auto& fld : fields) {
+    std::vector<hsize_t> g{total}, off{offset}, cnt{n};
+    if (fld.components > 1) {
+      g.push_back(fld.components);
+      off.push_back(0);
+      cnt.push_back(fld.components);
+    }
+    write_block(f, fld.name, H5T_NATIVE_DOUBLE, g, off, cnt, fld.data.data());
+  }
+  finish_file(comm, f, tmp, path);
+}
+
+std::vector<double> read_dataset(const std::string& path, const std::string& name,
+                                 std::vector<std::size_t>* dims) {
+  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) throw std::runtime_error(fmt::format("cannot open HDF5 file '{}'", path));
+  hid_t ds = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+  if (ds < 0) {
+    H5Fclose(f);
+    throw std::runtime_error(fmt::format("'{}' has no dataset '{}'", path, name));
+  }
+  hid_t sp = H5Dget_space(ds);
+  const int r = H5Sget_simple_extent_ndims(sp);
+  std::vector<hsize_t> d(r);
+  H5Sget_simple_extent_dims(sp, d.data(), nullptr);
+  std::size_t n = 1;
+  for (auto x : d) n *= x;
+  std::vector<double> out(n);
+  if (n) h5check(H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), "reading");
+  if (dims) dims->assign(d.begin(), d.end());
+  H5Sclose(sp);
+  H5Dclose(ds);
+  H5Fclose(f);
+  return out;
+}
+
+double read_time(const std::string& path) {
+  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) throw std::runtime_error(fmt::format("cannot open HDF5 file '{}'", path));
+  double t = 0;
+  hid_t a = H5Aopen(f, "time", H5P_DEFAULT);
+  if (a >= 0) {
+    H5Aread(a, H5T_NATIVE_DOUBLE, &t);
+    H5Aclose(a);
+  }
+  H5Fclose(f);
+  return t;
+}
+
+// ------------------------------------------------------------------ XDMF ---
+
+void append_index(const std::string& dir, const std::string& component, const SnapshotInfo& info,
+                  const std::vector<std::string>& fields) {
+  const std::string path = fmt::format("{}/{}/index.csv", dir, component);
+  std::string text;
+  {
+    std::ifstream in(path);
+    if (in) {
+      std::stringstream ss;
+      ss << in.rdbuf();
+      text = ss.str();
+    }
+  }
+  if (text.empty()) {
+    text = "step,time,count";
+    for (const auto& f : fields) text += "," + f;
+    text += "\n";
+  }
+  text += fmt::format("{},{:.17g},{}\n", info.step, info.time, info.count);
+  atomic_write(path, text);
+}
+
+namespace {
+
+struct IndexTable {
+  std::vector<std::string> fields;
+  std::vector<SnapshotInfo> rows;
+};
+
+IndexTable read_index(const std::string& path) {
+  IndexTable t;
+  std::ifstream in(path);
+  std::string line;
+  if (!std::getline(in, line)) return t;
+  std::stringstream hs(line);
+  std::string col;
+  for (int i = 0; std::getline(hs, col, ','); ++i)
+    if (i >= 3) t.fields.push_back(col);
+  while (std::getline(in, line)) {
+    SnapshotInfo s;
+    if (std::sscanf(line.c_str(), "%ld,%lf,%zu", &s.step, &s.time, &s.count) == 3) t.rows.push_back(s);
+  }
+  return t;
+}
+
+}  // namespace
+
+void write_xdmf(const std::string& dir, const GridGeometry& grid) {
+  std::string x;
+  x += "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n";
+  x += "<Xdmf Version=\"3.0\">\n <Domain>\n";
+  const auto fluid = read_index(dir + "/fluid/index.csv");
+  if (!fluid.rows.empty()) {
+    const long nx = grid.cells[0], ny = grid.cells[1], nz = grid.cells[2];
+    x += "  <Grid Name=\"fluid\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    for (const auto& s : fluid.rows) {
+      const std::string file = "fluid/" + snapshot_name(s.step);
+      x += fmt::format("   <Grid Name=\"fluid\" GridType=\"Uniform\">\n    <Time Value=\"{:.17g}\"/>\n", s.time);
+      x += fmt::format("    <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"{} {} {}\"/>\n", nz + 1, ny + 1, nx + 1);
+      x += "    <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n";
+      x += fmt::format("     <DataItem Format=\"XML\" Dimensions=\"3\">{:.17g} {:.17g} {:.17g}</DataItem>\n",
+                       grid.lower[2], grid.lower[1], grid.lower[0]);
+      x += fmt::format("     <DataItem Format=\"XML\" Dimensions=\"3\">{:.17g} {:.17g} {:.17g}</DataItem>\n",
+                       grid.spacing[2], grid.spacing[1], grid.spacing[0]);
+      x += "    </Geometry>\n";
+      for (const auto& f : fluid.fields) {
+        const bool vec = f == "velocity" || f == "vorticity" || f == "momentum_source" || f == "solid_velocity";
+        x += fmt::format("    <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Cell\">\n", f, vec ? "Vector" : "Scalar");
+        x += fmt::format("     <DataItem Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"{} {} {}{}\">{}:/{}</DataItem>\n",
+                         nz, ny, nx, vec ? " 3" : "", file, f);
+        x += "    </Attribute>\n";
+      }
+      x += "   </Grid>\n";
+    }
+    x += "  </Grid>\n";
+  }
+  const auto parts = read_index(dir + "/particles/index.csv");
+  if (!parts.rows.empty()) {
+    x += "  <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    for (const auto& s : parts.rows) {
+      const std::string file = "particles/" + snapshot_name(s.step);
+      x += fmt::format("   <Grid Name=\"particles\" GridType=\"Uniform\">\n    <Time Value=\"{:.17g}\"/>\n", s.time);
+      x += fmt::format("    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n", s.count);
+      x += "    <Geometry GeometryType=\"XYZ\">\n";
+      x += fmt::format("     <DataItem Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"{} 3\">{}:/position</DataItem>\n", s.count, file);
+      x += "    </Geometry>\n";
+      auto attr = [&](const std::string& name, bool vec, const char* type, int prec) {
+        x += fmt::format("    <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n", name, vec ? "Vector" : "Scalar");
+        x += fmt::format("     <DataItem Format=\"HDF\" NumberType=\"{}\" Precision=\"{}\" Dimensions=\"{}{}\">{}:/{}</DataItem>\n",
+                         type, prec, s.count, vec ? " 3" : "", file, name);
+        x += "    </Attribute>\n";
+      };
+      attr("id", false, "Int", 8);
+      attr("species", false, "Int", 4);
+      for (const auto& f : parts.fields) {
+        if (f == "position") continue;
+        attr(f, f != "radius", "Float", 8);
+      }
+      x += "   </Grid>\n";
+    }
+    x += "  </Grid>\n";
+  }
+  x += " </Domain>\n</Xdmf>\n";
+  atomic_write(dir + "/run.xdmf", x);
+}
+
+}  // namespace coflow::output

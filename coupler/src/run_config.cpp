@@ -1,0 +1,140 @@
+#include "coflow/run_config.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+
+namespace coflow::config {
+
+void OutputParams::visit(Visitor& v) {
+  v("dir", dir, "output directory (default out/<run.name>)");
+  v("every", every, "simulated seconds between snapshots; 0 writes none", non_negative());
+  v("fields", fields, "fluid fields written in snapshots",
+    each_one_of({"velocity", "pressure", "density", "solid_fraction", "vorticity", "k", "epsilon",
+                 "momentum_source"}));
+  v("series_every", series_every, "simulated seconds between rows of series/*.csv (auto: = every)",
+    positive());
+  v("collision_events", collision_events, "write events/collisions.csv (dpm, dem)");
+}
+
+void CheckpointParams::visit(Visitor& v) {
+  v("every", every, "simulated seconds between checkpoints; 0 writes none", non_negative());
+  v("keep", keep, "how many checkpoints to keep", at_least(1));
+}
+
+void RunParams::visit(Visitor& v) {
+  v.required("name", name, "run name, used for the output directory");
+  v.required("end_time", end_time, "simulated end time in s", positive());
+  v.section("output", "snapshots and time series", [&](Visitor& s) { output.visit(s); });
+  v.section("checkpoint", "periodic restart files", [&](Visitor& s) { checkpoint.visit(s); });
+  v("seed", seed, "seed from which all randomness derives");
+  if (v.reading()) {
+    if (name.empty() || name.find_first_of("/\\ \t") != std::string::npos || name == "." || name == "..")
+      v.fail("name", fmt::format("must be a plain word without spaces or slashes (got '{}')", name));
+  }
+}
+
+void CouplingParams::visit(Visitor& v) {
+  v("scheme", scheme, "coupling scheme", one_of({"serial-explicit", "parallel-explicit"}));
+  v("window", window, "coupling window in s (auto: the fluid time step)", positive());
+  v("timeout", timeout, "seconds a rank waits for a partner before the whole run is aborted",
+    positive());
+}
+
+void DomainParams::visit(Visitor& v) {
+  v.required("lower", lower, "lower corner of the box, m");
+  v.required("upper", upper, "upper corner of the box, m");
+  v.required("cells", cells, "fluid grid cells per axis; 2D runs use cells[2] = 1", positive());
+  v("periodic", periodic, "periodicity per axis");
+  if (v.reading()) {
+    for (int d = 0; d < 3; ++d)
+      if (!(upper[d] > lower[d])) {
+        v.fail("upper", fmt::format("must exceed lower on every axis (axis {}: lower {} upper {})",
+                                    "xyz"[d], lower[d], upper[d]));
+        break;
+      }
+  }
+}
+
+Vec3 DomainParams::spacing() const {
+  return {(upper[0] - lower[0]) / cells[0], (upper[1] - lower[1]) / cells[1],
+          (upper[2] - lower[2]) / cells[2]};
+}
+
+std::string Config::output_dir() const {
+  return run.output.dir.empty() ? "out/" + run.name : run.output.dir;
+}
+
+void visit_component_common(Visitor& v, const ComponentSchema& schema, ComponentInfo& info) {
+  std::vector<std::string> names = schema.variants;
+  names.push_back("none");
+  v.required(schema.selector, info.variant, "which variant runs this component", one_of(names));
+  v("ranks", info.ranks, "MPI ranks of this component", at_least(1));
+  v("decomposition", info.decomposition,
+    "blocks per axis of this component's share of the domain (auto: balanced)", positive());
+  if (v.reading() && !info.decomposition.is_auto) {
+    const auto& d = info.decomposition.value;
+    if (d[0] * d[1] * d[2] != info.ranks)
+      v.fail("decomposition", fmt::format("product {}x{}x{} = {} must equal ranks ({})", d[0], d[1],
+                                          d[2], d[0] * d[1] * d[2], info.ranks));
+  }
+}
+
+static void visit_top(Visitor& v, Config& cfg, const Catalog& catalog) {
+  v.section("run", "the run: name, end time, output", [&](Visitor& s) { cfg.run.visit(s); });
+  v.section("coupling", "how components exchange data", [&](Visitor& s) { cfg.coupling.visit(s); });
+  v.section("domain", "the global box and the fluid grid", [&](Visitor& s) { cfg.domain.visit(s); });
+  v("gravity", cfg.gravity, "gravitational acceleration, m/s^2");
+  for (const auto& schema : catalog) {
+    ComponentInfo info;
+    info.section = schema.section;
+    bool present = false;
+    v.section(schema.section, schema.doc,
+              [&](Visitor& s) {
+                if (s.reading() && !present) return;  // component not in this run
+                schema.visit(s, cfg, info);
+              },
+              &present);
+    info.present = present && info.variant != "none";
+    if (info.present) cfg.components[schema.section] = info;
+  }
+}
+
+Config parse_config_node(YAML::Node root, const std::string& file, const Catalog& catalog) {
+  Config cfg;
+  cfg.file = file;
+  Reader r(root, file);
+  visit_top(r, cfg, catalog);
+  r.finish();
+  if (r.problems().empty() && cfg.components.empty())
+    r.fail("", "no component to run: add at least one of the sections fluid, immersed, particles");
+  if (r.problems().empty() && cfg.has("immersed") && (!cfg.has("fluid") || !cfg.has("particles")))
+    r.fail("immersed", "the immersed component couples a fluid and particles: add both sections");
+  r.check();
+  cfg.resolved = r.resolved();
+  cfg.resolved["run"]["output"]["dir"] = cfg.output_dir();
+  cfg.hash = hash_text(YAML::Dump(cfg.resolved));
+  return cfg;
+}
+
+Config parse_config(const std::string& file, const Catalog& catalog,
+                    const std::vector<std::string>& overrides) {
+  YAML::Node root = load_yaml_file(file);
+  for (const auto& o : overrides) apply_override(root, o);
+  return parse_config_node(root, file, catalog);
+}
+
+void describe_config(Visitor& v, const Catalog& catalog) {
+  Config cfg;
+  visit_top(v, cfg, catalog);
+}
+
+std::uint64_t hash_text(const std::string& text) {
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+}  // namespace coflow::config

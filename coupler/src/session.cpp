@@ -1,0 +1,366 @@
+#include "coflow/session.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "coflow/log.hpp"
+#include "coflow/output.hpp"
+#include "coflow/wait.hpp"
+
+namespace coflow::coupler {
+
+namespace fs = std::filesystem;
+
+Trace& trace() {
+  static Trace t;
+  return t;
+}
+
+namespace {
+
+struct Hello {
+  char name[16];
+  int appnum;
+  int size;
+  int rank;
+  std::uint64_t hash;
+};
+
+// Connected pairs, in the order every component creates them.
+const std::vector<std::pair<std::string, std::string>>& pairs() {
+  static const std::vector<std::pair<std::string, std::string>> p{{"fluid", "immersed"},
+                                                                   {"immersed", "particles"}};
+  return p;
+}
+
+}  // namespace
+
+Session::Session(std::string component, config::Config cfg, Args args)
+    : component_(std::move(component)), cfg_(std::move(cfg)), args_(std::move(args)) {
+  start_ = now();
+  MPI_Comm_rank(MPI_COMM_WORLD, &world_rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &world_size_);
+  set_timeout(cfg_.coupling.timeout);
+  discover();
+  prepare_output();
+}
+
+Session::~Session() {
+  for (auto& [name, c] : inter_) MPI_Comm_free(&c);
+  if (comm_ != MPI_COMM_NULL) MPI_Comm_free(&comm_);
+}
+
+void Session::discover() {
+  int* appnum_attr = nullptr;
+  int flag = 0;
+  MPI_Comm_get_attr(MPI_COMM_WORLD, MPI_APPNUM, &appnum_attr, &flag);
+  const int appnum = flag ? *appnum_attr : 0;
+  MPI_Comm_split(MPI_COMM_WORLD, appnum, world_rank_, &comm_);
+  MPI_Comm_rank(comm_, &rank_);
+  MPI_Comm_size(comm_, &size_);
+
+  Hello me{};
+  std::snprintf(me.name, sizeof me.name, "%s", component_.c_str());
+  me.appnum = appnum;
+  me.size = size_;
+  me.rank = rank_;
+  me.hash = cfg_.hash;
+  std::vector<Hello> all(world_size_);
+  MPI_Allgather(&me, sizeof(Hello), MPI_BYTE, all.data(), sizeof(Hello), MPI_BYTE, MPI_COMM_WORLD);
+
+  // Every rank reaches the same verdict from the same data, so all fail together.
+  std::map<int, std::string> app_name;
+  std::map<std::string, int> first_rank;  // component -> lowest world rank
+  std::string problem;
+  for (int r = 0; r < world_size_; ++r) {
+    const Hello& h = all[r];
+    const std::string name(h.name);
+    if (h.hash != cfg_.hash && problem.empty())
+      problem = fmt::format(
+          "components read different configurations ({} and {}): launch every component with "
+          "the same file",
+          component_, name);
+    auto it = app_name.find(h.appnum);
+    if (it == app_name.end()) {
+      if (first_rank.count(name) && problem.empty())
+        problem = fmt::format("component '{}' was launched twice; launch each component once", name);
+      app_name[h.appnum] = name;
+      first_rank[name] = r;
+      ranks_of_[name] = h.size;
+    }
+  }
+  standalone_ = app_name.size() == 1;
+  if (problem.empty() && !standalone_) {
+    for (const auto& [name, info] : cfg_.components) {
+      if (!ranks_of_.count(name))
+        problem = fmt::format("the configuration has a '{}' section but coflow-{} was not launched",
+                              name, name);
+      else if (ranks_of_[name] != info.ranks)
+        problem = fmt::format("{}.ranks is {} in the configuration but {} ranks were launched",
+                              name, info.ranks, ranks_of_[name]);
+      if (!problem.empty()) break;
+    }
+    for (const auto& [name, n] : ranks_of_)
+      if (problem.empty() && !cfg_.has(name))
+        problem = fmt::format("coflow-{} was launched but the configuration has no '{}' section", name, name);
+  }
+  if (!problem.empty()) {
+    if (world_rank_ == 0) std::cerr << kFailedTag << " " << component_ << " " << rank_ << " " << problem << std::endl;
+    if (rank_ == 0) std::cerr << "coflow-" << component_ << ": error: " << problem << std::endl;
+    MPI_Finalize();
+    std::exit(2);
+  }
+
+  int tag = 700;
+  for (const auto& [a, b] : pairs()) {
+    ++tag;
+    if (component_ != a && component_ != b) continue;
+    const std::string other = component_ == a ? b : a;
+    if (!first_rank.count(other)) continue;
+    MPI_Comm inter = MPI_COMM_NULL;
+    MPI_Intercomm_create(comm_, 0, MPI_COMM_WORLD, first_rank[other], tag, &inter);
+    inter_[other] = inter;
+  }
+}
+
+MPI_Comm Session::partner(const std::string& component) const {
+  auto it = inter_.find(component);
+  if (it == inter_.end())
+    throw std::logic_error(fmt::format("{} is not coupled to {} in this launch", component_, component));
+  return it->second;
+}
+
+int Session::partner_ranks(const std::string& component) const {
+  auto it = ranks_of_.find(component);
+  return it == ranks_of_.end() ? 0 : it->second;
+}
+
+Decomposition Session::decomposition_of(const std::string& component, int ranks) const {
+  const auto& d = cfg_.domain;
+  std::array<int, 3> dims{0, 0, 0};
+  if (cfg_.has(component)) {
+    const auto& info = cfg_.component(component);
+    if (!info.decomposition.is_auto && info.ranks == ranks) dims = info.decomposition.value;
+  }
+  return Decomposition({d.cells[0], d.cells[1], d.cells[2]}, ranks, dims, d.periodic);
+}
+
+void Session::prepare_output() {
+  dir_ = cfg_.output_dir();
+  if (rank_ == 0) {
+    for (const char* sub : {"", "/series", "/logs", "/events", "/checkpoints"}) fs::create_directories(dir_ + sub);
+    fs::create_directories(component_dir());
+    if (world_rank_ == 0) output::atomic_write(dir_ + "/config.yaml", YAML::Dump(cfg_.resolved) + "\n");
+  }
+  MPI_Barrier(comm_);
+  log::init(component_, rank_, dir_ + "/logs/" + component_ + ".log");
+  log::info("coflow-{} started: {} rank(s), {}; output in {}", component_, size_,
+            standalone_ ? "standalone" : "coupled", dir_);
+}
+
+double Session::negotiate_window(double preferred) {
+  const double offer = preferred > 0 ? preferred : std::numeric_limits<double>::infinity();
+  double w = offer;
+  MPI_Allreduce(&offer, &w, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+  if (!cfg_.coupling.window.is_auto) w = cfg_.coupling.window.value;
+  if (!std::isfinite(w)) {
+    // Nobody has a natural step: one window per output interval.
+    const auto& o = cfg_.run.output;
+    const double series = o.series_every.is_auto ? o.every : o.series_every.value;
+    w = cfg_.run.end_time;
+    for (double e : {o.every, series})
+      if (e > 0) w = std::min(w, e);
+  }
+  window_ = w;
+  windows_ = std::max(1L, static_cast<long>(std::ceil(cfg_.run.end_time / w - 1e-9)));
+  log::info("coupling window {:.6g} s, {} windows to t = {:.6g} s ({})", window_, windows_,
+            cfg_.run.end_time, cfg_.coupling.scheme);
+  return window_;
+}
+
+static bool crosses(long w, double window, double every) {
+  if (every <= 0) return false;
+  if (w == 0) return true;
+  const double a = (w - 1) * window / every, b = w * window / every;
+  return std::floor(b + 1e-9) > std::floor(a + 1e-9);
+}
+
+bool Session::snapshot_due(long w) const {
+  return crosses(w, window_, cfg_.run.output.every) || (w == windows_ && cfg_.run.output.every > 0);
+}
+
+bool Session::series_due(long w) const {
+  const auto& o = cfg_.run.output;
+  const double every = o.series_every.is_auto ? o.every : o.series_every.value;
+  if (every <= 0) return w == 0 || w == windows_;
+  return crosses(w, window_, every) || w == windows_;
+}
+
+void Session::window_done(long w) {
+  if (world_rank_ != 0) return;
+  const double t = now();
+  if (w < windows_ && t - last_progress_ < 0.25) return;
+  last_progress_ = t;
+  std::printf("%s %.9g %.9g %ld %ld %.3f\n", kProgressTag, w * window_, cfg_.run.end_time, w, windows_,
+              t - start_);
+  std::fflush(stdout);
+}
+
+void Session::snapshot_written(long step, double time, std::size_t count,
+                               const std::vector<std::string>& fields) {
+  if (rank_ != 0) return;
+  output::append_index(dir_, component_, {step, time, count}, fields);
+  const auto& d = cfg_.domain;
+  const auto h = d.spacing();
+  output::write_xdmf(dir_, {{d.lower[0], d.lower[1], d.lower[2]}, {h[0], h[1], h[2]},
+                            {d.cells[0], d.cells[1], d.cells[2]}});
+}
+
+void Session::set_final(const std::string& key, double value) {
+  auto it = std::find_if(finals_.begin(), finals_.end(), [&](auto& p) { return p.first == key; });
+  if (it != finals_.end())
+    it->second = value;
+  else
+    finals_.emplace_back(key, value);
+}
+
+void Session::finish() {
+  if (finished_) return;
+  finished_ = true;
+  // Per component: the maximum of each time over its ranks, the sum of bytes.
+  const Trace& t = trace();
+  const double wall = now() - start_;
+  double times[4] = {wall, t.exchange_s, t.wait_s, t.io_s}, tmax[4];
+  unsigned long long counts[4] = {t.bytes_sent, t.bytes_received, t.exchanges, t.steps}, csum[4];
+  MPI_Reduce(times, tmax, 4, MPI_DOUBLE, MPI_MAX, 0, comm_);
+  MPI_Reduce(counts, csum, 4, MPI_UNSIGNED_LONG_LONG, MPI_SUM, 0, comm_);
+  std::string entry;
+  if (rank_ == 0) {
+    const double compute = std::max(0.0, tmax[0] - tmax[1] - tmax[2] - tmax[3]);
+    const auto& info = cfg_.has(component_) ? cfg_.component(component_) : config::ComponentInfo{};
+    entry = fmt::format(
+        "{}: {{\"variant\": {}, \"ranks\": {}, \"steps\": {}, \"wall_s\": {:.6f}, \"compute_s\": "
+        "{:.6f}, \"exchange_s\": {:.6f}, \"wait_s\": {:.6f}, \"io_s\": {:.6f}, \"bytes_sent\": {}, "
+        "\"bytes_received\": {}, \"exchanges\": {}",
+        output::json_quote(component_), output::json_quote(info.variant), size_, csum[3] / size_,
+        tmax[0], compute, tmax[1], tmax[2], tmax[3], csum[0], csum[1], csum[2]);
+    entry += ", \"final\": {";
+    for (std::size_t i = 0; i < finals_.size(); ++i)
+      entry += fmt::format("{}{}: {:.17g}", i ? ", " : "", output::json_quote(finals_[i].first), finals_[i].second);
+    entry += "}}";
+    log::info("finished: {} steps, wall {:.3f} s (compute {:.3f}, exchange {:.3f}, wait {:.3f}, io {:.3f})",
+              csum[3] / size_, tmax[0], compute, tmax[1], tmax[2], tmax[3]);
+  }
+  // Gather the component entries on world rank 0.
+  int len = static_cast<int>(entry.size());
+  std::vector<int> lens(world_size_), displs(world_size_);
+  MPI_Gather(&len, 1, MPI_INT, lens.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  std::string all;
+  if (world_rank_ == 0) {
+    int total = 0;
+    for (int i = 0; i < world_size_; ++i) {
+      displs[i] = total;
+      total += lens[i];
+    }
+    all.resize(total);
+  }
+  MPI_Gatherv(entry.data(), len, MPI_CHAR, all.data(), lens.data(), displs.data(), MPI_CHAR, 0, MPI_COMM_WORLD);
+  if (world_rank_ == 0) {
+    std::string comps;
+    for (int i = 0; i < world_size_; ++i)
+      if (lens[i] > 0) comps += (comps.empty() ? "" : ",\n    ") + all.substr(displs[i], lens[i]);
+    const std::string json = fmt::format(
+        "{{\n  \"name\": {},\n  \"status\": \"ok\",\n  \"end_time\": {:.17g},\n  \"window\": {:.17g},\n"
+        "  \"windows\": {},\n  \"wall_s\": {:.6f},\n  \"scheme\": {},\n  \"components\": {{\n    {}\n  }}\n}}\n",
+        output::json_quote(cfg_.run.name), cfg_.run.end_time, window_, windows_, now() - start_,
+        output::json_quote(cfg_.coupling.scheme), comps);
+    output::atomic_write(dir_ + "/summary.json", json);
+    const auto& d = cfg_.domain;
+    const auto h = d.spacing();
+    output::write_xdmf(dir_, {{d.lower[0], d.lower[1], d.lower[2]}, {h[0], h[1], h[2]},
+                              {d.cells[0], d.cells[1], d.cells[2]}});
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
+void Session::fail(const std::string& reason, int code) {
+  log::error("{}", reason);
+  std::fprintf(stderr, "%s %s %d %s\n", kFailedTag, component_.c_str(), rank_, reason.c_str());
+  std::fflush(stderr);
+  try {
+    std::ofstream(dir_ + "/logs/FAILED", std::ios::app) << component_ << " rank " << rank_ << ": " << reason << "\n";
+  } catch (...) {
+  }
+  MPI_Abort(MPI_COMM_WORLD, code);
+  std::_Exit(code);
+}
+
+// ------------------------------------------------------------ run_component --
+
+int run_component(const std::string& component, int argc, char** argv,
+                  const config::Catalog& catalog, const std::function<void(Session&)>& body) {
+  MPI_Init(&argc, &argv);
+  int world_rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &world_rank);
+
+  Args args;
+  CLI::App app{fmt::format("coflow-{}: the {} component of a coflow run", component, component)};
+  app.add_option("config", args.config, "run configuration (YAML)")->required();
+  app.add_option("--restart", args.restart, "checkpoint directory to restart from");
+  app.add_option("--set", args.overrides, "override a key: key.path=value");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);
+    MPI_Finalize();
+    return rc == 0 ? 0 : 2;
+  }
+
+  config::Config cfg;
+  try {
+    cfg = config::parse_config(args.config, catalog, args.overrides);
+    if (!cfg.has(component)) {
+      if (world_rank == 0)
+        std::cerr << args.config << ": " << component << ": the configuration has no '" << component
+                  << "' section (or it says none), so coflow-" << component << " has nothing to run\n";
+      MPI_Finalize();
+      return 2;
+    }
+  } catch (const config::ConfigError& e) {
+    // Every rank of every component reads the same file and fails the same way.
+    if (world_rank == 0) std::cerr << e.what() << std::endl;
+    MPI_Finalize();
+    return 2;
+  }
+
+  std::unique_ptr<Session> session;
+  try {
+    session = std::make_unique<Session>(component, std::move(cfg), args);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s %s %d %s\n", kFailedTag, component.c_str(), world_rank, e.what());
+    MPI_Abort(MPI_COMM_WORLD, 1);
+  }
+  try {
+    body(*session);
+    session->finish();
+  } catch (const config::ConfigError& e) {
+    session->fail(e.what(), 2);
+  } catch (const std::exception& e) {
+    session->fail(e.what(), 1);
+  }
+  session.reset();
+  MPI_Finalize();
+  return 0;
+}
+
+}  // namespace coflow::coupler

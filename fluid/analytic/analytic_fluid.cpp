@@ -1,0 +1,119 @@
+#include "fluid/analytic/analytic_fluid.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+namespace coflow::fluid {
+
+void AnalyticParams::visit(config::Visitor& v) {
+  v("field", field, "which flow", config::one_of({"quiescent", "uniform", "poiseuille", "taylor-green"}));
+  v("velocity", velocity, "uniform: the velocity, m/s");
+  v("max_velocity", max_velocity, "poiseuille: centre-line speed; taylor-green: amplitude U0, m/s");
+  v("flow_axis", flow_axis, "poiseuille: flow direction (0 = x, 1 = y, 2 = z)", config::in_range(0, 2));
+  v("wall_axis", wall_axis, "poiseuille: wall-normal direction", config::in_range(0, 2));
+  if (v.reading() && field == "poiseuille" && flow_axis == wall_axis)
+    v.fail("wall_axis", "must differ from flow_axis");
+}
+
+AnalyticFluid::AnalyticFluid(const Setup& s, const Params& p)
+    : cfg_(s.cfg), fluid_(s.params), p_(p), comm_(s.comm), owned_(s.decomposition.block(s.rank)) {
+  const std::size_t n = owned_.volume();
+  u_.resize(3 * n);
+  p_field_.resize(n);
+  rho_.assign(n, fluid_.density);
+  evaluate();
+}
+
+Vec3 AnalyticFluid::velocity_at(const Vec3& x, double t) const {
+  const auto& d = cfg_.domain;
+  if (p_.field == "uniform") return p_.velocity;
+  if (p_.field == "poiseuille") {
+    // u = U (1 - (2 y' / H - 1)^2), walls at the domain faces of wall_axis.
+    const double H = d.upper[p_.wall_axis] - d.lower[p_.wall_axis];
+    const double s = 2.0 * (x[p_.wall_axis] - d.lower[p_.wall_axis]) / H - 1.0;
+    Vec3 u{0, 0, 0};
+    u[p_.flow_axis] = p_.max_velocity * (1.0 - s * s);
+    return u;
+  }
+  if (p_.field == "taylor-green") {
+    // 2D Taylor-Green vortex in x-y, period = the box; decays as exp(-2 nu k^2 t)
+    // for a square box (k = 2 pi / L).
+    const double kx = 2 * std::numbers::pi / (d.upper[0] - d.lower[0]);
+    const double ky = 2 * std::numbers::pi / (d.upper[1] - d.lower[1]);
+    const double decay = std::exp(-fluid_.viscosity * (kx * kx + ky * ky) * t);
+    const double X = kx * (x[0] - d.lower[0]), Y = ky * (x[1] - d.lower[1]);
+    return {p_.max_velocity * std::sin(X) * std::cos(Y) * decay,
+            -p_.max_velocity * (kx / ky) * std::cos(X) * std::sin(Y) * decay, 0.0};
+  }
+  return {0, 0, 0};
+}
+
+double AnalyticFluid::pressure_at(const Vec3& x, double t) const {
+  const auto& d = cfg_.domain;
+  if (p_.field == "taylor-green") {
+    const double kx = 2 * std::numbers::pi / (d.upper[0] - d.lower[0]);
+    const double ky = 2 * std::numbers::pi / (d.upper[1] - d.lower[1]);
+    const double decay = std::exp(-2 * fluid_.viscosity * (kx * kx + ky * ky) * t);
+    const double X = kx * (x[0] - d.lower[0]), Y = ky * (x[1] - d.lower[1]);
+    const double U = p_.max_velocity;
+    return fluid_.initial_pressure +
+           0.25 * fluid_.density * U * U * (std::cos(2 * X) + (kx * kx) / (ky * ky) * std::cos(2 * Y)) * decay;
+  }
+  return fluid_.initial_pressure;
+}
+
+void AnalyticFluid::evaluate() {
+  const auto& d = cfg_.domain;
+  const auto h = d.spacing();
+  std::size_t n = 0;
+  for (long k = owned_.lo[2]; k < owned_.hi[2]; ++k)
+    for (long j = owned_.lo[1]; j < owned_.hi[1]; ++j)
+      for (long i = owned_.lo[0]; i < owned_.hi[0]; ++i, ++n) {
+        const Vec3 x{d.lower[0] + (i + 0.5) * h[0], d.lower[1] + (j + 0.5) * h[1], d.lower[2] + (k + 0.5) * h[2]};
+        const Vec3 u = velocity_at(x, time_);
+        for (int c = 0; c < 3; ++c) u_[3 * n + c] = u[c];
+        p_field_[n] = pressure_at(x, time_);
+      }
+}
+
+void AnalyticFluid::advance(double dt) {
+  time_ += dt;
+  ++steps_;
+  evaluate();
+}
+
+std::vector<output::GridField> AnalyticFluid::fields(const config::StringList& names) {
+  std::vector<output::GridField> f;
+  for (const auto& n : names) {
+    if (n == "velocity") f.push_back({n, 3, u_});
+    if (n == "pressure") f.push_back({n, 1, p_field_});
+    if (n == "density") f.push_back({n, 1, rho_});
+  }
+  return f;
+}
+
+Diagnostics AnalyticFluid::diagnostics() {
+  const auto h = cfg_.domain.spacing();
+  const double vol = h[0] * h[1] * h[2];
+  double local[6] = {0, 0, 0, 0, 0, 0}, umax = 0;
+  const std::size_t n = owned_.volume();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double m = fluid_.density * vol;
+    double u2 = 0;
+    for (int c = 0; c < 3; ++c) {
+      local[1 + c] += m * u_[3 * i + c];
+      u2 += u_[3 * i + c] * u_[3 * i + c];
+    }
+    local[0] += m;
+    local[4] += 0.5 * m * u2;
+    umax = std::max(umax, std::sqrt(u2));
+  }
+  double global[6], gmax = 0;
+  MPI_Allreduce(local, global, 5, MPI_DOUBLE, MPI_SUM, comm_);
+  MPI_Allreduce(&umax, &gmax, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  return Diagnostics{global[0], {global[1], global[2], global[3]}, global[4], gmax, 0.0};
+}
+
+}  // namespace coflow::fluid

@@ -1,0 +1,10 @@
+#pragma once
+
+#include "coflow/session.hpp"
+
+namespace coflow::fluid {
+
+// The fluid component's window loop.
+void run(coupler::Session& session);
+
+}  // namespace coflow::fluid

@@ -1,0 +1,82 @@
+// The fluid component's interface. A variant is a class behind it, picked once
+// from `fluid.solver` (see fluid/variants.cpp).
+#pragma once
+
+#include <mpi.h>
+
+#include <array>
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "coflow/config.hpp"
+#include "coflow/decomposition.hpp"
+#include "coflow/output.hpp"
+#include "coflow/run_config.hpp"
+
+namespace coflow::fluid {
+
+using config::Vec3;
+
+// One face of the box: x-, x+, y-, y+, z-, z+.
+struct BoundaryParams {
+  std::string type = "wall";  // wall | pressure | velocity | outflow
+  config::Numbers value;      // pressure (Pa) or velocity (m/s)
+  void visit(config::Visitor& v);
+};
+
+inline const std::vector<std::string>& face_names() {
+  static const std::vector<std::string> f{"x-", "x+", "y-", "y+", "z-", "z+"};
+  return f;
+}
+
+// Keys common to every fluid variant.
+struct FluidParams {
+  double density = 1000.0;
+  double viscosity = 1e-6;
+  Vec3 body_force{0, 0, 0};
+  std::map<std::string, BoundaryParams> boundaries;  // by face; non-periodic faces default to wall
+  Vec3 initial_velocity{0, 0, 0};
+  double initial_pressure = 0.0;
+  void visit(config::Visitor& v, const config::Config& cfg);
+  // The boundary of a face (a wall when not given); periodic faces have type "periodic".
+  BoundaryParams boundary(int face, const config::Config& cfg) const;
+};
+
+// Global diagnostics, reduced over the component (SI units).
+struct Diagnostics {
+  double mass = 0.0;
+  Vec3 momentum{0, 0, 0};
+  double kinetic_energy = 0.0;
+  double max_velocity = 0.0;
+  double max_mach = 0.0;
+};
+
+class FluidSolver {
+ public:
+  struct Setup {
+    const config::Config& cfg;
+    const FluidParams& params;
+    coupler::Decomposition decomposition;
+    int rank = 0;
+    MPI_Comm comm = MPI_COMM_NULL;
+  };
+
+  virtual ~FluidSolver() = default;
+
+  // The solver's natural step in s (0: none, the solver can jump to any time).
+  virtual double time_step() const = 0;
+  // Advance by dt (a whole number of the solver's steps).
+  virtual void advance(double dt) = 0;
+  virtual double time() const = 0;
+  virtual long steps() const = 0;
+
+  // Owned block of this rank.
+  virtual const coupler::Box& owned() const = 0;
+  // Fields for snapshots, as arrays over owned() (no ghost), `components` per cell.
+  virtual std::vector<output::GridField> fields(const config::StringList& names) = 0;
+  virtual Diagnostics diagnostics() = 0;  // collective
+};
+
+}  // namespace coflow::fluid

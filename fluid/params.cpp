@@ -1,0 +1,53 @@
+#include <fmt/format.h>
+
+#include "fluid/fluid_solver.hpp"
+
+namespace coflow::fluid {
+
+void BoundaryParams::visit(config::Visitor& v) {
+  v.required("type", type, "boundary type", config::one_of({"wall", "pressure", "velocity", "outflow"}));
+  v("value", value, "pressure in Pa (type pressure) or velocity [u, v, w] in m/s (type velocity)");
+  if (!v.reading()) return;
+  const bool given = v.given("value");
+  if (type == "pressure" && (!given || value.values.size() != 1))
+    v.fail(given ? "value" : "", "a pressure boundary needs one number, e.g. value: 0.0 (Pa)");
+  if (type == "velocity" && (!given || value.values.size() != 3))
+    v.fail(given ? "value" : "", "a velocity boundary needs three numbers, e.g. value: [0.1, 0, 0] (m/s)");
+  if ((type == "wall" || type == "outflow") && given)
+    v.fail("value", fmt::format("a {} boundary takes no value; for a moving wall use type: velocity", type));
+}
+
+void FluidParams::visit(config::Visitor& v, const config::Config& cfg) {
+  v.required("density", density, "fluid density, kg/m^3", config::positive());
+  v.required("viscosity", viscosity, "kinematic viscosity, m^2/s", config::positive());
+  v("body_force", body_force, "body force density, N/m^3 (e.g. to drive periodic flow)");
+  std::vector<std::string> faces_open;
+  v.entries(
+      "boundaries", "boundary per face (x-, x+, y-, y+, z-, z+); periodic faces are omitted",
+      [&](const std::string& face, config::Visitor& s) {
+        boundaries[face].visit(s);
+        if (s.reading()) {
+          const int axis = face[0] - 'x';
+          if (cfg.domain.periodic[axis])
+            s.fail("", fmt::format("face {} is periodic (domain.periodic[{}] is true): remove this "
+                                   "boundary or make the axis non-periodic",
+                                   face, axis));
+          if (cfg.domain.cells[axis] == 1)
+            s.fail("", fmt::format("axis {} has one cell (a 2D run): it takes no boundary", "xyz"[axis]));
+        }
+      },
+      face_names());
+  v.section("initial", "initial state", [&](config::Visitor& s) {
+    s("velocity", initial_velocity, "initial velocity, m/s");
+    s("pressure", initial_pressure, "initial pressure, Pa");
+  });
+}
+
+BoundaryParams FluidParams::boundary(int face, const config::Config& cfg) const {
+  const int axis = face / 2;
+  if (cfg.domain.periodic[axis]) return BoundaryParams{"periodic", {}};
+  auto it = boundaries.find(face_names()[face]);
+  return it == boundaries.end() ? BoundaryParams{} : it->second;
+}
+
+}  // namespace coflow::fluid

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Usage: check_bad.sh CONFIG COFLOW [COFLOW ...]
+# The config must be rejected by `coflow validate` with exit status 2 and the
+# message of its first line ("# expect: :LINE:COL: key.path: message"), and the
+# launcher must neither crash nor trip a sanitizer.
+set -u
+cfg=$1; shift
+expect=$(head -n 1 "$cfg" | sed -n 's/^# expect: //p')
+[ -n "$expect" ] || { echo "FAIL: $cfg has no '# expect:' first line"; exit 1; }
+dir=$(dirname "$cfg"); base=$(basename "$cfg")
+export ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
+status=0
+for bin in "$@"; do
+  [ -x "$bin" ] || continue
+  out=$(cd "$dir" && "$bin" validate "$base" 2>&1 >/dev/null); rc=$?
+  if [ $rc -ne 2 ]; then echo "FAIL ($bin): exit status $rc, expected 2"; echo "$out"; status=1; continue; fi
+  case "$out" in
+    *"$base$expect"*) ;;
+    *) echo "FAIL ($bin): message not found"; echo "  expected: $base$expect"; echo "  got:      $out"; status=1 ;;
+  esac
+  case "$out" in *Sanitizer*|*"runtime error"*|*terminate*) echo "FAIL ($bin): crash or sanitizer report"; echo "$out"; status=1 ;; esac
+done
+exit $status

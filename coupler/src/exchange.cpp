@@ -49,6 +49,8 @@ FieldExchange::~FieldExchange() {
     flush();
   } catch (...) {
   }
+  for (auto& p : peers_)
+    if (p.contiguous < 0 && p.request != MPI_REQUEST_NULL) MPI_Request_free(&p.request);
 }
 
 long FieldExchange::local_index(const Index3& g) const {
@@ -93,7 +95,14 @@ void FieldExchange::build(const Decomposition& mine, int my_rank, const Decompos
       });
     }
     if (peer.cells.empty()) continue;
-    peer.buffer.resize(peer.cells.size() * spec_.components);
+    // A consistent message that is one contiguous run of cells goes straight
+    // from/to the user's array: no packing.
+    bool run = !cons;
+    for (std::size_t i = 1; run && i < peer.cells.size(); ++i) run = peer.cells[i] == peer.cells[0] + static_cast<long>(i);
+    if (run)
+      peer.contiguous = peer.cells[0];
+    else
+      peer.buffer.resize(peer.cells.size() * spec_.components);
     peers_.push_back(std::move(peer));
   }
   requests_.resize(peers_.size(), MPI_REQUEST_NULL);
@@ -101,6 +110,7 @@ void FieldExchange::build(const Decomposition& mine, int my_rank, const Decompos
   for (std::size_t i = 0; i < peers_.size(); ++i) peer_of_[peers_[i].rank] = static_cast<int>(i);
   for (std::size_t i = 0; i < peers_.size(); ++i) {
     auto& p = peers_[i];
+    if (p.contiguous >= 0) continue;  // posted per call on the user's array
     const int n = static_cast<int>(p.buffer.size());
     if (sender)
       MPI_Send_init(p.buffer.data(), n, MPI_DOUBLE, p.rank, tag_, inter_, &p.request);
@@ -113,6 +123,7 @@ void FieldExchange::flush() {
   if (sends_pending_) {
     for (std::size_t i = 0; i < peers_.size(); ++i) requests_[i] = peers_[i].request;
     wait_all(requests_, fmt::format("the delivery of field '{}'", spec_.name));
+    for (std::size_t i = 0; i < peers_.size(); ++i) peers_[i].request = requests_[i];
     sends_pending_ = false;
   }
   if (!sparse_requests_.empty()) {
@@ -130,13 +141,20 @@ void FieldExchange::send(std::span<const double> local) {
   Timer t(trace().exchange_s);
   const int nc = spec_.components;
   for (auto& p : peers_) {
-    double* out = p.buffer.data();
-    for (long c : p.cells) {
-      const double* in = local.data() + c * nc;
-      for (int k = 0; k < nc; ++k) *out++ = in[k];
+    const std::size_t n = p.cells.size() * nc;
+    if (p.contiguous >= 0) {
+      // The caller keeps `local` unchanged until the next send() or flush().
+      MPI_Isend(local.data() + p.contiguous * nc, static_cast<int>(n), MPI_DOUBLE, p.rank, tag_, inter_,
+                &p.request);
+    } else {
+      double* out = p.buffer.data();
+      for (long c : p.cells) {
+        const double* in = local.data() + c * nc;
+        for (int k = 0; k < nc; ++k) *out++ = in[k];
+      }
+      MPI_Start(&p.request);
     }
-    MPI_Start(&p.request);
-    trace().bytes_sent += p.buffer.size() * sizeof(double);
+    trace().bytes_sent += n * sizeof(double);
   }
   ++trace().exchanges;
   sends_pending_ = !peers_.empty();
@@ -152,8 +170,13 @@ void FieldExchange::receive(std::span<double> local) {
   {
     Timer t(trace().exchange_s);
     for (std::size_t i = 0; i < peers_.size(); ++i) {
-      MPI_Start(&peers_[i].request);
-      requests_[i] = peers_[i].request;
+      auto& p = peers_[i];
+      if (p.contiguous >= 0)
+        MPI_Irecv(local.data() + p.contiguous * nc, static_cast<int>(p.cells.size() * nc), MPI_DOUBLE, p.rank,
+                  tag_, inter_, &p.request);
+      else
+        MPI_Start(&p.request);
+      requests_[i] = p.request;
     }
     if (cons)
       for_cells(owned_, [&](const Index3& c) {
@@ -162,8 +185,11 @@ void FieldExchange::receive(std::span<double> local) {
       });
   }
   wait_all(requests_, fmt::format("field '{}'", spec_.name));
+  for (std::size_t i = 0; i < peers_.size(); ++i) peers_[i].request = requests_[i];
   Timer t(trace().exchange_s);
   for (auto& p : peers_) {
+    trace().bytes_received += p.cells.size() * nc * sizeof(double);
+    if (p.contiguous >= 0) continue;  // already in place
     const double* in = p.buffer.data();
     if (cons) {
       for (long c : p.cells) {
@@ -176,7 +202,6 @@ void FieldExchange::receive(std::span<double> local) {
         for (int k = 0; k < nc; ++k) v[k] = *in++;
       }
     }
-    trace().bytes_received += p.buffer.size() * sizeof(double);
   }
   ++trace().exchanges;
 }

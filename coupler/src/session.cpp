@@ -188,6 +188,11 @@ double Session::negotiate_window(double preferred) {
   return window_;
 }
 
+long Session::substeps(double step) const {
+  if (step <= 0) return 1;
+  return std::max(1L, static_cast<long>(std::ceil(window_ / step - 1e-9)));
+}
+
 static bool crosses(long w, double window, double every) {
   if (every <= 0) return false;
   if (w == 0) return true;

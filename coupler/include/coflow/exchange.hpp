@@ -48,8 +48,10 @@ class FieldExchange {
   std::size_t local_size() const { return static_cast<std::size_t>(local_box_.volume()) * spec_.components; }
   long local_index(const Index3& global) const;  // cell index in the local array
 
-  // Dense: every cell of the map. send() returns once the data is packed; the
-  // messages complete in the background (before the next send, or in flush()).
+  // Dense: every cell of the map. send() returns at once; the messages complete
+  // in the background, before the next send() or in flush(). Messages that are
+  // one contiguous run of cells are sent straight from `local` (no copy), so
+  // `local` must stay unchanged until then, as with MPI_Isend.
   void send(std::span<const double> local);
   // Consistent: overwrites the cells received (owned + ghost). Conservative:
   // zeroes the owned cells, then adds every contribution to them.
@@ -68,6 +70,7 @@ class FieldExchange {
   struct Peer {
     int rank = 0;
     std::vector<long> cells;  // local cell indices in message order
+    long contiguous = -1;     // first cell when `cells` is one contiguous run (zero-copy)
     std::vector<double> buffer;
     std::vector<std::byte> sparse;
     MPI_Request request = MPI_REQUEST_NULL;

@@ -61,6 +61,9 @@ class Session {
   // given, else the smallest offer. Sets the number of windows to cover end_time.
   double negotiate_window(double preferred);
   double window() const { return window_; }
+  // Sub-steps of a solver with natural step `step` inside one window (the last
+  // sub-step is shortened so the window is covered exactly).
+  long substeps(double step) const;
   long windows() const { return windows_; }
   // Whether a snapshot / series row falls at the end of window w (1-based);
   // window 0 is the initial state.

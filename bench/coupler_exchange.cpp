@@ -1,0 +1,125 @@
+// Benchmark: dense field exchange through the coupler vs plain MPI.
+//
+//   mpirun --oversubscribe -np 8 build/bin/bench-coupler-exchange [cells] [repeats]
+//
+// 1. Setup: the communication map of a 128^3 x 3 field between two components
+//    of 4 ranks each (4 x 4), built from block intersections; max over ranks.
+// 2. Throughput: the same field between two 1-rank components (world ranks 0
+//    and 1): FieldExchange send/receive vs MPI_Sendrecv of the same bytes, in
+//    the same run. Ranks 2.. sleep meanwhile so they do not steal the cores.
+// Last line: RESULT exchange_gbs=... mpi_gbs=... ratio=... setup_s=...
+#include <mpi.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <thread>
+#include <vector>
+
+#include "coflow/exchange.hpp"
+#include "coflow/trace.hpp"
+
+using namespace coflow::coupler;
+
+namespace {
+
+// Wait on a barrier without spinning.
+void sleepy_barrier(MPI_Comm comm) {
+  MPI_Request r;
+  MPI_Ibarrier(comm, &r);
+  int done = 0;
+  while (!done) {
+    MPI_Test(&r, &done, MPI_STATUS_IGNORE);
+    if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const long n = argc > 1 ? std::atol(argv[1]) : 128;
+  const int repeats = argc > 2 ? std::atoi(argv[2]) : 20;
+  const Index3 cells{n, n, n};
+  const int nc = 3;
+
+  // --- 1. map setup at 4 x 4 ---
+  double setup = 0.0;
+  if (size >= 8) {
+    MPI_Comm half, inter;
+    const int color = rank < 4 ? 0 : rank < 8 ? 1 : MPI_UNDEFINED;
+    MPI_Comm_split(MPI_COMM_WORLD, color, rank, &half);
+    if (half != MPI_COMM_NULL) {
+      MPI_Intercomm_create(half, 0, MPI_COMM_WORLD, color == 0 ? 4 : 0, 11, &inter);
+      const Decomposition a(cells, 4), b(cells, 4);
+      int hr = 0;
+      MPI_Comm_rank(half, &hr);
+      MPI_Barrier(half);
+      const double t0 = now();
+      {
+        FieldExchange ex(inter, color == 0 ? FieldExchange::Role::sender : FieldExchange::Role::receiver,
+                         color == 0 ? a : b, hr, color == 0 ? b : a, {"velocity", nc, Transfer::consistent, 2}, 21);
+        setup = now() - t0;
+      }
+      MPI_Comm_free(&inter);
+      MPI_Comm_free(&half);
+    }
+    double local = setup;
+    MPI_Reduce(&local, &setup, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+  } else if (rank == 0) {
+    std::printf("note: run with 8 ranks to time the 4 x 4 map setup\n");
+  }
+
+  // --- 2. throughput at 1 x 1 ---
+  MPI_Comm pair = MPI_COMM_NULL, one = MPI_COMM_NULL, inter = MPI_COMM_NULL;
+  MPI_Comm_split(MPI_COMM_WORLD, rank < 2 ? 0 : MPI_UNDEFINED, rank, &pair);
+  double t_ex = 0, t_mpi = 0;
+  const double bytes = static_cast<double>(n * n * n * nc) * sizeof(double);
+  if (pair != MPI_COMM_NULL) {
+    MPI_Comm_split(pair, rank, 0, &one);
+    MPI_Intercomm_create(one, 0, pair, 1 - rank, 12, &inter);
+    const Decomposition d(cells, 1);
+    FieldExchange ex(inter, rank == 0 ? FieldExchange::Role::sender : FieldExchange::Role::receiver, d, 0, d,
+                     {"velocity", nc, Transfer::consistent, 0}, 31);
+    std::vector<double> field(ex.local_size());
+    for (std::size_t i = 0; i < field.size(); ++i) field[i] = 1e-3 * static_cast<double>(i % 1000);
+    std::vector<double> other(field.size());
+    for (int r = -2; r < repeats; ++r) {  // two warm-up rounds
+      MPI_Barrier(pair);
+      double t0 = now();
+      if (rank == 0) {
+        ex.send(field);
+        ex.flush();
+      } else {
+        ex.receive(other);
+      }
+      MPI_Barrier(pair);
+      if (r >= 0) t_ex += now() - t0;
+      t0 = now();
+      const int count = static_cast<int>(field.size());
+      if (rank == 0)
+        MPI_Sendrecv(field.data(), count, MPI_DOUBLE, 1, 41, nullptr, 0, MPI_DOUBLE, 1, 42, pair, MPI_STATUS_IGNORE);
+      else
+        MPI_Sendrecv(nullptr, 0, MPI_DOUBLE, 0, 42, other.data(), count, MPI_DOUBLE, 0, 41, pair, MPI_STATUS_IGNORE);
+      MPI_Barrier(pair);
+      if (r >= 0) t_mpi += now() - t0;
+    }
+    if (rank == 1 && other[12345] != field[12345]) std::printf("ERROR: wrong data received\n");
+  }
+  sleepy_barrier(MPI_COMM_WORLD);
+  if (rank == 0) {
+    const double ex_gbs = bytes * repeats / t_ex / 1e9, mpi_gbs = bytes * repeats / t_mpi / 1e9;
+    std::printf("field: %ld^3 cells x %d doubles = %.1f MB per exchange, %d repeats\n", n, nc, bytes / 1e6, repeats);
+    std::printf("coupler FieldExchange (1 x 1): %.3f s per exchange, %.2f GB/s\n", t_ex / repeats, ex_gbs);
+    std::printf("plain MPI_Sendrecv (same bytes): %.3f s per exchange, %.2f GB/s\n", t_mpi / repeats, mpi_gbs);
+    if (size >= 8) std::printf("communication map setup at 4 x 4 ranks: %.4f s (max over ranks)\n", setup);
+    std::printf("RESULT exchange_gbs=%.3f mpi_gbs=%.3f ratio=%.3f setup_s=%.4f\n", ex_gbs, mpi_gbs, ex_gbs / mpi_gbs,
+                setup);
+  }
+  if (inter != MPI_COMM_NULL) MPI_Comm_free(&inter);
+  MPI_Finalize();
+  return 0;
+}

@@ -1,0 +1,439 @@
+// Dummy components: tiny stand-ins for the fluid, immersed and particle solvers.
+//
+// They follow the same protocol as the real components (docs/protocol.md), with
+// data whose every value is known, and check what they receive:
+//  - particles -> immersed: random point records; the immersed side answers one
+//    result per record, and particles check that each comes back to its origin,
+//    in order, once per rank that holds the point (owner + ghost copies);
+//  - immersed -> fluid: a conservative momentum source filled over the sender's
+//    block *and* ghost layer; the fluid checks every owned cell and the global sum;
+//  - fluid -> immersed: the consistent field u = (sin x, y^2, z); the immersed side
+//    checks every owned and ghost cell bit for bit.
+// Each field travels dense and sparse, with ghost widths 0 and 2.
+//
+// Built three times (COFLOW_DUMMY = fluid | immersed | particles). This file is
+// also the template for writing a component of your own: see docs/protocol.md.
+#include <fmt/format.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <random>
+#include <thread>
+
+#include "coflow/catalog.hpp"
+#include "coflow/exchange.hpp"
+#include "coflow/log.hpp"
+#include "coflow/session.hpp"
+
+namespace {
+
+using namespace coflow;
+using coupler::Box;
+using coupler::Decomposition;
+using coupler::FieldExchange;
+using coupler::Index3;
+using coupler::PointExchange;
+
+struct DummyParams {
+  double step = 0.1;       // fluid: the step it offers as the coupling window
+  int points = 1000;       // particles: point records per rank per window
+  int fail_at_window = 0;  // throw at this window (0: never)
+  int kill_at_window = 0;  // SIGKILL itself at this window
+  int hang_at_window = 0;  // stop answering at this window
+  int fail_rank = 0;       // which rank of the component misbehaves
+  void visit(config::Visitor& v) {
+    v("step", step, "fluid: natural step, s", config::positive());
+    v("points", points, "particles: point records per rank and window", config::non_negative());
+    v("fail_at_window", fail_at_window, "throw an error at this window (0: never)", config::non_negative());
+    v("kill_at_window", kill_at_window, "SIGKILL one rank at this window (0: never)", config::non_negative());
+    v("hang_at_window", hang_at_window, "stop answering at this window (0: never)", config::non_negative());
+    v("fail_rank", fail_rank, "the rank that misbehaves", config::non_negative());
+  }
+};
+
+struct PointRecord {
+  std::int64_t id;
+  double x[3];
+};
+struct PointResult {
+  std::int64_t id;
+  double copies;
+  double value;
+};
+
+void add_result(std::byte* into, const std::byte* from) {
+  PointResult a, b;
+  std::memcpy(&a, into, sizeof a);
+  std::memcpy(&b, from, sizeof b);
+  a.copies += b.copies;
+  a.value += b.value;
+  std::memcpy(into, &a, sizeof a);
+}
+
+double point_value(const PointRecord& r) {
+  return r.x[0] + 2 * r.x[1] + 3 * r.x[2] + 1e-3 * r.id;
+}
+
+// The fluid's velocity field and the immersed side's source, per global cell.
+std::array<double, 3> velocity_of(const config::Config& cfg, const Index3& c) {
+  const auto h = cfg.domain.spacing();
+  const double x = cfg.domain.lower[0] + (c[0] + 0.5) * h[0];
+  const double y = cfg.domain.lower[1] + (c[1] + 0.5) * h[1];
+  const double z = cfg.domain.lower[2] + (c[2] + 0.5) * h[2];
+  return {std::sin(x), y * y, z};
+}
+std::array<double, 3> source_of(const Index3& c, long w) {
+  const double v = 1.0 + 1e-3 * (c[0] + 7 * c[1] + 31 * c[2]) + 0.01 * w;
+  return {v, -2 * v, 0.5 * v};
+}
+bool sparse_cell(const Index3& c) {
+  return ((c[0] + c[1] + c[2]) % 3 + 3) % 3 == 0;
+}
+
+template <class F>
+void for_cells(const Box& b, F&& f) {
+  for (long k = b.lo[2]; k < b.hi[2]; ++k)
+    for (long j = b.lo[1]; j < b.hi[1]; ++j)
+      for (long i = b.lo[0]; i < b.hi[0]; ++i) f(Index3{i, j, k});
+}
+
+void misbehave(const coupler::Session& s, const DummyParams& p, long w) {
+  if (s.rank() != p.fail_rank) return;
+  if (p.fail_at_window == w)
+    throw std::runtime_error(fmt::format("dummy {} failing on purpose at window {}", s.component(), w));
+  if (p.kill_at_window == w) raise(SIGKILL);
+  if (p.hang_at_window == w) {
+    coflow::log::warn("dummy hanging on purpose at window {}", w);
+    for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));
+  }
+}
+
+// The four variants of each field exchange.
+struct Variant {
+  bool sparse;
+  int ghost;
+};
+const Variant kVariants[] = {{false, 0}, {false, 2}, {true, 0}, {true, 2}};
+
+constexpr int kTagVelocity = 100, kTagSource = 200, kTagPoints = 300;
+
+// ------------------------------------------------------------------ fluid ---
+
+void run_fluid(coupler::Session& s, const DummyParams& p) {
+  const auto& cfg = s.config();
+  s.negotiate_window(p.step);
+  const Decomposition mine = s.decomposition();
+  const bool coupled = s.has_partner("immersed");
+  std::vector<std::unique_ptr<FieldExchange>> to_immersed, from_immersed;
+  if (coupled) {
+    const Decomposition other = s.decomposition_of("immersed", s.partner_ranks("immersed"));
+    for (int v = 0; v < 4; ++v) {
+      to_immersed.push_back(std::make_unique<FieldExchange>(
+          s.partner("immersed"), FieldExchange::Role::sender, mine, s.rank(), other,
+          coupler::FieldSpec{"velocity", 3, coupler::Transfer::consistent, kVariants[v].ghost},
+          kTagVelocity + 10 * v));
+      from_immersed.push_back(std::make_unique<FieldExchange>(
+          s.partner("immersed"), FieldExchange::Role::receiver, mine, s.rank(), other,
+          coupler::FieldSpec{"source", 3, coupler::Transfer::conservative, kVariants[v].ghost},
+          kTagSource + 10 * v));
+    }
+  }
+  const Box owned = mine.block(s.rank());
+  std::vector<double> local;
+  std::vector<std::vector<double>> outgoing(4);  // a sent array stays untouched until the next send
+  std::vector<Index3> cells;
+  std::vector<double> values;
+  std::vector<long> got_cells;
+  std::vector<double> got_values;
+  for (long w = 1; w <= s.windows(); ++w) {
+    misbehave(s, p, w);
+    coupler::trace().steps = w;
+    if (!coupled) {
+      s.window_done(w);
+      continue;
+    }
+    const Decomposition other = s.decomposition_of("immersed", s.partner_ranks("immersed"));
+    auto receive_source = [&] {
+      for (int v = 0; v < 4; ++v) {
+        // Receive the conservative source and check each owned cell: it must be the
+        // sum of the source over every (sender rank, periodic image) that covers it.
+        auto& ex = *from_immersed[v];
+        const Index3 g = other.ghost(kVariants[v].ghost);
+        local.assign(ex.local_size(), 0.0);
+        if (kVariants[v].sparse) {
+          got_cells.clear();
+          got_values.clear();
+          ex.receive_sparse(got_cells, got_values);
+          for (std::size_t n = 0; n < got_cells.size(); ++n)
+            for (int c = 0; c < 3; ++c) local[got_cells[n] * 3 + c] += got_values[n * 3 + c];
+        } else {
+          ex.receive(local);
+        }
+        double sum = 0.0, expected_sum = 0.0;
+        for_cells(owned, [&](const Index3& c) {
+          int cover = 0;
+          for (int r = 0; r < other.ranks(); ++r) {
+            const Box src = other.clip(other.block(r).grown(g));
+            for (const auto& sh : other.image_shifts())
+              if (src.contains({c[0] + sh[0], c[1] + sh[1], c[2] + sh[2]})) ++cover;
+          }
+          if (kVariants[v].sparse && !sparse_cell(c)) cover = 0;
+          const auto src = source_of(c, w);
+          const double* got = local.data() + ex.local_index(c) * 3;
+          for (int k = 0; k < 3; ++k) {
+            const double want = cover * src[k];
+            if (std::abs(got[k] - want) > 1e-12 * std::abs(want) + 1e-300)
+              throw std::runtime_error(
+                  fmt::format("fluid: source at ({},{},{}) comp {} is {} not {} (variant {})", c[0], c[1],
+                              c[2], k, got[k], want, v));
+            sum += got[k];
+            expected_sum += want;
+          }
+        });
+        double both[2] = {sum, expected_sum}, total[2];
+        MPI_Allreduce(both, total, 2, MPI_DOUBLE, MPI_SUM, s.comm());
+        if (std::abs(total[0] - total[1]) > 1e-12 * std::abs(total[1]))
+          throw std::runtime_error(fmt::format("fluid: source total {} != {}", total[0], total[1]));
+      }
+    };
+    auto send_velocity = [&] {
+      for (int v = 0; v < 4; ++v) {
+        auto& ex = *to_immersed[v];
+        ex.flush();  // the previous window's messages may still read outgoing[v]
+        auto& out = outgoing[v];
+        out.assign(ex.local_size(), 0.0);
+        for_cells(owned, [&](const Index3& c) {
+          const auto u = velocity_of(cfg, c);
+          for (int k = 0; k < 3; ++k) out[ex.local_index(c) * 3 + k] = u[k];
+        });
+        if (kVariants[v].sparse) {
+          cells.clear();
+          values.clear();
+          for_cells(owned, [&](const Index3& c) {
+            if (!sparse_cell(c)) return;
+            cells.push_back(c);
+            const auto u = velocity_of(cfg, c);
+            values.insert(values.end(), u.begin(), u.end());
+          });
+          ex.send_sparse(cells, values);
+        } else {
+          ex.send(out);
+        }
+      }
+    };
+    // serial-explicit: the fluid steps on this window's source, then sends its
+    // velocity; parallel-explicit: it sends first, so particles and fluid work
+    // at the same time on the previous window's data.
+    if (cfg.coupling.scheme == "parallel-explicit") {
+      send_velocity();
+      receive_source();
+    } else {
+      receive_source();
+      send_velocity();
+    }
+    s.window_done(w);
+  }
+  for (auto& e : to_immersed) e->flush();
+  s.set_final("dummy.checked_windows", static_cast<double>(s.windows()));
+}
+
+// --------------------------------------------------------------- immersed ---
+
+void run_immersed(coupler::Session& s, const DummyParams& p) {
+  const auto& cfg = s.config();
+  s.negotiate_window(0.0);
+  const Decomposition mine = s.decomposition();
+  const auto h = cfg.domain.spacing();
+  std::unique_ptr<PointExchange> points;
+  if (s.has_partner("particles"))
+    points = std::make_unique<PointExchange>(s.partner("particles"), PointExchange::Role::destination, mine,
+                                             cfg.domain.lower, h, sizeof(PointRecord), sizeof(PointResult),
+                                             kTagPoints, 2);
+  std::vector<std::unique_ptr<FieldExchange>> to_fluid, from_fluid;
+  if (s.has_partner("fluid")) {
+    const Decomposition other = s.decomposition_of("fluid", s.partner_ranks("fluid"));
+    for (int v = 0; v < 4; ++v) {
+      from_fluid.push_back(std::make_unique<FieldExchange>(
+          s.partner("fluid"), FieldExchange::Role::receiver, mine, s.rank(), other,
+          coupler::FieldSpec{"velocity", 3, coupler::Transfer::consistent, kVariants[v].ghost},
+          kTagVelocity + 10 * v));
+      to_fluid.push_back(std::make_unique<FieldExchange>(
+          s.partner("fluid"), FieldExchange::Role::sender, mine, s.rank(), other,
+          coupler::FieldSpec{"source", 3, coupler::Transfer::conservative, kVariants[v].ghost},
+          kTagSource + 10 * v));
+    }
+  }
+  std::vector<std::byte> records, results;
+  std::vector<std::uint8_t> owned_flags;
+  std::vector<double> local;
+  std::vector<Index3> cells;
+  std::vector<double> values;
+  std::vector<long> got_cells;
+  std::vector<double> got_values;
+  for (long w = 1; w <= s.windows(); ++w) {
+    misbehave(s, p, w);
+    if (points) {
+      points->receive(records, owned_flags);
+      const std::size_t n = owned_flags.size();
+      results.resize(n * sizeof(PointResult));
+      for (std::size_t i = 0; i < n; ++i) {
+        PointRecord r;
+        std::memcpy(&r, records.data() + i * sizeof r, sizeof r);
+        const PointResult out{r.id, 1.0, point_value(r)};
+        std::memcpy(results.data() + i * sizeof out, &out, sizeof out);
+      }
+      points->send_results(results);
+    }
+    auto send_source = [&] {
+      for (int v = 0; v < 4 && !to_fluid.empty(); ++v) {
+        auto& ex = *to_fluid[v];
+        const Box box = mine.clip(ex.local_box());
+        local.assign(ex.local_size(), 0.0);
+        for_cells(box, [&](const Index3& c) {
+          const auto src = source_of(mine.wrap(c), w);
+          for (int k = 0; k < 3; ++k) local[ex.local_index(c) * 3 + k] = src[k];
+        });
+        if (kVariants[v].sparse) {
+          cells.clear();
+          values.clear();
+          for_cells(box, [&](const Index3& c) {
+            if (!sparse_cell(mine.wrap(c))) return;
+            cells.push_back(c);
+            const auto src = source_of(mine.wrap(c), w);
+            values.insert(values.end(), src.begin(), src.end());
+          });
+          ex.send_sparse(cells, values);
+        } else {
+          ex.send(local);
+        }
+      }
+    };
+    auto receive_velocity = [&] {
+      for (int v = 0; v < 4 && !from_fluid.empty(); ++v) {
+        // Every cell of the clipped local box (owned + ghost) must hold the exact
+        // value of the wrapped cell.
+        auto& ex = *from_fluid[v];
+        const Box box = mine.clip(ex.local_box());
+        local.assign(ex.local_size(), std::nan(""));
+        long expected_count = 0;
+        if (kVariants[v].sparse) {
+          got_cells.clear();
+          got_values.clear();
+          ex.receive_sparse(got_cells, got_values);
+          for (std::size_t n = 0; n < got_cells.size(); ++n)
+            for (int c = 0; c < 3; ++c) local[got_cells[n] * 3 + c] = got_values[n * 3 + c];
+          for_cells(box, [&](const Index3& c) { expected_count += sparse_cell(mine.wrap(c)); });
+          if (static_cast<long>(got_cells.size()) != expected_count)
+            throw std::runtime_error(fmt::format("immersed: {} sparse cells received, {} expected",
+                                                 got_cells.size(), expected_count));
+        } else {
+          ex.receive(local);
+        }
+        for_cells(box, [&](const Index3& c) {
+          if (kVariants[v].sparse && !sparse_cell(mine.wrap(c))) return;
+          const auto u = velocity_of(cfg, mine.wrap(c));
+          const double* got = local.data() + ex.local_index(c) * 3;
+          for (int k = 0; k < 3; ++k)
+            if (got[k] != u[k])
+              throw std::runtime_error(
+                  fmt::format("immersed: velocity at ({},{},{}) comp {} is {} not {} (variant {})", c[0],
+                              c[1], c[2], k, got[k], u[k], v));
+        });
+      }
+    };
+    if (cfg.coupling.scheme == "parallel-explicit") {
+      receive_velocity();
+      send_source();
+    } else {
+      send_source();
+      receive_velocity();
+    }
+    s.window_done(w);
+  }
+  for (auto& e : to_fluid) e->flush();
+}
+
+// -------------------------------------------------------------- particles ---
+
+void run_particles(coupler::Session& s, const DummyParams& p) {
+  const auto& cfg = s.config();
+  s.negotiate_window(0.0);
+  if (!s.has_partner("immersed")) {
+    for (long w = 1; w <= s.windows(); ++w) {
+      misbehave(s, p, w);
+      s.window_done(w);
+    }
+    return;
+  }
+  const Decomposition dest = s.decomposition_of("immersed", s.partner_ranks("immersed"));
+  const auto h = cfg.domain.spacing();
+  PointExchange ex(s.partner("immersed"), PointExchange::Role::origin, dest, cfg.domain.lower, h,
+                   sizeof(PointRecord), sizeof(PointResult), kTagPoints, 2);
+  std::vector<std::byte> records(p.points * sizeof(PointRecord)), results(p.points * sizeof(PointResult));
+  std::vector<std::array<double, 3>> pos(p.points);
+  std::vector<PointRecord> recs(p.points);
+  const Index3 g = dest.ghost(2);
+  for (long w = 1; w <= s.windows(); ++w) {
+    misbehave(s, p, w);
+    std::mt19937_64 rng(cfg.run.seed + 7919 * s.rank() + 104729 * w);
+    for (long i = 0; i < p.points; ++i) {
+      PointRecord& r = recs[i];
+      r.id = (static_cast<std::int64_t>(s.rank()) << 40) | i;
+      for (int d = 0; d < 3; ++d) {
+        std::uniform_real_distribution<double> u(cfg.domain.lower[d], cfg.domain.upper[d]);
+        r.x[d] = pos[i][d] = u(rng);
+      }
+      std::memcpy(records.data() + i * sizeof r, &r, sizeof r);
+    }
+    ex.send(records, pos);
+    ex.receive_results(results, add_result);
+    for (long i = 0; i < p.points; ++i) {
+      PointResult out;
+      std::memcpy(&out, results.data() + i * sizeof out, sizeof out);
+      // How many ranks hold this point: its owner, plus every other rank whose
+      // block grown by the ghost width contains it (any periodic image).
+      Index3 c{};
+      for (int d = 0; d < 3; ++d)
+        c[d] = std::clamp(static_cast<long>(std::floor((pos[i][d] - cfg.domain.lower[d]) / h[d])), 0L,
+                          cfg.domain.cells[d] - 1L);
+      const int owner = dest.owner(c);
+      int copies = 1;
+      for (int r = 0; r < dest.ranks(); ++r) {
+        if (r == owner) continue;
+        for (const auto& sh : dest.image_shifts())
+          if (dest.block(r).grown(g).contains({c[0] + sh[0], c[1] + sh[1], c[2] + sh[2]})) {
+            ++copies;
+            break;
+          }
+      }
+      if (out.id != recs[i].id || out.copies != copies ||
+          std::abs(out.value - copies * point_value(recs[i])) >
+              1e-12 * std::abs(copies * point_value(recs[i])))
+        throw std::runtime_error(
+            fmt::format("particles: result {} came back wrong: id {} (want {}), copies {} (want {})", i,
+                        out.id, recs[i].id, out.copies, copies));
+    }
+    coupler::trace().steps = w;
+    s.window_done(w);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string component = COFLOW_DUMMY;
+  return coupler::run_component(component, argc, argv, coflow::catalog(), [&](coupler::Session& s) {
+    DummyParams p;
+    YAML::Node section = s.config().resolved[component]["dummy"];
+    config::Reader r(section, s.config().file, component + ".dummy");
+    p.visit(r);
+    r.finish();
+    r.check();
+    if (component == "fluid") run_fluid(s, p);
+    if (component == "immersed") run_immersed(s, p);
+    if (component == "particles") run_particles(s, p);
+  });
+}

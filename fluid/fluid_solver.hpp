@@ -39,7 +39,11 @@ struct FluidParams {
   std::map<std::string, BoundaryParams> boundaries;  // by face; non-periodic faces default to wall
   Vec3 initial_velocity{0, 0, 0};
   double initial_pressure = 0.0;
+  std::string initial_field = "uniform";  // uniform | taylor-green
+  double initial_amplitude = 0.0;          // taylor-green: U0, m/s
   void visit(config::Visitor& v, const config::Config& cfg);
+  // Initial velocity (m/s) and pressure (Pa) at a point.
+  void initial_state(const config::Config& cfg, const Vec3& x, Vec3& u, double& p) const;
   // The boundary of a face (a wall when not given); periodic faces have type "periodic".
   BoundaryParams boundary(int face, const config::Config& cfg) const;
 };

@@ -1,3 +1,6 @@
+#include <cmath>
+#include <numbers>
+
 #include <fmt/format.h>
 
 #include "fluid/fluid_solver.hpp"
@@ -38,9 +41,26 @@ void FluidParams::visit(config::Visitor& v, const config::Config& cfg) {
       },
       face_names());
   v.section("initial", "initial state", [&](config::Visitor& s) {
+    s("field", initial_field, "uniform (velocity, pressure) or a taylor-green vortex in x-y added to them",
+      config::one_of({"uniform", "taylor-green"}));
     s("velocity", initial_velocity, "initial velocity, m/s");
     s("pressure", initial_pressure, "initial pressure, Pa");
+    s("amplitude", initial_amplitude, "taylor-green: velocity amplitude U0, m/s");
   });
+}
+
+void FluidParams::initial_state(const config::Config& cfg, const Vec3& x, Vec3& u, double& p) const {
+  u = initial_velocity;
+  p = initial_pressure;
+  if (initial_field != "taylor-green") return;
+  // u = U0 (sin kx x cos ky y, -(kx/ky) cos kx x sin ky y), periodic in the box.
+  const auto& d = cfg.domain;
+  const double kx = 2 * std::numbers::pi / (d.upper[0] - d.lower[0]);
+  const double ky = 2 * std::numbers::pi / (d.upper[1] - d.lower[1]);
+  const double X = kx * (x[0] - d.lower[0]), Y = ky * (x[1] - d.lower[1]), U = initial_amplitude;
+  u[0] += U * std::sin(X) * std::cos(Y);
+  u[1] -= U * (kx / ky) * std::cos(X) * std::sin(Y);
+  p += 0.25 * density * U * U * (std::cos(2 * X) + (kx * kx) / (ky * ky) * std::cos(2 * Y));
 }
 
 BoundaryParams FluidParams::boundary(int face, const config::Config& cfg) const {

@@ -3,11 +3,15 @@
 #include <fmt/format.h>
 
 #include "fluid/analytic/analytic_fluid.hpp"
+#include "fluid/lbm/lbm_solver.hpp"
+#include "fluid/lbm_reference/lbm_reference.hpp"
 #include "fluid/schema.hpp"
 
 namespace coflow::fluid {
 
 void register_fluid_variants(Registry<FluidSolver>& r) {
+  r.add<LbmSolver>("lbm");
+  r.add<LbmReference>("lbm-reference");
   r.add<AnalyticFluid>("analytic");
 }
 

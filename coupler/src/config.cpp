@@ -555,6 +555,8 @@ void Reader::value(const Key& key, ValueRef ref) {
       msg += fmt::format("; add '{}: <{}>'", name, std::visit(TypeName{}, ref));
       problem_at(node_, path, msg);
     }
+    // An optional list left empty has no default to write down.
+    if (const auto* nums = std::get_if<Numbers*>(&ref); nums && (*nums)->values.empty()) return;
     out_[name] = to_yaml(ref);
     return;
   }

@@ -116,7 +116,11 @@ TEST_CASE("whole configuration: defaults, hash, output directory", "[config]") {
   const char* text = R"(
 run: {name: demo, end_time: 1.0}
 domain: {lower: [0, 0, 0], upper: [1, 1, 1], cells: [4, 4, 4]}
-fluid: {solver: analytic, density: 1.0, viscosity: 0.1}
+fluid:
+  solver: analytic
+  density: 1.0
+  viscosity: 0.1
+  boundaries: {x-: {type: wall}, x+: {type: pressure, value: 2.5}, y-: {type: velocity, value: [0.1, 0, 0]}}
 )";
   Config a = parse_config_node(YAML::Load(text), "a.yaml", coflow::catalog());
   Config b = parse_config_node(YAML::Load(text), "b.yaml", coflow::catalog());
@@ -129,4 +133,6 @@ fluid: {solver: analytic, density: 1.0, viscosity: 0.1}
   // The resolved file is itself a valid configuration with the same hash.
   Config c = parse_config_node(YAML::Load(YAML::Dump(a.resolved)), "c.yaml", coflow::catalog());
   CHECK(c.hash == a.hash);
+  CHECK_FALSE(a.resolved["fluid"]["boundaries"]["x-"]["value"].IsDefined());
+  CHECK(a.resolved["fluid"]["boundaries"]["x+"]["value"].as<double>() == 2.5);
 }

@@ -1,0 +1,44 @@
+// fluid.lbm: parameters shared by the lbm and lbm-reference variants.
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "coflow/config.hpp"
+#include "coflow/run_config.hpp"
+
+namespace coflow::fluid::lbm {
+
+struct LbmParams {
+  std::string lattice = "D3Q19";
+  std::string formulation = "incompressible";
+  double tau = 0.8;
+  void visit(config::Visitor& v) {
+    v("lattice", lattice, "velocity set", config::one_of({"D2Q9", "D3Q19"}));
+    v("formulation", formulation,
+      "standard BGK, or incompressible (He & Luo 1997, seed 000 eqs 2.45-2.49)",
+      config::one_of({"standard", "incompressible"}));
+    v("tau", tau, "BGK relaxation time in lattice units; with dx and the viscosity it fixes dt",
+      config::greater(0.5));
+  }
+  // Checks against the rest of the configuration.
+  void check(config::Visitor& v, const config::Config& cfg) const {
+    const auto& d = cfg.domain;
+    const auto h = d.spacing();
+    if (lattice == "D2Q9" && d.cells[2] != 1)
+      v.fail("lattice", fmt::format("D2Q9 is two-dimensional: set domain.cells[2] = 1 (got {}) or use D3Q19",
+                                    d.cells[2]));
+    if (lattice == "D3Q19" && d.cells[2] == 1 && !d.periodic[2])
+      v.fail("lattice", "D3Q19 with one cell along z needs domain.periodic[2] = true (or use D2Q9)");
+    const int dims = d.cells[2] == 1 ? 2 : 3;
+    for (int a = 1; a < dims; ++a)
+      if (std::abs(h[a] - h[0]) > 1e-9 * h[0])
+        v.fail("", fmt::format("the lattice Boltzmann grid needs cubic cells: domain gives dx = {:.6g}, "
+                               "d{} = {:.6g} m; adjust domain.cells or the box",
+                               h[0], "xyz"[a], h[a]));
+  }
+};
+
+}  // namespace coflow::fluid::lbm

@@ -1,0 +1,78 @@
+// What both LBM variants take from the configuration, in lattice units.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <string>
+
+#include "coflow/log.hpp"
+#include "fluid/fluid_solver.hpp"
+#include "fluid/lbm/lattice.hpp"
+#include "fluid/lbm/params.hpp"
+#include "fluid/lbm/units.hpp"
+
+namespace coflow::fluid::lbm {
+
+enum class FaceType { periodic, wall, pressure, velocity, outflow };
+
+struct Face {
+  FaceType type = FaceType::wall;
+  double rho = 1.0;                 // pressure faces: lattice density
+  std::array<double, 3> u{0, 0, 0}; // velocity faces: lattice velocity
+};
+
+struct Setup {
+  Units units;
+  bool incompressible = true;
+  bool d3 = true;                        // D3Q19 (else D2Q9)
+  double tau = 0.8;
+  std::array<long, 3> cells{1, 1, 1};    // global grid
+  std::array<Face, 6> faces;             // x-, x+, y-, y+, z-, z+
+  std::array<double, 3> force{0, 0, 0};  // uniform body force density, lattice units
+  // Initial lattice density and velocity of the cell with global index (i, j, k).
+  std::function<void(long i, long j, long k, double& rho, double* u)> initial;
+};
+
+inline Setup make_setup(const config::Config& cfg, const FluidParams& fp, const LbmParams& lp) {
+  Setup s;
+  const auto h = cfg.domain.spacing();
+  s.units = Units::from(h[0], fp.viscosity, fp.density, lp.tau);
+  s.incompressible = lp.formulation == "incompressible";
+  s.d3 = lp.lattice == "D3Q19";
+  s.tau = lp.tau;
+  for (int d = 0; d < 3; ++d) s.cells[d] = cfg.domain.cells[d];
+  for (int f = 0; f < 6; ++f) {
+    const BoundaryParams b = fp.boundary(f, cfg);
+    Face& face = s.faces[f];
+    if (b.type == "periodic") face.type = FaceType::periodic;
+    if (b.type == "wall") face.type = FaceType::wall;
+    if (b.type == "outflow") face.type = FaceType::outflow;
+    if (b.type == "pressure") {
+      face.type = FaceType::pressure;
+      face.rho = s.units.lattice_density(b.value.values.at(0));
+    }
+    if (b.type == "velocity") {
+      face.type = FaceType::velocity;
+      for (int d = 0; d < 3; ++d) face.u[d] = b.value.values.at(d) / s.units.velocity();
+    }
+    // A 2D run has no z faces: treat them as periodic (one cell, nothing crosses).
+    if (cfg.domain.cells[f / 2] == 1) face.type = FaceType::periodic;
+  }
+  for (int d = 0; d < 3; ++d) {
+    s.force[d] = fp.body_force[d] / s.units.force_density();
+  }
+  const Units units = s.units;
+  const config::DomainParams dom = cfg.domain;
+  s.initial = [&cfg, fp, units, dom](long i, long j, long k, double& rho, double* u) {
+    const auto h = dom.spacing();
+    const config::Vec3 x{dom.lower[0] + (i + 0.5) * h[0], dom.lower[1] + (j + 0.5) * h[1], dom.lower[2] + (k + 0.5) * h[2]};
+    config::Vec3 us;
+    double p;
+    fp.initial_state(cfg, x, us, p);
+    rho = units.lattice_density(p);
+    for (int d = 0; d < 3; ++d) u[d] = us[d] / units.velocity();
+  };
+  return s;
+}
+
+}  // namespace coflow::fluid::lbm

@@ -1,0 +1,250 @@
+#include "fluid/lbm_reference/lbm_reference.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "coflow/log.hpp"
+#include "coflow/session.hpp"
+
+namespace coflow::fluid {
+
+using lbm::FaceType;
+
+LbmReference::LbmReference(const Setup& setup, const Params& p)
+    : s_(lbm::make_setup(setup.cfg, setup.params, p)), comm_(setup.comm) {
+  int size = 1;
+  MPI_Comm_size(comm_, &size);
+  if (size != 1) throw std::runtime_error("lbm-reference is serial: set fluid.ranks: 1");
+  box_ = setup.decomposition.block(0);
+  for (int d = 0; d < 3; ++d) n_[d] = s_.cells[d];
+  auto load = [&](const auto& L) {
+    using Lat = std::decay_t<decltype(L)>;
+    Q_ = Lat::Q;
+    for (int q = 0; q < Lat::Q; ++q) {
+      e_.push_back({Lat::e[q][0], Lat::e[q][1], Lat::e[q][2]});
+      w_.push_back(Lat::w[q]);
+      opp_.push_back(Lat::opp[q]);
+    }
+  };
+  if (s_.d3)
+    load(lbm::D3Q19{});
+  else
+    load(lbm::D2Q9{});
+  const long cells = n_[0] * n_[1] * n_[2];
+  f_.resize(cells * Q_);
+  for (long k = 0; k < n_[2]; ++k)
+    for (long j = 0; j < n_[1]; ++j)
+      for (long i = 0; i < n_[0]; ++i) {
+        double rho, u[3];
+        s_.initial(i, j, k, rho, u);
+        for (int q = 0; q < Q_; ++q) f_[index(i, j, k) * Q_ + q] = equilibrium(q, rho, u);
+      }
+  log::info("lbm-reference {} {}: {}", s_.d3 ? "D3Q19" : "D2Q9",
+            s_.incompressible ? "incompressible" : "standard", s_.units.describe());
+}
+
+// Equilibrium, seed 000 eq. 2.33 (standard) and eq. 2.47 divided by c_s^2
+// (incompressible, with p_0 = c_s^2 rho_0 and rho_0 = 1).
+double LbmReference::equilibrium(int q, double rho, const double u[3]) const {
+  const double eu = e_[q][0] * u[0] + e_[q][1] * u[1] + e_[q][2] * u[2];
+  const double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+  const double rho_m = s_.incompressible ? 1.0 : rho;
+  return w_[q] * (rho + rho_m * (3.0 * eu + 4.5 * eu * eu - 1.5 * uu));
+}
+
+// BGK collision (seed 000 eqs 2.42, 2.45) with Guo, Zheng & Shi (2002) forcing.
+void LbmReference::collide(double* f) const {
+  double rho = 0.0, j[3] = {0, 0, 0};
+  for (int q = 0; q < Q_; ++q) {
+    rho += f[q];
+    for (int d = 0; d < 3; ++d) j[d] += e_[q][d] * f[q];
+  }
+  const double rho_m = s_.incompressible ? 1.0 : rho;
+  const double* F = s_.force.data();
+  double u[3];
+  for (int d = 0; d < 3; ++d) u[d] = (j[d] + 0.5 * F[d]) / rho_m;
+  // q = 0 is the rest population: it takes the mass the others leave, so the
+  // collision conserves mass to round-off without bias.
+  double moving = 0.0;
+  for (int q = 1; q < Q_; ++q) {
+    const double eu = e_[q][0] * u[0] + e_[q][1] * u[1] + e_[q][2] * u[2];
+    const double eF = e_[q][0] * F[0] + e_[q][1] * F[1] + e_[q][2] * F[2];
+    const double uF = u[0] * F[0] + u[1] * F[1] + u[2] * F[2];
+    const double source = (1.0 - 0.5 / s_.tau) * w_[q] * (3.0 * (eF - uF) + 9.0 * eu * eF);
+    f[q] = f[q] - (f[q] - equilibrium(q, rho, u)) / s_.tau + source;
+    moving += f[q];
+  }
+  f[0] = rho - moving;
+}
+
+void LbmReference::step() {
+  const std::vector<double> post = f_;
+  std::vector<double> fs(f_.size(), 0.0);
+  // Streaming (seed 000 eq. 2.43): pull from the upwind neighbour. A population
+  // that would come through a wall is the one that left towards it, reversed
+  // (half-way bounce-back, eq. 2.44); through a periodic face it wraps; through a
+  // pressure, velocity or outflow face it is unknown and set by the face below.
+  for (long k = 0; k < n_[2]; ++k)
+    for (long j = 0; j < n_[1]; ++j)
+      for (long i = 0; i < n_[0]; ++i) {
+        const long x[3] = {i, j, k};
+        for (int q = 0; q < Q_; ++q) {
+          long src[3];
+          bool wall = false, open = false;
+          for (int d = 0; d < 3; ++d) {
+            src[d] = x[d] - e_[q][d];
+            if (src[d] >= 0 && src[d] < n_[d]) continue;
+            const lbm::Face& face = s_.faces[2 * d + (src[d] < 0 ? 0 : 1)];
+            if (face.type == FaceType::periodic)
+              src[d] = (src[d] + n_[d]) % n_[d];
+            else if (face.type == FaceType::wall)
+              wall = true;
+            else
+              open = true;
+          }
+          const long c = index(i, j, k);
+          if (wall)
+            fs[c * Q_ + q] = post[c * Q_ + opp_[q]];
+          else if (!open)
+            fs[c * Q_ + q] = post[index(src[0], src[1], src[2]) * Q_ + q];
+        }
+      }
+  // Outflow faces first: their closure uses no unknowns of other faces, so a
+  // Zou-He node on a shared edge sees only defined populations.
+  for (int face = 0; face < 6; ++face)
+    if (s_.faces[face].type == FaceType::outflow) apply_face(face, fs, post);
+  for (int face = 0; face < 6; ++face)
+    if (s_.faces[face].type != FaceType::outflow) apply_face(face, fs, post);
+  for (long c = 0; c < n_[0] * n_[1] * n_[2]; ++c) collide(&fs[c * Q_]);
+  f_ = fs;
+  ++steps_;
+}
+
+// Zou & He (1997) pressure and velocity faces, in the general form of Hecht &
+// Harting (2010) for D3Q19; outflow copies the unknowns from the next node in.
+void LbmReference::apply_face(int face, std::vector<double>& fs, const std::vector<double>& post) {
+  const lbm::Face& F = s_.faces[face];
+  if (F.type == FaceType::periodic || F.type == FaceType::wall) return;
+  const int axis = face / 2;
+  const int s = face % 2 == 0 ? 1 : -1;  // inward normal
+  const long layer = face % 2 == 0 ? 0 : n_[axis] - 1;
+  long lo[3] = {0, 0, 0}, hi[3] = {n_[0], n_[1], n_[2]};
+  lo[axis] = layer;
+  hi[axis] = layer + 1;
+  for (long k = lo[2]; k < hi[2]; ++k)
+    for (long j = lo[1]; j < hi[1]; ++j)
+      for (long i = lo[0]; i < hi[0]; ++i) {
+        double* f = &fs[index(i, j, k) * Q_];
+        if (F.type == FaceType::outflow) {
+          // Zero gradient: the unknowns are the next node's populations of the
+          // previous step (post-collision), which depend on no other face.
+          long in[3] = {i, j, k};
+          in[axis] += s;
+          const double* g = &post[index(in[0], in[1], in[2]) * Q_];
+          for (int q = 0; q < Q_; ++q)
+            if (s * e_[q][axis] > 0) f[q] = g[q];
+          continue;
+        }
+        double s0 = 0, sout = 0;
+        for (int q = 0; q < Q_; ++q) {
+          if (e_[q][axis] == 0) s0 += f[q];
+          if (s * e_[q][axis] < 0) sout += f[q];
+        }
+        double rho, u[3] = {0, 0, 0};
+        if (F.type == FaceType::velocity) {
+          for (int d = 0; d < 3; ++d) u[d] = F.u[d];
+          const double un = s * u[axis];
+          rho = s_.incompressible ? s0 + 2 * sout + un : (s0 + 2 * sout) / (1.0 - un);
+        } else {
+          rho = F.rho;
+          const double un = s_.incompressible ? rho - s0 - 2 * sout : 1.0 - (s0 + 2 * sout) / rho;
+          u[axis] = s * un;
+        }
+        const double rho_m = s_.incompressible ? 1.0 : rho;
+        double N[3] = {0, 0, 0};
+        for (int t = 0; t < 3; ++t) {
+          if (t == axis) continue;
+          for (int q = 0; q < Q_; ++q)
+            if (e_[q][axis] == 0) N[t] += 0.5 * f[q] * e_[q][t];
+          N[t] -= rho_m * u[t] / 3.0;
+        }
+        for (int q = 0; q < Q_; ++q) {
+          if (s * e_[q][axis] <= 0) continue;
+          const double eu = e_[q][0] * u[0] + e_[q][1] * u[1] + e_[q][2] * u[2];
+          double v = f[opp_[q]] + 6.0 * w_[q] * rho_m * eu;
+          for (int t = 0; t < 3; ++t)
+            if (t != axis) v -= e_[q][t] * N[t];
+          f[q] = v;
+        }
+      }
+}
+
+void LbmReference::moments(long c, double& rho, double u[3]) const {
+  const double* f = &f_[c * Q_];
+  rho = 0.0;
+  double j[3] = {0, 0, 0};
+  for (int q = 0; q < Q_; ++q) {
+    rho += f[q];
+    for (int d = 0; d < 3; ++d) j[d] += e_[q][d] * f[q];
+  }
+  // Stored f is post-collision: its momentum carries the whole force, so the
+  // velocity of the step is (j - F/2) / rho_m.
+  const double rho_m = s_.incompressible ? 1.0 : rho;
+  for (int d = 0; d < 3; ++d) u[d] = (j[d] - 0.5 * s_.force[d]) / rho_m;
+}
+
+void LbmReference::advance(double dt) {
+  const long n = std::lround(dt / s_.units.dt);
+  for (long i = 0; i < n; ++i) step();
+  const Diagnostics d = diagnostics();
+  if (!std::isfinite(d.mass))
+    throw coupler::SolverError(fmt::format("lbm-reference: density is not finite at step {}", steps_));
+}
+
+std::vector<output::GridField> LbmReference::fields(const config::StringList& names) {
+  const long cells = n_[0] * n_[1] * n_[2];
+  out_u_.resize(3 * cells);
+  out_p_.resize(cells);
+  out_rho_.resize(cells);
+  for (long c = 0; c < cells; ++c) {
+    double rho, u[3];
+    moments(c, rho, u);
+    for (int d = 0; d < 3; ++d) out_u_[3 * c + d] = u[d] * s_.units.velocity();
+    out_p_[c] = s_.units.pressure_of(rho);
+    out_rho_[c] = rho * s_.units.rho;
+  }
+  std::vector<output::GridField> f;
+  for (const auto& n : names) {
+    if (n == "velocity") f.push_back({n, 3, out_u_});
+    if (n == "pressure") f.push_back({n, 1, out_p_});
+    if (n == "density") f.push_back({n, 1, out_rho_});
+  }
+  return f;
+}
+
+Diagnostics LbmReference::diagnostics() {
+  Diagnostics d;
+  const double vol = std::pow(s_.units.dx, 3), cu = s_.units.velocity();
+  double umax = 0.0;
+  for (long c = 0; c < n_[0] * n_[1] * n_[2]; ++c) {
+    double rho, u[3];
+    moments(c, rho, u);
+    const double rho_m = s_.incompressible ? 1.0 : rho;
+    const double m = rho_m * s_.units.rho * vol;
+    d.mass += rho * s_.units.rho * vol;
+    double uu = 0;
+    for (int k = 0; k < 3; ++k) {
+      d.momentum[k] += m * u[k] * cu;
+      uu += u[k] * u[k];
+    }
+    d.kinetic_energy += 0.5 * m * uu * cu * cu;
+    umax = std::max(umax, std::sqrt(uu));
+  }
+  d.max_velocity = umax * cu;
+  d.max_mach = umax / std::sqrt(lbm::cs2);
+  return d;
+}
+
+}  // namespace coflow::fluid

@@ -1,0 +1,53 @@
+// lbm-reference: the lattice Boltzmann method written as plainly as possible,
+// serial, distributions stored per cell. It is the test oracle for `lbm`.
+#pragma once
+
+#include <vector>
+
+#include "fluid/fluid_solver.hpp"
+#include "fluid/lbm/params.hpp"
+#include "fluid/lbm/setup.hpp"
+
+namespace coflow::fluid {
+
+class LbmReference final : public FluidSolver {
+ public:
+  using Params = lbm::LbmParams;
+  static constexpr const char* params_section = "lbm";
+  static constexpr const char* summary =
+      "plain serial lattice Boltzmann (the oracle for lbm): same physics, simplest code";
+
+  LbmReference(const Setup& setup, const Params& params);
+
+  double time_step() const override { return s_.units.dt; }
+  void advance(double dt) override;
+  double time() const override { return steps_ * s_.units.dt; }
+  long steps() const override { return steps_; }
+  const coupler::Box& owned() const override { return box_; }
+  std::vector<output::GridField> fields(const config::StringList& names) override;
+  Diagnostics diagnostics() override;
+
+  void step();
+  // Lattice moments of a cell (rho, u) from the stored post-collision state.
+  void moments(long cell, double& rho, double u[3]) const;
+
+ private:
+  long index(long i, long j, long k) const { return (k * n_[1] + j) * n_[0] + i; }
+  double equilibrium(int q, double rho, const double u[3]) const;
+  void collide(double* f) const;
+  void apply_face(int face, std::vector<double>& fs, const std::vector<double>& post);
+
+  lbm::Setup s_;
+  MPI_Comm comm_;
+  coupler::Box box_;
+  long n_[3];
+  int Q_;
+  std::vector<std::array<int, 3>> e_;
+  std::vector<double> w_;
+  std::vector<int> opp_;
+  std::vector<double> f_;  // f_[cell * Q + q], post-collision
+  long steps_ = 0;
+  std::vector<double> out_u_, out_p_, out_rho_;
+};
+
+}  // namespace coflow::fluid

@@ -1,0 +1,183 @@
+// coflow-check: metrics of a finished run against analytic solutions, printed
+// as `name=value` lines for tests/validation/validate.sh.
+//
+//   coflow-check profile RUN_DIR   steady channel/duct/Couette profile: l2_error
+//   coflow-check decay RUN_DIR     Taylor-Green energy decay rate: decay_rate_error
+//   coflow-check mass RUN_DIR      relative mass drift over the run: mass_drift
+//   coflow-check compare RUN_A RUN_B   last snapshots: max_difference (relative)
+//
+// The physical parameters come from the run's resolved config.yaml.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "coflow/catalog.hpp"
+#include "coflow/output.hpp"
+#include "coflow/run_config.hpp"
+#include "fluid/fluid_solver.hpp"
+
+using namespace coflow;
+
+namespace {
+
+config::Config load(const std::string& dir) { return config::parse_config(dir + "/config.yaml", catalog()); }
+
+fluid::FluidParams fluid_params(const config::Config& cfg) {
+  fluid::FluidParams p;
+  config::Reader r(cfg.resolved["fluid"], cfg.file, "fluid");
+  p.visit(r, cfg);
+  return p;
+}
+
+std::string last_snapshot(const std::string& dir) {
+  std::ifstream in(dir + "/fluid/index.csv");
+  std::string line, last;
+  std::getline(in, line);
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  if (last.empty()) throw std::runtime_error(dir + ": no fluid snapshot");
+  return dir + "/fluid/" + output::snapshot_name(std::stol(last.substr(0, last.find(','))));
+}
+
+std::vector<std::vector<double>> read_series(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    std::vector<double> r;
+    std::stringstream ss(line);
+    for (std::string v; std::getline(ss, v, ',');) r.push_back(std::stod(v));
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+// Fully developed flow in a rectangular duct, |y| < a, |z| < b, driven by G:
+// u = 16 G a^2 / (mu pi^3) sum_{n odd} (-1)^((n-1)/2) / n^3
+//       [1 - cosh(n pi z / 2a) / cosh(n pi b / 2a)] cos(n pi y / 2a).
+double duct(double y, double z, double a, double b, double G, double mu) {
+  double s = 0.0;
+  for (int n = 1; n < 200; n += 2) {
+    const double k = n * std::numbers::pi / (2 * a);
+    const double ratio = std::exp(k * (std::abs(z) - b)) * (1 + std::exp(-2 * k * std::abs(z))) / (1 + std::exp(-2 * k * b));
+    s += ((n - 1) / 2 % 2 ? -1.0 : 1.0) / (n * n * n) * (1 - ratio) * std::cos(k * y);
+  }
+  return 16 * G * a * a / (mu * std::pow(std::numbers::pi, 3)) * s;
+}
+
+int profile(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  const auto& d = cfg.domain;
+  const auto h = d.spacing();
+  const double mu = fp.density * fp.viscosity;
+  std::vector<std::size_t> dims;
+  const auto u = output::read_dataset(last_snapshot(dir), "velocity", &dims);
+  const long nz = dims[0], ny = dims[1], nx = dims[2];
+
+  const auto b_xm = fp.boundary(0, cfg), b_xp = fp.boundary(1, cfg), b_yp = fp.boundary(3, cfg);
+  // Pressure-driven: Zou-He values act at the centres of the boundary cells.
+  double G = fp.body_force[0];
+  if (b_xm.type == "pressure" && b_xp.type == "pressure")
+    G = (b_xm.value.values[0] - b_xp.value.values[0]) / ((nx - 1) * h[0]);
+  const bool couette = b_yp.type == "velocity";
+  const bool duct_flow = !d.periodic[2] && nz > 1;
+  double err2 = 0.0, ref2 = 0.0;
+  for (long k = 0; k < nz; ++k)
+    for (long j = 0; j < ny; ++j)
+      for (long i = 0; i < nx; ++i) {
+        const double y = (j + 0.5) * h[1], z = (k + 0.5) * h[2];
+        const double H = ny * h[1], W = nz * h[2];
+        double ua;
+        if (couette)
+          ua = b_yp.value.values[0] * y / ((ny - 0.5) * h[1]);
+        else if (duct_flow)
+          ua = duct(y - H / 2, z - W / 2, H / 2, W / 2, G, mu);
+        else
+          ua = G * y * (H - y) / (2 * mu);
+        const double un = u[((k * ny + j) * nx + i) * 3];
+        err2 += (un - ua) * (un - ua);
+        ref2 += ua * ua;
+      }
+  std::printf("l2_error=%.6e\n", std::sqrt(err2 / ref2));
+  return 0;
+}
+
+int decay(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  const auto& d = cfg.domain;
+  const auto rows = read_series(dir + "/series/fluid.csv");
+  // Least-squares slope of ln E(t); E ~ exp(-2 nu (kx^2 + ky^2) t) for the 2D vortex.
+  double st = 0, se = 0, stt = 0, ste = 0;
+  int n = 0;
+  for (const auto& r : rows) {
+    if (r[0] <= 0) continue;
+    const double e = std::log(r[5]);
+    st += r[0];
+    se += e;
+    stt += r[0] * r[0];
+    ste += r[0] * e;
+    ++n;
+  }
+  const double slope = (n * ste - st * se) / (n * stt - st * st);
+  const double kx = 2 * std::numbers::pi / (d.upper[0] - d.lower[0]), ky = 2 * std::numbers::pi / (d.upper[1] - d.lower[1]);
+  const double expected = 2 * fp.viscosity * (kx * kx + ky * ky);
+  std::printf("decay_rate=%.9e\nexpected_rate=%.9e\ndecay_rate_error=%.6e\n", -slope, expected,
+              std::abs(-slope - expected) / expected);
+  return 0;
+}
+
+int mass(const std::string& dir) {
+  const auto rows = read_series(dir + "/series/fluid.csv");
+  double worst = 0.0;
+  for (const auto& r : rows) worst = std::max(worst, std::abs(r[1] - rows.front()[1]) / rows.front()[1]);
+  std::printf("rows=%zu\nmass_drift=%.6e\n", rows.size(), worst);
+  return 0;
+}
+
+int compare(const std::string& a, const std::string& b) {
+  const auto ua = output::read_dataset(last_snapshot(a), "velocity");
+  const auto ub = output::read_dataset(last_snapshot(b), "velocity");
+  if (ua.size() != ub.size()) throw std::runtime_error("snapshots differ in size");
+  double diff = 0.0, scale = 0.0;
+  for (std::size_t i = 0; i < ua.size(); ++i) {
+    diff = std::max(diff, std::abs(ua[i] - ub[i]));
+    scale = std::max(scale, std::abs(ua[i]));
+  }
+  const auto pa = output::read_dataset(last_snapshot(a), "pressure");
+  const auto pb = output::read_dataset(last_snapshot(b), "pressure");
+  double pdiff = 0.0, pscale = 0.0;
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    pdiff = std::max(pdiff, std::abs(pa[i] - pb[i]));
+    pscale = std::max(pscale, std::abs(pa[i]));
+  }
+  std::printf("max_velocity=%.6e\nmax_difference=%.6e\npressure_difference=%.6e\n", scale, diff / scale,
+              pscale > 0 ? pdiff / pscale : pdiff);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const std::string what = argc > 1 ? argv[1] : "";
+    if (what == "profile" && argc == 3) return profile(argv[2]);
+    if (what == "decay" && argc == 3) return decay(argv[2]);
+    if (what == "mass" && argc == 3) return mass(argv[2]);
+    if (what == "compare" && argc == 4) return compare(argv[2], argv[3]);
+    std::fprintf(stderr, "usage: coflow-check profile|decay|mass RUN_DIR | compare RUN_A RUN_B\n");
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "coflow-check: %s\n", e.what());
+    return 1;
+  }
+}

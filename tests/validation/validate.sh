@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# Generic validation driver.
+#   validate.sh CASE BIN_DIR OUT MODE CONFIG [ARGS...]
+# MODE:
+#   profile|decay|mass  run CONFIG once (ARGS: --set overrides), then coflow-check MODE
+#   compare             ARGS: "A overrides" "B overrides" (each a space-separated list
+#                       of key=value); runs both and compares the last snapshots
+#   order               ARGS: three override lists (coarse, medium, fine);
+#                       prints l2 errors and the observed orders of convergence
+#   formulations        runs CONFIG with fluid.lbm.formulation standard and
+#                       incompressible; prints both profile errors and their ratio
+# Every metric printed is checked against the rows of references.csv whose first
+# column is CASE: `case,metric,op,bound,source`.
+set -u
+case_name=$1 bin=$2 out=$3 mode=$4 cfg=$5; shift 5
+here=$(cd "$(dirname "$0")" && pwd)
+mkdir -p "$out"
+metrics="$out/metrics.txt"; : >"$metrics"
+
+run() {  # run DIR [--set ...]
+  local dir=$1; shift
+  rm -rf "$dir"
+  if ! "$bin/coflow" run "$cfg" --set run.output.dir="$dir" "$@" >"$dir.log" 2>&1; then
+    tail -n 20 "$dir.log"; echo "FAIL: run failed ($dir)"; exit 1
+  fi
+}
+sets() {  # "a=1 b=2" -> --set a=1 --set b=2
+  local kv; for kv in $1; do printf -- '--set\n%s\n' "$kv"; done
+}
+check() { "$bin/coflow-check" "$@" || { echo "FAIL: coflow-check $*"; exit 1; }; }
+
+case "$mode" in
+  profile|decay|mass)
+    run "$out/run" "$@"
+    check "$mode" "$out/run" | tee -a "$metrics" ;;
+  compare)
+    mapfile -t a < <(sets "$1"); mapfile -t b < <(sets "$2")
+    run "$out/a" "${a[@]}"; run "$out/b" "${b[@]}"
+    check compare "$out/a" "$out/b" | tee -a "$metrics" ;;
+  order)
+    errs=()
+    for n in 1 2 3; do
+      mapfile -t s < <(sets "${!n}")
+      run "$out/res$n" "${s[@]}"
+      e=$(check profile "$out/res$n" | sed -n 's/^l2_error=//p')
+      echo "l2_error_$n=$e" | tee -a "$metrics"; errs+=("$e")
+    done
+    awk -v a="${errs[0]}" -v b="${errs[1]}" -v c="${errs[2]}" \
+      'BEGIN { printf "order_12=%.4f\norder_23=%.4f\n", log(a/b)/log(2), log(b/c)/log(2) }' | tee -a "$metrics" ;;
+  formulations)
+    run "$out/standard" --set fluid.lbm.formulation=standard "$@"
+    run "$out/incompressible" --set fluid.lbm.formulation=incompressible "$@"
+    es=$(check profile "$out/standard" | sed -n 's/^l2_error=//p')
+    ei=$(check profile "$out/incompressible" | sed -n 's/^l2_error=//p')
+    awk -v s="$es" -v i="$ei" 'BEGIN { printf "l2_error_standard=%s\nl2_error_incompressible=%s\nerror_ratio=%.4f\n", s, i, i/s }' | tee -a "$metrics" ;;
+  *) echo "FAIL: unknown mode $mode"; exit 1 ;;
+esac
+
+status=0; n=0
+while IFS=, read -r c metric op bound source; do
+  [ "$c" = "$case_name" ] || continue
+  n=$((n + 1))
+  value=$(sed -n "s/^$metric=//p" "$metrics" | tail -n 1)
+  if [ -z "$value" ]; then echo "FAIL: metric $metric not produced"; status=1; continue; fi
+  if awk -v v="$value" -v b="$bound" -v op="$op" 'BEGIN { exit !((op == "<" && v < b) || (op == ">" && v > b) || (op == "<=" && v <= b) || (op == ">=" && v >= b)) }'; then
+    echo "ok: $metric = $value $op $bound  ($source)"
+  else
+    echo "FAIL: $metric = $value, required $op $bound  ($source)"; status=1
+  fi
+done < "$here/references.csv"
+[ $n -gt 0 ] || { echo "FAIL: no reference rows for case $case_name"; exit 1; }
+exit $status

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# check_launcher.sh BIN_DIR CONFIG_DIR
+# The launcher's command line: the exact MPMD line of --dry-run, the srun
+# multi-prog file, `coflow variants`, and exit codes.
+set -u
+bin=$1 cfgs=$2
+status=0
+fail() { echo "FAIL: $*"; status=1; }
+cd "$(mktemp -d)"
+cfg=$cfgs/tests/coupler_dummies.yaml
+
+# 6 ranks on this machine: oversubscribed when they exceed the cores.
+cores=$(nproc)
+over=""; [ 6 -gt "$cores" ] && over="--oversubscribe --bind-to none "
+want="mpirun ${over}-np 2 $bin/coflow-fluid out/coupler-dummies/config.yaml : -np 3 $bin/coflow-immersed out/coupler-dummies/config.yaml : -np 1 $bin/coflow-particles out/coupler-dummies/config.yaml"
+got=$("$bin/coflow" run --dry-run "$cfg")
+[ "$got" = "$want" ] || fail "dry-run line
+  want: $want
+  got:  $got"
+[ ! -e out ] || fail "--dry-run created files"
+
+got=$("$bin/coflow" run --dry-run --set fluid.ranks=1 --set run.output.dir=o --restart . "$cfg" | head -n 1)
+case "$got" in *"-np 1 $bin/coflow-fluid o/config.yaml --restart ."*) ;; *) fail "--set/--restart not in the line: $got" ;; esac
+
+got=$("$bin/coflow" run --dry-run --launcher srun "$cfg")
+printf '%s\n' "$got" | head -n 1 | grep -qx "srun -n 6 --multi-prog out/coupler-dummies/multi-prog.conf" || fail "srun line: $got"
+printf '%s\n' "$got" | grep -qx "0-1 $bin/coflow-fluid out/coupler-dummies/config.yaml" || fail "multi-prog fluid line"
+printf '%s\n' "$got" | grep -qx "2-4 $bin/coflow-immersed out/coupler-dummies/config.yaml" || fail "multi-prog immersed line"
+printf '%s\n' "$got" | grep -qx "5-5 $bin/coflow-particles out/coupler-dummies/config.yaml" || fail "multi-prog particles line"
+
+vars=$("$bin/coflow" variants)
+for v in lbm lbm-reference analytic; do printf '%s\n' "$vars" | grep -qE "^  $v " || fail "variants lacks $v"; done
+printf '%s\n' "$vars" | grep -q "fluid.lbm.tau" || fail "variants lacks the options of lbm"
+
+"$bin/coflow" validate "$cfgs/quickstart.yaml" >/dev/null || fail "quickstart does not validate"
+"$bin/coflow" run --dry-run "$cfgs/quickstart.yaml" --set fluid.lbm.tau=0.4 >/dev/null 2>&1; rc=$?
+[ $rc -eq 2 ] || fail "bad --set value: exit $rc, expected 2"
+"$bin/coflow" run --dry-run --exe fluid=/nonexistent "$cfg" >/dev/null 2>&1; rc=$?
+[ $rc -eq 2 ] || fail "missing --exe file: exit $rc, expected 2"
+"$bin/coflow" frobnicate >/dev/null 2>&1; rc=$?
+[ $rc -eq 2 ] || fail "unknown subcommand: exit $rc, expected 2"
+[ $status -eq 0 ] && echo "launcher checks passed"
+exit $status

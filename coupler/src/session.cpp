@@ -245,9 +245,9 @@ void Session::finish() {
   // Per component: the maximum of each time over its ranks, the sum of bytes.
   const Trace& t = trace();
   const double wall = now() - start_;
-  double times[4] = {wall, t.exchange_s, t.wait_s, t.io_s}, tmax[4];
+  double times[5] = {wall, t.exchange_s, t.wait_s, t.io_s, t.halo_s}, tmax[5];
   unsigned long long counts[4] = {t.bytes_sent, t.bytes_received, t.exchanges, t.steps}, csum[4];
-  MPI_Reduce(times, tmax, 4, MPI_DOUBLE, MPI_MAX, 0, comm_);
+  MPI_Reduce(times, tmax, 5, MPI_DOUBLE, MPI_MAX, 0, comm_);
   MPI_Reduce(counts, csum, 4, MPI_UNSIGNED_LONG_LONG, MPI_SUM, 0, comm_);
   std::string entry;
   if (rank_ == 0) {
@@ -255,10 +255,10 @@ void Session::finish() {
     const auto& info = cfg_.has(component_) ? cfg_.component(component_) : config::ComponentInfo{};
     entry = fmt::format(
         "{}: {{\"variant\": {}, \"ranks\": {}, \"steps\": {}, \"wall_s\": {:.6f}, \"compute_s\": "
-        "{:.6f}, \"exchange_s\": {:.6f}, \"wait_s\": {:.6f}, \"io_s\": {:.6f}, \"bytes_sent\": {}, "
-        "\"bytes_received\": {}, \"exchanges\": {}",
+        "{:.6f}, \"exchange_s\": {:.6f}, \"wait_s\": {:.6f}, \"io_s\": {:.6f}, \"halo_s\": {:.6f}, "
+        "\"bytes_sent\": {}, \"bytes_received\": {}, \"exchanges\": {}",
         output::json_quote(component_), output::json_quote(info.variant), size_, csum[3] / size_,
-        tmax[0], compute, tmax[1], tmax[2], tmax[3], csum[0], csum[1], csum[2]);
+        tmax[0], compute, tmax[1], tmax[2], tmax[3], tmax[4], csum[0], csum[1], csum[2]);
     entry += ", \"final\": {";
     for (std::size_t i = 0; i < finals_.size(); ++i)
       entry += fmt::format("{}{}: {:.17g}", i ? ", " : "", output::json_quote(finals_[i].first), finals_[i].second);

@@ -14,9 +14,9 @@ double g_timeout = 300.0;
 // Spin briefly (low latency for the common case), then back off to sleeping so
 // that an oversubscribed core is left to the rank we wait for.
 template <class Test>
-void poll(Test test, const std::string& what) {
+void poll(Test test, const std::string& what, double* counter = nullptr) {
   const double start = now();
-  Timer t(trace().wait_s);
+  Timer t(counter ? *counter : trace().wait_s);
   long spins = 0;
   while (!test()) {
     if (++spins > 2000) std::this_thread::sleep_for(std::chrono::microseconds(spins > 20000 ? 500 : 20));
@@ -32,7 +32,7 @@ void poll(Test test, const std::string& what) {
 void set_timeout(double seconds) { g_timeout = seconds; }
 double timeout() { return g_timeout; }
 
-void wait_all(std::span<MPI_Request> requests, const std::string& what) {
+void wait_all(std::span<MPI_Request> requests, const std::string& what, double* counter) {
   if (requests.empty()) return;
   poll(
       [&] {
@@ -40,7 +40,7 @@ void wait_all(std::span<MPI_Request> requests, const std::string& what) {
         MPI_Testall(static_cast<int>(requests.size()), requests.data(), &done, MPI_STATUSES_IGNORE);
         return done != 0;
       },
-      what);
+      what, counter);
 }
 
 MPI_Status wait_probe(int source, int tag, MPI_Comm comm, const std::string& what) {

@@ -283,7 +283,7 @@ class Core final : public LbmCore {
   }
 
   void post_halo() {
-    coupler::Timer t(coupler::trace().exchange_s);
+    coupler::Timer t(coupler::trace().halo_s);
     for (std::size_t n = 0; n < halo_.size(); ++n) {
       Halo& h = halo_[n];
       MPI_Start(&h.recv);
@@ -297,8 +297,8 @@ class Core final : public LbmCore {
 
   void finish_halo() {
     if (halo_.empty()) return;
-    coupler::wait_all(requests_, "the fluid halo exchange");
-    coupler::Timer t(coupler::trace().exchange_s);
+    coupler::wait_all(requests_, "the fluid halo exchange", &coupler::trace().halo_s);
+    coupler::Timer t(coupler::trace().halo_s);
     for (Halo& h : halo_) {
       const double* in = h.recv_buf.data();
       for (int q = 0; q < L::Q; ++q) for_box(h.recv_box, [&](long x) { a_[q * N_ + x] = *in++; });

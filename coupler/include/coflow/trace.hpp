@@ -12,6 +12,7 @@ struct Trace {
   double exchange_s = 0.0;  // inside exchange calls, not waiting
   double wait_s = 0.0;      // blocked on a partner
   double io_s = 0.0;        // snapshots, series, checkpoints
+  double halo_s = 0.0;      // a solver's own halo exchange (part of compute, not coupling)
   std::uint64_t bytes_sent = 0;
   std::uint64_t bytes_received = 0;
   std::uint64_t exchanges = 0;

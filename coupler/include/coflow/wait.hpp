@@ -19,8 +19,9 @@ class TimeoutError : public std::runtime_error {
 void set_timeout(double seconds);
 double timeout();
 
-// Wait for all requests; time counted as wait time in the trace.
-void wait_all(std::span<MPI_Request> requests, const std::string& what);
+// Wait for all requests; the time is added to `counter` (default: the trace's
+// coupling wait time).
+void wait_all(std::span<MPI_Request> requests, const std::string& what, double* counter = nullptr);
 inline void wait_one(MPI_Request& r, const std::string& what) { wait_all({&r, 1}, what); }
 // Probe for a message; returns its status.
 MPI_Status wait_probe(int source, int tag, MPI_Comm comm, const std::string& what);

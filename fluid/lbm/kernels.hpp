@@ -5,15 +5,40 @@
 
 namespace coflow::fluid::lbm {
 
+// Two-relaxation-time collision (Ginzburg 2008): even (symmetric) parts relax
+// with tau, fixing the viscosity as BGK does; odd parts with tau_minus, chosen
+// from the magic parameter Lambda = (tau - 1/2)(tau_minus - 1/2). BGK is
+// tau_minus = tau.
 struct CollisionParams {
   double tau = 0.8;
-  double omega = 1.25;        // 1 / tau
-  double force_factor = 0.0;  // 1 - 1 / (2 tau), Guo forcing
+  double omega = 1.25;          // 1 / tau (even moments)
+  double omega_minus = 1.25;    // 1 / tau_minus (odd moments)
+  double force_plus = 0.0;      // 1 - omega / 2 (Guo forcing, even part)
+  double force_minus = 0.0;     // 1 - omega_minus / 2 (odd part)
 };
 
-inline CollisionParams collision_params(double tau) { return {tau, 1.0 / tau, 1.0 - 0.5 / tau}; }
+inline CollisionParams collision_params(double tau, bool trt = false, double magic = 0.1875) {
+  const double tau_minus = trt ? 0.5 + magic / (tau - 0.5) : tau;
+  return {tau, 1.0 / tau, 1.0 / tau_minus, 1.0 - 0.5 / tau, 1.0 - 0.5 / tau_minus};
+}
 
-// BGK collision with Guo forcing on the populations f of one cell, in place.
+// Both populations of the pair (q, opp(q)) after the TRT collision with Guo
+// forcing (its source split the same way: even part 9 w (e.u)(e.F) - 3 w u.F,
+// odd part 3 w e.F).
+inline void trt_pair(double& fq, double& fo, double w, double rho, double rho_m, double eu, double uu,
+                     double eF, double uF, const CollisionParams& p) {
+  const double plus = 0.5 * (fq + fo), minus = 0.5 * (fq - fo);
+  const double feq_plus = w * (rho + rho_m * (4.5 * eu * eu - 1.5 * uu));
+  const double feq_minus = w * rho_m * 3.0 * eu;
+  const double s_plus = p.force_plus * w * (9.0 * eu * eF - 3.0 * uF);
+  const double s_minus = p.force_minus * w * 3.0 * eF;
+  const double even = p.omega * (plus - feq_plus) - s_plus;
+  const double odd = p.omega_minus * (minus - feq_minus) - s_minus;
+  fq = fq - even - odd;
+  fo = fo - even + odd;
+}
+
+// BGK/TRT collision with Guo forcing on the populations f of one cell, in place.
 // Equilibrium: seed 000 eq. 2.33 (standard, rho_m = rho) or eq. 2.47 / c_s^2
 // (He & Luo incompressible, rho_m = rho_0 = 1); collision eqs 2.42 / 2.45.
 // F: force density (lattice units). Returns u^2 of the cell (for the Mach check).
@@ -31,16 +56,16 @@ inline double collide(double* f, const CollisionParams& p, const double* F) {
   const double ux = (jx + 0.5 * F[0]) * inv, uy = (jy + 0.5 * F[1]) * inv, uz = (jz + 0.5 * F[2]) * inv;
   const double uu = ux * ux + uy * uy + uz * uz;
   const double uF = ux * F[0] + uy * F[1] + uz * F[2];
-  // Collision conserves mass exactly; the rest population (q = 0) takes what
-  // the others leave, so that rounding cannot bias the total mass.
+  // Pairs (q, opp q) for the moving populations; the rest population takes the
+  // mass the others leave, so that rounding cannot bias the total mass.
   double moving = 0.0;
   for (int q = 1; q < L::Q; ++q) {
+    const int o = L::opp[q];
+    if (o < q) continue;
     const double eu = L::e[q][0] * ux + L::e[q][1] * uy + L::e[q][2] * uz;
     const double eF = L::e[q][0] * F[0] + L::e[q][1] * F[1] + L::e[q][2] * F[2];
-    const double feq = L::w[q] * (rho + rho_m * (3.0 * eu + 4.5 * eu * eu - 1.5 * uu));
-    const double source = p.force_factor * L::w[q] * (3.0 * (eF - uF) + 9.0 * eu * eF);
-    f[q] = f[q] - (f[q] - feq) * p.omega + source;
-    moving += f[q];
+    trt_pair(f[q], f[o], L::w[q], rho, rho_m, eu, uu, eF, uF, p);
+    moving += f[q] + f[o];
   }
   f[0] = rho - moving;
   return uu;
@@ -74,14 +99,14 @@ inline void collide_chunk(double (&f)[L::Q][W], const CollisionParams& p, const 
   }
 #pragma GCC unroll 19
   for (int q = 1; q < L::Q; ++q) {
+    const int o = L::opp[q];
+    if (o < q) continue;
     const double eF = L::e[q][0] * F[0] + L::e[q][1] * F[1] + L::e[q][2] * F[2];
     for (int w = 0; w < W; ++w) {
       const double rho_m = Incompressible ? 1.0 : rho[w];
       const double eu = L::e[q][0] * ux[w] + L::e[q][1] * uy[w] + L::e[q][2] * uz[w];
-      const double feq = L::w[q] * (rho[w] + rho_m * (3.0 * eu + 4.5 * eu * eu - 1.5 * uu[w]));
-      const double source = p.force_factor * L::w[q] * (3.0 * (eF - uF[w]) + 9.0 * eu * eF);
-      f[q][w] = f[q][w] - (f[q][w] - feq) * p.omega + source;
-      moving[w] += f[q][w];
+      trt_pair(f[q][w], f[o][w], L::w[q], rho[w], rho_m, eu, uu[w], eF, uF[w], p);
+      moving[w] += f[q][w] + f[o][w];
     }
   }
   for (int w = 0; w < W; ++w) f[0][w] = rho[w] - moving[w];

@@ -29,7 +29,7 @@ template <class L, bool Incompressible>
 class Core final : public LbmCore {
  public:
   Core(const lbm::Setup& s, const Decomposition& dec, int rank, MPI_Comm comm)
-      : s_(s), dec_(dec), comm_(comm), p_(lbm::collision_params(s.tau)) {
+      : s_(s), dec_(dec), comm_(comm), p_(lbm::collision_params(s.tau, s.trt, s.magic)) {
     const Box& b = dec.block(rank);
     for (int d = 0; d < 3; ++d) {
       origin_[d] = b.lo[d];
@@ -355,7 +355,7 @@ LbmSolver::LbmSolver(const Setup& setup, const Params& p)
   core_ = s_.d3 ? make_core<lbm::D3Q19>(s_, setup.decomposition, setup.rank, comm_)
                 : make_core<lbm::D2Q9>(s_, setup.decomposition, setup.rank, comm_);
   const auto& dims = setup.decomposition.dims();
-  log::info("lbm {} {}, blocks {}x{}x{}: {}", s_.d3 ? "D3Q19" : "D2Q9",
+  log::info("lbm {} {} {}, blocks {}x{}x{}: {}", s_.d3 ? "D3Q19" : "D2Q9", s_.trt ? "TRT" : "BGK",
             s_.incompressible ? "incompressible" : "standard", dims[0], dims[1], dims[2], s_.units.describe());
 }
 

@@ -15,13 +15,21 @@ struct LbmParams {
   std::string lattice = "D3Q19";
   std::string formulation = "incompressible";
   double tau = 0.8;
+  std::string collision = "bgk";
+  double magic = 0.1875;
   void visit(config::Visitor& v) {
     v("lattice", lattice, "velocity set", config::one_of({"D2Q9", "D3Q19"}));
     v("formulation", formulation,
       "standard BGK, or incompressible (He & Luo 1997, seed 000 eqs 2.45-2.49)",
       config::one_of({"standard", "incompressible"}));
-    v("tau", tau, "BGK relaxation time in lattice units; with dx and the viscosity it fixes dt",
+    v("tau", tau, "relaxation time in lattice units; with dx and the viscosity it fixes dt",
       config::greater(0.5));
+    v("collision", collision,
+      "bgk (one relaxation time, seed 000 eq. 2.42) or trt (two relaxation times, Ginzburg 2008)",
+      config::one_of({"bgk", "trt"}));
+    v("magic", magic,
+      "trt: Lambda = (tau - 1/2)(tau_minus - 1/2); 3/16 puts bounce-back walls exactly for Poiseuille",
+      config::positive());
   }
   // Checks against the rest of the configuration.
   void check(config::Visitor& v, const config::Config& cfg) const {

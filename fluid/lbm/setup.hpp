@@ -26,6 +26,8 @@ struct Setup {
   bool incompressible = true;
   bool d3 = true;                        // D3Q19 (else D2Q9)
   double tau = 0.8;
+  bool trt = false;
+  double magic = 0.1875;
   std::array<long, 3> cells{1, 1, 1};    // global grid
   std::array<Face, 6> faces;             // x-, x+, y-, y+, z-, z+
   std::array<double, 3> force{0, 0, 0};  // uniform body force density, lattice units
@@ -40,6 +42,8 @@ inline Setup make_setup(const config::Config& cfg, const FluidParams& fp, const 
   s.incompressible = lp.formulation == "incompressible";
   s.d3 = lp.lattice == "D3Q19";
   s.tau = lp.tau;
+  s.trt = lp.collision == "trt";
+  s.magic = lp.magic;
   for (int d = 0; d < 3; ++d) s.cells[d] = cfg.domain.cells[d];
   for (int f = 0; f < 6; ++f) {
     const BoundaryParams b = fp.boundary(f, cfg);

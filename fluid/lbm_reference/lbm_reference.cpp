@@ -54,7 +54,9 @@ double LbmReference::equilibrium(int q, double rho, const double u[3]) const {
   return w_[q] * (rho + rho_m * (3.0 * eu + 4.5 * eu * eu - 1.5 * uu));
 }
 
-// BGK collision (seed 000 eqs 2.42, 2.45) with Guo, Zheng & Shi (2002) forcing.
+// Collision with Guo, Zheng & Shi (2002) forcing, written per population pair
+// (q, opposite q): the even part relaxes with tau (seed 000 eqs 2.42, 2.45, BGK),
+// the odd part with tau_minus (TRT, Ginzburg 2008; tau_minus = tau for BGK).
 void LbmReference::collide(double* f) const {
   double rho = 0.0, j[3] = {0, 0, 0};
   for (int q = 0; q < Q_; ++q) {
@@ -65,17 +67,28 @@ void LbmReference::collide(double* f) const {
   const double* F = s_.force.data();
   double u[3];
   for (int d = 0; d < 3; ++d) u[d] = (j[d] + 0.5 * F[d]) / rho_m;
-  // q = 0 is the rest population: it takes the mass the others leave, so the
-  // collision conserves mass to round-off without bias.
+  const double tau_minus = s_.trt ? 0.5 + s_.magic / (s_.tau - 0.5) : s_.tau;
+  const double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+  const double uF = u[0] * F[0] + u[1] * F[1] + u[2] * F[2];
   double moving = 0.0;
   for (int q = 1; q < Q_; ++q) {
+    const int o = opp_[q];
+    if (o < q) continue;
     const double eu = e_[q][0] * u[0] + e_[q][1] * u[1] + e_[q][2] * u[2];
     const double eF = e_[q][0] * F[0] + e_[q][1] * F[1] + e_[q][2] * F[2];
-    const double uF = u[0] * F[0] + u[1] * F[1] + u[2] * F[2];
-    const double source = (1.0 - 0.5 / s_.tau) * w_[q] * (3.0 * (eF - uF) + 9.0 * eu * eF);
-    f[q] = f[q] - (f[q] - equilibrium(q, rho, u)) / s_.tau + source;
-    moving += f[q];
+    // Even and odd parts of the pair and of its equilibrium (eq. 2.33 / 2.47).
+    const double plus = 0.5 * (f[q] + f[o]), minus = 0.5 * (f[q] - f[o]);
+    const double eq_plus = w_[q] * (rho + rho_m * (4.5 * eu * eu - 1.5 * uu));
+    const double eq_minus = w_[q] * rho_m * 3.0 * eu;
+    const double source_plus = (1.0 - 0.5 / s_.tau) * w_[q] * (9.0 * eu * eF - 3.0 * uF);
+    const double source_minus = (1.0 - 0.5 / tau_minus) * w_[q] * 3.0 * eF;
+    const double even = (plus - eq_plus) / s_.tau - source_plus;
+    const double odd = (minus - eq_minus) / tau_minus - source_minus;
+    f[q] = f[q] - even - odd;
+    f[o] = f[o] - even + odd;
+    moving += f[q] + f[o];
   }
+  // The rest population takes the mass the others leave (no rounding bias).
   f[0] = rho - moving;
 }
 

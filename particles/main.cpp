@@ -1,13 +1,7 @@
-#include <stdexcept>
-
 #include "coflow/catalog.hpp"
 #include "coflow/session.hpp"
+#include "particles/driver.hpp"
 
 int main(int argc, char** argv) {
-  return coflow::coupler::run_component("particles", argc, argv, coflow::catalog(), [](coflow::coupler::Session& s) {
-    const auto& info = s.config().component("particles");
-    throw std::runtime_error("particles.solver '" + info.variant +
-                             "' has no built-in implementation; run your own executable with "
-                             "`coflow run --exe particles=PATH`");
-  });
+  return coflow::coupler::run_component("particles", argc, argv, coflow::catalog(), coflow::particles::run);
 }

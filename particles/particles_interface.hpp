@@ -1,22 +1,124 @@
-// The particles component's interface. Variants register in particles/variants.cpp.
+// The particle component's interface. Variants register in particles/variants.cpp.
 #pragma once
 
 #include <mpi.h>
 
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "coflow/config.hpp"
 #include "coflow/decomposition.hpp"
 #include "coflow/run_config.hpp"
 
 namespace coflow::particles {
 
+using config::Vec3;
+
+struct SpeciesParams {
+  double density = 2650.0;
+  config::Distribution diameter{config::Distribution::Kind::fixed, 1e-3, 0.0};
+  void visit(config::Visitor& v);
+};
+
+struct BondParams {
+  double compressive_strength = 0.0;  // Pa
+  double tensile_strength = 0.0;      // Pa
+  double shear_strength = 0.0;        // Pa
+  double crush_fraction = 0.01;
+  double gap = 0.0;                   // m: pairs closer than this at start are bonded
+  void visit(config::Visitor& v);
+};
+
+struct ContactParams {
+  double normal_stiffness = 1e4;  // N/m
+  double shear_stiffness = 1e4;   // N/m
+  double friction = 0.5;
+  double local_damping = 0.0;     // alpha of seed 000 eqs 2.9-2.10
+  bool bonded = false;            // a `bond` section was given
+  BondParams bond;
+  void visit(config::Visitor& v);
+};
+
+struct WallParams {
+  std::string face;   // x-, ..., z+
+  std::string mesh;   // STL file (triangle-mesh wall)
+  double restitution = 1.0;
+  double friction = -1.0;  // < 0: the contact friction
+  void visit(config::Visitor& v);
+};
+
+// One item of `initial`.
+struct InitialItem {
+  std::string kind;  // single | lattice | random | file
+  std::string species;
+  Vec3 position{0, 0, 0};
+  Vec3 velocity{0, 0, 0};
+  Vec3 angular_velocity{0, 0, 0};
+  double spacing = 0.0;
+  Vec3 lower{0, 0, 0}, upper{0, 0, 0};
+  int count = 0;
+  double volume_fraction = 0.0;
+  double velocity_std = 0.0;
+  std::string path;
+};
+
+// Keys common to the particle variants (see docs/config.md).
+struct ParticleParams {
+  config::AutoDouble time_step;
+  double time_step_fraction = 0.1;
+  std::vector<std::pair<std::string, SpeciesParams>> species;
+  ContactParams contact;
+  std::vector<WallParams> walls;
+  std::array<std::string, 6> boundaries{"", "", "", "", "", ""};  // per face; "" = default
+  std::vector<InitialItem> initial;
+  void visit(config::Visitor& v, const config::Config& cfg);
+  int species_index(const std::string& name) const;
+};
+
+// Particle states, structure of arrays (3 entries per particle for vectors).
+struct ParticleArrays {
+  std::vector<std::int64_t> id;
+  std::vector<std::int32_t> species;
+  std::vector<double> x, v, w;  // position, velocity, angular velocity
+  std::vector<double> radius, mass, inertia;
+  std::vector<double> force;   // last contact + wall force, for output
+  std::size_t size() const { return id.size(); }
+};
+
+// Global statistics, reduced over the component.
+struct ParticleStats {
+  long count = 0;
+  Vec3 momentum{0, 0, 0};
+  double kinetic_energy = 0.0;  // translational + rotational
+  long collisions = 0;          // contacts formed since the previous call
+  long wall_collisions = 0;
+  long broken_bonds = 0;        // since the previous call
+};
+
 class ParticleSolver {
  public:
   struct Setup {
     const config::Config& cfg;
+    const ParticleParams& params;
     coupler::Decomposition decomposition;
     int rank = 0;
     MPI_Comm comm = MPI_COMM_NULL;
   };
   virtual ~ParticleSolver() = default;
+
+  virtual double time_step() const = 0;  // natural step, s
+  // Advance by dt in `substeps` equal steps; hydrodynamic loads held constant.
+  virtual void advance(double dt, long substeps) = 0;
+  virtual double time() const = 0;
+  virtual long steps() const = 0;
+  virtual const ParticleArrays& particles() const = 0;  // this rank's
+  // Hydrodynamic force and torque per local particle (3 per particle), held
+  // constant until the next call.
+  virtual void set_hydrodynamic(std::span<const double> force, std::span<const double> torque) = 0;
+  virtual ParticleStats stats() = 0;  // collective; resets the event counters
 };
 
 }  // namespace coflow::particles

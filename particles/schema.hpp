@@ -6,6 +6,7 @@
 
 namespace coflow::particles {
 
+// name -> variant. Every variant has one line in register_particles_variants().
 Registry<ParticleSolver>& registry();
 void register_particles_variants(Registry<ParticleSolver>& r);
 config::ComponentSchema schema();

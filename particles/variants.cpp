@@ -1,8 +1,15 @@
+#include <algorithm>
+
+#include "particles/dem/dem_solver.hpp"
+#include "particles/dem_reference/dem_reference.hpp"
 #include "particles/schema.hpp"
 
 namespace coflow::particles {
 
-void register_particles_variants(Registry<ParticleSolver>& /*r*/) {}
+void register_particles_variants(Registry<ParticleSolver>& r) {
+  r.add<DemSolver>("dem");
+  r.add<DemReference>("dem-reference");
+}
 
 Registry<ParticleSolver>& registry() {
   static Registry<ParticleSolver> r = [] {
@@ -19,10 +26,16 @@ config::ComponentSchema schema() {
   s.selector = "solver";
   s.variants = registry().names();
   s.variants.push_back("external");
-  s.doc = "the particle component: DEM or point particles";
-  s.visit = [s](config::Visitor& v, const config::Config&, config::ComponentInfo& info) {
+  s.doc = "the particle component: soft-sphere DEM (point particles: later)";
+  s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);
-    if (v.reading()) v.accept_other_keys();  // the variants' keys arrive with their solvers
+    const auto names = registry().names();
+    if (v.reading() && std::find(names.begin(), names.end(), info.variant) == names.end()) {
+      v.accept_other_keys();  // external or none: checked by that executable
+      return;
+    }
+    ParticleParams p;
+    p.visit(v, cfg);
   };
   return s;
 }

@@ -5,6 +5,7 @@
 //   coflow-check decay RUN_DIR     Taylor-Green energy decay rate: decay_rate_error
 //   coflow-check mass RUN_DIR      relative mass drift over the run: mass_drift
 //   coflow-check compare RUN_A RUN_B   last snapshots: max_difference (relative)
+//   coflow-check impact RUN_DIR    two-sphere impact: duration_error, restitution, energy_error
 //
 // The physical parameters come from the run's resolved config.yaml.
 #include <cmath>
@@ -144,7 +145,78 @@ int mass(const std::string& dir) {
   return 0;
 }
 
+std::vector<std::pair<long, double>> snapshots(const std::string& dir, const std::string& component) {
+  std::ifstream in(dir + "/" + component + "/index.csv");
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::pair<long, double>> out;
+  while (std::getline(in, line))
+    if (!line.empty()) out.emplace_back(std::stol(line.substr(0, line.find(','))), std::stod(line.substr(line.find(',') + 1)));
+  return out;
+}
+
+// Two-sphere impact: contact duration (from the surface gap, crossings
+// interpolated), restitution, energy.
+int impact(const std::string& dir) {
+  const auto cfg = load(dir);
+  double t_in = -1, t_out = -1, prev_gap = 0, prev_t = 0, v0 = 0, v1 = 0, r = 0, rho = 0;
+  bool first = true;
+  for (const auto& [step, t] : snapshots(dir, "particles")) {
+    const std::string f = dir + "/particles/" + output::snapshot_name(step);
+    const auto x = output::read_dataset(f, "position");
+    const auto v = output::read_dataset(f, "velocity");
+    const auto rad = output::read_dataset(f, "radius");
+    const double dx = x[3] - x[0], dy = x[4] - x[1], dz = x[5] - x[2];
+    const double gap = std::sqrt(dx * dx + dy * dy + dz * dz) - rad[0] - rad[1];
+    const double vrel = v[3] - v[0];
+    if (first) {
+      v0 = vrel;
+      r = rad[0];
+    }
+    if (!first && prev_gap > 0 && gap <= 0) t_in = prev_t + (t - prev_t) * prev_gap / (prev_gap - gap);
+    if (!first && prev_gap <= 0 && gap > 0) t_out = prev_t + (t - prev_t) * (-prev_gap) / (gap - prev_gap);
+    v1 = vrel;
+    prev_gap = gap;
+    prev_t = t;
+    first = false;
+  }
+  YAML::Node sp = cfg.resolved["particles"]["species"].begin()->second;
+  rho = std::stod(sp["density"].Scalar());
+  const double kn = std::stod(cfg.resolved["particles"]["contact"]["normal_stiffness"].Scalar());
+  const double m = rho * std::numbers::pi * 8 * r * r * r / 6.0;
+  const double expected = std::numbers::pi * std::sqrt(0.5 * m / kn);
+  const auto rows = read_series(dir + "/series/particles.csv");
+  const double e0 = rows.front()[5], e1 = rows.back()[5];
+  std::printf("contact_duration=%.9e\nexpected_duration=%.9e\nduration_error=%.6e\nrestitution=%.9f\n"
+              "energy_error=%.6e\n",
+              t_out - t_in, expected, std::abs(t_out - t_in - expected) / expected, std::abs(v1 / v0),
+              std::abs(e1 - e0) / e0);
+  return 0;
+}
+
+// Particle snapshots of two runs: largest position difference over the diameter.
+int compare_particles(const std::string& a, const std::string& b) {
+  const auto sa = snapshots(a, "particles"), sb = snapshots(b, "particles");
+  const std::string fa = a + "/particles/" + output::snapshot_name(sa.back().first);
+  const std::string fb = b + "/particles/" + output::snapshot_name(sb.back().first);
+  const auto xa = output::read_dataset(fa, "position"), xb = output::read_dataset(fb, "position");
+  const auto va = output::read_dataset(fa, "velocity"), vb = output::read_dataset(fb, "velocity");
+  const auto ra = output::read_dataset(fa, "radius");
+  if (xa.size() != xb.size()) throw std::runtime_error("particle counts differ");
+  double dx = 0, dv = 0, vmax = 0, dmin = 1e300;
+  for (std::size_t i = 0; i < xa.size(); ++i) {
+    dx = std::max(dx, std::abs(xa[i] - xb[i]));
+    dv = std::max(dv, std::abs(va[i] - vb[i]));
+    vmax = std::max(vmax, std::abs(va[i]));
+  }
+  for (double r : ra) dmin = std::min(dmin, 2 * r);
+  std::printf("particles=%zu\nposition_difference=%.6e\nvelocity_difference=%.6e\n", ra.size(), dx / dmin,
+              vmax > 0 ? dv / vmax : dv);
+  return 0;
+}
+
 int compare(const std::string& a, const std::string& b) {
+  if (!std::ifstream(a + "/fluid/index.csv")) return compare_particles(a, b);
   const auto ua = output::read_dataset(last_snapshot(a), "velocity");
   const auto ub = output::read_dataset(last_snapshot(b), "velocity");
   if (ua.size() != ub.size()) throw std::runtime_error("snapshots differ in size");
@@ -174,6 +246,7 @@ int main(int argc, char** argv) {
     if (what == "decay" && argc == 3) return decay(argv[2]);
     if (what == "mass" && argc == 3) return mass(argv[2]);
     if (what == "compare" && argc == 4) return compare(argv[2], argv[3]);
+    if (what == "impact" && argc == 3) return impact(argv[2]);
     std::fprintf(stderr, "usage: coflow-check profile|decay|mass RUN_DIR | compare RUN_A RUN_B\n");
     return 2;
   } catch (const std::exception& e) {

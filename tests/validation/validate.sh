@@ -7,6 +7,8 @@
 #                       of key=value); runs both and compares the last snapshots
 #   order               ARGS: three override lists (coarse, medium, fine);
 #                       prints l2 errors and the observed orders of convergence
+#   damping             ARGS: local damping values; runs the impact per value and
+#                       checks that the restitution decreases
 #   formulations        runs CONFIG with fluid.lbm.formulation standard and
 #                       incompressible; prints both profile errors and their ratio
 # Every metric printed is checked against the rows of references.csv whose first
@@ -30,7 +32,7 @@ sets() {  # "a=1 b=2" -> --set a=1 --set b=2
 check() { "$bin/coflow-check" "$@" || { echo "FAIL: coflow-check $*"; exit 1; }; }
 
 case "$mode" in
-  profile|decay|mass)
+  profile|decay|mass|impact)
     run "$out/run" "$@"
     check "$mode" "$out/run" | tee -a "$metrics" ;;
   compare)
@@ -53,6 +55,17 @@ case "$mode" in
     es=$(check profile "$out/standard" | sed -n 's/^l2_error=//p')
     ei=$(check profile "$out/incompressible" | sed -n 's/^l2_error=//p')
     awk -v s="$es" -v i="$ei" 'BEGIN { printf "l2_error_standard=%s\nl2_error_incompressible=%s\nerror_ratio=%.4f\n", s, i, i/s }' | tee -a "$metrics" ;;
+  damping)
+    # ARGS: local damping values; restitution must fall as damping grows.
+    prev=""; mono=1; list=""
+    for a in "$@"; do
+      run "$out/alpha-$a" --set particles.contact.local_damping="$a"
+      e=$(check impact "$out/alpha-$a" | sed -n 's/^restitution=//p')
+      echo "restitution_alpha_$a=$e" | tee -a "$metrics"; list="$list $a:$e"
+      if [ -n "$prev" ] && ! awk -v p="$prev" -v e="$e" 'BEGIN { exit !(e < p) }'; then mono=0; fi
+      prev=$e
+    done
+    echo "restitution_decreasing=$mono" | tee -a "$metrics" ;;
   *) echo "FAIL: unknown mode $mode"; exit 1 ;;
 esac
 

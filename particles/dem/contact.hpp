@@ -1,0 +1,97 @@
+// Soft-sphere contact law of seed 000 §2.2.2: one contact, no MPI, no I/O.
+#pragma once
+
+#include <cmath>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace coflow::particles::dem {
+
+using V3 = Eigen::Vector3d;
+
+struct ContactLaw {
+  double kn = 1e4;       // K_N, N/m
+  double ks = 1e4;       // k_S, N/m
+  double mu = 0.5;       // Coulomb friction
+  double sigma_c = 0.0;  // bond strengths, Pa (eq. 2.15)
+  double sigma_t = 0.0;
+  double tau_c = 0.0;
+};
+
+// What a contact remembers between steps.
+struct ContactState {
+  V3 shear = V3::Zero();  // stored shear force on particle 1, N
+  bool bonded = false;
+  long seen = -1;         // last step it was evaluated (bookkeeping)
+};
+
+enum class Failure { none, tension, compression, shear };
+
+struct ContactForce {
+  V3 force = V3::Zero();    // on particle 1 (particle 2 gets -force)
+  V3 torque1 = V3::Zero();  // about the centre of 1
+  V3 torque2 = V3::Zero();  // about the centre of 2
+  bool active = false;      // false: no contact (history to be dropped)
+  Failure failure = Failure::none;
+};
+
+// n: unit normal from 2 to 1; overlap U_N (eq. 2.13, < 0 is a gap); a1, a2:
+// distances from the centres to the contact point along -n and +n; vrel: velocity
+// of the contact point of 1 relative to that of 2; R_sum = R1 + R2 for the bond
+// strengths (eq. 2.15); dt: time step.
+inline ContactForce contact_force(const V3& n, double overlap, double a1, double a2, const V3& vrel,
+                                  double r_sum, ContactState& s, const ContactLaw& law, double dt) {
+  ContactForce out;
+  if (overlap <= 0.0 && !s.bonded) {
+    s.shear.setZero();
+    return out;  // apart and not cemented: no force (eq. 2.16)
+  }
+  out.active = true;
+  // The stored shear force turns with the contact plane: project it onto the new
+  // plane and keep its magnitude.
+  const double before = s.shear.norm();
+  s.shear -= s.shear.dot(n) * n;
+  const double after = s.shear.norm();
+  if (after > 0.0) s.shear *= before / after;
+  // Incremental shear spring (eq. 2.14), opposing the sliding velocity.
+  const V3 vs = vrel - vrel.dot(n) * n;
+  s.shear -= law.ks * dt * vs;
+  // Normal spring (eq. 2.12); tension only while bonded.
+  const double fn = law.kn * overlap;
+  if (s.bonded) {
+    const double r2 = r_sum * r_sum;
+    if (fn < 0.0 && -fn > law.sigma_t * r2)
+      out.failure = Failure::tension;
+    else if (fn > 0.0 && fn > law.sigma_c * r2)
+      out.failure = Failure::compression;
+    else if (s.shear.norm() > law.tau_c * r2)
+      out.failure = Failure::shear;
+    if (out.failure != Failure::none) s.bonded = false;
+  }
+  if (!s.bonded) {
+    if (overlap <= 0.0) {  // no tension once unbonded (eq. 2.16)
+      s.shear.setZero();
+      out.active = false;
+      return out;
+    }
+    const double limit = law.mu * std::abs(fn);  // Coulomb (eqs 2.17-2.18)
+    const double fs = s.shear.norm();
+    if (fs > limit) s.shear *= limit / fs;
+  }
+  out.force = fn * n + s.shear;
+  out.torque1 = (-a1 * n).cross(s.shear);
+  out.torque2 = (a2 * n).cross(-s.shear);
+  return out;
+}
+
+// Local non-viscous damping of one component (seed 000 eqs 2.9-2.10):
+// -alpha |F| sign(v).
+inline double local_damping(double alpha, double f, double v) {
+  return v > 0.0 ? -alpha * std::abs(f) : v < 0.0 ? alpha * std::abs(f) : 0.0;
+}
+
+// The critical step of a mass-spring pair (eq. 2.19).
+inline double critical_step(double mass, double stiffness) { return 2.0 * std::sqrt(mass / stiffness); }
+
+}  // namespace coflow::particles::dem

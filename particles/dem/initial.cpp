@@ -1,0 +1,199 @@
+#include "particles/dem/initial.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "coflow/output.hpp"
+
+namespace coflow::particles::dem {
+
+namespace {
+
+double sample_diameter(const config::Distribution& d, std::mt19937_64& rng) {
+  switch (d.kind) {
+    case config::Distribution::Kind::fixed: return d.a;
+    case config::Distribution::Kind::uniform: return std::uniform_real_distribution<double>(d.a, d.b)(rng);
+    case config::Distribution::Kind::lognormal: {
+      // Mean D and standard deviation s of the diameter: sigma^2 = ln(1 + s^2/D^2),
+      // mu = ln D - sigma^2/2 (seed 003 eqs 4.20-4.21, corrected: PHYSICS.md §4).
+      const double s2 = std::log(1.0 + d.b * d.b / (d.a * d.a));
+      return std::lognormal_distribution<double>(std::log(d.a) - 0.5 * s2, std::sqrt(s2))(rng);
+    }
+  }
+  return d.a;
+}
+
+void add(ParticleArrays& a, int species, double density, double diameter, const V3& x, const V3& v, const V3& w) {
+  a.id.push_back(static_cast<std::int64_t>(a.id.size()));
+  a.species.push_back(species);
+  for (int d = 0; d < 3; ++d) {
+    a.x.push_back(x[d]);
+    a.v.push_back(v[d]);
+    a.w.push_back(w[d]);
+    a.force.push_back(0.0);
+  }
+  const double r = 0.5 * diameter;
+  const double m = density * std::numbers::pi * diameter * diameter * diameter / 6.0;
+  a.radius.push_back(r);
+  a.mass.push_back(m);
+  a.inertia.push_back(0.4 * m * r * r);
+}
+
+}  // namespace
+
+ParticleArrays make_initial(const ParticleParams& p, const config::Config& cfg) {
+  ParticleArrays a;
+  std::mt19937_64 rng(cfg.run.seed);
+  for (const auto& it : p.initial) {
+    const int s = p.species_index(it.species);
+    if (it.kind == "single") {
+      const auto& sp = p.species[s].second;
+      add(a, s, sp.density, sample_diameter(sp.diameter, rng), V3(it.position.data()), V3(it.velocity.data()),
+          V3(it.angular_velocity.data()));
+    } else if (it.kind == "lattice") {
+      const auto& sp = p.species[s].second;
+      long n[3];
+      for (int d = 0; d < 3; ++d) n[d] = std::max(1L, static_cast<long>(std::floor((it.upper[d] - it.lower[d]) / it.spacing + 1e-9)));
+      for (long k = 0; k < n[2]; ++k)
+        for (long j = 0; j < n[1]; ++j)
+          for (long i = 0; i < n[0]; ++i) {
+            const V3 x(it.lower[0] + (i + 0.5) * it.spacing, it.lower[1] + (j + 0.5) * it.spacing,
+                       it.lower[2] + (k + 0.5) * it.spacing);
+            add(a, s, sp.density, sample_diameter(sp.diameter, rng), x, V3(it.velocity.data()), V3::Zero());
+          }
+    } else if (it.kind == "random") {
+      // Random sequential addition: draw a size and a position, keep it if it
+      // overlaps nothing placed before (checked on a cell grid).
+      const auto& sp = p.species[s].second;
+      const V3 lo(it.lower.data()), hi(it.upper.data());
+      const double volume = (hi - lo).prod();
+      const double target_volume = it.volume_fraction * volume;
+      double placed_volume = 0.0;
+      long placed = 0;
+      const std::size_t first = a.size();
+      double dmax = sp.diameter.kind == config::Distribution::Kind::uniform ? sp.diameter.b : sp.diameter.a * 3.0;
+      std::vector<std::vector<long>> grid;
+      std::array<long, 3> nc{};
+      for (int d = 0; d < 3; ++d) nc[d] = std::max(1L, static_cast<long>((hi[d] - lo[d]) / dmax));
+      grid.resize(nc[0] * nc[1] * nc[2]);
+      auto cell_of = [&](const V3& x) {
+        std::array<long, 3> c{};
+        for (int d = 0; d < 3; ++d) c[d] = std::clamp(static_cast<long>((x[d] - lo[d]) / (hi[d] - lo[d]) * nc[d]), 0L, nc[d] - 1);
+        return c;
+      };
+      std::normal_distribution<double> vel(0.0, it.velocity_std);
+      long attempts = 0;
+      while ((it.count > 0 && placed < it.count) || (it.count == 0 && placed_volume < target_volume)) {
+        if (++attempts > 1000 * (placed + 100))
+          throw std::runtime_error(fmt::format(
+              "particles.initial: random fill of species '{}' placed only {} particles (solid fraction {:.3f}) before "
+              "running out of room; use fewer particles, a larger region, or a lattice",
+              it.species, placed, placed_volume / volume));
+        const double diam = std::min(sample_diameter(sp.diameter, rng), dmax);
+        V3 x;
+        for (int d = 0; d < 3; ++d)
+          x[d] = std::uniform_real_distribution<double>(lo[d] + 0.5 * diam, hi[d] - 0.5 * diam)(rng);
+        const auto c = cell_of(x);
+        bool free = true;
+        for (long dz = -1; dz <= 1 && free; ++dz)
+          for (long dy = -1; dy <= 1 && free; ++dy)
+            for (long dx = -1; dx <= 1 && free; ++dx) {
+              const long cx = c[0] + dx, cy = c[1] + dy, cz = c[2] + dz;
+              if (cx < 0 || cy < 0 || cz < 0 || cx >= nc[0] || cy >= nc[1] || cz >= nc[2]) continue;
+              for (long q : grid[(cz * nc[1] + cy) * nc[0] + cx]) {
+                const V3 y(&a.x[3 * q]);
+                if ((y - x).norm() < a.radius[q] + 0.5 * diam) {
+                  free = false;
+                  break;
+                }
+              }
+            }
+        if (!free) continue;
+        const V3 v(vel(rng), vel(rng), vel(rng));
+        add(a, s, sp.density, diam, x, it.velocity_std > 0 ? v : V3::Zero(), V3::Zero());
+        grid[(c[2] * nc[1] + c[1]) * nc[0] + c[0]].push_back(static_cast<long>(a.size() - 1));
+        placed_volume += std::numbers::pi * diam * diam * diam / 6.0;
+        ++placed;
+      }
+      (void)first;
+    } else if (it.kind == "file") {
+      std::vector<std::size_t> dims;
+      const auto x = output::read_dataset(it.path, "position", &dims);
+      const auto v = output::read_dataset(it.path, "velocity");
+      const auto w = output::read_dataset(it.path, "angular_velocity");
+      const auto r = output::read_dataset(it.path, "radius");
+      const auto sp = output::read_dataset(it.path, "species");
+      for (std::size_t n = 0; n < r.size(); ++n) {
+        const int s2 = static_cast<int>(sp[n]);
+        if (s2 < 0 || s2 >= static_cast<int>(p.species.size()))
+          throw std::runtime_error(fmt::format("{}: particle {} has species {}, but only {} are defined", it.path, n,
+                                               s2, p.species.size()));
+        add(a, s2, p.species[s2].second.density, 2.0 * r[n], V3(&x[3 * n]), V3(&v[3 * n]), V3(&w[3 * n]));
+      }
+    }
+  }
+  return a;
+}
+
+DemSetup make_setup(const ParticleParams& p, const config::Config& cfg, const ParticleArrays& parts) {
+  DemSetup s;
+  const auto& c = p.contact;
+  s.law = {c.normal_stiffness, c.shear_stiffness, c.friction, 0.0, 0.0, 0.0};
+  if (c.bonded) {
+    s.law.sigma_c = c.bond.compressive_strength;
+    s.law.sigma_t = c.bond.tensile_strength;
+    s.law.tau_c = c.bond.shear_strength;
+    s.crush = c.bond.crush_fraction;
+    s.bond_gap = c.bond.gap;
+  }
+  s.alpha = c.local_damping;
+  for (int d = 0; d < 3; ++d) {
+    s.gravity[d] = cfg.gravity[d];
+    s.lower[d] = cfg.domain.lower[d];
+    s.upper[d] = cfg.domain.upper[d];
+    s.periodic[d] = cfg.domain.periodic[d];
+  }
+  const char* names[] = {"x-", "x+", "y-", "y+", "z-", "z+"};
+  for (int f = 0; f < 6; ++f) {
+    s.wall_friction[f] = c.friction;
+    if (cfg.domain.periodic[f / 2]) {
+      s.faces[f] = Face::periodic;
+      continue;
+    }
+    s.faces[f] = p.boundaries[f] == "outlet" ? Face::outlet : Face::wall;
+    for (const auto& w : p.walls) {
+      if (!w.mesh.empty())
+        throw std::runtime_error(fmt::format(
+            "particles.walls: triangle-mesh walls ({}) are not implemented yet in the DEM; use domain faces", w.mesh));
+      if (w.face == names[f]) {
+        s.faces[f] = Face::wall;
+        if (w.friction >= 0) s.wall_friction[f] = w.friction;
+      }
+    }
+  }
+  // Time step, seed 000 eqs 2.19-2.20.
+  const double k = std::max(c.normal_stiffness, c.shear_stiffness);
+  double crit = 1e300;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    crit = std::min(crit, critical_step(parts.mass[i], k));
+    s.max_radius = std::max(s.max_radius, parts.radius[i]);
+  }
+  if (p.time_step.is_auto) {
+    s.dt = p.time_step_fraction * crit;
+  } else {
+    s.dt = p.time_step.value;
+    if (s.dt > crit)
+      throw std::runtime_error(fmt::format("particles.time_step {:.4g} s exceeds the critical step {:.4g} s "
+                                           "(seed 000 eq. 2.19): use auto or a smaller step",
+                                           s.dt, crit));
+  }
+  if (parts.size() == 0) s.dt = 1e-3;
+  return s;
+}
+
+}  // namespace coflow::particles::dem

@@ -1,0 +1,34 @@
+// Initial particles and the DEM configuration shared by dem and dem-reference.
+#pragma once
+
+#include <array>
+#include <string>
+
+#include "particles/dem/contact.hpp"
+#include "particles/particles_interface.hpp"
+
+namespace coflow::particles::dem {
+
+enum class Face { periodic, wall, outlet };
+
+struct DemSetup {
+  ContactLaw law;
+  double alpha = 0.0;          // local damping
+  double crush = 0.0;          // crush fraction
+  double bond_gap = -1.0;      // bond pairs closer than this at start (< 0: no bonds)
+  std::array<Face, 6> faces{};
+  std::array<double, 6> wall_friction{};
+  V3 gravity = V3::Zero();
+  V3 lower = V3::Zero(), upper = V3::Zero();
+  std::array<bool, 3> periodic{false, false, false};
+  double dt = 0.0;             // the step
+  double max_radius = 0.0;
+};
+
+// The particles of `initial`, with masses and inertias; deterministic from run.seed.
+ParticleArrays make_initial(const ParticleParams& p, const config::Config& cfg);
+
+// Faces, law, gravity and the time step (auto: t_frac x min 2 sqrt(m/k), eqs 2.19-2.20).
+DemSetup make_setup(const ParticleParams& p, const config::Config& cfg, const ParticleArrays& parts);
+
+}  // namespace coflow::particles::dem

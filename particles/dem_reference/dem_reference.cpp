@@ -1,0 +1,168 @@
+#include "particles/dem_reference/dem_reference.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "coflow/log.hpp"
+
+namespace coflow::particles {
+
+using dem::V3;
+
+DemReference::DemReference(const Setup& setup, const Params&) {
+  int size = 1;
+  MPI_Comm_size(setup.comm, &size);
+  if (size != 1) throw std::runtime_error("dem-reference is serial: set particles.ranks: 1");
+  const ParticleArrays a = dem::make_initial(setup.params, setup.cfg);
+  s_ = dem::make_setup(setup.params, setup.cfg, a);
+  for (std::size_t i = 0; i < a.size(); ++i)
+    p_.push_back({a.id[i], a.species[i], V3(&a.x[3 * i]), V3(&a.v[3 * i]), V3(&a.w[3 * i]), a.radius[i], a.mass[i],
+                  a.inertia[i], V3::Zero(), V3::Zero(), V3::Zero(), V3::Zero()});
+  // Cement the pairs that touch (within the gap) at the start.
+  if (s_.bond_gap >= 0)
+    for (std::size_t i = 0; i < p_.size(); ++i)
+      for (std::size_t j = i + 1; j < p_.size(); ++j)
+        if (dem::min_image(p_[i].x - p_[j].x, s_).norm() - p_[i].r - p_[j].r <= s_.bond_gap)
+          contacts_[{p_[i].id, p_[j].id}].bonded = true;
+  log::info("dem-reference: {} particles, {} bonds, step {:.4g} s", p_.size(), contacts_.size(), s_.dt);
+}
+
+void DemReference::step(double h) {
+  for (auto& p : p_) p.F = p.T = V3::Zero();
+  std::vector<std::size_t> crushed;
+  // Particle pairs, seed 000 eqs 2.11-2.18.
+  for (std::size_t i = 0; i < p_.size(); ++i)
+    for (std::size_t j = i + 1; j < p_.size(); ++j) {
+      Particle& a = p_[i];
+      Particle& b = p_[j];
+      const V3 d = dem::min_image(a.x - b.x, s_);
+      const double dist = d.norm();
+      const double overlap = a.r + b.r - dist;
+      const auto key = std::make_pair(a.id, b.id);
+      auto it = contacts_.find(key);
+      if (overlap <= 0.0 && (it == contacts_.end() || !it->second.bonded)) {
+        if (it != contacts_.end()) contacts_.erase(it);
+        continue;
+      }
+      if (it == contacts_.end()) {
+        it = contacts_.emplace(key, dem::ContactState{}).first;
+        ++collisions_;
+      }
+      const V3 n = d / dist;
+      const double a1 = a.r - 0.5 * overlap, a2 = b.r - 0.5 * overlap;
+      const V3 vrel = (a.v + a.w.cross(-a1 * n)) - (b.v + b.w.cross(a2 * n));
+      const dem::ContactForce c = dem::contact_force(n, overlap, a1, a2, vrel, a.r + b.r, it->second, s_.law, h);
+      if (c.failure != dem::Failure::none) {
+        ++broken_;
+        if (c.failure == dem::Failure::compression) {
+          crushed.push_back(i);
+          crushed.push_back(j);
+        }
+      }
+      if (!c.active) {
+        contacts_.erase(it);
+        continue;
+      }
+      a.F += c.force;
+      b.F -= c.force;
+      a.T += c.torque1;
+      b.T += c.torque2;
+    }
+  // Domain faces that are walls: the same law with a plane (eq. 2.13, R1 - d).
+  for (auto& a : p_)
+    for (int f = 0; f < 6; ++f) {
+      if (s_.faces[f] != dem::Face::wall) continue;
+      const double dist = dem::face_distance(f, a.x, s_);
+      const double overlap = a.r - dist;
+      const auto key = std::make_pair(a.id, f);
+      auto it = walls_.find(key);
+      if (overlap <= 0.0) {
+        if (it != walls_.end()) walls_.erase(it);
+        continue;
+      }
+      if (it == walls_.end()) {
+        it = walls_.emplace(key, dem::ContactState{}).first;
+        ++wall_collisions_;
+      }
+      const V3 n = dem::face_normal(f);
+      const V3 vrel = a.v + a.w.cross(-dist * n);
+      dem::ContactLaw law = s_.law;
+      law.mu = s_.wall_friction[f];
+      const dem::ContactForce c = dem::contact_force(n, overlap, dist, 0.0, vrel, 2 * a.r, it->second, law, h);
+      a.F += c.force;
+      a.T += c.torque1;
+    }
+  // Grain crushing on compressive bond failure: radius and mass reduced.
+  for (std::size_t i : crushed) {
+    Particle& a = p_[i];
+    a.r *= 1.0 - s_.crush;
+    a.m *= std::pow(1.0 - s_.crush, 3);
+    a.I = 0.4 * a.m * a.r * a.r;
+  }
+  for (auto& a : p_) {
+    const V3 force = a.F + a.Fh + a.m * s_.gravity;
+    dem::integrate(a.x, a.v, a.w, force, a.T + a.Th, a.m, a.I, s_.alpha, h);
+  }
+  // Periodic wrap; outlets remove particles whose centre left the box.
+  std::vector<Particle> kept;
+  for (auto& a : p_) {
+    bool out = false;
+    for (int k = 0; k < 3; ++k) {
+      const double L = s_.upper[k] - s_.lower[k];
+      if (s_.periodic[k]) a.x[k] -= L * std::floor((a.x[k] - s_.lower[k]) / L);
+      if ((a.x[k] < s_.lower[k] && s_.faces[2 * k] == dem::Face::outlet) ||
+          (a.x[k] > s_.upper[k] && s_.faces[2 * k + 1] == dem::Face::outlet))
+        out = true;
+    }
+    if (!out) kept.push_back(a);
+  }
+  p_.swap(kept);
+  time_ += h;
+  ++steps_;
+}
+
+void DemReference::advance(double dt, long substeps) {
+  for (long n = 0; n < substeps; ++n) step(dt / substeps);
+}
+
+const ParticleArrays& DemReference::particles() const {
+  ParticleArrays& a = view_;
+  a = ParticleArrays{};
+  for (const auto& p : p_) {
+    a.id.push_back(p.id);
+    a.species.push_back(p.species);
+    for (int k = 0; k < 3; ++k) {
+      a.x.push_back(p.x[k]);
+      a.v.push_back(p.v[k]);
+      a.w.push_back(p.w[k]);
+      a.force.push_back(p.F[k]);
+    }
+    a.radius.push_back(p.r);
+    a.mass.push_back(p.m);
+    a.inertia.push_back(p.I);
+  }
+  return a;
+}
+
+void DemReference::set_hydrodynamic(std::span<const double> force, std::span<const double> torque) {
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    p_[i].Fh = V3(&force[3 * i]);
+    p_[i].Th = V3(&torque[3 * i]);
+  }
+}
+
+ParticleStats DemReference::stats() {
+  ParticleStats st;
+  st.count = static_cast<long>(p_.size());
+  for (const auto& p : p_) {
+    for (int k = 0; k < 3; ++k) st.momentum[k] += p.m * p.v[k];
+    st.kinetic_energy += 0.5 * p.m * p.v.squaredNorm() + 0.5 * p.I * p.w.squaredNorm();
+  }
+  st.collisions = collisions_;
+  st.wall_collisions = wall_collisions_;
+  st.broken_bonds = broken_;
+  collisions_ = wall_collisions_ = 0;  // broken_bonds is cumulative
+  return st;
+}
+
+}  // namespace coflow::particles

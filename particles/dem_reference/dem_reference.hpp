@@ -1,0 +1,50 @@
+// dem-reference: the soft-sphere DEM written as plainly as possible: one struct
+// per particle, every pair tested, contacts in an ordered map. The oracle for dem.
+#pragma once
+
+#include <map>
+#include <utility>
+#include <vector>
+
+#include "particles/dem/dem_common.hpp"
+#include "particles/particles_interface.hpp"
+
+namespace coflow::particles {
+
+class DemReference final : public ParticleSolver {
+ public:
+  using Params = dem::DemParams;
+  static constexpr const char* params_section = "";
+  static constexpr const char* summary = "plain serial soft-sphere DEM, all pairs (the oracle for dem)";
+
+  DemReference(const Setup& setup, const Params& params);
+
+  double time_step() const override { return s_.dt; }
+  void advance(double dt, long substeps) override;
+  double time() const override { return time_; }
+  long steps() const override { return steps_; }
+  const ParticleArrays& particles() const override;
+  void set_hydrodynamic(std::span<const double> force, std::span<const double> torque) override;
+  ParticleStats stats() override;
+
+  void step(double h);
+
+ private:
+  struct Particle {
+    std::int64_t id;
+    int species;
+    dem::V3 x, v, w;
+    double r, m, I;
+    dem::V3 F, T, Fh, Th;
+  };
+  std::vector<Particle> p_;
+  std::map<std::pair<std::int64_t, std::int64_t>, dem::ContactState> contacts_;
+  std::map<std::pair<std::int64_t, int>, dem::ContactState> walls_;
+  dem::DemSetup s_;
+  double time_ = 0.0;
+  long steps_ = 0;
+  long collisions_ = 0, wall_collisions_ = 0, broken_ = 0;
+  mutable ParticleArrays view_;
+};
+
+}  // namespace coflow::particles

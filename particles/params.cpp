@@ -1,0 +1,176 @@
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "particles/particles_interface.hpp"
+
+namespace coflow::particles {
+
+using config::Rule;
+using config::Visitor;
+
+void SpeciesParams::visit(Visitor& v) {
+  v.required("density", density, "particle density, kg/m^3", config::positive());
+  v.required("diameter", diameter, "diameter in m: fixed, uniform or log-normal", config::positive());
+}
+
+void BondParams::visit(Visitor& v) {
+  v("compressive_strength", compressive_strength, "sigma_cC of seed 000 eq. 2.15, Pa", config::non_negative());
+  v("tensile_strength", tensile_strength, "sigma_cT of eq. 2.15, Pa", config::non_negative());
+  v("shear_strength", shear_strength, "tau_c of eq. 2.15, Pa", config::non_negative());
+  v("crush_fraction", crush_fraction, "radius fraction lost by both grains on compressive failure",
+    config::in_range(0.0, 0.5));
+  v("gap", gap, "pairs whose surfaces are closer than this at the start are bonded, m", config::non_negative());
+}
+
+void ContactParams::visit(Visitor& v) {
+  v("normal_stiffness", normal_stiffness, "K_N of seed 000 eq. 2.12, N/m", config::positive());
+  v("shear_stiffness", shear_stiffness, "k_S of eq. 2.14, N/m", config::non_negative());
+  v("friction", friction, "Coulomb coefficient mu of eq. 2.17", config::non_negative());
+  v("local_damping", local_damping, "alpha of the local non-viscous damping, eqs 2.9-2.10", config::in_range(0.0, 0.99));
+  v.section("bond", "cementation of the initial contacts (eq. 2.15); omit for none",
+            [&](Visitor& s) { bond.visit(s); }, &bonded);
+}
+
+void WallParams::visit(Visitor& v) {
+  v("face", face, "a face of the domain as a wall", config::one_of({"x-", "x+", "y-", "y+", "z-", "z+"}));
+  v("mesh", mesh, "a triangle mesh (STL) as a wall");
+  v("restitution", restitution, "restitution coefficient (hard-sphere dpm)", config::in_range(0.0, 1.0));
+  v("friction", friction, "friction coefficient (default: the contact's)");
+  if (v.reading() && (face.empty() == mesh.empty()))
+    v.fail("", "give exactly one of face (e.g. face: z-) or mesh (e.g. mesh: plate.stl)");
+}
+
+void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
+  v("time_step", time_step, "s, or auto = time_step_fraction x the critical step (seed 000 eqs 2.19-2.20)",
+    config::positive());
+  v("time_step_fraction", time_step_fraction, "t_frac of eq. 2.20", config::in_range(1e-6, 1.0));
+  v.entries("species", "particle kinds by name", [&](const std::string& name, Visitor& s) {
+    species.emplace_back(name, SpeciesParams{});
+    species.back().second.visit(s);
+  });
+  v.section("contact", "soft-sphere contact law (dem)", [&](Visitor& s) { contact.visit(s); });
+  v.list("walls", "walls: domain faces or triangle meshes", [&](Visitor& s) {
+    walls.emplace_back();
+    walls.back().visit(s);
+  });
+  v.section("boundaries", "particle boundary per face (default: wall, or periodic where the domain is)",
+            [&](Visitor& s) {
+              const char* faces[] = {"x-", "x+", "y-", "y+", "z-", "z+"};
+              for (int f = 0; f < 6; ++f) {
+                s(faces[f], boundaries[f], "outlet | periodic | symmetry | wall",
+                  config::one_of({"", "outlet", "periodic", "symmetry", "wall"}));
+                if (!s.reading() || boundaries[f].empty()) continue;
+                const bool per = cfg.domain.periodic[f / 2];
+                if ((boundaries[f] == "periodic") != per)
+                  s.fail(faces[f], per ? fmt::format("axis {} is periodic (domain.periodic): its faces are periodic",
+                                                     "xyz"[f / 2])
+                                       : "a periodic particle face needs domain.periodic true on that axis");
+              }
+            });
+  auto region = [](Visitor& s, InitialItem& it) {
+    s.section("region", "box to fill", [&](Visitor& r) {
+      r.required("lower", it.lower, "lower corner, m");
+      r.required("upper", it.upper, "upper corner, m");
+    });
+  };
+  v.choices("initial", "initial particles; each item adds some",
+            {{"single", "one particle",
+              [&](Visitor& s) {
+                auto& it = initial.emplace_back();
+                it.kind = "single";
+                s.required("species", it.species, "species name");
+                s.required("position", it.position, "m");
+                s("velocity", it.velocity, "m/s");
+                s("angular_velocity", it.angular_velocity, "rad/s");
+              }},
+             {"lattice", "a simple cubic lattice filling a region",
+              [&](Visitor& s) {
+                auto& it = initial.emplace_back();
+                it.kind = "lattice";
+                s.required("species", it.species, "species name");
+                s.required("spacing", it.spacing, "lattice spacing, m", config::positive());
+                region(s, it);
+                s("velocity", it.velocity, "m/s");
+              }},
+             {"random", "random non-overlapping particles in a region (count or volume fraction)",
+              [&](Visitor& s) {
+                auto& it = initial.emplace_back();
+                it.kind = "random";
+                s.required("species", it.species, "species name");
+                s("count", it.count, "how many", config::non_negative());
+                s("volume_fraction", it.volume_fraction, "or: target solid volume fraction",
+                  config::in_range(0.0, 0.6));
+                region(s, it);
+                s("velocity_std", it.velocity_std, "standard deviation of each velocity component, m/s",
+                  config::non_negative());
+                if (s.reading() && (it.count > 0) == (it.volume_fraction > 0))
+                  s.fail("", "give exactly one of count or volume_fraction");
+              }},
+             {"file", "particles from an HDF5 snapshot written by coflow",
+              [&](Visitor& s) {
+                auto& it = initial.emplace_back();
+                it.kind = "file";
+                s.required("path", it.path, "HDF5 file (particles/step_*.h5 of an earlier run)");
+              }}});
+  if (!v.reading()) return;
+  for (std::size_t n = 0; n < initial.size(); ++n) {
+    const auto& it = initial[n];
+    if (it.kind != "file" && species_index(it.species) < 0)
+      v.fail("initial", fmt::format("item {} uses species '{}', which is not defined under species", n, it.species));
+  }
+  // Initial particles may not overlap unless they are to be cemented.
+  auto largest = [&](const std::string& name) {
+    const int k = species_index(name);
+    if (k < 0) return 0.0;
+    const auto& d = species[k].second.diameter;
+    return d.kind == config::Distribution::Kind::uniform ? d.b : d.a;
+  };
+  for (std::size_t n = 0; n < initial.size(); ++n) {
+    const auto& it = initial[n];
+    if (it.kind == "lattice" && it.spacing < largest(it.species) && !contact.bonded)
+      v.fail("initial", fmt::format("item {}: lattice spacing {:.4g} m is smaller than the diameter {:.4g} m of '{}': "
+                                    "the particles would overlap; enlarge the spacing",
+                                    n, it.spacing, largest(it.species), it.species));
+    if (it.kind != "single") continue;
+    for (std::size_t m = n + 1; m < initial.size(); ++m) {
+      const auto& jt = initial[m];
+      if (jt.kind != "single") continue;
+      double d2 = 0;
+      for (int k = 0; k < 3; ++k) d2 += (it.position[k] - jt.position[k]) * (it.position[k] - jt.position[k]);
+      const double contact = 0.5 * (largest(it.species) + largest(jt.species));
+      if (std::sqrt(d2) < contact && !this->contact.bonded)
+        v.fail("initial", fmt::format("items {} and {} overlap (centres {:.4g} m apart, contact at {:.4g} m); move "
+                                      "them apart, or add contact.bond to cement touching grains",
+                                      n, m, std::sqrt(d2), contact));
+    }
+  }
+  for (const auto& w : walls)
+    if (!w.mesh.empty() && !std::ifstream(w.mesh))
+      v.fail("walls", fmt::format("mesh file '{}' cannot be read (paths are relative to the working directory)", w.mesh));
+  // An explicit step beyond the stability limit of eq. 2.19 cannot work.
+  if (!time_step.is_auto && contact.normal_stiffness > 0) {
+    double crit = 1e300;
+    for (const auto& [name, sp] : species) {
+      if (sp.diameter.kind == config::Distribution::Kind::lognormal) continue;
+      const double d = sp.diameter.kind == config::Distribution::Kind::fixed ? sp.diameter.a : sp.diameter.a;
+      const double m = sp.density * std::numbers::pi * d * d * d / 6.0;
+      crit = std::min(crit, 2.0 * std::sqrt(m / std::max(contact.normal_stiffness, contact.shear_stiffness)));
+    }
+    if (time_step.value > crit)
+      v.fail("time_step", fmt::format("{:.4g} s exceeds the critical step 2 sqrt(m/k) = {:.4g} s of the lightest "
+                                      "particle (seed 000 eq. 2.19): the integration would be unstable; use auto",
+                                      time_step.value, crit));
+  }
+}
+
+int ParticleParams::species_index(const std::string& name) const {
+  for (std::size_t i = 0; i < species.size(); ++i)
+    if (species[i].first == name) return static_cast<int>(i);
+  return -1;
+}
+
+}  // namespace coflow::particles

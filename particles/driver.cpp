@@ -38,14 +38,14 @@ void run(coupler::Session& s) {
   if (s.rank() == 0)
     series = output::Series(s.output_dir() + "/series/particles.csv",
                             {"time", "count", "momentum_x", "momentum_y", "momentum_z", "kinetic_energy",
-                             "collisions", "wall_collisions", "broken_bonds"});
+                             "collisions", "wall_collisions", "broken_bonds", "rotational_energy"});
   auto write_output = [&](long w) {
     coupler::Timer t(coupler::trace().io_s);
     if (s.series_due(w)) {
       const ParticleStats st = solver->stats();
       const double row[] = {solver->time(), double(st.count), st.momentum[0], st.momentum[1], st.momentum[2],
                             st.kinetic_energy, double(st.collisions), double(st.wall_collisions),
-                            double(st.broken_bonds)};
+                            double(st.broken_bonds), st.rotational_energy};
       if (s.rank() == 0) series.row(row);
       s.set_final("particles.count", double(st.count));
       s.set_final("particles.kinetic_energy", st.kinetic_energy);

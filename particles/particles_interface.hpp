@@ -92,7 +92,8 @@ struct ParticleArrays {
 struct ParticleStats {
   long count = 0;
   Vec3 momentum{0, 0, 0};
-  double kinetic_energy = 0.0;  // translational + rotational
+  double kinetic_energy = 0.0;     // translational
+  double rotational_energy = 0.0;
   long collisions = 0;          // contacts formed since the previous call
   long wall_collisions = 0;
   long broken_bonds = 0;        // since the previous call

@@ -244,7 +244,7 @@ void DemSolver::set_hydrodynamic(std::span<const double> force, std::span<const 
 }
 
 ParticleStats DemSolver::stats() {
-  double local[5] = {0, 0, 0, 0, 0};
+  double local[6] = {0, 0, 0, 0, 0, 0};
   for (std::size_t i = 0; i < p_.size(); ++i) {
     double v2 = 0, w2 = 0;
     for (int q = 0; q < 3; ++q) {
@@ -252,17 +252,19 @@ ParticleStats DemSolver::stats() {
       v2 += p_.v[3 * i + q] * p_.v[3 * i + q];
       w2 += p_.w[3 * i + q] * p_.w[3 * i + q];
     }
-    local[3] += 0.5 * p_.mass[i] * v2 + 0.5 * p_.inertia[i] * w2;
+    local[3] += 0.5 * p_.mass[i] * v2;
+    local[5] += 0.5 * p_.inertia[i] * w2;
   }
   local[4] = static_cast<double>(p_.size());
-  double global[5];
-  MPI_Allreduce(local, global, 5, MPI_DOUBLE, MPI_SUM, comm_);
+  double global[6];
+  MPI_Allreduce(local, global, 6, MPI_DOUBLE, MPI_SUM, comm_);
   long events[3] = {collisions_, wall_collisions_, broken_}, gev[3];
   MPI_Allreduce(events, gev, 3, MPI_LONG, MPI_SUM, comm_);
   collisions_ = wall_collisions_ = 0;  // broken_bonds is cumulative
   ParticleStats st;
   st.momentum = {global[0], global[1], global[2]};
   st.kinetic_energy = global[3];
+  st.rotational_energy = global[5];
   st.count = static_cast<long>(global[4]);
   st.collisions = gev[0];
   st.wall_collisions = gev[1];

@@ -156,7 +156,8 @@ ParticleStats DemReference::stats() {
   st.count = static_cast<long>(p_.size());
   for (const auto& p : p_) {
     for (int k = 0; k < 3; ++k) st.momentum[k] += p.m * p.v[k];
-    st.kinetic_energy += 0.5 * p.m * p.v.squaredNorm() + 0.5 * p.I * p.w.squaredNorm();
+    st.kinetic_energy += 0.5 * p.m * p.v.squaredNorm();
+    st.rotational_energy += 0.5 * p.I * p.w.squaredNorm();
   }
   st.collisions = collisions_;
   st.wall_collisions = wall_collisions_;

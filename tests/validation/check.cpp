@@ -6,10 +6,12 @@
 //   coflow-check mass RUN_DIR      relative mass drift over the run: mass_drift
 //   coflow-check compare RUN_A RUN_B   last snapshots: max_difference (relative)
 //   coflow-check impact RUN_DIR    two-sphere impact: duration_error, restitution, energy_error
+//   coflow-check pour RUN_DIR      gravity pour: kinetic_energy_ratio, packing_fraction
 //
 // The physical parameters come from the run's resolved config.yaml.
 #include <cmath>
 #include <cstdio>
+#include <algorithm>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -194,6 +196,75 @@ int impact(const std::string& dir) {
   return 0;
 }
 
+// Gravity pour: translational kinetic energy at the end relative to its peak,
+// and the packing fraction of the bulk (2 diameters from the walls and the
+// bottom, 4 below the free surface), by point sampling.
+int pour(const std::string& dir) {
+  const auto rows = read_series(dir + "/series/particles.csv");
+  double peak = 0;
+  for (const auto& r : rows) peak = std::max(peak, r[5]);
+  const auto snaps = snapshots(dir, "particles");
+  const std::string f = dir + "/particles/" + output::snapshot_name(snaps.back().first);
+  const auto x = output::read_dataset(f, "position");
+  const auto rad = output::read_dataset(f, "radius");
+  const std::size_t n = rad.size();
+  const auto cfg = load(dir);
+  double rmax = 0;
+  std::vector<double> zs;
+  for (std::size_t i = 0; i < n; ++i) {
+    rmax = std::max(rmax, rad[i]);
+    zs.push_back(x[3 * i + 2]);
+  }
+  std::sort(zs.begin(), zs.end());
+  double top = 0;
+  const std::size_t k = std::min<std::size_t>(50, n);
+  for (std::size_t i = n - k; i < n; ++i) top += zs[i] / k;
+  const double d = 2 * rmax;
+  double lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = cfg.domain.lower[a] + 2 * d;
+    hi[a] = a == 2 ? top - 4 * d : cfg.domain.upper[a] - 2 * d;
+  }
+  // Spheres bucketed on a grid of cell size d.
+  int nc[3];
+  for (int a = 0; a < 3; ++a) nc[a] = std::max(1, static_cast<int>((cfg.domain.upper[a] - cfg.domain.lower[a]) / d));
+  std::vector<std::vector<std::size_t>> grid(static_cast<std::size_t>(nc[0]) * nc[1] * nc[2]);
+  auto cell = [&](double v, int a) {
+    return std::clamp(static_cast<int>((v - cfg.domain.lower[a]) / (cfg.domain.upper[a] - cfg.domain.lower[a]) * nc[a]), 0, nc[a] - 1);
+  };
+  for (std::size_t i = 0; i < n; ++i)
+    grid[(cell(x[3 * i + 2], 2) * nc[1] + cell(x[3 * i + 1], 1)) * nc[0] + cell(x[3 * i], 0)].push_back(i);
+  const int m = 60;
+  long in = 0, total = 0;
+  for (int a = 0; a < m; ++a)
+    for (int b = 0; b < m; ++b)
+      for (int c = 0; c < m; ++c) {
+        const double p[3] = {lo[0] + (a + 0.5) * (hi[0] - lo[0]) / m, lo[1] + (b + 0.5) * (hi[1] - lo[1]) / m,
+                             lo[2] + (c + 0.5) * (hi[2] - lo[2]) / m};
+        const int ci[3] = {cell(p[0], 0), cell(p[1], 1), cell(p[2], 2)};
+        bool solid = false;
+        for (int dz = -1; dz <= 1 && !solid; ++dz)
+          for (int dy = -1; dy <= 1 && !solid; ++dy)
+            for (int dx = -1; dx <= 1 && !solid; ++dx) {
+              const int q[3] = {ci[0] + dx, ci[1] + dy, ci[2] + dz};
+              if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= nc[0] || q[1] >= nc[1] || q[2] >= nc[2]) continue;
+              for (std::size_t i : grid[(q[2] * nc[1] + q[1]) * nc[0] + q[0]]) {
+                const double ddx = p[0] - x[3 * i], ddy = p[1] - x[3 * i + 1], ddz = p[2] - x[3 * i + 2];
+                if (ddx * ddx + ddy * ddy + ddz * ddz < rad[i] * rad[i]) {
+                  solid = true;
+                  break;
+                }
+              }
+            }
+        in += solid;
+        ++total;
+      }
+  std::printf("particles=%zu\nbed_top=%.6f\nkinetic_energy_ratio=%.6e\nrotational_energy=%.6e\npacking_fraction=%.4f\n",
+              n, top, rows.back()[5] / peak, rows.back().size() > 9 ? rows.back()[9] : 0.0,
+              static_cast<double>(in) / total);
+  return 0;
+}
+
 // Particle snapshots of two runs: largest position difference over the diameter.
 int compare_particles(const std::string& a, const std::string& b) {
   const auto sa = snapshots(a, "particles"), sb = snapshots(b, "particles");
@@ -247,6 +318,7 @@ int main(int argc, char** argv) {
     if (what == "mass" && argc == 3) return mass(argv[2]);
     if (what == "compare" && argc == 4) return compare(argv[2], argv[3]);
     if (what == "impact" && argc == 3) return impact(argv[2]);
+    if (what == "pour" && argc == 3) return pour(argv[2]);
     std::fprintf(stderr, "usage: coflow-check profile|decay|mass RUN_DIR | compare RUN_A RUN_B\n");
     return 2;
   } catch (const std::exception& e) {

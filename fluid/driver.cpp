@@ -53,11 +53,16 @@ void run(coupler::Session& s) {
                                                              dt, window)}});
   }
 
+  const long per_window = dt > 0 ? std::lround(window / dt) : 1;
+  const long w0 = s.restart_window();
+  if (w0 > 0) solver->load(s.restart_dir(), w0 * per_window, w0 * window);
+
   output::Series series;
   if (s.rank() == 0)
     series = output::Series(s.output_dir() + "/series/fluid.csv",
                             {"time", "mass", "momentum_x", "momentum_y", "momentum_z", "kinetic_energy",
-                             "max_velocity", "max_mach"});
+                             "max_velocity", "max_mach"},
+                            w0 > 0);
   auto write_output = [&](long w) {
     coupler::Timer t(coupler::trace().io_s);
     const double time = solver->time();
@@ -81,11 +86,16 @@ void run(coupler::Session& s) {
     }
   };
 
-  write_output(0);
-  for (long w = 1; w <= s.windows(); ++w) {
+  if (w0 == 0) write_output(0);
+  for (long w = w0 + 1; w <= s.windows(); ++w) {
     solver->advance(window);
     coupler::trace().steps = solver->steps();
     write_output(w);
+    if (s.checkpoint_due(w)) {
+      coupler::Timer t(coupler::trace().io_s);
+      solver->save(s.begin_checkpoint(w));
+      s.end_checkpoint(w);
+    }
     s.window_done(w);
   }
 }

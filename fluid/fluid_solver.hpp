@@ -81,6 +81,11 @@ class FluidSolver {
   // Fields for snapshots, as arrays over owned() (no ghost), `components` per cell.
   virtual std::vector<output::GridField> fields(const config::StringList& names) = 0;
   virtual Diagnostics diagnostics() = 0;  // collective
+
+  // Checkpoint and restart (collective): the complete state, so that a restarted
+  // run continues bit for bit.
+  virtual void save(const std::string& dir) = 0;
+  virtual void load(const std::string& dir, long steps, double time) = 0;
 };
 
 }  // namespace coflow::fluid

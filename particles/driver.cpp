@@ -34,11 +34,15 @@ void run(coupler::Session& s) {
   log::info("particles: step {:.4g} s, {} sub-steps of {:.4g} s per window", solver->time_step(), substeps,
             s.window() / substeps);
 
+  const long w0 = s.restart_window();
+  if (w0 > 0) solver->load(s.restart_dir(), w0 * substeps, w0 * s.window());
+
   output::Series series;
   if (s.rank() == 0)
     series = output::Series(s.output_dir() + "/series/particles.csv",
                             {"time", "count", "momentum_x", "momentum_y", "momentum_z", "kinetic_energy",
-                             "collisions", "wall_collisions", "broken_bonds", "rotational_energy"});
+                             "collisions", "wall_collisions", "broken_bonds", "rotational_energy"},
+                            w0 > 0);
   auto write_output = [&](long w) {
     coupler::Timer t(coupler::trace().io_s);
     if (s.series_due(w)) {
@@ -65,11 +69,16 @@ void run(coupler::Session& s) {
                          {"position", "velocity", "angular_velocity", "radius", "force"});
     }
   };
-  write_output(0);
-  for (long w = 1; w <= s.windows(); ++w) {
+  if (w0 == 0) write_output(0);
+  for (long w = w0 + 1; w <= s.windows(); ++w) {
     solver->advance(s.window(), substeps);
     coupler::trace().steps = solver->steps();
     write_output(w);
+    if (s.checkpoint_due(w)) {
+      coupler::Timer t(coupler::trace().io_s);
+      solver->save(s.begin_checkpoint(w));
+      s.end_checkpoint(w);
+    }
     s.window_done(w);
   }
 }

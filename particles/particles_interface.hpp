@@ -120,6 +120,10 @@ class ParticleSolver {
   // constant until the next call.
   virtual void set_hydrodynamic(std::span<const double> force, std::span<const double> torque) = 0;
   virtual ParticleStats stats() = 0;  // collective; resets the event counters
+
+  // Checkpoint and restart (collective): particles and contact histories.
+  virtual void save(const std::string& dir) = 0;
+  virtual void load(const std::string& dir, long steps, double time) = 0;
 };
 
 }  // namespace coflow::particles

@@ -389,10 +389,12 @@ int main(int argc, char** argv) {
     }
     exe_override[comp] = e.substr(eq + 1);
   }
-  if (!restart.empty() && !fs::is_directory(restart)) {
-    std::cerr << "--restart " << restart << ": no such checkpoint directory\n";
+  if (!restart.empty() && !fs::is_regular_file(fs::path(restart) / "checkpoint.yaml")) {
+    std::cerr << "--restart " << restart << ": not a checkpoint (no checkpoint.yaml); checkpoints are the "
+              << "directories out/<name>/checkpoints/window_NNNNNN written with run.checkpoint.every\n";
     return 2;
   }
+  if (!restart.empty()) restart = fs::absolute(restart).string();
 
   const Launch launch = plan(cfg, exe_override);
   const std::string dir = cfg.output_dir();

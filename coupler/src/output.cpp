@@ -30,7 +30,12 @@ void atomic_write(const std::string& path, const std::string& content) {
 
 std::string snapshot_name(long step) { return fmt::format("step_{:06d}.h5", step); }
 
-Series::Series(const std::string& path, std::vector<std::string> columns) : columns_(columns.size()) {
+Series::Series(const std::string& path, std::vector<std::string> columns, bool append) : columns_(columns.size()) {
+  if (append && fs::exists(path)) {
+    out_.open(path, std::ios::app);
+    if (!out_) throw std::runtime_error(fmt::format("cannot append to '{}'", path));
+    return;
+  }
   out_.open(path, std::ios::trunc);
   if (!out_) throw std::runtime_error(fmt::format("cannot write '{}'", path));
   for (std::size_t i = 0; i < columns.size(); ++i) out_ << (i ? "," : "") << columns[i];
@@ -120,10 +125,17 @@ void write_block(hid_t file, const std::string& name, hid_t type, const std::vec
     h5check(H5Sselect_hyperslab(fs_, H5S_SELECT_SET, offset.data(), nullptr, count.data(), nullptr),
             "selecting a hyperslab");
   }
-  hid_t xfer = H5Pcreate(H5P_DATASET_XFER);
-  H5Pset_dxpl_mpio(xfer, H5FD_MPIO_COLLECTIVE);
-  h5check(H5Dwrite(ds, type, ms, fs_, xfer, local), ("writing dataset " + name).c_str());
-  H5Pclose(xfer);
+  hsize_t total = 1;
+  for (auto g : global) total *= g;
+  // An empty dataset has no storage: HDF5 1.10 fails a collective write to it,
+  // and every rank knows the global size, so all skip the write together.
+  if (total > 0) {
+    hid_t xfer = H5Pcreate(H5P_DATASET_XFER);
+    H5Pset_dxpl_mpio(xfer, H5FD_MPIO_COLLECTIVE);
+    static const double nothing = 0.0;  // HDF5 wants a buffer even for an empty selection
+    h5check(H5Dwrite(ds, type, ms, fs_, xfer, local ? local : &nothing), ("writing dataset " + name).c_str());
+    H5Pclose(xfer);
+  }
   H5Sclose(ms);
   H5Dclose(ds);
   H5Sclose(fs_);

@@ -53,6 +53,63 @@ Session::Session(std::string component, config::Config cfg, Args args)
   set_timeout(cfg_.coupling.timeout);
   discover();
   prepare_output();
+  if (!args_.restart.empty()) {
+    const std::string file = args_.restart + "/checkpoint.yaml";
+    YAML::Node c;
+    try {
+      c = YAML::LoadFile(file);
+    } catch (const std::exception&) {
+      throw std::runtime_error(fmt::format("--restart {}: no readable checkpoint.yaml (is it a directory under "
+                                           "<out>/checkpoints/?)",
+                                           args_.restart));
+    }
+    restart_window_ = c["window"].as<long>();
+    restart_window_length_ = c["window_length"].as<double>();
+    log::info("restarting from {} (window {}, t = {} s)", args_.restart, restart_window_, c["time"].as<double>());
+  }
+}
+
+std::string Session::restart_dir() const { return args_.restart + "/" + component_; }
+
+bool Session::checkpoint_due(long w) const {
+  const auto& c = cfg_.run.checkpoint;
+  if (c.every <= 0 || w <= 0 || w == restart_window_) return false;
+  const double a = (w - 1) * window_ / c.every, b = w * window_ / c.every;
+  return std::floor(b + 1e-9) > std::floor(a + 1e-9);
+}
+
+std::string Session::begin_checkpoint(long w) {
+  const std::string dir = fmt::format("{}/checkpoints/window_{:06d}.partial/{}", dir_, w, component_);
+  if (rank_ == 0) fs::create_directories(dir);
+  MPI_Barrier(comm_);
+  return dir;
+}
+
+void Session::end_checkpoint(long w) {
+  // Every rank of every component has written its part: then the checkpoint is complete.
+  MPI_Request r;
+  MPI_Ibarrier(MPI_COMM_WORLD, &r);
+  wait_one(r, "the other components to finish their checkpoint");
+  if (world_rank_ == 0) {
+    const std::string base = fmt::format("{}/checkpoints/window_{:06d}", dir_, w);
+    output::atomic_write(base + ".partial/checkpoint.yaml",
+                         fmt::format("name: {}\nwindow: {}\ntime: {:.17g}\nwindow_length: {:.17g}\n", cfg_.run.name, w,
+                                     w * window_, window_));
+    fs::remove_all(base);
+    fs::rename(base + ".partial", base);
+    // Keep the newest run.checkpoint.keep checkpoints.
+    std::vector<std::string> all;
+    for (const auto& e : fs::directory_iterator(dir_ + "/checkpoints")) {
+      const std::string n = e.path().filename().string();
+      if (e.is_directory() && n.rfind("window_", 0) == 0 && n.find(".partial") == std::string::npos)
+        all.push_back(e.path().string());
+    }
+    std::sort(all.begin(), all.end());
+    const std::size_t keep = static_cast<std::size_t>(cfg_.run.checkpoint.keep);
+    for (std::size_t i = 0; i + keep < all.size(); ++i) fs::remove_all(all[i]);
+    log::info("checkpoint written: {}", base);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
 }
 
 Session::~Session() {
@@ -183,6 +240,12 @@ double Session::negotiate_window(double preferred) {
   }
   window_ = w;
   windows_ = std::max(1L, static_cast<long>(std::ceil(cfg_.run.end_time / w - 1e-9)));
+  if (restart_window_ > 0 && std::abs(window_ - restart_window_length_) > 1e-12 * window_)
+    throw config::ConfigError({config::Problem{
+        args_.restart + "/checkpoint.yaml", 0, 0, "window_length",
+        fmt::format("the checkpoint was written with windows of {:.17g} s but this run has {:.17g} s: restart "
+                    "with the configuration of the run that wrote it",
+                    restart_window_length_, window_)}});
   log::info("coupling window {:.6g} s, {} windows to t = {:.6g} s ({})", window_, windows_,
             cfg_.run.end_time, cfg_.coupling.scheme);
   return window_;
@@ -201,10 +264,12 @@ static bool crosses(long w, double window, double every) {
 }
 
 bool Session::snapshot_due(long w) const {
+  if (w == restart_window_ && w > 0) return false;  // the run being restarted wrote it
   return crosses(w, window_, cfg_.run.output.every) || (w == windows_ && cfg_.run.output.every > 0);
 }
 
 bool Session::series_due(long w) const {
+  if (w == restart_window_ && w > 0) return false;
   const auto& o = cfg_.run.output;
   const double every = o.series_every.is_auto ? o.every : o.series_every.value;
   if (every <= 0) return w == 0 || w == windows_;

@@ -30,6 +30,12 @@ class AnalyticFluid final : public FluidSolver {
   const coupler::Box& owned() const override { return owned_; }
   std::vector<output::GridField> fields(const config::StringList& names) override;
   Diagnostics diagnostics() override;
+  void save(const std::string&) override {}  // the state is the time
+  void load(const std::string&, long steps, double time) override {
+    steps_ = steps;
+    time_ = time;
+    evaluate();
+  }
 
   // The prescribed velocity at a point and time.
   Vec3 velocity_at(const Vec3& x, double t) const;

@@ -127,6 +127,23 @@ class Core final : public LbmCore {
   }
 
   double max_u2() const override { return max_u2_; }
+  int q() const override { return L::Q; }
+
+  void get_populations(std::vector<double>& out) const override {
+    out.resize(static_cast<std::size_t>(n_[0] * n_[1] * n_[2]) * L::Q);
+    std::size_t o = 0;
+    for (long k = 0; k < n_[2]; ++k)
+      for (long j = 0; j < n_[1]; ++j)
+        for (long i = 0; i < n_[0]; ++i)
+          for (int q = 0; q < L::Q; ++q) out[o++] = a_[q * N_ + idx(i, j, k)];
+  }
+  void set_populations(const std::vector<double>& in) override {
+    std::size_t o = 0;
+    for (long k = 0; k < n_[2]; ++k)
+      for (long j = 0; j < n_[1]; ++j)
+        for (long i = 0; i < n_[0]; ++i)
+          for (int q = 0; q < L::Q; ++q) a_[q * N_ + idx(i, j, k)] = in[o++];
+  }
 
   long first_nonfinite() const override {
     long c = 0;
@@ -394,6 +411,32 @@ void LbmSolver::advance(double dt) {
     log::warn("lbm: Mach number {:.3f} at step {} exceeds 0.1: compressibility errors grow as Ma^2", mach, steps_);
     mach_warned_ = true;
   }
+}
+
+void LbmSolver::save(const std::string& dir) {
+  std::vector<double> f;
+  core_->get_populations(f);
+  const auto& c = s_.cells;
+  output::write_grid(comm_, dir + "/lbm.h5", time(), steps_, {c[0], c[1], c[2]}, owned_, owned_,
+                     {{"populations", core_->q(), f}});
+}
+
+void LbmSolver::load(const std::string& dir, long steps, double) {
+  std::vector<std::size_t> dims;
+  const auto all = output::read_dataset(dir + "/lbm.h5", "populations", &dims);
+  const int Q = core_->q();
+  const auto& c = s_.cells;
+  if (dims.size() != 4 || dims[0] != std::size_t(c[2]) || dims[1] != std::size_t(c[1]) ||
+      dims[2] != std::size_t(c[0]) || dims[3] != std::size_t(Q))
+    throw std::runtime_error(dir + "/lbm.h5: the checkpoint is for another grid or lattice");
+  std::vector<double> f;
+  f.reserve(owned_.volume() * Q);
+  for (long k = owned_.lo[2]; k < owned_.hi[2]; ++k)
+    for (long j = owned_.lo[1]; j < owned_.hi[1]; ++j)
+      for (long i = owned_.lo[0]; i < owned_.hi[0]; ++i)
+        for (int q = 0; q < Q; ++q) f.push_back(all[((k * c[1] + j) * c[0] + i) * Q + q]);
+  core_->set_populations(f);
+  steps_ = steps;
 }
 
 std::vector<output::GridField> LbmSolver::fields(const config::StringList& names) {

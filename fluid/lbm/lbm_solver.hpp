@@ -20,6 +20,10 @@ class LbmCore {
   virtual void macroscopic(std::vector<double>& u, std::vector<double>& rho) const = 0;  // owned cells
   virtual double max_u2() const = 0;  // of the last step, this rank
   virtual long first_nonfinite() const = 0;  // owned cell index or -1
+  virtual int q() const = 0;
+  // Owned cells' populations, cell after cell (x fastest), q innermost.
+  virtual void get_populations(std::vector<double>& out) const = 0;
+  virtual void set_populations(const std::vector<double>& in) = 0;
 };
 
 class LbmSolver final : public FluidSolver {
@@ -38,6 +42,8 @@ class LbmSolver final : public FluidSolver {
   const coupler::Box& owned() const override { return owned_; }
   std::vector<output::GridField> fields(const config::StringList& names) override;
   Diagnostics diagnostics() override;
+  void save(const std::string& dir) override;
+  void load(const std::string& dir, long steps, double time) override;
 
   const lbm::Setup& setup() const { return s_; }
 

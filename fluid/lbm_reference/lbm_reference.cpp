@@ -194,6 +194,21 @@ void LbmReference::apply_face(int face, std::vector<double>& fs, const std::vect
       }
 }
 
+// The populations, one cell after another, as the checkpoint's grid field.
+void LbmReference::save(const std::string& dir) {
+  output::write_grid(comm_, dir + "/lbm.h5", time(), steps_, {n_[0], n_[1], n_[2]}, box_, box_,
+                     {{"populations", Q_, f_}});
+}
+
+void LbmReference::load(const std::string& dir, long steps, double) {
+  std::vector<std::size_t> dims;
+  const auto f = output::read_dataset(dir + "/lbm.h5", "populations", &dims);
+  if (f.size() != f_.size())
+    throw std::runtime_error(dir + "/lbm.h5: the checkpoint is for another grid or lattice");
+  f_ = f;
+  steps_ = steps;
+}
+
 void LbmReference::moments(long c, double& rho, double u[3]) const {
   const double* f = &f_[c * Q_];
   rho = 0.0;

@@ -26,6 +26,8 @@ class LbmReference final : public FluidSolver {
   const coupler::Box& owned() const override { return box_; }
   std::vector<output::GridField> fields(const config::StringList& names) override;
   Diagnostics diagnostics() override;
+  void save(const std::string& dir) override;
+  void load(const std::string& dir, long steps, double time) override;
 
   void step();
   // Lattice moments of a cell (rho, u) from the stored post-collision state.

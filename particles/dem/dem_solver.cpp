@@ -5,12 +5,15 @@
 #include <stdexcept>
 
 #include "coflow/log.hpp"
+#include "particles/dem/checkpoint.hpp"
+
+#include <tuple>
 
 namespace coflow::particles {
 
 using dem::V3;
 
-DemSolver::DemSolver(const Setup& setup, const Params&) : comm_(setup.comm) {
+DemSolver::DemSolver(const Setup& setup, const Params&) : comm_(setup.comm), params_(setup.params) {
   int size = 1;
   MPI_Comm_size(comm_, &size);
   if (size != 1)
@@ -236,6 +239,41 @@ void DemSolver::step(double h) {
 
 void DemSolver::advance(double dt, long substeps) {
   for (long k = 0; k < substeps; ++k) step(dt / substeps);
+}
+
+void DemSolver::save(const std::string& dir) {
+  std::vector<dem::SavedContact> list;
+  for (const auto& [k, c] : contacts_)
+    list.push_back({static_cast<std::int64_t>(k >> 32), static_cast<std::int64_t>(k & 0xffffffffu),
+                    {c.shear[0], c.shear[1], c.shear[2]}, c.bonded});
+  for (const auto& [k, c] : walls_)
+    list.push_back({static_cast<std::int64_t>(k >> 32), -1 - static_cast<std::int64_t>(k & 0xffffffffu),
+                    {c.shear[0], c.shear[1], c.shear[2]}, c.bonded});
+  // Canonical order, so that a checkpoint does not depend on hashing.
+  std::sort(list.begin(), list.end(), [](const auto& x, const auto& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
+  dem::save_state(comm_, dir, time_, steps_, p_, list);
+}
+
+void DemSolver::load(const std::string& dir, long steps, double time) {
+  std::vector<dem::SavedContact> list;
+  dem::load_state(dir, params_, p_, list);
+  contacts_.clear();
+  walls_.clear();
+  for (const auto& c : list) {
+    dem::ContactState st;
+    st.shear = V3(c.shear[0], c.shear[1], c.shear[2]);
+    st.bonded = c.bonded;
+    if (c.b >= 0)
+      contacts_[key(c.a, c.b)] = st;
+    else
+      walls_[key(c.a, -1 - c.b)] = st;
+  }
+  const std::size_t n = p_.size();
+  torque_.assign(3 * n, 0.0);
+  fh_.assign(3 * n, 0.0);
+  th_.assign(3 * n, 0.0);
+  steps_ = steps;
+  time_ = time;
 }
 
 void DemSolver::set_hydrodynamic(std::span<const double> force, std::span<const double> torque) {

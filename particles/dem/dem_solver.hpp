@@ -28,6 +28,8 @@ class DemSolver final : public ParticleSolver {
   const ParticleArrays& particles() const override { return p_; }
   void set_hydrodynamic(std::span<const double> force, std::span<const double> torque) override;
   ParticleStats stats() override;
+  void save(const std::string& dir) override;
+  void load(const std::string& dir, long steps, double time) override;
 
   void step(double h);
 
@@ -44,6 +46,7 @@ class DemSolver final : public ParticleSolver {
   std::unordered_map<std::uint64_t, dem::ContactState> contacts_, walls_;
   dem::DemSetup s_;
   MPI_Comm comm_;
+  const ParticleParams& params_;
   // cell list
   double cell_size_ = 0.0;
   std::array<long, 3> nc_{1, 1, 1};

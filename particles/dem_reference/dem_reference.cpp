@@ -4,12 +4,16 @@
 #include <stdexcept>
 
 #include "coflow/log.hpp"
+#include "particles/dem/checkpoint.hpp"
+
+#include <algorithm>
+#include <tuple>
 
 namespace coflow::particles {
 
 using dem::V3;
 
-DemReference::DemReference(const Setup& setup, const Params&) {
+DemReference::DemReference(const Setup& setup, const Params&) : comm_(setup.comm), params_(setup.params) {
   int size = 1;
   MPI_Comm_size(setup.comm, &size);
   if (size != 1) throw std::runtime_error("dem-reference is serial: set particles.ranks: 1");
@@ -142,6 +146,37 @@ const ParticleArrays& DemReference::particles() const {
     a.inertia.push_back(p.I);
   }
   return a;
+}
+
+void DemReference::save(const std::string& dir) {
+  std::vector<dem::SavedContact> list;
+  for (const auto& [k, c] : contacts_) list.push_back({k.first, k.second, {c.shear[0], c.shear[1], c.shear[2]}, c.bonded});
+  for (const auto& [k, c] : walls_) list.push_back({k.first, -1 - k.second, {c.shear[0], c.shear[1], c.shear[2]}, c.bonded});
+  std::sort(list.begin(), list.end(), [](const auto& x, const auto& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
+  dem::save_state(comm_, dir, time_, steps_, particles(), list);
+}
+
+void DemReference::load(const std::string& dir, long steps, double time) {
+  ParticleArrays a;
+  std::vector<dem::SavedContact> list;
+  dem::load_state(dir, params_, a, list);
+  p_.clear();
+  for (std::size_t i = 0; i < a.size(); ++i)
+    p_.push_back({a.id[i], a.species[i], V3(&a.x[3 * i]), V3(&a.v[3 * i]), V3(&a.w[3 * i]), a.radius[i], a.mass[i],
+                  a.inertia[i], V3::Zero(), V3::Zero(), V3::Zero(), V3::Zero()});
+  contacts_.clear();
+  walls_.clear();
+  for (const auto& c : list) {
+    dem::ContactState st;
+    st.shear = V3(c.shear[0], c.shear[1], c.shear[2]);
+    st.bonded = c.bonded;
+    if (c.b >= 0)
+      contacts_[{c.a, c.b}] = st;
+    else
+      walls_[{c.a, static_cast<int>(-1 - c.b)}] = st;
+  }
+  steps_ = steps;
+  time_ = time;
 }
 
 void DemReference::set_hydrodynamic(std::span<const double> force, std::span<const double> torque) {

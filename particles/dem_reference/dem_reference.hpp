@@ -26,6 +26,8 @@ class DemReference final : public ParticleSolver {
   const ParticleArrays& particles() const override;
   void set_hydrodynamic(std::span<const double> force, std::span<const double> torque) override;
   ParticleStats stats() override;
+  void save(const std::string& dir) override;
+  void load(const std::string& dir, long steps, double time) override;
 
   void step(double h);
 
@@ -41,6 +43,8 @@ class DemReference final : public ParticleSolver {
   std::map<std::pair<std::int64_t, std::int64_t>, dem::ContactState> contacts_;
   std::map<std::pair<std::int64_t, int>, dem::ContactState> walls_;
   dem::DemSetup s_;
+  MPI_Comm comm_;
+  const ParticleParams& params_;
   double time_ = 0.0;
   long steps_ = 0;
   long collisions_ = 0, wall_collisions_ = 0, broken_ = 0;

@@ -19,8 +19,11 @@ got=$("$bin/coflow" run --dry-run "$cfg")
   got:  $got"
 [ ! -e out ] || fail "--dry-run created files"
 
-got=$("$bin/coflow" run --dry-run --set fluid.ranks=1 --set run.output.dir=o --restart . "$cfg" | head -n 1)
-case "$got" in *"-np 1 $bin/coflow-fluid o/config.yaml --restart ."*) ;; *) fail "--set/--restart not in the line: $got" ;; esac
+mkdir -p ckpt && echo "window: 3" >ckpt/checkpoint.yaml
+got=$("$bin/coflow" run --dry-run --set fluid.ranks=1 --set run.output.dir=o --restart ckpt "$cfg" | head -n 1)
+case "$got" in *"-np 1 $bin/coflow-fluid o/config.yaml --restart $PWD/ckpt"*) ;; *) fail "--set/--restart not in the line: $got" ;; esac
+"$bin/coflow" run --dry-run --restart . "$cfg" >/dev/null 2>&1; rc=$?
+[ $rc -eq 2 ] || fail "--restart of a directory without checkpoint.yaml: exit $rc, expected 2"
 
 got=$("$bin/coflow" run --dry-run --launcher srun "$cfg")
 printf '%s\n' "$got" | head -n 1 | grep -qx "srun -n 6 --multi-prog out/coupler-dummies/multi-prog.conf" || fail "srun line: $got"

@@ -25,7 +25,8 @@ std::string snapshot_name(long step);  // "step_000042.h5"
 class Series {
  public:
   Series() = default;
-  Series(const std::string& path, std::vector<std::string> columns);
+  // append: continue an existing file (restart) instead of starting a new one.
+  Series(const std::string& path, std::vector<std::string> columns, bool append = false);
   void row(std::span<const double> values);
   bool is_open() const { return out_.is_open(); }
 

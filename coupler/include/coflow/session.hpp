@@ -80,6 +80,20 @@ class Session {
   // Final scalars reported in summary.json (component rank 0 only).
   void set_final(const std::string& key, double value);
 
+  // --- checkpoints -----------------------------------------------------------
+  // Every component writes its state at the same windows (run.checkpoint.every):
+  //   dir = s.begin_checkpoint(w);  solver.save(dir ...);  s.end_checkpoint(w);
+  // The checkpoint is written into <out>/checkpoints/window_<w>.partial and renamed
+  // into place once every component has finished (a collective over all), so a
+  // crash never leaves a half-written checkpoint as the latest one.
+  bool checkpoint_due(long w) const;
+  std::string begin_checkpoint(long w);  // this component's directory in it
+  void end_checkpoint(long w);
+  // Restart: the window the checkpoint was written at (0 when not restarting),
+  // and this component's directory in it.
+  long restart_window() const { return restart_window_; }
+  std::string restart_dir() const;
+
   // --- end -------------------------------------------------------------------
   // Collective over every component: gathers traces, writes summary.json.
   void finish();
@@ -104,6 +118,8 @@ class Session {
   double start_ = 0.0;
   double last_progress_ = 0.0;
   std::vector<std::pair<std::string, double>> finals_;
+  long restart_window_ = 0;
+  double restart_window_length_ = 0.0;
   bool finished_ = false;
 };
 

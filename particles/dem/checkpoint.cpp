@@ -1,0 +1,59 @@
+#include "particles/dem/checkpoint.hpp"
+
+#include <numbers>
+#include <stdexcept>
+
+#include "coflow/output.hpp"
+
+namespace coflow::particles::dem {
+
+void save_state(MPI_Comm comm, const std::string& dir, double time, long steps, const ParticleArrays& p,
+                const std::vector<SavedContact>& contacts) {
+  output::write_points(comm, dir + "/particles.h5", time, steps, p.size(), p.id, p.species,
+                       {{"position", 3, p.x}, {"velocity", 3, p.v}, {"angular_velocity", 3, p.w},
+                        {"radius", 1, p.radius}, {"force", 3, p.force}, {"mass", 1, p.mass},
+                        {"inertia", 1, p.inertia}});
+  std::vector<std::int64_t> a;
+  std::vector<std::int32_t> bonded;
+  std::vector<double> partner, shear;
+  for (const auto& c : contacts) {
+    a.push_back(c.a);
+    bonded.push_back(c.bonded ? 1 : 0);
+    partner.push_back(static_cast<double>(c.b));
+    shear.insert(shear.end(), c.shear.begin(), c.shear.end());
+  }
+  output::write_points(comm, dir + "/contacts.h5", time, steps, contacts.size(), a, bonded,
+                       {{"partner", 1, partner}, {"shear", 3, shear}});
+}
+
+void load_state(const std::string& dir, const ParticleParams& params, ParticleArrays& p,
+                std::vector<SavedContact>& contacts) {
+  const std::string pf = dir + "/particles.h5", cf = dir + "/contacts.h5";
+  const auto id = output::read_dataset(pf, "id");
+  const auto sp = output::read_dataset(pf, "species");
+  p = ParticleArrays{};
+  p.x = output::read_dataset(pf, "position");
+  p.v = output::read_dataset(pf, "velocity");
+  p.w = output::read_dataset(pf, "angular_velocity");
+  p.radius = output::read_dataset(pf, "radius");
+  p.force = output::read_dataset(pf, "force");
+  // Stored, not recomputed: a restart must continue bit for bit.
+  p.mass = output::read_dataset(pf, "mass");
+  p.inertia = output::read_dataset(pf, "inertia");
+  for (std::size_t i = 0; i < id.size(); ++i) {
+    p.id.push_back(static_cast<std::int64_t>(id[i]));
+    const auto s = static_cast<std::size_t>(sp[i]);
+    if (s >= params.species.size()) throw std::runtime_error(pf + ": unknown species index in the checkpoint");
+    p.species.push_back(static_cast<std::int32_t>(s));
+  }
+  const auto a = output::read_dataset(cf, "id");
+  const auto bonded = output::read_dataset(cf, "species");
+  const auto partner = output::read_dataset(cf, "partner");
+  const auto shear = output::read_dataset(cf, "shear");
+  contacts.clear();
+  for (std::size_t k = 0; k < a.size(); ++k)
+    contacts.push_back({static_cast<std::int64_t>(a[k]), static_cast<std::int64_t>(partner[k]),
+                        {shear[3 * k], shear[3 * k + 1], shear[3 * k + 2]}, bonded[k] != 0});
+}
+
+}  // namespace coflow::particles::dem

@@ -74,11 +74,7 @@ void run(coupler::Session& s) {
     solver->advance(s.window(), substeps);
     coupler::trace().steps = solver->steps();
     write_output(w);
-    if (s.checkpoint_due(w)) {
-      coupler::Timer t(coupler::trace().io_s);
-      solver->save(s.begin_checkpoint(w));
-      s.end_checkpoint(w);
-    }
+    s.checkpoint(w, [&](const std::string& dir) { solver->save(dir); });
     s.window_done(w);
   }
 }

@@ -78,6 +78,13 @@ bool Session::checkpoint_due(long w) const {
   return std::floor(b + 1e-9) > std::floor(a + 1e-9);
 }
 
+void Session::checkpoint(long w, const std::function<void(const std::string&)>& save) {
+  if (!checkpoint_due(w)) return;
+  Timer t(trace().io_s);
+  save(begin_checkpoint(w));
+  end_checkpoint(w);
+}
+
 std::string Session::begin_checkpoint(long w) {
   const std::string dir = fmt::format("{}/checkpoints/window_{:06d}.partial/{}", dir_, w, component_);
   if (rank_ == 0) fs::create_directories(dir);

@@ -87,6 +87,8 @@ class Session {
   // into place once every component has finished (a collective over all), so a
   // crash never leaves a half-written checkpoint as the latest one.
   bool checkpoint_due(long w) const;
+  // All of it in one call: when due, save(dir) between begin and end (I/O time).
+  void checkpoint(long w, const std::function<void(const std::string&)>& save);
   std::string begin_checkpoint(long w);  // this component's directory in it
   void end_checkpoint(long w);
   // Restart: the window the checkpoint was written at (0 when not restarting),

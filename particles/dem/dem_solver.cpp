@@ -13,12 +13,10 @@ namespace coflow::particles {
 
 using dem::V3;
 
-DemSolver::DemSolver(const Setup& setup, const Params&) : comm_(setup.comm), params_(setup.params) {
-  int size = 1;
-  MPI_Comm_size(comm_, &size);
-  if (size != 1)
-    throw std::runtime_error("dem runs on one rank for now (its MPI decomposition is not written yet): set "
-                             "particles.ranks: 1");
+DemSolver::DemSolver(const Setup& setup, const Params&)
+    : comm_(setup.comm), params_(setup.params), dec_(setup.decomposition) {
+  MPI_Comm_rank(comm_, &rank_);
+  MPI_Comm_size(comm_, &size_);
   p_ = dem::make_initial(setup.params, setup.cfg);
   s_ = dem::make_setup(setup.params, setup.cfg, p_);
   const std::size_t n = p_.size();
@@ -70,8 +68,219 @@ DemSolver::DemSolver(const Setup& setup, const Params&) : comm_(setup.comm), par
           ++bonds;
         }
       });
-  log::info("dem: {} particles, {} bonds, step {:.4g} s, {}x{}x{} cells of {:.4g} m", n, bonds, s_.dt, nc_[0],
-            nc_[1], nc_[2], cell_size_);
+  // Every rank made every particle (deterministically): keep the owned ones and
+  // the histories that involve them.
+  owned_.assign(n, 1);
+  if (size_ > 1) {
+    for (std::size_t i = 0; i < n; ++i) owned_[i] = owner_of(&p_.x[3 * i]) == rank_;
+    drop_ghosts();
+  }
+  log::info("dem: {} particles ({} on this rank), {} bonds, step {:.4g} s, {}x{}x{} cells of {:.4g} m", n, p_.size(),
+            bonds, s_.dt, nc_[0], nc_[1], nc_[2], cell_size_);
+}
+
+int DemSolver::owner_of(const double* x) const {
+  coupler::Index3 c{};
+  for (int d = 0; d < 3; ++d) {
+    const long cells = dec_.cells()[d];
+    const double t = (x[d] - s_.lower[d]) / (s_.upper[d] - s_.lower[d]);
+    c[d] = std::clamp(static_cast<long>(std::floor(t * cells)), 0L, cells - 1);
+  }
+  return dec_.owner(c);
+}
+
+// id, species, x, v, w, radius, mass, inertia (14 doubles); full adds force,
+// hydrodynamic force and torque (23).
+void DemSolver::pack(std::size_t i, std::vector<double>& out, bool full) const {
+  out.push_back(static_cast<double>(p_.id[i]));
+  out.push_back(static_cast<double>(p_.species[i]));
+  for (const auto* a : {&p_.x, &p_.v, &p_.w})
+    for (int q = 0; q < 3; ++q) out.push_back((*a)[3 * i + q]);
+  out.push_back(p_.radius[i]);
+  out.push_back(p_.mass[i]);
+  out.push_back(p_.inertia[i]);
+  if (full)
+    for (const auto* a : {&p_.force, &fh_, &th_})
+      for (int q = 0; q < 3; ++q) out.push_back((*a)[3 * i + q]);
+}
+
+void DemSolver::unpack(const double* in, bool full, bool owned) {
+  p_.id.push_back(static_cast<std::int64_t>(in[0]));
+  p_.species.push_back(static_cast<std::int32_t>(in[1]));
+  for (int q = 0; q < 3; ++q) {
+    p_.x.push_back(in[2 + q]);
+    p_.v.push_back(in[5 + q]);
+    p_.w.push_back(in[8 + q]);
+    p_.force.push_back(full ? in[14 + q] : 0.0);
+    fh_.push_back(full ? in[17 + q] : 0.0);
+    th_.push_back(full ? in[20 + q] : 0.0);
+    torque_.push_back(0.0);
+  }
+  p_.radius.push_back(in[11]);
+  p_.mass.push_back(in[12]);
+  p_.inertia.push_back(in[13]);
+  owned_.push_back(owned ? 1 : 0);
+}
+
+void DemSolver::sort_by_id() {
+  const std::size_t n = p_.size();
+  std::vector<std::size_t> perm(n);
+  for (std::size_t i = 0; i < n; ++i) perm[i] = i;
+  std::sort(perm.begin(), perm.end(), [&](std::size_t a, std::size_t b) { return p_.id[a] < p_.id[b]; });
+  auto apply = [&](auto& v, int stride) {
+    auto copy = v;
+    for (std::size_t i = 0; i < n; ++i)
+      for (int q = 0; q < stride; ++q) v[stride * i + q] = copy[stride * perm[i] + q];
+  };
+  apply(p_.id, 1);
+  apply(p_.species, 1);
+  apply(p_.x, 3);
+  apply(p_.v, 3);
+  apply(p_.w, 3);
+  apply(p_.force, 3);
+  apply(fh_, 3);
+  apply(th_, 3);
+  apply(torque_, 3);
+  apply(p_.radius, 1);
+  apply(p_.mass, 1);
+  apply(p_.inertia, 1);
+  apply(owned_, 1);
+}
+
+namespace {
+// Variable-size all-to-all of doubles on the component communicator.
+void exchange(MPI_Comm comm, std::vector<std::vector<double>>& out, std::vector<double>& in) {
+  const int size = static_cast<int>(out.size());
+  std::vector<int> sc(size), rc(size), sd(size), rd(size);
+  for (int r = 0; r < size; ++r) sc[r] = static_cast<int>(out[r].size());
+  MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, comm);
+  std::vector<double> flat;
+  int ts = 0, tr = 0;
+  for (int r = 0; r < size; ++r) {
+    sd[r] = ts;
+    ts += sc[r];
+    rd[r] = tr;
+    tr += rc[r];
+    flat.insert(flat.end(), out[r].begin(), out[r].end());
+  }
+  in.resize(tr);
+  MPI_Alltoallv(flat.data(), sc.data(), sd.data(), MPI_DOUBLE, in.data(), rc.data(), rd.data(), MPI_DOUBLE, comm);
+}
+}  // namespace
+
+void DemSolver::add_ghosts() {
+  out_.assign(size_, {});
+  const std::size_t n = p_.size();
+  const auto h = [&](int d) { return (s_.upper[d] - s_.lower[d]) / dec_.cells()[d]; };
+  auto block_lo = [&](int r, int d) { return s_.lower[d] + dec_.block(r).lo[d] * h(d); };
+  auto block_hi = [&](int r, int d) { return s_.lower[d] + dec_.block(r).hi[d] * h(d); };
+  for (std::size_t i = 0; i < n; ++i) {
+    const double* x = &p_.x[3 * i];
+    bool near = false;
+    for (int d = 0; d < 3; ++d)
+      near = near || x[d] - block_lo(rank_, d) < cell_size_ || block_hi(rank_, d) - x[d] < cell_size_;
+    if (!near) continue;
+    for (int r = 0; r < size_; ++r) {
+      if (r == rank_) continue;
+      bool send = false;
+      for (int sx = -1; sx <= 1 && !send; ++sx)
+        for (int sy = -1; sy <= 1 && !send; ++sy)
+          for (int sz = -1; sz <= 1 && !send; ++sz) {
+            const int sh[3] = {sx, sy, sz};
+            bool in = true;
+            for (int d = 0; d < 3 && in; ++d) {
+              if (sh[d] != 0 && !s_.periodic[d]) in = false;
+              const double y = x[d] + sh[d] * (s_.upper[d] - s_.lower[d]);
+              in = in && y > block_lo(r, d) - cell_size_ && y < block_hi(r, d) + cell_size_;
+            }
+            send = in;
+          }
+      if (send) pack(i, out_[r], false);
+    }
+  }
+  exchange(comm_, out_, in_);
+  for (std::size_t k = 0; k + 14 <= in_.size(); k += 14) unpack(&in_[k], false, false);
+  sort_by_id();
+}
+
+void DemSolver::drop_ghosts() {
+  std::size_t keep = 0;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    if (!owned_[i]) continue;
+    if (keep != i) {
+      p_.id[keep] = p_.id[i];
+      p_.species[keep] = p_.species[i];
+      p_.radius[keep] = p_.radius[i];
+      p_.mass[keep] = p_.mass[i];
+      p_.inertia[keep] = p_.inertia[i];
+      for (int q = 0; q < 3; ++q)
+        for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &fh_, &th_, &torque_}) (*a)[3 * keep + q] = (*a)[3 * i + q];
+    }
+    owned_[keep] = 1;
+    ++keep;
+  }
+  for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &fh_, &th_, &torque_}) a->resize(3 * keep);
+  p_.id.resize(keep);
+  p_.species.resize(keep);
+  p_.radius.resize(keep);
+  p_.mass.resize(keep);
+  p_.inertia.resize(keep);
+  owned_.resize(keep);
+  // Histories that no longer involve a particle of this rank.
+  if (size_ > 1) {
+    std::unordered_map<std::int64_t, char> mine;
+    for (auto id : p_.id) mine[id] = 1;
+    for (auto it = contacts_.begin(); it != contacts_.end();)
+      it = (!mine.count(static_cast<std::int64_t>(it->first >> 32)) &&
+            !mine.count(static_cast<std::int64_t>(it->first & 0xffffffffu)))
+               ? contacts_.erase(it)
+               : std::next(it);
+    for (auto it = walls_.begin(); it != walls_.end();)
+      it = !mine.count(static_cast<std::int64_t>(it->first >> 32)) ? walls_.erase(it) : std::next(it);
+  }
+}
+
+void DemSolver::migrate() {
+  out_.assign(size_, {});
+  std::vector<std::vector<double>> hist(size_);
+  std::unordered_map<std::int64_t, int> leaving;  // id -> new owner
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    const int o = owner_of(&p_.x[3 * i]);
+    if (o == rank_) continue;
+    pack(i, out_[o], true);
+    leaving[p_.id[i]] = o;
+    owned_[i] = 0;
+  }
+  // Contact histories travel with the particles that leave.
+  for (const auto& [k, c] : contacts_)
+    for (const std::int64_t id : {static_cast<std::int64_t>(k >> 32), static_cast<std::int64_t>(k & 0xffffffffu)}) {
+      auto it = leaving.find(id);
+      if (it == leaving.end()) continue;
+      hist[it->second].insert(hist[it->second].end(),
+                              {double(k >> 32), double(k & 0xffffffffu), c.shear[0], c.shear[1], c.shear[2], double(c.bonded)});
+    }
+  for (const auto& [k, c] : walls_) {
+    auto it = leaving.find(static_cast<std::int64_t>(k >> 32));
+    if (it == leaving.end()) continue;
+    hist[it->second].insert(hist[it->second].end(),
+                            {double(k >> 32), -1.0 - double(k & 0xffffffffu), c.shear[0], c.shear[1], c.shear[2], double(c.bonded)});
+  }
+  exchange(comm_, out_, in_);
+  std::vector<double> received = in_;
+  exchange(comm_, hist, in_);
+  drop_ghosts();  // drops the leavers (and histories no particle here needs)
+  for (std::size_t k = 0; k + 23 <= received.size(); k += 23) unpack(&received[k], true, true);
+  for (std::size_t k = 0; k + 6 <= in_.size(); k += 6) {
+    dem::ContactState st;
+    st.shear = V3(in_[k + 2], in_[k + 3], in_[k + 4]);
+    st.bonded = in_[k + 5] != 0;
+    const auto a = static_cast<std::int64_t>(in_[k]);
+    if (in_[k + 1] >= 0)
+      contacts_.emplace(key(a, static_cast<std::int64_t>(in_[k + 1])), st);
+    else
+      walls_.emplace(key(a, static_cast<std::int64_t>(-1 - in_[k + 1])), st);
+  }
+  sort_by_id();
 }
 
 // Counting sort of the particles into cells (buffers reused: no allocation in
@@ -110,6 +319,7 @@ void DemSolver::for_candidates(std::size_t i, F&& f) {
 }
 
 void DemSolver::step(double h) {
+  if (size_ > 1) add_ghosts();
   const std::size_t n = p_.size();
   std::fill(p_.force.begin(), p_.force.end(), 0.0);
   std::fill(torque_.begin(), torque_.end(), 0.0);
@@ -120,6 +330,7 @@ void DemSolver::step(double h) {
       const V3 xi(&p_.x[3 * i]), xj(&p_.x[3 * j]);
       const V3 d = dem::min_image(xi - xj, s_);
       const double dist = d.norm();
+      if (!owned_[i] && !owned_[j]) return;  // two ghosts: their owners compute it
       const double ri = p_.radius[i], rj = p_.radius[j];
       const double overlap = ri + rj - dist;
       const std::uint64_t k = key(p_.id[i], p_.id[j]);
@@ -130,7 +341,7 @@ void DemSolver::step(double h) {
       }
       if (it == contacts_.end()) {
         it = contacts_.emplace(k, dem::ContactState{}).first;
-        ++collisions_;
+        if (owned_[i]) ++collisions_;  // each pair counted once: by the owner of its smaller id
       }
       const V3 nrm = d / dist;
       const double a1 = ri - 0.5 * overlap, a2 = rj - 0.5 * overlap;
@@ -138,10 +349,10 @@ void DemSolver::step(double h) {
       const V3 vrel = (vi + wi.cross(-a1 * nrm)) - (vj + wj.cross(a2 * nrm));
       const dem::ContactForce c = dem::contact_force(nrm, overlap, a1, a2, vrel, ri + rj, it->second, s_.law, h);
       if (c.failure != dem::Failure::none) {
-        ++broken_;
+        if (owned_[i]) ++broken_;
         if (c.failure == dem::Failure::compression) {
-          crushed_.push_back(i);
-          crushed_.push_back(j);
+          if (owned_[i]) crushed_.push_back(i);
+          if (owned_[j]) crushed_.push_back(j);
         }
       }
       if (!c.active) {
@@ -149,16 +360,20 @@ void DemSolver::step(double h) {
         return;
       }
       for (int q = 0; q < 3; ++q) {
-        p_.force[3 * i + q] += c.force[q];
-        p_.force[3 * j + q] -= c.force[q];
-        torque_[3 * i + q] += c.torque1[q];
-        torque_[3 * j + q] += c.torque2[q];
+        if (owned_[i]) {
+          p_.force[3 * i + q] += c.force[q];
+          torque_[3 * i + q] += c.torque1[q];
+        }
+        if (owned_[j]) {
+          p_.force[3 * j + q] -= c.force[q];
+          torque_[3 * j + q] += c.torque2[q];
+        }
       }
     });
   // Walls: domain faces, the same law against a plane.
   for (std::size_t i = 0; i < n; ++i)
     for (int f = 0; f < 6; ++f) {
-      if (s_.faces[f] != dem::Face::wall) continue;
+      if (s_.faces[f] != dem::Face::wall || !owned_[i]) continue;
       const V3 xi(&p_.x[3 * i]);
       const double dist = dem::face_distance(f, xi, s_);
       const double overlap = p_.radius[i] - dist;
@@ -188,6 +403,7 @@ void DemSolver::step(double h) {
     p_.inertia[i] = 0.4 * p_.mass[i] * p_.radius[i] * p_.radius[i];
   }
   for (std::size_t i = 0; i < n; ++i) {
+    if (!owned_[i]) continue;
     V3 x(&p_.x[3 * i]), v(&p_.v[3 * i]), w(&p_.w[3 * i]);
     const V3 force = V3(&p_.force[3 * i]) + V3(&fh_[3 * i]) + p_.mass[i] * s_.gravity;
     const V3 torque = V3(&torque_[3 * i]) + V3(&th_[3 * i]);
@@ -200,9 +416,11 @@ void DemSolver::step(double h) {
       p_.w[3 * i + q] = w[q];
     }
   }
+  if (size_ > 1) drop_ghosts();
   // Outlets: drop particles whose centre left the box (order kept).
+  const std::size_t n_owned = p_.size();
   std::size_t keep = 0;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < n_owned; ++i) {
     bool out = false;
     for (int q = 0; q < 3; ++q)
       out = out || (p_.x[3 * i + q] < s_.lower[q] && s_.faces[2 * q] == dem::Face::outlet) ||
@@ -225,14 +443,16 @@ void DemSolver::step(double h) {
     }
     ++keep;
   }
-  if (keep != n) {
+  if (keep != n_owned) {
     for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &fh_, &th_, &torque_}) a->resize(3 * keep);
     p_.id.resize(keep);
     p_.species.resize(keep);
     p_.radius.resize(keep);
     p_.mass.resize(keep);
     p_.inertia.resize(keep);
+    owned_.assign(keep, 1);
   }
+  if (size_ > 1) migrate();
   time_ += h;
   ++steps_;
 }
@@ -272,6 +492,13 @@ void DemSolver::load(const std::string& dir, long steps, double time) {
   torque_.assign(3 * n, 0.0);
   fh_.assign(3 * n, 0.0);
   th_.assign(3 * n, 0.0);
+  // The checkpoint holds every rank's particles: keep this rank's.
+  owned_.assign(n, 1);
+  if (size_ > 1) {
+    for (std::size_t i = 0; i < n; ++i) owned_[i] = owner_of(&p_.x[3 * i]) == rank_;
+    drop_ghosts();
+  }
+  sort_by_id();
   steps_ = steps;
   time_ = time;
 }

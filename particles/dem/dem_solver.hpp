@@ -35,6 +35,16 @@ class DemSolver final : public ParticleSolver {
 
  private:
   void build_cells();
+  // MPI: ghosts of neighbours' particles within reach, sorted in by id; dropped
+  // after the step; particles that left the block move to their new owner with
+  // their contact histories.
+  void add_ghosts();
+  void drop_ghosts();
+  void migrate();
+  int owner_of(const double* x) const;
+  void pack(std::size_t i, std::vector<double>& out, bool full) const;
+  void unpack(const double* in, bool full, bool owned);
+  void sort_by_id();
   template <class F>
   void for_candidates(std::size_t i, F&& f);
   static std::uint64_t key(std::int64_t a, std::int64_t b) {
@@ -47,6 +57,11 @@ class DemSolver final : public ParticleSolver {
   dem::DemSetup s_;
   MPI_Comm comm_;
   const ParticleParams& params_;
+  coupler::Decomposition dec_;
+  int rank_ = 0, size_ = 1;
+  std::vector<char> owned_;  // 1 for this rank's particles, 0 for ghosts
+  std::vector<std::vector<double>> out_;
+  std::vector<double> in_;
   // cell list
   double cell_size_ = 0.0;
   std::array<long, 3> nc_{1, 1, 1};

@@ -270,9 +270,22 @@ int compare_particles(const std::string& a, const std::string& b) {
   const auto sa = snapshots(a, "particles"), sb = snapshots(b, "particles");
   const std::string fa = a + "/particles/" + output::snapshot_name(sa.back().first);
   const std::string fb = b + "/particles/" + output::snapshot_name(sb.back().first);
-  const auto xa = output::read_dataset(fa, "position"), xb = output::read_dataset(fb, "position");
-  const auto va = output::read_dataset(fa, "velocity"), vb = output::read_dataset(fb, "velocity");
-  const auto ra = output::read_dataset(fa, "radius");
+  // Snapshots of different rank counts hold the particles in different orders:
+  // compare by id.
+  auto by_id = [](const std::string& f, const std::string& name, int nc) {
+    const auto id = output::read_dataset(f, "id");
+    const auto v = output::read_dataset(f, name);
+    std::vector<std::size_t> order(id.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return id[a] < id[b]; });
+    std::vector<double> out;
+    for (std::size_t i : order)
+      for (int c = 0; c < nc; ++c) out.push_back(v[nc * i + c]);
+    return out;
+  };
+  const auto xa = by_id(fa, "position", 3), xb = by_id(fb, "position", 3);
+  const auto va = by_id(fa, "velocity", 3), vb = by_id(fb, "velocity", 3);
+  const auto ra = by_id(fa, "radius", 1);
   if (xa.size() != xb.size()) throw std::runtime_error("particle counts differ");
   double dx = 0, dv = 0, vmax = 0, dmin = 1e300;
   for (std::size_t i = 0; i < xa.size(); ++i) {

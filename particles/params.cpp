@@ -1,10 +1,12 @@
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 
 #include <fmt/format.h>
 
+#include "particles/dem/mesh.hpp"
 #include "particles/particles_interface.hpp"
 
 namespace coflow::particles {
@@ -36,8 +38,8 @@ void ContactParams::visit(Visitor& v) {
 }
 
 void WallParams::visit(Visitor& v) {
-  v("face", face, "a face of the domain as a wall", config::one_of({"x-", "x+", "y-", "y+", "z-", "z+"}));
-  v("mesh", mesh, "a triangle mesh (STL) as a wall");
+  v("face", face, "a face of the domain as a wall", config::one_of({"", "x-", "x+", "y-", "y+", "z-", "z+"}));
+  v("mesh", mesh, "a triangle mesh as a wall: an STL file (ASCII or binary), relative to this file");
   v("restitution", restitution, "restitution coefficient (hard-sphere dpm)", config::in_range(0.0, 1.0));
   v("friction", friction, "friction coefficient (default: the contact's)");
   if (v.reading() && (face.empty() == mesh.empty()))
@@ -114,7 +116,7 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
               [&](Visitor& s) {
                 auto& it = initial.emplace_back();
                 it.kind = "file";
-                s.required("path", it.path, "HDF5 file (particles/step_*.h5 of an earlier run)");
+                s.required("path", it.path, "HDF5 file (particles/step_*.h5 of an earlier run), relative to this file");
               }}});
   if (!v.reading()) return;
   for (std::size_t n = 0; n < initial.size(); ++n) {
@@ -148,9 +150,20 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
                                       n, m, std::sqrt(d2), contact));
     }
   }
-  for (const auto& w : walls)
-    if (!w.mesh.empty() && !std::ifstream(w.mesh))
-      v.fail("walls", fmt::format("mesh file '{}' cannot be read (paths are relative to the working directory)", w.mesh));
+  for (const auto& w : walls) {
+    if (w.mesh.empty()) continue;
+    if (!std::ifstream(w.mesh.path)) {
+      v.fail("walls", fmt::format("cannot read the mesh file (relative paths are relative to the configuration "
+                                  "file): {}",
+                                  w.mesh.path));
+      continue;
+    }
+    try {
+      dem::read_stl(w.mesh.path);
+    } catch (const std::exception& e) {
+      v.fail("walls", fmt::format("not a usable STL mesh: {}", e.what()));
+    }
+  }
   // An explicit step beyond the stability limit of eq. 2.19 cannot work.
   if (!time_step.is_auto && contact.normal_stiffness > 0) {
     double crit = 1e300;

@@ -43,8 +43,8 @@ struct ContactParams {
 };
 
 struct WallParams {
-  std::string face;   // x-, ..., z+
-  std::string mesh;   // STL file (triangle-mesh wall)
+  std::string face;         // x-, ..., z+
+  config::FilePath mesh;    // STL file (triangle-mesh wall)
   double restitution = 1.0;
   double friction = -1.0;  // < 0: the contact friction
   void visit(config::Visitor& v);
@@ -62,7 +62,7 @@ struct InitialItem {
   int count = 0;
   double volume_fraction = 0.0;
   double velocity_std = 0.0;
-  std::string path;
+  config::FilePath path;
 };
 
 // Keys common to the particle variants (see docs/config.md).

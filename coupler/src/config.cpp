@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -111,6 +112,7 @@ struct TypeName {
   std::string operator()(Distribution*) const {
     return "number | {uniform: {min, max}} | {lognormal: {mean, std}}";
   }
+  std::string operator()(FilePath*) const { return "file path"; }
 };
 
 }  // namespace
@@ -126,6 +128,8 @@ std::string to_text(const ValueRef& ref) {
           return *p ? "true" : "false";
         else if constexpr (std::is_same_v<T, std::string>)
           return *p;
+        else if constexpr (std::is_same_v<T, FilePath>)
+          return p->path;
         else if constexpr (std::is_same_v<T, AutoDouble>)
           return p->is_auto ? "auto" : number_text(p->value);
         else if constexpr (std::is_same_v<T, AutoInt3>)
@@ -311,6 +315,11 @@ struct Parser {
     *p = n.Scalar();
     return {};
   }
+  std::string operator()(FilePath* p) const {
+    if (!n.IsScalar() || n.Scalar().empty()) return "expected a file name";
+    p->path = n.Scalar();
+    return {};
+  }
   std::string operator()(Vec3* p) const {
     return parse_array(n, *p, [](const YAML::Node& x, double& v) { return scalar_double(x, v); },
                        "numbers", "a number");
@@ -454,6 +463,8 @@ YAML::Node to_yaml(const ValueRef& ref) {
               n.push_back(static_cast<typename T::value_type>(x));
           }
           n.SetStyle(YAML::EmitterStyle::Flow);
+        } else if constexpr (std::is_same_v<T, FilePath>) {
+          n = p->path;
         } else if constexpr (std::is_same_v<T, double>) {
           n = fmt::format("{}", *p);  // shortest text that reads back to the same double
         } else {
@@ -557,11 +568,14 @@ void Reader::value(const Key& key, ValueRef ref) {
     }
     // An optional list left empty has no default to write down.
     if (const auto* nums = std::get_if<Numbers*>(&ref); nums && (*nums)->values.empty()) return;
+    if (const auto* f = std::get_if<FilePath*>(&ref); f && (*f)->path.empty()) return;
     out_[name] = to_yaml(ref);
     return;
   }
   const YAML::Node n = node_[name];
   const std::string err = std::visit(Parser{n}, ref);
+  if (auto* f = std::get_if<FilePath*>(&ref); f && err.empty() && (*f)->path[0] != '/')
+    (*f)->path = std::filesystem::weakly_canonical(std::filesystem::path(base_dir()) / (*f)->path).string();
   if (!err.empty()) {
     problem_at(n, path, err);
   } else if (key.rule.test) {
@@ -713,6 +727,11 @@ void Reader::fail(std::string_view key, const std::string& message) {
 }
 
 void Reader::accept_other_keys() { accept_other_ = true; }
+
+std::string Reader::base_dir() const {
+  const auto slash = shared_->file.find_last_of('/');
+  return slash == std::string::npos ? "." : shared_->file.substr(0, slash);
+}
 
 void Reader::finish() {
   if (finished_) return;

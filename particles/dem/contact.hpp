@@ -24,6 +24,7 @@ struct ContactState {
   V3 shear = V3::Zero();  // stored shear force on particle 1, N
   bool bonded = false;
   long seen = -1;         // last step it was evaluated (bookkeeping)
+  V3 normal = V3::Zero(); // mesh walls: the direction of the contact, to follow it across triangles
 };
 
 enum class Failure { none, tension, compression, shear };

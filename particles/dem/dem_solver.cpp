@@ -397,6 +397,44 @@ void DemSolver::step(double h) {
         torque_[3 * i + q] += c.torque1[q];
       }
     }
+  // Triangle-mesh walls: the same law against the closest point of each
+  // triangle touched (FCL's hierarchy finds the candidates).
+  for (std::size_t i = 0; i < n && !s_.meshes.empty(); ++i) {
+    if (!owned_[i]) continue;
+    const V3 xi(&p_.x[3 * i]);
+    for (std::size_t m = 0; m < s_.meshes.size(); ++m) {
+      s_.meshes[m].contacts(xi, p_.radius[i], mesh_hits_);
+      for (const auto& hit : mesh_hits_) {
+        const V3 d = xi - hit.point;
+        const double dist = d.norm();
+        const V3 nrm = d / dist;
+        const int slot = dem::mesh_history_slot(nrm, steps_, [&](int k) -> const dem::ContactState* {
+          auto f = walls_.find(key(p_.id[i], dem::mesh_wall_key(m, k)));
+          return f == walls_.end() ? nullptr : &f->second;
+        });
+        const std::uint64_t k = key(p_.id[i], dem::mesh_wall_key(m, slot));
+        auto it = walls_.find(k);
+        if (it == walls_.end()) {
+          it = walls_.emplace(k, dem::ContactState{}).first;
+          ++wall_collisions_;
+        }
+        it->second.seen = steps_;
+        it->second.normal = nrm;
+        const V3 vrel = V3(&p_.v[3 * i]) + V3(&p_.w[3 * i]).cross(-dist * nrm);
+        dem::ContactLaw law = s_.law;
+        law.mu = s_.meshes[m].friction();
+        const dem::ContactForce c =
+            dem::contact_force(nrm, p_.radius[i] - dist, dist, 0.0, vrel, 2 * p_.radius[i], it->second, law, h);
+        for (int q = 0; q < 3; ++q) {
+          p_.force[3 * i + q] += c.force[q];
+          torque_[3 * i + q] += c.torque1[q];
+        }
+      }
+    }
+  }
+  if (!s_.meshes.empty())  // histories of triangles no longer touched
+    for (auto it = walls_.begin(); it != walls_.end();)
+      it = ((it->first & 0xffffffffu) >= 6 && it->second.seen != steps_) ? walls_.erase(it) : std::next(it);
   for (std::size_t i : crushed_) {  // grain crushing (seed 000 §2.2.2)
     p_.radius[i] *= 1.0 - s_.crush;
     p_.mass[i] *= std::pow(1.0 - s_.crush, 3);

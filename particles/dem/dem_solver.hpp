@@ -69,6 +69,7 @@ class DemSolver final : public ParticleSolver {
   std::vector<std::vector<long>> neighbours_;  // unique neighbour cells of each cell
   std::vector<long> candidates_;
   std::vector<std::size_t> crushed_;
+  std::vector<dem::MeshContact> mesh_hits_;
   double time_ = 0.0;
   long steps_ = 0;
   long collisions_ = 0, wall_collisions_ = 0, broken_ = 0;

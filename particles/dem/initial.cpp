@@ -123,15 +123,16 @@ ParticleArrays make_initial(const ParticleParams& p, const config::Config& cfg) 
       (void)first;
     } else if (it.kind == "file") {
       std::vector<std::size_t> dims;
-      const auto x = output::read_dataset(it.path, "position", &dims);
-      const auto v = output::read_dataset(it.path, "velocity");
-      const auto w = output::read_dataset(it.path, "angular_velocity");
-      const auto r = output::read_dataset(it.path, "radius");
-      const auto sp = output::read_dataset(it.path, "species");
+      const std::string& file = it.path.path;
+      const auto x = output::read_dataset(file, "position", &dims);
+      const auto v = output::read_dataset(file, "velocity");
+      const auto w = output::read_dataset(file, "angular_velocity");
+      const auto r = output::read_dataset(file, "radius");
+      const auto sp = output::read_dataset(file, "species");
       for (std::size_t n = 0; n < r.size(); ++n) {
         const int s2 = static_cast<int>(sp[n]);
         if (s2 < 0 || s2 >= static_cast<int>(p.species.size()))
-          throw std::runtime_error(fmt::format("{}: particle {} has species {}, but only {} are defined", it.path, n,
+          throw std::runtime_error(fmt::format("{}: particle {} has species {}, but only {} are defined", file, n,
                                                s2, p.species.size()));
         add(a, s2, p.species[s2].second.density, 2.0 * r[n], V3(&x[3 * n]), V3(&v[3 * n]), V3(&w[3 * n]));
       }
@@ -167,15 +168,14 @@ DemSetup make_setup(const ParticleParams& p, const config::Config& cfg, const Pa
     }
     s.faces[f] = p.boundaries[f] == "outlet" ? Face::outlet : Face::wall;
     for (const auto& w : p.walls) {
-      if (!w.mesh.empty())
-        throw std::runtime_error(fmt::format(
-            "particles.walls: triangle-mesh walls ({}) are not implemented yet in the DEM; use domain faces", w.mesh));
       if (w.face == names[f]) {
         s.faces[f] = Face::wall;
         if (w.friction >= 0) s.wall_friction[f] = w.friction;
       }
     }
   }
+  for (const auto& w : p.walls)
+    if (!w.mesh.empty()) s.meshes.emplace_back(read_stl(w.mesh.path), w.friction >= 0 ? w.friction : c.friction);
   // Time step, seed 000 eqs 2.19-2.20.
   const double k = std::max(c.normal_stiffness, c.shear_stiffness);
   double crit = 1e300;

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "particles/dem/contact.hpp"
+#include "particles/dem/mesh.hpp"
 #include "particles/particles_interface.hpp"
 
 namespace coflow::particles::dem {
@@ -23,7 +24,13 @@ struct DemSetup {
   std::array<bool, 3> periodic{false, false, false};
   double dt = 0.0;             // the step
   double max_radius = 0.0;
+  std::vector<MeshWall> meshes;  // triangle-mesh walls
 };
+
+// Key of a wall contact: the faces are 0-5; triangle t of mesh m is 6 + (m << 24) + t.
+inline std::int64_t mesh_wall_key(std::size_t mesh, int triangle) {
+  return 6 + (static_cast<std::int64_t>(mesh) << 24) + triangle;
+}
 
 // The particles of `initial`, with masses and inertias; deterministic from run.seed.
 ParticleArrays make_initial(const ParticleParams& p, const config::Config& cfg);

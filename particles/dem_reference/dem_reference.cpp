@@ -96,6 +96,39 @@ void DemReference::step(double h) {
       a.F += c.force;
       a.T += c.torque1;
     }
+  // Triangle meshes: every triangle is tested (no hierarchy).
+  std::vector<dem::MeshContact> hits;
+  for (auto& a : p_)
+    for (std::size_t m = 0; m < s_.meshes.size(); ++m) {
+      s_.meshes[m].contacts_all(a.x, a.r, hits);
+      for (const auto& hit : hits) {
+        const V3 d = a.x - hit.point;
+        const double dist = d.norm();
+        const V3 n = d / dist;
+        // One history per contact direction (so coplanar triangles act as one plane).
+        const int slot = dem::mesh_history_slot(n, steps_, [&](int k) -> const dem::ContactState* {
+          auto f = walls_.find({a.id, static_cast<int>(dem::mesh_wall_key(m, k))});
+          return f == walls_.end() ? nullptr : &f->second;
+        });
+        const auto key = std::make_pair(a.id, static_cast<int>(dem::mesh_wall_key(m, slot)));
+        auto it = walls_.find(key);
+        if (it == walls_.end()) {
+          ++wall_collisions_;
+          it = walls_.emplace(key, dem::ContactState{}).first;
+        }
+        it->second.seen = steps_;
+        it->second.normal = n;
+        const V3 vrel = a.v + a.w.cross(-dist * n);
+        dem::ContactLaw law = s_.law;
+        law.mu = s_.meshes[m].friction();
+        const dem::ContactForce c = dem::contact_force(n, a.r - dist, dist, 0.0, vrel, 2 * a.r, it->second, law, h);
+        a.F += c.force;
+        a.T += c.torque1;
+      }
+    }
+  if (!s_.meshes.empty())  // histories of mesh contacts not renewed this step are dropped
+    for (auto it = walls_.begin(); it != walls_.end();)
+      it = (it->first.second >= 6 && it->second.seen != steps_) ? walls_.erase(it) : std::next(it);
   // Grain crushing on compressive bond failure: radius and mass reduced.
   for (std::size_t i : crushed) {
     Particle& a = p_[i];

@@ -55,8 +55,15 @@ struct Distribution {
   double mean() const;
 };
 
+// A file name; a relative one is taken relative to the configuration file, and
+// the resolved configuration records it absolute.
+struct FilePath {
+  std::string path;
+  bool empty() const { return path.empty(); }
+};
+
 using ValueRef = std::variant<double*, int*, std::uint64_t*, bool*, std::string*, Vec3*, Int3*,
-                              Bool3*, StringList*, AutoDouble*, AutoInt3*, Numbers*, Distribution*>;
+                              Bool3*, StringList*, AutoDouble*, AutoInt3*, Numbers*, Distribution*, FilePath*>;
 
 // A rule on a value: a description for the docs, and a test returning an error
 // message (empty when the value is fine).
@@ -120,6 +127,10 @@ class Visitor {
   // executable checks them).
   virtual void accept_other_keys() {}
 
+  // The directory of the file being read ("" while describing): relative file
+  // names in a configuration are relative to it.
+  virtual std::string base_dir() const { return ""; }
+
   // True while reading a user's file; false while describing.
   virtual bool reading() const = 0;
   // Whether the user wrote this key in the current section.
@@ -175,6 +186,7 @@ class Reader final : public Visitor {
   bool reading() const override { return true; }
   bool given(std::string_view key) const override;
   void accept_other_keys() override;
+  std::string base_dir() const override;
 
   // Reject keys that no declaration read, with a "did you mean" hint. Called by
   // `section` etc. for nested mappings; call it once for the top level.

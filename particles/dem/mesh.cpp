@@ -1,0 +1,152 @@
+#include "particles/dem/mesh.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include <fcl/fcl.h>
+#include <fmt/format.h>
+
+namespace coflow::particles::dem {
+
+TriangleMesh read_stl(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot open the mesh file", path));
+  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  TriangleMesh m;
+  auto add = [&](const V3& a, const V3& b, const V3& c) {
+    const int base = static_cast<int>(m.vertices.size());
+    m.vertices.insert(m.vertices.end(), {a, b, c});
+    m.triangles.push_back({base, base + 1, base + 2});
+  };
+  // Binary: 80-byte header, uint32 count, 50 bytes per triangle.
+  if (data.size() >= 84) {
+    std::uint32_t n = 0;
+    std::memcpy(&n, data.data() + 80, 4);
+    if (data.size() == 84 + 50ull * n) {
+      for (std::uint32_t t = 0; t < n; ++t) {
+        float v[12];
+        std::memcpy(v, data.data() + 84 + 50ull * t, sizeof v);
+        add(V3(v[3], v[4], v[5]), V3(v[6], v[7], v[8]), V3(v[9], v[10], v[11]));
+      }
+      if (n == 0) throw std::runtime_error(fmt::format("{}: the binary STL holds no triangle", path));
+      return m;
+    }
+  }
+  std::istringstream s(data);
+  std::string word;
+  s >> word;
+  if (word != "solid")
+    throw std::runtime_error(fmt::format("{}: neither a binary STL (size does not match its triangle count) nor "
+                                         "an ASCII STL (does not start with 'solid')",
+                                         path));
+  std::vector<V3> corners;
+  while (s >> word) {
+    if (word != "vertex") continue;
+    V3 v;
+    if (!(s >> v[0] >> v[1] >> v[2]))
+      throw std::runtime_error(fmt::format("{}: a vertex line without three numbers", path));
+    corners.push_back(v);
+    if (corners.size() == 3) {
+      add(corners[0], corners[1], corners[2]);
+      corners.clear();
+    }
+  }
+  if (!corners.empty()) throw std::runtime_error(fmt::format("{}: a facet with fewer than three vertices", path));
+  if (m.triangles.empty()) throw std::runtime_error(fmt::format("{}: the ASCII STL holds no facet", path));
+  return m;
+}
+
+V3 closest_on_triangle(const V3& p, const V3& a, const V3& b, const V3& c, bool& face) {
+  face = false;
+  const V3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const V3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
+  const V3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+  face = true;
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+struct MeshWall::Fcl {
+  std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> model;
+  std::unique_ptr<fcl::CollisionObjectd> object;
+};
+
+MeshWall::MeshWall(TriangleMesh mesh, double friction) : mesh_(std::move(mesh)), friction_(friction) {
+  fcl_ = std::make_shared<Fcl>();
+  fcl_->model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+  std::vector<fcl::Vector3d> v(mesh_.vertices.begin(), mesh_.vertices.end());
+  std::vector<fcl::Triangle> t;
+  for (const auto& tr : mesh_.triangles) t.emplace_back(tr[0], tr[1], tr[2]);
+  fcl_->model->beginModel(static_cast<int>(t.size()), static_cast<int>(v.size()));
+  fcl_->model->addSubModel(v, t);
+  fcl_->model->endModel();
+  fcl_->object = std::make_unique<fcl::CollisionObjectd>(fcl_->model);
+  fcl_->object->computeAABB();
+}
+
+void MeshWall::contacts(const V3& x, double r, std::vector<MeshContact>& out) const {
+  out.clear();
+  // Broad phase: the triangles whose bounding volumes and shapes meet a slightly
+  // larger sphere; the exact test follows.
+  // (inflated: FCL's GJK tolerance would miss contacts of tiny overlap)
+  auto sphere = std::make_shared<fcl::Sphered>(r * 1.05);
+  fcl::CollisionObjectd s(sphere, fcl::Transform3d(Eigen::Translation3d(x)));
+  s.computeAABB();
+  fcl::CollisionRequestd request(mesh_.triangles.size(), false);
+  fcl::CollisionResultd result;
+  fcl::collide(fcl_->object.get(), &s, request, result);
+  std::vector<fcl::Contactd> found;
+  result.getContacts(found);
+  for (const auto& c : found) {
+    const int t = static_cast<int>(c.b1);
+    const auto& tr = mesh_.triangles[t];
+    MeshContact m;
+    m.triangle = t;
+    m.point = closest_on_triangle(x, mesh_.vertices[tr[0]], mesh_.vertices[tr[1]], mesh_.vertices[tr[2]], m.face);
+    out.push_back(m);
+  }
+  finish(x, r, out);
+}
+
+void MeshWall::contacts_all(const V3& x, double r, std::vector<MeshContact>& out) const {
+  out.clear();
+  for (std::size_t t = 0; t < mesh_.triangles.size(); ++t) {
+    const auto& tr = mesh_.triangles[t];
+    MeshContact m;
+    m.triangle = static_cast<int>(t);
+    m.point = closest_on_triangle(x, mesh_.vertices[tr[0]], mesh_.vertices[tr[1]], mesh_.vertices[tr[2]], m.face);
+    out.push_back(m);
+  }
+  finish(x, r, out);
+}
+
+void MeshWall::finish(const V3& x, double r, std::vector<MeshContact>& out) const {
+  std::erase_if(out, [&](const MeshContact& m) { return (x - m.point).norm() >= r; });
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.triangle < b.triangle; });
+  const bool any_face = std::any_of(out.begin(), out.end(), [](const auto& m) { return m.face; });
+  std::vector<MeshContact> kept;
+  for (const auto& m : out) {
+    if (any_face && !m.face) continue;
+    const bool dup = std::any_of(kept.begin(), kept.end(),
+                                 [&](const auto& k) { return (k.point - m.point).norm() <= 1e-12 * r; });
+    if (!dup) kept.push_back(m);
+  }
+  out.swap(kept);
+}
+
+}  // namespace coflow::particles::dem

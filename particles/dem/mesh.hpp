@@ -1,0 +1,71 @@
+// Triangle-mesh walls: STL files (ASCII or binary), FCL's bounding-volume
+// hierarchy as the broad phase, exact closest points for the contacts.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "particles/dem/contact.hpp"
+
+namespace coflow::particles::dem {
+
+struct TriangleMesh {
+  std::vector<V3> vertices;
+  std::vector<std::array<int, 3>> triangles;
+};
+
+// Reads an STL file; throws std::runtime_error naming the file and the problem.
+TriangleMesh read_stl(const std::string& path);
+
+struct MeshContact {
+  int triangle = 0;
+  V3 point = V3::Zero();  // closest point of the triangle to the sphere centre
+  bool face = false;      // inside the face (not on an edge or a vertex)
+};
+
+class MeshWall {
+ public:
+  MeshWall(TriangleMesh mesh, double friction);
+  double friction() const { return friction_; }
+  std::size_t size() const { return mesh_.triangles.size(); }
+  // The triangles a sphere (centre x, radius r) touches, sorted by triangle. A
+  // contact inside a face wins: edge and vertex contacts count only where the
+  // sphere touches no face (a convex rim), one per distinct point, so a flat
+  // mesh acts like one plane whichever triangles it is cut into.
+  void contacts(const V3& x, double r, std::vector<MeshContact>& out) const;      // FCL broad phase
+  void contacts_all(const V3& x, double r, std::vector<MeshContact>& out) const;  // every triangle (oracle)
+
+ private:
+  void finish(const V3& x, double r, std::vector<MeshContact>& out) const;
+  TriangleMesh mesh_;
+  double friction_;
+  struct Fcl;
+  std::shared_ptr<Fcl> fcl_;
+};
+
+// Mesh-wall contact histories are kept per direction, not per triangle: a
+// contact sliding from one triangle to a coplanar neighbour keeps its shear
+// spring; a sphere in a corner has one history per face. Returns the slot of
+// the history whose normal matches n (or a free one), among `slots` per mesh.
+inline constexpr int kMeshSlots = 16;
+template <class Lookup>
+int mesh_history_slot(const V3& n, long step, Lookup&& state_of_slot) {
+  int free_slot = -1;
+  for (int k = 0; k < kMeshSlots; ++k) {
+    const ContactState* st = state_of_slot(k);
+    if (!st) {
+      if (free_slot < 0) free_slot = k;
+      continue;
+    }
+    if (st->seen != step && st->normal.dot(n) > 0.99) return k;
+  }
+  return free_slot < 0 ? 0 : free_slot;
+}
+
+// Closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision
+// Detection, 5.1.5); `face` tells whether it lies inside the triangle.
+V3 closest_on_triangle(const V3& p, const V3& a, const V3& b, const V3& c, bool& face);
+
+}  // namespace coflow::particles::dem

@@ -1,0 +1,86 @@
+#include <catch2/catch.hpp>
+
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <string>
+
+#include "particles/dem/mesh.hpp"
+
+using namespace coflow::particles::dem;
+
+namespace {
+std::string temp(const std::string& name) { return std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") + "/" + name; }
+
+void write_binary(const std::string& path, const std::vector<std::array<float, 9>>& tris) {
+  std::ofstream out(path, std::ios::binary);
+  char header[80] = "binary test mesh";
+  out.write(header, 80);
+  const std::uint32_t n = static_cast<std::uint32_t>(tris.size());
+  out.write(reinterpret_cast<const char*>(&n), 4);
+  for (const auto& t : tris) {
+    const float normal[3] = {0, 0, 1};
+    out.write(reinterpret_cast<const char*>(normal), 12);
+    out.write(reinterpret_cast<const char*>(t.data()), 36);
+    const std::uint16_t attr = 0;
+    out.write(reinterpret_cast<const char*>(&attr), 2);
+  }
+}
+}  // namespace
+
+TEST_CASE("STL files are read in ASCII and binary form alike", "[mesh]") {
+  const std::string a = temp("coflow-test-ascii.stl"), b = temp("coflow-test-binary.stl");
+  std::ofstream(a) << "solid t\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 1 0\n"
+                      "  endloop\n endfacet\n facet normal 0 0 1\n  outer loop\n   vertex 1 0 0\n   vertex 1 1 0\n"
+                      "   vertex 0 1 0\n  endloop\n endfacet\nendsolid t\n";
+  write_binary(b, {{0, 0, 0, 1, 0, 0, 0, 1, 0}, {1, 0, 0, 1, 1, 0, 0, 1, 0}});
+  const TriangleMesh ma = read_stl(a), mb = read_stl(b);
+  REQUIRE(ma.triangles.size() == 2);
+  REQUIRE(mb.triangles.size() == 2);
+  for (std::size_t v = 0; v < ma.vertices.size(); ++v) CHECK((ma.vertices[v] - mb.vertices[v]).norm() == 0.0);
+  std::remove(a.c_str());
+  std::remove(b.c_str());
+}
+
+TEST_CASE("malformed STL files are rejected with the file name", "[mesh]") {
+  const std::string bad = temp("coflow-test-bad.stl");
+  std::ofstream(bad) << "this is not a mesh\n";
+  CHECK_THROWS_WITH(read_stl(bad), Catch::Contains("coflow-test-bad.stl") && Catch::Contains("neither a binary"));
+  std::ofstream(bad) << "solid t\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0\n";
+  CHECK_THROWS(read_stl(bad));
+  CHECK_THROWS_WITH(read_stl(temp("coflow-no-such-file.stl")), Catch::Contains("cannot open"));
+  std::remove(bad.c_str());
+}
+
+TEST_CASE("closest point on a triangle: face, edge and vertex regions", "[mesh]") {
+  const V3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  bool face = false;
+  CHECK((closest_on_triangle(V3(0.2, 0.3, 0.5), a, b, c, face) - V3(0.2, 0.3, 0)).norm() < 1e-15);
+  CHECK(face);
+  CHECK((closest_on_triangle(V3(0.5, -0.4, 0.1), a, b, c, face) - V3(0.5, 0, 0)).norm() < 1e-15);
+  CHECK_FALSE(face);
+  CHECK((closest_on_triangle(V3(-1, -1, 1), a, b, c, face) - a).norm() < 1e-15);
+  CHECK_FALSE(face);
+}
+
+TEST_CASE("a flat mesh acts as one plane: one contact, whichever triangles", "[mesh]") {
+  // Two triangles sharing the diagonal; a sphere over the diagonal, over one
+  // face near the diagonal, and over the shared corner.
+  TriangleMesh m;
+  m.vertices = {V3(0, 0, 0), V3(1, 0, 0), V3(1, 1, 0), V3(0, 1, 0)};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  const MeshWall wall(m, 0.3);
+  std::vector<MeshContact> hits, all;
+  for (const V3& x : {V3(0.5, 0.5, 0.05), V3(0.52, 0.48, 0.05), V3(0.0, 0.0, 0.05), V3(0.3, 0.7, 0.08)}) {
+    wall.contacts(x, 0.1, hits);
+    wall.contacts_all(x, 0.1, all);
+    REQUIRE(hits.size() == 1);
+    REQUIRE(all.size() == 1);
+    CHECK(hits[0].triangle == all[0].triangle);
+    CHECK(std::abs(hits[0].point.z()) < 1e-15);
+    CHECK(std::abs((x - hits[0].point).norm() - x.z()) < 1e-12);  // distance to the plane
+  }
+  wall.contacts(V3(0.5, 0.5, 0.2), 0.1, hits);
+  CHECK(hits.empty());
+}

@@ -333,6 +333,9 @@ void DemSolver::step(double h) {
       if (!owned_[i] && !owned_[j]) return;  // two ghosts: their owners compute it
       const double ri = p_.radius[i], rj = p_.radius[j];
       const double overlap = ri + rj - dist;
+      // Without bonds, a pair apart needs no look-up: its old history (if any)
+      // is swept below, as dem-reference erases it.
+      if (overlap <= 0.0 && s_.bond_gap < 0) return;
       const std::uint64_t k = key(p_.id[i], p_.id[j]);
       auto it = contacts_.find(k);
       if (overlap <= 0.0 && (it == contacts_.end() || !it->second.bonded)) {
@@ -343,6 +346,7 @@ void DemSolver::step(double h) {
         it = contacts_.emplace(k, dem::ContactState{}).first;
         if (owned_[i]) ++collisions_;  // each pair counted once: by the owner of its smaller id
       }
+      it->second.seen = steps_;
       const V3 nrm = d / dist;
       const double a1 = ri - 0.5 * overlap, a2 = rj - 0.5 * overlap;
       const V3 vi(&p_.v[3 * i]), vj(&p_.v[3 * j]), wi(&p_.w[3 * i]), wj(&p_.w[3 * j]);
@@ -370,6 +374,10 @@ void DemSolver::step(double h) {
         }
       }
     });
+  // Histories of pairs that separated (not evaluated this step).
+  if (s_.bond_gap < 0)
+    for (auto it = contacts_.begin(); it != contacts_.end();)
+      it = it->second.seen != steps_ ? contacts_.erase(it) : std::next(it);
   // Walls: domain faces, the same law against a plane.
   for (std::size_t i = 0; i < n; ++i)
     for (int f = 0; f < 6; ++f) {

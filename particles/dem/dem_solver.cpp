@@ -463,41 +463,17 @@ void DemSolver::step(double h) {
     }
   }
   if (size_ > 1) drop_ghosts();
-  // Outlets: drop particles whose centre left the box (order kept).
-  const std::size_t n_owned = p_.size();
-  std::size_t keep = 0;
-  for (std::size_t i = 0; i < n_owned; ++i) {
-    bool out = false;
+  // Outlets: particles whose centre left the box are no longer this rank's
+  // (nor anyone's); the same compaction as for ghosts drops them, order kept.
+  bool leaving = false;
+  for (std::size_t i = 0; i < p_.size(); ++i)
     for (int q = 0; q < 3; ++q)
-      out = out || (p_.x[3 * i + q] < s_.lower[q] && s_.faces[2 * q] == dem::Face::outlet) ||
-            (p_.x[3 * i + q] > s_.upper[q] && s_.faces[2 * q + 1] == dem::Face::outlet);
-    if (out) continue;
-    if (keep != i) {
-      p_.id[keep] = p_.id[i];
-      p_.species[keep] = p_.species[i];
-      p_.radius[keep] = p_.radius[i];
-      p_.mass[keep] = p_.mass[i];
-      p_.inertia[keep] = p_.inertia[i];
-      for (int q = 0; q < 3; ++q) {
-        p_.x[3 * keep + q] = p_.x[3 * i + q];
-        p_.v[3 * keep + q] = p_.v[3 * i + q];
-        p_.w[3 * keep + q] = p_.w[3 * i + q];
-        p_.force[3 * keep + q] = p_.force[3 * i + q];
-        fh_[3 * keep + q] = fh_[3 * i + q];
-        th_[3 * keep + q] = th_[3 * i + q];
+      if ((p_.x[3 * i + q] < s_.lower[q] && s_.faces[2 * q] == dem::Face::outlet) ||
+          (p_.x[3 * i + q] > s_.upper[q] && s_.faces[2 * q + 1] == dem::Face::outlet)) {
+        owned_[i] = 0;
+        leaving = true;
       }
-    }
-    ++keep;
-  }
-  if (keep != n_owned) {
-    for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &fh_, &th_, &torque_}) a->resize(3 * keep);
-    p_.id.resize(keep);
-    p_.species.resize(keep);
-    p_.radius.resize(keep);
-    p_.mass.resize(keep);
-    p_.inertia.resize(keep);
-    owned_.assign(keep, 1);
-  }
+  if (leaving) drop_ghosts();
   if (size_ > 1) migrate();
   time_ += h;
   ++steps_;

@@ -35,9 +35,10 @@ class DemSolver final : public ParticleSolver {
 
  private:
   void build_cells();
-  // MPI: ghosts of neighbours' particles within reach, sorted in by id; dropped
-  // after the step; particles that left the block move to their new owner with
-  // their contact histories.
+  // MPI: ghosts of neighbours' particles within reach, sorted in by id;
+  // drop_ghosts() keeps only the particles marked owned (it also removes those
+  // leaving through outlets); particles that left the block move to their new
+  // owner with their contact histories.
   void add_ghosts();
   void drop_ghosts();
   void migrate();

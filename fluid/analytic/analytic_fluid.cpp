@@ -8,13 +8,27 @@
 namespace coflow::fluid {
 
 void AnalyticParams::visit(config::Visitor& v) {
-  v("field", field, "which flow", config::one_of({"quiescent", "uniform", "poiseuille", "taylor-green"}));
+  v("field", field, "which flow", config::one_of({"quiescent", "uniform", "poiseuille", "taylor-green", "grid-turbulence"}));
   v("velocity", velocity, "uniform: the velocity, m/s");
   v("max_velocity", max_velocity, "poiseuille: centre-line speed; taylor-green: amplitude U0, m/s");
-  v("flow_axis", flow_axis, "poiseuille: flow direction (0 = x, 1 = y, 2 = z)", config::in_range(0, 2));
+  v("flow_axis", flow_axis, "poiseuille, grid-turbulence: flow direction (0 = x, 1 = y, 2 = z)",
+    config::in_range(0, 2));
   v("wall_axis", wall_axis, "poiseuille: wall-normal direction", config::in_range(0, 2));
+  v("mean_velocity", mean_velocity, "grid-turbulence: mean speed along flow_axis, m/s", config::positive());
+  v("mesh_size", mesh_size, "grid-turbulence: grid mesh size M, m", config::positive());
+  v("grid_position", grid_position, "grid-turbulence: coordinate of the grid along flow_axis, m");
   if (v.reading() && field == "poiseuille" && flow_axis == wall_axis)
     v.fail("wall_axis", "must differ from flow_axis");
+}
+
+void AnalyticParams::check(config::Visitor& v, const config::Config& cfg) const {
+  // The decay laws (seed 003 eqs 5.21-5.22) hold downstream of x/M = 16 only.
+  if (field != "grid-turbulence") return;
+  const double lo = (cfg.domain.lower[flow_axis] - grid_position) / mesh_size;
+  if (lo <= 16.0)
+    v.fail("grid_position", fmt::format("the domain starts at x/M = {:.3g} from the grid; the decay laws of "
+                                        "grid-turbulence need x/M > 16 everywhere (move grid_position upstream)",
+                                        lo));
 }
 
 AnalyticFluid::AnalyticFluid(const Setup& s, const Params& p)
@@ -22,13 +36,39 @@ AnalyticFluid::AnalyticFluid(const Setup& s, const Params& p)
   const std::size_t n = owned_.volume();
   u_.resize(3 * n);
   p_field_.resize(n);
+  omega_.resize(3 * n);
+  k_.resize(n);
+  eps_.resize(n);
   rho_.assign(n, fluid_.density);
   evaluate();
 }
 
+namespace {
+
+// Snyder & Lumley's decay laws, seed 003 eqs 5.21-5.22: the mean-square streamwise
+// fluctuation (w' in the seed) and lateral fluctuation v' as functions of x/M.  The
+// second lateral component equals v' (seed 003 §5.4), so k = (w'^2 + 2 v'^2) / 2.
+struct GridDecay {
+  double U, M;
+  double streamwise2(double xi) const { return U * U / (42.4 * (xi - 16.0)); }
+  double lateral2(double xi) const { return U * U / (39.4 * (xi - 12.0)); }
+  double k(double xi) const { return 0.5 * (streamwise2(xi) + 2.0 * lateral2(xi)); }
+  // dk/dx = (1/M) dk/dxi; each term c/(xi - x0) has derivative -c/(xi - x0)^2.
+  double dk_dx(double xi) const {
+    return -0.5 * (streamwise2(xi) / (xi - 16.0) + 2.0 * lateral2(xi) / (xi - 12.0)) / M;
+  }
+};
+
+}  // namespace
+
 Vec3 AnalyticFluid::velocity_at(const Vec3& x, double t) const {
   const auto& d = cfg_.domain;
   if (p_.field == "uniform") return p_.velocity;
+  if (p_.field == "grid-turbulence") {
+    Vec3 u{0, 0, 0};
+    u[p_.flow_axis] = p_.mean_velocity;
+    return u;
+  }
   if (p_.field == "poiseuille") {
     // u = U (1 - (2 y' / H - 1)^2), walls at the domain faces of wall_axis.
     const double H = d.upper[p_.wall_axis] - d.lower[p_.wall_axis];
@@ -48,6 +88,42 @@ Vec3 AnalyticFluid::velocity_at(const Vec3& x, double t) const {
             -p_.max_velocity * (kx / ky) * std::cos(X) * std::sin(Y) * decay, 0.0};
   }
   return {0, 0, 0};
+}
+
+Vec3 AnalyticFluid::vorticity_at(const Vec3& x, double t) const {
+  const auto& d = cfg_.domain;
+  Vec3 w{0, 0, 0};
+  if (p_.field == "poiseuille") {
+    // omega = grad(u_f) x e_f = du_f/dx_w (e_w x e_f); du_f/dx_w = -4 U s / H.
+    const int f = p_.flow_axis, n = p_.wall_axis, c = 3 - f - n;
+    const double H = d.upper[n] - d.lower[n];
+    const double s = 2.0 * (x[n] - d.lower[n]) / H - 1.0;
+    const double sign = ((n + 1) % 3 == f) ? 1.0 : -1.0;  // e_n x e_f = +e_c when (n, f, c) is cyclic
+    w[c] = sign * (-4.0 * p_.max_velocity * s / H);
+    return w;
+  }
+  if (p_.field == "taylor-green") {
+    const double kx = 2 * std::numbers::pi / (d.upper[0] - d.lower[0]);
+    const double ky = 2 * std::numbers::pi / (d.upper[1] - d.lower[1]);
+    const double decay = std::exp(-fluid_.viscosity * (kx * kx + ky * ky) * t);
+    const double X = kx * (x[0] - d.lower[0]), Y = ky * (x[1] - d.lower[1]);
+    // omega_z = dv/dx - du/dy = U0 (kx^2/ky + ky) sin X sin Y.
+    w[2] = p_.max_velocity * (kx * kx / ky + ky) * std::sin(X) * std::sin(Y) * decay;
+  }
+  return w;
+}
+
+double AnalyticFluid::k_at(const Vec3& x) const {
+  if (p_.field != "grid-turbulence") return 0.0;
+  const GridDecay g{p_.mean_velocity, p_.mesh_size};
+  return g.k((x[p_.flow_axis] - p_.grid_position) / p_.mesh_size);
+}
+
+double AnalyticFluid::epsilon_at(const Vec3& x) const {
+  // seed 003 eq. 5.23: epsilon = -U dk/dx (frozen turbulence advected by the mean flow).
+  if (p_.field != "grid-turbulence") return 0.0;
+  const GridDecay g{p_.mean_velocity, p_.mesh_size};
+  return -p_.mean_velocity * g.dk_dx((x[p_.flow_axis] - p_.grid_position) / p_.mesh_size);
 }
 
 double AnalyticFluid::pressure_at(const Vec3& x, double t) const {
@@ -73,8 +149,14 @@ void AnalyticFluid::evaluate() {
       for (long i = owned_.lo[0]; i < owned_.hi[0]; ++i, ++n) {
         const Vec3 x{d.lower[0] + (i + 0.5) * h[0], d.lower[1] + (j + 0.5) * h[1], d.lower[2] + (k + 0.5) * h[2]};
         const Vec3 u = velocity_at(x, time_);
-        for (int c = 0; c < 3; ++c) u_[3 * n + c] = u[c];
+        const Vec3 w = vorticity_at(x, time_);
+        for (int c = 0; c < 3; ++c) {
+          u_[3 * n + c] = u[c];
+          omega_[3 * n + c] = w[c];
+        }
         p_field_[n] = pressure_at(x, time_);
+        k_[n] = k_at(x);
+        eps_[n] = epsilon_at(x);
       }
 }
 
@@ -90,6 +172,9 @@ std::vector<output::GridField> AnalyticFluid::fields(const config::StringList& n
     if (n == "velocity") f.push_back({n, 3, u_});
     if (n == "pressure") f.push_back({n, 1, p_field_});
     if (n == "density") f.push_back({n, 1, rho_});
+    if (n == "vorticity") f.push_back({n, 3, omega_});
+    if (n == "k") f.push_back({n, 1, k_});
+    if (n == "epsilon") f.push_back({n, 1, eps_});
   }
   return f;
 }

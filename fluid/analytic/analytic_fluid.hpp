@@ -11,7 +11,12 @@ struct AnalyticParams {
   double max_velocity = 0.0;    // poiseuille: centre-line speed; taylor-green: amplitude
   int flow_axis = 0;            // poiseuille: flow direction
   int wall_axis = 1;            // poiseuille: wall-normal direction
+  // grid-turbulence (Snyder & Lumley 1971, seed 003 eqs 5.21-5.23)
+  double mean_velocity = 6.55;  // mean speed along flow_axis, m/s
+  double mesh_size = 0.0254;    // grid spacing M, m
+  double grid_position = 0.0;   // coordinate of the grid along flow_axis, m
   void visit(config::Visitor& v);
+  void check(config::Visitor& v, const config::Config& cfg) const;
 };
 
 class AnalyticFluid final : public FluidSolver {
@@ -19,7 +24,7 @@ class AnalyticFluid final : public FluidSolver {
   using Params = AnalyticParams;
   static constexpr const char* params_section = "analytic";
   static constexpr const char* summary =
-      "prescribed fields (quiescent, uniform, poiseuille, taylor-green), exact at any time";
+      "prescribed fields (quiescent, uniform, poiseuille, taylor-green, grid-turbulence), exact at any time";
 
   AnalyticFluid(const Setup& setup, const Params& params);
 
@@ -40,6 +45,11 @@ class AnalyticFluid final : public FluidSolver {
   // The prescribed velocity at a point and time.
   Vec3 velocity_at(const Vec3& x, double t) const;
   double pressure_at(const Vec3& x, double t) const;
+  Vec3 vorticity_at(const Vec3& x, double t) const;
+  // Turbulence kinetic energy k (m^2/s^2) and its dissipation rate epsilon (m^2/s^3);
+  // zero except for grid-turbulence.
+  double k_at(const Vec3& x) const;
+  double epsilon_at(const Vec3& x) const;
 
  private:
   void evaluate();
@@ -50,7 +60,7 @@ class AnalyticFluid final : public FluidSolver {
   coupler::Box owned_;
   double time_ = 0.0;
   long steps_ = 0;
-  std::vector<double> u_, p_field_, rho_;
+  std::vector<double> u_, p_field_, rho_, omega_, k_, eps_;
 };
 
 }  // namespace coflow::fluid

@@ -210,7 +210,7 @@ class Core final : public LbmCore {
       for (int q = 0; q < L::Q; ++q) dst[q * N + x] = f[q];
     }
     double m = max_u2_;
-    for (long i = i0; i < i1; ++i) m = u2[i] > m || u2[i] != u2[i] ? u2[i] : m;
+    for (long c = i0; c < i1; ++c) m = u2[c] > m || u2[c] != u2[c] ? u2[c] : m;
     max_u2_ = (m != m) ? m : std::max(max_u2_, m);
   }
 

@@ -68,8 +68,8 @@ inline Setup make_setup(const config::Config& cfg, const FluidParams& fp, const 
   const Units units = s.units;
   const config::DomainParams dom = cfg.domain;
   s.initial = [&cfg, fp, units, dom](long i, long j, long k, double& rho, double* u) {
-    const auto h = dom.spacing();
-    const config::Vec3 x{dom.lower[0] + (i + 0.5) * h[0], dom.lower[1] + (j + 0.5) * h[1], dom.lower[2] + (k + 0.5) * h[2]};
+    const auto dx = dom.spacing();
+    const config::Vec3 x{dom.lower[0] + (i + 0.5) * dx[0], dom.lower[1] + (j + 0.5) * dx[1], dom.lower[2] + (k + 0.5) * dx[2]};
     config::Vec3 us;
     double p;
     fp.initial_state(cfg, x, us, p);

@@ -1,6 +1,9 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <memory>
+
+#include <fmt/format.h>
 
 #include "coflow/catalog.hpp"
 #include "particles/dem/contact.hpp"
@@ -134,5 +137,94 @@ particles:
   for (int i = 0; i < 2; ++i) {
     CHECK(dem.particles().radius[i] == Approx(0.99 * r0).epsilon(1e-15));
     CHECK(dem.particles().mass[i] == Approx(std::pow(0.99, 3) * m0).epsilon(1e-14));
+  }
+}
+
+namespace {
+
+// A 2 mm sand grain resting on the floor (domain face z-) at its equilibrium
+// overlap delta = m g / K_N, pushed sideways by a constant external force F at its
+// centre and held against rolling by the torque -(R - delta) F e_y (the lever of
+// the contact force is the distance to the plane), so that friction alone holds it.
+struct Block {
+  coflow::config::Config cfg;
+  coflow::particles::ParticleParams params;
+  std::unique_ptr<coflow::particles::DemSolver> dem;
+  double m = 0, R = 1e-3, mu = 0.3, fn = 0, arm = 0;
+
+  explicit Block(double alpha) {
+    const double m0 = 2650.0 * 4.0 / 3.0 * M_PI * R * R * R;
+    const double delta = m0 * 9.81 / 1.0e3;
+    const std::string text = fmt::format(R"(
+run: {{name: friction, end_time: 1.0}}
+domain: {{lower: [0, 0, 0], upper: [0.02, 0.02, 0.02], cells: [10, 10, 10]}}
+gravity: [0.0, 0.0, -9.81]
+particles:
+  solver: dem
+  species: {{grain: {{density: 2650.0, diameter: 2.0e-3}}}}
+  contact: {{normal_stiffness: 1.0e3, shear_stiffness: 1.0e3, friction: {}, local_damping: {}}}
+  initial:
+    - {{single: {{species: grain, position: [0.01, 0.01, {:.17g}]}}}}
+)",
+                                         mu, alpha, R - delta);
+    cfg = coflow::config::parse_config_node(YAML::Load(text), "friction.yaml", coflow::catalog());
+    coflow::config::Reader r(cfg.resolved["particles"], "friction.yaml", "particles");
+    params.visit(r, cfg);
+    dem = std::make_unique<coflow::particles::DemSolver>(
+        coflow::particles::ParticleSolver::Setup{cfg, params, coflow::coupler::Decomposition({10, 10, 10}, 1), 0,
+                                                 MPI_COMM_SELF},
+        coflow::particles::DemSolver::Params{});
+    m = dem->particles().mass[0];
+    fn = m * 9.81;
+    arm = R - delta;
+  }
+  void push(double F) {
+    const double force[3] = {F, 0, 0}, torque[3] = {0, -arm * F, 0};
+    dem->set_hydrodynamic(force, torque);
+  }
+  double x() const { return dem->particles().x[0]; }
+  double vx() const { return dem->particles().v[0]; }
+  // Velocity of the material point at the contact, v + omega x (-arm e_z), along x.
+  double slip() const { return dem->particles().v[0] - arm * dem->particles().w[1]; }
+  double contact_fx() const { return dem->particles().force[0]; }
+};
+
+}  // namespace
+
+TEST_CASE("a grain on a wall sticks below mu F_N and slides above it (solver level)", "[dem]") {
+  for (const double fraction : {0.5, 0.95}) {
+    // F = fraction mu F_N: friction balances F once the tangential oscillation is damped
+    INFO("F / (mu F_N) = " << fraction);
+    Block b(0.5);
+    const double F = fraction * b.mu * b.fn;
+    b.push(F);
+    const double x0 = b.x(), dt = b.dem->time_step();
+    for (int n = 0; n < 40000; ++n) b.dem->step(dt);
+    // At rest: no slip, no rolling, friction equal and opposite to F.
+    INFO("contact fx " << b.contact_fx() << " F " << F << " slip " << b.slip());
+    CHECK(std::abs(b.contact_fx() + F) < 1e-9 * F);  // force balance
+    CHECK(std::abs(b.slip()) < 1e-12);
+    CHECK(std::abs(b.vx()) < 1e-12);
+    CHECK(std::abs(b.x() - x0) < 2 * F / 1.0e3);  // only the spring's elongation
+  }
+  for (const double fraction : {1.05, 2.0}) {
+    // F = fraction mu F_N: the grain slides with friction mu F_N and acceleration (F - mu F_N) / m
+    INFO("F / (mu F_N) = " << fraction);
+    Block b(0.0);
+    const double F = fraction * b.mu * b.fn;
+    b.push(F);
+    const double x0 = b.x(), dt = b.dem->time_step();
+    for (int n = 0; n < 2000; ++n) b.dem->step(dt);
+    const double v0 = b.vx();
+    const int steps = 1000;
+    double worst = 0;
+    for (int n = 0; n < steps; ++n) {
+      b.dem->step(dt);
+      worst = std::max(worst, std::abs(std::abs(b.contact_fx()) - b.mu * b.fn) / (b.mu * b.fn));
+    }
+    INFO("friction error " << worst);
+    CHECK(worst < 1e-9);  // Coulomb: |f_t| = mu f_n, and f_n = m g at the equilibrium overlap
+    CHECK((b.vx() - v0) / (steps * dt) == Approx((F - b.mu * b.fn) / b.m).epsilon(1e-9));
+    CHECK(b.x() - x0 > 20 * F / 1.0e3);  // it slid, far beyond the spring's elongation
   }
 }

@@ -1,5 +1,9 @@
 #include "particles/driver.hpp"
 
+#include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 
 #include <fmt/format.h>
@@ -9,6 +13,31 @@
 #include "particles/schema.hpp"
 
 namespace coflow::particles {
+
+namespace {
+
+// Every rank's doubles, concatenated in rank order on rank 0 (empty elsewhere).
+std::vector<double> gather_to_root(MPI_Comm comm, const std::vector<double>& local) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const int n = static_cast<int>(local.size());
+  std::vector<int> counts(rank == 0 ? size : 0), offsets(rank == 0 ? size : 0);
+  MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
+  std::vector<double> all;
+  if (rank == 0) {
+    int total = 0;
+    for (int r = 0; r < size; ++r) {
+      offsets[r] = total;
+      total += counts[r];
+    }
+    all.resize(total);
+  }
+  MPI_Gatherv(local.data(), n, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, 0, comm);
+  return all;
+}
+
+}  // namespace
 
 void run(coupler::Session& s) {
   const auto& cfg = s.config();
@@ -43,6 +72,54 @@ void run(coupler::Session& s) {
                             {"time", "count", "momentum_x", "momentum_y", "momentum_z", "kinetic_energy",
                              "collisions", "wall_collisions", "broken_bonds", "rotational_energy"},
                             w0 > 0);
+  // Event logs: each rank's events of the window, gathered on rank 0 and written
+  // in (time, i, j) order, so the file does not depend on the rank count.
+  const auto& out = cfg.run.output;
+  solver->record_events(out.collision_events, out.bond_events);
+  std::ofstream collisions_csv, bonds_csv;
+  if (s.rank() == 0) {
+    const auto mode = w0 > 0 ? std::ios::app : std::ios::trunc;
+    if (out.collision_events) {
+      std::filesystem::create_directories(s.output_dir() + "/events");
+      collisions_csv.open(s.output_dir() + "/events/collisions.csv", mode);
+      if (w0 == 0) collisions_csv << "time,i,j,angle,relative_speed,normal_speed\n";
+    }
+    if (out.bond_events) {
+      std::filesystem::create_directories(s.output_dir() + "/events");
+      bonds_csv.open(s.output_dir() + "/events/bonds.csv", mode);
+      if (w0 == 0) bonds_csv << "time,i,j,mode,normal_force,shear_force\n";
+    }
+  }
+  auto write_events = [&] {
+    if (!out.collision_events && !out.bond_events) return;
+    const ParticleEvents ev = solver->take_events();
+    std::vector<double> local;
+    for (const auto& e : ev.collisions)
+      local.insert(local.end(), {0.0, e.time, double(e.i), double(e.j), e.angle, e.relative_speed, e.normal_speed});
+    for (const auto& e : ev.bonds)
+      local.insert(local.end(), {1.0, e.time, double(e.i), double(e.j), double(static_cast<int>(e.mode)),
+                                 e.normal_force, e.shear_force});
+    const std::vector<double> all = gather_to_root(s.comm(), local);
+    if (s.rank() != 0) return;
+    constexpr std::size_t W = 7;
+    std::vector<std::size_t> order(all.size() / W);
+    for (std::size_t n = 0; n < order.size(); ++n) order[n] = n;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return std::lexicographical_compare(&all[W * a], &all[W * a + 4], &all[W * b], &all[W * b + 4]);
+    });
+    static constexpr const char* modes[] = {"", "tension", "compression", "shear"};
+    for (std::size_t n : order) {
+      const double* e = &all[W * n];
+      if (e[0] == 0.0)
+        collisions_csv << fmt::format("{:.17g},{},{},{:.17g},{:.17g},{:.17g}\n", e[1], std::int64_t(e[2]),
+                                      std::int64_t(e[3]), e[4], e[5], e[6]);
+      else
+        bonds_csv << fmt::format("{:.17g},{},{},{},{:.17g},{:.17g}\n", e[1], std::int64_t(e[2]), std::int64_t(e[3]),
+                                 modes[static_cast<int>(e[4])], e[5], e[6]);
+    }
+    collisions_csv.flush();
+    bonds_csv.flush();
+  };
   auto write_output = [&](long w) {
     coupler::Timer t(coupler::trace().io_s);
     if (s.series_due(w)) {
@@ -73,6 +150,7 @@ void run(coupler::Session& s) {
   for (long w = w0 + 1; w <= s.windows(); ++w) {
     solver->advance(s.window(), substeps);
     coupler::trace().steps = solver->steps();
+    write_events();
     write_output(w);
     s.checkpoint(w, [&](const std::string& dir) { solver->save(dir); });
     s.window_done(w);

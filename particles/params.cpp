@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "particles/dem/initial.hpp"
 #include "particles/dem/mesh.hpp"
 #include "particles/particles_interface.hpp"
 
@@ -25,7 +26,13 @@ void BondParams::visit(Visitor& v) {
   v("shear_strength", shear_strength, "tau_c of eq. 2.15, Pa", config::non_negative());
   v("crush_fraction", crush_fraction, "radius fraction lost by both grains on compressive failure",
     config::in_range(0.0, 0.5));
-  v("gap", gap, "pairs whose surfaces are closer than this at the start are bonded, m", config::non_negative());
+  v("gap", gap,
+    "pairs whose surfaces are closer than this at the start are bonded (with pairs: the largest gap a listed "
+    "pair may have), m",
+    config::non_negative());
+  v("pairs", pairs,
+    "CSV file of the bonded pairs (header i,j; particle ids, numbered from 0 in the order of initial), relative "
+    "to this file; omit to bond every pair within gap");
 }
 
 void ContactParams::visit(Visitor& v) {
@@ -143,11 +150,11 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
       if (jt.kind != "single") continue;
       double d2 = 0;
       for (int k = 0; k < 3; ++k) d2 += (it.position[k] - jt.position[k]) * (it.position[k] - jt.position[k]);
-      const double contact = 0.5 * (largest(it.species) + largest(jt.species));
-      if (std::sqrt(d2) < contact && !this->contact.bonded)
+      const double touch = 0.5 * (largest(it.species) + largest(jt.species));
+      if (std::sqrt(d2) < touch && !contact.bonded)
         v.fail("initial", fmt::format("items {} and {} overlap (centres {:.4g} m apart, contact at {:.4g} m); move "
                                       "them apart, or add contact.bond to cement touching grains",
-                                      n, m, std::sqrt(d2), contact));
+                                      n, m, std::sqrt(d2), touch));
     }
   }
   for (const auto& w : walls) {
@@ -162,6 +169,13 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
       dem::read_stl(w.mesh.path);
     } catch (const std::exception& e) {
       v.fail("walls", fmt::format("not a usable STL mesh: {}", e.what()));
+    }
+  }
+  if (contact.bonded && !contact.bond.pairs.empty()) {
+    try {
+      dem::read_bond_csv(contact.bond.pairs.path);
+    } catch (const std::exception& e) {
+      v.fail("contact.bond.pairs", fmt::format("not a usable bond file: {}", e.what()));
     }
   }
   // An explicit step beyond the stability limit of eq. 2.19 cannot work.

@@ -29,6 +29,7 @@ struct BondParams {
   double shear_strength = 0.0;        // Pa
   double crush_fraction = 0.01;
   double gap = 0.0;                   // m: pairs closer than this at start are bonded
+  config::FilePath pairs;             // optional CSV of bonded id pairs (then only those)
   void visit(config::Visitor& v);
 };
 
@@ -99,6 +100,26 @@ struct ParticleStats {
   long broken_bonds = 0;        // since the previous call
 };
 
+// Discrete events, for events/collisions.csv and events/bonds.csv.
+struct CollisionEvent {
+  double time = 0.0;
+  std::int64_t i = 0, j = 0;   // particle ids, i < j
+  double angle = 0.0;          // between the relative velocity and the line of centres, degrees
+  double relative_speed = 0.0, normal_speed = 0.0;  // m/s, at first touch
+};
+enum class BondFailure { tension = 1, compression = 2, shear = 3 };
+struct BondEvent {
+  double time = 0.0;
+  std::int64_t i = 0, j = 0;
+  BondFailure mode = BondFailure::tension;
+  double normal_force = 0.0;   // N, > 0 compressive, at failure
+  double shear_force = 0.0;    // N, magnitude at failure
+};
+struct ParticleEvents {
+  std::vector<CollisionEvent> collisions;
+  std::vector<BondEvent> bonds;
+};
+
 class ParticleSolver {
  public:
   struct Setup {
@@ -120,6 +141,13 @@ class ParticleSolver {
   // constant until the next call.
   virtual void set_hydrodynamic(std::span<const double> force, std::span<const double> torque) = 0;
   virtual ParticleStats stats() = 0;  // collective; resets the event counters
+  // Record discrete events (off by default); take_events() hands over and clears
+  // this rank's record.
+  virtual void record_events(bool collisions, bool bonds) {
+    (void)collisions;
+    (void)bonds;
+  }
+  virtual ParticleEvents take_events() { return {}; }
 
   // Checkpoint and restart (collective): particles and contact histories.
   virtual void save(const std::string& dir) = 0;

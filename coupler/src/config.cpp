@@ -722,7 +722,16 @@ void Reader::choices(std::string_view name, std::string_view doc,
 
 void Reader::fail(std::string_view key, const std::string& message) {
   const std::string k(key);
-  YAML::Node where = (!k.empty() && given(k)) ? node_[k] : node_;
+  // A dotted key (a.b.c) points into subsections: report the deepest node given.
+  // (YAML::Node's operator= writes into the node: move with reset().)
+  YAML::Node where;
+  where.reset(node_);
+  std::istringstream parts(k);
+  for (std::string part; !k.empty() && std::getline(parts, part, '.');) {
+    const YAML::Node& here = where;
+    if (!here.IsMap() || !here[part]) break;
+    where.reset(here[part]);
+  }
   problem_at(where, k.empty() ? path_ : key_path(k), message);
 }
 
@@ -785,7 +794,7 @@ void Describer::entries(std::string_view name, std::string_view doc,
                         const std::function<void(const std::string&, Visitor&)>& body,
                         const std::vector<std::string>& allowed) {
   const std::string p = path_.empty() ? std::string(name) : path_ + "." + std::string(name);
-  const std::string names = allowed.empty() ? "<name>" : "<" + fmt::format("{}", fmt::join(allowed, "|")) + ">";
+  const std::string names = allowed.empty() ? std::string("<name>") : fmt::format("<{}>", fmt::join(allowed, "|"));
   rows_->push_back(KeyDoc{p, "mapping", "", allowed.empty() ? "" : "names: " + fmt::format("{}", fmt::join(allowed, ", ")),
                           std::string(doc), false});
   Describer sub(p + "." + names, rows_);

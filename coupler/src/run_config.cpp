@@ -13,7 +13,12 @@ void OutputParams::visit(Visitor& v) {
                  "momentum_source"}));
   v("series_every", series_every, "simulated seconds between rows of series/*.csv (auto: = every)",
     positive());
-  v("collision_events", collision_events, "write events/collisions.csv (dpm, dem)");
+  v("collision_events", collision_events,
+    "write events/collisions.csv: time,i,j,angle,relative_speed,normal_speed of each particle pair's first touch "
+    "(dpm, dem; angle in degrees between the relative velocity and the line of centres)");
+  v("bond_events", bond_events,
+    "write events/bonds.csv: time,i,j,mode,normal_force,shear_force of each bond failure (dem; mode tension, "
+    "compression or shear; normal_force > 0 compressive)");
 }
 
 void CheckpointParams::visit(Visitor& v) {

@@ -35,6 +35,8 @@ struct ContactForce {
   V3 torque2 = V3::Zero();  // about the centre of 2
   bool active = false;      // false: no contact (history to be dropped)
   Failure failure = Failure::none;
+  double failure_normal = 0.0;  // on failure: the normal force (> 0 compressive) and
+  double failure_shear = 0.0;   // the shear force magnitude that broke the bond, N
 };
 
 // n: unit normal from 2 to 1; overlap U_N (eq. 2.13, < 0 is a gap); a1, a2:
@@ -68,7 +70,11 @@ inline ContactForce contact_force(const V3& n, double overlap, double a1, double
       out.failure = Failure::compression;
     else if (s.shear.norm() > law.tau_c * r2)
       out.failure = Failure::shear;
-    if (out.failure != Failure::none) s.bonded = false;
+    if (out.failure != Failure::none) {
+      s.bonded = false;
+      out.failure_normal = fn;
+      out.failure_shear = s.shear.norm();
+    }
   }
   if (!s.bonded) {
     if (overlap <= 0.0) {  // no tension once unbonded (eq. 2.16)

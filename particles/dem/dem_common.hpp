@@ -3,6 +3,13 @@
 #pragma once
 
 #include <array>
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
 
 #include "particles/dem/contact.hpp"
 #include "particles/dem/initial.hpp"
@@ -22,6 +29,48 @@ inline V3 min_image(V3 d, const DemSetup& s) {
       d[k] -= L * std::round(d[k] / L);
     }
   return d;
+}
+
+// The pairs of a bond file, checked against the particles (all of them, as
+// made by make_initial): both ids exist, no pair twice, surfaces no farther apart
+// than the bond gap. Returned as (smaller id, larger id).
+inline std::vector<std::pair<std::int64_t, std::int64_t>> bonds_from_file(const ParticleArrays& a,
+                                                                           const DemSetup& s) {
+  std::map<std::int64_t, std::size_t> index;
+  for (std::size_t n = 0; n < a.size(); ++n) index[a.id[n]] = n;
+  std::set<std::pair<std::int64_t, std::int64_t>> seen;
+  std::vector<std::pair<std::int64_t, std::int64_t>> out;
+  for (const BondPair& b : read_bond_csv(s.bond_file)) {
+    const auto pi = index.find(b.i), pj = index.find(b.j);
+    if (pi == index.end() || pj == index.end())
+      throw std::runtime_error(fmt::format("{}:{}: no particle has id {} (ids run from {} to {})", s.bond_file, b.line,
+                                           pi == index.end() ? b.i : b.j, index.empty() ? 0 : index.begin()->first,
+                                           index.empty() ? -1 : index.rbegin()->first));
+    if (!seen.insert({b.i, b.j}).second)
+      throw std::runtime_error(fmt::format("{}:{}: the pair {},{} is listed twice", s.bond_file, b.line, b.i, b.j));
+    const std::size_t i = pi->second, j = pj->second;
+    const double gap = min_image(V3(&a.x[3 * i]) - V3(&a.x[3 * j]), s).norm() - a.radius[i] - a.radius[j];
+    if (gap > s.bond_gap)
+      throw std::runtime_error(fmt::format("{}:{}: particles {} and {} are {:.4g} m apart, more than "
+                                           "particles.contact.bond.gap = {:.4g} m; raise the gap or drop the pair",
+                                           s.bond_file, b.line, b.i, b.j, gap, s.bond_gap));
+    out.emplace_back(b.i, b.j);
+  }
+  return out;
+}
+
+// A collision event for two particles touching for the first time: n points from
+// j to i, dv = v_i - v_j (centres).
+inline CollisionEvent collision_event(double t, std::int64_t i, std::int64_t j, const V3& n, const V3& dv) {
+  const double speed = dv.norm(), normal = std::abs(dv.dot(n));
+  const double angle = speed > 0.0 ? std::acos(std::min(1.0, normal / speed)) * 180.0 / 3.14159265358979323846 : 0.0;
+  return {t, i, j, angle, speed, normal};
+}
+inline BondEvent bond_event(double t, std::int64_t i, std::int64_t j, const ContactForce& c) {
+  const BondFailure mode = c.failure == Failure::tension       ? BondFailure::tension
+                           : c.failure == Failure::compression ? BondFailure::compression
+                                                               : BondFailure::shear;
+  return {t, i, j, mode, c.failure_normal, c.failure_shear};
 }
 
 // Inward unit normal and position of a face's plane.

@@ -59,7 +59,12 @@ DemSolver::DemSolver(const Setup& setup, const Params&)
   // Cement the pairs that touch (within the gap) at the start.
   build_cells();
   long bonds = 0;
-  if (s_.bond_gap >= 0)
+  if (!s_.bond_file.empty()) {
+    for (const auto& [a, b] : dem::bonds_from_file(p_, s_)) {
+      contacts_[key(a, b)].bonded = true;
+      ++bonds;
+    }
+  } else if (s_.bond_gap >= 0)
     for (std::size_t i = 0; i < n; ++i)
       for_candidates(i, [&](std::size_t j) {
         const V3 d = dem::min_image(V3(&p_.x[3 * i]) - V3(&p_.x[3 * j]), s_);
@@ -344,7 +349,12 @@ void DemSolver::step(double h) {
       }
       if (it == contacts_.end()) {
         it = contacts_.emplace(k, dem::ContactState{}).first;
-        if (owned_[i]) ++collisions_;  // each pair counted once: by the owner of its smaller id
+        if (owned_[i]) {  // each pair counted once: by the owner of its smaller id
+          ++collisions_;
+          if (record_collisions_)
+            events_.collisions.push_back(dem::collision_event(time_, p_.id[i], p_.id[j], d / dist,
+                                                              V3(&p_.v[3 * i]) - V3(&p_.v[3 * j])));
+        }
       }
       it->second.seen = steps_;
       const V3 nrm = d / dist;
@@ -353,7 +363,10 @@ void DemSolver::step(double h) {
       const V3 vrel = (vi + wi.cross(-a1 * nrm)) - (vj + wj.cross(a2 * nrm));
       const dem::ContactForce c = dem::contact_force(nrm, overlap, a1, a2, vrel, ri + rj, it->second, s_.law, h);
       if (c.failure != dem::Failure::none) {
-        if (owned_[i]) ++broken_;
+        if (owned_[i]) {
+          ++broken_;
+          if (record_bonds_) events_.bonds.push_back(dem::bond_event(time_, p_.id[i], p_.id[j], c));
+        }
         if (c.failure == dem::Failure::compression) {
           if (owned_[i]) crushed_.push_back(i);
           if (owned_[j]) crushed_.push_back(j);

@@ -17,6 +17,7 @@ struct DemSetup {
   double alpha = 0.0;          // local damping
   double crush = 0.0;          // crush fraction
   double bond_gap = -1.0;      // bond pairs closer than this at start (< 0: no bonds)
+  std::string bond_file;       // when set, only the pairs listed there are bonded
   std::array<Face, 6> faces{};
   std::array<double, 6> wall_friction{};
   V3 gravity = V3::Zero();
@@ -31,6 +32,15 @@ struct DemSetup {
 inline std::int64_t mesh_wall_key(std::size_t mesh, int triangle) {
   return 6 + (static_cast<std::int64_t>(mesh) << 24) + triangle;
 }
+
+// A CSV file of bonded pairs (header `i,j`, then one pair of particle ids per
+// line; blank lines and lines starting with # are skipped). Each pair comes with
+// its line number. Throws "file:line: reason" on anything else.
+struct BondPair {
+  std::int64_t i = 0, j = 0;
+  int line = 0;
+};
+std::vector<BondPair> read_bond_csv(const std::string& path);
 
 // The particles of `initial`, with masses and inertias; deterministic from run.seed.
 ParticleArrays make_initial(const ParticleParams& p, const config::Config& cfg);

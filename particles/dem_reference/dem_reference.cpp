@@ -23,7 +23,9 @@ DemReference::DemReference(const Setup& setup, const Params&) : comm_(setup.comm
     p_.push_back({a.id[i], a.species[i], V3(&a.x[3 * i]), V3(&a.v[3 * i]), V3(&a.w[3 * i]), a.radius[i], a.mass[i],
                   a.inertia[i], V3::Zero(), V3::Zero(), V3::Zero(), V3::Zero()});
   // Cement the pairs that touch (within the gap) at the start.
-  if (s_.bond_gap >= 0)
+  if (!s_.bond_file.empty())
+    for (const auto& pair : dem::bonds_from_file(a, s_)) contacts_[pair].bonded = true;
+  else if (s_.bond_gap >= 0)
     for (std::size_t i = 0; i < p_.size(); ++i)
       for (std::size_t j = i + 1; j < p_.size(); ++j)
         if (dem::min_image(p_[i].x - p_[j].x, s_).norm() - p_[i].r - p_[j].r <= s_.bond_gap)
@@ -51,6 +53,7 @@ void DemReference::step(double h) {
       if (it == contacts_.end()) {
         it = contacts_.emplace(key, dem::ContactState{}).first;
         ++collisions_;
+        if (record_collisions_) events_.collisions.push_back(dem::collision_event(time_, a.id, b.id, d / dist, a.v - b.v));
       }
       const V3 n = d / dist;
       const double a1 = a.r - 0.5 * overlap, a2 = b.r - 0.5 * overlap;
@@ -58,6 +61,7 @@ void DemReference::step(double h) {
       const dem::ContactForce c = dem::contact_force(n, overlap, a1, a2, vrel, a.r + b.r, it->second, s_.law, h);
       if (c.failure != dem::Failure::none) {
         ++broken_;
+        if (record_bonds_) events_.bonds.push_back(dem::bond_event(time_, a.id, b.id, c));
         if (c.failure == dem::Failure::compression) {
           crushed.push_back(i);
           crushed.push_back(j);

@@ -277,7 +277,7 @@ int compare_particles(const std::string& a, const std::string& b) {
     const auto v = output::read_dataset(f, name);
     std::vector<std::size_t> order(id.size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return id[a] < id[b]; });
+    std::sort(order.begin(), order.end(), [&](std::size_t p, std::size_t q) { return id[p] < id[q]; });
     std::vector<double> out;
     for (std::size_t i : order)
       for (int c = 0; c < nc; ++c) out.push_back(v[nc * i + c]);

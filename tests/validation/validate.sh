@@ -5,6 +5,7 @@
 #   profile|decay|mass  run CONFIG once (ARGS: --set overrides), then coflow-check MODE
 #   compare             ARGS: "A overrides" "B overrides" (each a space-separated list
 #                       of key=value); runs both and compares the last snapshots
+#                       and the event logs (events/*.csv) when the runs write them
 #   order               ARGS: three override lists (coarse, medium, fine);
 #                       prints l2 errors and the observed orders of convergence
 #   damping             ARGS: local damping values; runs the impact per value and
@@ -38,7 +39,15 @@ case "$mode" in
   compare)
     mapfile -t a < <(sets "$1"); mapfile -t b < <(sets "$2")
     run "$out/a" "${a[@]}"; run "$out/b" "${b[@]}"
-    check compare "$out/a" "$out/b" | tee -a "$metrics" ;;
+    check compare "$out/a" "$out/b" | tee -a "$metrics"
+    # Event logs, when written, must be the same line for line.
+    for f in events/collisions.csv events/bonds.csv; do
+      if [ -f "$out/a/$f" ] || [ -f "$out/b/$f" ]; then
+        lines=$(wc -l <"$out/a/$f")
+        cmp -s "$out/a/$f" "$out/b/$f" || { echo "FAIL: $f differs between the two runs"; exit 1; }
+        echo "${f#events/}: $((lines - 1)) events, identical"
+      fi
+    done ;;
   order)
     errs=()
     for n in 1 2 3; do

@@ -18,6 +18,7 @@ struct OutputParams {
   StringList fields{"velocity", "pressure"};
   AutoDouble series_every;         // auto = every
   bool collision_events = false;
+  bool bond_events = false;
   void visit(Visitor& v);
 };
 

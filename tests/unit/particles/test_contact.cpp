@@ -1,6 +1,8 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <memory>
 
 #include <fmt/format.h>
@@ -8,6 +10,7 @@
 #include "coflow/catalog.hpp"
 #include "particles/dem/contact.hpp"
 #include "particles/dem/dem_solver.hpp"
+#include "particles/dem_reference/dem_reference.hpp"
 #include "particles/schema.hpp"
 
 using namespace coflow::particles::dem;
@@ -227,4 +230,115 @@ TEST_CASE("a grain on a wall sticks below mu F_N and slides above it (solver lev
     CHECK((b.vx() - v0) / (steps * dt) == Approx((F - b.mu * b.fn) / b.m).epsilon(1e-9));
     CHECK(b.x() - x0 > 20 * F / 1.0e3);  // it slid, far beyond the spring's elongation
   }
+}
+
+namespace {
+
+// Three 1 mm grains touching in a row along x (ids 0, 1, 2), cemented with a
+// tensile strength of 1e4 Pa x (1 mm)^2 = 0.01 N; `extra` adds bond keys.
+template <class Solver>
+struct Row {
+  coflow::config::Config cfg;
+  coflow::particles::ParticleParams params;
+  std::unique_ptr<Solver> dem;
+  explicit Row(const std::string& extra) {
+    const std::string text = fmt::format(R"(
+run: {{name: row, end_time: 1.0e-3}}
+domain: {{lower: [0, 0, 0], upper: [0.012, 0.01, 0.01], cells: [12, 10, 10]}}
+particles:
+  solver: dem
+  time_step: 1.0e-7
+  species: {{grain: {{density: 2650.0, diameter: 1.0e-3}}}}
+  contact:
+    normal_stiffness: 1.0e4
+    shear_stiffness: 1.0e4
+    bond: {{compressive_strength: 1.0e8, tensile_strength: 1.0e4, shear_strength: 1.0e8 {}}}
+  initial:
+    - {{single: {{species: grain, position: [0.0045, 0.005, 0.005]}}}}
+    - {{single: {{species: grain, position: [0.0055, 0.005, 0.005]}}}}
+    - {{single: {{species: grain, position: [0.0065, 0.005, 0.005]}}}}
+)",
+                                         extra);
+    cfg = coflow::config::parse_config_node(YAML::Load(text), temp_dir() + "/row.yaml", coflow::catalog());
+    coflow::config::Reader r(cfg.resolved["particles"], "row.yaml", "particles");
+    params.visit(r, cfg);
+    dem = std::make_unique<Solver>(coflow::particles::ParticleSolver::Setup{cfg, params,
+                                                                            coflow::coupler::Decomposition({12, 10, 10}, 1),
+                                                                            0, MPI_COMM_SELF},
+                                   typename Solver::Params{});
+  }
+  static std::string temp_dir() { return std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp"; }
+  void pull(double f0, double f2) {
+    const double force[9] = {f0, 0, 0, 0, 0, 0, f2, 0, 0}, torque[9] = {};
+    dem->set_hydrodynamic(force, torque);
+  }
+  double gap(int a, int b) const {
+    const auto& p = dem->particles();
+    return std::abs(p.x[3 * b] - p.x[3 * a]) - p.radius[a] - p.radius[b];
+  }
+};
+
+}  // namespace
+
+TEST_CASE("bonds from a file cement only the listed pairs", "[dem]") {
+  const std::string file = Row<coflow::particles::DemSolver>::temp_dir() + "/coflow-test-bonds.csv";
+  std::ofstream(file) << "# bonded pairs\ni,j\n1,0\n";  // either order
+  auto check = [](auto& row) {
+    row.pull(-0.003, 0.003);  // below the 0.01 N strength even with the dynamic overshoot
+    for (int n = 0; n < 3000; ++n) row.dem->step(1e-7);
+    CHECK(row.gap(0, 1) < 1e-6);   // held by its bond (stretch < 0.01 N / K_N)
+    CHECK(row.gap(1, 2) > 1e-5);   // not listed: free to separate
+    CHECK(row.dem->stats().broken_bonds == 0);
+  };
+  Row<coflow::particles::DemSolver> a(", pairs: coflow-test-bonds.csv");
+  Row<coflow::particles::DemReference> b(", pairs: coflow-test-bonds.csv");
+  check(a);
+  check(b);
+  for (std::size_t k = 0; k < a.dem->particles().x.size(); ++k)
+    CHECK(a.dem->particles().x[k] == b.dem->particles().x[k]);
+  // Without the file, every touching pair is cemented.
+  Row<coflow::particles::DemSolver> all("");
+  all.pull(-0.003, 0.003);
+  for (int n = 0; n < 3000; ++n) all.dem->step(1e-7);
+  CHECK(all.gap(1, 2) < 1e-6);
+  // A listed pair that does not exist, or lies beyond the gap, is an error naming the line.
+  std::ofstream(file) << "i,j\n0,1\n1,7\n";
+  CHECK_THROWS_WITH(Row<coflow::particles::DemSolver>(", pairs: coflow-test-bonds.csv"),
+                    Catch::Contains("coflow-test-bonds.csv:3") && Catch::Contains("no particle has id 7"));
+  std::ofstream(file) << "i,j\n0,2\n";
+  CHECK_THROWS_WITH(Row<coflow::particles::DemReference>(", pairs: coflow-test-bonds.csv"),
+                    Catch::Contains("coflow-test-bonds.csv:2") && Catch::Contains("more than"));
+  std::remove(file.c_str());
+}
+
+TEST_CASE("bond failures are logged with their mode and force", "[dem]") {
+  // Grain 0 pulled away with 0.02 N: the bond 0-1 fails in tension at
+  // sigma_T (R1 + R2)^2 = 0.01 N, within one step's force increment.
+  Row<coflow::particles::DemSolver> a("");
+  Row<coflow::particles::DemReference> b("");
+  for (auto* s : {static_cast<coflow::particles::ParticleSolver*>(a.dem.get()),
+                  static_cast<coflow::particles::ParticleSolver*>(b.dem.get())})
+    s->record_events(true, true);
+  a.pull(-0.02, 0.0);
+  b.pull(-0.02, 0.0);
+  std::vector<coflow::particles::BondEvent> ea, eb;
+  for (int n = 0; n < 5000 && ea.empty(); ++n) {
+    a.dem->step(1e-7);
+    b.dem->step(1e-7);
+    ea = a.dem->take_events().bonds;
+    eb = b.dem->take_events().bonds;
+  }
+  REQUIRE(ea.size() == 1);
+  REQUIRE(eb.size() == 1);
+  CHECK(ea[0].i == 0);
+  CHECK(ea[0].j == 1);
+  CHECK(ea[0].mode == coflow::particles::BondFailure::tension);
+  // The force one step before was below the strength: the overshoot is at most
+  // K_N |relative velocity| dt.
+  const auto& p = a.dem->particles();
+  const double increment = 1.0e4 * std::abs(p.v[0] - p.v[3]) * 1e-7;
+  CHECK(-ea[0].normal_force >= 0.01);
+  CHECK(-ea[0].normal_force <= 0.01 + increment);
+  CHECK(ea[0].time == eb[0].time);
+  CHECK(ea[0].normal_force == eb[0].normal_force);
 }

@@ -25,11 +25,15 @@ DemSolver::DemSolver(const Setup& setup, const Params&)
   th_.assign(3 * n, 0.0);
   // Cells at least as wide as the farthest interaction: a contact, a bond within
   // its gap, or a bond stretched to its tensile strength.
-  double reach = 2.0 * s_.max_radius;
+  // The neighbour list keeps the pairs within that reach plus a skin, and is
+  // rebuilt once a particle has moved half the skin (on one rank; with MPI the
+  // ghosts change every step and so does the list).
   if (s_.bond_gap >= 0) {
     const double stretch = s_.law.sigma_t * std::pow(2.0 * s_.max_radius, 2) / s_.law.kn;
-    reach += std::max(s_.bond_gap, stretch);
+    extra_ = std::max(s_.bond_gap, stretch);
   }
+  skin_ = 0.1 * s_.max_radius;
+  const double reach = 2.0 * s_.max_radius + extra_ + skin_;
   cell_size_ = std::max(reach * 1.01, 1e-12);
   for (int d = 0; d < 3; ++d)
     nc_[d] = std::max(1L, static_cast<long>(std::floor((s_.upper[d] - s_.lower[d]) / cell_size_)));
@@ -209,6 +213,7 @@ void DemSolver::add_ghosts() {
 }
 
 void DemSolver::drop_ghosts() {
+  invalidate_list();  // local indices change
   std::size_t keep = 0;
   for (std::size_t i = 0; i < p_.size(); ++i) {
     if (!owned_[i]) continue;
@@ -246,6 +251,7 @@ void DemSolver::drop_ghosts() {
 }
 
 void DemSolver::migrate() {
+  invalidate_list();  // local indices change
   out_.assign(size_, {});
   std::vector<std::vector<double>> hist(size_);
   std::unordered_map<std::int64_t, int> leaving;  // id -> new owner
@@ -290,6 +296,61 @@ void DemSolver::migrate() {
 
 // Counting sort of the particles into cells (buffers reused: no allocation in
 // the steady state).
+void DemSolver::sync_contacts() {
+  contacts_.clear();
+  for (std::size_t i = 0; i + 1 < list_start_.size(); ++i)
+    for (long k = list_start_[i]; k < list_start_[i + 1]; ++k)
+      if (list_live_[k]) contacts_.emplace(key(p_.id[i], p_.id[list_items_[k]]), list_state_[k]);
+}
+
+void DemSolver::invalidate_list() {
+  if (list_valid_) sync_contacts();
+  list_valid_ = false;
+}
+
+void DemSolver::build_list() {
+  if (list_valid_) sync_contacts();
+  build_cells();
+  const std::size_t n = p_.size();
+  list_start_.assign(n + 1, 0);
+  list_items_.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    const V3 xi(&p_.x[3 * i]);
+    for_candidates(i, [&](std::size_t j) {
+      if (!owned_[i] && !owned_[j]) return;
+      const double cut = p_.radius[i] + p_.radius[j] + extra_ + skin_;
+      if (dem::min_image(xi - V3(&p_.x[3 * j]), s_).squaredNorm() < cut * cut)
+        list_items_.push_back(static_cast<long>(j));
+    });
+    list_start_[i + 1] = static_cast<long>(list_items_.size());
+  }
+  // Histories move from the map into the list; the map is rebuilt from the list
+  // whenever it is needed (migration, checkpoints, the next build).
+  list_state_.assign(list_items_.size(), dem::ContactState{});
+  list_live_.assign(list_items_.size(), 0);
+  for (std::size_t i = 0; i < n; ++i)
+    for (long k = list_start_[i]; k < list_start_[i + 1]; ++k) {
+      const auto it = contacts_.find(key(p_.id[i], p_.id[list_items_[k]]));
+      if (it == contacts_.end()) continue;
+      list_state_[k] = it->second;
+      list_live_[k] = 1;
+    }
+  contacts_.clear();
+  list_x_ = p_.x;
+  list_valid_ = true;
+  ++list_builds_;
+}
+
+bool DemSolver::list_stale() const {
+  // Two particles approach by at most the sum of their displacements.
+  const double half = 0.5 * skin_;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    const V3 d = dem::min_image(V3(&p_.x[3 * i]) - V3(&list_x_[3 * i]), s_);
+    if (d.squaredNorm() > half * half) return true;
+  }
+  return false;
+}
+
 void DemSolver::build_cells() {
   const std::size_t n = p_.size();
   cell_of_.resize(n);
@@ -329,26 +390,23 @@ void DemSolver::step(double h) {
   std::fill(p_.force.begin(), p_.force.end(), 0.0);
   std::fill(torque_.begin(), torque_.end(), 0.0);
   crushed_.clear();
-  build_cells();
-  for (std::size_t i = 0; i < n; ++i)
-    for_candidates(i, [&](std::size_t j) {
+  if (size_ > 1 || !list_valid_ || list_stale()) build_list();
+  // The history of listed pair k lives in list_state_[k] while list_live_[k]
+  // (touching or bonded), as dem-reference keeps it in its map.
+  auto pair = [&](std::size_t i, std::size_t j, long k) {
       const V3 xi(&p_.x[3 * i]), xj(&p_.x[3 * j]);
       const V3 d = dem::min_image(xi - xj, s_);
       const double dist = d.norm();
-      if (!owned_[i] && !owned_[j]) return;  // two ghosts: their owners compute it
       const double ri = p_.radius[i], rj = p_.radius[j];
       const double overlap = ri + rj - dist;
-      // Without bonds, a pair apart needs no look-up: its old history (if any)
-      // is swept below, as dem-reference erases it.
-      if (overlap <= 0.0 && s_.bond_gap < 0) return;
-      const std::uint64_t k = key(p_.id[i], p_.id[j]);
-      auto it = contacts_.find(k);
-      if (overlap <= 0.0 && (it == contacts_.end() || !it->second.bonded)) {
-        if (it != contacts_.end()) contacts_.erase(it);
+      dem::ContactState& state = list_state_[k];
+      if (overlap <= 0.0 && (!list_live_[k] || !state.bonded)) {
+        list_live_[k] = 0;  // apart and not cemented: the history ends
         return;
       }
-      if (it == contacts_.end()) {
-        it = contacts_.emplace(k, dem::ContactState{}).first;
+      if (!list_live_[k]) {
+        list_live_[k] = 1;
+        state = dem::ContactState{};
         if (owned_[i]) {  // each pair counted once: by the owner of its smaller id
           ++collisions_;
           if (record_collisions_)
@@ -356,12 +414,11 @@ void DemSolver::step(double h) {
                                                               V3(&p_.v[3 * i]) - V3(&p_.v[3 * j])));
         }
       }
-      it->second.seen = steps_;
       const V3 nrm = d / dist;
       const double a1 = ri - 0.5 * overlap, a2 = rj - 0.5 * overlap;
       const V3 vi(&p_.v[3 * i]), vj(&p_.v[3 * j]), wi(&p_.w[3 * i]), wj(&p_.w[3 * j]);
       const V3 vrel = (vi + wi.cross(-a1 * nrm)) - (vj + wj.cross(a2 * nrm));
-      const dem::ContactForce c = dem::contact_force(nrm, overlap, a1, a2, vrel, ri + rj, it->second, s_.law, h);
+      const dem::ContactForce c = dem::contact_force(nrm, overlap, a1, a2, vrel, ri + rj, state, s_.law, h);
       if (c.failure != dem::Failure::none) {
         if (owned_[i]) {
           ++broken_;
@@ -373,7 +430,7 @@ void DemSolver::step(double h) {
         }
       }
       if (!c.active) {
-        contacts_.erase(it);
+        list_live_[k] = 0;
         return;
       }
       for (int q = 0; q < 3; ++q) {
@@ -386,11 +443,9 @@ void DemSolver::step(double h) {
           torque_[3 * j + q] += c.torque2[q];
         }
       }
-    });
-  // Histories of pairs that separated (not evaluated this step).
-  if (s_.bond_gap < 0)
-    for (auto it = contacts_.begin(); it != contacts_.end();)
-      it = it->second.seen != steps_ ? contacts_.erase(it) : std::next(it);
+  };
+  for (std::size_t i = 0; i < n; ++i)
+    for (long k = list_start_[i]; k < list_start_[i + 1]; ++k) pair(i, static_cast<std::size_t>(list_items_[k]), k);
   // Walls: domain faces, the same law against a plane.
   for (std::size_t i = 0; i < n; ++i)
     for (int f = 0; f < 6; ++f) {
@@ -497,6 +552,7 @@ void DemSolver::advance(double dt, long substeps) {
 }
 
 void DemSolver::save(const std::string& dir) {
+  if (list_valid_) sync_contacts();
   std::vector<dem::SavedContact> list;
   for (const auto& [k, c] : contacts_)
     list.push_back({static_cast<std::int64_t>(k >> 32), static_cast<std::int64_t>(k & 0xffffffffu),
@@ -510,6 +566,7 @@ void DemSolver::save(const std::string& dir) {
 }
 
 void DemSolver::load(const std::string& dir, long steps, double time) {
+  list_valid_ = false;
   std::vector<dem::SavedContact> list;
   dem::load_state(dir, params_, p_, list);
   contacts_.clear();

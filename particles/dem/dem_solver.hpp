@@ -40,6 +40,13 @@ class DemSolver final : public ParticleSolver {
 
  private:
   void build_cells();
+  // Verlet list: for each particle i, the j > i within reach + skin (CSR).
+  void build_list();
+  bool list_stale() const;
+  // Histories back into contacts_ (keyed by ids) from the list; before the
+  // local indices change, the list is synced and dropped.
+  void sync_contacts();
+  void invalidate_list();
   // MPI: ghosts of neighbours' particles within reach, sorted in by id;
   // drop_ghosts() keeps only the particles marked owned (it also removes those
   // leaving through outlets); particles that left the block move to their new
@@ -70,6 +77,14 @@ class DemSolver final : public ParticleSolver {
   std::vector<double> in_;
   // cell list
   double cell_size_ = 0.0;
+  double extra_ = 0.0;   // reach beyond contact: bond gap or bond stretch
+  double skin_ = 0.0;
+  std::vector<long> list_start_, list_items_;
+  std::vector<double> list_x_;  // positions at the last build
+  std::vector<dem::ContactState> list_state_;  // history of each listed pair
+  std::vector<char> list_live_;                // 1: touching or bonded
+  bool list_valid_ = false;
+  long list_builds_ = 0;
   std::array<long, 3> nc_{1, 1, 1};
   std::vector<long> cell_of_, cell_start_, cell_items_;
   std::vector<std::vector<long>> neighbours_;  // unique neighbour cells of each cell

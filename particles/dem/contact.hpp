@@ -53,10 +53,12 @@ inline ContactForce contact_force(const V3& n, double overlap, double a1, double
   out.active = true;
   // The stored shear force turns with the contact plane: project it onto the new
   // plane and keep its magnitude.
-  const double before = s.shear.norm();
-  s.shear -= s.shear.dot(n) * n;
-  const double after = s.shear.norm();
-  if (after > 0.0) s.shear *= before / after;
+  const double before2 = s.shear.squaredNorm();
+  if (before2 > 0.0) {
+    s.shear -= s.shear.dot(n) * n;
+    const double after2 = s.shear.squaredNorm();
+    if (after2 > 0.0) s.shear *= std::sqrt(before2 / after2);
+  }
   // Incremental shear spring (eq. 2.14), opposing the sliding velocity.
   const V3 vs = vrel - vrel.dot(n) * n;
   s.shear -= law.ks * dt * vs;
@@ -83,8 +85,8 @@ inline ContactForce contact_force(const V3& n, double overlap, double a1, double
       return out;
     }
     const double limit = law.mu * std::abs(fn);  // Coulomb (eqs 2.17-2.18)
-    const double fs = s.shear.norm();
-    if (fs > limit) s.shear *= limit / fs;
+    const double fs2 = s.shear.squaredNorm();
+    if (fs2 > limit * limit) s.shear *= limit / std::sqrt(fs2);
   }
   out.force = fn * n + s.shear;
   out.torque1 = (-a1 * n).cross(s.shear);

@@ -22,11 +22,16 @@ struct DemParams {
 };
 
 // Separation vector a - b with the minimum image on periodic axes.
+// Both points lie in the box, so |d| < L and one shift at most brings d into
+// [-L/2, L/2].
 inline V3 min_image(V3 d, const DemSetup& s) {
   for (int k = 0; k < 3; ++k)
     if (s.periodic[k]) {
       const double L = s.upper[k] - s.lower[k];
-      d[k] -= L * std::round(d[k] / L);
+      if (d[k] > 0.5 * L)
+        d[k] -= L;
+      else if (d[k] < -0.5 * L)
+        d[k] += L;
     }
   return d;
 }

@@ -447,22 +447,25 @@ void DemSolver::step(double h) {
   for (std::size_t i = 0; i < n; ++i)
     for (long k = list_start_[i]; k < list_start_[i + 1]; ++k) pair(i, static_cast<std::size_t>(list_items_[k]), k);
   // Walls: domain faces, the same law against a plane.
-  for (std::size_t i = 0; i < n; ++i)
-    for (int f = 0; f < 6; ++f) {
-      if (s_.faces[f] != dem::Face::wall || !owned_[i]) continue;
+  std::array<int, 6> wall_faces{};
+  int nwalls = 0;
+  for (int f = 0; f < 6; ++f)
+    if (s_.faces[f] == dem::Face::wall) wall_faces[nwalls++] = f;
+  for (std::size_t i = 0; i < n && nwalls > 0; ++i)
+    for (int fi = 0; fi < nwalls; ++fi) {
+      const int f = wall_faces[fi];
+      if (!owned_[i]) continue;
       const V3 xi(&p_.x[3 * i]);
       const double dist = dem::face_distance(f, xi, s_);
       const double overlap = p_.radius[i] - dist;
+      if (overlap <= 0.0) continue;  // a history it had is swept below
       const std::uint64_t k = key(p_.id[i], f);
       auto it = walls_.find(k);
-      if (overlap <= 0.0) {
-        if (it != walls_.end()) walls_.erase(it);
-        continue;
-      }
       if (it == walls_.end()) {
         it = walls_.emplace(k, dem::ContactState{}).first;
         ++wall_collisions_;
       }
+      it->second.seen = steps_;
       const V3 nrm = dem::face_normal(f);
       const V3 vrel = V3(&p_.v[3 * i]) + V3(&p_.w[3 * i]).cross(-dist * nrm);
       dem::ContactLaw law = s_.law;
@@ -508,9 +511,9 @@ void DemSolver::step(double h) {
       }
     }
   }
-  if (!s_.meshes.empty())  // histories of triangles no longer touched
-    for (auto it = walls_.begin(); it != walls_.end();)
-      it = ((it->first & 0xffffffffu) >= 6 && it->second.seen != steps_) ? walls_.erase(it) : std::next(it);
+  // Histories of faces and triangles no longer touched.
+  for (auto it = walls_.begin(); it != walls_.end();)
+    it = it->second.seen != steps_ ? walls_.erase(it) : std::next(it);
   for (std::size_t i : crushed_) {  // grain crushing (seed 000 §2.2.2)
     p_.radius[i] *= 1.0 - s_.crush;
     p_.mass[i] *= std::pow(1.0 - s_.crush, 3);
@@ -524,7 +527,12 @@ void DemSolver::step(double h) {
     dem::integrate(x, v, w, force, torque, p_.mass[i], p_.inertia[i], s_.alpha, h);
     for (int q = 0; q < 3; ++q) {
       const double L = s_.upper[q] - s_.lower[q];
-      if (s_.periodic[q]) x[q] -= L * std::floor((x[q] - s_.lower[q]) / L);
+      if (s_.periodic[q]) {  // a particle moves far less than a box length per step
+        if (x[q] < s_.lower[q])
+          x[q] += L;
+        else if (x[q] >= s_.upper[q])
+          x[q] -= L;
+      }
       p_.x[3 * i + q] = x[q];
       p_.v[3 * i + q] = v[q];
       p_.w[3 * i + q] = w[q];
@@ -534,7 +542,9 @@ void DemSolver::step(double h) {
   // Outlets: particles whose centre left the box are no longer this rank's
   // (nor anyone's); the same compaction as for ghosts drops them, order kept.
   bool leaving = false;
-  for (std::size_t i = 0; i < p_.size(); ++i)
+  bool outlets = false;
+  for (int f = 0; f < 6; ++f) outlets = outlets || s_.faces[f] == dem::Face::outlet;
+  for (std::size_t i = 0; i < p_.size() && outlets; ++i)
     for (int q = 0; q < 3; ++q)
       if ((p_.x[3 * i + q] < s_.lower[q] && s_.faces[2 * q] == dem::Face::outlet) ||
           (p_.x[3 * i + q] > s_.upper[q] && s_.faces[2 * q + 1] == dem::Face::outlet)) {

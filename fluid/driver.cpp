@@ -7,6 +7,8 @@
 
 #include "coflow/log.hpp"
 #include "coflow/output.hpp"
+#include "coflow/exchange.hpp"
+#include "coflow/protocol.hpp"
 #include "fluid/schema.hpp"
 
 namespace coflow::fluid {
@@ -86,14 +88,58 @@ void run(coupler::Session& s) {
     }
   };
 
+  // Coupled through partially saturated cells (immersed method psm): each window
+  // the covered cells with their solid fraction and velocity arrive before the
+  // step, and the force the fluid exerted on the solid in them goes back after.
+  const bool psm = s.has_partner("immersed") && cfg.component("immersed").variant == "psm";
+  std::unique_ptr<coupler::FieldExchange> solid_in, force_out;
+  if (psm) {
+    const auto other = s.decomposition_of("immersed", s.partner_ranks("immersed"));
+    solid_in = std::make_unique<coupler::FieldExchange>(
+        s.partner("immersed"), coupler::FieldExchange::Role::receiver, s.decomposition(), s.rank(), other,
+        coupler::FieldSpec{"solid", 4, coupler::Transfer::consistent, 0}, protocol::kTagSolid);
+    force_out = std::make_unique<coupler::FieldExchange>(
+        s.partner("immersed"), coupler::FieldExchange::Role::sender, s.decomposition(), s.rank(), other,
+        coupler::FieldSpec{"solid_force", 3, coupler::Transfer::consistent, 0}, protocol::kTagSolidForce);
+  }
+  std::vector<long> solid_cells;
+  std::vector<double> solid_values, fraction, velocity, force;
+  std::vector<coupler::Index3> force_cells;
+  const coupler::Box owned = solver->owned();
+
   if (w0 == 0) write_output(0);
   for (long w = w0 + 1; w <= s.windows(); ++w) {
+    if (psm) {
+      solid_cells.clear();
+      solid_values.clear();
+      solid_in->receive_sparse(solid_cells, solid_values);
+      const std::size_t n = solid_cells.size();
+      fraction.resize(n);
+      velocity.resize(3 * n);
+      for (std::size_t c = 0; c < n; ++c) {
+        fraction[c] = solid_values[4 * c];
+        for (int d = 0; d < 3; ++d) velocity[3 * c + d] = solid_values[4 * c + 1 + d];
+      }
+      solver->set_solid(solid_cells, fraction, velocity);
+    }
     solver->advance(window);
+    if (psm) {
+      solver->take_solid_force(force);
+      force_out->flush();  // the previous window's message may still read force_cells
+      force_cells.resize(solid_cells.size());
+      const long nx = owned.extent(0), ny = owned.extent(1);
+      for (std::size_t c = 0; c < solid_cells.size(); ++c) {
+        const long l = solid_cells[c];
+        force_cells[c] = {owned.lo[0] + l % nx, owned.lo[1] + (l / nx) % ny, owned.lo[2] + l / (nx * ny)};
+      }
+      force_out->send_sparse(force_cells, force);
+    }
     coupler::trace().steps = solver->steps();
     write_output(w);
     s.checkpoint(w, [&](const std::string& dir) { solver->save(dir); });
     s.window_done(w);
   }
+  if (force_out) force_out->flush();
 }
 
 }  // namespace coflow::fluid

@@ -84,6 +84,20 @@ class FluidSolver {
 
   // Checkpoint and restart (collective): the complete state, so that a restarted
   // run continues bit for bit.
+  // Partially saturated cells (immersed method psm, Noble & Torczynski 1998):
+  // the owned cells covered by solids (index (k ny + j) nx + i in the owned
+  // block), their solid fraction and solid velocity (m/s, 3 per cell). They hold
+  // until the next call. A solver without PSM throws.
+  virtual void set_solid(std::span<const long> cells, std::span<const double> fraction,
+                         std::span<const double> velocity) {
+    (void)cells, (void)fraction, (void)velocity;
+    throw std::runtime_error("this fluid solver does not support partially saturated cells (immersed.method psm)");
+  }
+  // The force (N, 3 per cell of the last set_solid) that the fluid exerted on
+  // the solid in each of those cells, averaged over the steps since the last call
+  // (seed 000 eq. 2.70 before the sum over cells).
+  virtual void take_solid_force(std::vector<double>& force) { force.clear(); }
+
   virtual void save(const std::string& dir) = 0;
   virtual void load(const std::string& dir, long steps, double time) = 0;
 };

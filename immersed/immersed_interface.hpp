@@ -6,6 +6,10 @@
 #include "coflow/decomposition.hpp"
 #include "coflow/run_config.hpp"
 
+namespace coflow::coupler {
+class Session;
+}
+
 namespace coflow::immersed {
 
 class ImmersedMethod {
@@ -17,6 +21,9 @@ class ImmersedMethod {
     MPI_Comm comm = MPI_COMM_NULL;
   };
   virtual ~ImmersedMethod() = default;
+  // The whole coupled run: each method has its own exchanges per window
+  // (ARCHITECTURE.md, "Data per coupling window").
+  virtual void run(coupler::Session& s) = 0;
 };
 
 }  // namespace coflow::immersed

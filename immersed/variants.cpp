@@ -1,8 +1,13 @@
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "immersed/psm/psm.hpp"
 #include "immersed/schema.hpp"
 
 namespace coflow::immersed {
 
-void register_immersed_variants(Registry<ImmersedMethod>& /*r*/) {}
+void register_immersed_variants(Registry<ImmersedMethod>& r) { r.add<PsmMethod>("psm"); }
 
 Registry<ImmersedMethod>& registry() {
   static Registry<ImmersedMethod> r = [] {
@@ -18,11 +23,26 @@ config::ComponentSchema schema() {
   s.section = "immersed";
   s.selector = "method";
   s.variants = registry().names();
+  s.variants.push_back("point");  // planned (issue 7): accepted by the schema, refused at run time
   s.variants.push_back("external");
   s.doc = "the coupling between particles and the fluid grid: psm or point";
-  s.visit = [s](config::Visitor& v, const config::Config&, config::ComponentInfo& info) {
+  s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);
-    if (v.reading()) v.accept_other_keys();  // the variants' keys arrive with their solvers
+    const auto names = registry().names();
+    const bool known = std::find(names.begin(), names.end(), info.variant) != names.end();
+    if (v.reading() && !known) {  // point, external, or a wrong name reported above
+      v.accept_other_keys();
+      return;
+    }
+    for (const auto& e : registry().entries()) {
+      const bool chosen = v.reading() ? info.variant == e.name : true;
+      if (chosen)
+        v.section(e.params_section, fmt::format("parameters of method {}", e.name),
+                  [&](config::Visitor& sub) { e.visit(sub, v.reading() ? &cfg : nullptr); });
+      else if (v.given(e.params_section))
+        v.fail(e.params_section, fmt::format("only used with method: {} (this run uses method: {})", e.name,
+                                             info.variant));
+    }
   };
   return s;
 }

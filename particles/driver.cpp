@@ -1,6 +1,8 @@
 #include "particles/driver.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cstring>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +12,8 @@
 
 #include "coflow/log.hpp"
 #include "coflow/output.hpp"
+#include "coflow/exchange.hpp"
+#include "coflow/protocol.hpp"
 #include "particles/schema.hpp"
 
 namespace coflow::particles {
@@ -146,8 +150,59 @@ void run(coupler::Session& s) {
                          {"position", "velocity", "angular_velocity", "radius", "force"});
     }
   };
+  // Coupled to the immersed component: each window the particle states go out
+  // (routed to the immersed ranks whose grid block, or ghost layer, they cover)
+  // and the hydrodynamic force and torque on each come back, held constant over
+  // the window's sub-steps.
+  std::unique_ptr<coupler::PointExchange> to_immersed;
+  if (s.has_partner("immersed")) {
+    const auto dest = s.decomposition_of("immersed", s.partner_ranks("immersed"));
+    const auto h = cfg.domain.spacing();
+    to_immersed = std::make_unique<coupler::PointExchange>(
+        s.partner("immersed"), coupler::PointExchange::Role::origin, dest, cfg.domain.lower, h,
+        sizeof(protocol::ParticleRecord), sizeof(protocol::ParticleLoad), protocol::kTagParticles,
+        coupling_ghost_cells(params, cfg));
+  }
+  std::vector<std::byte> records, loads;
+  std::vector<std::array<double, 3>> positions;
+  std::vector<double> hforce, htorque;
+  auto exchange_loads = [&] {
+    const ParticleArrays& p = solver->particles();
+    const std::size_t n = p.size();
+    records.resize(n * sizeof(protocol::ParticleRecord));
+    positions.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      protocol::ParticleRecord rec{};
+      rec.id = p.id[i];
+      for (int d = 0; d < 3; ++d) {
+        rec.x[d] = p.x[3 * i + d];
+        rec.v[d] = p.v[3 * i + d];
+        rec.w[d] = p.w[3 * i + d];
+        positions[i][d] = rec.x[d];
+      }
+      rec.radius = p.radius[i];
+      rec.mass = p.mass[i];
+      std::memcpy(records.data() + i * sizeof rec, &rec, sizeof rec);
+    }
+    to_immersed->send(records, positions);
+    loads.assign(n * sizeof(protocol::ParticleLoad), std::byte{0});
+    to_immersed->receive_results(loads, protocol::add_load);
+    hforce.resize(3 * n);
+    htorque.resize(3 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+      protocol::ParticleLoad l;
+      std::memcpy(&l, loads.data() + i * sizeof l, sizeof l);
+      for (int d = 0; d < 3; ++d) {
+        hforce[3 * i + d] = l.force[d];
+        htorque[3 * i + d] = l.torque[d];
+      }
+    }
+    solver->set_hydrodynamic(hforce, htorque);
+  };
+
   if (w0 == 0) write_output(0);
   for (long w = w0 + 1; w <= s.windows(); ++w) {
+    if (to_immersed) exchange_loads();
     solver->advance(s.window(), substeps);
     coupler::trace().steps = solver->steps();
     write_events();

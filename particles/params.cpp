@@ -15,6 +15,24 @@ namespace coflow::particles {
 using config::Rule;
 using config::Visitor;
 
+double largest_diameter(const ParticleParams& p) {
+  double d = 0.0;
+  for (const auto& [name, sp] : p.species) {
+    const auto& dist = sp.diameter;
+    switch (dist.kind) {
+      case config::Distribution::Kind::fixed: d = std::max(d, dist.a); break;
+      case config::Distribution::Kind::uniform: d = std::max(d, dist.b); break;
+      case config::Distribution::Kind::lognormal: d = std::max(d, dist.a + 6.0 * dist.b); break;
+    }
+  }
+  return d;
+}
+
+int coupling_ghost_cells(const ParticleParams& p, const config::Config& cfg) {
+  const double dx = cfg.domain.spacing()[0];
+  return static_cast<int>(std::ceil(0.5 * largest_diameter(p) / dx)) + 1;
+}
+
 void SpeciesParams::visit(Visitor& v) {
   v.required("density", density, "particle density, kg/m^3", config::positive());
   v.required("diameter", diameter, "diameter in m: fixed, uniform or log-normal", config::positive());

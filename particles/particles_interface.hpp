@@ -79,6 +79,13 @@ struct ParticleParams {
   int species_index(const std::string& name) const;
 };
 
+// The largest diameter a particle of these species can have (log-normal: mean
+// + 6 standard deviations), m.
+double largest_diameter(const ParticleParams& p);
+// Width, in fluid cells, of the ghost layer through which particle states reach
+// the immersed ranks: every cell a particle covers is then reached.
+int coupling_ghost_cells(const ParticleParams& p, const config::Config& cfg);
+
 // Particle states, structure of arrays (3 entries per particle for vectors).
 struct ParticleArrays {
   std::vector<std::int64_t> id;

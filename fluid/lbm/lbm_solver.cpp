@@ -145,6 +145,55 @@ class Core final : public LbmCore {
           for (int q = 0; q < L::Q; ++q) a_[q * N_ + idx(i, j, k)] = in[o++];
   }
 
+  // Noble & Torczynski's partially saturated cells (seed 000 eqs 2.66-2.68) on
+  // the cells of the step just taken: pull the same streamed populations from
+  // the previous array (its ghosts still hold the halo and wall values), then
+  //   f_q <- f_q - (1 - B) omega (f_q - feq_q) + (1 - B) S_q + B Omega^s_q,
+  //   Omega^s_q = f_opp(q) - feq_opp(q)(rho, u) + feq_q(rho, u_s) - f_q,
+  // with B of eq. 2.67 and the Guo source S_q scaled by the fluid share 1 - B.
+  // (Eq. 2.68 as printed takes the solid equilibrium of opp(q); the original
+  // has feq_q(rho, u_s), which conserves momentum and is used here.)
+  void psm(std::span<const long> cells, std::span<const double> fraction, std::span<const double> us,
+           std::span<double> gain) override {
+    const double* F = s_.force.data();
+    const double omega = p_.omega, tau = s_.tau;
+    for (std::size_t n = 0; n < cells.size(); ++n) {
+      const long c = cells[n];
+      const long i = c % n_[0], j = (c / n_[0]) % n_[1], k = c / (n_[0] * n_[1]);
+      const long x = idx(i, j, k);
+      double f[L::Q], rho = 0, jm[3] = {0, 0, 0};
+      for (int q = 0; q < L::Q; ++q) {
+        f[q] = b_[q * N_ + x - off_[q]];
+        rho += f[q];
+        for (int d = 0; d < 3; ++d) jm[d] += L::e[q][d] * f[q];
+      }
+      const double rho_m = Incompressible ? 1.0 : rho;
+      const double u[3] = {(jm[0] + 0.5 * F[0]) / rho_m, (jm[1] + 0.5 * F[1]) / rho_m, (jm[2] + 0.5 * F[2]) / rho_m};
+      const double eps = fraction[n];
+      const double B = eps * (tau - 0.5) / ((1.0 - eps) + (tau - 0.5));  // eq. 2.67
+      double feq[L::Q], feq_s[L::Q];
+      for (int q = 0; q < L::Q; ++q) {
+        feq[q] = lbm::equilibrium<L, Incompressible>(q, rho, u);
+        feq_s[q] = lbm::equilibrium<L, Incompressible>(q, rho, &us[3 * n]);
+      }
+      double g[3] = {0, 0, 0};
+      for (int q = 0; q < L::Q; ++q) {
+        const int o = L::opp[q];
+        const double omega_s = f[o] - feq[o] + feq_s[q] - f[q];
+        double eu = 0, eF = 0, uF = 0;
+        for (int d = 0; d < 3; ++d) {
+          eu += L::e[q][d] * u[d];
+          eF += L::e[q][d] * F[d];
+          uF += u[d] * F[d];
+        }
+        const double S = (1.0 - 0.5 * omega) * L::w[q] * (3.0 * (eF - uF) + 9.0 * eu * eF);
+        a_[q * N_ + x] = f[q] - (1.0 - B) * omega * (f[q] - feq[q]) + (1.0 - B) * S + B * omega_s;
+        for (int d = 0; d < 3; ++d) g[d] += B * omega_s * L::e[q][d];
+      }
+      for (int d = 0; d < 3; ++d) gain[3 * n + d] += g[d];
+    }
+  }
+
   long first_nonfinite() const override {
     long c = 0;
     for (long k = 0; k < n_[2]; ++k)
@@ -381,6 +430,10 @@ void LbmSolver::advance(double dt) {
   double u2 = 0.0;
   for (long i = 0; i < n; ++i) {
     core_->step();
+    if (!solid_cells_.empty()) {
+      core_->psm(solid_cells_, solid_fraction_, solid_us_, solid_gain_);
+      ++solid_steps_;
+    }
     ++steps_;
     u2 = std::max(u2, core_->max_u2());
     if (core_->max_u2() != core_->max_u2()) u2 = core_->max_u2();
@@ -411,6 +464,28 @@ void LbmSolver::advance(double dt) {
     log::warn("lbm: Mach number {:.3f} at step {} exceeds 0.1: compressibility errors grow as Ma^2", mach, steps_);
     mach_warned_ = true;
   }
+}
+
+void LbmSolver::set_solid(std::span<const long> cells, std::span<const double> fraction,
+                          std::span<const double> velocity) {
+  solid_cells_.assign(cells.begin(), cells.end());
+  solid_fraction_.assign(fraction.begin(), fraction.end());
+  solid_us_.resize(velocity.size());
+  for (std::size_t n = 0; n < velocity.size(); ++n) solid_us_[n] = velocity[n] / s_.units.velocity();
+  solid_gain_.assign(3 * cells.size(), 0.0);
+  solid_steps_ = 0;
+}
+
+void LbmSolver::take_solid_force(std::vector<double>& force) {
+  // The fluid gained sum_q B Omega^s_q e_q of lattice momentum per step; the solid
+  // received the opposite (seed 000 eqs 2.69-2.70). One lattice momentum unit is
+  // rho dx^3 dx/dt; averaged over the steps, per time step dt.
+  const auto& u = s_.units;
+  const double scale = solid_steps_ > 0 ? -u.rho * u.dx * u.dx * u.dx * u.velocity() / (solid_steps_ * u.dt) : 0.0;
+  force.resize(solid_gain_.size());
+  for (std::size_t n = 0; n < force.size(); ++n) force[n] = scale * solid_gain_[n];
+  std::fill(solid_gain_.begin(), solid_gain_.end(), 0.0);
+  solid_steps_ = 0;
 }
 
 void LbmSolver::save(const std::string& dir) {

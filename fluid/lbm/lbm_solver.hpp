@@ -5,6 +5,7 @@
 #pragma once
 
 #include <memory>
+#include <span>
 
 #include "fluid/fluid_solver.hpp"
 #include "fluid/lbm/params.hpp"
@@ -24,6 +25,11 @@ class LbmCore {
   // Owned cells' populations, cell after cell (x fastest), q innermost.
   virtual void get_populations(std::vector<double>& out) const = 0;
   virtual void set_populations(const std::vector<double>& in) = 0;
+  // Re-collide the listed owned cells of the last step as partially saturated
+  // cells (lattice units: us per cell), adding each cell's fluid momentum gain
+  // sum_q B Omega^s_q e_q to `gain` (3 per cell).
+  virtual void psm(std::span<const long> cells, std::span<const double> fraction, std::span<const double> us,
+                   std::span<double> gain) = 0;
 };
 
 class LbmSolver final : public FluidSolver {
@@ -44,6 +50,9 @@ class LbmSolver final : public FluidSolver {
   Diagnostics diagnostics() override;
   void save(const std::string& dir) override;
   void load(const std::string& dir, long steps, double time) override;
+  void set_solid(std::span<const long> cells, std::span<const double> fraction,
+                 std::span<const double> velocity) override;
+  void take_solid_force(std::vector<double>& force) override;
 
   const lbm::Setup& setup() const { return s_; }
 
@@ -55,6 +64,11 @@ class LbmSolver final : public FluidSolver {
   long steps_ = 0;
   bool mach_warned_ = false;
   std::vector<double> out_u_, out_rho_, out_p_;
+  // PSM: covered cells, fraction, solid velocity (lattice units), and the fluid's
+  // momentum gain summed over the steps since the last take_solid_force().
+  std::vector<long> solid_cells_;
+  std::vector<double> solid_fraction_, solid_us_, solid_gain_;
+  long solid_steps_ = 0;
 };
 
 }  // namespace coflow::fluid

@@ -147,6 +147,37 @@ int mass(const std::string& dir) {
   return 0;
 }
 
+// Coupled momentum: fluid + particles (series rows at the same times), the
+// largest drift of each component relative to the initial total's magnitude, and
+// how much momentum moved from the particles to the fluid (so a run in which
+// nothing happens cannot pass unnoticed).
+int momentum(const std::string& dir) {
+  const auto f = read_series(dir + "/series/fluid.csv");
+  const auto p = read_series(dir + "/series/particles.csv");
+  if (f.size() != p.size() || f.empty()) throw std::runtime_error("fluid and particle series differ in length");
+  double p0[3], scale = 0.0;
+  for (int d = 0; d < 3; ++d) {
+    p0[d] = f[0][2 + d] + p[0][2 + d];
+    scale += p0[d] * p0[d];
+  }
+  scale = std::sqrt(scale);
+  double worst = 0.0, moved = 0.0;
+  for (std::size_t r = 0; r < f.size(); ++r) {
+    if (std::abs(f[r][0] - p[r][0]) > 1e-9 * std::max(1.0, std::abs(f[r][0])))
+      throw std::runtime_error("fluid and particle series rows are at different times");
+    double dp = 0.0, fl = 0.0;
+    for (int d = 0; d < 3; ++d) {
+      const double e = f[r][2 + d] + p[r][2 + d] - p0[d];
+      dp += e * e;
+      fl += (f[r][2 + d] - f[0][2 + d]) * (f[r][2 + d] - f[0][2 + d]);
+    }
+    worst = std::max(worst, std::sqrt(dp) / scale);
+    moved = std::max(moved, std::sqrt(fl) / scale);
+  }
+  std::printf("rows=%zu\nmomentum_drift=%.6e\nmomentum_transferred=%.6e\n", f.size(), worst, moved);
+  return 0;
+}
+
 std::vector<std::pair<long, double>> snapshots(const std::string& dir, const std::string& component) {
   std::ifstream in(dir + "/" + component + "/index.csv");
   std::string line;
@@ -318,6 +349,8 @@ int compare(const std::string& a, const std::string& b) {
   }
   std::printf("max_velocity=%.6e\nmax_difference=%.6e\npressure_difference=%.6e\n", scale, diff / scale,
               pscale > 0 ? pdiff / pscale : pdiff);
+  // Coupled runs: the particles too.
+  if (std::ifstream(a + "/particles/index.csv")) return compare_particles(a, b);
   return 0;
 }
 
@@ -332,6 +365,7 @@ int main(int argc, char** argv) {
     if (what == "compare" && argc == 4) return compare(argv[2], argv[3]);
     if (what == "impact" && argc == 3) return impact(argv[2]);
     if (what == "pour" && argc == 3) return pour(argv[2]);
+    if (what == "momentum" && argc == 3) return momentum(argv[2]);
     std::fprintf(stderr, "usage: coflow-check profile|decay|mass RUN_DIR | compare RUN_A RUN_B\n");
     return 2;
   } catch (const std::exception& e) {

@@ -1,0 +1,41 @@
+// What the built-in components exchange each coupling window (docs/protocol.md,
+// ARCHITECTURE.md "Data per coupling window"): record layouts and message tags.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+
+namespace coflow::protocol {
+
+// particles -> immersed: one record per particle, routed by position.
+struct ParticleRecord {
+  std::int64_t id;
+  double x[3], v[3], w[3];  // position, velocity, angular velocity
+  double radius;
+  double mass;
+};
+// immersed -> particles: the hydrodynamic load on each record (N, N m); the
+// copies of a particle held by several immersed ranks are summed.
+struct ParticleLoad {
+  double force[3];
+  double torque[3];
+};
+
+inline void add_load(std::byte* into, const std::byte* from) {
+  ParticleLoad a, b;
+  std::memcpy(&a, into, sizeof a);
+  std::memcpy(&b, from, sizeof b);
+  for (int k = 0; k < 3; ++k) {
+    a.force[k] += b.force[k];
+    a.torque[k] += b.torque[k];
+  }
+  std::memcpy(into, &a, sizeof a);
+}
+
+// Message tags on the intercommunicators.
+inline constexpr int kTagParticles = 1000;   // particles <-> immersed point exchange
+inline constexpr int kTagSolid = 1100;       // immersed -> fluid: fraction, solid velocity (4 per cell)
+inline constexpr int kTagSolidForce = 1200;  // fluid -> immersed: force on the solid (3 per cell)
+
+}  // namespace coflow::protocol

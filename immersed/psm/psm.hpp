@@ -1,0 +1,48 @@
+// psm: resolved particles on the fluid grid through Noble & Torczynski's
+// partially saturated cells (seed 000 §2.4). Each window this component
+//   1. receives the particle states (routed by position, with a ghost layer wide
+//      enough for every cell a particle covers),
+//   2. computes each owned cell's solid fraction per covering particle (exact
+//      for cells wholly inside or outside a sphere, adaptive octree sub-division
+//      of the others), the cell's total fraction (clamped at 1) and its solid
+//      velocity v + omega x (x_cell - x_p), fraction-weighted over the particles,
+//   3. sends those cells to the fluid, which collides them with eq. 2.66,
+//   4. receives the force the fluid exerted on the solid in each of them, and
+//   5. returns to each particle its share (by fraction) of the force in the cells
+//      it covers, and the torque of those shares about its centre (eqs 2.70-2.71).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "immersed/immersed_interface.hpp"
+
+namespace coflow::immersed {
+
+struct PsmParams {
+  int refinement = 4;     // octree levels for cells cut by a sphere surface
+  bool buoyancy = true;   // add -rho_f V g to each particle (the LBM fluid carries no hydrostatic gradient)
+  void visit(config::Visitor& v);
+};
+
+// Fraction of the cube [lo, lo + h]^3 inside the sphere (c, r): exact 0 or 1
+// when the cube is wholly outside or inside, otherwise the cube is split into 8
+// down to `levels` times and each undecided leaf counts by its centre.
+double cube_fraction(const std::array<double, 3>& lo, double h, const std::array<double, 3>& c, double r, int levels);
+
+class PsmMethod final : public ImmersedMethod {
+ public:
+  using Params = PsmParams;
+  static constexpr const char* params_section = "psm";
+  static constexpr const char* summary =
+      "partially saturated cells (Noble & Torczynski 1998), resolved spheres on the fluid grid";
+
+  PsmMethod(const Setup& setup, const Params& params) : setup_(setup), p_(params) {}
+  void run(coupler::Session& s) override;
+
+ private:
+  Setup setup_;
+  Params p_;
+};
+
+}  // namespace coflow::immersed

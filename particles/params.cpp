@@ -36,6 +36,8 @@ int coupling_ghost_cells(const ParticleParams& p, const config::Config& cfg) {
 void SpeciesParams::visit(Visitor& v) {
   v.required("density", density, "particle density, kg/m^3", config::positive());
   v.required("diameter", diameter, "diameter in m: fixed, uniform or log-normal", config::positive());
+  v("fixed", fixed, "hold these particles in place (they feel forces but keep their initial position and velocity), e.g. a fixed "
+    "sphere array");
 }
 
 void BondParams::visit(Visitor& v) {

@@ -20,6 +20,7 @@ using config::Vec3;
 struct SpeciesParams {
   double density = 2650.0;
   config::Distribution diameter{config::Distribution::Kind::fixed, 1e-3, 0.0};
+  bool fixed = false;  // held in place (obstacles, a sphere array): forces act on it but it does not move
   void visit(config::Visitor& v);
 };
 

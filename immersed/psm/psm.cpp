@@ -24,7 +24,8 @@ using V = std::array<double, 3>;
 
 void PsmParams::visit(config::Visitor& v) {
   v("refinement", refinement,
-    "octree levels for the cells a sphere surface cuts (4: 16^3 sub-cells; volume error ~1e-4 at radius 4 cells)",
+    "octree levels for the cells a sphere surface cuts (3: 8^3 sub-cells, sphere volume within 3e-4 at radius "
+    "4 cells; 4: within 7e-5)",
     config::in_range(0, 8));
   v("buoyancy", buoyancy,
     "add the buoyancy -rho_f V g to each particle (the fluid carries no hydrostatic pressure gradient)");

@@ -20,7 +20,7 @@
 namespace coflow::immersed {
 
 struct PsmParams {
-  int refinement = 4;     // octree levels for cells cut by a sphere surface
+  int refinement = 3;     // octree levels for cells cut by a sphere surface
   bool buoyancy = true;   // add -rho_f V g to each particle (the LBM fluid carries no hydrostatic gradient)
   void visit(config::Visitor& v);
 };

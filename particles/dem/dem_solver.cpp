@@ -524,6 +524,7 @@ void DemSolver::step(double h) {
     V3 x(&p_.x[3 * i]), v(&p_.v[3 * i]), w(&p_.w[3 * i]);
     const V3 force = V3(&p_.force[3 * i]) + V3(&fh_[3 * i]) + p_.mass[i] * s_.gravity;
     const V3 torque = V3(&torque_[3 * i]) + V3(&th_[3 * i]);
+    if (s_.fixed[p_.species[i]]) continue;
     dem::integrate(x, v, w, force, torque, p_.mass[i], p_.inertia[i], s_.alpha, h);
     for (int q = 0; q < 3; ++q) {
       const double L = s_.upper[q] - s_.lower[q];

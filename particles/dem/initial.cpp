@@ -194,6 +194,7 @@ DemSetup make_setup(const ParticleParams& p, const config::Config& cfg, const Pa
     s.bond_file = c.bond.pairs.path;
   }
   s.alpha = c.local_damping;
+  for (const auto& [name, sp] : p.species) s.fixed.push_back(sp.fixed ? 1 : 0);
   for (int d = 0; d < 3; ++d) {
     s.gravity[d] = cfg.gravity[d];
     s.lower[d] = cfg.domain.lower[d];

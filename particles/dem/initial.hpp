@@ -25,6 +25,7 @@ struct DemSetup {
   std::array<bool, 3> periodic{false, false, false};
   double dt = 0.0;             // the step
   double max_radius = 0.0;
+  std::vector<char> fixed;     // per species: held in place
   std::vector<MeshWall> meshes;  // triangle-mesh walls
 };
 

@@ -141,6 +141,7 @@ void DemReference::step(double h) {
     a.I = 0.4 * a.m * a.r * a.r;
   }
   for (auto& a : p_) {
+    if (s_.fixed[a.species]) continue;  // held in place
     const V3 force = a.F + a.Fh + a.m * s_.gravity;
     dem::integrate(a.x, a.v, a.w, force, a.T + a.Th, a.m, a.I, s_.alpha, h);
   }

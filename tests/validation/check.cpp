@@ -178,6 +178,36 @@ int momentum(const std::string& dir) {
   return 0;
 }
 
+// Drag on a periodic simple cubic array (one sphere per periodic box, fluid
+// driven by a body force): K = f L^3 / (6 pi mu a U) against Zick & Homsy (1982).
+int drag(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  const auto& d = cfg.domain;
+  const double L3 = (d.upper[0] - d.lower[0]) * (d.upper[1] - d.lower[1]) * (d.upper[2] - d.lower[2]);
+  double diameter = 0.0;
+  for (const auto& sp : cfg.resolved["particles"]["species"]) diameter = sp.second["diameter"].as<double>();
+  const double a = 0.5 * diameter, phi = std::numbers::pi * diameter * diameter * diameter / 6.0 / L3;
+  const double mu = fp.density * fp.viscosity, f = fp.body_force[0];
+  const auto fl = read_series(dir + "/series/fluid.csv");
+  const auto im = read_series(dir + "/series/immersed.csv");
+  const double U = fl.back()[2] / (fp.density * L3);
+  const double F = im.back()[1];
+  const double K = f * L3 / (6.0 * std::numbers::pi * mu * a * U);
+  // Zick & Homsy (1982), simple cubic arrays.
+  const double table[][2] = {{0.027, 2.008}, {0.064, 2.810}, {0.125, 4.292}, {0.216, 7.442}, {0.343, 15.4}};
+  double ref = 0.0;
+  for (const auto& row : table)
+    if (std::abs(phi / row[0] - 1.0) < 0.01) ref = row[1];
+  if (ref == 0.0) throw std::runtime_error(fmt::format("solid fraction {:.4f} is not one of Zick & Homsy's", phi));
+  // Settled: the force changed by less than 1e-3 over the last fifth of the run.
+  const double F_before = im[im.size() * 4 / 5][1];
+  std::printf("phi=%.4f\nreynolds=%.3e\nK=%.4f\nK_zick_homsy=%.3f\nK_error=%.4e\nforce_balance=%.4e\nsettling=%.3e\n",
+              phi, U * diameter / fp.viscosity, K, ref, std::abs(K / ref - 1.0),
+              std::abs(F / (f * (1.0 - phi) * L3) - 1.0), std::abs(F / F_before - 1.0));
+  return 0;
+}
+
 std::vector<std::pair<long, double>> snapshots(const std::string& dir, const std::string& component) {
   std::ifstream in(dir + "/" + component + "/index.csv");
   std::string line;
@@ -366,6 +396,7 @@ int main(int argc, char** argv) {
     if (what == "impact" && argc == 3) return impact(argv[2]);
     if (what == "pour" && argc == 3) return pour(argv[2]);
     if (what == "momentum" && argc == 3) return momentum(argv[2]);
+    if (what == "drag" && argc == 3) return drag(argv[2]);
     std::fprintf(stderr, "usage: coflow-check profile|decay|mass RUN_DIR | compare RUN_A RUN_B\n");
     return 2;
   } catch (const std::exception& e) {

@@ -92,6 +92,66 @@ void LbmReference::collide(double* f) const {
   f[0] = rho - moving;
 }
 
+void LbmReference::collide_psm(double* f, Solid& s) const {
+  double rho = 0.0, j[3] = {0, 0, 0};
+  for (int q = 0; q < Q_; ++q) {
+    rho += f[q];
+    for (int d = 0; d < 3; ++d) j[d] += e_[q][d] * f[q];
+  }
+  const double rho_m = s_.incompressible ? 1.0 : rho;
+  const double* F = s_.force.data();
+  double u[3];
+  for (int d = 0; d < 3; ++d) u[d] = (j[d] + 0.5 * F[d]) / rho_m;
+  const double tau = s_.tau, omega = 1.0 / tau;
+  const double B = s.fraction * (tau - 0.5) / ((1.0 - s.fraction) + (tau - 0.5));  // eq. 2.67
+  std::vector<double> feq(Q_), feq_s(Q_), out(Q_);
+  for (int q = 0; q < Q_; ++q) {
+    feq[q] = equilibrium(q, rho, u);
+    feq_s[q] = equilibrium(q, rho, s.us);
+  }
+  for (int q = 0; q < Q_; ++q) {
+    const int o = opp_[q];
+    const double omega_s = f[o] - feq[o] + feq_s[q] - f[q];  // eq. 2.68 (Noble & Torczynski's form)
+    double eu = 0, eF = 0, uF = 0;
+    for (int d = 0; d < 3; ++d) {
+      eu += e_[q][d] * u[d];
+      eF += e_[q][d] * F[d];
+      uF += u[d] * F[d];
+    }
+    const double S = (1.0 - 0.5 * omega) * w_[q] * (3.0 * (eF - uF) + 9.0 * eu * eF);
+    out[q] = f[q] - (1.0 - B) * omega * (f[q] - feq[q]) + (1.0 - B) * S + B * omega_s;  // eq. 2.66
+    for (int d = 0; d < 3; ++d) s.gain[d] += B * omega_s * e_[q][d];
+  }
+  for (int q = 0; q < Q_; ++q) f[q] = out[q];
+}
+
+void LbmReference::set_solid(std::span<const long> cells, std::span<const double> fraction,
+                             std::span<const double> velocity) {
+  solid_.clear();
+  solid_order_.assign(cells.begin(), cells.end());
+  for (std::size_t n = 0; n < cells.size(); ++n) {
+    Solid& s = solid_[cells[n]];
+    s.fraction = fraction[n];
+    for (int d = 0; d < 3; ++d) s.us[d] = velocity[3 * n + d] / s_.units.velocity();
+  }
+  solid_steps_ = 0;
+}
+
+void LbmReference::take_solid_force(std::vector<double>& force) {
+  // Minus the fluid's momentum gain per step, in newtons (eqs 2.69-2.70).
+  const auto& u = s_.units;
+  const double unit = u.rho * u.dx * u.dx * u.dx * u.velocity() / u.dt;
+  force.assign(3 * solid_order_.size(), 0.0);
+  for (std::size_t n = 0; n < solid_order_.size(); ++n) {
+    Solid& s = solid_.at(solid_order_[n]);
+    for (int d = 0; d < 3; ++d) {
+      if (solid_steps_ > 0) force[3 * n + d] = -s.gain[d] * unit / solid_steps_;
+      s.gain[d] = 0.0;
+    }
+  }
+  solid_steps_ = 0;
+}
+
 void LbmReference::step() {
   const std::vector<double> post = f_;
   std::vector<double> fs(f_.size(), 0.0);
@@ -130,7 +190,14 @@ void LbmReference::step() {
     if (s_.faces[face].type == FaceType::outflow) apply_face(face, fs, post);
   for (int face = 0; face < 6; ++face)
     if (s_.faces[face].type != FaceType::outflow) apply_face(face, fs, post);
-  for (long c = 0; c < n_[0] * n_[1] * n_[2]; ++c) collide(&fs[c * Q_]);
+  for (long c = 0; c < n_[0] * n_[1] * n_[2]; ++c) {
+    const auto it = solid_.find(c);
+    if (it == solid_.end())
+      collide(&fs[c * Q_]);
+    else
+      collide_psm(&fs[c * Q_], it->second);
+  }
+  if (!solid_.empty()) ++solid_steps_;
   f_ = fs;
   ++steps_;
 }

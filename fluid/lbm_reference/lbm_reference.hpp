@@ -2,6 +2,9 @@
 // serial, distributions stored per cell. It is the test oracle for `lbm`.
 #pragma once
 
+#include <map>
+#include <span>
+
 #include <vector>
 
 #include "fluid/fluid_solver.hpp"
@@ -28,6 +31,9 @@ class LbmReference final : public FluidSolver {
   Diagnostics diagnostics() override;
   void save(const std::string& dir) override;
   void load(const std::string& dir, long steps, double time) override;
+  void set_solid(std::span<const long> cells, std::span<const double> fraction,
+                 std::span<const double> velocity) override;
+  void take_solid_force(std::vector<double>& force) override;
 
   void step();
   // Lattice moments of a cell (rho, u) from the stored post-collision state.
@@ -37,6 +43,13 @@ class LbmReference final : public FluidSolver {
   long index(long i, long j, long k) const { return (k * n_[1] + j) * n_[0] + i; }
   double equilibrium(int q, double rho, const double u[3]) const;
   void collide(double* f) const;
+  struct Solid {
+    double fraction = 0.0;
+    double us[3] = {0, 0, 0};    // lattice units
+    double gain[3] = {0, 0, 0};  // fluid momentum gained, lattice units, summed over steps
+  };
+  // Noble & Torczynski partially saturated cell (seed 000 eqs 2.66-2.68).
+  void collide_psm(double* f, Solid& s) const;
   void apply_face(int face, std::vector<double>& fs, const std::vector<double>& post);
 
   lbm::Setup s_;
@@ -50,6 +63,9 @@ class LbmReference final : public FluidSolver {
   std::vector<double> f_;  // f_[cell * Q + q], post-collision
   long steps_ = 0;
   std::vector<double> out_u_, out_p_, out_rho_;
+  std::map<long, Solid> solid_;     // covered cells
+  std::vector<long> solid_order_;   // in the order of set_solid
+  long solid_steps_ = 0;
 };
 
 }  // namespace coflow::fluid

@@ -208,6 +208,43 @@ int drag(const std::string& dir) {
   return 0;
 }
 
+// Settling sphere of ten Cate et al. (2002): the largest settling speed of the
+// (single) particle against the measured terminal velocity of the case, found
+// by the fluid's dynamic viscosity (E1-E4).
+int settling(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  const double mu = fp.density * fp.viscosity;
+  const double cases[][3] = {{1, 0.373, 0.0360}, {2, 0.212, 0.0572}, {3, 0.113, 0.0873}, {4, 0.058, 0.1222}};
+  int which = 0;
+  double ref = 0.0;
+  for (const auto& c : cases)
+    if (std::abs(mu / c[1] - 1.0) < 0.01) {
+      which = static_cast<int>(c[0]);
+      ref = c[2];
+    }
+  if (which == 0) throw std::runtime_error(fmt::format("viscosity {:.4g} Pa s is none of ten Cate's cases", mu));
+  double diameter = 0.0, density = 0.0;
+  for (const auto& sp : cfg.resolved["particles"]["species"]) {
+    diameter = sp.second["diameter"].as<double>();
+    density = sp.second["density"].as<double>();
+  }
+  const double m = density * std::numbers::pi * diameter * diameter * diameter / 6.0;
+  const auto rows = read_series(dir + "/series/particles.csv");
+  double vmax = 0.0, tmax = 0.0;
+  for (const auto& r : rows)
+    if (-r[4] / m > vmax) {
+      vmax = -r[4] / m;
+      tmax = r[0];
+    }
+  // Still accelerating at the end? The last three rows' increments tell.
+  const std::size_t n = rows.size();
+  const double late = n > 3 ? (-rows[n - 1][4] + rows[n - 2][4]) / m / std::max(vmax, 1e-300) : 1.0;
+  std::printf("case=E%d\nterminal_velocity=%.6f\nten_cate=%.4f\nvelocity_error=%.4e\nat_time=%.3f\nlast_increment=%.3e\n",
+              which, vmax, ref, std::abs(vmax / ref - 1.0), tmax, std::abs(late));
+  return 0;
+}
+
 std::vector<std::pair<long, double>> snapshots(const std::string& dir, const std::string& component) {
   std::ifstream in(dir + "/" + component + "/index.csv");
   std::string line;
@@ -397,6 +434,7 @@ int main(int argc, char** argv) {
     if (what == "pour" && argc == 3) return pour(argv[2]);
     if (what == "momentum" && argc == 3) return momentum(argv[2]);
     if (what == "drag" && argc == 3) return drag(argv[2]);
+    if (what == "settling" && argc == 3) return settling(argv[2]);
     std::fprintf(stderr, "usage: coflow-check profile|decay|mass RUN_DIR | compare RUN_A RUN_B\n");
     return 2;
   } catch (const std::exception& e) {

@@ -245,6 +245,41 @@ int settling(const std::string& dir) {
   return 0;
 }
 
+// A sphere spinning in quiescent fluid: torque against Stokes' 8 pi mu a^3 Omega,
+// once the flow has spun up (t > 2 a^2 / nu). Omega from the rotational energy.
+int rotation(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  const double mu = fp.density * fp.viscosity;
+  double diameter = 0.0, density = 0.0;
+  for (const auto& sp : cfg.resolved["particles"]["species"]) {
+    diameter = sp.second["diameter"].as<double>();
+    density = sp.second["density"].as<double>();
+  }
+  const double a = 0.5 * diameter, m = density * 4.0 / 3.0 * std::numbers::pi * a * a * a, I = 0.4 * m * a * a;
+  const auto p = read_series(dir + "/series/particles.csv");
+  const auto im = read_series(dir + "/series/immersed.csv");
+  const double t0 = 2.0 * a * a / fp.viscosity;
+  double worst = 0.0, sum = 0.0, decay = 0.0;
+  int n = 0;
+  for (const auto& r : im) {
+    if (r[0] < t0) continue;
+    const auto it = std::find_if(p.begin(), p.end(), [&](const auto& q) { return std::abs(q[0] - r[0]) < 1e-9; });
+    if (it == p.end()) continue;
+    const double omega = std::sqrt(2.0 * (*it)[9] / I);
+    const double ratio = std::abs(r[6]) / (8.0 * std::numbers::pi * mu * a * a * a * omega);
+    worst = std::max(worst, std::abs(ratio - 1.0));
+    sum += ratio;
+    ++n;
+    decay = omega;
+  }
+  if (n == 0) throw std::runtime_error("no rows after the spin-up time");
+  const double omega0 = std::sqrt(2.0 * p.front()[9] / I);
+  std::printf("rows=%d\ntorque_ratio=%.4f\ntorque_error=%.4e\nspin_left=%.4f\n", n, sum / n, worst,
+              decay / omega0);
+  return 0;
+}
+
 std::vector<std::pair<long, double>> snapshots(const std::string& dir, const std::string& component) {
   std::ifstream in(dir + "/" + component + "/index.csv");
   std::string line;
@@ -435,6 +470,7 @@ int main(int argc, char** argv) {
     if (what == "momentum" && argc == 3) return momentum(argv[2]);
     if (what == "drag" && argc == 3) return drag(argv[2]);
     if (what == "settling" && argc == 3) return settling(argv[2]);
+    if (what == "rotation" && argc == 3) return rotation(argv[2]);
     std::fprintf(stderr, "usage: coflow-check profile|decay|mass RUN_DIR | compare RUN_A RUN_B\n");
     return 2;
   } catch (const std::exception& e) {

@@ -107,7 +107,9 @@ void run(coupler::Session& s) {
   std::vector<coupler::Index3> force_cells;
   const coupler::Box owned = solver->owned();
 
-  if (w0 == 0) write_output(0);
+  // The initial snapshot is written once the first window's solids are in, so
+  // that it shows them.
+  if (w0 == 0 && !psm) write_output(0);
   for (long w = w0 + 1; w <= s.windows(); ++w) {
     if (psm) {
       solid_cells.clear();
@@ -121,6 +123,7 @@ void run(coupler::Session& s) {
         for (int d = 0; d < 3; ++d) velocity[3 * c + d] = solid_values[4 * c + 1 + d];
       }
       solver->set_solid(solid_cells, fraction, velocity);
+      if (w == 1) write_output(0);
     }
     solver->advance(window);
     if (psm) {

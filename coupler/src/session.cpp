@@ -296,6 +296,10 @@ void Session::window_done(long w) {
 void Session::snapshot_written(long step, double time, std::size_t count,
                                const std::vector<std::string>& fields) {
   if (rank_ != 0) return;
+  // Index every component's snapshot of window w at the same time, w x window,
+  // whatever round-off its own clock has gathered (sub-steps add up), so that
+  // ParaView shows fluid and particles at one time.
+  if (window_ > 0) time = static_cast<double>(step) * window_;
   output::append_index(dir_, component_, {step, time, count}, fields);
   const auto& d = cfg_.domain;
   const auto h = d.spacing();

@@ -160,6 +160,12 @@ class Core final : public LbmCore {
     for (std::size_t n = 0; n < cells.size(); ++n) {
       const long c = cells[n];
       const long i = c % n_[0], j = (c / n_[0]) % n_[1], k = c / (n_[0] * n_[1]);
+      // Cells on an open face (pressure, velocity, outflow) keep their Zou-He /
+      // outflow closure and stay fluid: a grain there is leaving the domain.
+      const long loc[3] = {i, j, k};
+      bool on_open = false;
+      for (int f = 0; f < 6; ++f) on_open = on_open || (open_[f] && loc[f / 2] == (f % 2 == 0 ? 0 : n_[f / 2] - 1));
+      if (on_open) continue;
       const long x = idx(i, j, k);
       double f[L::Q], rho = 0, jm[3] = {0, 0, 0};
       for (int q = 0; q < L::Q; ++q) {
@@ -528,6 +534,11 @@ std::vector<output::GridField> LbmSolver::fields(const config::StringList& names
     if (n == "velocity") f.push_back({n, 3, out_u_});
     if (n == "pressure") f.push_back({n, 1, out_p_});
     if (n == "density") f.push_back({n, 1, out_rho_});
+    if (n == "solid_fraction") {  // partially saturated cells (psm); zero elsewhere
+      out_solid_.assign(out_rho_.size(), 0.0);
+      for (std::size_t c = 0; c < solid_cells_.size(); ++c) out_solid_[solid_cells_[c]] = solid_fraction_[c];
+      f.push_back({n, 1, out_solid_});
+    }
   }
   return f;
 }

@@ -63,7 +63,7 @@ class LbmSolver final : public FluidSolver {
   std::unique_ptr<LbmCore> core_;
   long steps_ = 0;
   bool mach_warned_ = false;
-  std::vector<double> out_u_, out_rho_, out_p_;
+  std::vector<double> out_u_, out_rho_, out_p_, out_solid_;
   // PSM: covered cells, fraction, solid velocity (lattice units), and the fluid's
   // momentum gain summed over the steps since the last take_solid_force().
   std::vector<long> solid_cells_;

@@ -125,6 +125,16 @@ void LbmReference::collide_psm(double* f, Solid& s) const {
   for (int q = 0; q < Q_; ++q) f[q] = out[q];
 }
 
+bool LbmReference::on_open_face(long c) const {
+  const long x[3] = {c % n_[0], (c / n_[0]) % n_[1], c / (n_[0] * n_[1])};
+  for (int f = 0; f < 6; ++f) {
+    const FaceType t = s_.faces[f].type;
+    const bool open = t == FaceType::pressure || t == FaceType::velocity || t == FaceType::outflow;
+    if (open && n_[f / 2] > 1 && x[f / 2] == (f % 2 == 0 ? 0 : n_[f / 2] - 1)) return true;
+  }
+  return false;
+}
+
 void LbmReference::set_solid(std::span<const long> cells, std::span<const double> fraction,
                              std::span<const double> velocity) {
   solid_.clear();
@@ -192,7 +202,7 @@ void LbmReference::step() {
     if (s_.faces[face].type != FaceType::outflow) apply_face(face, fs, post);
   for (long c = 0; c < n_[0] * n_[1] * n_[2]; ++c) {
     const auto it = solid_.find(c);
-    if (it == solid_.end())
+    if (it == solid_.end() || on_open_face(c))  // open faces keep their closure: fluid
       collide(&fs[c * Q_]);
     else
       collide_psm(&fs[c * Q_], it->second);
@@ -315,6 +325,11 @@ std::vector<output::GridField> LbmReference::fields(const config::StringList& na
     if (n == "velocity") f.push_back({n, 3, out_u_});
     if (n == "pressure") f.push_back({n, 1, out_p_});
     if (n == "density") f.push_back({n, 1, out_rho_});
+    if (n == "solid_fraction") {  // partially saturated cells (psm); zero elsewhere
+      out_solid_.assign(cells, 0.0);
+      for (const auto& [c, s] : solid_) out_solid_[c] = s.fraction;
+      f.push_back({n, 1, out_solid_});
+    }
   }
   return f;
 }

@@ -50,6 +50,7 @@ class LbmReference final : public FluidSolver {
   };
   // Noble & Torczynski partially saturated cell (seed 000 eqs 2.66-2.68).
   void collide_psm(double* f, Solid& s) const;
+  bool on_open_face(long cell) const;
   void apply_face(int face, std::vector<double>& fs, const std::vector<double>& post);
 
   lbm::Setup s_;
@@ -62,7 +63,7 @@ class LbmReference final : public FluidSolver {
   std::vector<int> opp_;
   std::vector<double> f_;  // f_[cell * Q + q], post-collision
   long steps_ = 0;
-  std::vector<double> out_u_, out_p_, out_rho_;
+  std::vector<double> out_u_, out_p_, out_rho_, out_solid_;
   std::map<long, Solid> solid_;     // covered cells
   std::vector<long> solid_order_;   // in the order of set_solid
   long solid_steps_ = 0;

@@ -1,7 +1,7 @@
 """Open a run's run.xdmf with ParaView (pvpython) and check what it reads.
 
 Usage: pvpython check_xdmf.py RUN_DIR
-The run is configs/quickstart.yaml: a Taylor-Green vortex (amplitude U0, box L,
+The run is configs/cases/taylor_green_vortex.yaml: a Taylor-Green vortex (amplitude U0, box L,
 viscosity nu). ParaView must see every snapshot time, the 64 x 64 cell grid, the
 velocity and pressure arrays, and a velocity within 1 % of U0 of the analytic
 decaying vortex u = U0 (sin kx cos ky, -cos kx sin ky) exp(-2 nu k^2 t).

@@ -75,7 +75,8 @@ class Session {
   // --- output ---------------------------------------------------------------
   const std::string& output_dir() const { return dir_; }
   std::string component_dir() const { return dir_ + "/" + component_; }
-  // Record a snapshot in the component's index and rebuild run.xdmf.
+  // Record the snapshot of window `step` in the component's index and rebuild
+  // run.xdmf; it is indexed at step x window (one time for all components).
   void snapshot_written(long step, double time, std::size_t count, const std::vector<std::string>& fields);
   // Final scalars reported in summary.json (component rank 0 only).
   void set_final(const std::string& key, double value);

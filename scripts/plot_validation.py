@@ -104,4 +104,50 @@ ax.set_title(f"dp = 0.1 rho c_s^2: L2 error standard {m['l2_error_standard']:.3f
 ax.legend(fontsize=8)
 fig.tight_layout()
 fig.savefig(f"{out}/lbm_large_pressure_drop.png", dpi=110)
+
+# 5. Settling sphere, ten Cate et al. (2002) case E2.
+run = f"{runs}/val-psm_settling_sphere_e2/run"
+if os.path.exists(f"{run}/series/particles.csv"):
+    rows = list(csv.DictReader(open(f"{run}/series/particles.csv")))
+    m = 1120.0 * math.pi * 0.015 ** 3 / 6.0
+    t = [float(r["time"]) for r in rows]
+    v = [-float(r["momentum_z"]) / m for r in rows]
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(t, v, label="coflow: lbm + psm + dem, d = 12 cells")
+    ax.axhline(0.0572, color="k", lw=1, ls="--", label="ten Cate et al. 2002, terminal (E2)")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("settling speed (m/s)")
+    mm = metrics("psm_settling_sphere_e2")
+    ax.set_title(f"settling sphere E2: terminal {mm['terminal_velocity']:.4f} m/s "
+                 f"({mm['velocity_error']:.1%} from the experiment)", fontsize=9)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(f"{out}/psm_settling_e2.png", dpi=110)
+
+# 6. Rotating sphere: torque against Stokes.
+run = f"{runs}/val-psm_rotating_sphere/run"
+if os.path.exists(f"{run}/series/immersed.csv"):
+    im = list(csv.DictReader(open(f"{run}/series/immersed.csv")))
+    pa = {round(float(r["time"]), 9): r for r in csv.DictReader(open(f"{run}/series/particles.csv"))}
+    a, mu, rho_p = 0.008, 0.1, 50000.0
+    I = 0.4 * rho_p * 4.0 / 3.0 * math.pi * a ** 3 * a * a
+    t, ratio = [], []
+    for r in im:
+        key = round(float(r["time"]), 9)
+        if key not in pa:
+            continue
+        omega = math.sqrt(2.0 * float(pa[key]["rotational_energy"]) / I)
+        t.append(float(r["time"]))
+        ratio.append(abs(float(r["torque_z"])) / (8 * math.pi * mu * a ** 3 * omega))
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(t, ratio, "o-", ms=3, label="coflow, d = 16 cells")
+    ax.axhline(1.0, color="k", lw=1, ls="--", label="Stokes 8 pi mu a^3 Omega")
+    ax.axvline(2 * a * a / 1e-4, color="gray", lw=0.8, ls=":", label="2 a^2 / nu (spin-up)")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("torque / Stokes torque")
+    ax.set_ylim(0, 1.6)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(f"{out}/psm_rotating_sphere.png", dpi=110)
+
 print(f"plots written to {out}/")

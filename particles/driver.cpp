@@ -13,35 +13,12 @@
 #include "coflow/log.hpp"
 #include "coflow/output.hpp"
 #include "coflow/exchange.hpp"
+#include "coflow/gather.hpp"
 #include "coflow/protocol.hpp"
 #include "particles/schema.hpp"
 
 namespace coflow::particles {
 
-namespace {
-
-// Every rank's doubles, concatenated in rank order on rank 0 (empty elsewhere).
-std::vector<double> gather_to_root(MPI_Comm comm, const std::vector<double>& local) {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
-  const int n = static_cast<int>(local.size());
-  std::vector<int> counts(rank == 0 ? size : 0), offsets(rank == 0 ? size : 0);
-  MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
-  std::vector<double> all;
-  if (rank == 0) {
-    int total = 0;
-    for (int r = 0; r < size; ++r) {
-      offsets[r] = total;
-      total += counts[r];
-    }
-    all.resize(total);
-  }
-  MPI_Gatherv(local.data(), n, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, 0, comm);
-  return all;
-}
-
-}  // namespace
 
 void run(coupler::Session& s) {
   const auto& cfg = s.config();
@@ -103,7 +80,7 @@ void run(coupler::Session& s) {
     for (const auto& e : ev.bonds)
       local.insert(local.end(), {1.0, e.time, double(e.i), double(e.j), double(static_cast<int>(e.mode)),
                                  e.normal_force, e.shear_force});
-    const std::vector<double> all = gather_to_root(s.comm(), local);
+    const std::vector<double> all = coupler::gather_to_root<double>(s.comm(), local, MPI_DOUBLE);
     if (s.rank() != 0) return;
     constexpr std::size_t W = 7;
     std::vector<std::size_t> order(all.size() / W);

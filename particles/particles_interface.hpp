@@ -105,7 +105,7 @@ struct ParticleStats {
   double rotational_energy = 0.0;
   long collisions = 0;          // contacts formed since the previous call
   long wall_collisions = 0;
-  long broken_bonds = 0;        // since the previous call
+  long broken_bonds = 0;        // since the start (cumulative)
 };
 
 // Discrete events, for events/collisions.csv and events/bonds.csv.

@@ -41,7 +41,7 @@ grain = density * math.pi * diameter ** 3 / 6.0
 rows = list(csv.DictReader(open(f"{run}/series/particles.csv")))
 t = np.array([float(r["time"]) for r in rows])
 count = np.array([float(r["count"]) for r in rows])
-broken = np.cumsum([float(r["broken_bonds"]) for r in rows])
+broken = np.array([float(r["broken_bonds"]) for r in rows])  # cumulative in the series
 produced = (count[0] - count) * grain * 1e3  # g
 
 fig, ax = plt.subplots(figsize=(6, 4))

@@ -13,6 +13,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "coflow/gather.hpp"
 #include "coflow/log.hpp"
 #include "coflow/output.hpp"
 #include "coflow/wait.hpp"
@@ -343,20 +344,11 @@ void Session::finish() {
               csum[3] / size_, tmax[0], compute, tmax[1], tmax[2], tmax[3]);
   }
   // Gather the component entries on world rank 0.
-  int len = static_cast<int>(entry.size());
-  std::vector<int> lens(world_size_), displs(world_size_);
-  MPI_Gather(&len, 1, MPI_INT, lens.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
-  std::string all;
+  std::vector<int> lens, displs;
+  const std::vector<char> gathered =
+      gather_to_root<char>(MPI_COMM_WORLD, std::span<const char>(entry.data(), entry.size()), MPI_CHAR, &lens, &displs);
   if (world_rank_ == 0) {
-    int total = 0;
-    for (int i = 0; i < world_size_; ++i) {
-      displs[i] = total;
-      total += lens[i];
-    }
-    all.resize(total);
-  }
-  MPI_Gatherv(entry.data(), len, MPI_CHAR, all.data(), lens.data(), displs.data(), MPI_CHAR, 0, MPI_COMM_WORLD);
-  if (world_rank_ == 0) {
+    const std::string all(gathered.begin(), gathered.end());
     std::string comps;
     for (int i = 0; i < world_size_; ++i)
       if (lens[i] > 0) comps += (comps.empty() ? "" : ",\n    ") + all.substr(displs[i], lens[i]);

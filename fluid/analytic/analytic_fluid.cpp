@@ -61,6 +61,21 @@ struct GridDecay {
 
 }  // namespace
 
+namespace {
+
+// The 2D Taylor-Green vortex in x-y with the box as period: wave numbers, phases
+// at x, and the velocity's decay factor exp(-nu (kx^2 + ky^2) t).
+struct TaylorGreen {
+  double kx, ky, X, Y, decay;
+  static TaylorGreen at(const config::DomainParams& d, const Vec3& x, double nu, double t) {
+    const double kx = 2 * std::numbers::pi / (d.upper[0] - d.lower[0]);
+    const double ky = 2 * std::numbers::pi / (d.upper[1] - d.lower[1]);
+    return {kx, ky, kx * (x[0] - d.lower[0]), ky * (x[1] - d.lower[1]), std::exp(-nu * (kx * kx + ky * ky) * t)};
+  }
+};
+
+}  // namespace
+
 Vec3 AnalyticFluid::velocity_at(const Vec3& x, double t) const {
   const auto& d = cfg_.domain;
   if (p_.field == "uniform") return p_.velocity;
@@ -80,10 +95,7 @@ Vec3 AnalyticFluid::velocity_at(const Vec3& x, double t) const {
   if (p_.field == "taylor-green") {
     // 2D Taylor-Green vortex in x-y, period = the box; decays as exp(-2 nu k^2 t)
     // for a square box (k = 2 pi / L).
-    const double kx = 2 * std::numbers::pi / (d.upper[0] - d.lower[0]);
-    const double ky = 2 * std::numbers::pi / (d.upper[1] - d.lower[1]);
-    const double decay = std::exp(-fluid_.viscosity * (kx * kx + ky * ky) * t);
-    const double X = kx * (x[0] - d.lower[0]), Y = ky * (x[1] - d.lower[1]);
+    const auto [kx, ky, X, Y, decay] = TaylorGreen::at(d, x, fluid_.viscosity, t);
     return {p_.max_velocity * std::sin(X) * std::cos(Y) * decay,
             -p_.max_velocity * (kx / ky) * std::cos(X) * std::sin(Y) * decay, 0.0};
   }
@@ -103,10 +115,7 @@ Vec3 AnalyticFluid::vorticity_at(const Vec3& x, double t) const {
     return w;
   }
   if (p_.field == "taylor-green") {
-    const double kx = 2 * std::numbers::pi / (d.upper[0] - d.lower[0]);
-    const double ky = 2 * std::numbers::pi / (d.upper[1] - d.lower[1]);
-    const double decay = std::exp(-fluid_.viscosity * (kx * kx + ky * ky) * t);
-    const double X = kx * (x[0] - d.lower[0]), Y = ky * (x[1] - d.lower[1]);
+    const auto [kx, ky, X, Y, decay] = TaylorGreen::at(d, x, fluid_.viscosity, t);
     // omega_z = dv/dx - du/dy = U0 (kx^2/ky + ky) sin X sin Y.
     w[2] = p_.max_velocity * (kx * kx / ky + ky) * std::sin(X) * std::sin(Y) * decay;
   }
@@ -129,10 +138,8 @@ double AnalyticFluid::epsilon_at(const Vec3& x) const {
 double AnalyticFluid::pressure_at(const Vec3& x, double t) const {
   const auto& d = cfg_.domain;
   if (p_.field == "taylor-green") {
-    const double kx = 2 * std::numbers::pi / (d.upper[0] - d.lower[0]);
-    const double ky = 2 * std::numbers::pi / (d.upper[1] - d.lower[1]);
-    const double decay = std::exp(-2 * fluid_.viscosity * (kx * kx + ky * ky) * t);
-    const double X = kx * (x[0] - d.lower[0]), Y = ky * (x[1] - d.lower[1]);
+    const auto [kx, ky, X, Y, u_decay] = TaylorGreen::at(d, x, fluid_.viscosity, t);
+    const double decay = u_decay * u_decay;  // pressure decays at twice the rate
     const double U = p_.max_velocity;
     return fluid_.initial_pressure +
            0.25 * fluid_.density * U * U * (std::cos(2 * X) + (kx * kx) / (ky * ky) * std::cos(2 * Y)) * decay;

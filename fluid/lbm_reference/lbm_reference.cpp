@@ -57,16 +57,22 @@ double LbmReference::equilibrium(int q, double rho, const double u[3]) const {
 // Collision with Guo, Zheng & Shi (2002) forcing, written per population pair
 // (q, opposite q): the even part relaxes with tau (seed 000 eqs 2.42, 2.45, BGK),
 // the odd part with tau_minus (TRT, Ginzburg 2008; tau_minus = tau for BGK).
-void LbmReference::collide(double* f) const {
-  double rho = 0.0, j[3] = {0, 0, 0};
+void LbmReference::fluid_velocity(const double* f, double& rho, double u[3]) const {
+  double j[3] = {0, 0, 0};
+  rho = 0.0;
   for (int q = 0; q < Q_; ++q) {
     rho += f[q];
     for (int d = 0; d < 3; ++d) j[d] += e_[q][d] * f[q];
   }
   const double rho_m = s_.incompressible ? 1.0 : rho;
+  for (int d = 0; d < 3; ++d) u[d] = (j[d] + 0.5 * s_.force[d]) / rho_m;
+}
+
+void LbmReference::collide(double* f) const {
+  double rho, u[3];
+  fluid_velocity(f, rho, u);
+  const double rho_m = s_.incompressible ? 1.0 : rho;
   const double* F = s_.force.data();
-  double u[3];
-  for (int d = 0; d < 3; ++d) u[d] = (j[d] + 0.5 * F[d]) / rho_m;
   const double tau_minus = s_.trt ? 0.5 + s_.magic / (s_.tau - 0.5) : s_.tau;
   const double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
   const double uF = u[0] * F[0] + u[1] * F[1] + u[2] * F[2];
@@ -93,15 +99,9 @@ void LbmReference::collide(double* f) const {
 }
 
 void LbmReference::collide_psm(double* f, Solid& s) const {
-  double rho = 0.0, j[3] = {0, 0, 0};
-  for (int q = 0; q < Q_; ++q) {
-    rho += f[q];
-    for (int d = 0; d < 3; ++d) j[d] += e_[q][d] * f[q];
-  }
-  const double rho_m = s_.incompressible ? 1.0 : rho;
+  double rho, u[3];
+  fluid_velocity(f, rho, u);
   const double* F = s_.force.data();
-  double u[3];
-  for (int d = 0; d < 3; ++d) u[d] = (j[d] + 0.5 * F[d]) / rho_m;
   const double tau = s_.tau, omega = 1.0 / tau;
   const double B = s.fraction * (tau - 0.5) / ((1.0 - s.fraction) + (tau - 0.5));  // eq. 2.67
   std::vector<double> feq(Q_), feq_s(Q_), out(Q_);

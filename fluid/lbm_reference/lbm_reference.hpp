@@ -42,6 +42,8 @@ class LbmReference final : public FluidSolver {
  private:
   long index(long i, long j, long k) const { return (k * n_[1] + j) * n_[0] + i; }
   double equilibrium(int q, double rho, const double u[3]) const;
+  // Density and velocity (with half the force, Guo) of one cell's populations.
+  void fluid_velocity(const double* f, double& rho, double u[3]) const;
   void collide(double* f) const;
   struct Solid {
     double fraction = 0.0;

@@ -1,0 +1,37 @@
+// Every rank's items concatenated on rank 0 of a communicator, in rank order.
+#pragma once
+
+#include <mpi.h>
+
+#include <span>
+#include <vector>
+
+namespace coflow::coupler {
+
+// Collective. On rank 0 returns all items and, if asked, each rank's count and
+// offset; elsewhere returns nothing. `type` is the MPI type of T.
+template <class T>
+std::vector<T> gather_to_root(MPI_Comm comm, std::span<const T> local, MPI_Datatype type,
+                              std::vector<int>* counts = nullptr, std::vector<int>* offsets = nullptr) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const int n = static_cast<int>(local.size());
+  std::vector<int> c(rank == 0 ? size : 0), o(rank == 0 ? size : 0);
+  MPI_Gather(&n, 1, MPI_INT, c.data(), 1, MPI_INT, 0, comm);
+  std::vector<T> all;
+  if (rank == 0) {
+    int total = 0;
+    for (int r = 0; r < size; ++r) {
+      o[r] = total;
+      total += c[r];
+    }
+    all.resize(total);
+  }
+  MPI_Gatherv(local.data(), n, type, all.data(), c.data(), o.data(), type, 0, comm);
+  if (counts) *counts = c;
+  if (offsets) *offsets = o;
+  return all;
+}
+
+}  // namespace coflow::coupler

@@ -32,7 +32,10 @@ def metrics(case):
     with open(f"{runs}/val-{case}/metrics.txt") as f:
         for line in f:
             k, v = line.strip().split("=")
-            m[k] = float(v)
+            try:
+                m[k] = float(v)
+            except ValueError:  # labels such as case=E2
+                m[k] = v
     return m
 
 

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "particles/dem/contact.hpp"
 #include "particles/particles_interface.hpp"
 
 namespace coflow::particles::dem {
@@ -18,6 +19,14 @@ struct SavedContact {
   std::int64_t b = 0;  // partner id, or -1 - face for a wall
   std::array<double, 3> shear{};
   bool bonded = false;
+  bool wall() const { return b < 0; }
+  std::int64_t wall_face() const { return -1 - b; }
+  ContactState state() const {
+    ContactState s;
+    s.shear = V3(shear[0], shear[1], shear[2]);
+    s.bonded = bonded;
+    return s;
+  }
 };
 
 void save_state(MPI_Comm comm, const std::string& dir, double time, long steps, const ParticleArrays& p,

@@ -583,13 +583,10 @@ void DemSolver::load(const std::string& dir, long steps, double time) {
   contacts_.clear();
   walls_.clear();
   for (const auto& c : list) {
-    dem::ContactState st;
-    st.shear = V3(c.shear[0], c.shear[1], c.shear[2]);
-    st.bonded = c.bonded;
-    if (c.b >= 0)
-      contacts_[key(c.a, c.b)] = st;
+    if (!c.wall())
+      contacts_[key(c.a, c.b)] = c.state();
     else
-      walls_[key(c.a, -1 - c.b)] = st;
+      walls_[key(c.a, c.wall_face())] = c.state();
   }
   const std::size_t n = p_.size();
   torque_.assign(3 * n, 0.0);

@@ -205,13 +205,10 @@ void DemReference::load(const std::string& dir, long steps, double time) {
   contacts_.clear();
   walls_.clear();
   for (const auto& c : list) {
-    dem::ContactState st;
-    st.shear = V3(c.shear[0], c.shear[1], c.shear[2]);
-    st.bonded = c.bonded;
-    if (c.b >= 0)
-      contacts_[{c.a, c.b}] = st;
+    if (!c.wall())
+      contacts_[{c.a, c.b}] = c.state();
     else
-      walls_[{c.a, static_cast<int>(-1 - c.b)}] = st;
+      walls_[{c.a, static_cast<int>(c.wall_face())}] = c.state();
   }
   steps_ = steps;
   time_ = time;

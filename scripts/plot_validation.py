@@ -2,7 +2,10 @@
 """Plots of the validation cases for docs/validation.md.
 
 Run the validation tests first (scripts/test -L validation), then
-    scripts/plot_validation.py [build/tests] [docs/img]
+    scripts/plot_validation.py [build/tests] [docs/img] [out/cases]
+The third directory, when it exists, holds runs of the full-size settling-sphere
+configs, each in a folder named after the case (e1 ... e4):
+    coflow run configs/cases/settling_sphere_e1.yaml --set run.output.dir=out/cases/e1
 Uses Debian's python3 with h5py, numpy and matplotlib.
 """
 import csv
@@ -20,6 +23,7 @@ import numpy as np  # noqa: E402
 
 runs = sys.argv[1] if len(sys.argv) > 1 else "build/tests"
 out = sys.argv[2] if len(sys.argv) > 2 else "docs/img"
+cases = sys.argv[3] if len(sys.argv) > 3 else "out/cases"
 os.makedirs(out, exist_ok=True)
 
 
@@ -126,6 +130,26 @@ if os.path.exists(f"{run}/series/particles.csv"):
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(f"{out}/psm_settling_e2.png", dpi=110)
+
+# 5b. Settling sphere, all four cases of ten Cate et al. (2002), when run.
+ten_cate = {"e1": 0.0360, "e2": 0.0572, "e3": 0.0873, "e4": 0.1222}
+runs_e = {c: f"{cases}/{c}" for c in ten_cate if os.path.exists(f"{cases}/{c}/series/particles.csv")}
+if "e2" not in runs_e and os.path.exists(f"{runs}/val-psm_settling_sphere_e2/run/series/particles.csv"):
+    runs_e["e2"] = f"{runs}/val-psm_settling_sphere_e2/run"
+if len(runs_e) > 1:
+    m = 1120.0 * math.pi * 0.015 ** 3 / 6.0
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for k, (c, run) in enumerate(sorted(runs_e.items())):
+        rows = list(csv.DictReader(open(f"{run}/series/particles.csv")))
+        ax.plot([float(r["time"]) for r in rows], [-float(r["momentum_z"]) / m for r in rows], color=f"C{k}",
+                label=f"{c.upper()} coflow")
+        ax.axhline(ten_cate[c], color=f"C{k}", lw=0.8, ls="--")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("settling speed (m/s)")
+    ax.set_title("ten Cate et al. 2002 (dashed: measured terminal velocities), d = 12 cells", fontsize=9)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(f"{out}/psm_settling_all.png", dpi=110)
 
 # 6. Rotating sphere: torque against Stokes.
 run = f"{runs}/val-psm_rotating_sphere/run"

@@ -182,15 +182,15 @@ class Core final : public LbmCore {
         feq[q] = lbm::equilibrium<L, Incompressible>(q, rho, u);
         feq_s[q] = lbm::equilibrium<L, Incompressible>(q, rho, &us[3 * n]);
       }
-      double g[3] = {0, 0, 0};
+      double g[3] = {0, 0, 0}, uF = 0;
+      for (int d = 0; d < 3; ++d) uF += u[d] * F[d];
       for (int q = 0; q < L::Q; ++q) {
         const int o = L::opp[q];
         const double omega_s = f[o] - feq[o] + feq_s[q] - f[q];
-        double eu = 0, eF = 0, uF = 0;
+        double eu = 0, eF = 0;
         for (int d = 0; d < 3; ++d) {
           eu += L::e[q][d] * u[d];
           eF += L::e[q][d] * F[d];
-          uF += u[d] * F[d];
         }
         const double S = (1.0 - 0.5 * omega) * L::w[q] * (3.0 * (eF - uF) + 9.0 * eu * eF);
         a_[q * N_ + x] = f[q] - (1.0 - B) * omega * (f[q] - feq[q]) + (1.0 - B) * S + B * omega_s;

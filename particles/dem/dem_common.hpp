@@ -64,19 +64,34 @@ inline std::vector<std::pair<std::int64_t, std::int64_t>> bonds_from_file(const 
   return out;
 }
 
-// A collision event for two particles touching for the first time: n points from
-// j to i, dv = v_i - v_j (centres).
-inline CollisionEvent collision_event(double t, std::int64_t i, std::int64_t j, const V3& n, const V3& dv) {
-  const double speed = dv.norm(), normal = std::abs(dv.dot(n));
-  const double angle = speed > 0.0 ? std::acos(std::min(1.0, normal / speed)) * 180.0 / 3.14159265358979323846 : 0.0;
-  return {t, i, j, angle, speed, normal};
-}
-inline BondEvent bond_event(double t, std::int64_t i, std::int64_t j, const ContactForce& c) {
-  const BondFailure mode = c.failure == Failure::tension       ? BondFailure::tension
-                           : c.failure == Failure::compression ? BondFailure::compression
-                                                               : BondFailure::shear;
-  return {t, i, j, mode, c.failure_normal, c.failure_shear};
-}
+// The event log both DEM variants keep (off until enabled): pairs touching for
+// the first time and bonds failing.
+class EventRecorder {
+ public:
+  void enable(bool collisions, bool bonds) {
+    collisions_ = collisions;
+    bonds_ = bonds;
+  }
+  // n points from j to i; dv = v_i - v_j (centres).
+  void collision(double t, std::int64_t i, std::int64_t j, const V3& n, const V3& dv) {
+    if (!collisions_) return;
+    const double speed = dv.norm(), normal = std::abs(dv.dot(n));
+    const double angle = speed > 0.0 ? std::acos(std::min(1.0, normal / speed)) * 180.0 / 3.14159265358979323846 : 0.0;
+    log_.collisions.push_back({t, i, j, angle, speed, normal});
+  }
+  void bond(double t, std::int64_t i, std::int64_t j, const ContactForce& c) {
+    if (!bonds_) return;
+    const BondFailure mode = c.failure == Failure::tension       ? BondFailure::tension
+                             : c.failure == Failure::compression ? BondFailure::compression
+                                                                 : BondFailure::shear;
+    log_.bonds.push_back({t, i, j, mode, c.failure_normal, c.failure_shear});
+  }
+  ParticleEvents take() { return std::exchange(log_, {}); }
+
+ private:
+  bool collisions_ = false, bonds_ = false;
+  ParticleEvents log_;
+};
 
 // Inward unit normal and position of a face's plane.
 inline V3 face_normal(int f) {

@@ -409,9 +409,7 @@ void DemSolver::step(double h) {
         state = dem::ContactState{};
         if (owned_[i]) {  // each pair counted once: by the owner of its smaller id
           ++collisions_;
-          if (record_collisions_)
-            events_.collisions.push_back(dem::collision_event(time_, p_.id[i], p_.id[j], d / dist,
-                                                              V3(&p_.v[3 * i]) - V3(&p_.v[3 * j])));
+          events_.collision(time_, p_.id[i], p_.id[j], d / dist, V3(&p_.v[3 * i]) - V3(&p_.v[3 * j]));
         }
       }
       const V3 nrm = d / dist;
@@ -422,7 +420,7 @@ void DemSolver::step(double h) {
       if (c.failure != dem::Failure::none) {
         if (owned_[i]) {
           ++broken_;
-          if (record_bonds_) events_.bonds.push_back(dem::bond_event(time_, p_.id[i], p_.id[j], c));
+          events_.bond(time_, p_.id[i], p_.id[j], c);
         }
         if (c.failure == dem::Failure::compression) {
           if (owned_[i]) crushed_.push_back(i);

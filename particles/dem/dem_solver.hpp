@@ -1,6 +1,9 @@
-// dem: the soft-sphere DEM of seed 000 §2.2 with an O(N) cell-list search,
-// structure-of-arrays particles and hashed contact history. Pairs are visited in
-// the same order as dem-reference, so the two agree to round-off.
+// dem: the soft-sphere DEM of seed 000 §2.2 with an O(N) Verlet list (built from
+// cell lists, rebuilt when a particle has moved half the skin), structure-of-
+// arrays particles, and contact histories kept beside the listed pairs (in a map
+// keyed by ids only while the list is rebuilt, for migration and checkpoints).
+// Pairs are visited in the same order as dem-reference, so the two agree to
+// round-off.
 #pragma once
 
 #include <cstdint>
@@ -28,11 +31,8 @@ class DemSolver final : public ParticleSolver {
   const ParticleArrays& particles() const override { return p_; }
   void set_hydrodynamic(std::span<const double> force, std::span<const double> torque) override;
   ParticleStats stats() override;
-  void record_events(bool collisions, bool bonds) override {
-    record_collisions_ = collisions;
-    record_bonds_ = bonds;
-  }
-  ParticleEvents take_events() override { return std::exchange(events_, {}); }
+  void record_events(bool collisions, bool bonds) override { events_.enable(collisions, bonds); }
+  ParticleEvents take_events() override { return events_.take(); }
   void save(const std::string& dir) override;
   void load(const std::string& dir, long steps, double time) override;
 
@@ -94,8 +94,7 @@ class DemSolver final : public ParticleSolver {
   double time_ = 0.0;
   long steps_ = 0;
   long collisions_ = 0, wall_collisions_ = 0, broken_ = 0;
-  bool record_collisions_ = false, record_bonds_ = false;
-  ParticleEvents events_;
+  dem::EventRecorder events_;
 };
 
 }  // namespace coflow::particles

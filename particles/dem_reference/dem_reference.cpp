@@ -53,7 +53,7 @@ void DemReference::step(double h) {
       if (it == contacts_.end()) {
         it = contacts_.emplace(key, dem::ContactState{}).first;
         ++collisions_;
-        if (record_collisions_) events_.collisions.push_back(dem::collision_event(time_, a.id, b.id, d / dist, a.v - b.v));
+        events_.collision(time_, a.id, b.id, d / dist, a.v - b.v);
       }
       const V3 n = d / dist;
       const double a1 = a.r - 0.5 * overlap, a2 = b.r - 0.5 * overlap;
@@ -61,7 +61,7 @@ void DemReference::step(double h) {
       const dem::ContactForce c = dem::contact_force(n, overlap, a1, a2, vrel, a.r + b.r, it->second, s_.law, h);
       if (c.failure != dem::Failure::none) {
         ++broken_;
-        if (record_bonds_) events_.bonds.push_back(dem::bond_event(time_, a.id, b.id, c));
+        events_.bond(time_, a.id, b.id, c);
         if (c.failure == dem::Failure::compression) {
           crushed.push_back(i);
           crushed.push_back(j);

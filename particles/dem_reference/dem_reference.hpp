@@ -26,11 +26,8 @@ class DemReference final : public ParticleSolver {
   const ParticleArrays& particles() const override;
   void set_hydrodynamic(std::span<const double> force, std::span<const double> torque) override;
   ParticleStats stats() override;
-  void record_events(bool collisions, bool bonds) override {
-    record_collisions_ = collisions;
-    record_bonds_ = bonds;
-  }
-  ParticleEvents take_events() override { return std::exchange(events_, {}); }
+  void record_events(bool collisions, bool bonds) override { events_.enable(collisions, bonds); }
+  ParticleEvents take_events() override { return events_.take(); }
   void save(const std::string& dir) override;
   void load(const std::string& dir, long steps, double time) override;
 
@@ -53,8 +50,7 @@ class DemReference final : public ParticleSolver {
   double time_ = 0.0;
   long steps_ = 0;
   long collisions_ = 0, wall_collisions_ = 0, broken_ = 0;
-  bool record_collisions_ = false, record_bonds_ = false;
-  ParticleEvents events_;
+  dem::EventRecorder events_;
   mutable ParticleArrays view_;
 };
 

@@ -34,9 +34,6 @@ config::ComponentSchema schema() {
       v.accept_other_keys();
       return;
     }
-    if (v.reading() && info.variant == "psm" && cfg.coupling.scheme == "parallel-explicit")
-      v.fail("method", "psm runs with coupling.scheme: serial-explicit only (the fluid needs this window's solid "
-                       "cells before it steps); parallel-explicit is not available for psm yet");
     for (const auto& e : registry().entries()) {
       const bool chosen = v.reading() ? info.variant == e.name : true;
       if (chosen)

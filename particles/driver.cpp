@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <sstream>
+#include <unordered_map>
 
 #include <fmt/format.h>
 
@@ -143,11 +145,19 @@ void run(coupler::Session& s) {
   std::vector<std::byte> records, loads;
   std::vector<std::array<double, 3>> positions;
   std::vector<double> hforce, htorque;
-  auto exchange_loads = [&] {
+  std::vector<std::int64_t> sent_ids;
+  // serial-explicit: the loads of this window's states, before the sub-steps.
+  // parallel-explicit: the particles sub-cycle on the previous window's loads
+  // while the immersed side and the fluid compute this window's; those arrive
+  // after the sub-steps, are matched to the particles by id (a particle may
+  // have moved to another rank meanwhile) and act in the next window.
+  const bool lagged = to_immersed && cfg.coupling.scheme == "parallel-explicit";
+  auto send_states = [&] {
     const ParticleArrays& p = solver->particles();
     const std::size_t n = p.size();
     records.resize(n * sizeof(protocol::ParticleRecord));
     positions.resize(n);
+    sent_ids.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
       protocol::ParticleRecord rec{};
       rec.id = p.id[i];
@@ -159,32 +169,108 @@ void run(coupler::Session& s) {
       }
       rec.radius = p.radius[i];
       rec.mass = p.mass[i];
+      sent_ids[i] = p.id[i];
       std::memcpy(records.data() + i * sizeof rec, &rec, sizeof rec);
     }
     to_immersed->send(records, positions);
+  };
+  // Loads as (id, force, torque) rows of 7 doubles.
+  auto receive_loads = [&] {
+    const std::size_t n = sent_ids.size();
     loads.assign(n * sizeof(protocol::ParticleLoad), std::byte{0});
     to_immersed->receive_results(loads, protocol::add_load);
-    hforce.resize(3 * n);
-    htorque.resize(3 * n);
+    std::vector<double> rows(7 * n);
     for (std::size_t i = 0; i < n; ++i) {
       protocol::ParticleLoad l;
       std::memcpy(&l, loads.data() + i * sizeof l, sizeof l);
+      rows[7 * i] = static_cast<double>(sent_ids[i]);
       for (int d = 0; d < 3; ++d) {
-        hforce[3 * i + d] = l.force[d];
-        htorque[3 * i + d] = l.torque[d];
+        rows[7 * i + 1 + d] = l.force[d];
+        rows[7 * i + 4 + d] = l.torque[d];
       }
+    }
+    return rows;
+  };
+  // Hand the rows to the particles that hold these ids now; rows whose particle
+  // is on another rank travel to all ranks (few: those that crossed a border in
+  // the window); a particle that left the domain drops its row.
+  auto apply_loads = [&](const std::vector<double>& rows) {
+    const ParticleArrays& p = solver->particles();
+    const std::size_t n = p.size();
+    std::unordered_map<std::int64_t, std::size_t> slot;
+    slot.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) slot.emplace(p.id[i], i);
+    hforce.assign(3 * n, 0.0);
+    htorque.assign(3 * n, 0.0);
+    std::vector<double> away;
+    auto put = [&](const double* row) {
+      const auto it = slot.find(static_cast<std::int64_t>(row[0]));
+      if (it == slot.end()) return false;
+      for (int d = 0; d < 3; ++d) {
+        hforce[3 * it->second + d] = row[1 + d];
+        htorque[3 * it->second + d] = row[4 + d];
+      }
+      return true;
+    };
+    for (std::size_t k = 0; k < rows.size(); k += 7)
+      if (!put(&rows[k])) away.insert(away.end(), &rows[k], &rows[k] + 7);
+    if (s.size() > 1) {
+      const std::vector<double> all = coupler::allgather<double>(s.comm(), away, MPI_DOUBLE);
+      for (std::size_t k = 0; k < all.size(); k += 7) put(&all[k]);
     }
     solver->set_hydrodynamic(hforce, htorque);
   };
+  // The loads waiting for the next window belong to a checkpoint (lagged only).
+  std::vector<double> pending;
+  auto save_pending = [&](const std::string& dir) {
+    const std::vector<double> all = coupler::gather_to_root<double>(s.comm(), pending, MPI_DOUBLE);
+    if (s.rank() != 0) return;
+    std::ofstream f(dir + "/hydrodynamic.csv");
+    f << "id,fx,fy,fz,tx,ty,tz\n";
+    for (std::size_t k = 0; k < all.size(); k += 7)
+      f << fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", std::int64_t(all[k]), all[k + 1],
+                       all[k + 2], all[k + 3], all[k + 4], all[k + 5], all[k + 6]);
+  };
+  auto load_pending = [&](const std::string& dir) {
+    std::ifstream f(dir + "/hydrodynamic.csv");
+    if (!f) throw std::runtime_error(dir + "/hydrodynamic.csv: missing (the checkpoint of a parallel-explicit run)");
+    std::string line;
+    std::getline(f, line);
+    std::vector<double> rows;
+    while (std::getline(f, line)) {
+      std::istringstream in(line);
+      std::string cell;
+      while (std::getline(in, cell, ',')) rows.push_back(std::stod(cell));
+    }
+    if (rows.size() % 7 != 0) throw std::runtime_error(dir + "/hydrodynamic.csv: malformed");
+    // Every rank read all rows: keep those of its own particles.
+    const ParticleArrays& p = solver->particles();
+    std::unordered_map<std::int64_t, std::size_t> slot;
+    for (std::size_t i = 0; i < p.size(); ++i) slot.emplace(p.id[i], i);
+    std::vector<double> mine;
+    for (std::size_t k = 0; k < rows.size(); k += 7)
+      if (slot.count(static_cast<std::int64_t>(rows[k]))) mine.insert(mine.end(), &rows[k], &rows[k] + 7);
+    pending = mine;
+    apply_loads(mine);
+  };
+  if (lagged && w0 > 0) load_pending(s.restart_dir());
 
   if (w0 == 0) write_output(0);
   for (long w = w0 + 1; w <= s.windows(); ++w) {
-    if (to_immersed) exchange_loads();
+    if (to_immersed) send_states();
+    if (to_immersed && !lagged) apply_loads(receive_loads());
     solver->advance(s.window(), substeps);
+    if (lagged) {
+      pending = receive_loads();
+      apply_loads(pending);
+    }
     coupler::trace().steps = solver->steps();
     write_events();
     write_output(w);
-    s.checkpoint(w, [&](const std::string& dir) { solver->save(dir); });
+    s.checkpoint(w, [&](const std::string& dir) {
+      solver->save(dir);
+      if (lagged) save_pending(dir);
+    });
     s.window_done(w);
   }
 }

@@ -1,4 +1,5 @@
-// Every rank's items concatenated on rank 0 of a communicator, in rank order.
+// Every rank's items concatenated, in rank order: on rank 0 of a communicator
+// (gather_to_root) or on every rank (allgather).
 #pragma once
 
 #include <mpi.h>
@@ -31,6 +32,24 @@ std::vector<T> gather_to_root(MPI_Comm comm, std::span<const T> local, MPI_Datat
   MPI_Gatherv(local.data(), n, type, all.data(), c.data(), o.data(), type, 0, comm);
   if (counts) *counts = c;
   if (offsets) *offsets = o;
+  return all;
+}
+
+// Collective. Every rank receives all items, in rank order.
+template <class T>
+std::vector<T> allgather(MPI_Comm comm, std::span<const T> local, MPI_Datatype type) {
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  const int n = static_cast<int>(local.size());
+  std::vector<int> c(size), o(size);
+  MPI_Allgather(&n, 1, MPI_INT, c.data(), 1, MPI_INT, comm);
+  int total = 0;
+  for (int r = 0; r < size; ++r) {
+    o[r] = total;
+    total += c[r];
+  }
+  std::vector<T> all(total);
+  MPI_Allgatherv(local.data(), n, type, all.data(), c.data(), o.data(), type, comm);
   return all;
 }
 

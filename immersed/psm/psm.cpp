@@ -24,8 +24,8 @@ using V = std::array<double, 3>;
 
 void PsmParams::visit(config::Visitor& v) {
   v("refinement", refinement,
-    "octree levels for the cells a sphere surface cuts (3: 8^3 sub-cells, sphere volume within 3e-4 at radius "
-    "4 cells; 4: within 7e-5)",
+    "octree levels for the cells a sphere surface cuts (3: 8^3 sub-cells, raw sphere volume within 3e-4 at "
+    "radius 4 cells; 4: within 7e-5); the cut cells are then scaled so that the total is the sphere's volume",
     config::in_range(0, 8));
   v("buoyancy", buoyancy,
     "add the buoyancy -rho_f V g to each particle (the fluid carries no hydrostatic pressure gradient)");
@@ -125,6 +125,7 @@ void PsmMethod::run(coupler::Session& s) {
   std::vector<double> send_values, got_values;
   std::vector<long> got_cells;
   std::vector<protocol::ParticleLoad> loads;
+  std::vector<std::pair<Index3, double>> touched;
 
   for (long w = s.restart_window() + 1; w <= s.windows(); ++w) {
     // 1. Particle states.
@@ -143,38 +144,53 @@ void PsmMethod::run(coupler::Session& s) {
         lo[d] = static_cast<long>(std::floor((r.x[d] - r.radius - dom.lower[d]) / h));
         hi[d] = static_cast<long>(std::floor((r.x[d] + r.radius - dom.lower[d]) / h));
       }
+      // Fractions of every cell the sphere touches (owned or not, inside the
+      // domain or not), so that every rank holding a copy scales the same way:
+      // the cut cells are renormalised so that the sphere's cells add up to its
+      // volume exactly; wholly covered cells stay 1.
+      touched.clear();
+      double full = 0.0, cut = 0.0;
       for (long k = lo[2]; k <= hi[2]; ++k)
         for (long j = lo[1]; j <= hi[1]; ++j)
           for (long i = lo[0]; i <= hi[0]; ++i) {
-            // The unwrapped cell (for the geometry), then its wrapped index.
-            Index3 g{i, j, k};
-            bool inside = true;
-            for (int d = 0; d < 3; ++d) {
-              const long cells_d = dom.cells[d];
-              if (dom.periodic[d])
-                g[d] = ((g[d] % cells_d) + cells_d) % cells_d;
-              else if (g[d] < 0 || g[d] >= cells_d)
-                inside = false;
-            }
-            if (!inside || !owned.contains(g)) continue;
             const V corner{dom.lower[0] + i * h, dom.lower[1] + j * h, dom.lower[2] + k * h};
             const double f = cube_fraction(corner, h, {r.x[0], r.x[1], r.x[2]}, r.radius, p_.refinement);
             if (f <= 0.0) continue;
-            const long local = ((g[2] - owned.lo[2]) * ny + (g[1] - owned.lo[1])) * nx + (g[0] - owned.lo[0]);
-            if (slot_of[local] < 0) {
-              slot_of[local] = static_cast<long>(cells.size());
-              cells.push_back(Cell{local, g, 0.0, {0, 0, 0}, {}});
-            }
-            Cell& c = cells[slot_of[local]];
-            const V lever{corner[0] + 0.5 * h - r.x[0], corner[1] + 0.5 * h - r.x[1], corner[2] + 0.5 * h - r.x[2]};
-            // Solid velocity at the cell centre: v + omega x (x - x_p).
-            const V us{r.v[0] + r.w[1] * lever[2] - r.w[2] * lever[1], r.v[1] + r.w[2] * lever[0] - r.w[0] * lever[2],
-                       r.v[2] + r.w[0] * lever[1] - r.w[1] * lever[0]};
-            c.fraction += f;
-            for (int d = 0; d < 3; ++d) c.weighted_velocity[d] += f * us[d];
-            c.shares.push_back({p, f, lever});
-            solid_volume += f * h * h * h;
+            (f >= 1.0 ? full : cut) += f;
+            touched.push_back({{i, j, k}, f});
           }
+      const double cells_volume = 4.0 / 3.0 * std::numbers::pi * std::pow(r.radius / h, 3);
+      const double scale = cut > 0.0 ? (cells_volume - full) / cut : 1.0;
+      for (const auto& [cell, raw] : touched) {
+        // The unwrapped cell (for the geometry), then its wrapped index.
+        Index3 g = cell;
+        bool inside = true;
+        for (int d = 0; d < 3; ++d) {
+          const long cells_d = dom.cells[d];
+          if (dom.periodic[d])
+            g[d] = ((g[d] % cells_d) + cells_d) % cells_d;
+          else if (g[d] < 0 || g[d] >= cells_d)
+            inside = false;
+        }
+        if (!inside || !owned.contains(g)) continue;
+        const double f = raw >= 1.0 ? 1.0 : std::min(1.0, raw * scale);
+        const V centre{dom.lower[0] + (cell[0] + 0.5) * h, dom.lower[1] + (cell[1] + 0.5) * h,
+                       dom.lower[2] + (cell[2] + 0.5) * h};
+        const long local = ((g[2] - owned.lo[2]) * ny + (g[1] - owned.lo[1])) * nx + (g[0] - owned.lo[0]);
+        if (slot_of[local] < 0) {
+          slot_of[local] = static_cast<long>(cells.size());
+          cells.push_back(Cell{local, g, 0.0, {0, 0, 0}, {}});
+        }
+        Cell& c = cells[slot_of[local]];
+        const V lever{centre[0] - r.x[0], centre[1] - r.x[1], centre[2] - r.x[2]};
+        // Solid velocity at the cell centre: v + omega x (x - x_p).
+        const V us{r.v[0] + r.w[1] * lever[2] - r.w[2] * lever[1], r.v[1] + r.w[2] * lever[0] - r.w[0] * lever[2],
+                   r.v[2] + r.w[0] * lever[1] - r.w[1] * lever[0]};
+        c.fraction += f;
+        for (int d = 0; d < 3; ++d) c.weighted_velocity[d] += f * us[d];
+        c.shares.push_back({p, f, lever});
+        solid_volume += f * h * h * h;
+      }
     }
     // 3. The covered cells to the fluid: fraction (clamped at 1) and velocity.
     send_cells.clear();

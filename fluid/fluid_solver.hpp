@@ -23,6 +23,7 @@ using config::Vec3;
 struct BoundaryParams {
   std::string type = "wall";  // wall | pressure | velocity | outflow
   config::Numbers value;      // pressure (Pa) or velocity (m/s)
+  double ramp = 0.0;          // s: the value rises linearly from zero over this time
   void visit(config::Visitor& v);
 };
 

@@ -10,12 +10,18 @@ namespace coflow::fluid {
 void BoundaryParams::visit(config::Visitor& v) {
   v.required("type", type, "boundary type", config::one_of({"wall", "pressure", "velocity", "outflow"}));
   v("value", value, "pressure in Pa (type pressure) or velocity [u, v, w] in m/s (type velocity)");
+  v("ramp", ramp,
+    "s: the value rises linearly from zero (gauge pressure 0, fluid at rest) to `value` over this time, instead of "
+    "starting at once",
+    config::at_least(0.0));
   if (!v.reading()) return;
   const bool given = v.given("value");
   if (type == "pressure" && (!given || value.values.size() != 1))
     v.fail(given ? "value" : "", "a pressure boundary needs one number, e.g. value: 0.0 (Pa)");
   if (type == "velocity" && (!given || value.values.size() != 3))
     v.fail(given ? "value" : "", "a velocity boundary needs three numbers, e.g. value: [0.1, 0, 0] (m/s)");
+  if ((type == "wall" || type == "outflow") && ramp > 0.0)
+    v.fail("ramp", fmt::format("a {} boundary has no value to ramp", type));
   if ((type == "wall" || type == "outflow") && given)
     v.fail("value", fmt::format("a {} boundary takes no value; for a moving wall use type: velocity", type));
 }

@@ -435,6 +435,7 @@ void LbmSolver::advance(double dt) {
   const long n = std::lround(dt / s_.units.dt);
   double u2 = 0.0;
   for (long i = 0; i < n; ++i) {
+    lbm::ramp_faces(s_.faces, steps_);  // the core reads the faces through its reference to s_
     core_->step();
     if (!solid_cells_.empty()) {
       core_->psm(solid_cells_, solid_fraction_, solid_us_, solid_gain_);

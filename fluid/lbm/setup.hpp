@@ -1,6 +1,7 @@
 // What both LBM variants take from the configuration, in lattice units.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <functional>
 #include <string>
@@ -17,9 +18,22 @@ enum class FaceType { periodic, wall, pressure, velocity, outflow };
 
 struct Face {
   FaceType type = FaceType::wall;
-  double rho = 1.0;                 // pressure faces: lattice density
-  std::array<double, 3> u{0, 0, 0}; // velocity faces: lattice velocity
+  double rho = 1.0;                 // pressure faces: lattice density (now)
+  std::array<double, 3> u{0, 0, 0}; // velocity faces: lattice velocity (now)
+  double rho_full = 1.0;            // the values at the end of the ramp
+  std::array<double, 3> u_full{0, 0, 0};
+  double ramp_steps = 0.0;          // steps of the linear ramp from rest (0: none)
 };
+
+// Pressure and velocity faces at the step that ends at time (step + 1) dt:
+// value x min(1, (step + 1) / ramp_steps).
+inline void ramp_faces(std::array<Face, 6>& faces, long step) {
+  for (Face& f : faces) {
+    const double a = f.ramp_steps > 0.0 ? std::min(1.0, (step + 1) / f.ramp_steps) : 1.0;
+    f.rho = 1.0 + a * (f.rho_full - 1.0);
+    for (int d = 0; d < 3; ++d) f.u[d] = a * f.u_full[d];
+  }
+}
 
 struct Setup {
   Units units;
@@ -53,15 +67,17 @@ inline Setup make_setup(const config::Config& cfg, const FluidParams& fp, const 
     if (b.type == "outflow") face.type = FaceType::outflow;
     if (b.type == "pressure") {
       face.type = FaceType::pressure;
-      face.rho = s.units.lattice_density(b.value.values.at(0));
+      face.rho_full = s.units.lattice_density(b.value.values.at(0));
     }
     if (b.type == "velocity") {
       face.type = FaceType::velocity;
-      for (int d = 0; d < 3; ++d) face.u[d] = b.value.values.at(d) / s.units.velocity();
+      for (int d = 0; d < 3; ++d) face.u_full[d] = b.value.values.at(d) / s.units.velocity();
     }
+    face.ramp_steps = b.ramp / s.units.dt;
     // A 2D run has no z faces: treat them as periodic (one cell, nothing crosses).
     if (cfg.domain.cells[f / 2] == 1) face.type = FaceType::periodic;
   }
+  ramp_faces(s.faces, 0);
   for (int d = 0; d < 3; ++d) {
     s.force[d] = fp.body_force[d] / s.units.force_density();
   }

@@ -302,7 +302,10 @@ void LbmReference::moments(long c, double& rho, double u[3]) const {
 
 void LbmReference::advance(double dt) {
   const long n = std::lround(dt / s_.units.dt);
-  for (long i = 0; i < n; ++i) step();
+  for (long i = 0; i < n; ++i) {
+    lbm::ramp_faces(s_.faces, steps_);
+    step();
+  }
   const Diagnostics d = diagnostics();
   if (!std::isfinite(d.mass))
     throw coupler::SolverError(fmt::format("lbm-reference: density is not finite at step {}", steps_));

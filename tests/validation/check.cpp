@@ -139,6 +139,33 @@ int decay(const std::string& dir) {
   return 0;
 }
 
+// A ramped pressure face (fluid.boundaries.x-.ramp): the pressure of the x- cells
+// in the last snapshot against value x min(1, t / ramp).
+int ramp(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  const auto b = fp.boundary(0, cfg);
+  if (b.type != "pressure" || b.ramp <= 0.0) throw std::runtime_error("x- is not a ramped pressure face");
+  const std::string snap = last_snapshot(dir);
+  std::vector<std::size_t> dims;
+  const auto p = output::read_dataset(snap, "pressure", &dims);
+  double t = 0.0;
+  {
+    std::ifstream in(dir + "/fluid/index.csv");
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line))
+      if (!line.empty()) t = std::stod(line.substr(line.find(',') + 1));
+  }
+  const long nz = dims[0], ny = dims[1], nx = dims[2];
+  const double expected = b.value.values[0] * std::min(1.0, t / b.ramp);
+  double worst = 0.0;
+  for (long k = 0; k < nz; ++k)
+    for (long j = 0; j < ny; ++j) worst = std::max(worst, std::abs(p[(k * ny + j) * nx] - expected));
+  std::printf("time=%.6g\ninlet_expected=%.9e\nramp_error=%.6e\n", t, expected, worst / b.value.values[0]);
+  return 0;
+}
+
 int mass(const std::string& dir) {
   const auto rows = read_series(dir + "/series/fluid.csv");
   double worst = 0.0;
@@ -488,6 +515,7 @@ int main(int argc, char** argv) {
     if (what == "profile" && argc == 3) return profile(argv[2]);
     if (what == "decay" && argc == 3) return decay(argv[2]);
     if (what == "mass" && argc == 3) return mass(argv[2]);
+    if (what == "ramp" && argc == 3) return ramp(argv[2]);
     if (what == "compare" && argc == 4) return compare(argv[2], argv[3]);
     if (what == "impact" && argc == 3) return impact(argv[2]);
     if (what == "pour" && argc == 3) return pour(argv[2]);

@@ -2,7 +2,7 @@
 # Generic validation driver.
 #   validate.sh CASE BIN_DIR OUT MODE CONFIG [ARGS...]
 # MODE:
-#   profile|decay|mass  run CONFIG once (ARGS: --set overrides), then coflow-check MODE
+#   profile|decay|mass|ramp|...  run CONFIG once (ARGS: --set overrides), then coflow-check MODE
 #   compare             ARGS: "A overrides" "B overrides" (each a space-separated list
 #                       of key=value); runs both and compares the last snapshots
 #                       and the event logs (events/*.csv) when the runs write them
@@ -33,7 +33,7 @@ sets() {  # "a=1 b=2" -> --set a=1 --set b=2
 check() { "$bin/coflow-check" "$@" || { echo "FAIL: coflow-check $*"; exit 1; }; }
 
 case "$mode" in
-  profile|decay|mass|impact|pour|momentum|drag|settling|rotation)
+  profile|decay|mass|ramp|impact|pour|momentum|drag|settling|rotation)
     run "$out/run" "$@"
     check "$mode" "$out/run" | tee -a "$metrics" ;;
   compare)

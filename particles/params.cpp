@@ -64,24 +64,47 @@ void ContactParams::visit(Visitor& v) {
             [&](Visitor& s) { bond.visit(s); }, &bonded);
 }
 
+void CollisionParams::visit(Visitor& v) {
+  v("restitution", restitution, "restitution coefficient e of eqs 3.44-3.45 (seed 003)", config::in_range(0.0, 1.0));
+  v("friction", friction, "dynamic friction coefficient mu_d of eqs 3.44-3.45", config::non_negative());
+  v("enabled", enabled, "particle-particle collisions on or off");
+}
+
 void WallParams::visit(Visitor& v) {
   v("face", face, "a face of the domain as a wall", config::one_of({"", "x-", "x+", "y-", "y+", "z-", "z+"}));
   v("mesh", mesh, "a triangle mesh as a wall: an STL file (ASCII or binary), relative to this file");
   v("restitution", restitution, "restitution coefficient (hard-sphere dpm)", config::in_range(0.0, 1.0));
-  v("friction", friction, "friction coefficient (default: the contact's)");
+  v("friction", friction, "friction coefficient (default: the contact's for dem, the collision's for dpm)");
   if (v.reading() && (face.empty() == mesh.empty()))
     v.fail("", "give exactly one of face (e.g. face: z-) or mesh (e.g. mesh: plate.stl)");
 }
 
 void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
-  v("time_step", time_step, "s, or auto = time_step_fraction x the critical step (seed 000 eqs 2.19-2.20)",
+  v("time_step", time_step,
+    "s, or auto: dem, time_step_fraction x the critical step (seed 000 eqs 2.19-2.20); dpm, 0.2 x the smallest of "
+    "the cell crossing time, the response time and the mean time between collisions (seed 003 eq. 4.15)",
     config::positive());
   v("time_step_fraction", time_step_fraction, "t_frac of eq. 2.20", config::in_range(1e-6, 1.0));
   v.entries("species", "particle kinds by name", [&](const std::string& name, Visitor& s) {
     species.emplace_back(name, SpeciesParams{});
     species.back().second.visit(s);
   });
+  if (v.reading() && cfg.resolved.IsMap()) {  // after resolution; while validating, the schema sets it
+    const YAML::Node part = cfg.resolved["particles"];
+    if (part.IsMap() && part["solver"].IsDefined()) {
+      const auto solver = part["solver"].as<std::string>();
+      point_particles = solver == "dpm" || solver == "dpm-reference";
+    }
+  }
   v.section("contact", "soft-sphere contact law (dem)", [&](Visitor& s) { contact.visit(s); });
+  v.section("collision", "hard-sphere collisions (dpm, seed 003 §3.2.4)", [&](Visitor& s) { collision.visit(s); });
+  v("forces", forces, "fluid forces on point particles (dpm), seed 003 eq. 3.29-3.30: any of gravity_buoyancy, drag, "
+    "saffman_lift, magnus_lift, torque");
+  if (v.reading())
+    for (const auto& f : forces)
+      if (f != "gravity_buoyancy" && f != "drag" && f != "saffman_lift" && f != "magnus_lift" && f != "torque")
+        v.fail("forces", fmt::format("unknown force '{}' (known: gravity_buoyancy, drag, saffman_lift, magnus_lift, "
+                                     "torque)", f));
   v.list("walls", "walls: domain faces or triangle meshes", [&](Visitor& s) {
     walls.emplace_back();
     walls.back().visit(s);
@@ -198,8 +221,11 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
       v.fail("contact.bond.pairs", fmt::format("not a usable bond file: {}", e.what()));
     }
   }
+  if (point_particles)
+    for (const auto& [name, sp] : species)
+      if (sp.fixed) v.fail("species", fmt::format("species '{}' is fixed: fixed particles are for dem, not dpm", name));
   // An explicit step beyond the stability limit of eq. 2.19 cannot work.
-  if (!time_step.is_auto && contact.normal_stiffness > 0) {
+  if (!time_step.is_auto && contact.normal_stiffness > 0 && !point_particles) {
     double crit = 1e300;
     for (const auto& [name, sp] : species) {
       if (sp.diameter.kind == config::Distribution::Kind::lognormal) continue;

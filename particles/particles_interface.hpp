@@ -52,6 +52,15 @@ struct WallParams {
   void visit(config::Visitor& v);
 };
 
+// Hard-sphere collisions of point particles (dpm): pairs, and the default for
+// walls.
+struct CollisionParams {
+  double restitution = 1.0;
+  double friction = 0.0;
+  bool enabled = true;
+  void visit(config::Visitor& v);
+};
+
 // One item of `initial`.
 struct InitialItem {
   std::string kind;  // single | lattice | random | file
@@ -73,11 +82,14 @@ struct ParticleParams {
   double time_step_fraction = 0.1;
   std::vector<std::pair<std::string, SpeciesParams>> species;
   ContactParams contact;
+  CollisionParams collision;
+  config::StringList forces{"gravity_buoyancy", "drag", "saffman_lift", "magnus_lift", "torque"};
   std::vector<WallParams> walls;
   std::array<std::string, 6> boundaries{"", "", "", "", "", ""};  // per face; "" = default
   std::vector<InitialItem> initial;
   void visit(config::Visitor& v, const config::Config& cfg);
   int species_index(const std::string& name) const;
+  bool point_particles = false;  // a dpm variant (set from particles.solver)
 };
 
 // The largest diameter a particle of these species can have (log-normal: mean

@@ -2,6 +2,7 @@
 
 #include "particles/dem/dem_solver.hpp"
 #include "particles/dem_reference/dem_reference.hpp"
+#include "particles/dpm_reference/dpm_reference.hpp"
 #include "particles/schema.hpp"
 
 namespace coflow::particles {
@@ -9,6 +10,7 @@ namespace coflow::particles {
 void register_particles_variants(Registry<ParticleSolver>& r) {
   r.add<DemSolver>("dem");
   r.add<DemReference>("dem-reference");
+  r.add<DpmReference>("dpm-reference");
 }
 
 Registry<ParticleSolver>& registry() {
@@ -26,7 +28,7 @@ config::ComponentSchema schema() {
   s.selector = "solver";
   s.variants = registry().names();
   s.variants.push_back("external");
-  s.doc = "the particle component: soft-sphere DEM (point particles: later)";
+  s.doc = "the particle component: soft-sphere DEM (dem) or point particles (dpm-reference)";
   s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);
     const auto names = registry().names();
@@ -35,6 +37,7 @@ config::ComponentSchema schema() {
       return;
     }
     ParticleParams p;
+    p.point_particles = info.variant == "dpm" || info.variant == "dpm-reference";
     p.visit(v, cfg);
   };
   return s;

@@ -343,6 +343,44 @@ std::vector<std::pair<long, double>> snapshots(const std::string& dir, const std
 
 // Two-sphere impact: contact duration (from the surface gap, crossings
 // interpolated), restitution, energy.
+// Point particles settling in a quiescent fluid (dpm): the vertical velocity of
+// every particle in the last snapshot against the Schiller-Naumann terminal
+// velocity, the root of (rho_p - rho) g pi D^3 / 6 = 3 pi mu D f(Re) v with
+// f = 1 + 0.15 Re^0.687, Re = rho D v / mu (seed 003 eqs 2.12, 3.31), by bisection.
+int dpm_settling(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  const double rho = fp.density, mu = fp.density * fp.viscosity;
+  const double g = std::sqrt(cfg.gravity[0] * cfg.gravity[0] + cfg.gravity[1] * cfg.gravity[1] +
+                             cfg.gravity[2] * cfg.gravity[2]);
+  std::vector<double> densities;
+  for (const auto& sp : cfg.resolved["particles"]["species"]) densities.push_back(sp.second["density"].as<double>());
+  const auto snaps = snapshots(dir, "particles");
+  const std::string last = dir + "/particles/" + output::snapshot_name(snaps.back().first);
+  const auto v = output::read_dataset(last, "velocity");
+  const auto r = output::read_dataset(last, "radius");
+  const auto species = output::read_dataset(last, "species");
+  double worst = 0.0, re_max = 0.0;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    const double D = 2.0 * r[i], rho_p = densities.at(static_cast<std::size_t>(species[i]));
+    const double weight = (rho_p - rho) * g * std::numbers::pi * D * D * D / 6.0;
+    auto excess = [&](double u) {
+      const double re = rho * D * u / mu;
+      return weight - 3.0 * std::numbers::pi * mu * D * (1.0 + 0.15 * std::pow(re, 0.687)) * u;
+    };
+    double lo = 0.0, hi = weight / (3.0 * std::numbers::pi * mu * D);  // Stokes: an upper bound
+    for (int k = 0; k < 200; ++k) (excess(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
+    const double vt = 0.5 * (lo + hi);
+    const double speed = std::sqrt(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
+    std::printf("particle %zu: D = %.3g m, terminal %.6f m/s (Schiller-Naumann %.6f, Re %.1f)\n", i, D, speed, vt,
+                rho * D * vt / mu);
+    worst = std::max(worst, std::abs(speed / vt - 1.0));
+    re_max = std::max(re_max, rho * D * vt / mu);
+  }
+  std::printf("particles=%zu\nreynolds_max=%.2f\nterminal_velocity_error=%.4e\n", r.size(), re_max, worst);
+  return 0;
+}
+
 int impact(const std::string& dir) {
   const auto cfg = load(dir);
   double t_in = -1, t_out = -1, prev_gap = 0, prev_t = 0, v0 = 0, v1 = 0, r = 0, rho = 0;
@@ -522,6 +560,7 @@ int main(int argc, char** argv) {
     if (what == "momentum" && argc == 3) return momentum(argv[2]);
     if (what == "drag" && argc == 3) return drag(argv[2]);
     if (what == "settling" && argc == 3) return settling(argv[2]);
+    if (what == "dpm_settling" && argc == 3) return dpm_settling(argv[2]);
     if (what == "rotation" && argc == 3) return rotation(argv[2]);
     std::fprintf(stderr, "usage: coflow-check profile|decay|mass RUN_DIR | compare RUN_A RUN_B\n");
     return 2;

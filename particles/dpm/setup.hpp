@@ -1,0 +1,117 @@
+// The configuration both point-particle (DPM) variants take: faces, walls,
+// collision coefficients, forces, gravity, the fluid seen without a coupling
+// partner, and the Lagrangian time step of seed 003 eq. 4.15.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "particles/dpm/collision.hpp"
+#include "particles/dpm/forces.hpp"
+#include "particles/particles_interface.hpp"
+
+namespace coflow::particles::dpm {
+
+enum class Face { periodic, wall, outlet, symmetry };
+
+struct DpmSetup {
+  std::array<Face, 6> faces{};
+  std::array<Restitution, 6> wall{};  // per face: wall coefficients (symmetry: e = 1, mu = 0)
+  Restitution pair;                   // particle-particle
+  bool collisions = true;
+  ForceSet forces;
+  V3 gravity = V3::Zero();
+  V3 lower = V3::Zero(), upper = V3::Zero();
+  std::array<bool, 3> periodic{false, false, false};
+  double cell = 0.0;                  // fluid cell size (t_V.C of eq. 4.15)
+  FluidSample still;                  // the fluid without a coupling partner: at rest
+  bool auto_step = true;
+  double dt = 0.0;                    // the configured step (auto: the start's eq. 4.15 value)
+};
+
+inline DpmSetup make_setup(const ParticleParams& p, const config::Config& cfg) {
+  DpmSetup s;
+  for (int d = 0; d < 3; ++d) {
+    s.gravity[d] = cfg.gravity[d];
+    s.lower[d] = cfg.domain.lower[d];
+    s.upper[d] = cfg.domain.upper[d];
+    s.periodic[d] = cfg.domain.periodic[d];
+  }
+  s.cell = cfg.domain.spacing()[0];
+  s.pair = {p.collision.restitution, p.collision.friction};
+  s.collisions = p.collision.enabled;
+  auto has = [&](const char* f) { return std::find(p.forces.begin(), p.forces.end(), f) != p.forces.end(); };
+  s.forces = {has("gravity_buoyancy"), has("drag"), has("saffman_lift"), has("magnus_lift"), has("torque")};
+  const char* names[] = {"x-", "x+", "y-", "y+", "z-", "z+"};
+  for (int f = 0; f < 6; ++f) {
+    s.wall[f] = s.pair;
+    if (cfg.domain.periodic[f / 2]) {
+      s.faces[f] = Face::periodic;
+      continue;
+    }
+    const std::string& b = p.boundaries[f];
+    s.faces[f] = b == "outlet" ? Face::outlet : b == "symmetry" ? Face::symmetry : Face::wall;
+    if (s.faces[f] == Face::symmetry) s.wall[f] = {1.0, 0.0};
+    for (const auto& w : p.walls)
+      if (w.face == names[f]) {
+        s.faces[f] = Face::wall;
+        s.wall[f] = {w.restitution, w.friction >= 0 ? w.friction : p.collision.friction};
+      }
+  }
+  for (const auto& w : p.walls)
+    if (!w.mesh.empty())
+      throw std::runtime_error("particles.walls: triangle-mesh walls are not implemented for dpm yet (domain faces are)");
+  // Without a coupling partner the particles see the fluid section's fluid, at rest.
+  const auto fl = cfg.resolved["fluid"];
+  if (fl && fl["density"] && fl["viscosity"]) {
+    s.still.rho = fl["density"].as<double>();
+    s.still.mu = s.still.rho * fl["viscosity"].as<double>();
+  }
+  s.auto_step = p.time_step.is_auto;
+  s.dt = p.time_step.is_auto ? 0.0 : p.time_step.value;
+  return s;
+}
+
+// The time step of eq. 4.15 for one particle: 0.2 x min(cell crossing time,
+// response time); the collision time scale enters through the caller (mean
+// free time from the number density), the Lagrangian integral time with the
+// dispersion model.
+inline double lagrangian_step(const DpmSetup& s, double D, double rho_p, const V3& v, const FluidSample& f) {
+  double t = std::numeric_limits<double>::infinity();
+  const double speed = v.norm();
+  if (speed > 0.0) t = std::min(t, s.cell / speed);
+  if (f.mu > 0.0 && s.forces.drag) t = std::min(t, response_time(rho_p, D, f.mu));
+  return 0.2 * t;
+}
+
+// Distance from x to the plane of face f (positive inside the box) and the unit
+// normal pointing out of the box through f.
+inline double face_distance(int f, const V3& x, const DpmSetup& s) {
+  const int a = f / 2;
+  return f % 2 == 0 ? x[a] - s.lower[a] : s.upper[a] - x[a];
+}
+inline V3 face_normal(int f) {
+  V3 n = V3::Zero();
+  n[f / 2] = f % 2 == 0 ? -1.0 : 1.0;
+  return n;
+}
+
+// Separation a - b with the minimum image on periodic axes (both in the box).
+inline V3 min_image(V3 d, const DpmSetup& s) {
+  for (int k = 0; k < 3; ++k)
+    if (s.periodic[k]) {
+      const double L = s.upper[k] - s.lower[k];
+      if (d[k] > 0.5 * L)
+        d[k] -= L;
+      else if (d[k] < -0.5 * L)
+        d[k] += L;
+    }
+  return d;
+}
+
+}  // namespace coflow::particles::dpm

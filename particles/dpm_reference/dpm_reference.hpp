@@ -1,0 +1,61 @@
+// dpm-reference: the point particles of seed 003 (chapters 3-4) written as
+// plainly as possible: one struct per particle, serial, every pair tested for
+// a collision. The oracle for dpm.
+#pragma once
+
+#include <vector>
+
+#include "particles/dem/dem_common.hpp"
+#include "particles/dpm/setup.hpp"
+#include "particles/particles_interface.hpp"
+
+namespace coflow::particles {
+
+class DpmReference final : public ParticleSolver {
+ public:
+  struct Params {
+    void visit(config::Visitor&) {}  // common particle keys only
+  };
+  static constexpr const char* params_section = "";
+  static constexpr const char* summary =
+      "plain serial point particles (seed 003): drag, lift, torque, RK4, hard-sphere collisions over all pairs "
+      "(the oracle for dpm)";
+
+  DpmReference(const Setup& setup, const Params& params);
+
+  double time_step() const override { return dt_; }
+  void advance(double dt, long substeps) override;
+  double time() const override { return time_; }
+  long steps() const override { return steps_; }
+  const ParticleArrays& particles() const override;
+  void set_hydrodynamic(std::span<const double> force, std::span<const double> torque) override;
+  ParticleStats stats() override;
+  void record_events(bool collisions, bool bonds) override { events_.enable(collisions, bonds); }
+  ParticleEvents take_events() override { return events_.take(); }
+  void save(const std::string& dir) override;
+  void load(const std::string& dir, long steps, double time) override;
+
+  void step(double h);
+
+ private:
+  struct Particle {
+    std::int64_t id;
+    int species;
+    dpm::V3 x, v, w;
+    double D, m, I, rho_p;
+    dpm::FluidSample fluid;  // the fluid at the particle, held over a window
+    dpm::V3 last_force;      // fluid force at the end of the last step, for output
+  };
+  double stable_step() const;  // eq. 4.15 over all particles
+  std::vector<Particle> p_;
+  dpm::DpmSetup s_;
+  const ParticleParams& params_;
+  double dt_ = 0.0;
+  double time_ = 0.0;
+  long steps_ = 0;
+  long collisions_ = 0, wall_collisions_ = 0;
+  dem::EventRecorder events_;
+  mutable ParticleArrays view_;
+};
+
+}  // namespace coflow::particles

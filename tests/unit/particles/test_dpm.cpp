@@ -1,0 +1,163 @@
+// Point particles (seed 003): force coefficients against hand-computed values of
+// the published correlations, the hard-sphere collision laws against the
+// conservation laws they must obey, the contact time of eq. 4.28, and the RK4
+// integration against the analytic Stokes response.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <numbers>
+
+#include "coflow/catalog.hpp"
+#include "particles/dpm/collision.hpp"
+#include "particles/dpm/forces.hpp"
+#include "particles/dpm_reference/dpm_reference.hpp"
+#include "particles/schema.hpp"
+
+using namespace coflow::particles::dpm;
+using Catch::Matchers::WithinRel;
+
+TEST_CASE("Schiller-Naumann drag coefficient, eq. 3.31", "[dpm]") {
+  CHECK_THAT(drag_coefficient(1.0), WithinRel(27.6, 1e-14));                  // 24 (1 + 0.15)
+  CHECK_THAT(drag_coefficient(100.0), WithinRel(1.0917310910948732, 1e-13));  // 0.24 (1 + 0.15 100^0.687)
+  CHECK_THAT(drag_coefficient(2000.0), WithinRel(0.44, 1e-14));               // Newton regime
+  // Stokes limit: the force 3 pi mu D (u - v) with f -> 1.
+  FluidSample f;
+  f.rho = 1000.0;
+  f.mu = 1e-3;
+  const ForceSet drag_only{false, true, false, false, false};
+  const FluidLoad L = fluid_load(f, 1e-6, V3(1e-6, 0, 0), V3::Zero(), drag_only);
+  CHECK_THAT(L.drag[0], WithinRel(-3.0 * std::numbers::pi * 1e-3 * 1e-6 * 1e-6, 1e-4));  // f - 1 = 1.1e-5 at Re 1e-6
+}
+
+TEST_CASE("Saffman-Mei, Oesterle-Dinh and Dennis coefficients, eqs 3.32-3.34", "[dpm]") {
+  // Re_p = 1, Re_s = 0.5: beta = 0.25, 4.1126 / sqrt(0.5) [(1 - 0.3314 x 0.5) e^-0.1 + 0.3314 x 0.5]
+  CHECK_THAT(saffman_coefficient(1.0, 0.5), WithinRel(5.354330847615836, 1e-13));
+  // Re_p = 100 > 40: 4.1126 / sqrt(20) x 0.0524 sqrt(beta Re_p), beta Re_p = 10
+  CHECK_THAT(saffman_coefficient(100.0, 20.0), WithinRel(0.1523816810513285, 1e-13));
+  // gamma = Re_r / (2 Re_p) = 0.1: 0.45 + (0.2 - 0.45) exp(-0.075 x 0.1^0.4 x 50^0.7)
+  CHECK_THAT(magnus_coefficient(50.0, 10.0), WithinRel(0.2924438720279928, 1e-13));
+  CHECK_THAT(rotation_coefficient(10.0), WithinRel(64.0 * std::numbers::pi / 10.0, 1e-14));
+  CHECK_THAT(rotation_coefficient(100.0), WithinRel(12.9 / 10.0 + 1.284, 1e-14));
+}
+
+TEST_CASE("lift and torque limits: Rubinow-Keller and Stokes", "[dpm]") {
+  FluidSample f;
+  f.rho = 1000.0;
+  f.mu = 1e-3;
+  const double D = 1e-4;
+  // A particle spinning in still fluid: T = -pi mu D^3 w (eq. 2.32) at small Re_r.
+  const ForceSet torque_only{false, false, false, false, true};
+  const FluidLoad T = fluid_load(f, D, V3::Zero(), V3(0, 0, 1.0), torque_only);
+  CHECK_THAT(T.torque[2], WithinRel(-std::numbers::pi * 1e-3 * D * D * D * 1.0, 1e-12));
+  // Magnus at Re_p -> 0 tends to Rubinow-Keller, pi/8 rho D^3 (Omega x (u - v)).
+  const ForceSet magnus_only{false, false, false, true, false};
+  const V3 v(1e-5, 0, 0), w(0, 0, 2.0);
+  const FluidLoad M = fluid_load(f, D, v, w, magnus_only);
+  const V3 rk = std::numbers::pi / 8.0 * f.rho * D * D * D * (-w).cross(-v);
+  CHECK_THAT(M.magnus[1], WithinRel(rk[1], 2e-3));
+  CHECK(std::abs(M.magnus[0]) < 1e-30);
+  // Saffman lift is perpendicular to the slip and to the vorticity.
+  f.vorticity = V3(0, 0, 50.0);
+  const ForceSet saffman_only{false, false, true, false, false};
+  const FluidLoad S = fluid_load(f, D, V3(0.01, 0, 0), V3::Zero(), saffman_only);
+  CHECK(std::abs(S.saffman.dot(V3(1, 0, 0))) < 1e-20);
+  CHECK(std::abs(S.saffman.dot(f.vorticity)) < 1e-20);
+  CHECK(S.saffman[1] > 0.0);  // (u - v) x omega = (-0.01 x) x (50 z) = +0.5 y
+}
+
+TEST_CASE("contact time along straight trajectories, eq. 4.28", "[dpm]") {
+  // Head-on at 2 m/s closing speed, gap 1 mm: touch after 0.5 ms.
+  CHECK_THAT(contact_time(V3(3e-3, 0, 0), V3(-2.0, 0, 0), 2e-3, 1e-3), WithinRel(5e-4, 1e-12));
+  CHECK(std::isinf(contact_time(V3(3e-3, 0, 0), V3(-2.0, 0, 0), 2e-3, 4e-4)));  // later than the step
+  CHECK(std::isinf(contact_time(V3(3e-3, 0, 0), V3(2.0, 0, 0), 2e-3, 1.0)));    // separating
+  CHECK(std::isinf(contact_time(V3(3e-3, 0, 0), V3(-1.0, 1.0, 0), 2e-3, 1.0)));  // they miss
+  // Grazing: impact parameter just inside the reach.
+  const double t = contact_time(V3(3e-3, 1.9e-3, 0), V3(-1.0, 0, 0), 2e-3, 1.0);
+  CHECK_THAT(t, WithinRel(3e-3 - std::sqrt(4e-6 - 1.9e-3 * 1.9e-3), 1e-9));
+}
+
+TEST_CASE("hard-sphere pair collisions conserve momentum; e = 1, mu = 0 conserves energy", "[dpm]") {
+  const double mp = 2e-6, mq = 5e-6, Dp = 1e-3, Dq = 1.4e-3;
+  const V3 n = V3(1, 0.3, -0.2).normalized();
+  for (double mu : {0.0, 0.1, 0.6})
+    for (double e : {1.0, 0.6}) {
+      V3 up(1.0, 0.2, 0.0), wp(0, 30, -10), uq(-0.5, 0.1, 0.3), wq(5, 0, 20);
+      const V3 P0 = mp * up + mq * uq;
+      // Angular momentum about the contact point (the impulse acts there).
+      const V3 c = 0.5 * Dp * n;
+      auto L = [&](const V3& u1, const V3& w1, const V3& u2, const V3& w2) {
+        const V3 xp = V3::Zero(), xq = 0.5 * (Dp + Dq) * n;
+        return V3((xp - c).cross(mp * u1) + 0.1 * mp * Dp * Dp * w1 + (xq - c).cross(mq * u2) +
+                  0.1 * mq * Dq * Dq * w2);
+      };
+      const V3 L0 = L(up, wp, uq, wq);
+      const double E0 = 0.5 * mp * up.squaredNorm() + 0.5 * mq * uq.squaredNorm() +
+                        0.05 * mp * Dp * Dp * wp.squaredNorm() + 0.05 * mq * Dq * Dq * wq.squaredNorm();
+      const double un0 = (up - uq).dot(n);
+      collide_pair(up, wp, mp, Dp, uq, wq, mq, Dq, n, {e, mu});
+      const V3 P1 = mp * up + mq * uq;
+      CHECK((P1 - P0).norm() < 1e-15 * P0.norm() + 1e-20);
+      CHECK((L(up, wp, uq, wq) - L0).norm() < 1e-12 * L0.norm());
+      CHECK_THAT((up - uq).dot(n), WithinRel(-e * un0, 1e-12));  // restitution of the normal speed
+      const double E1 = 0.5 * mp * up.squaredNorm() + 0.5 * mq * uq.squaredNorm() +
+                        0.05 * mp * Dp * Dp * wp.squaredNorm() + 0.05 * mq * Dq * Dq * wq.squaredNorm();
+      if (e == 1.0 && mu == 0.0) CHECK_THAT(E1, WithinRel(E0, 1e-13));
+      CHECK(E1 <= E0 * (1 + 1e-13));
+    }
+}
+
+TEST_CASE("a wall collision: restitution, and rolling without slip when friction is high", "[dpm]") {
+  const V3 n(0, 0, -1);  // the floor, seen from above: the normal points into it
+  V3 u(0.3, 0, -1.0), w = V3::Zero();
+  collide_wall(u, w, 1e-3, n, {0.5, 0.0});
+  CHECK_THAT(u[2], WithinRel(0.5, 1e-14));
+  CHECK_THAT(u[0], WithinRel(0.3, 1e-14));
+  // Sticking (eq. 3.51): the contact point stops, v_t = 5/7 v_t0, w D / 2 = v_t.
+  u = V3(0.3, 0, -1.0);
+  w = V3::Zero();
+  collide_wall(u, w, 1e-3, n, {0.5, 1.0});
+  CHECK_THAT(u[0], WithinRel(5.0 / 7.0 * 0.3, 1e-13));
+  const V3 contact = u + 0.5e-3 * w.cross(n);
+  CHECK(std::abs(contact[0]) < 1e-14);
+}
+
+TEST_CASE("dpm-reference integrates the Stokes response to RK4 accuracy", "[dpm]") {
+  // A particle shot at 0.1 m/s into still water with Re_p << 1 (drag
+  // correction within 1e-3 of 1): v(t) = v0 exp(-f t / tau_p) with f the
+  // (nearly constant) correction; compare against the exact exponential.
+  const std::string text = R"(
+run: {name: stokes, end_time: 1.0}
+domain: {lower: [0, 0, 0], upper: [0.1, 0.1, 0.1], cells: [10, 10, 10]}
+gravity: [0, 0, 0]
+fluid: {solver: analytic, density: 1000.0, viscosity: 1.0e-6}
+particles:
+  solver: dpm-reference
+  time_step: 1.0e-5
+  species:
+    bead: {density: 2000.0, diameter: 1.0e-5}
+  forces: [drag]
+  initial:
+    - {single: {species: bead, position: [0.05, 0.05, 0.05], velocity: [1.0e-4, 0, 0]}}
+)";
+  const auto cfg = coflow::config::parse_config_node(YAML::Load(text), "stokes.yaml", coflow::catalog());
+  coflow::particles::ParticleParams params;
+  coflow::config::Reader r(cfg.resolved["particles"], "stokes.yaml", "particles");
+  params.visit(r, cfg);
+  const coflow::coupler::Decomposition dec({10, 10, 10}, 1);
+  coflow::particles::DpmReference dpm({cfg, params, dec, 0, MPI_COMM_SELF}, {});
+  const double tau = 2000.0 * 1e-10 / (18.0 * 1e-3);  // 11.1 us
+  // Re_p = 1e-3: f = 1 + 0.15 Re^0.687 varies with v; integrate the exact ODE
+  // dv/dt = -f(v) v / tau by a fine RK4 as the oracle, and check the solver
+  // (step 1 us, about tau / 11) against it.
+  double v = 1e-4;
+  const double h = 1e-8;
+  auto rate = [&](double u) { return -(1.0 + 0.15 * std::pow(1000.0 * 1e-5 * u / 1e-3, 0.687)) * u / tau; };
+  for (int n = 0; n < 3000; ++n) {
+    const double k1 = rate(v), k2 = rate(v + 0.5 * h * k1), k3 = rate(v + 0.5 * h * k2), k4 = rate(v + h * k3);
+    v += h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4);
+  }
+  for (int n = 0; n < 30; ++n) dpm.step(1e-6);
+  const double got = dpm.particles().v[0];
+  CHECK_THAT(got, WithinRel(v, 1e-4));
+  CHECK(got < 0.1e-4);  // it did slow down: 30 us ~ 2.7 tau
+}

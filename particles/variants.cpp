@@ -2,6 +2,7 @@
 
 #include "particles/dem/dem_solver.hpp"
 #include "particles/dem_reference/dem_reference.hpp"
+#include "particles/dpm/dpm_solver.hpp"
 #include "particles/dpm_reference/dpm_reference.hpp"
 #include "particles/schema.hpp"
 
@@ -10,6 +11,7 @@ namespace coflow::particles {
 void register_particles_variants(Registry<ParticleSolver>& r) {
   r.add<DemSolver>("dem");
   r.add<DemReference>("dem-reference");
+  r.add<DpmSolver>("dpm");
   r.add<DpmReference>("dpm-reference");
 }
 
@@ -28,7 +30,7 @@ config::ComponentSchema schema() {
   s.selector = "solver";
   s.variants = registry().names();
   s.variants.push_back("external");
-  s.doc = "the particle component: soft-sphere DEM (dem) or point particles (dpm-reference)";
+  s.doc = "the particle component: soft-sphere DEM (dem) or point particles (dpm, dpm-reference)";
   s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);
     const auto names = registry().names();

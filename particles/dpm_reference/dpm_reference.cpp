@@ -39,44 +39,19 @@ double DpmReference::stable_step() const {
 }
 
 void DpmReference::step(double h) {
-  // 1. Fluid forces and gravity, classical RK4 (seed 003 eqs 4.12-4.14) on
-  //    (x, v, w); the fluid at the particle is held over the step.
-  struct Moved {
-    V3 x, v, w;
-  };
-  std::vector<Moved> next(p_.size());
+  // 1. Fluid forces and gravity, classical RK4 (seed 003 eqs 4.12-4.14); the
+  //    fluid at the particle is held over the step.
+  std::vector<dpm::Motion> next(p_.size());
   for (std::size_t i = 0; i < p_.size(); ++i) {
     const Particle& p = p_[i];
-    const V3 g = s_.forces.gravity_buoyancy ? V3(dpm::gravity_buoyancy(1.0, p.rho_p, p.fluid.rho, s_.gravity))
-                                            : V3(V3::Zero());
-    auto rate = [&](const V3& v, const V3& w, V3& dv, V3& dw) {
-      const dpm::FluidLoad L = dpm::fluid_load(p.fluid, p.D, v, w, s_.forces);
-      dv = L.force() / p.m + g;  // eq. 3.29
-      dw = L.torque / p.I;       // eq. 3.30
-    };
-    V3 a1, b1, a2, b2, a3, b3, a4, b4;
-    rate(p.v, p.w, a1, b1);
-    const V3 v2 = p.v + 0.5 * h * a1, w2 = p.w + 0.5 * h * b1;
-    rate(v2, w2, a2, b2);
-    const V3 v3 = p.v + 0.5 * h * a2, w3 = p.w + 0.5 * h * b2;
-    rate(v3, w3, a3, b3);
-    const V3 v4 = p.v + h * a3, w4 = p.w + h * b3;
-    rate(v4, w4, a4, b4);
-    next[i].x = p.x + h / 6.0 * (p.v + 2.0 * v2 + 2.0 * v3 + v4);
-    next[i].v = p.v + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
-    next[i].w = p.w + h / 6.0 * (b1 + 2.0 * b2 + 2.0 * b3 + b4);
+    next[i] = dpm::rk4({p.x, p.v, p.w}, p.D, p.m, p.I, p.rho_p, p.fluid, s_, h);
   }
   // 2. Collisions along the straight trajectories x + u t, t in [0, h), with u
   //    the mean velocity of the step (eqs 4.23-4.28), every pair and every wall
   //    face tested. Events are taken earliest first (ties by particle ids); a
   //    particle collides at most once per step (binary collisions: the step is
   //    a fraction of the mean time between collisions, eq. 4.15).
-  struct Event {
-    double t;
-    std::int64_t a, b;  // ids; b < 0: the wall face -1 - b
-    std::size_t i, j;
-  };
-  std::vector<Event> events;
+  std::vector<dpm::Event> events;
   std::vector<V3> u(p_.size());
   for (std::size_t i = 0; i < p_.size(); ++i) u[i] = (next[i].x - p_[i].x) / h;
   if (s_.collisions)
@@ -95,10 +70,9 @@ void DpmReference::step(double h) {
       const double t = std::max(0.0, (dpm::face_distance(f, p_[i].x, s_) - 0.5 * p_[i].D) / un);
       if (t < h) events.push_back({t, p_[i].id, -1 - f, i, i});
     }
-  std::sort(events.begin(), events.end(),
-            [](const Event& x, const Event& y) { return std::tie(x.t, x.a, x.b) < std::tie(y.t, y.a, y.b); });
+  std::sort(events.begin(), events.end());
   std::vector<double> hit(p_.size(), -1.0);  // collision time, -1: none
-  for (const Event& e : events) {
+  for (const dpm::Event& e : events) {
     if (hit[e.i] >= 0.0 || (e.b >= 0 && hit[e.j] >= 0.0)) continue;
     Particle& a = p_[e.i];
     if (e.b < 0) {

@@ -381,6 +381,72 @@ int dpm_settling(const std::string& dir) {
   return 0;
 }
 
+// Monodisperse granular gas (seed 003 §5.2): the collision frequency per volume
+// against kinetic theory, 2 g0 n^2 D^2 sqrt(pi T) with g0 of Lun & Savage
+// (eqs 5.9-5.10, alpha_max 0.64), T the granular temperature from the kinetic
+// energy less the mean flow; the Kolmogorov-Smirnov distances of the collision
+// angle (pdf sin 2 phi, eq. 5.7 with phi = pi - theta) and of the relative speed
+// (eq. 5.8, cdf 1 - (1 + g^2 / 4T) exp(-g^2 / 4T)) from events/collisions.csv,
+// each also as a ratio to the 99 % critical value 1.63 / sqrt(count).
+int granular_gas(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto& dom = cfg.domain;
+  const double V = (dom.upper[0] - dom.lower[0]) * (dom.upper[1] - dom.lower[1]) * (dom.upper[2] - dom.lower[2]);
+  const auto sp = cfg.resolved["particles"]["species"].begin()->second;
+  const double D = sp["diameter"].as<double>(), rho_p = sp["density"].as<double>();
+  const double m = rho_p * std::numbers::pi * D * D * D / 6.0;
+  const auto rows = read_series(dir + "/series/particles.csv");
+  double collisions = 0.0, T = 0.0;
+  for (std::size_t r = 1; r < rows.size(); ++r) {
+    collisions += rows[r][6];
+    const double N = rows[r][1];
+    const double p2 = rows[r][2] * rows[r][2] + rows[r][3] * rows[r][3] + rows[r][4] * rows[r][4];
+    T += (2.0 * rows[r][5] / (N * m) - p2 / (N * m * N * m)) / 3.0;
+  }
+  T /= static_cast<double>(rows.size() - 1);
+  const double duration = rows.back()[0] - rows.front()[0], N = rows.back()[1];
+  const double n = N / V, alpha = N * std::numbers::pi * D * D * D / 6.0 / V;
+  const double g0 = std::pow(1.0 - alpha / 0.64, -2.5 * 0.64);
+  const double theory = g0 * 2.0 * n * n * D * D * std::sqrt(std::numbers::pi * T);
+  const double measured = collisions / duration / V;
+  // Event log: angle (degrees), relative speed.
+  std::vector<double> angle, speed;
+  {
+    std::ifstream in(dir + "/events/collisions.csv");
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) {
+      std::stringstream ss(line);
+      std::vector<double> f;
+      for (std::string v; std::getline(ss, v, ',');) f.push_back(std::stod(v));
+      angle.push_back(f[3] * std::numbers::pi / 180.0);
+      speed.push_back(f[4]);
+    }
+  }
+  auto ks = [](std::vector<double> x, auto cdf) {
+    std::sort(x.begin(), x.end());
+    double d = 0.0;
+    const double k = static_cast<double>(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const double F = cdf(x[i]);
+      d = std::max({d, std::abs(F - i / k), std::abs(F - (i + 1) / k)});
+    }
+    return d;
+  };
+  const double ks_angle = ks(angle, [](double a) { return std::sin(a) * std::sin(a); });
+  const double ks_speed = ks(speed, [&](double g) {
+    const double q = g * g / (4.0 * T);
+    return 1.0 - (1.0 + q) * std::exp(-q);
+  });
+  const double critical = 1.63 / std::sqrt(static_cast<double>(angle.size()));
+  std::printf("particles=%.0f\nsolid_fraction=%.5f\ngranular_temperature=%.6e\ncollisions=%.0f\n"
+              "frequency=%.6e\nfrequency_theory=%.6e\nfrequency_error=%.4e\nevents=%zu\n"
+              "angle_ks=%.4e\nangle_ks_ratio=%.3f\nspeed_ks=%.4e\nspeed_ks_ratio=%.3f\n",
+              N, alpha, T, collisions, measured, theory, std::abs(measured / theory - 1.0), angle.size(), ks_angle,
+              ks_angle / critical, ks_speed, ks_speed / critical);
+  return 0;
+}
+
 int impact(const std::string& dir) {
   const auto cfg = load(dir);
   double t_in = -1, t_out = -1, prev_gap = 0, prev_t = 0, v0 = 0, v1 = 0, r = 0, rho = 0;
@@ -561,6 +627,7 @@ int main(int argc, char** argv) {
     if (what == "drag" && argc == 3) return drag(argv[2]);
     if (what == "settling" && argc == 3) return settling(argv[2]);
     if (what == "dpm_settling" && argc == 3) return dpm_settling(argv[2]);
+    if (what == "granular_gas" && argc == 3) return granular_gas(argv[2]);
     if (what == "rotation" && argc == 3) return rotation(argv[2]);
     std::fprintf(stderr, "usage: coflow-check profile|decay|mass RUN_DIR | compare RUN_A RUN_B\n");
     return 2;

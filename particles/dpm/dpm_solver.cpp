@@ -1,0 +1,237 @@
+#include "particles/dpm/dpm_solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "coflow/log.hpp"
+#include "particles/dem/checkpoint.hpp"
+#include "particles/dem/initial.hpp"
+
+namespace coflow::particles {
+
+using dpm::V3;
+
+namespace {
+V3 at(const std::vector<double>& a, std::size_t i) { return V3(a[3 * i], a[3 * i + 1], a[3 * i + 2]); }
+void put(std::vector<double>& a, std::size_t i, const V3& v) {
+  for (int k = 0; k < 3; ++k) a[3 * i + k] = v[k];
+}
+}  // namespace
+
+DpmSolver::DpmSolver(const Setup& setup, const Params&) : params_(setup.params) {
+  int size = 1;
+  MPI_Comm_size(setup.comm, &size);
+  if (size != 1) throw std::runtime_error("dpm runs on one rank for now: set particles.ranks: 1");
+  s_ = dpm::make_setup(setup.params, setup.cfg);
+  p_ = dem::make_initial(setup.params, setup.cfg);
+  p_.force.assign(3 * p_.size(), 0.0);
+  set_derived();
+  dt_ = s_.auto_step ? stable_step() : s_.dt;
+  log::info("dpm: {} particles, step {:.4g} s ({})", p_.size(), dt_, s_.auto_step ? "eq. 4.15 at the start" : "given");
+}
+
+void DpmSolver::set_derived() {
+  const std::size_t n = p_.size();
+  D_.resize(n);
+  rho_p_.resize(n);
+  fluid_.assign(n, s_.still);
+  for (std::size_t i = 0; i < n; ++i) {
+    D_[i] = 2.0 * p_.radius[i];
+    rho_p_[i] = params_.species.at(p_.species[i]).second.density;
+  }
+}
+
+double DpmSolver::stable_step() const {
+  double dt = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < p_.size(); ++i)
+    dt = std::min(dt, dpm::lagrangian_step(s_, D_[i], rho_p_[i], at(p_.v, i), fluid_[i]));
+  return std::isfinite(dt) ? dt : 1.0;
+}
+
+// Pairs that touch within the step: |d| <= (D_i + D_j) / 2 + |u_i - u_j| h at
+// the start, so a cell edge of D_max + 2 u_max h puts them in neighbouring cells.
+void DpmSolver::find_pair_events(const std::vector<V3>& u, double h, std::vector<dpm::Event>& out) {
+  const std::size_t n = p_.size();
+  auto event = [&](std::size_t i, std::size_t j) {
+    const std::size_t a = p_.id[i] < p_.id[j] ? i : j, b = a == i ? j : i;
+    const V3 d = dpm::min_image(at(p_.x, a) - at(p_.x, b), s_);
+    const double t = dpm::contact_time(d, u[a] - u[b], 0.5 * (D_[a] + D_[b]), h);
+    if (std::isfinite(t)) out.push_back({t, p_.id[a], p_.id[b], a, b});
+  };
+  if (all_pairs_) {
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = i + 1; j < n; ++j) event(i, j);
+    return;
+  }
+  double dmax = 0.0, umax = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    dmax = std::max(dmax, D_[i]);
+    umax = std::max(umax, u[i].norm());
+  }
+  const double edge = dmax + 2.0 * umax * h;
+  long nc[3];
+  for (int k = 0; k < 3; ++k)
+    nc[k] = std::max(1L, std::min(1024L, static_cast<long>((s_.upper[k] - s_.lower[k]) / edge)));
+  auto cell_of = [&](std::size_t i, long c[3]) {
+    for (int k = 0; k < 3; ++k) {
+      const double L = s_.upper[k] - s_.lower[k];
+      c[k] = std::clamp(static_cast<long>((p_.x[3 * i + k] - s_.lower[k]) / L * nc[k]), 0L, nc[k] - 1);
+    }
+  };
+  head_.assign(static_cast<std::size_t>(nc[0] * nc[1] * nc[2]), -1);
+  next_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    long c[3];
+    cell_of(i, c);
+    const long flat = (c[2] * nc[1] + c[1]) * nc[0] + c[0];
+    next_[i] = head_[flat];
+    head_[flat] = static_cast<long>(i);
+  }
+  long nb[27];
+  for (std::size_t i = 0; i < n; ++i) {
+    long c[3];
+    cell_of(i, c);
+    int count = 0;
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const long o[3] = {dx, dy, dz};
+          long q[3];
+          bool ok = true;
+          for (int k = 0; k < 3; ++k) {
+            q[k] = c[k] + o[k];
+            if (q[k] < 0 || q[k] >= nc[k]) {
+              if (!s_.periodic[k]) ok = false;
+              q[k] = (q[k] + nc[k]) % nc[k];
+            }
+          }
+          if (!ok) continue;
+          const long flat = (q[2] * nc[1] + q[1]) * nc[0] + q[0];
+          if (std::find(nb, nb + count, flat) == nb + count) nb[count++] = flat;  // fewer than 3 cells per axis
+        }
+    for (int m = 0; m < count; ++m)
+      for (long j = head_[nb[m]]; j >= 0; j = next_[j])
+        if (p_.id[j] > p_.id[i]) event(i, static_cast<std::size_t>(j));
+  }
+}
+
+void DpmSolver::step(double h) {
+  const std::size_t n = p_.size();
+  // 1. Fluid forces and gravity, RK4 (seed 003 eqs 4.12-4.14).
+  moved_.resize(n);
+  u_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    moved_[i] = dpm::rk4({at(p_.x, i), at(p_.v, i), at(p_.w, i)}, D_[i], p_.mass[i], p_.inertia[i], rho_p_[i],
+                         fluid_[i], s_, h);
+    u_[i] = (moved_[i].x - at(p_.x, i)) / h;
+  }
+  // 2. Collisions along the trajectories, earliest first (as dpm-reference).
+  ev_.clear();
+  if (s_.collisions) find_pair_events(u_, h, ev_);
+  for (std::size_t i = 0; i < n; ++i)
+    for (int f = 0; f < 6; ++f) {
+      if (s_.faces[f] != dpm::Face::wall && s_.faces[f] != dpm::Face::symmetry) continue;
+      const double un = u_[i].dot(dpm::face_normal(f));
+      if (un <= 0.0) continue;
+      const double t = std::max(0.0, (dpm::face_distance(f, at(p_.x, i), s_) - 0.5 * D_[i]) / un);
+      if (t < h) ev_.push_back({t, p_.id[i], -1 - f, i, i});
+    }
+  std::sort(ev_.begin(), ev_.end());
+  hit_.assign(n, -1.0);
+  for (const dpm::Event& e : ev_) {
+    if (hit_[e.i] >= 0.0 || (e.b >= 0 && hit_[e.j] >= 0.0)) continue;
+    if (e.b < 0) {
+      dpm::collide_wall(moved_[e.i].v, moved_[e.i].w, D_[e.i], dpm::face_normal(static_cast<int>(-1 - e.b)),
+                        s_.wall[-1 - e.b]);
+      hit_[e.i] = e.t;
+      ++wall_collisions_;
+      continue;
+    }
+    const V3 d = dpm::min_image((at(p_.x, e.i) + u_[e.i] * e.t) - (at(p_.x, e.j) + u_[e.j] * e.t), s_);
+    const V3 nrm = -d.normalized();
+    events_.collision(time_ + e.t, e.a, e.b, -nrm, moved_[e.i].v - moved_[e.j].v);
+    dpm::collide_pair(moved_[e.i].v, moved_[e.i].w, p_.mass[e.i], D_[e.i], moved_[e.j].v, moved_[e.j].w,
+                      p_.mass[e.j], D_[e.j], nrm, s_.pair);
+    hit_[e.i] = hit_[e.j] = e.t;
+    ++collisions_;
+  }
+  // 3. New states (eqs 4.30-4.31 after a collision), then the faces.
+  std::size_t keep = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    V3 x = hit_[i] < 0.0 ? moved_[i].x : V3(at(p_.x, i) + u_[i] * hit_[i] + moved_[i].v * (h - hit_[i]));
+    bool out = false;
+    for (int k = 0; k < 3; ++k) {
+      const double L = s_.upper[k] - s_.lower[k];
+      if (s_.periodic[k]) {
+        if (x[k] < s_.lower[k]) x[k] += L;
+        if (x[k] >= s_.upper[k]) x[k] -= L;
+      } else {
+        out = out || (x[k] < s_.lower[k] && s_.faces[2 * k] == dpm::Face::outlet) ||
+              (x[k] > s_.upper[k] && s_.faces[2 * k + 1] == dpm::Face::outlet);
+      }
+    }
+    if (out) continue;
+    put(p_.x, keep, x);
+    put(p_.v, keep, moved_[i].v);
+    put(p_.w, keep, moved_[i].w);
+    put(p_.force, keep, dpm::fluid_load(fluid_[i], D_[i], moved_[i].v, moved_[i].w, s_.forces).force());
+    p_.id[keep] = p_.id[i];
+    p_.species[keep] = p_.species[i];
+    p_.radius[keep] = p_.radius[i];
+    p_.mass[keep] = p_.mass[i];
+    p_.inertia[keep] = p_.inertia[i];
+    D_[keep] = D_[i];
+    rho_p_[keep] = rho_p_[i];
+    fluid_[keep] = fluid_[i];
+    ++keep;
+  }
+  if (keep < n) {
+    for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force}) a->resize(3 * keep);
+    p_.id.resize(keep);
+    p_.species.resize(keep);
+    for (auto* a : {&p_.radius, &p_.mass, &p_.inertia, &D_, &rho_p_}) a->resize(keep);
+    fluid_.resize(keep);
+  }
+  time_ += h;
+  ++steps_;
+}
+
+void DpmSolver::advance(double dt, long substeps) {
+  const double h = dt / substeps;
+  for (long n = 0; n < substeps; ++n) {
+    const long k = s_.auto_step ? std::max(1L, static_cast<long>(std::ceil(h / stable_step() - 1e-9))) : 1;
+    for (long m = 0; m < k; ++m) step(h / k);
+  }
+}
+
+void DpmSolver::set_hydrodynamic(std::span<const double>, std::span<const double>) {
+  throw std::runtime_error("dpm takes the fluid at the particles (immersed.method: point), not forces");
+}
+
+ParticleStats DpmSolver::stats() {
+  ParticleStats st;
+  st.count = static_cast<long>(p_.size());
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    const V3 v = at(p_.v, i), w = at(p_.w, i);
+    for (int k = 0; k < 3; ++k) st.momentum[k] += p_.mass[i] * v[k];
+    st.kinetic_energy += 0.5 * p_.mass[i] * v.squaredNorm();
+    st.rotational_energy += 0.5 * p_.inertia[i] * w.squaredNorm();
+  }
+  st.collisions = collisions_;
+  st.wall_collisions = wall_collisions_;
+  collisions_ = wall_collisions_ = 0;
+  return st;
+}
+
+void DpmSolver::save(const std::string& dir) { dem::save_state(MPI_COMM_SELF, dir, time_, steps_, p_, {}); }
+
+void DpmSolver::load(const std::string& dir, long steps, double time) {
+  std::vector<dem::SavedContact> contacts;
+  dem::load_state(dir, params_, p_, contacts);
+  set_derived();
+  steps_ = steps;
+  time_ = time;
+}
+
+}  // namespace coflow::particles

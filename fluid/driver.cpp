@@ -102,6 +102,54 @@ void run(coupler::Session& s) {
         s.partner("immersed"), coupler::FieldExchange::Role::sender, s.decomposition(), s.rank(), other,
         coupler::FieldSpec{"solid_force", 3, coupler::Transfer::consistent, 0}, protocol::kTagSolidForce);
   }
+  // Point particles (immersed method point): the fluid's velocity, k and
+  // epsilon go out at each window's start (ghost layer 2 for the immersed side's
+  // interpolation and vorticity), and the particles' momentum source of the
+  // window comes back before the step.
+  const bool point = s.has_partner("immersed") && cfg.component("immersed").variant == "point";
+  std::unique_ptr<coupler::FieldExchange> flow_out, source_in;
+  std::vector<double> flow_local, source_local, source_owned;
+  if (point) {
+    const auto other = s.decomposition_of("immersed", s.partner_ranks("immersed"));
+    flow_out = std::make_unique<coupler::FieldExchange>(
+        s.partner("immersed"), coupler::FieldExchange::Role::sender, s.decomposition(), s.rank(), other,
+        coupler::FieldSpec{"flow", 5, coupler::Transfer::consistent, 2}, protocol::kTagFlow);
+    source_in = std::make_unique<coupler::FieldExchange>(
+        s.partner("immersed"), coupler::FieldExchange::Role::receiver, s.decomposition(), s.rank(), other,
+        coupler::FieldSpec{"source", 3, coupler::Transfer::conservative, 1}, protocol::kTagSource);
+    flow_local.assign(flow_out->local_size(), 0.0);
+    source_local.assign(source_in->local_size(), 0.0);
+  }
+  auto send_flow = [&] {
+    flow_out->flush();
+    const auto fields = solver->fields({"velocity", "k", "epsilon"});
+    const coupler::Box& o = solver->owned();
+    const long nx = o.extent(0), ny = o.extent(1);
+    for (const auto& f : fields) {
+      const int first = f.name == "velocity" ? 0 : f.name == "k" ? 3 : 4;
+      for (long k = o.lo[2]; k < o.hi[2]; ++k)
+        for (long j = o.lo[1]; j < o.hi[1]; ++j)
+          for (long i = o.lo[0]; i < o.hi[0]; ++i) {
+            const long c = ((k - o.lo[2]) * ny + (j - o.lo[1])) * nx + (i - o.lo[0]);
+            const long l = flow_out->local_index({i, j, k});
+            for (int d = 0; d < f.components; ++d) flow_local[5 * l + first + d] = f.data[f.components * c + d];
+          }
+    }
+    flow_out->send(flow_local);
+  };
+  auto receive_source = [&] {
+    source_in->receive(source_local);
+    const coupler::Box& o = solver->owned();
+    source_owned.resize(3 * o.volume());
+    std::size_t c = 0;
+    for (long k = o.lo[2]; k < o.hi[2]; ++k)
+      for (long j = o.lo[1]; j < o.hi[1]; ++j)
+        for (long i = o.lo[0]; i < o.hi[0]; ++i, ++c) {
+          const long l = source_in->local_index({i, j, k});
+          for (int d = 0; d < 3; ++d) source_owned[3 * c + d] = source_local[3 * l + d];
+        }
+    solver->set_source(source_owned);
+  };
   std::vector<long> solid_cells;
   std::vector<double> solid_values, fraction, velocity, force;
   std::vector<coupler::Index3> force_cells;
@@ -125,6 +173,10 @@ void run(coupler::Session& s) {
       solver->set_solid(solid_cells, fraction, velocity);
       if (w == 1) write_output(0);
     }
+    if (point) {
+      send_flow();
+      receive_source();
+    }
     solver->advance(window);
     if (psm) {
       solver->take_solid_force(force);
@@ -143,6 +195,7 @@ void run(coupler::Session& s) {
     s.window_done(w);
   }
   if (force_out) force_out->flush();
+  if (flow_out) flow_out->flush();
 }
 
 }  // namespace coflow::fluid

@@ -98,6 +98,13 @@ class FluidSolver {
   // the solid in each of those cells, averaged over the steps since the last call
   // (seed 000 eq. 2.70 before the sum over cells).
   virtual void take_solid_force(std::vector<double>& force) { force.clear(); }
+  // Momentum source of point particles (immersed method point, seed 003 eq.
+  // 3.43): a force density (N/m^3, 3 per owned cell) added to the body force
+  // until the next call. A solver that cannot take it throws.
+  virtual void set_source(std::span<const double> force_density) {
+    (void)force_density;
+    throw std::runtime_error("this fluid solver does not take momentum sources (immersed.method point)");
+  }
 
   virtual void save(const std::string& dir) = 0;
   virtual void load(const std::string& dir, long steps, double time) = 0;

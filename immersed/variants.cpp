@@ -2,12 +2,16 @@
 
 #include <fmt/format.h>
 
+#include "immersed/point/point.hpp"
 #include "immersed/psm/psm.hpp"
 #include "immersed/schema.hpp"
 
 namespace coflow::immersed {
 
-void register_immersed_variants(Registry<ImmersedMethod>& r) { r.add<PsmMethod>("psm"); }
+void register_immersed_variants(Registry<ImmersedMethod>& r) {
+  r.add<PsmMethod>("psm");
+  r.add<PointMethod>("point");
+}
 
 Registry<ImmersedMethod>& registry() {
   static Registry<ImmersedMethod> r = [] {
@@ -23,7 +27,6 @@ config::ComponentSchema schema() {
   s.section = "immersed";
   s.selector = "method";
   s.variants = registry().names();
-  s.variants.push_back("point");  // planned (issue 7): accepted by the schema, refused at run time
   s.variants.push_back("external");
   s.doc = "the coupling between particles and the fluid grid: psm or point";
   s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {

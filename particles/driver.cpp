@@ -133,14 +133,22 @@ void run(coupler::Session& s) {
   // (routed to the immersed ranks whose grid block, or ghost layer, they cover)
   // and the hydrodynamic force and torque on each come back, held constant over
   // the window's sub-steps.
-  std::unique_ptr<coupler::PointExchange> to_immersed;
+  // With immersed method point, the fluid at each particle comes back instead
+  // (one copy per particle), and after the sub-steps each particle's impulse of
+  // the fluid forces goes out for the momentum source.
+  std::unique_ptr<coupler::PointExchange> to_immersed, impulse_out;
+  const bool point = s.has_partner("immersed") && cfg.component("immersed").variant == "point";
   if (s.has_partner("immersed")) {
     const auto dest = s.decomposition_of("immersed", s.partner_ranks("immersed"));
     const auto h = cfg.domain.spacing();
     to_immersed = std::make_unique<coupler::PointExchange>(
         s.partner("immersed"), coupler::PointExchange::Role::origin, dest, cfg.domain.lower, h,
-        sizeof(protocol::ParticleRecord), sizeof(protocol::ParticleLoad), protocol::kTagParticles,
-        coupling_ghost_cells(params, cfg));
+        sizeof(protocol::ParticleRecord), point ? sizeof(protocol::FluidAtParticle) : sizeof(protocol::ParticleLoad),
+        protocol::kTagParticles, point ? 0 : coupling_ghost_cells(params, cfg));
+    if (point)
+      impulse_out = std::make_unique<coupler::PointExchange>(
+          s.partner("immersed"), coupler::PointExchange::Role::origin, dest, cfg.domain.lower, h,
+          sizeof(protocol::ParticleImpulse), sizeof(double), protocol::kTagImpulse, 0);
   }
   std::vector<std::byte> records, loads;
   std::vector<std::array<double, 3>> positions;
@@ -151,7 +159,7 @@ void run(coupler::Session& s) {
   // while the immersed side and the fluid compute this window's; those arrive
   // after the sub-steps, are matched to the particles by id (a particle may
   // have moved to another rank meanwhile) and act in the next window.
-  const bool lagged = to_immersed && cfg.coupling.scheme == "parallel-explicit";
+  const bool lagged = to_immersed && !point && cfg.coupling.scheme == "parallel-explicit";
   auto send_states = [&] {
     const ParticleArrays& p = solver->particles();
     const std::size_t n = p.size();
@@ -254,12 +262,54 @@ void run(coupler::Session& s) {
     apply_loads(mine);
   };
   if (lagged && w0 > 0) load_pending(s.restart_dir());
+  std::vector<double> samples, impulse;
+  std::vector<std::byte> fluid_bytes, impulse_records;
+  auto receive_fluid = [&] {
+    const std::size_t n = sent_ids.size();
+    fluid_bytes.assign(n * sizeof(protocol::FluidAtParticle), std::byte{0});
+    to_immersed->receive_results(fluid_bytes);
+    samples.resize(ParticleSolver::kFluidValues * n);
+    for (std::size_t i = 0; i < n; ++i) {
+      protocol::FluidAtParticle f;
+      std::memcpy(&f, fluid_bytes.data() + i * sizeof f, sizeof f);
+      double* row = &samples[ParticleSolver::kFluidValues * i];
+      for (int d = 0; d < 3; ++d) {
+        row[d] = f.u[d];
+        row[3 + d] = f.vorticity[d];
+      }
+      row[6] = f.k;
+      row[7] = f.epsilon;
+      row[8] = f.rho;
+      row[9] = f.mu;
+    }
+    solver->set_fluid(samples);
+  };
+  auto send_impulses = [&] {
+    solver->take_impulse(impulse);
+    const ParticleArrays& p = solver->particles();
+    const std::size_t n = p.size();
+    impulse_records.resize(n * sizeof(protocol::ParticleImpulse));
+    positions.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      protocol::ParticleImpulse rec{};
+      rec.id = p.id[i];
+      for (int d = 0; d < 3; ++d) {
+        rec.x[d] = p.x[3 * i + d];
+        rec.impulse[d] = impulse[3 * i + d];
+        positions[i][d] = rec.x[d];
+      }
+      std::memcpy(impulse_records.data() + i * sizeof rec, &rec, sizeof rec);
+    }
+    impulse_out->send(impulse_records, positions);
+  };
 
   if (w0 == 0) write_output(0);
   for (long w = w0 + 1; w <= s.windows(); ++w) {
     if (to_immersed) send_states();
-    if (to_immersed && !lagged) apply_loads(receive_loads());
+    if (point) receive_fluid();
+    if (to_immersed && !lagged && !point) apply_loads(receive_loads());
     solver->advance(s.window(), substeps);
+    if (point) send_impulses();
     if (lagged) {
       pending = receive_loads();
       apply_loads(pending);

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -160,6 +161,17 @@ class ParticleSolver {
   // Hydrodynamic force and torque per local particle (3 per particle), held
   // constant until the next call.
   virtual void set_hydrodynamic(std::span<const double> force, std::span<const double> torque) = 0;
+  // Point particles (immersed method point): the fluid at each local particle,
+  // kFluidValues per particle (u[3], vorticity[3], k, epsilon, rho, mu; SI),
+  // held until the next call; and the impulse of the fluid forces on each
+  // local particle since the last call (N s, 3 per particle), for the momentum
+  // source of seed 003 eq. 3.43. Particle solvers without them throw.
+  static constexpr int kFluidValues = 10;
+  virtual void set_fluid(std::span<const double> samples) {
+    (void)samples;
+    throw std::runtime_error("this particle solver takes forces, not the fluid at the particles (use psm)");
+  }
+  virtual void take_impulse(std::vector<double>& impulse) { impulse.clear(); }
   virtual ParticleStats stats() = 0;  // collective; resets the event counters
   // Record discrete events (off by default); take_events() hands over and clears
   // this rank's record.

@@ -35,6 +35,8 @@ class AnalyticFluid final : public FluidSolver {
   const coupler::Box& owned() const override { return owned_; }
   std::vector<output::GridField> fields(const config::StringList& names) override;
   Diagnostics diagnostics() override;
+  // Prescribed fields: particles do not act back (one-way coupling).
+  void set_source(std::span<const double>) override {}
   void save(const std::string&) override {}  // the state is the time
   void load(const std::string&, long steps, double time) override {
     steps_ = steps;

@@ -117,7 +117,10 @@ class Core final : public LbmCore {
             jy += L::e[q][1] * f;
             jz += L::e[q][2] * f;
           }
-          // Post-collision momentum carries the whole force: u = (j - F/2) / rho_m.
+          // Post-collision momentum carries the whole force: u = (j - F/2) / rho_m
+          // for the body force. A point-particle source is an impulse the
+          // particles gave up in the window: it counts in full, so that fluid +
+          // particles balance at the window's end.
           const double rho_m = Incompressible ? 1.0 : r;
           u[3 * c + 0] = (jx - 0.5 * s_.force[0]) / rho_m;
           u[3 * c + 1] = (jy - 0.5 * s_.force[1]) / rho_m;
@@ -215,10 +218,41 @@ class Core final : public LbmCore {
     return shift_ + ((k + g_[2]) * P_[1] + (j + g_[1])) * P_[0] + (i + g_[0]);
   }
 
+  void set_source(std::span<const double> force) override {
+    src_.assign(force.begin(), force.end());
+    src_row_.assign(static_cast<std::size_t>(n_[1] * n_[2]), 0);
+    for (std::size_t c = 0; c < src_.size() / 3; ++c)
+      if (src_[3 * c] != 0.0 || src_[3 * c + 1] != 0.0 || src_[3 * c + 2] != 0.0)
+        src_row_[c / static_cast<std::size_t>(n_[0])] = 1;
+  }
+
+  // Body force plus the cell's source.
+  void force_at(long i, long j, long k, double F[3]) const {
+    const long c = (k * n_[1] + j) * n_[0] + i;
+    for (int d = 0; d < 3; ++d) F[d] = s_.force[d] + (src_.empty() ? 0.0 : src_[3 * c + d]);
+  }
+
+  // Cells of a row with a momentum source: one at a time, each with its force.
+  void source_row(long i0, long i1, long j, long k) {
+    for (long i = i0; i < i1; ++i) {
+      const long x = idx(i, j, k);
+      double f[L::Q], F[3];
+      force_at(i, j, k, F);
+      for (int q = 0; q < L::Q; ++q) f[q] = a_[q * N_ + x - off_[q]];
+      const double uu = lbm::collide<L, Incompressible>(f, p_, F);
+      max_u2_ = (uu > max_u2_ || uu != uu) ? uu : max_u2_;
+      for (int q = 0; q < L::Q; ++q) b_[q * N_ + x] = f[q];
+    }
+  }
+
   // The hot loop: cells of one row that read only valid data. The compiler
   // vectorises over i: each population streams with a constant offset.
   void fast_row(long i0, long i1, long j, long k) {
     if (i1 <= i0) return;
+    if (!src_.empty() && src_row_[k * n_[1] + j]) {
+      source_row(i0, i1, j, k);
+      return;
+    }
     const double* __restrict src = a_.data();
     double* __restrict dst = b_.data();
     double* __restrict u2 = row_u2_.data();
@@ -271,8 +305,9 @@ class Core final : public LbmCore {
 
   // Cells that may lie on an open face: pull, close the unknowns, collide.
   void shell_row(long i0, long i1, long j, long k) {
-    const double F[3] = {s_.force[0], s_.force[1], s_.force[2]};
     for (long i = i0; i < i1; ++i) {
+      double F[3];
+      force_at(i, j, k, F);
       const long loc[3] = {i, j, k};
       bool open = false;
       for (int f = 0; f < 6 && !open; ++f)
@@ -408,6 +443,8 @@ class Core final : public LbmCore {
   long off_[L::Q];
   HugeVector<double> a_, b_;  // post-collision populations; a_ is current
   std::vector<double> row_u2_;
+  std::vector<double> src_;     // per owned cell source (lattice units), empty: none
+  std::vector<char> src_row_;   // rows (j, k) holding a source
   double max_u2_ = 0.0;
   bool open_[6], wall_[6];
   std::vector<Halo> halo_;
@@ -481,6 +518,12 @@ void LbmSolver::set_solid(std::span<const long> cells, std::span<const double> f
   for (std::size_t n = 0; n < velocity.size(); ++n) solid_us_[n] = velocity[n] / s_.units.velocity();
   solid_gain_.assign(3 * cells.size(), 0.0);
   solid_steps_ = 0;
+}
+
+void LbmSolver::set_source(std::span<const double> force_density) {
+  std::vector<double> lattice(force_density.size());
+  for (std::size_t n = 0; n < lattice.size(); ++n) lattice[n] = force_density[n] / s_.units.force_density();
+  core_->set_source(lattice);
 }
 
 void LbmSolver::take_solid_force(std::vector<double>& force) {

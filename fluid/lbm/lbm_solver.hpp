@@ -30,6 +30,9 @@ class LbmCore {
   // sum_q B Omega^s_q e_q to `gain` (3 per cell).
   virtual void psm(std::span<const long> cells, std::span<const double> fraction, std::span<const double> us,
                    std::span<double> gain) = 0;
+  // Per-cell force density added to the body force (lattice units, 3 per owned
+  // cell; empty: none). Rows holding a source take the per-cell path.
+  virtual void set_source(std::span<const double> force) = 0;
 };
 
 class LbmSolver final : public FluidSolver {
@@ -53,6 +56,7 @@ class LbmSolver final : public FluidSolver {
   void set_solid(std::span<const long> cells, std::span<const double> fraction,
                  std::span<const double> velocity) override;
   void take_solid_force(std::vector<double>& force) override;
+  void set_source(std::span<const double> force_density) override;
 
   const lbm::Setup& setup() const { return s_; }
 

@@ -57,7 +57,18 @@ double LbmReference::equilibrium(int q, double rho, const double u[3]) const {
 // Collision with Guo, Zheng & Shi (2002) forcing, written per population pair
 // (q, opposite q): the even part relaxes with tau (seed 000 eqs 2.42, 2.45, BGK),
 // the odd part with tau_minus (TRT, Ginzburg 2008; tau_minus = tau for BGK).
-void LbmReference::fluid_velocity(const double* f, double& rho, double u[3]) const {
+void LbmReference::set_source(std::span<const double> force_density) {
+  source_.resize(force_density.size());
+  for (std::size_t n = 0; n < source_.size(); ++n) source_[n] = force_density[n] / s_.units.force_density();
+}
+
+// The force density acting on cell c: the uniform body force plus the cell's
+// momentum source (immersed method point), lattice units.
+void LbmReference::force_at(long c, double F[3]) const {
+  for (int d = 0; d < 3; ++d) F[d] = s_.force[d] + (source_.empty() ? 0.0 : source_[3 * c + d]);
+}
+
+void LbmReference::fluid_velocity(const double* f, const double* F, double& rho, double u[3]) const {
   double j[3] = {0, 0, 0};
   rho = 0.0;
   for (int q = 0; q < Q_; ++q) {
@@ -65,14 +76,13 @@ void LbmReference::fluid_velocity(const double* f, double& rho, double u[3]) con
     for (int d = 0; d < 3; ++d) j[d] += e_[q][d] * f[q];
   }
   const double rho_m = s_.incompressible ? 1.0 : rho;
-  for (int d = 0; d < 3; ++d) u[d] = (j[d] + 0.5 * s_.force[d]) / rho_m;
+  for (int d = 0; d < 3; ++d) u[d] = (j[d] + 0.5 * F[d]) / rho_m;
 }
 
-void LbmReference::collide(double* f) const {
+void LbmReference::collide(double* f, const double* F) const {
   double rho, u[3];
-  fluid_velocity(f, rho, u);
+  fluid_velocity(f, F, rho, u);
   const double rho_m = s_.incompressible ? 1.0 : rho;
-  const double* F = s_.force.data();
   const double tau_minus = s_.trt ? 0.5 + s_.magic / (s_.tau - 0.5) : s_.tau;
   const double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
   const double uF = u[0] * F[0] + u[1] * F[1] + u[2] * F[2];
@@ -98,10 +108,9 @@ void LbmReference::collide(double* f) const {
   f[0] = rho - moving;
 }
 
-void LbmReference::collide_psm(double* f, Solid& s) const {
+void LbmReference::collide_psm(double* f, const double* F, Solid& s) const {
   double rho, u[3];
-  fluid_velocity(f, rho, u);
-  const double* F = s_.force.data();
+  fluid_velocity(f, F, rho, u);
   const double tau = s_.tau, omega = 1.0 / tau;
   const double B = s.fraction * (tau - 0.5) / ((1.0 - s.fraction) + (tau - 0.5));  // eq. 2.67
   std::vector<double> feq(Q_), feq_s(Q_), out(Q_);
@@ -202,10 +211,12 @@ void LbmReference::step() {
     if (s_.faces[face].type != FaceType::outflow) apply_face(face, fs, post);
   for (long c = 0; c < n_[0] * n_[1] * n_[2]; ++c) {
     const auto it = solid_.find(c);
+    double F[3];
+    force_at(c, F);
     if (it == solid_.end() || on_open_face(c))  // open faces keep their closure: fluid
-      collide(&fs[c * Q_]);
+      collide(&fs[c * Q_], F);
     else
-      collide_psm(&fs[c * Q_], it->second);
+      collide_psm(&fs[c * Q_], F, it->second);
   }
   if (!solid_.empty()) ++solid_steps_;
   f_ = fs;
@@ -297,6 +308,7 @@ void LbmReference::moments(long c, double& rho, double u[3]) const {
   // Stored f is post-collision: its momentum carries the whole force, so the
   // velocity of the step is (j - F/2) / rho_m.
   const double rho_m = s_.incompressible ? 1.0 : rho;
+  // (the body force's half; a point-particle source counts in full, as in lbm)
   for (int d = 0; d < 3; ++d) u[d] = (j[d] - 0.5 * s_.force[d]) / rho_m;
 }
 

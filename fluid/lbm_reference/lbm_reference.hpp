@@ -34,6 +34,7 @@ class LbmReference final : public FluidSolver {
   void set_solid(std::span<const long> cells, std::span<const double> fraction,
                  std::span<const double> velocity) override;
   void take_solid_force(std::vector<double>& force) override;
+  void set_source(std::span<const double> force_density) override;
 
   void step();
   // Lattice moments of a cell (rho, u) from the stored post-collision state.
@@ -43,15 +44,16 @@ class LbmReference final : public FluidSolver {
   long index(long i, long j, long k) const { return (k * n_[1] + j) * n_[0] + i; }
   double equilibrium(int q, double rho, const double u[3]) const;
   // Density and velocity (with half the force, Guo) of one cell's populations.
-  void fluid_velocity(const double* f, double& rho, double u[3]) const;
-  void collide(double* f) const;
+  void force_at(long c, double F[3]) const;
+  void fluid_velocity(const double* f, const double* F, double& rho, double u[3]) const;
+  void collide(double* f, const double* F) const;
   struct Solid {
     double fraction = 0.0;
     double us[3] = {0, 0, 0};    // lattice units
     double gain[3] = {0, 0, 0};  // fluid momentum gained, lattice units, summed over steps
   };
   // Noble & Torczynski partially saturated cell (seed 000 eqs 2.66-2.68).
-  void collide_psm(double* f, Solid& s) const;
+  void collide_psm(double* f, const double* F, Solid& s) const;
   bool on_open_face(long cell) const;
   void apply_face(int face, std::vector<double>& fs, const std::vector<double>& post);
 
@@ -69,6 +71,7 @@ class LbmReference final : public FluidSolver {
   std::map<long, Solid> solid_;     // covered cells
   std::vector<long> solid_order_;   // in the order of set_solid
   long solid_steps_ = 0;
+  std::vector<double> source_;      // per cell, lattice units (empty: none)
 };
 
 }  // namespace coflow::fluid

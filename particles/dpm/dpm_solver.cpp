@@ -36,6 +36,7 @@ void DpmSolver::set_derived() {
   D_.resize(n);
   rho_p_.resize(n);
   fluid_.assign(n, s_.still);
+  impulse_.assign(3 * n, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
     D_[i] = 2.0 * p_.radius[i];
     rho_p_[i] = params_.species.at(p_.species[i]).second.density;
@@ -175,6 +176,7 @@ void DpmSolver::step(double h) {
     put(p_.x, keep, x);
     put(p_.v, keep, moved_[i].v);
     put(p_.w, keep, moved_[i].w);
+    put(impulse_, keep, at(impulse_, i) + moved_[i].impulse);
     put(p_.force, keep, dpm::fluid_load(fluid_[i], D_[i], moved_[i].v, moved_[i].w, s_.forces).force());
     p_.id[keep] = p_.id[i];
     p_.species[keep] = p_.species[i];
@@ -187,7 +189,7 @@ void DpmSolver::step(double h) {
     ++keep;
   }
   if (keep < n) {
-    for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force}) a->resize(3 * keep);
+    for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &impulse_}) a->resize(3 * keep);
     p_.id.resize(keep);
     p_.species.resize(keep);
     for (auto* a : {&p_.radius, &p_.mass, &p_.inertia, &D_, &rho_p_}) a->resize(keep);
@@ -207,6 +209,18 @@ void DpmSolver::advance(double dt, long substeps) {
 
 void DpmSolver::set_hydrodynamic(std::span<const double>, std::span<const double>) {
   throw std::runtime_error("dpm takes the fluid at the particles (immersed.method: point), not forces");
+}
+
+void DpmSolver::set_fluid(std::span<const double> samples) {
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    const double* s = &samples[kFluidValues * i];
+    fluid_[i] = {V3(s), V3(s + 3), s[6], s[7], s[8], s[9]};
+  }
+}
+
+void DpmSolver::take_impulse(std::vector<double>& impulse) {
+  impulse = impulse_;
+  std::fill(impulse_.begin(), impulse_.end(), 0.0);
 }
 
 ParticleStats DpmSolver::stats() {

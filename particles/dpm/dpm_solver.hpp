@@ -30,6 +30,8 @@ class DpmSolver final : public ParticleSolver {
   long steps() const override { return steps_; }
   const ParticleArrays& particles() const override { return p_; }
   void set_hydrodynamic(std::span<const double> force, std::span<const double> torque) override;
+  void set_fluid(std::span<const double> samples) override;
+  void take_impulse(std::vector<double>& impulse) override;
   ParticleStats stats() override;
   void record_events(bool collisions, bool bonds) override { events_.enable(collisions, bonds); }
   ParticleEvents take_events() override { return events_.take(); }
@@ -47,7 +49,7 @@ class DpmSolver final : public ParticleSolver {
   void set_derived();
 
   ParticleArrays p_;
-  std::vector<double> D_, rho_p_;
+  std::vector<double> D_, rho_p_, impulse_;
   std::vector<dpm::FluidSample> fluid_;
   dpm::DpmSetup s_;
   const ParticleParams& params_;

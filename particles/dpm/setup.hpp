@@ -107,25 +107,28 @@ inline V3 face_normal(int f) {
 // particle held over the step.
 struct Motion {
   V3 x, v, w;
+  V3 impulse = V3::Zero();  // of the fluid forces over the step, N s (eq. 3.43)
 };
 inline Motion rk4(const Motion& s, double D, double m, double I, double rho_p, const FluidSample& fluid,
                   const DpmSetup& set, double h) {
   const V3 g = set.forces.gravity_buoyancy ? V3(gravity_buoyancy(1.0, rho_p, fluid.rho, set.gravity)) : V3(V3::Zero());
-  auto rate = [&](const V3& v, const V3& w, V3& dv, V3& dw) {
+  V3 J = V3::Zero();
+  auto rate = [&](const V3& v, const V3& w, V3& dv, V3& dw, double weight) {
     const FluidLoad L = fluid_load(fluid, D, v, w, set.forces);
+    J += weight * L.force();
     dv = L.force() / m + g;  // eq. 3.29
     dw = L.torque / I;       // eq. 3.30
   };
   V3 a1, b1, a2, b2, a3, b3, a4, b4;
-  rate(s.v, s.w, a1, b1);
+  rate(s.v, s.w, a1, b1, h / 6.0);
   const V3 v2 = s.v + 0.5 * h * a1, w2 = s.w + 0.5 * h * b1;
-  rate(v2, w2, a2, b2);
+  rate(v2, w2, a2, b2, h / 3.0);
   const V3 v3 = s.v + 0.5 * h * a2, w3 = s.w + 0.5 * h * b2;
-  rate(v3, w3, a3, b3);
+  rate(v3, w3, a3, b3, h / 3.0);
   const V3 v4 = s.v + h * a3, w4 = s.w + h * b3;
-  rate(v4, w4, a4, b4);
+  rate(v4, w4, a4, b4, h / 6.0);
   return {s.x + h / 6.0 * (s.v + 2.0 * v2 + 2.0 * v3 + v4), s.v + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4),
-          s.w + h / 6.0 * (b1 + 2.0 * b2 + 2.0 * b3 + b4)};
+          s.w + h / 6.0 * (b1 + 2.0 * b2 + 2.0 * b3 + b4), J};
 }
 
 // A collision found in a step: time, the two ids (b < 0: the wall face -1 - b)

@@ -23,7 +23,7 @@ DpmReference::DpmReference(const Setup& setup, const Params&) : params_(setup.pa
   for (std::size_t i = 0; i < a.size(); ++i) {
     const double D = 2.0 * a.radius[i];
     p_.push_back({a.id[i], a.species[i], V3(&a.x[3 * i]), V3(&a.v[3 * i]), V3(&a.w[3 * i]), D, a.mass[i],
-                  a.inertia[i], params_.species.at(a.species[i]).second.density, s_.still, V3::Zero()});
+                  a.inertia[i], params_.species.at(a.species[i]).second.density, s_.still, V3::Zero(), V3::Zero()});
   }
   dt_ = s_.auto_step ? stable_step() : s_.dt;
   log::info("dpm-reference: {} particles, step {:.4g} s ({}), fluid {}", p_.size(), dt_,
@@ -97,6 +97,7 @@ void DpmReference::step(double h) {
     p.x = hit[i] < 0.0 ? next[i].x : V3(p.x + u[i] * hit[i] + next[i].v * (h - hit[i]));
     p.v = next[i].v;
     p.w = next[i].w;
+    p.impulse += next[i].impulse;
     p.last_force = dpm::fluid_load(p.fluid, p.D, p.v, p.w, s_.forces).force();
   }
   // 4. Faces: periodic wrap, outlets remove.
@@ -152,6 +153,21 @@ void DpmReference::set_hydrodynamic(std::span<const double>, std::span<const dou
   throw std::runtime_error("dpm-reference takes the fluid at the particles (immersed.method: point), not forces");
 }
 
+void DpmReference::set_fluid(std::span<const double> samples) {
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    const double* s = &samples[kFluidValues * i];
+    p_[i].fluid = {V3(s), V3(s + 3), s[6], s[7], s[8], s[9]};
+  }
+}
+
+void DpmReference::take_impulse(std::vector<double>& impulse) {
+  impulse.clear();
+  for (auto& p : p_) {
+    impulse.insert(impulse.end(), {p.impulse[0], p.impulse[1], p.impulse[2]});
+    p.impulse = V3::Zero();
+  }
+}
+
 ParticleStats DpmReference::stats() {
   ParticleStats st;
   st.count = static_cast<long>(p_.size());
@@ -179,7 +195,7 @@ void DpmReference::load(const std::string& dir, long steps, double time) {
   for (std::size_t i = 0; i < a.size(); ++i) {
     const double D = 2.0 * a.radius[i];
     p_.push_back({a.id[i], a.species[i], V3(&a.x[3 * i]), V3(&a.v[3 * i]), V3(&a.w[3 * i]), D, a.mass[i],
-                  a.inertia[i], params_.species.at(a.species[i]).second.density, s_.still, V3(&a.force[3 * i])});
+                  a.inertia[i], params_.species.at(a.species[i]).second.density, s_.still, V3(&a.force[3 * i]), V3::Zero()});
   }
   steps_ = steps;
   time_ = time;

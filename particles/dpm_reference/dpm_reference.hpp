@@ -29,6 +29,8 @@ class DpmReference final : public ParticleSolver {
   long steps() const override { return steps_; }
   const ParticleArrays& particles() const override;
   void set_hydrodynamic(std::span<const double> force, std::span<const double> torque) override;
+  void set_fluid(std::span<const double> samples) override;
+  void take_impulse(std::vector<double>& impulse) override;
   ParticleStats stats() override;
   void record_events(bool collisions, bool bonds) override { events_.enable(collisions, bonds); }
   ParticleEvents take_events() override { return events_.take(); }
@@ -45,6 +47,7 @@ class DpmReference final : public ParticleSolver {
     double D, m, I, rho_p;
     dpm::FluidSample fluid;  // the fluid at the particle, held over a window
     dpm::V3 last_force;      // fluid force at the end of the last step, for output
+    dpm::V3 impulse;         // of the fluid forces since take_impulse()
   };
   double stable_step() const;  // eq. 4.15 over all particles
   std::vector<Particle> p_;

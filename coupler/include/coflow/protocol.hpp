@@ -33,9 +33,29 @@ inline void add_load(std::byte* into, const std::byte* from) {
   std::memcpy(into, &a, sizeof a);
 }
 
+// immersed -> particles (method point): the fluid at each particle, interpolated
+// from the grid; one copy per particle (no ghost copies).
+struct FluidAtParticle {
+  double u[3];
+  double vorticity[3];
+  double k, epsilon;
+  double rho, mu;
+};
+// particles -> immersed (method point), after the sub-steps: the impulse of the
+// fluid forces on each particle over the window (N s), routed by the position
+// at the window's end, where it is spread onto the grid.
+struct ParticleImpulse {
+  std::int64_t id;
+  double x[3];
+  double impulse[3];
+};
+
 // Message tags on the intercommunicators.
 inline constexpr int kTagParticles = 1000;   // particles <-> immersed point exchange
 inline constexpr int kTagSolid = 1100;       // immersed -> fluid: fraction, solid velocity (4 per cell)
 inline constexpr int kTagSolidForce = 1200;  // fluid -> immersed: force on the solid (3 per cell)
+inline constexpr int kTagFlow = 1300;        // fluid -> immersed: u[3], k, epsilon per cell (point)
+inline constexpr int kTagSource = 1400;      // immersed -> fluid: momentum source, N/m^3 (point)
+inline constexpr int kTagImpulse = 1500;     // particles -> immersed: impulses (point)
 
 }  // namespace coflow::protocol

@@ -70,6 +70,13 @@ void CollisionParams::visit(Visitor& v) {
   v("enabled", enabled, "particle-particle collisions on or off");
 }
 
+void DispersionParams::visit(Visitor& v) {
+  v("model", model, "none, or langevin (Sommerfeld 2001; seed 003 eqs 3.35-3.42): the fluid velocity seen gets a "
+    "fluctuation correlated over T_L = C_T k / epsilon", config::one_of({"none", "langevin"}));
+  v("C_T", C_T, "coefficient of the Lagrangian integral time, eq. 3.38 (0.22; the seed fits grid turbulence best "
+    "with 0.26)", config::positive());
+}
+
 void WallParams::visit(Visitor& v) {
   v("face", face, "a face of the domain as a wall", config::one_of({"", "x-", "x+", "y-", "y+", "z-", "z+"}));
   v("mesh", mesh, "a triangle mesh as a wall: an STL file (ASCII or binary), relative to this file");
@@ -98,6 +105,7 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
   }
   v.section("contact", "soft-sphere contact law (dem)", [&](Visitor& s) { contact.visit(s); });
   v.section("collision", "hard-sphere collisions (dpm, seed 003 §3.2.4)", [&](Visitor& s) { collision.visit(s); });
+  v.section("dispersion", "turbulent dispersion (dpm)", [&](Visitor& s) { dispersion.visit(s); });
   v("forces", forces, "fluid forces on point particles (dpm), seed 003 eq. 3.29-3.30: any of gravity_buoyancy, drag, "
     "saffman_lift, magnus_lift, torque");
   if (v.reading())

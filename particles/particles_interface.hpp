@@ -62,6 +62,14 @@ struct CollisionParams {
   void visit(config::Visitor& v);
 };
 
+// Turbulent dispersion of point particles (dpm): Langevin model, seed 003 eqs
+// 3.35-3.42.
+struct DispersionParams {
+  std::string model = "none";  // none | langevin
+  double C_T = 0.22;           // eq. 3.38
+  void visit(config::Visitor& v);
+};
+
 // One item of `initial`.
 struct InitialItem {
   std::string kind;  // single | lattice | random | file
@@ -84,6 +92,7 @@ struct ParticleParams {
   std::vector<std::pair<std::string, SpeciesParams>> species;
   ContactParams contact;
   CollisionParams collision;
+  DispersionParams dispersion;
   config::StringList forces{"gravity_buoyancy", "drag", "saffman_lift", "magnus_lift", "torque"};
   std::vector<WallParams> walls;
   std::array<std::string, 6> boundaries{"", "", "", "", "", ""};  // per face; "" = default

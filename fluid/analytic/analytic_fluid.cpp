@@ -10,6 +10,9 @@ namespace coflow::fluid {
 void AnalyticParams::visit(config::Visitor& v) {
   v("field", field, "which flow", config::one_of({"quiescent", "uniform", "poiseuille", "taylor-green", "grid-turbulence"}));
   v("velocity", velocity, "uniform: the velocity, m/s");
+  v("k", k, "uniform: turbulent kinetic energy of homogeneous, non-decaying turbulence, m^2/s^2",
+    config::non_negative());
+  v("epsilon", epsilon, "uniform: its dissipation rate, m^2/s^3 (with k > 0)", config::non_negative());
   v("max_velocity", max_velocity, "poiseuille: centre-line speed; taylor-green: amplitude U0, m/s");
   v("flow_axis", flow_axis, "poiseuille, grid-turbulence: flow direction (0 = x, 1 = y, 2 = z)",
     config::in_range(0, 2));
@@ -17,6 +20,9 @@ void AnalyticParams::visit(config::Visitor& v) {
   v("mean_velocity", mean_velocity, "grid-turbulence: mean speed along flow_axis, m/s", config::positive());
   v("mesh_size", mesh_size, "grid-turbulence: grid mesh size M, m", config::positive());
   v("grid_position", grid_position, "grid-turbulence: coordinate of the grid along flow_axis, m");
+  if (v.reading() && (k > 0.0) != (epsilon > 0.0))
+    v.fail(k > 0.0 ? "epsilon" : "k", "homogeneous turbulence needs both k and epsilon > 0 (or neither)");
+  if (v.reading() && k > 0.0 && field != "uniform") v.fail("k", "k and epsilon are for field: uniform");
   if (v.reading() && field == "poiseuille" && flow_axis == wall_axis)
     v.fail("wall_axis", "must differ from flow_axis");
 }
@@ -123,6 +129,7 @@ Vec3 AnalyticFluid::vorticity_at(const Vec3& x, double t) const {
 }
 
 double AnalyticFluid::k_at(const Vec3& x) const {
+  if (p_.field == "uniform") return p_.k;
   if (p_.field != "grid-turbulence") return 0.0;
   const GridDecay g{p_.mean_velocity, p_.mesh_size};
   return g.k((x[p_.flow_axis] - p_.grid_position) / p_.mesh_size);
@@ -130,6 +137,7 @@ double AnalyticFluid::k_at(const Vec3& x) const {
 
 double AnalyticFluid::epsilon_at(const Vec3& x) const {
   // seed 003 eq. 5.23: epsilon = -U dk/dx (frozen turbulence advected by the mean flow).
+  if (p_.field == "uniform") return p_.epsilon;
   if (p_.field != "grid-turbulence") return 0.0;
   const GridDecay g{p_.mean_velocity, p_.mesh_size};
   return -p_.mean_velocity * g.dk_dx((x[p_.flow_axis] - p_.grid_position) / p_.mesh_size);

@@ -8,6 +8,7 @@ namespace coflow::fluid {
 struct AnalyticParams {
   std::string field = "quiescent";
   Vec3 velocity{0, 0, 0};       // uniform
+  double k = 0.0, epsilon = 0.0;  // uniform: homogeneous turbulence
   double max_velocity = 0.0;    // poiseuille: centre-line speed; taylor-green: amplitude
   int flow_axis = 0;            // poiseuille: flow direction
   int wall_axis = 1;            // poiseuille: wall-normal direction

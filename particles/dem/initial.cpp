@@ -82,7 +82,8 @@ ParticleArrays make_initial(const ParticleParams& p, const config::Config& cfg) 
       double dmax = sp.diameter.kind == config::Distribution::Kind::uniform ? sp.diameter.b : sp.diameter.a * 3.0;
       std::vector<std::vector<long>> grid;
       std::array<long, 3> nc{};
-      for (int d = 0; d < 3; ++d) nc[d] = std::max(1L, static_cast<long>((hi[d] - lo[d]) / dmax));
+      // Overlap search grid: cells of at least the largest diameter, at most 128 per axis.
+      for (int d = 0; d < 3; ++d) nc[d] = std::clamp(static_cast<long>((hi[d] - lo[d]) / dmax), 1L, 128L);
       grid.resize(nc[0] * nc[1] * nc[2]);
       auto cell_of = [&](const V3& x) {
         std::array<long, 3> c{};

@@ -37,6 +37,8 @@ void DpmSolver::set_derived() {
   rho_p_.resize(n);
   fluid_.assign(n, s_.still);
   impulse_.assign(3 * n, 0.0);
+  uprime_.assign(3 * n, 0.0);
+  turbulent_.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
     D_[i] = 2.0 * p_.radius[i];
     rho_p_[i] = params_.species.at(p_.species[i]).second.density;
@@ -122,9 +124,19 @@ void DpmSolver::step(double h) {
   // 1. Fluid forces and gravity, RK4 (seed 003 eqs 4.12-4.14).
   moved_.resize(n);
   u_.resize(n);
+  seen_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
+    seen_[i] = fluid_[i];
+    if (s_.dispersion.on) {
+      V3 up = at(uprime_, i);
+      bool started = turbulent_[i] != 0;
+      dpm::langevin_step(up, started, fluid_[i], at(p_.v, i), h, s_.dispersion, p_.id[i], steps_);
+      put(uprime_, i, up);
+      turbulent_[i] = started ? 1 : 0;
+      seen_[i].u += up;
+    }
     moved_[i] = dpm::rk4({at(p_.x, i), at(p_.v, i), at(p_.w, i)}, D_[i], p_.mass[i], p_.inertia[i], rho_p_[i],
-                         fluid_[i], s_, h);
+                         seen_[i], s_, h);
     u_[i] = (moved_[i].x - at(p_.x, i)) / h;
   }
   // 2. Collisions along the trajectories, earliest first (as dpm-reference).
@@ -177,7 +189,9 @@ void DpmSolver::step(double h) {
     put(p_.v, keep, moved_[i].v);
     put(p_.w, keep, moved_[i].w);
     put(impulse_, keep, at(impulse_, i) + moved_[i].impulse);
-    put(p_.force, keep, dpm::fluid_load(fluid_[i], D_[i], moved_[i].v, moved_[i].w, s_.forces).force());
+    put(p_.force, keep, dpm::fluid_load(seen_[i], D_[i], moved_[i].v, moved_[i].w, s_.forces).force());
+    put(uprime_, keep, at(uprime_, i));
+    turbulent_[keep] = turbulent_[i];
     p_.id[keep] = p_.id[i];
     p_.species[keep] = p_.species[i];
     p_.radius[keep] = p_.radius[i];
@@ -189,7 +203,8 @@ void DpmSolver::step(double h) {
     ++keep;
   }
   if (keep < n) {
-    for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &impulse_}) a->resize(3 * keep);
+    for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &impulse_, &uprime_}) a->resize(3 * keep);
+    turbulent_.resize(keep);
     p_.id.resize(keep);
     p_.species.resize(keep);
     for (auto* a : {&p_.radius, &p_.mass, &p_.inertia, &D_, &rho_p_}) a->resize(keep);

@@ -50,7 +50,9 @@ class DpmSolver final : public ParticleSolver {
 
   ParticleArrays p_;
   std::vector<double> D_, rho_p_, impulse_;
-  std::vector<dpm::FluidSample> fluid_;
+  std::vector<dpm::FluidSample> fluid_, seen_;
+  std::vector<double> uprime_;      // turbulent fluctuation seen (dispersion), 3 per particle
+  std::vector<char> turbulent_;
   dpm::DpmSetup s_;
   const ParticleParams& params_;
   double dt_ = 0.0;

@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "particles/dpm/collision.hpp"
+#include "particles/dpm/dispersion.hpp"
 #include "particles/dpm/forces.hpp"
 #include "particles/particles_interface.hpp"
 
@@ -26,6 +27,7 @@ struct DpmSetup {
   Restitution pair;                   // particle-particle
   bool collisions = true;
   ForceSet forces;
+  Dispersion dispersion;
   V3 gravity = V3::Zero();
   V3 lower = V3::Zero(), upper = V3::Zero();
   std::array<bool, 3> periodic{false, false, false};
@@ -48,6 +50,7 @@ inline DpmSetup make_setup(const ParticleParams& p, const config::Config& cfg) {
   s.collisions = p.collision.enabled;
   auto has = [&](const char* f) { return std::find(p.forces.begin(), p.forces.end(), f) != p.forces.end(); };
   s.forces = {has("gravity_buoyancy"), has("drag"), has("saffman_lift"), has("magnus_lift"), has("torque")};
+  s.dispersion = {p.dispersion.model == "langevin", p.dispersion.C_T, static_cast<std::uint64_t>(cfg.run.seed)};
   const char* names[] = {"x-", "x+", "y-", "y+", "z-", "z+"};
   for (int f = 0; f < 6; ++f) {
     s.wall[f] = s.pair;
@@ -87,6 +90,7 @@ inline double lagrangian_step(const DpmSetup& s, double D, double rho_p, const V
   const double speed = v.norm();
   if (speed > 0.0) t = std::min(t, s.cell / speed);
   if (f.mu > 0.0 && s.forces.drag) t = std::min(t, response_time(rho_p, D, f.mu));
+  if (s.dispersion.on && lagrangian_time(f, s.dispersion.C_T) > 0.0) t = std::min(t, lagrangian_time(f, s.dispersion.C_T));
   return 0.2 * t;
 }
 

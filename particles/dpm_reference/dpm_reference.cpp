@@ -41,10 +41,17 @@ double DpmReference::stable_step() const {
 void DpmReference::step(double h) {
   // 1. Fluid forces and gravity, classical RK4 (seed 003 eqs 4.12-4.14); the
   //    fluid at the particle is held over the step.
+  //    With dispersion the fluid seen is the mean plus the Langevin fluctuation.
   std::vector<dpm::Motion> next(p_.size());
+  std::vector<dpm::FluidSample> seen(p_.size());
   for (std::size_t i = 0; i < p_.size(); ++i) {
-    const Particle& p = p_[i];
-    next[i] = dpm::rk4({p.x, p.v, p.w}, p.D, p.m, p.I, p.rho_p, p.fluid, s_, h);
+    Particle& p = p_[i];
+    seen[i] = p.fluid;
+    if (s_.dispersion.on) {
+      dpm::langevin_step(p.uprime, p.turbulent, p.fluid, p.v, h, s_.dispersion, p.id, steps_);
+      seen[i].u += p.uprime;
+    }
+    next[i] = dpm::rk4({p.x, p.v, p.w}, p.D, p.m, p.I, p.rho_p, seen[i], s_, h);
   }
   // 2. Collisions along the straight trajectories x + u t, t in [0, h), with u
   //    the mean velocity of the step (eqs 4.23-4.28), every pair and every wall
@@ -98,7 +105,7 @@ void DpmReference::step(double h) {
     p.v = next[i].v;
     p.w = next[i].w;
     p.impulse += next[i].impulse;
-    p.last_force = dpm::fluid_load(p.fluid, p.D, p.v, p.w, s_.forces).force();
+    p.last_force = dpm::fluid_load(seen[i], p.D, p.v, p.w, s_.forces).force();
   }
   // 4. Faces: periodic wrap, outlets remove.
   std::vector<Particle> kept;

@@ -48,6 +48,8 @@ class DpmReference final : public ParticleSolver {
     dpm::FluidSample fluid;  // the fluid at the particle, held over a window
     dpm::V3 last_force;      // fluid force at the end of the last step, for output
     dpm::V3 impulse;         // of the fluid forces since take_impulse()
+    dpm::V3 uprime = dpm::V3::Zero();  // turbulent fluctuation seen (dispersion)
+    bool turbulent = false;
   };
   double stable_step() const;  // eq. 4.15 over all particles
   std::vector<Particle> p_;

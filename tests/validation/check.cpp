@@ -508,6 +508,46 @@ int two_way(const std::string& dir) {
   return 0;
 }
 
+// Particle dispersion in homogeneous turbulence: the mean-square displacement
+// along y and z (seed 003 eq. 5.24) from the particle snapshots, against
+// Taylor's result for an exponential Lagrangian correlation with the Langevin
+// model's T_L = C_T k / epsilon: 2 u'^2 T_L [t - T_L (1 - exp(-t / T_L))],
+// u'^2 = 2k/3 (k, epsilon of the analytic fluid's uniform field).
+int dispersion(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto an = cfg.resolved["fluid"]["analytic"];
+  const double k = an["k"].as<double>(), eps = an["epsilon"].as<double>();
+  const double CT = cfg.resolved["particles"]["dispersion"]["C_T"].as<double>();
+  const double TL = CT * k / eps, u2 = 2.0 * k / 3.0;
+  const auto snaps = snapshots(dir, "particles");
+  auto positions = [&](long step) {
+    const std::string f = dir + "/particles/" + output::snapshot_name(step);
+    const auto id = output::read_dataset(f, "id");
+    const auto x = output::read_dataset(f, "position");
+    std::vector<double> by_id(3 * id.size());
+    for (std::size_t i = 0; i < id.size(); ++i)
+      for (int d = 0; d < 3; ++d) by_id[3 * static_cast<std::size_t>(id[i]) + d] = x[3 * i + d];
+    return by_id;
+  };
+  const auto x0 = positions(snaps.front().first);
+  double worst = 0.0;
+  for (std::size_t s = 1; s < snaps.size(); ++s) {
+    const double t = snaps[s].second - snaps.front().second;
+    const auto x = positions(snaps[s].first);
+    if (x.size() != x0.size()) throw std::runtime_error("particles were lost");
+    double msd = 0.0;
+    const std::size_t n = x.size() / 3;
+    for (std::size_t i = 0; i < n; ++i)
+      for (int d = 1; d < 3; ++d) msd += (x[3 * i + d] - x0[3 * i + d]) * (x[3 * i + d] - x0[3 * i + d]);
+    msd /= 2.0 * static_cast<double>(n);
+    const double taylor = 2.0 * u2 * TL * (t - TL * (1.0 - std::exp(-t / TL)));
+    std::printf("t = %.3f s: MSD %.5e m^2, Taylor %.5e m^2 (%+.2f %%)\n", t, msd, taylor, 100 * (msd / taylor - 1));
+    worst = std::max(worst, std::abs(msd / taylor - 1.0));
+  }
+  std::printf("lagrangian_time=%.4f\ntrajectories=%zu\nmsd_error=%.4e\n", TL, x0.size() / 3, worst);
+  return 0;
+}
+
 int impact(const std::string& dir) {
   const auto cfg = load(dir);
   double t_in = -1, t_out = -1, prev_gap = 0, prev_t = 0, v0 = 0, v1 = 0, r = 0, rho = 0;
@@ -690,6 +730,7 @@ int main(int argc, char** argv) {
     if (what == "dpm_settling" && argc == 3) return dpm_settling(argv[2]);
     if (what == "granular_gas" && argc == 3) return granular_gas(argv[2]);
     if (what == "two_way" && argc == 3) return two_way(argv[2]);
+    if (what == "dispersion" && argc == 3) return dispersion(argv[2]);
     if (what == "rotation" && argc == 3) return rotation(argv[2]);
     std::fprintf(stderr, "usage: coflow-check profile|decay|mass RUN_DIR | compare RUN_A RUN_B\n");
     return 2;

@@ -72,29 +72,44 @@ void DpmSolver::find_pair_events(const std::vector<V3>& u, double h, std::vector
     dmax = std::max(dmax, D_[i]);
     umax = std::max(umax, u[i].norm());
   }
-  const double edge = dmax + 2.0 * umax * h;
+  // ... and no finer than about one particle per cell (a dilute gas would
+  // otherwise get mostly empty cells).
+  const double volume = (s_.upper[0] - s_.lower[0]) * (s_.upper[1] - s_.lower[1]) * (s_.upper[2] - s_.lower[2]);
+  const double edge = std::max(dmax + 2.0 * umax * h, std::cbrt(volume / static_cast<double>(std::max<std::size_t>(n, 1))));
   long nc[3];
   for (int k = 0; k < 3; ++k)
     nc[k] = std::max(1L, std::min(1024L, static_cast<long>((s_.upper[k] - s_.lower[k]) / edge)));
-  auto cell_of = [&](std::size_t i, long c[3]) {
+  const bool small = nc[0] < 3 || nc[1] < 3 || nc[2] < 3;  // neighbours may repeat
+  // Counting sort by cell into a packed copy (position, trajectory velocity,
+  // diameter, id, index), so that the neighbour loops read contiguous memory.
+  const std::size_t ncell = static_cast<std::size_t>(nc[0] * nc[1] * nc[2]);
+  start_.assign(ncell + 1, 0);
+  cell_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    long c[3];
     for (int k = 0; k < 3; ++k) {
       const double L = s_.upper[k] - s_.lower[k];
       c[k] = std::clamp(static_cast<long>((p_.x[3 * i + k] - s_.lower[k]) / L * nc[k]), 0L, nc[k] - 1);
     }
-  };
-  head_.assign(static_cast<std::size_t>(nc[0] * nc[1] * nc[2]), -1);
-  next_.resize(n);
+    cell_[i] = (c[2] * nc[1] + c[1]) * nc[0] + c[0];
+    ++start_[static_cast<std::size_t>(cell_[i]) + 1];
+  }
+  for (std::size_t c = 0; c < ncell; ++c) start_[c + 1] += start_[c];
+  packed_.resize(n);
+  fill_ = start_;
   for (std::size_t i = 0; i < n; ++i) {
-    long c[3];
-    cell_of(i, c);
-    const long flat = (c[2] * nc[1] + c[1]) * nc[0] + c[0];
-    next_[i] = head_[flat];
-    head_[flat] = static_cast<long>(i);
+    Packed& q = packed_[static_cast<std::size_t>(fill_[static_cast<std::size_t>(cell_[i])]++)];
+    q.x = at(p_.x, i);
+    q.u = u[i];
+    q.D = D_[i];
+    q.id = p_.id[i];
+    q.index = i;
   }
   long nb[27];
-  for (std::size_t i = 0; i < n; ++i) {
-    long c[3];
-    cell_of(i, c);
+  for (std::size_t c = 0; c < ncell; ++c) {
+    if (start_[c] == start_[c + 1]) continue;
+    const long cc[3] = {static_cast<long>(c) % nc[0], (static_cast<long>(c) / nc[0]) % nc[1],
+                        static_cast<long>(c) / (nc[0] * nc[1])};
     int count = 0;
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
@@ -103,7 +118,7 @@ void DpmSolver::find_pair_events(const std::vector<V3>& u, double h, std::vector
           long q[3];
           bool ok = true;
           for (int k = 0; k < 3; ++k) {
-            q[k] = c[k] + o[k];
+            q[k] = cc[k] + o[k];
             if (q[k] < 0 || q[k] >= nc[k]) {
               if (!s_.periodic[k]) ok = false;
               q[k] = (q[k] + nc[k]) % nc[k];
@@ -111,11 +126,20 @@ void DpmSolver::find_pair_events(const std::vector<V3>& u, double h, std::vector
           }
           if (!ok) continue;
           const long flat = (q[2] * nc[1] + q[1]) * nc[0] + q[0];
-          if (std::find(nb, nb + count, flat) == nb + count) nb[count++] = flat;  // fewer than 3 cells per axis
+          if (!small || std::find(nb, nb + count, flat) == nb + count) nb[count++] = flat;
         }
-    for (int m = 0; m < count; ++m)
-      for (long j = head_[nb[m]]; j >= 0; j = next_[j])
-        if (p_.id[j] > p_.id[i]) event(i, static_cast<std::size_t>(j));
+    for (long a = start_[c]; a < start_[c + 1]; ++a) {
+      const Packed& pa = packed_[static_cast<std::size_t>(a)];
+      for (int m = 0; m < count; ++m)
+        for (long b = start_[static_cast<std::size_t>(nb[m])]; b < start_[static_cast<std::size_t>(nb[m]) + 1]; ++b) {
+          const Packed& pb = packed_[static_cast<std::size_t>(b)];
+          if (pb.id <= pa.id) continue;
+          // pa has the smaller id: d and dv as dpm-reference forms them.
+          const V3 d = dpm::min_image(pa.x - pb.x, s_);
+          const double t = dpm::contact_time(d, pa.u - pb.u, 0.5 * (pa.D + pb.D), h);
+          if (std::isfinite(t)) out.push_back({t, pa.id, pb.id, pa.index, pb.index});
+        }
+    }
   }
 }
 

@@ -62,7 +62,14 @@ class DpmSolver final : public ParticleSolver {
   bool all_pairs_ = false;
   dem::EventRecorder events_;
   // cell list (rebuilt every step)
-  std::vector<long> head_, next_;
+  struct Packed {
+    dpm::V3 x, u;
+    double D;
+    std::int64_t id;
+    std::size_t index;
+  };
+  std::vector<long> start_, fill_, cell_;
+  std::vector<Packed> packed_;
   std::vector<dpm::Motion> moved_;
   std::vector<dpm::V3> u_;
   std::vector<dpm::Event> ev_;

@@ -388,8 +388,11 @@ int dpm_settling(const std::string& dir) {
 // angle (pdf sin 2 phi, eq. 5.7 with phi = pi - theta) and of the relative speed
 // (eq. 5.8, cdf 1 - (1 + g^2 / 4T) exp(-g^2 / 4T)) from events/collisions.csv,
 // each also as a ratio to the 99 % critical value 1.63 / sqrt(count).
+int granular_gas_bidisperse(const std::string& dir);
+
 int granular_gas(const std::string& dir) {
   const auto cfg = load(dir);
+  if (cfg.resolved["particles"]["species"].size() == 2) return granular_gas_bidisperse(dir);
   const auto& dom = cfg.domain;
   const double V = (dom.upper[0] - dom.lower[0]) * (dom.upper[1] - dom.lower[1]) * (dom.upper[2] - dom.lower[2]);
   const auto sp = cfg.resolved["particles"]["species"].begin()->second;
@@ -444,6 +447,115 @@ int granular_gas(const std::string& dir) {
               "angle_ks=%.4e\nangle_ks_ratio=%.3f\nspeed_ks=%.4e\nspeed_ks_ratio=%.3f\n",
               N, alpha, T, collisions, measured, theory, std::abs(measured / theory - 1.0), angle.size(), ks_angle,
               ks_angle / critical, ks_speed, ks_speed / critical);
+  return 0;
+}
+
+// Bidisperse granular gas (seed 003 §5.2): classes p (small) and q (large).
+// Over the second half of the run (equilibrated): collision frequencies per
+// volume of p-p, p-q and q-q from events/collisions.csv against kinetic
+// theory, f_cc = g0 2 n_c^2 D_c^2 sqrt(pi T_c) (eq. 5.9) and
+// f_pq = g0 4 n_p n_q d^2 sqrt(pi (T_p + T_q) / 2), d = (D_p + D_q) / 2, with
+// g0 of eqs 5.10 and 5.13-5.15 (eq. 5.12 prints half of that rate: it is
+// printed too); the granular temperatures T_c from the snapshots. Energy
+// ratios k_p/k_m, k_q/k_m (eq. 5.17) at the start and averaged over the second
+// half, against eqs 5.18-5.19.
+int granular_gas_bidisperse(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto& dom = cfg.domain;
+  const double V = (dom.upper[0] - dom.lower[0]) * (dom.upper[1] - dom.lower[1]) * (dom.upper[2] - dom.lower[2]);
+  std::vector<double> D, rho;
+  for (const auto& sp : cfg.resolved["particles"]["species"]) {
+    D.push_back(sp.second["diameter"].as<double>());
+    rho.push_back(sp.second["density"].as<double>());
+  }
+  const int p = D[0] < D[1] ? 0 : 1, q = 1 - p;
+  double m[2];
+  for (int c = 0; c < 2; ++c) m[c] = rho[c] * std::numbers::pi * D[c] * D[c] * D[c] / 6.0;
+  const auto snaps = snapshots(dir, "particles");
+  const double t_end = snaps.back().second, t_half = 0.5 * t_end;
+  std::vector<int> species_of;
+  double n[2] = {0, 0}, T_late[2] = {0, 0}, ratio0[2] = {0, 0}, ratio_late[2] = {0, 0};
+  int late = 0;
+  for (std::size_t s = 0; s < snaps.size(); ++s) {
+    const std::string f = dir + "/particles/" + output::snapshot_name(snaps[s].first);
+    const auto id = output::read_dataset(f, "id");
+    const auto sp = output::read_dataset(f, "species");
+    const auto v = output::read_dataset(f, "velocity");
+    if (s == 0) {
+      species_of.assign(id.size(), 0);
+      for (std::size_t i = 0; i < id.size(); ++i) species_of[static_cast<std::size_t>(id[i])] = static_cast<int>(sp[i]);
+    }
+    double count[2] = {0, 0}, mean[2][3] = {{0, 0, 0}, {0, 0, 0}}, sq[2] = {0, 0};
+    for (std::size_t i = 0; i < id.size(); ++i) {
+      const int c = static_cast<int>(sp[i]);
+      count[c] += 1;
+      for (int d = 0; d < 3; ++d) {
+        mean[c][d] += v[3 * i + d];
+        sq[c] += v[3 * i + d] * v[3 * i + d];
+      }
+    }
+    double T[2], k[2];
+    for (int c = 0; c < 2; ++c) {
+      double m2 = 0;
+      for (int d = 0; d < 3; ++d) m2 += (mean[c][d] / count[c]) * (mean[c][d] / count[c]);
+      T[c] = (sq[c] / count[c] - m2) / 3.0;
+      k[c] = 1.5 * T[c];
+      n[c] = count[c] / V;
+    }
+    const double km = (n[0] * m[0] * k[0] + n[1] * m[1] * k[1]) / (n[0] * m[0] + n[1] * m[1]);  // eq. 5.17
+    if (s == 0)
+      for (int c = 0; c < 2; ++c) ratio0[c] = k[c] / km;
+    if (snaps[s].second >= t_half) {
+      for (int c = 0; c < 2; ++c) {
+        T_late[c] += T[c];
+        ratio_late[c] += k[c] / km;
+      }
+      ++late;
+    }
+  }
+  for (int c = 0; c < 2; ++c) {
+    T_late[c] /= late;
+    ratio_late[c] /= late;
+  }
+  double predicted[2];
+  for (int c = 0; c < 2; ++c) predicted[c] = (n[0] * m[0] + n[1] * m[1]) / (m[c] * (n[0] + n[1]));  // eqs 5.18-5.19
+  // Collisions of the second half, by class pair.
+  double counts[3] = {0, 0, 0};  // pp, pq, qq
+  {
+    std::ifstream in(dir + "/events/collisions.csv");
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) {
+      std::stringstream ss(line);
+      std::vector<double> f;
+      for (std::string x; std::getline(ss, x, ',');) f.push_back(std::stod(x));
+      if (f[0] < t_half) continue;
+      const int a = species_of.at(static_cast<std::size_t>(f[1])), b = species_of.at(static_cast<std::size_t>(f[2]));
+      counts[a == b ? (a == p ? 0 : 2) : 1] += 1;
+    }
+  }
+  const double duration = t_end - t_half;
+  const double alpha[2] = {n[0] * m[0] / rho[0], n[1] * m[1] / rho[1]}, am = alpha[0] + alpha[1];
+  const double g0 = std::pow(1.0 - am / 0.64, -2.5 * 0.64);                            // eq. 5.10
+  const double eps = 2.0 * (alpha[p] / D[p] + alpha[q] / D[q]);                        // eq. 5.15
+  const double gamma = 1.0 + 1.5 * (D[p] * D[q] / (D[p] + D[q])) * eps / am;           // eq. 5.14
+  const double g0pq = std::pow(1.0 - am / 0.64, -gamma * 0.64);                        // eq. 5.13
+  const double dpq = 0.5 * (D[p] + D[q]);
+  const double theory[3] = {
+      g0 * 2.0 * n[p] * n[p] * D[p] * D[p] * std::sqrt(std::numbers::pi * T_late[p]),
+      g0pq * 4.0 * n[p] * n[q] * dpq * dpq * std::sqrt(std::numbers::pi * 0.5 * (T_late[p] + T_late[q])),
+      g0 * 2.0 * n[q] * n[q] * D[q] * D[q] * std::sqrt(std::numbers::pi * T_late[q])};
+  const char* names[3] = {"pp", "pq", "qq"};
+  for (int c = 0; c < 3; ++c) {
+    const double f = counts[c] / duration / V;
+    std::printf("frequency_%s=%.6e\nfrequency_%s_theory=%.6e\nfrequency_%s_error=%.4e\ncollisions_%s=%.0f\n", names[c], f,
+                names[c], theory[c], names[c], std::abs(f / theory[c] - 1.0), names[c], counts[c]);
+  }
+  std::printf("frequency_pq_eq_5_12=%.6e\n", 0.5 * theory[1]);
+  std::printf("energy_ratio_p_initial=%.4f\nenergy_ratio_q_initial=%.4f\nenergy_ratio_p=%.4f\nenergy_ratio_q=%.4f\n"
+              "energy_ratio_p_theory=%.4f\nenergy_ratio_q_theory=%.4f\nenergy_ratio_error=%.4e\n",
+              ratio0[p], ratio0[q], ratio_late[p], ratio_late[q], predicted[p], predicted[q],
+              std::max(std::abs(ratio_late[p] / predicted[p] - 1.0), std::abs(ratio_late[q] / predicted[q] - 1.0)));
   return 0;
 }
 

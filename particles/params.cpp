@@ -64,10 +64,22 @@ void ContactParams::visit(Visitor& v) {
             [&](Visitor& s) { bond.visit(s); }, &bonded);
 }
 
+void CollisionPairParams::visit(Visitor& v) {
+  v.required("species", species, "the two species, e.g. [sand, glass] (the same name twice for one species)");
+  v("restitution", restitution, "restitution coefficient of this pair", config::in_range(0.0, 1.0));
+  v("friction", friction, "dynamic friction coefficient of this pair", config::non_negative());
+  if (v.reading() && species.size() != 2) v.fail("species", "give exactly two species names");
+}
+
 void CollisionParams::visit(Visitor& v) {
   v("restitution", restitution, "restitution coefficient e of eqs 3.44-3.45 (seed 003)", config::in_range(0.0, 1.0));
   v("friction", friction, "dynamic friction coefficient mu_d of eqs 3.44-3.45", config::non_negative());
   v("enabled", enabled, "particle-particle collisions on or off");
+  v.list("pairs", "restitution and friction of particular species pairs (the others take the values above)",
+         [&](Visitor& s) {
+           pairs.emplace_back();
+           pairs.back().visit(s);
+         });
 }
 
 void DispersionParams::visit(Visitor& v) {
@@ -229,6 +241,10 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
       v.fail("contact.bond.pairs", fmt::format("not a usable bond file: {}", e.what()));
     }
   }
+  for (std::size_t n = 0; n < collision.pairs.size(); ++n)
+    for (const auto& name : collision.pairs[n].species)
+      if (species_index(name) < 0)
+        v.fail("collision", fmt::format("pairs item {} names species '{}', which is not defined under species", n, name));
   if (point_particles)
     for (const auto& [name, sp] : species)
       if (sp.fixed) v.fail("species", fmt::format("species '{}' is fixed: fixed particles are for dem, not dpm", name));

@@ -55,10 +55,17 @@ struct WallParams {
 
 // Hard-sphere collisions of point particles (dpm): pairs, and the default for
 // walls.
+struct CollisionPairParams {
+  config::StringList species;  // two species names
+  double restitution = 1.0;
+  double friction = 0.0;
+  void visit(config::Visitor& v);
+};
 struct CollisionParams {
   double restitution = 1.0;
   double friction = 0.0;
   bool enabled = true;
+  std::vector<CollisionPairParams> pairs;  // per species pair, overriding the above
   void visit(config::Visitor& v);
 };
 

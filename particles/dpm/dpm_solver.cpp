@@ -189,7 +189,7 @@ void DpmSolver::step(double h) {
     const V3 nrm = -d.normalized();
     events_.collision(time_ + e.t, e.a, e.b, -nrm, moved_[e.i].v - moved_[e.j].v);
     dpm::collide_pair(moved_[e.i].v, moved_[e.i].w, p_.mass[e.i], D_[e.i], moved_[e.j].v, moved_[e.j].w,
-                      p_.mass[e.j], D_[e.j], nrm, s_.pair);
+                      p_.mass[e.j], D_[e.j], nrm, s_.pair_law(p_.species[e.i], p_.species[e.j]));
     hit_[e.i] = hit_[e.j] = e.t;
     ++collisions_;
   }

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -24,7 +25,10 @@ enum class Face { periodic, wall, outlet, symmetry };
 struct DpmSetup {
   std::array<Face, 6> faces{};
   std::array<Restitution, 6> wall{};  // per face: wall coefficients (symmetry: e = 1, mu = 0)
-  Restitution pair;                   // particle-particle
+  Restitution pair;                   // particle-particle (default)
+  std::vector<Restitution> pairs;     // per species pair, ns x ns
+  int ns = 0;
+  const Restitution& pair_law(int a, int b) const { return pairs[static_cast<std::size_t>(a * ns + b)]; }
   bool collisions = true;
   ForceSet forces;
   Dispersion dispersion;
@@ -47,6 +51,13 @@ inline DpmSetup make_setup(const ParticleParams& p, const config::Config& cfg) {
   }
   s.cell = cfg.domain.spacing()[0];
   s.pair = {p.collision.restitution, p.collision.friction};
+  s.ns = static_cast<int>(p.species.size());
+  s.pairs.assign(static_cast<std::size_t>(s.ns * s.ns), s.pair);
+  for (const auto& pp : p.collision.pairs) {
+    const int a = p.species_index(pp.species.at(0)), b = p.species_index(pp.species.at(1));
+    s.pairs[static_cast<std::size_t>(a * s.ns + b)] = s.pairs[static_cast<std::size_t>(b * s.ns + a)] = {
+        pp.restitution, pp.friction};
+  }
   s.collisions = p.collision.enabled;
   auto has = [&](const char* f) { return std::find(p.forces.begin(), p.forces.end(), f) != p.forces.end(); };
   s.forces = {has("gravity_buoyancy"), has("drag"), has("saffman_lift"), has("magnus_lift"), has("torque")};

@@ -93,7 +93,8 @@ void DpmReference::step(double h) {
     const V3 d = dpm::min_image((a.x + u[e.i] * e.t) - (b.x + u[e.j] * e.t), s_);
     const V3 n = -d.normalized();  // from a to b
     events_.collision(time_ + e.t, a.id, b.id, -n, next[e.i].v - next[e.j].v);
-    dpm::collide_pair(next[e.i].v, next[e.i].w, a.m, a.D, next[e.j].v, next[e.j].w, b.m, b.D, n, s_.pair);
+    dpm::collide_pair(next[e.i].v, next[e.i].w, a.m, a.D, next[e.j].v, next[e.j].w, b.m, b.D, n,
+                      s_.pair_law(a.species, b.species));
     hit[e.i] = hit[e.j] = e.t;
     ++collisions_;
   }

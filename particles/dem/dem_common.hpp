@@ -23,8 +23,9 @@ struct DemParams {
 
 // Separation vector a - b with the minimum image on periodic axes.
 // Both points lie in the box, so |d| < L and one shift at most brings d into
-// [-L/2, L/2].
-inline V3 min_image(V3 d, const DemSetup& s) {
+// [-L/2, L/2]. Any setup with periodic, lower and upper (dem, dpm).
+template <class Setup>
+inline V3 min_image(V3 d, const Setup& s) {
   for (int k = 0; k < 3; ++k)
     if (s.periodic[k]) {
       const double L = s.upper[k] - s.lower[k];

@@ -13,6 +13,7 @@
 
 #include <fmt/format.h>
 
+#include "particles/dem/dem_common.hpp"
 #include "particles/dpm/collision.hpp"
 #include "particles/dpm/dispersion.hpp"
 #include "particles/dpm/forces.hpp"
@@ -161,16 +162,6 @@ struct Event {
 };
 
 // Separation a - b with the minimum image on periodic axes (both in the box).
-inline V3 min_image(V3 d, const DpmSetup& s) {
-  for (int k = 0; k < 3; ++k)
-    if (s.periodic[k]) {
-      const double L = s.upper[k] - s.lower[k];
-      if (d[k] > 0.5 * L)
-        d[k] -= L;
-      else if (d[k] < -0.5 * L)
-        d[k] += L;
-    }
-  return d;
-}
+using dem::min_image;
 
 }  // namespace coflow::particles::dpm

@@ -414,17 +414,9 @@ int granular_gas(const std::string& dir) {
   const double measured = collisions / duration / V;
   // Event log: angle (degrees), relative speed.
   std::vector<double> angle, speed;
-  {
-    std::ifstream in(dir + "/events/collisions.csv");
-    std::string line;
-    std::getline(in, line);
-    while (std::getline(in, line)) {
-      std::stringstream ss(line);
-      std::vector<double> f;
-      for (std::string v; std::getline(ss, v, ',');) f.push_back(std::stod(v));
-      angle.push_back(f[3] * std::numbers::pi / 180.0);
-      speed.push_back(f[4]);
-    }
+  for (const auto& f : read_series(dir + "/events/collisions.csv")) {  // time,i,j,angle,relative_speed,...
+    angle.push_back(f[3] * std::numbers::pi / 180.0);
+    speed.push_back(f[4]);
   }
   auto ks = [](std::vector<double> x, auto cdf) {
     std::sort(x.begin(), x.end());
@@ -521,18 +513,10 @@ int granular_gas_bidisperse(const std::string& dir) {
   for (int c = 0; c < 2; ++c) predicted[c] = (n[0] * m[0] + n[1] * m[1]) / (m[c] * (n[0] + n[1]));  // eqs 5.18-5.19
   // Collisions of the second half, by class pair.
   double counts[3] = {0, 0, 0};  // pp, pq, qq
-  {
-    std::ifstream in(dir + "/events/collisions.csv");
-    std::string line;
-    std::getline(in, line);
-    while (std::getline(in, line)) {
-      std::stringstream ss(line);
-      std::vector<double> f;
-      for (std::string x; std::getline(ss, x, ',');) f.push_back(std::stod(x));
-      if (f[0] < t_half) continue;
-      const int a = species_of.at(static_cast<std::size_t>(f[1])), b = species_of.at(static_cast<std::size_t>(f[2]));
-      counts[a == b ? (a == p ? 0 : 2) : 1] += 1;
-    }
+  for (const auto& f : read_series(dir + "/events/collisions.csv")) {
+    if (f[0] < t_half) continue;
+    const int a = species_of.at(static_cast<std::size_t>(f[1])), b = species_of.at(static_cast<std::size_t>(f[2]));
+    counts[a == b ? (a == p ? 0 : 2) : 1] += 1;
   }
   const double duration = t_end - t_half;
   const double alpha[2] = {n[0] * m[0] / rho[0], n[1] * m[1] / rho[1]}, am = alpha[0] + alpha[1];

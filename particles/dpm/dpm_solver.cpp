@@ -166,14 +166,7 @@ void DpmSolver::step(double h) {
   // 2. Collisions along the trajectories, earliest first (as dpm-reference).
   ev_.clear();
   if (s_.collisions) find_pair_events(u_, h, ev_);
-  for (std::size_t i = 0; i < n; ++i)
-    for (int f = 0; f < 6; ++f) {
-      if (s_.faces[f] != dpm::Face::wall && s_.faces[f] != dpm::Face::symmetry) continue;
-      const double un = u_[i].dot(dpm::face_normal(f));
-      if (un <= 0.0) continue;
-      const double t = std::max(0.0, (dpm::face_distance(f, at(p_.x, i), s_) - 0.5 * D_[i]) / un);
-      if (t < h) ev_.push_back({t, p_.id[i], -1 - f, i, i});
-    }
+  for (std::size_t i = 0; i < n; ++i) dpm::wall_events(at(p_.x, i), u_[i], D_[i], p_.id[i], i, h, s_, ev_);
   std::sort(ev_.begin(), ev_.end());
   hit_.assign(n, -1.0);
   for (const dpm::Event& e : ev_) {
@@ -197,18 +190,7 @@ void DpmSolver::step(double h) {
   std::size_t keep = 0;
   for (std::size_t i = 0; i < n; ++i) {
     V3 x = hit_[i] < 0.0 ? moved_[i].x : V3(at(p_.x, i) + u_[i] * hit_[i] + moved_[i].v * (h - hit_[i]));
-    bool out = false;
-    for (int k = 0; k < 3; ++k) {
-      const double L = s_.upper[k] - s_.lower[k];
-      if (s_.periodic[k]) {
-        if (x[k] < s_.lower[k]) x[k] += L;
-        if (x[k] >= s_.upper[k]) x[k] -= L;
-      } else {
-        out = out || (x[k] < s_.lower[k] && s_.faces[2 * k] == dpm::Face::outlet) ||
-              (x[k] > s_.upper[k] && s_.faces[2 * k + 1] == dpm::Face::outlet);
-      }
-    }
-    if (out) continue;
+    if (!dpm::apply_faces(x, s_)) continue;
     put(p_.x, keep, x);
     put(p_.v, keep, moved_[i].v);
     put(p_.w, keep, moved_[i].w);
@@ -241,7 +223,7 @@ void DpmSolver::step(double h) {
 void DpmSolver::advance(double dt, long substeps) {
   const double h = dt / substeps;
   for (long n = 0; n < substeps; ++n) {
-    const long k = s_.auto_step ? std::max(1L, static_cast<long>(std::ceil(h / stable_step() - 1e-9))) : 1;
+    const long k = dpm::lagrangian_substeps(s_, h, stable_step());
     for (long m = 0; m < k; ++m) step(h / k);
   }
 }

@@ -164,4 +164,40 @@ struct Event {
 // Separation a - b with the minimum image on periodic axes (both in the box).
 using dem::min_image;
 
+// Wall and symmetry faces that particle i (centre x, trajectory velocity u,
+// diameter D) reaches within the step h: events (t, id, -1 - face).
+inline void wall_events(const V3& x, const V3& u, double D, std::int64_t id, std::size_t i, double h,
+                        const DpmSetup& s, std::vector<Event>& out) {
+  for (int f = 0; f < 6; ++f) {
+    if (s.faces[f] != Face::wall && s.faces[f] != Face::symmetry) continue;
+    const double un = u.dot(face_normal(f));
+    if (un <= 0.0) continue;
+    const double t = std::max(0.0, (face_distance(f, x, s) - 0.5 * D) / un);
+    if (t < h) out.push_back({t, id, -1 - f, i, i});
+  }
+}
+
+// Periodic faces wrap x back into the box; returns false when the particle left
+// through an outlet.
+inline bool apply_faces(V3& x, const DpmSetup& s) {
+  bool out = false;
+  for (int k = 0; k < 3; ++k) {
+    const double L = s.upper[k] - s.lower[k];
+    if (s.periodic[k]) {
+      if (x[k] < s.lower[k]) x[k] += L;
+      if (x[k] >= s.upper[k]) x[k] -= L;
+    } else {
+      out = out || (x[k] < s.lower[k] && s.faces[2 * k] == Face::outlet) ||
+            (x[k] > s.upper[k] && s.faces[2 * k + 1] == Face::outlet);
+    }
+  }
+  return !out;
+}
+
+// Sub-steps of one step h so that each is no longer than the Lagrangian step
+// of eq. 4.15 (`stable`), when the step is automatic.
+inline long lagrangian_substeps(const DpmSetup& s, double h, double stable) {
+  return s.auto_step ? std::max(1L, static_cast<long>(std::ceil(h / stable - 1e-9))) : 1;
+}
+
 }  // namespace coflow::particles::dpm

@@ -69,14 +69,7 @@ void DpmReference::step(double h) {
         if (std::isfinite(t))
           events.push_back({t, std::min(p_[i].id, p_[j].id), std::max(p_[i].id, p_[j].id), i, j});
       }
-  for (std::size_t i = 0; i < p_.size(); ++i)
-    for (int f = 0; f < 6; ++f) {
-      if (s_.faces[f] != dpm::Face::wall && s_.faces[f] != dpm::Face::symmetry) continue;
-      const double un = u[i].dot(dpm::face_normal(f));
-      if (un <= 0.0) continue;
-      const double t = std::max(0.0, (dpm::face_distance(f, p_[i].x, s_) - 0.5 * p_[i].D) / un);
-      if (t < h) events.push_back({t, p_[i].id, -1 - f, i, i});
-    }
+  for (std::size_t i = 0; i < p_.size(); ++i) dpm::wall_events(p_[i].x, u[i], p_[i].D, p_[i].id, i, h, s_, events);
   std::sort(events.begin(), events.end());
   std::vector<double> hit(p_.size(), -1.0);  // collision time, -1: none
   for (const dpm::Event& e : events) {
@@ -112,18 +105,7 @@ void DpmReference::step(double h) {
   std::vector<Particle> kept;
   kept.reserve(p_.size());
   for (Particle& p : p_) {
-    bool out = false;
-    for (int k = 0; k < 3; ++k) {
-      const double L = s_.upper[k] - s_.lower[k];
-      if (s_.periodic[k]) {
-        if (p.x[k] < s_.lower[k]) p.x[k] += L;
-        if (p.x[k] >= s_.upper[k]) p.x[k] -= L;
-      } else {
-        out = out || (p.x[k] < s_.lower[k] && s_.faces[2 * k] == dpm::Face::outlet) ||
-              (p.x[k] > s_.upper[k] && s_.faces[2 * k + 1] == dpm::Face::outlet);
-      }
-    }
-    if (!out) kept.push_back(p);
+    if (dpm::apply_faces(p.x, s_)) kept.push_back(p);
   }
   p_.swap(kept);
   time_ += h;
@@ -134,7 +116,7 @@ void DpmReference::advance(double dt, long substeps) {
   const double h = dt / substeps;
   for (long n = 0; n < substeps; ++n) {
     // Sub-steps of the Lagrangian step of eq. 4.15 when it is shorter.
-    const long k = s_.auto_step ? std::max(1L, static_cast<long>(std::ceil(h / stable_step() - 1e-9))) : 1;
+    const long k = dpm::lagrangian_substeps(s_, h, stable_step());
     for (long m = 0; m < k; ++m) step(h / k);
   }
 }

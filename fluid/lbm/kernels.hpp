@@ -1,6 +1,8 @@
 // Lattice Boltzmann cell kernels: one cell, no MPI, no I/O, no allocation.
 #pragma once
 
+#include <utility>
+
 #include "fluid/lbm/lattice.hpp"
 
 namespace coflow::fluid::lbm {
@@ -110,6 +112,78 @@ inline void collide_chunk(double (&f)[L::Q][W], const CollisionParams& p, const 
     }
   }
   for (int w = 0; w < W; ++w) f[0][w] = rho[w] - moving[w];
+}
+
+// The lean path for BGK without a force (tau_minus = tau, F = 0): the same
+// collision (seed 000 eqs 2.33 / 2.47 and 2.42) with the force terms and the
+// even/odd split dropped, and the lattice vectors' zero and unit components
+// folded at compile time (a multiplication by 0.0 is not free: the compiler may
+// not drop it). Same results as collide_chunk up to round-off.
+namespace detail {
+template <class L, int q, int W>
+inline void add_moments(const double (&f)[L::Q][W], double* rho, double* jx, double* jy, double* jz) {
+  for (int w = 0; w < W; ++w) {
+    rho[w] += f[q][w];
+    if constexpr (L::e[q][0] == 1) jx[w] += f[q][w];
+    if constexpr (L::e[q][0] == -1) jx[w] -= f[q][w];
+    if constexpr (L::e[q][1] == 1) jy[w] += f[q][w];
+    if constexpr (L::e[q][1] == -1) jy[w] -= f[q][w];
+    if constexpr (L::e[q][2] == 1) jz[w] += f[q][w];
+    if constexpr (L::e[q][2] == -1) jz[w] -= f[q][w];
+  }
+}
+
+template <class L, int q>
+inline double e_dot(double x, double y, double z) {
+  double s = 0.0;
+  if constexpr (L::e[q][0] != 0) s += L::e[q][0] > 0 ? x : -x;
+  if constexpr (L::e[q][1] != 0) s += L::e[q][1] > 0 ? y : -y;
+  if constexpr (L::e[q][2] != 0) s += L::e[q][2] > 0 ? z : -z;
+  return s;
+}
+
+// f_q += omega (feq_q - f_q) for the pair (q, opp q), feq split into its even
+// part w (rho + rho_m (4.5 (e.u)^2 - 1.5 u^2)) and odd part 3 w rho_m e.u.
+template <class L, bool Incompressible, int q, int W>
+inline void relax_pair(double (&f)[L::Q][W], double omega, const double* rho, const double* ux, const double* uy,
+                       const double* uz, const double* even0, double* moving) {
+  constexpr int o = L::opp[q];
+  if constexpr (q > 0 && o > q) {
+    constexpr double w_q = L::w[q];
+    for (int w = 0; w < W; ++w) {
+      const double rho_m = Incompressible ? 1.0 : rho[w];
+      const double eu = e_dot<L, q>(ux[w], uy[w], uz[w]);
+      const double even = w_q * (even0[w] + rho_m * 4.5 * eu * eu);
+      const double odd = w_q * rho_m * 3.0 * eu;
+      f[q][w] += omega * (even + odd - f[q][w]);
+      f[o][w] += omega * (even - odd - f[o][w]);
+      moving[w] += f[q][w] + f[o][w];
+    }
+  }
+}
+
+template <class L, bool Incompressible, int W, int... qs>
+inline void bgk_chunk(double (&f)[L::Q][W], double omega, double* u2, std::integer_sequence<int, qs...>) {
+  double rho[W] = {}, ux[W] = {}, uy[W] = {}, uz[W] = {}, even0[W], moving[W] = {};
+  (add_moments<L, qs, W>(f, rho, ux, uy, uz), ...);
+  for (int w = 0; w < W; ++w) {
+    const double rho_m = Incompressible ? 1.0 : rho[w];
+    const double inv = Incompressible ? 1.0 : 1.0 / rho_m;
+    ux[w] *= inv;
+    uy[w] *= inv;
+    uz[w] *= inv;
+    u2[w] = ux[w] * ux[w] + uy[w] * uy[w] + uz[w] * uz[w];
+    even0[w] = rho[w] - 1.5 * rho_m * u2[w];
+  }
+  (relax_pair<L, Incompressible, qs, W>(f, omega, rho, ux, uy, uz, even0, moving), ...);
+  // The rest population takes the mass the others leave (as in collide()).
+  for (int w = 0; w < W; ++w) f[0][w] = rho[w] - moving[w];
+}
+}  // namespace detail
+
+template <class L, bool Incompressible, int W>
+inline void bgk_chunk(double (&f)[L::Q][W], double omega, double* u2) {
+  detail::bgk_chunk<L, Incompressible, W>(f, omega, u2, std::make_integer_sequence<int, L::Q>{});
 }
 
 template <class L, bool Incompressible>

@@ -177,6 +177,7 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
                 s("volume_fraction", it.volume_fraction, "or: target solid volume fraction",
                   config::in_range(0.0, 0.6));
                 region(s, it);
+                s("velocity", it.velocity, "mean velocity, m/s");
                 s("velocity_std", it.velocity_std, "standard deviation of each velocity component, m/s",
                   config::non_negative());
                 if (s.reading() && (it.count > 0) == (it.volume_fraction > 0))

@@ -20,6 +20,22 @@ struct AnalyticParams {
   void check(config::Visitor& v, const config::Config& cfg) const;
 };
 
+// Snyder & Lumley's decay laws, seed 003 eqs 5.21-5.22: the mean-square streamwise
+// fluctuation (w' in the seed) and lateral fluctuation v' as functions of
+// xi = x/M. The second lateral component equals v' (seed 003 §5.4), so
+// k = (w'^2 + 2 v'^2) / 2; epsilon = -U dk/dx (eq. 5.23).
+struct GridDecay {
+  double U, M;
+  double streamwise2(double xi) const { return U * U / (42.4 * (xi - 16.0)); }
+  double lateral2(double xi) const { return U * U / (39.4 * (xi - 12.0)); }
+  double k(double xi) const { return 0.5 * (streamwise2(xi) + 2.0 * lateral2(xi)); }
+  // dk/dx = (1/M) dk/dxi; each term c/(xi - x0) has derivative -c/(xi - x0)^2.
+  double dk_dx(double xi) const {
+    return -0.5 * (streamwise2(xi) / (xi - 16.0) + 2.0 * lateral2(xi) / (xi - 12.0)) / M;
+  }
+  double epsilon(double xi) const { return -U * dk_dx(xi); }
+};
+
 class AnalyticFluid final : public FluidSolver {
  public:
   using Params = AnalyticParams;

@@ -118,8 +118,9 @@ ParticleArrays make_initial(const ParticleParams& p, const config::Config& cfg) 
               }
             }
         if (!free) continue;
-        const V3 v(vel(rng), vel(rng), vel(rng));
-        add(a, s, sp.density, diam, x, it.velocity_std > 0 ? v : V3::Zero(), V3::Zero());
+        const V3 mean(it.velocity[0], it.velocity[1], it.velocity[2]);
+        const V3 v = it.velocity_std > 0 ? V3(vel(rng), vel(rng), vel(rng)) : V3::Zero();
+        add(a, s, sp.density, diam, x, mean + v, V3::Zero());
         grid[(c[2] * nc[1] + c[1]) * nc[0] + c[0]].push_back(static_cast<long>(a.size() - 1));
         placed_volume += std::numbers::pi * diam * diam * diam / 6.0;
         ++placed;

@@ -98,6 +98,56 @@ void WallParams::visit(Visitor& v) {
     v.fail("", "give exactly one of face (e.g. face: z-) or mesh (e.g. mesh: plate.stl)");
 }
 
+void InjectionParams::visit(Visitor& v) {
+  v.required("species", species, "species name");
+  v.required("mass_flow", mass_flow, "kg/s; each step injects the particles whose mass the flow has delivered "
+             "(seed 003 eqs 4.18-4.19, the remainder carried to the next step)", config::positive());
+  v.required("speed", speed, "m/s", config::positive());
+  v("direction", direction, "jet direction (default: the face's normal); e.g. a nozzle angle Phi in the x-y plane "
+    "is [cos Phi, sin Phi, 0] (seed 003 eq. 5.20)");
+  v("spread_angle", spread_angle, "degrees: directions spread uniformly over the cone of this half-angle about "
+    "direction (the 3D form of the opening angle of seed 003 eq. 5.20)", config::in_range(0.0, 90.0));
+  v("start", start, "s: inject from this time", config::non_negative());
+  v("stop", stop, "s: until this time (default: to the end)");
+  bool has_disk = false, has_rect = false;
+  // (the keys of the face given are checked below: a section's required keys
+  // would be demanded of the absent one too)
+  bool given[2][3] = {};
+  v.section("disk", "a circular inlet face (center, normal and diameter required)", [&](Visitor& s) {
+    s("center", center, "m");
+    s("normal", normal, "normal, pointing into the domain (normalised)");
+    s("diameter", diameter, "m", config::non_negative());
+    given[0][0] = s.given("center"), given[0][1] = s.given("normal"), given[0][2] = s.given("diameter");
+  }, &has_disk);
+  v.section("rectangle", "a rectangular inlet face (center, normal and size required)", [&](Visitor& s) {
+    s("center", center, "m");
+    s("normal", normal, "normal, pointing into the domain (normalised)");
+    s("size", size, "[a, b, 0]: side lengths along axis and along normal x axis, m");
+    s("axis", axis, "direction of the first side (default: the coordinate axis most normal to normal)");
+    given[1][0] = s.given("center"), given[1][1] = s.given("normal"), given[1][2] = s.given("size");
+  }, &has_rect);
+  if (!v.reading()) return;
+  disk = has_disk;
+  if (has_disk == has_rect) {
+    v.fail("", "give exactly one of disk or rectangle");
+    return;
+  }
+  const int f = has_disk ? 0 : 1;
+  const char* names[2][3] = {{"center", "normal", "diameter"}, {"center", "normal", "size"}};
+  for (int k = 0; k < 3; ++k)
+    if (!given[f][k]) v.fail(has_disk ? "disk" : "rectangle", fmt::format("missing required key {}", names[f][k]));
+  if (has_disk && diameter <= 0.0) v.fail("disk", "diameter must be positive");
+  const double nn = normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2];
+  if (nn == 0.0) v.fail(has_disk ? "disk" : "rectangle", "normal is the zero vector");
+  if (has_rect && given[1][2] && (size[0] <= 0.0 || size[1] <= 0.0)) v.fail("rectangle", "size needs two positive side lengths");
+  if (has_rect && (axis[0] * normal[0] + axis[1] * normal[1] + axis[2] * normal[2]) != 0.0 &&
+      (axis[0] != 0.0 || axis[1] != 0.0 || axis[2] != 0.0))
+    v.fail("rectangle", "axis must be perpendicular to normal");
+  const double dn = direction[0] * normal[0] + direction[1] * normal[1] + direction[2] * normal[2];
+  if (dn < 0.0) v.fail("direction", "points out of the inlet (against normal)");
+  if (stop >= 0.0 && stop <= start) v.fail("stop", "must be later than start");
+}
+
 void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
   v("time_step", time_step,
     "s, or auto: dem, time_step_fraction x the critical step (seed 000 eqs 2.19-2.20); dpm, 0.2 x the smallest of "
@@ -189,7 +239,18 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
                 it.kind = "file";
                 s.required("path", it.path, "HDF5 file (particles/step_*.h5 of an earlier run), relative to this file");
               }}});
+  v.list("injection", "particle inlets (dpm): a mass flow through a disk or a rectangle", [&](Visitor& s) {
+    injection.emplace_back();
+    injection.back().visit(s);
+  });
   if (!v.reading()) return;
+  for (std::size_t n = 0; n < injection.size(); ++n) {
+    if (species_index(injection[n].species) < 0)
+      v.fail("injection", fmt::format("item {} uses species '{}', which is not defined under species", n,
+                                      injection[n].species));
+    if (!point_particles)
+      v.fail("injection", "injection is for point particles (particles.solver: dpm or dpm-reference)");
+  }
   for (std::size_t n = 0; n < initial.size(); ++n) {
     const auto& it = initial[n];
     if (it.kind != "file" && species_index(it.species) < 0)

@@ -92,6 +92,22 @@ struct InitialItem {
   config::FilePath path;
 };
 
+// One inlet of point particles (dpm): a mass flow through a disk or a
+// rectangle (seed 003 §4.2.2.4, eqs 4.18-4.19; spread as eq. 5.20 in 3D).
+struct InjectionParams {
+  std::string species;
+  double mass_flow = 0.0;  // kg/s
+  double speed = 0.0;      // m/s
+  Vec3 direction{0, 0, 0}; // of the jet; zero: the face's normal
+  double spread_angle = 0.0;  // degrees, half-angle of the cone of directions
+  double start = 0.0, stop = -1.0;  // s; stop < 0: never
+  bool disk = true;
+  Vec3 center{0, 0, 0}, normal{0, 0, 1}, axis{0, 0, 0};
+  double diameter = 0.0;   // disk
+  Vec3 size{0, 0, 0};      // rectangle: lengths along axis and normal x axis (third entry unused)
+  void visit(config::Visitor& v);
+};
+
 // Keys common to the particle variants (see docs/config.md).
 struct ParticleParams {
   config::AutoDouble time_step;
@@ -104,6 +120,7 @@ struct ParticleParams {
   std::vector<WallParams> walls;
   std::array<std::string, 6> boundaries{"", "", "", "", "", ""};  // per face; "" = default
   std::vector<InitialItem> initial;
+  std::vector<InjectionParams> injection;  // dpm
   void visit(config::Visitor& v, const config::Config& cfg);
   int species_index(const std::string& name) const;
   bool point_particles = false;  // a dpm variant (set from particles.solver)

@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <numbers>
 #include <stdexcept>
 
 #include "coflow/log.hpp"
 #include "particles/dem/checkpoint.hpp"
 #include "particles/dem/initial.hpp"
+#include "particles/dpm/state.hpp"
 
 namespace coflow::particles {
 
@@ -27,6 +30,8 @@ DpmSolver::DpmSolver(const Setup& setup, const Params&) : params_(setup.params) 
   p_ = dem::make_initial(setup.params, setup.cfg);
   p_.force.assign(3 * p_.size(), 0.0);
   set_derived();
+  inlets_ = dpm::make_inlets(setup.params);
+  for (std::int64_t id : p_.id) next_id_ = std::max(next_id_, id + 1);
   dt_ = s_.auto_step ? stable_step() : s_.dt;
   log::info("dpm: {} particles, step {:.4g} s ({})", p_.size(), dt_, s_.auto_step ? "eq. 4.15 at the start" : "given");
 }
@@ -216,8 +221,42 @@ void DpmSolver::step(double h) {
     for (auto* a : {&p_.radius, &p_.mass, &p_.inertia, &D_, &rho_p_}) a->resize(keep);
     fluid_.resize(keep);
   }
+  inject(h);
   time_ += h;
   ++steps_;
+}
+
+// 4. Inlets (injection.hpp): the particles that entered during the step.
+void DpmSolver::inject(double h) {
+  for (std::size_t k = 0; k < inlets_.size(); ++k) {
+    const dpm::Inlet& in = inlets_[k];
+    const double reach = dpm::inlet_reach(in, h);
+    nearby_.clear();
+    for (std::size_t i = 0; i < p_.size(); ++i)
+      if ((at(p_.x, i) - in.center).norm() < reach) nearby_.emplace_back(at(p_.x, i), D_[i]);
+    entering_.clear();
+    dpm::inject(inlets_[k], static_cast<int>(k), s_.dispersion.seed, time_, h, nearby_, entering_);
+    for (const dpm::Entering& e : entering_) {
+      const double m = in.density * std::numbers::pi * e.D * e.D * e.D / 6.0;
+      p_.id.push_back(next_id_++);
+      p_.species.push_back(e.species);
+      for (int c = 0; c < 3; ++c) {
+        p_.x.push_back(e.x[c]);
+        p_.v.push_back(e.v[c]);
+        p_.w.push_back(0.0);
+        p_.force.push_back(0.0);
+        impulse_.push_back(0.0);
+        uprime_.push_back(0.0);
+      }
+      p_.radius.push_back(0.5 * e.D);
+      p_.mass.push_back(m);
+      p_.inertia.push_back(0.1 * m * e.D * e.D);
+      D_.push_back(e.D);
+      rho_p_.push_back(in.density);
+      fluid_.push_back(s_.still);
+      turbulent_.push_back(0);
+    }
+  }
 }
 
 void DpmSolver::advance(double dt, long substeps) {
@@ -259,14 +298,28 @@ ParticleStats DpmSolver::stats() {
   return st;
 }
 
-void DpmSolver::save(const std::string& dir) { dem::save_state(MPI_COMM_SELF, dir, time_, steps_, p_, {}); }
+void DpmSolver::save(const std::string& dir) {
+  dem::save_state(MPI_COMM_SELF, dir, time_, steps_, p_, {});
+  std::map<std::int64_t, dpm::Fluctuation> up;
+  for (std::size_t i = 0; i < p_.size(); ++i)
+    if (turbulent_[i]) up[p_.id[i]] = {at(uprime_, i), true};
+  dpm::save_extra(dir, time_, next_id_, inlets_, up);
+}
 
 void DpmSolver::load(const std::string& dir, long steps, double time) {
+  time_ = time;  // dpm.csv holds the exact clock
   std::vector<dem::SavedContact> contacts;
   dem::load_state(dir, params_, p_, contacts);
   set_derived();
+  for (std::int64_t id : p_.id) next_id_ = std::max(next_id_, id + 1);
+  std::map<std::int64_t, dpm::Fluctuation> up;
+  dpm::load_extra(dir, time_, next_id_, inlets_, up);
+  for (std::size_t i = 0; i < p_.size(); ++i)
+    if (const auto it = up.find(p_.id[i]); it != up.end()) {
+      put(uprime_, i, it->second.u);
+      turbulent_[i] = it->second.started ? 1 : 0;
+    }
   steps_ = steps;
-  time_ = time;
 }
 
 }  // namespace coflow::particles

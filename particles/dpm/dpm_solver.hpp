@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "particles/dem/dem_common.hpp"
+#include "particles/dpm/injection.hpp"
 #include "particles/dpm/setup.hpp"
 #include "particles/particles_interface.hpp"
 
@@ -47,6 +48,7 @@ class DpmSolver final : public ParticleSolver {
   double stable_step() const;
   void find_pair_events(const std::vector<dpm::V3>& u, double h, std::vector<dpm::Event>& out);
   void set_derived();
+  void inject(double h);
 
   ParticleArrays p_;
   std::vector<double> D_, rho_p_, impulse_;
@@ -54,6 +56,10 @@ class DpmSolver final : public ParticleSolver {
   std::vector<double> uprime_;      // turbulent fluctuation seen (dispersion), 3 per particle
   std::vector<char> turbulent_;
   dpm::DpmSetup s_;
+  std::vector<dpm::Inlet> inlets_;
+  std::int64_t next_id_ = 0;
+  std::vector<dpm::Entering> entering_;
+  std::vector<std::pair<dpm::V3, double>> nearby_;
   const ParticleParams& params_;
   double dt_ = 0.0;
   double time_ = 0.0;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <stdexcept>
 #include <tuple>
@@ -9,6 +10,7 @@
 #include "coflow/log.hpp"
 #include "particles/dem/checkpoint.hpp"
 #include "particles/dem/initial.hpp"
+#include "particles/dpm/state.hpp"
 
 namespace coflow::particles {
 
@@ -25,6 +27,8 @@ DpmReference::DpmReference(const Setup& setup, const Params&) : params_(setup.pa
     p_.push_back({a.id[i], a.species[i], V3(&a.x[3 * i]), V3(&a.v[3 * i]), V3(&a.w[3 * i]), D, a.mass[i],
                   a.inertia[i], params_.species.at(a.species[i]).second.density, s_.still, V3::Zero(), V3::Zero()});
   }
+  inlets_ = dpm::make_inlets(setup.params);
+  for (const auto& p : p_) next_id_ = std::max(next_id_, p.id + 1);
   dt_ = s_.auto_step ? stable_step() : s_.dt;
   log::info("dpm-reference: {} particles, step {:.4g} s ({}), fluid {}", p_.size(), dt_,
             s_.auto_step ? "eq. 4.15 at the start" : "given",
@@ -108,6 +112,19 @@ void DpmReference::step(double h) {
     if (dpm::apply_faces(p.x, s_)) kept.push_back(p);
   }
   p_.swap(kept);
+  // 5. Inlets: the particles that entered during the step (injection.hpp).
+  for (std::size_t k = 0; k < inlets_.size(); ++k) {
+    std::vector<std::pair<V3, double>> nearby;
+    for (const Particle& p : p_)
+      if ((p.x - inlets_[k].center).norm() < dpm::inlet_reach(inlets_[k], h)) nearby.emplace_back(p.x, p.D);
+    std::vector<dpm::Entering> entering;
+    dpm::inject(inlets_[k], static_cast<int>(k), s_.dispersion.seed, time_, h, nearby, entering);
+    for (const dpm::Entering& e : entering) {
+      const double rho_p = inlets_[k].density, m = rho_p * std::numbers::pi * e.D * e.D * e.D / 6.0;
+      p_.push_back({next_id_++, e.species, e.x, e.v, V3::Zero(), e.D, m, 0.1 * m * e.D * e.D, rho_p, s_.still,
+                    V3::Zero(), V3::Zero()});
+    }
+  }
   time_ += h;
   ++steps_;
 }
@@ -175,9 +192,14 @@ ParticleStats DpmReference::stats() {
 void DpmReference::save(const std::string& dir) {
   const ParticleArrays& a = particles();
   dem::save_state(MPI_COMM_SELF, dir, time_, steps_, a, {});
+  std::map<std::int64_t, dpm::Fluctuation> up;
+  for (const auto& p : p_)
+    if (p.turbulent) up[p.id] = {p.uprime, true};
+  dpm::save_extra(dir, time_, next_id_, inlets_, up);
 }
 
 void DpmReference::load(const std::string& dir, long steps, double time) {
+  time_ = time;  // dpm.csv holds the exact clock
   ParticleArrays a;
   std::vector<dem::SavedContact> contacts;
   dem::load_state(dir, params_, a, contacts);
@@ -187,8 +209,15 @@ void DpmReference::load(const std::string& dir, long steps, double time) {
     p_.push_back({a.id[i], a.species[i], V3(&a.x[3 * i]), V3(&a.v[3 * i]), V3(&a.w[3 * i]), D, a.mass[i],
                   a.inertia[i], params_.species.at(a.species[i]).second.density, s_.still, V3(&a.force[3 * i]), V3::Zero()});
   }
+  for (const auto& p : p_) next_id_ = std::max(next_id_, p.id + 1);
+  std::map<std::int64_t, dpm::Fluctuation> up;
+  dpm::load_extra(dir, time_, next_id_, inlets_, up);
+  for (auto& p : p_)
+    if (const auto it = up.find(p.id); it != up.end()) {
+      p.uprime = it->second.u;
+      p.turbulent = it->second.started;
+    }
   steps_ = steps;
-  time_ = time;
 }
 
 }  // namespace coflow::particles

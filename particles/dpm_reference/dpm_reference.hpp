@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "particles/dem/dem_common.hpp"
+#include "particles/dpm/injection.hpp"
 #include "particles/dpm/setup.hpp"
 #include "particles/particles_interface.hpp"
 
@@ -54,6 +55,8 @@ class DpmReference final : public ParticleSolver {
   double stable_step() const;  // eq. 4.15 over all particles
   std::vector<Particle> p_;
   dpm::DpmSetup s_;
+  std::vector<dpm::Inlet> inlets_;
+  std::int64_t next_id_ = 0;
   const ParticleParams& params_;
   double dt_ = 0.0;
   double time_ = 0.0;

@@ -332,6 +332,19 @@ int rotation(const std::string& dir) {
   return 0;
 }
 
+// Kolmogorov-Smirnov distance between the sample x and the distribution cdf.
+template <class Cdf>
+double ks_distance(std::vector<double> x, Cdf cdf) {
+  std::sort(x.begin(), x.end());
+  double d = 0.0;
+  const double k = static_cast<double>(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double F = cdf(x[i]);
+    d = std::max({d, std::abs(F - i / k), std::abs(F - (i + 1) / k)});
+  }
+  return d;
+}
+
 std::vector<std::pair<long, double>> snapshots(const std::string& dir, const std::string& component) {
   std::ifstream in(dir + "/" + component + "/index.csv");
   std::string line;
@@ -419,16 +432,7 @@ int granular_gas(const std::string& dir) {
     angle.push_back(f[3] * std::numbers::pi / 180.0);
     speed.push_back(f[4]);
   }
-  auto ks = [](std::vector<double> x, auto cdf) {
-    std::sort(x.begin(), x.end());
-    double d = 0.0;
-    const double k = static_cast<double>(x.size());
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      const double F = cdf(x[i]);
-      d = std::max({d, std::abs(F - i / k), std::abs(F - (i + 1) / k)});
-    }
-    return d;
-  };
+  auto ks = [](std::vector<double> x, auto cdf) { return ks_distance(std::move(x), cdf); };
   const double ks_angle = ks(angle, [](double a) { return std::sin(a) * std::sin(a); });
   const double ks_speed = ks(speed, [&](double g) {
     const double q = g * g / (4.0 * T);
@@ -852,6 +856,77 @@ int grid_turbulence(const std::string& dir) {
   return 0;
 }
 
+// A particle inlet (dpm) without forces or collisions: each particle of the
+// last snapshot is traced back along its straight path to the inlet plane,
+// giving its entry point, time and direction. Injected mass vs mass_flow x
+// time (within one largest particle), and Kolmogorov-Smirnov distances, each
+// also as a ratio to the 99 % critical value 1.63 / sqrt(n): entry radius
+// against r^2/R^2, cos(angle to the jet) against uniform on [cos spread, 1],
+// entry time against uniform on [0, t], diameter against the species'
+// log-normal (eqs 4.20-4.21, corrected sigma).
+int injection(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto inj = cfg.resolved["particles"]["injection"][0];
+  const auto disk = inj["disk"];
+  const std::string species = inj["species"].as<std::string>();
+  const auto sp = cfg.resolved["particles"]["species"][species];
+  const double rho_p = sp["density"].as<double>();
+  const double mean = sp["diameter"]["lognormal"]["mean"].as<double>(), sd = sp["diameter"]["lognormal"]["std"].as<double>();
+  const double mdot = inj["mass_flow"].as<double>(), spread = inj["spread_angle"].as<double>() * std::numbers::pi / 180.0;
+  const auto c3 = disk["center"].as<std::vector<double>>(), n3 = disk["normal"].as<std::vector<double>>();
+  const double R = 0.5 * disk["diameter"].as<double>();
+  const auto last = snapshots(dir, "particles").back();
+  const std::string f = dir + "/particles/" + output::snapshot_name(last.first);
+  const double t_end = last.second;
+  const auto x = output::read_dataset(f, "position"), v = output::read_dataset(f, "velocity");
+  const auto rad = output::read_dataset(f, "radius");
+  const std::size_t n = rad.size();
+  double nn = std::sqrt(n3[0] * n3[0] + n3[1] * n3[1] + n3[2] * n3[2]);
+  const double nrm[3] = {n3[0] / nn, n3[1] / nn, n3[2] / nn};
+  std::vector<double> r2, cosang, tin, diam;
+  double mass = 0.0, dmax = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double D = 2.0 * rad[i];
+    mass += rho_p * std::numbers::pi * D * D * D / 6.0;
+    dmax = std::max(dmax, D);
+    diam.push_back(D);
+    double h = 0.0, vn = 0.0, speed = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      h += (x[3 * i + k] - c3[k]) * nrm[k];
+      vn += v[3 * i + k] * nrm[k];
+      speed += v[3 * i + k] * v[3 * i + k];
+    }
+    speed = std::sqrt(speed);
+    const double back = h / vn;  // time since entry
+    double rr = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const double p = x[3 * i + k] - v[3 * i + k] * back - c3[k];
+      rr += p * p;
+    }
+    r2.push_back(std::sqrt(rr));
+    cosang.push_back(vn / speed);
+    tin.push_back(t_end - back);
+  }
+  const double cap = mean + 6.0 * sd;  // the largest diameter an inlet draws
+  const double expected = mdot * t_end, m_big = rho_p * std::numbers::pi * cap * cap * cap / 6.0;
+  const double crit = 1.63 / std::sqrt(static_cast<double>(n));
+  const double ks_r = ks_distance(r2, [&](double r) { return std::min(1.0, r * r / (R * R)); });
+  const double cs = std::cos(spread);
+  const double ks_c = ks_distance(cosang, [&](double c) { return std::clamp((c - cs) / (1.0 - cs), 0.0, 1.0); });
+  const double ks_t = ks_distance(tin, [&](double t) { return std::clamp(t / t_end, 0.0, 1.0); });
+  const double s2 = std::log(1.0 + sd * sd / (mean * mean)), mu = std::log(mean) - 0.5 * s2;
+  const double ks_d = ks_distance(diam, [&](double D) { return 0.5 * std::erfc(-(std::log(D) - mu) / std::sqrt(2.0 * s2)); });
+  double sum = 0.0, sum2 = 0.0;
+  for (double D : diam) sum += D, sum2 += D * D;
+  const double dm = sum / n, ds = std::sqrt(sum2 / n - dm * dm);
+  std::printf("particles=%zu\ninjected_mass=%.6e\nexpected_mass=%.6e\nmass_deficit_in_particles=%.4f\n"
+              "mean_diameter=%.5e\nstd_diameter=%.5e\nradius_ks_ratio=%.3f\ndirection_ks_ratio=%.3f\n"
+              "time_ks_ratio=%.3f\ndiameter_ks_ratio=%.3f\nmax_entry_radius_over_R=%.6f\nmin_cos_over_cos_spread=%.6f\n",
+              n, mass, expected, (expected - mass) / m_big, dm, ds, ks_r / crit, ks_c / crit, ks_t / crit, ks_d / crit,
+              *std::max_element(r2.begin(), r2.end()) / R, *std::min_element(cosang.begin(), cosang.end()) / cs);
+  return 0;
+}
+
 int impact(const std::string& dir) {
   const auto cfg = load(dir);
   double t_in = -1, t_out = -1, prev_gap = 0, prev_t = 0, v0 = 0, v1 = 0, r = 0, rho = 0;
@@ -1036,6 +1111,7 @@ int main(int argc, char** argv) {
     if (what == "two_way" && argc == 3) return two_way(argv[2]);
     if (what == "dispersion" && argc == 3) return dispersion(argv[2]);
     if (what == "grid_turbulence" && argc == 3) return grid_turbulence(argv[2]);
+    if (what == "injection" && argc == 3) return injection(argv[2]);
     if (what == "rotation" && argc == 3) return rotation(argv[2]);
     std::fprintf(stderr, "usage: coflow-check profile|decay|mass RUN_DIR | compare RUN_A RUN_B\n");
     return 2;

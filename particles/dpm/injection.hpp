@@ -1,0 +1,173 @@
+// Particle inlets of the point-particle variants (seed 003 §4.2.2.4): a mass
+// flow through a disk or a rectangle. Each step owes the inlet's mass flow
+// times the step (eq. 4.18); whole particles are injected while the next
+// particle's mass fits what is owed, and the remainder is carried to the next
+// step (eq. 4.19 truncates it, which loses mass when a step holds few
+// particles). Sizes come from the species' distribution (fixed, uniform,
+// log-normal of eqs 4.20-4.21 with the corrected sigma). Each particle enters
+// at a random instant of the step and a random point of the face (uniform over
+// the area) and has moved on from there by the end of the step; its direction
+// is uniform over the cone of half-angle spread_angle about the jet direction
+// (the 3D form of eq. 5.20's opening angle). Candidates that would overlap a
+// particle near the inlet are drawn again; a particle that finds no room waits
+// for the next step. Random numbers derive from (run.seed, inlet, particle
+// serial, attempt) only, so dpm and dpm-reference inject the same particles.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <vector>
+
+#include "particles/dpm/dispersion.hpp"
+#include "particles/dpm/forces.hpp"
+#include "particles/particles_interface.hpp"
+
+namespace coflow::particles::dpm {
+
+struct Inlet {
+  int species = 0;
+  double density = 0.0;
+  config::Distribution diameter;
+  double dmax = 0.0;  // the largest diameter drawn (mean + 6 std for log-normal)
+  double mass_flow = 0.0, speed = 0.0, cos_spread = 1.0, start = 0.0, stop = -1.0;
+  bool disk = true;
+  V3 center = V3::Zero(), normal = V3::Zero(), t1 = V3::Zero(), t2 = V3::Zero(), dir = V3::Zero();
+  double radius = 0.0, a = 0.0, b = 0.0;
+  // state (checkpointed)
+  double owed = 0.0;      // kg delivered by the flow and not yet injected
+  std::int64_t serial = 0;  // particles injected so far
+};
+
+// A particle entering in this step: its state at the step's end.
+struct Entering {
+  V3 x, v;
+  double D;
+  int species;
+};
+
+// Two unit vectors completing n to an orthonormal basis; `hint` (if not
+// parallel to n) gives the direction of the first.
+inline void basis(const V3& n, const V3& hint, V3& e1, V3& e2) {
+  V3 h = hint;
+  if (h.squaredNorm() == 0.0 || std::abs(h.normalized().dot(n)) > 0.999) {
+    int k = 0;  // the coordinate axis most normal to n
+    for (int d = 1; d < 3; ++d)
+      if (std::abs(n[d]) < std::abs(n[k])) k = d;
+    h = V3::Zero();
+    h[k] = 1.0;
+  }
+  e1 = (h - h.dot(n) * n).normalized();
+  e2 = n.cross(e1);
+}
+
+inline std::vector<Inlet> make_inlets(const ParticleParams& p) {
+  std::vector<Inlet> out;
+  for (const InjectionParams& ip : p.injection) {
+    Inlet in;
+    in.species = p.species_index(ip.species);
+    const SpeciesParams& sp = p.species.at(static_cast<std::size_t>(in.species)).second;
+    in.density = sp.density;
+    in.diameter = sp.diameter;
+    in.dmax = sp.diameter.kind == config::Distribution::Kind::fixed     ? sp.diameter.a
+              : sp.diameter.kind == config::Distribution::Kind::uniform ? sp.diameter.b
+                                                                        : sp.diameter.a + 6.0 * sp.diameter.b;
+    in.mass_flow = ip.mass_flow;
+    in.speed = ip.speed;
+    in.cos_spread = std::cos(ip.spread_angle * std::numbers::pi / 180.0);
+    in.start = ip.start;
+    in.stop = ip.stop;
+    in.disk = ip.disk;
+    in.center = V3(ip.center.data());
+    in.normal = V3(ip.normal.data()).normalized();
+    basis(in.normal, V3(ip.axis.data()), in.t1, in.t2);
+    const V3 d(ip.direction.data());
+    in.dir = d.squaredNorm() > 0.0 ? V3(d.normalized()) : in.normal;
+    in.radius = 0.5 * ip.diameter;
+    in.a = ip.size[0];
+    in.b = ip.size[1];
+    out.push_back(in);
+  }
+  return out;
+}
+
+// A uniform number in (0, 1) for (seed, inlet, serial, attempt, component).
+inline double inlet_uniform(std::uint64_t seed, int inlet, std::int64_t serial, int attempt, int component) {
+  const std::uint64_t h = mix(mix(mix(mix(seed ^ 0x51ed27f1a3c4e9b7ULL ^ static_cast<std::uint64_t>(inlet)) ^
+                                      static_cast<std::uint64_t>(serial)) ^
+                                  static_cast<std::uint64_t>(attempt)) ^
+                              static_cast<std::uint64_t>(component));
+  return (static_cast<double>(h >> 11) + 0.5) * 0x1.0p-53;
+}
+
+inline double inlet_diameter(const Inlet& in, std::uint64_t seed, int k) {
+  const config::Distribution& d = in.diameter;
+  const double u1 = inlet_uniform(seed, k, in.serial, 0, 0);
+  switch (d.kind) {
+    case config::Distribution::Kind::fixed: return d.a;
+    case config::Distribution::Kind::uniform: return d.a + (d.b - d.a) * u1;
+    case config::Distribution::Kind::lognormal: {
+      // sigma^2 = ln(1 + s^2 / D^2), mu = ln D - sigma^2 / 2 (eqs 4.20-4.21, corrected).
+      const double s2 = std::log(1.0 + d.b * d.b / (d.a * d.a));
+      const double z = std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * inlet_uniform(seed, k, in.serial, 0, 1));
+      return std::min(in.dmax, std::exp(std::log(d.a) - 0.5 * s2 + std::sqrt(s2) * z));
+    }
+  }
+  return d.a;
+}
+
+// The particles entering through inlet k over the step [t, t + h). `nearby`
+// holds (position, diameter) of the particles that may touch an entering one;
+// the entering ones are added to it.
+inline void inject(Inlet& in, int k, std::uint64_t seed, double t, double h,
+                   std::vector<std::pair<V3, double>>& nearby, std::vector<Entering>& out) {
+  const double t0 = std::max(t, in.start), t1 = in.stop >= 0.0 ? std::min(t + h, in.stop) : t + h;
+  if (t1 > t0) in.owed += in.mass_flow * (t1 - t0);
+  while (true) {
+    const double D = inlet_diameter(in, seed, k);
+    const double m = in.density * std::numbers::pi * D * D * D / 6.0;
+    if (m > in.owed) return;
+    bool placed = false;
+    for (int attempt = 1; attempt <= 64 && !placed; ++attempt) {
+      auto u = [&](int c) { return inlet_uniform(seed, k, in.serial, attempt, c); };
+      // entry instant within [t0, t1), entry point on the face
+      const double te = t0 + (t1 > t0 ? u(0) * (t1 - t0) : 0.0);
+      V3 p = in.center;
+      if (in.disk) {
+        const double r = in.radius * std::sqrt(u(1)), phi = 2.0 * std::numbers::pi * u(2);
+        p += r * (std::cos(phi) * in.t1 + std::sin(phi) * in.t2);
+      } else {
+        p += (u(1) - 0.5) * in.a * in.t1 + (u(2) - 0.5) * in.b * in.t2;
+      }
+      // direction uniform over the cone's solid angle
+      const double c = 1.0 - u(3) * (1.0 - in.cos_spread), s = std::sqrt(std::max(0.0, 1.0 - c * c));
+      const double psi = 2.0 * std::numbers::pi * u(4);
+      V3 e1, e2;
+      basis(in.dir, in.t1, e1, e2);
+      const V3 v = in.speed * (c * in.dir + s * (std::cos(psi) * e1 + std::sin(psi) * e2));
+      const V3 x = p + v * (t + h - te);
+      bool free = true;
+      for (const auto& [y, Dy] : nearby)
+        if ((y - x).squaredNorm() < 0.25 * (D + Dy) * (D + Dy)) {
+          free = false;
+          break;
+        }
+      if (!free) continue;
+      out.push_back({x, v, D, in.species});
+      nearby.emplace_back(x, D);
+      placed = true;
+    }
+    if (!placed) return;  // no room this step: the particle waits, its mass stays owed
+    in.owed -= m;
+    ++in.serial;
+  }
+}
+
+// The region near an inlet where particles may touch entering ones: within
+// this distance of its centre.
+inline double inlet_reach(const Inlet& in, double h) {
+  const double half = in.disk ? in.radius : 0.5 * std::hypot(in.a, in.b);
+  return half + in.speed * h + 2.0 * in.dmax;
+}
+
+}  // namespace coflow::particles::dpm

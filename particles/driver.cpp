@@ -59,13 +59,17 @@ void run(coupler::Session& s) {
   // in (time, i, j) order, so the file does not depend on the rank count.
   const auto& out = cfg.run.output;
   solver->record_events(out.collision_events, out.bond_events);
-  std::ofstream collisions_csv, bonds_csv;
+  std::ofstream collisions_csv, bonds_csv, impacts_csv;
   if (s.rank() == 0) {
     const auto mode = w0 > 0 ? std::ios::app : std::ios::trunc;
     if (out.collision_events) {
       std::filesystem::create_directories(s.output_dir() + "/events");
       collisions_csv.open(s.output_dir() + "/events/collisions.csv", mode);
       if (w0 == 0) collisions_csv << "time,i,j,angle,relative_speed,normal_speed\n";
+      if (params.point_particles) {
+        impacts_csv.open(s.output_dir() + "/events/impacts.csv", mode);
+        if (w0 == 0) impacts_csv << "time,id,wall,x,y,z,angle,speed\n";
+      }
     }
     if (out.bond_events) {
       std::filesystem::create_directories(s.output_dir() + "/events");
@@ -83,6 +87,25 @@ void run(coupler::Session& s) {
       local.insert(local.end(), {1.0, e.time, double(e.i), double(e.j), double(static_cast<int>(e.mode)),
                                  e.normal_force, e.shear_force});
     const std::vector<double> all = coupler::gather_to_root<double>(s.comm(), local, MPI_DOUBLE);
+    // Wall impacts (point particles): time, id, wall, contact point, angle, speed.
+    std::vector<double> hits;
+    for (const auto& e : ev.impacts)
+      hits.insert(hits.end(), {e.time, double(e.id), double(e.wall), e.point[0], e.point[1], e.point[2], e.angle, e.speed});
+    const std::vector<double> all_hits = coupler::gather_to_root<double>(s.comm(), hits, MPI_DOUBLE);
+    if (s.rank() == 0 && impacts_csv.is_open()) {
+      constexpr std::size_t H = 8;
+      std::vector<std::size_t> by(all_hits.size() / H);
+      for (std::size_t n = 0; n < by.size(); ++n) by[n] = n;
+      std::sort(by.begin(), by.end(), [&](std::size_t a, std::size_t b) {
+        return std::lexicographical_compare(&all_hits[H * a], &all_hits[H * a + 3], &all_hits[H * b], &all_hits[H * b + 3]);
+      });
+      for (std::size_t n : by) {
+        const double* e = &all_hits[H * n];
+        impacts_csv << fmt::format("{:.17g},{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", e[0], std::int64_t(e[1]),
+                                   std::int64_t(e[2]), e[3], e[4], e[5], e[6], e[7]);
+      }
+      impacts_csv.flush();
+    }
     if (s.rank() != 0) return;
     constexpr std::size_t W = 7;
     std::vector<std::size_t> order(all.size() / W);

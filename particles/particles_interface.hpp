@@ -169,8 +169,18 @@ struct BondEvent {
   double normal_force = 0.0;   // N, > 0 compressive, at failure
   double shear_force = 0.0;    // N, magnitude at failure
 };
+// A particle hitting a wall (a domain face or a triangle of a mesh).
+struct ImpactEvent {
+  double time = 0.0;
+  std::int64_t id = 0;
+  std::int64_t wall = 0;        // face 0-5 (x-, x+, ...), or 6 + (mesh << 24) + triangle
+  Vec3 point{0, 0, 0};          // contact point, m
+  double angle = 0.0;           // between the velocity and the wall's plane, degrees (90: head-on)
+  double speed = 0.0;           // m/s, before the impact
+};
 struct ParticleEvents {
   std::vector<CollisionEvent> collisions;
+  std::vector<ImpactEvent> impacts;
   std::vector<BondEvent> bonds;
 };
 

@@ -80,6 +80,13 @@ class EventRecorder {
     const double angle = speed > 0.0 ? std::acos(std::min(1.0, normal / speed)) * 180.0 / 3.14159265358979323846 : 0.0;
     log_.collisions.push_back({t, i, j, angle, speed, normal});
   }
+  // n: unit normal from the particle into the wall; v: velocity before.
+  void impact(double t, std::int64_t id, std::int64_t wall, const V3& point, const V3& n, const V3& v) {
+    if (!collisions_) return;
+    const double speed = v.norm();
+    const double angle = speed > 0.0 ? std::asin(std::min(1.0, std::abs(v.dot(n)) / speed)) * 180.0 / 3.14159265358979323846 : 0.0;
+    log_.impacts.push_back({t, id, wall, {point[0], point[1], point[2]}, angle, speed});
+  }
   void bond(double t, std::int64_t i, std::int64_t j, const ContactForce& c) {
     if (!bonds_) return;
     const BondFailure mode = c.failure == Failure::tension       ? BondFailure::tension

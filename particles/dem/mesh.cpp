@@ -97,6 +97,11 @@ MeshWall::MeshWall(TriangleMesh mesh, double friction) : mesh_(std::move(mesh)),
   fcl_->model->endModel();
   fcl_->object = std::make_unique<fcl::CollisionObjectd>(fcl_->model);
   fcl_->object->computeAABB();
+  lo_ = hi_ = mesh_.vertices.front();
+  for (const V3& p : mesh_.vertices) {
+    lo_ = lo_.cwiseMin(p);
+    hi_ = hi_.cwiseMax(p);
+  }
 }
 
 void MeshWall::contacts(const V3& x, double r, std::vector<MeshContact>& out) const {
@@ -121,6 +126,37 @@ void MeshWall::contacts(const V3& x, double r, std::vector<MeshContact>& out) co
     out.push_back(m);
   }
   finish(x, r, out);
+}
+
+void MeshWall::swept_candidates(const V3& x0, const V3& x1, double r, std::vector<int>& out) const {
+  out.clear();
+  // Nothing to find unless the swept sphere's box meets the mesh's box.
+  const double reach = 1.05 * r + 1e-12;
+  for (int k = 0; k < 3; ++k)
+    if (std::min(x0[k], x1[k]) - reach > hi_[k] || std::max(x0[k], x1[k]) + reach < lo_[k]) return;
+  // A capsule along the segment (FCL's capsules lie along z, centred), inflated
+  // a little as in contacts().
+  const V3 d = x1 - x0;
+  const double len = d.norm();
+  const double rr = r * 1.05 + 1e-12;
+  fcl::Transform3d tf = fcl::Transform3d::Identity();
+  tf.translation() = 0.5 * (x0 + x1);
+  if (len > 0.0) tf.linear() = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), d / len).toRotationMatrix();
+  std::shared_ptr<fcl::CollisionGeometryd> shape;
+  if (len > 0.0)
+    shape = std::make_shared<fcl::Capsuled>(rr, len);
+  else
+    shape = std::make_shared<fcl::Sphered>(rr);
+  fcl::CollisionObjectd s(shape, tf);
+  s.computeAABB();
+  fcl::CollisionRequestd request(mesh_.triangles.size(), false);
+  fcl::CollisionResultd result;
+  fcl::collide(fcl_->object.get(), &s, request, result);
+  std::vector<fcl::Contactd> found;
+  result.getContacts(found);
+  for (const auto& c : found) out.push_back(static_cast<int>(c.b1));
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
 }
 
 void MeshWall::contacts_all(const V3& x, double r, std::vector<MeshContact>& out) const {

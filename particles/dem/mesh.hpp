@@ -36,10 +36,15 @@ class MeshWall {
   // mesh acts like one plane whichever triangles it is cut into.
   void contacts(const V3& x, double r, std::vector<MeshContact>& out) const;      // FCL broad phase
   void contacts_all(const V3& x, double r, std::vector<MeshContact>& out) const;  // every triangle (oracle)
+  // The triangles that a sphere of radius r moving from x0 to x1 may touch
+  // (FCL's BVH against the capsule the sphere sweeps; a superset), sorted.
+  void swept_candidates(const V3& x0, const V3& x1, double r, std::vector<int>& out) const;
+  const V3& vertex(int triangle, int corner) const { return mesh_.vertices[mesh_.triangles[triangle][corner]]; }
 
  private:
   void finish(const V3& x, double r, std::vector<MeshContact>& out) const;
   TriangleMesh mesh_;
+  V3 lo_, hi_;  // bounding box of the mesh
   double friction_;
   struct Fcl;
   std::shared_ptr<Fcl> fcl_;

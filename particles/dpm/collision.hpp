@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "particles/dem/mesh.hpp"
 #include "particles/dpm/forces.hpp"
 
 namespace coflow::particles::dpm {
@@ -78,6 +79,84 @@ inline void collide_wall(V3& u, V3& w, double D, const V3& n, const Restitution&
     u -= 2.0 / 7.0 * urc_t + (1.0 + r.e) * urc.dot(n) * n;
     w -= 10.0 / 7.0 / D * n.cross(urc_t);
   }
+}
+
+// Earliest t in [0, dt) at which a sphere of radius R with centre x + u t
+// touches the triangle (a, b, c), approaching it; +infinity if none. The
+// continuous form of seed 003 Algorithm 2 (eqs 4.32-4.37 intersect the centre's
+// path with the triangle's plane): the centre meets the plane offset by R inside
+// the triangle (face), a cylinder of radius R about an edge, or a sphere of
+// radius R about a vertex; the earliest of these. A sphere that already touches
+// and approaches collides at t = 0. `point` is the contact point on the triangle.
+inline double sweep_triangle(const V3& x, const V3& u, double R, double dt, const V3& a, const V3& b, const V3& c,
+                             V3& point) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  double best = inf;
+  auto consider = [&](double t, const V3& p) {
+    if (t < best) {
+      best = t;
+      point = p;
+    }
+  };
+  // Closest point now: already touching?
+  {
+    bool face = false;
+    const V3 p0 = dem::closest_on_triangle(x, a, b, c, face);
+    const V3 d = p0 - x;
+    if (d.squaredNorm() <= R * R) {
+      if (u.dot(d) > 0.0) {
+        point = p0;
+        return 0.0;
+      }
+      // touching but moving away or along: later contacts with other parts of
+      // the same (planar) triangle cannot happen
+      return inf;
+    }
+  }
+  // Face: the plane offset by R on the side the centre is.
+  const V3 n = (b - a).cross(c - a).normalized();
+  const double s0 = (x - a).dot(n), un = u.dot(n);
+  if (s0 * un < 0.0) {
+    const double side = s0 > 0.0 ? 1.0 : -1.0;
+    const double t = (side * R - s0) / un;
+    if (t >= 0.0 && t < dt) {
+      const V3 q = x + u * t - side * R * n;  // foot of the centre on the plane
+      const V3 v0 = b - a, v1 = c - a, v2 = q - a;
+      const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
+      const double den = d00 * d11 - d01 * d01;
+      const double beta = (d11 * d20 - d01 * d21) / den, gamma = (d00 * d21 - d01 * d20) / den;
+      if (beta >= 0.0 && gamma >= 0.0 && beta + gamma <= 1.0) consider(t, q);
+    }
+  }
+  // Smallest root in [0, dt) of A t^2 + 2 B t + C = 0 with C > 0 (outside now).
+  auto first_root = [&](double A, double B, double C) {
+    if (A <= 0.0 || B >= 0.0) return inf;
+    const double disc = B * B - A * C;
+    if (disc < 0.0) return inf;
+    const double t = C / (-B + std::sqrt(disc));
+    return t < dt ? t : inf;
+  };
+  // Edges: |(x + u t - p) - ((x + u t - p) . e) e| = R, foot within the edge.
+  const V3* corners[3] = {&a, &b, &c};
+  for (int k = 0; k < 3; ++k) {
+    const V3& p = *corners[k];
+    const V3& q = *corners[(k + 1) % 3];
+    const double L = (q - p).norm();
+    const V3 e = (q - p) / L;
+    const V3 m = x - p;
+    const V3 mp = m - m.dot(e) * e, up = u - u.dot(e) * e;
+    const double t = first_root(up.squaredNorm(), mp.dot(up), mp.squaredNorm() - R * R);
+    if (t < best) {
+      const double along = (m + u * t).dot(e);
+      if (along >= 0.0 && along <= L) consider(t, p + along * e);
+    }
+  }
+  // Vertices.
+  for (const V3* v : corners) {
+    const V3 m = x - *v;
+    consider(first_root(u.squaredNorm(), m.dot(u), m.squaredNorm() - R * R), *v);
+  }
+  return best;
 }
 
 }  // namespace coflow::particles::dpm

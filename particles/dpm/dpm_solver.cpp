@@ -59,6 +59,8 @@ double DpmSolver::stable_step() const {
 
 // Pairs that touch within the step: |d| <= (D_i + D_j) / 2 + |u_i - u_j| h at
 // the start, so a cell edge of D_max + 2 u_max h puts them in neighbouring cells.
+// O(N log N): the sort by cell and one binary search per occupied cell and
+// neighbour.
 void DpmSolver::find_pair_events(const std::vector<V3>& u, double h, std::vector<dpm::Event>& out) {
   const std::size_t n = p_.size();
   auto event = [&](std::size_t i, std::size_t j) {
@@ -77,44 +79,53 @@ void DpmSolver::find_pair_events(const std::vector<V3>& u, double h, std::vector
     dmax = std::max(dmax, D_[i]);
     umax = std::max(umax, u[i].norm());
   }
-  // ... and no finer than about one particle per cell (a dilute gas would
-  // otherwise get mostly empty cells).
-  const double volume = (s_.upper[0] - s_.lower[0]) * (s_.upper[1] - s_.lower[1]) * (s_.upper[2] - s_.lower[2]);
-  const double edge = std::max(dmax + 2.0 * umax * h, std::cbrt(volume / static_cast<double>(std::max<std::size_t>(n, 1))));
+  // Cells of edge D_max + 2 u_max h, stored sparsely: particles sorted by cell
+  // key, occupied cells found by binary search. The cost does not depend on
+  // the box or on how the particles cluster (a jet packs thousands into a
+  // column a few particles wide).
+  const double edge = dmax + 2.0 * umax * h;
   long nc[3];
   for (int k = 0; k < 3; ++k)
-    nc[k] = std::max(1L, std::min(1024L, static_cast<long>((s_.upper[k] - s_.lower[k]) / edge)));
+    nc[k] = std::max(1L, std::min(1L << 20, static_cast<long>((s_.upper[k] - s_.lower[k]) / edge)));
   const bool small = nc[0] < 3 || nc[1] < 3 || nc[2] < 3;  // neighbours may repeat
-  // Counting sort by cell into a packed copy (position, trajectory velocity,
-  // diameter, id, index), so that the neighbour loops read contiguous memory.
-  const std::size_t ncell = static_cast<std::size_t>(nc[0] * nc[1] * nc[2]);
-  start_.assign(ncell + 1, 0);
+  auto key_of = [&](long cx, long cy, long cz) { return (cz * nc[1] + cy) * nc[0] + cx; };
+  // Sort by cell into a packed copy (position, trajectory velocity, diameter,
+  // id, index), so that the neighbour loops read contiguous memory.
   cell_.resize(n);
+  order_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     long c[3];
     for (int k = 0; k < 3; ++k) {
       const double L = s_.upper[k] - s_.lower[k];
       c[k] = std::clamp(static_cast<long>((p_.x[3 * i + k] - s_.lower[k]) / L * nc[k]), 0L, nc[k] - 1);
     }
-    cell_[i] = (c[2] * nc[1] + c[1]) * nc[0] + c[0];
-    ++start_[static_cast<std::size_t>(cell_[i]) + 1];
+    cell_[i] = key_of(c[0], c[1], c[2]);
+    order_[i] = i;
   }
-  for (std::size_t c = 0; c < ncell; ++c) start_[c + 1] += start_[c];
+  std::sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) {
+    return cell_[a] != cell_[b] ? cell_[a] < cell_[b] : a < b;
+  });
   packed_.resize(n);
-  fill_ = start_;
-  for (std::size_t i = 0; i < n; ++i) {
-    Packed& q = packed_[static_cast<std::size_t>(fill_[static_cast<std::size_t>(cell_[i])]++)];
+  keys_.clear();
+  start_.clear();
+  for (std::size_t r = 0; r < n; ++r) {
+    const std::size_t i = order_[r];
+    Packed& q = packed_[r];
     q.x = at(p_.x, i);
     q.u = u[i];
     q.D = D_[i];
     q.id = p_.id[i];
     q.index = i;
+    if (keys_.empty() || keys_.back() != cell_[i]) {
+      keys_.push_back(cell_[i]);
+      start_.push_back(static_cast<long>(r));
+    }
   }
+  start_.push_back(static_cast<long>(n));
   long nb[27];
-  for (std::size_t c = 0; c < ncell; ++c) {
-    if (start_[c] == start_[c + 1]) continue;
-    const long cc[3] = {static_cast<long>(c) % nc[0], (static_cast<long>(c) / nc[0]) % nc[1],
-                        static_cast<long>(c) / (nc[0] * nc[1])};
+  for (std::size_t c = 0; c < keys_.size(); ++c) {
+    const long key = keys_[c];
+    const long cc[3] = {key % nc[0], (key / nc[0]) % nc[1], key / (nc[0] * nc[1])};
     int count = 0;
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
@@ -130,8 +141,11 @@ void DpmSolver::find_pair_events(const std::vector<V3>& u, double h, std::vector
             }
           }
           if (!ok) continue;
-          const long flat = (q[2] * nc[1] + q[1]) * nc[0] + q[0];
-          if (!small || std::find(nb, nb + count, flat) == nb + count) nb[count++] = flat;
+          const long k2 = key_of(q[0], q[1], q[2]);
+          const auto it = std::lower_bound(keys_.begin(), keys_.end(), k2);
+          if (it == keys_.end() || *it != k2) continue;
+          const long slot = static_cast<long>(it - keys_.begin());
+          if (!small || std::find(nb, nb + count, slot) == nb + count) nb[count++] = slot;
         }
     for (long a = start_[c]; a < start_[c + 1]; ++a) {
       const Packed& pa = packed_[static_cast<std::size_t>(a)];
@@ -171,14 +185,20 @@ void DpmSolver::step(double h) {
   // 2. Collisions along the trajectories, earliest first (as dpm-reference).
   ev_.clear();
   if (s_.collisions) find_pair_events(u_, h, ev_);
-  for (std::size_t i = 0; i < n; ++i) dpm::wall_events(at(p_.x, i), u_[i], D_[i], p_.id[i], i, h, s_, ev_);
+  for (std::size_t i = 0; i < n; ++i) {
+    dpm::wall_events(at(p_.x, i), u_[i], D_[i], p_.id[i], i, h, s_, ev_);
+    if (!s_.meshes.empty()) dpm::mesh_events(at(p_.x, i), u_[i], D_[i], p_.id[i], i, h, s_, tris_, ev_);
+  }
   std::sort(ev_.begin(), ev_.end());
   hit_.assign(n, -1.0);
   for (const dpm::Event& e : ev_) {
     if (hit_[e.i] >= 0.0 || (e.b >= 0 && hit_[e.j] >= 0.0)) continue;
     if (e.b < 0) {
-      dpm::collide_wall(moved_[e.i].v, moved_[e.i].w, D_[e.i], dpm::face_normal(static_cast<int>(-1 - e.b)),
-                        s_.wall[-1 - e.b]);
+      V3 nrm, point;
+      const dpm::Restitution* law = nullptr;
+      dpm::wall_contact(e.b, at(p_.x, e.i), u_[e.i], e.t, D_[e.i], s_, nrm, point, law);
+      events_.impact(time_ + e.t, e.a, -1 - e.b, point, nrm, moved_[e.i].v);
+      dpm::collide_wall(moved_[e.i].v, moved_[e.i].w, D_[e.i], nrm, *law);
       hit_[e.i] = e.t;
       ++wall_collisions_;
       continue;

@@ -67,19 +67,21 @@ class DpmSolver final : public ParticleSolver {
   long collisions_ = 0, wall_collisions_ = 0;
   bool all_pairs_ = false;
   dem::EventRecorder events_;
-  // cell list (rebuilt every step)
+  // sparse cell list (rebuilt every step)
   struct Packed {
     dpm::V3 x, u;
     double D;
     std::int64_t id;
     std::size_t index;
   };
-  std::vector<long> start_, fill_, cell_;
+  std::vector<long> start_, keys_, cell_;  // per occupied cell: first packed row; its key; per particle: key
+  std::vector<std::size_t> order_;
   std::vector<Packed> packed_;
   std::vector<dpm::Motion> moved_;
   std::vector<dpm::V3> u_;
   std::vector<dpm::Event> ev_;
   std::vector<double> hit_;
+  std::vector<int> tris_;  // mesh candidates (scratch)
 };
 
 }  // namespace coflow::particles

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -40,7 +41,14 @@ struct DpmSetup {
   FluidSample still;                  // the fluid without a coupling partner: at rest
   bool auto_step = true;
   double dt = 0.0;                    // the configured step (auto: the start's eq. 4.15 value)
+  // triangle-mesh walls (STL), each with its coefficients
+  std::vector<std::shared_ptr<const dem::MeshWall>> meshes;
+  std::vector<Restitution> mesh_law;
+  bool mesh_all_triangles = false;    // test every triangle (the oracle) instead of FCL's candidates
 };
+
+// Wall keys of events and impacts: faces 0-5, triangle t of mesh m 6 + (m << 24) + t.
+inline std::int64_t mesh_key(std::size_t m, int t) { return 6 + (static_cast<std::int64_t>(m) << 24) + t; }
 
 inline DpmSetup make_setup(const ParticleParams& p, const config::Config& cfg) {
   DpmSetup s;
@@ -80,8 +88,10 @@ inline DpmSetup make_setup(const ParticleParams& p, const config::Config& cfg) {
       }
   }
   for (const auto& w : p.walls)
-    if (!w.mesh.empty())
-      throw std::runtime_error("particles.walls: triangle-mesh walls are not implemented for dpm yet (domain faces are)");
+    if (!w.mesh.empty()) {
+      s.meshes.push_back(std::make_shared<const dem::MeshWall>(dem::read_stl(w.mesh.path), w.friction));
+      s.mesh_law.push_back({w.restitution, w.friction >= 0 ? w.friction : p.collision.friction});
+    }
   // Without a coupling partner the particles see the fluid section's fluid, at rest.
   const auto fl = cfg.resolved["fluid"];
   if (fl && fl["density"] && fl["viscosity"]) {
@@ -175,6 +185,61 @@ inline void wall_events(const V3& x, const V3& u, double D, std::int64_t id, std
     const double t = std::max(0.0, (face_distance(f, x, s) - 0.5 * D) / un);
     if (t < h) out.push_back({t, id, -1 - f, i, i});
   }
+}
+
+// Triangle-mesh walls that particle i reaches within the step h (swept sphere
+// against triangle, collision.hpp): the earliest contact per mesh, as an event
+// (t, id, -1 - mesh_key). Candidates come from FCL's BVH (Algorithm 2: only
+// triangles near the trajectory are tested), or from every triangle when
+// s.mesh_all_triangles (dpm-reference). Ties between triangles (a shared edge
+// or vertex) go to the lower triangle index.
+inline void mesh_events(const V3& x, const V3& u, double D, std::int64_t id, std::size_t i, double h,
+                        const DpmSetup& s, std::vector<int>& scratch, std::vector<Event>& out) {
+  for (std::size_t m = 0; m < s.meshes.size(); ++m) {
+    const dem::MeshWall& mesh = *s.meshes[m];
+    if (s.mesh_all_triangles) {
+      scratch.resize(mesh.size());
+      for (std::size_t t = 0; t < mesh.size(); ++t) scratch[t] = static_cast<int>(t);
+    } else {
+      mesh.swept_candidates(x, x + u * h, 0.5 * D, scratch);
+    }
+    double best = std::numeric_limits<double>::infinity();
+    int hit = -1;
+    V3 point;
+    for (int t : scratch) {
+      const double tc = sweep_triangle(x, u, 0.5 * D, h, mesh.vertex(t, 0), mesh.vertex(t, 1), mesh.vertex(t, 2), point);
+      if (tc < best) {
+        best = tc;
+        hit = t;
+      }
+    }
+    if (hit >= 0) out.push_back({best, id, -1 - mesh_key(m, hit), i, i});
+  }
+}
+
+// The wall of a wall event (b < 0): unit normal from the particle into the
+// wall at contact, the contact point and the coefficients. x, u: the particle's
+// position at the step's start and its trajectory velocity.
+inline void wall_contact(std::int64_t b, const V3& x, const V3& u, double t, double D, const DpmSetup& s, V3& normal,
+                         V3& point, const Restitution*& law) {
+  const std::int64_t key = -1 - b;
+  const V3 c = x + u * t;
+  if (key < 6) {
+    const int f = static_cast<int>(key);
+    normal = face_normal(f);
+    point = c + 0.5 * D * normal;
+    law = &s.wall[f];
+    return;
+  }
+  const auto m = static_cast<std::size_t>((key - 6) >> 24);
+  const int tri = static_cast<int>((key - 6) & 0xffffff);
+  const dem::MeshWall& mesh = *s.meshes[m];
+  V3 p;
+  sweep_triangle(x, u, 0.5 * D, std::numeric_limits<double>::infinity(), mesh.vertex(tri, 0), mesh.vertex(tri, 1),
+                 mesh.vertex(tri, 2), p);
+  point = p;
+  normal = (p - c).normalized();
+  law = &s.mesh_law[m];
 }
 
 // Periodic faces wrap x back into the box; returns false when the particle left

@@ -21,6 +21,7 @@ DpmReference::DpmReference(const Setup& setup, const Params&) : params_(setup.pa
   MPI_Comm_size(setup.comm, &size);
   if (size != 1) throw std::runtime_error("dpm-reference is serial: set particles.ranks: 1");
   s_ = dpm::make_setup(setup.params, setup.cfg);
+  s_.mesh_all_triangles = true;  // the oracle tests every triangle
   const ParticleArrays a = dem::make_initial(setup.params, setup.cfg);
   for (std::size_t i = 0; i < a.size(); ++i) {
     const double D = 2.0 * a.radius[i];
@@ -73,15 +74,22 @@ void DpmReference::step(double h) {
         if (std::isfinite(t))
           events.push_back({t, std::min(p_[i].id, p_[j].id), std::max(p_[i].id, p_[j].id), i, j});
       }
-  for (std::size_t i = 0; i < p_.size(); ++i) dpm::wall_events(p_[i].x, u[i], p_[i].D, p_[i].id, i, h, s_, events);
+  std::vector<int> scratch;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    dpm::wall_events(p_[i].x, u[i], p_[i].D, p_[i].id, i, h, s_, events);
+    dpm::mesh_events(p_[i].x, u[i], p_[i].D, p_[i].id, i, h, s_, scratch, events);  // every triangle
+  }
   std::sort(events.begin(), events.end());
   std::vector<double> hit(p_.size(), -1.0);  // collision time, -1: none
   for (const dpm::Event& e : events) {
     if (hit[e.i] >= 0.0 || (e.b >= 0 && hit[e.j] >= 0.0)) continue;
     Particle& a = p_[e.i];
     if (e.b < 0) {
-      dpm::collide_wall(next[e.i].v, next[e.i].w, a.D, dpm::face_normal(static_cast<int>(-1 - e.b)),
-                        s_.wall[-1 - e.b]);
+      V3 n, point;
+      const dpm::Restitution* law = nullptr;
+      dpm::wall_contact(e.b, a.x, u[e.i], e.t, a.D, s_, n, point, law);
+      events_.impact(time_ + e.t, a.id, -1 - e.b, point, n, next[e.i].v);
+      dpm::collide_wall(next[e.i].v, next[e.i].w, a.D, n, *law);
       hit[e.i] = e.t;
       ++wall_collisions_;
       continue;

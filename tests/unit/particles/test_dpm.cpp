@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "coflow/catalog.hpp"
@@ -74,6 +75,32 @@ TEST_CASE("contact time along straight trajectories, eq. 4.28", "[dpm]") {
   // Grazing: impact parameter just inside the reach.
   const double t = contact_time(V3(3e-3, 1.9e-3, 0), V3(-1.0, 0, 0), 2e-3, 1.0);
   CHECK_THAT(t, WithinRel(3e-3 - std::sqrt(4e-6 - 1.9e-3 * 1.9e-3), 1e-9));
+}
+
+TEST_CASE("swept sphere against a triangle: face, edge, vertex, miss, receding, touching", "[dpm]") {
+  // Triangle in the plane z = 0 with corners (0,0,0), (1,0,0), (0,1,0); R = 0.1.
+  const V3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  const double R = 0.1, inf = std::numeric_limits<double>::infinity();
+  V3 p;
+  // Face: centre falls from z = 1 at speed 2 onto (0.2, 0.2): touches at z = R, t = 0.45.
+  CHECK(sweep_triangle(V3(0.2, 0.2, 1.0), V3(0, 0, -2), R, 1.0, a, b, c, p) == Approx(0.45).epsilon(1e-14));
+  CHECK((p - V3(0.2, 0.2, 0.0)).norm() < 1e-14);
+  // From below, the same.
+  CHECK(sweep_triangle(V3(0.2, 0.2, -1.0), V3(0, 0, 2), R, 1.0, a, b, c, p) == Approx(0.45).epsilon(1e-14));
+  // Edge y = 0: centre at y = -0.06 falls past the face; touches the edge where
+  // sqrt(0.06^2 + z^2) = R, z = 0.08: t = (1 - 0.08) / 2.
+  CHECK(sweep_triangle(V3(0.5, -0.06, 1.0), V3(0, 0, -2), R, 1.0, a, b, c, p) == Approx(0.46).epsilon(1e-13));
+  CHECK((p - V3(0.5, 0.0, 0.0)).norm() < 1e-13);
+  // Vertex (1,0,0): moving along x towards it from x = 2: touches at x = 1 + R.
+  CHECK(sweep_triangle(V3(2.0, 0.0, 0.0), V3(-1, 0, 0), R, 2.0, a, b, c, p) == Approx(0.9).epsilon(1e-14));
+  CHECK((p - b).norm() < 1e-14);
+  // Too short a step, passing by, receding: no contact.
+  CHECK(sweep_triangle(V3(0.2, 0.2, 1.0), V3(0, 0, -2), R, 0.4, a, b, c, p) == inf);
+  CHECK(sweep_triangle(V3(0.8, 0.8, 1.0), V3(0, 0, -2), R, 1.0, a, b, c, p) == inf);  // beyond the hypotenuse
+  CHECK(sweep_triangle(V3(0.2, 0.2, 0.5), V3(0, 0, 1), R, 1.0, a, b, c, p) == inf);
+  // Already touching and approaching: t = 0; touching and leaving: none.
+  CHECK(sweep_triangle(V3(0.2, 0.2, 0.05), V3(0, 0, -1), R, 1.0, a, b, c, p) == 0.0);
+  CHECK(sweep_triangle(V3(0.2, 0.2, 0.05), V3(0, 0, 1), R, 1.0, a, b, c, p) == inf);
 }
 
 TEST_CASE("hard-sphere pair collisions conserve momentum; e = 1, mu = 0 conserves energy", "[dpm]") {

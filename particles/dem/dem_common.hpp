@@ -2,6 +2,8 @@
 // one particle, minimum images.
 #pragma once
 
+#include <mpi.h>
+
 #include <array>
 #include <map>
 #include <set>
@@ -67,6 +69,26 @@ inline std::vector<std::pair<std::int64_t, std::int64_t>> bonds_from_file(const 
 
 // The event log both DEM variants keep (off until enabled): pairs touching for
 // the first time and bonds failing.
+// Variable-size all-to-all of doubles on a communicator: out[r] goes to rank r;
+// what every rank sent here lands in `in`, in rank order.
+inline void exchange(MPI_Comm comm, std::vector<std::vector<double>>& out, std::vector<double>& in) {
+  const int size = static_cast<int>(out.size());
+  std::vector<int> sc(size), rc(size), sd(size), rd(size);
+  for (int r = 0; r < size; ++r) sc[r] = static_cast<int>(out[r].size());
+  MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, comm);
+  std::vector<double> flat;
+  int ts = 0, tr = 0;
+  for (int r = 0; r < size; ++r) {
+    sd[r] = ts;
+    ts += sc[r];
+    rd[r] = tr;
+    tr += rc[r];
+    flat.insert(flat.end(), out[r].begin(), out[r].end());
+  }
+  in.resize(tr);
+  MPI_Alltoallv(flat.data(), sc.data(), sd.data(), MPI_DOUBLE, in.data(), rc.data(), rd.data(), MPI_DOUBLE, comm);
+}
+
 class EventRecorder {
  public:
   void enable(bool collisions, bool bonds) {

@@ -156,26 +156,6 @@ void DemSolver::sort_by_id() {
   apply(owned_, 1);
 }
 
-namespace {
-// Variable-size all-to-all of doubles on the component communicator.
-void exchange(MPI_Comm comm, std::vector<std::vector<double>>& out, std::vector<double>& in) {
-  const int size = static_cast<int>(out.size());
-  std::vector<int> sc(size), rc(size), sd(size), rd(size);
-  for (int r = 0; r < size; ++r) sc[r] = static_cast<int>(out[r].size());
-  MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, comm);
-  std::vector<double> flat;
-  int ts = 0, tr = 0;
-  for (int r = 0; r < size; ++r) {
-    sd[r] = ts;
-    ts += sc[r];
-    rd[r] = tr;
-    tr += rc[r];
-    flat.insert(flat.end(), out[r].begin(), out[r].end());
-  }
-  in.resize(tr);
-  MPI_Alltoallv(flat.data(), sc.data(), sd.data(), MPI_DOUBLE, in.data(), rc.data(), rd.data(), MPI_DOUBLE, comm);
-}
-}  // namespace
 
 void DemSolver::add_ghosts() {
   out_.assign(size_, {});
@@ -207,7 +187,7 @@ void DemSolver::add_ghosts() {
       if (send) pack(i, out_[r], false);
     }
   }
-  exchange(comm_, out_, in_);
+  dem::exchange(comm_, out_, in_);
   for (std::size_t k = 0; k + 14 <= in_.size(); k += 14) unpack(&in_[k], false, false);
   sort_by_id();
 }
@@ -276,9 +256,9 @@ void DemSolver::migrate() {
     hist[it->second].insert(hist[it->second].end(),
                             {double(k >> 32), -1.0 - double(k & 0xffffffffu), c.shear[0], c.shear[1], c.shear[2], double(c.bonded)});
   }
-  exchange(comm_, out_, in_);
+  dem::exchange(comm_, out_, in_);
   std::vector<double> received = in_;
-  exchange(comm_, hist, in_);
+  dem::exchange(comm_, hist, in_);
   drop_ghosts();  // drops the leavers (and histories no particle here needs)
   for (std::size_t k = 0; k + 23 <= received.size(); k += 23) unpack(&received[k], true, true);
   for (std::size_t k = 0; k + 6 <= in_.size(); k += 6) {

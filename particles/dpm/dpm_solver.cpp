@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <unordered_map>
 #include <numbers>
 #include <stdexcept>
 
@@ -10,10 +11,13 @@
 #include "particles/dem/checkpoint.hpp"
 #include "particles/dem/initial.hpp"
 #include "particles/dpm/state.hpp"
+#include "coflow/gather.hpp"
 
 namespace coflow::particles {
 
 using dpm::V3;
+
+static constexpr std::size_t kNone = static_cast<std::size_t>(-1);  // an event's particle not held here
 
 namespace {
 V3 at(const std::vector<double>& a, std::size_t i) { return V3(a[3 * i], a[3 * i + 1], a[3 * i + 2]); }
@@ -22,18 +26,64 @@ void put(std::vector<double>& a, std::size_t i, const V3& v) {
 }
 }  // namespace
 
-DpmSolver::DpmSolver(const Setup& setup, const Params&) : params_(setup.params) {
-  int size = 1;
-  MPI_Comm_size(setup.comm, &size);
-  if (size != 1) throw std::runtime_error("dpm runs on one rank for now: set particles.ranks: 1");
+DpmSolver::DpmSolver(const Setup& setup, const Params&)
+    : comm_(setup.comm), dec_(setup.decomposition), params_(setup.params) {
+  MPI_Comm_rank(comm_, &rank_);
+  MPI_Comm_size(comm_, &size_);
   s_ = dpm::make_setup(setup.params, setup.cfg);
-  p_ = dem::make_initial(setup.params, setup.cfg);
+  p_ = dem::make_initial(setup.params, setup.cfg);  // every rank makes all, keeps its own
+  const std::size_t total = p_.size();
+  for (std::int64_t id : p_.id) next_id_ = std::max(next_id_, id + 1);
   p_.force.assign(3 * p_.size(), 0.0);
+  if (size_ > 1) {
+    std::vector<char> mine(p_.size());
+    for (std::size_t i = 0; i < p_.size(); ++i) mine[i] = owner_of(at(p_.x, i)) == rank_;
+    set_derived();
+    remove_if_not(mine);
+  }
   set_derived();
   inlets_ = dpm::make_inlets(setup.params);
-  for (std::int64_t id : p_.id) next_id_ = std::max(next_id_, id + 1);
   dt_ = s_.auto_step ? stable_step() : s_.dt;
-  log::info("dpm: {} particles, step {:.4g} s ({})", p_.size(), dt_, s_.auto_step ? "eq. 4.15 at the start" : "given");
+  log::info("dpm: {} particles ({} on this rank), step {:.4g} s ({})", total, p_.size(), dt_,
+            s_.auto_step ? "eq. 4.15 at the start" : "given");
+}
+
+int DpmSolver::owner_of(const V3& x) const {
+  coupler::Index3 c{};
+  for (int d = 0; d < 3; ++d) {
+    const long cells = dec_.cells()[d];
+    const double t = (x[d] - s_.lower[d]) / (s_.upper[d] - s_.lower[d]);
+    c[d] = std::clamp(static_cast<long>(std::floor(t * cells)), 0L, cells - 1);
+  }
+  return dec_.owner(c);
+}
+
+// Keep the owned particles flagged in `keep` (all per-particle arrays, order kept).
+void DpmSolver::remove_if_not(const std::vector<char>& keep) {
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    if (!keep[i]) continue;
+    if (k != i) {
+      for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &impulse_, &uprime_})
+        for (int c = 0; c < 3; ++c) (*a)[3 * k + c] = (*a)[3 * i + c];
+      p_.id[k] = p_.id[i];
+      p_.species[k] = p_.species[i];
+      p_.radius[k] = p_.radius[i];
+      p_.mass[k] = p_.mass[i];
+      p_.inertia[k] = p_.inertia[i];
+      D_[k] = D_[i];
+      rho_p_[k] = rho_p_[i];
+      fluid_[k] = fluid_[i];
+      turbulent_[k] = turbulent_[i];
+    }
+    ++k;
+  }
+  for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &impulse_, &uprime_}) a->resize(3 * k);
+  p_.id.resize(k);
+  p_.species.resize(k);
+  for (auto* a : {&p_.radius, &p_.mass, &p_.inertia, &D_, &rho_p_}) a->resize(k);
+  fluid_.resize(k);
+  turbulent_.resize(k);
 }
 
 void DpmSolver::set_derived() {
@@ -54,6 +104,7 @@ double DpmSolver::stable_step() const {
   double dt = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < p_.size(); ++i)
     dt = std::min(dt, dpm::lagrangian_step(s_, D_[i], rho_p_[i], at(p_.v, i), fluid_[i]));
+  if (size_ > 1) MPI_Allreduce(MPI_IN_PLACE, &dt, 1, MPI_DOUBLE, MPI_MIN, comm_);
   return std::isfinite(dt) ? dt : 1.0;
 }
 
@@ -61,13 +112,14 @@ double DpmSolver::stable_step() const {
 // the start, so a cell edge of D_max + 2 u_max h puts them in neighbouring cells.
 // O(N log N): the sort by cell and one binary search per occupied cell and
 // neighbour.
-void DpmSolver::find_pair_events(const std::vector<V3>& u, double h, std::vector<dpm::Event>& out) {
-  const std::size_t n = p_.size();
+void DpmSolver::find_pair_events(double h, std::vector<dpm::Event>& out) {
+  const std::size_t n = near_.size(), owned = p_.size();
   auto event = [&](std::size_t i, std::size_t j) {
-    const std::size_t a = p_.id[i] < p_.id[j] ? i : j, b = a == i ? j : i;
-    const V3 d = dpm::min_image(at(p_.x, a) - at(p_.x, b), s_);
-    const double t = dpm::contact_time(d, u[a] - u[b], 0.5 * (D_[a] + D_[b]), h);
-    if (std::isfinite(t)) out.push_back({t, p_.id[a], p_.id[b], a, b});
+    if (i >= owned && j >= owned) return;  // two ghosts: their owners see them
+    const std::size_t a = near_[i].id < near_[j].id ? i : j, b = a == i ? j : i;
+    const V3 d = dpm::min_image(near_[a].x - near_[b].x, s_);
+    const double t = dpm::contact_time(d, near_[a].u - near_[b].u, 0.5 * (near_[a].D + near_[b].D), h);
+    if (std::isfinite(t)) out.push_back({t, near_[a].id, near_[b].id, a, b});
   };
   if (all_pairs_) {
     for (std::size_t i = 0; i < n; ++i)
@@ -75,9 +127,15 @@ void DpmSolver::find_pair_events(const std::vector<V3>& u, double h, std::vector
     return;
   }
   double dmax = 0.0, umax = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    dmax = std::max(dmax, D_[i]);
-    umax = std::max(umax, u[i].norm());
+  for (const Near& q : near_) {
+    dmax = std::max(dmax, q.D);
+    umax = std::max(umax, q.u.norm());
+  }
+  if (size_ > 1) {  // the same cells on every rank
+    double m[2] = {dmax, umax};
+    MPI_Allreduce(MPI_IN_PLACE, m, 2, MPI_DOUBLE, MPI_MAX, comm_);
+    dmax = m[0];
+    umax = m[1];
   }
   // Cells of edge D_max + 2 u_max h, stored sparsely: particles sorted by cell
   // key, occupied cells found by binary search. The cost does not depend on
@@ -97,7 +155,7 @@ void DpmSolver::find_pair_events(const std::vector<V3>& u, double h, std::vector
     long c[3];
     for (int k = 0; k < 3; ++k) {
       const double L = s_.upper[k] - s_.lower[k];
-      c[k] = std::clamp(static_cast<long>((p_.x[3 * i + k] - s_.lower[k]) / L * nc[k]), 0L, nc[k] - 1);
+      c[k] = std::clamp(static_cast<long>((near_[i].x[k] - s_.lower[k]) / L * nc[k]), 0L, nc[k] - 1);
     }
     cell_[i] = key_of(c[0], c[1], c[2]);
     order_[i] = i;
@@ -111,10 +169,10 @@ void DpmSolver::find_pair_events(const std::vector<V3>& u, double h, std::vector
   for (std::size_t r = 0; r < n; ++r) {
     const std::size_t i = order_[r];
     Packed& q = packed_[r];
-    q.x = at(p_.x, i);
-    q.u = u[i];
-    q.D = D_[i];
-    q.id = p_.id[i];
+    q.x = near_[i].x;
+    q.u = near_[i].u;
+    q.D = near_[i].D;
+    q.id = near_[i].id;
     q.index = i;
     if (keys_.empty() || keys_.back() != cell_[i]) {
       keys_.push_back(cell_[i]);
@@ -152,7 +210,7 @@ void DpmSolver::find_pair_events(const std::vector<V3>& u, double h, std::vector
       for (int m = 0; m < count; ++m)
         for (long b = start_[static_cast<std::size_t>(nb[m])]; b < start_[static_cast<std::size_t>(nb[m]) + 1]; ++b) {
           const Packed& pb = packed_[static_cast<std::size_t>(b)];
-          if (pb.id <= pa.id) continue;
+          if (pb.id <= pa.id || (pa.index >= owned && pb.index >= owned)) continue;
           // pa has the smaller id: d and dv as dpm-reference forms them.
           const V3 d = dpm::min_image(pa.x - pb.x, s_);
           const double t = dpm::contact_time(d, pa.u - pb.u, 0.5 * (pa.D + pb.D), h);
@@ -183,17 +241,35 @@ void DpmSolver::step(double h) {
     u_[i] = (moved_[i].x - at(p_.x, i)) / h;
   }
   // 2. Collisions along the trajectories, earliest first (as dpm-reference).
+  //    The owned particles, then ghosts from the neighbours (several ranks).
+  near_.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    near_[i] = {at(p_.x, i), u_[i], moved_[i].v, moved_[i].w, D_[i], p_.mass[i], p_.id[i], p_.species[i]};
+  if (size_ > 1) add_ghosts(h);
   ev_.clear();
-  if (s_.collisions) find_pair_events(u_, h, ev_);
+  if (s_.collisions) find_pair_events(h, ev_);
   for (std::size_t i = 0; i < n; ++i) {
     dpm::wall_events(at(p_.x, i), u_[i], D_[i], p_.id[i], i, h, s_, ev_);
     if (!s_.meshes.empty()) dpm::mesh_events(at(p_.x, i), u_[i], D_[i], p_.id[i], i, h, s_, tris_, ev_);
   }
+  if (size_ > 1) share_events();  // every rank: all events, indices local (or none)
   std::sort(ev_.begin(), ev_.end());
-  hit_.assign(n, -1.0);
+  hit_.assign(near_.size(), -1.0);
+  pair_hit_.assign(near_.size(), 0);
+  std::unordered_map<std::int64_t, char> elsewhere;  // ids hit that are not here (several ranks)
+  auto taken = [&](std::int64_t id, std::size_t i) {
+    return i != kNone ? hit_[i] >= 0.0 : elsewhere.count(id) > 0;
+  };
   for (const dpm::Event& e : ev_) {
-    if (hit_[e.i] >= 0.0 || (e.b >= 0 && hit_[e.j] >= 0.0)) continue;
+    if (taken(e.a, e.i) || (e.b >= 0 && taken(e.b, e.j))) continue;
     if (e.b < 0) {
+      if (e.i == kNone || e.i >= n) {  // a wall event of a particle owned elsewhere
+        if (e.i == kNone)
+          elsewhere[e.a] = 1;
+        else
+          hit_[e.i] = e.t;
+        continue;
+      }
       V3 nrm, point;
       const dpm::Restitution* law = nullptr;
       dpm::wall_contact(e.b, at(p_.x, e.i), u_[e.i], e.t, D_[e.i], s_, nrm, point, law);
@@ -203,14 +279,34 @@ void DpmSolver::step(double h) {
       ++wall_collisions_;
       continue;
     }
-    const V3 d = dpm::min_image((at(p_.x, e.i) + u_[e.i] * e.t) - (at(p_.x, e.j) + u_[e.j] * e.t), s_);
+    if (e.i == kNone || e.j == kNone) {  // neither is owned here (or only one is known)
+      for (auto [id, i] : {std::pair{e.a, e.i}, std::pair{e.b, e.j}}) {
+        if (i == kNone)
+          elsewhere[id] = 1;
+        else
+          hit_[i] = e.t;
+      }
+      continue;
+    }
+    // Both known here (owned or ghost): every rank holding one of them computes
+    // the same collision from the same data and keeps its own particle's part.
+    Near& A = near_[e.i];
+    Near& B = near_[e.j];
+    const V3 d = dpm::min_image((A.x + A.u * e.t) - (B.x + B.u * e.t), s_);
     const V3 nrm = -d.normalized();
-    events_.collision(time_ + e.t, e.a, e.b, -nrm, moved_[e.i].v - moved_[e.j].v);
-    dpm::collide_pair(moved_[e.i].v, moved_[e.i].w, p_.mass[e.i], D_[e.i], moved_[e.j].v, moved_[e.j].w,
-                      p_.mass[e.j], D_[e.j], nrm, s_.pair_law(p_.species[e.i], p_.species[e.j]));
+    if (e.i < n) {  // the owner of a logs and counts it
+      events_.collision(time_ + e.t, e.a, e.b, -nrm, A.v - B.v);
+      ++collisions_;
+    }
+    dpm::collide_pair(A.v, A.w, A.m, A.D, B.v, B.w, B.m, B.D, nrm, s_.pair_law(A.species, B.species));
     hit_[e.i] = hit_[e.j] = e.t;
-    ++collisions_;
+    pair_hit_[e.i] = pair_hit_[e.j] = 1;
   }
+  for (std::size_t i = 0; i < n; ++i)
+    if (hit_[i] >= 0.0 && pair_hit_[i]) {
+      moved_[i].v = near_[i].v;
+      moved_[i].w = near_[i].w;
+    }
   // 3. New states (eqs 4.30-4.31 after a collision), then the faces.
   std::size_t keep = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -242,18 +338,163 @@ void DpmSolver::step(double h) {
     fluid_.resize(keep);
   }
   inject(h);
+  if (size_ > 1) migrate();
   time_ += h;
   ++steps_;
 }
 
+// Copies of the owned particles that may touch a particle of another rank
+// within the step (within D_max + 2 u_max h of its block, periodic images
+// included) go to that rank: id, species, x, u, v, w (after the step), D, m.
+void DpmSolver::add_ghosts(double h) {
+  const std::size_t n = p_.size();
+  double m[2] = {0.0, 0.0};
+  for (std::size_t i = 0; i < n; ++i) {
+    m[0] = std::max(m[0], D_[i]);
+    m[1] = std::max(m[1], u_[i].norm());
+  }
+  MPI_Allreduce(MPI_IN_PLACE, m, 2, MPI_DOUBLE, MPI_MAX, comm_);
+  const double reach = m[0] + 2.0 * m[1] * h;
+  const auto cell = [&](int d) { return (s_.upper[d] - s_.lower[d]) / dec_.cells()[d]; };
+  std::vector<std::vector<double>> out(size_);
+  for (std::size_t i = 0; i < n; ++i) {
+    const V3 x = at(p_.x, i);
+    for (int r = 0; r < size_; ++r) {
+      if (r == rank_) continue;
+      const coupler::Box& b = dec_.block(r);
+      bool send = false;
+      for (int sx = -1; sx <= 1 && !send; ++sx)
+        for (int sy = -1; sy <= 1 && !send; ++sy)
+          for (int sz = -1; sz <= 1 && !send; ++sz) {
+            const int sh[3] = {sx, sy, sz};
+            bool in = true;
+            for (int d = 0; d < 3 && in; ++d) {
+              if (sh[d] != 0 && !s_.periodic[d]) in = false;
+              const double y = x[d] + sh[d] * (s_.upper[d] - s_.lower[d]);
+              in = in && y > s_.lower[d] + b.lo[d] * cell(d) - reach && y < s_.lower[d] + b.hi[d] * cell(d) + reach;
+            }
+            send = in;
+          }
+      if (!send) continue;
+      const Near& q = near_[i];
+      out[r].insert(out[r].end(), {double(q.id), double(q.species), q.x[0], q.x[1], q.x[2], q.u[0], q.u[1], q.u[2],
+                                   q.v[0], q.v[1], q.v[2], q.w[0], q.w[1], q.w[2], q.D, q.m});
+    }
+  }
+  std::vector<double> in;
+  dem::exchange(comm_, out, in);
+  constexpr std::size_t G = 16;
+  for (std::size_t k = 0; k + G <= in.size(); k += G) {
+    const double* g = &in[k];
+    near_.push_back({V3(g + 2), V3(g + 5), V3(g + 8), V3(g + 11), g[14], g[15], static_cast<std::int64_t>(g[0]),
+                     static_cast<int>(g[1])});
+  }
+}
+
+// Every rank gets every event of the step (t, a, b; few per step), each once,
+// with its particles' local indices (kNone where not held here), so that all
+// ranks take the same earliest-first decisions.
+void DpmSolver::share_events() {
+  std::vector<double> mine;
+  mine.reserve(3 * ev_.size());
+  for (const dpm::Event& e : ev_) mine.insert(mine.end(), {e.t, double(e.a), double(e.b)});
+  const std::vector<double> all = coupler::allgather<double>(comm_, mine, MPI_DOUBLE);
+  std::unordered_map<std::int64_t, std::size_t> index;
+  for (std::size_t i = 0; i < near_.size(); ++i) index.emplace(near_[i].id, i);
+  auto local = [&](std::int64_t id) {
+    const auto it = index.find(id);
+    return it == index.end() ? kNone : it->second;
+  };
+  ev_.clear();
+  for (std::size_t k = 0; k + 3 <= all.size(); k += 3) {
+    const auto a = static_cast<std::int64_t>(all[k + 1]), b = static_cast<std::int64_t>(all[k + 2]);
+    const std::size_t i = local(a);
+    ev_.push_back({all[k], a, b, i, b < 0 ? i : local(b)});
+  }
+  std::sort(ev_.begin(), ev_.end());
+  ev_.erase(std::unique(ev_.begin(), ev_.end(),
+                        [](const dpm::Event& x, const dpm::Event& y) { return x.t == y.t && x.a == y.a && x.b == y.b; }),
+            ev_.end());
+}
+
+// Particles whose position another rank owns now move there with their whole
+// state; then every rank orders its particles by id.
+void DpmSolver::migrate() {
+  constexpr std::size_t F = 36;
+  std::vector<std::vector<double>> out(size_);
+  std::vector<char> stay(p_.size(), 1);
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    const int o = owner_of(at(p_.x, i));
+    if (o == rank_) continue;
+    stay[i] = 0;
+    const dpm::FluidSample& f = fluid_[i];
+    std::vector<double>& b = out[o];
+    b.insert(b.end(), {double(p_.id[i]), double(p_.species[i])});
+    for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &impulse_, &uprime_}) b.insert(b.end(), &(*a)[3 * i], &(*a)[3 * i] + 3);
+    b.insert(b.end(), {p_.radius[i], p_.mass[i], p_.inertia[i], D_[i], rho_p_[i], double(turbulent_[i]), f.u[0],
+                       f.u[1], f.u[2], f.vorticity[0], f.vorticity[1], f.vorticity[2], f.k, f.epsilon, f.rho, f.mu});
+  }
+  std::vector<double> in;
+  dem::exchange(comm_, out, in);
+  remove_if_not(stay);
+  for (std::size_t k = 0; k + F <= in.size(); k += F) {
+    const double* g = &in[k];
+    p_.id.push_back(static_cast<std::int64_t>(g[0]));
+    p_.species.push_back(static_cast<std::int32_t>(g[1]));
+    std::size_t o = 2;
+    for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &impulse_, &uprime_}) {
+      a->insert(a->end(), g + o, g + o + 3);
+      o += 3;
+    }
+    p_.radius.push_back(g[20]);
+    p_.mass.push_back(g[21]);
+    p_.inertia.push_back(g[22]);
+    D_.push_back(g[23]);
+    rho_p_.push_back(g[24]);
+    turbulent_.push_back(g[25] != 0.0 ? 1 : 0);
+    fluid_.push_back({V3(g + 26), V3(g + 29), g[32], g[33], g[34], g[35]});
+  }
+  sort_by_id();
+}
+
+void DpmSolver::sort_by_id() {
+  const std::size_t n = p_.size();
+  std::vector<std::size_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p_.id[a] < p_.id[b]; });
+  auto permute = [&](auto& v, std::size_t width) {
+    auto copy = v;
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t c = 0; c < width; ++c) v[width * i + c] = copy[width * order[i] + c];
+  };
+  for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &impulse_, &uprime_}) permute(*a, 3);
+  for (auto* a : {&p_.radius, &p_.mass, &p_.inertia, &D_, &rho_p_}) permute(*a, 1);
+  permute(p_.id, 1);
+  permute(p_.species, 1);
+  permute(fluid_, 1);
+  permute(turbulent_, 1);
+}
+
 // 4. Inlets (injection.hpp): the particles that entered during the step.
+// With several ranks, rank 0 injects (with the particles near the inlet from
+// all ranks) and migration takes the new particles to their owners.
 void DpmSolver::inject(double h) {
   for (std::size_t k = 0; k < inlets_.size(); ++k) {
     const dpm::Inlet& in = inlets_[k];
     const double reach = dpm::inlet_reach(in, h);
     nearby_.clear();
+    std::vector<double> near_inlet;
     for (std::size_t i = 0; i < p_.size(); ++i)
-      if ((at(p_.x, i) - in.center).norm() < reach) nearby_.emplace_back(at(p_.x, i), D_[i]);
+      if ((at(p_.x, i) - in.center).norm() < reach) {
+        nearby_.emplace_back(at(p_.x, i), D_[i]);
+        near_inlet.insert(near_inlet.end(), {p_.x[3 * i], p_.x[3 * i + 1], p_.x[3 * i + 2], D_[i]});
+      }
+    if (size_ > 1) {
+      const std::vector<double> all = coupler::gather_to_root<double>(comm_, near_inlet, MPI_DOUBLE);
+      if (rank_ != 0) continue;
+      nearby_.clear();
+      for (std::size_t q = 0; q + 4 <= all.size(); q += 4) nearby_.emplace_back(V3(&all[q]), all[q + 3]);
+    }
     entering_.clear();
     dpm::inject(inlets_[k], static_cast<int>(k), s_.dispersion.seed, time_, h, nearby_, entering_);
     for (const dpm::Entering& e : entering_) {
@@ -315,14 +556,31 @@ ParticleStats DpmSolver::stats() {
   st.collisions = collisions_;
   st.wall_collisions = wall_collisions_;
   collisions_ = wall_collisions_ = 0;
+  if (size_ > 1) {
+    double sums[5] = {st.momentum[0], st.momentum[1], st.momentum[2], st.kinetic_energy, st.rotational_energy};
+    long counts[3] = {st.count, st.collisions, st.wall_collisions};
+    MPI_Allreduce(MPI_IN_PLACE, sums, 5, MPI_DOUBLE, MPI_SUM, comm_);
+    MPI_Allreduce(MPI_IN_PLACE, counts, 3, MPI_LONG, MPI_SUM, comm_);
+    st.momentum = {sums[0], sums[1], sums[2]};
+    st.kinetic_energy = sums[3];
+    st.rotational_energy = sums[4];
+    st.count = counts[0];
+    st.collisions = counts[1];
+    st.wall_collisions = counts[2];
+  }
   return st;
 }
 
 void DpmSolver::save(const std::string& dir) {
-  dem::save_state(MPI_COMM_SELF, dir, time_, steps_, p_, {});
-  std::map<std::int64_t, dpm::Fluctuation> up;
+  dem::save_state(comm_, dir, time_, steps_, p_, {});
+  std::vector<double> mine;
   for (std::size_t i = 0; i < p_.size(); ++i)
-    if (turbulent_[i]) up[p_.id[i]] = {at(uprime_, i), true};
+    if (turbulent_[i]) mine.insert(mine.end(), {double(p_.id[i]), uprime_[3 * i], uprime_[3 * i + 1], uprime_[3 * i + 2]});
+  const std::vector<double> all = coupler::gather_to_root<double>(comm_, mine, MPI_DOUBLE);
+  if (rank_ != 0) return;  // rank 0 holds the inlets and the next id
+  std::map<std::int64_t, dpm::Fluctuation> up;
+  for (std::size_t k = 0; k + 4 <= all.size(); k += 4)
+    up[static_cast<std::int64_t>(all[k])] = {V3(all[k + 1], all[k + 2], all[k + 3]), true};
   dpm::save_extra(dir, time_, next_id_, inlets_, up);
 }
 
@@ -332,6 +590,11 @@ void DpmSolver::load(const std::string& dir, long steps, double time) {
   dem::load_state(dir, params_, p_, contacts);
   set_derived();
   for (std::int64_t id : p_.id) next_id_ = std::max(next_id_, id + 1);
+  if (size_ > 1) {
+    std::vector<char> mine(p_.size());
+    for (std::size_t i = 0; i < p_.size(); ++i) mine[i] = owner_of(at(p_.x, i)) == rank_;
+    remove_if_not(mine);
+  }
   std::map<std::int64_t, dpm::Fluctuation> up;
   dpm::load_extra(dir, time_, next_id_, inlets_, up);
   for (std::size_t i = 0; i < p_.size(); ++i)

@@ -2,7 +2,11 @@
 // storage and O(N) collision detection: a cell list sized so that every pair
 // that can touch within the step lies in neighbouring cells (the intent of
 // Algorithm 1, §4.2.2.8). Events are taken in the same order as dpm-reference,
-// so the two agree to round-off. Serial for now (one rank).
+// so the two agree to round-off. MPI: each rank owns the particles in its block
+// of the decomposition (§4.2.2.7); copies of the particles near a block's faces
+// reach the neighbours for the collision search (ghosts); the step's collision
+// events are gathered on every rank, so that all take the same earliest-first
+// decisions as one rank would; particles that crossed a face migrate.
 #pragma once
 
 #include <vector>
@@ -46,10 +50,19 @@ class DpmSolver final : public ParticleSolver {
 
  private:
   double stable_step() const;
-  void find_pair_events(const std::vector<dpm::V3>& u, double h, std::vector<dpm::Event>& out);
+  void find_pair_events(double h, std::vector<dpm::Event>& out);
   void set_derived();
   void inject(double h);
+  int owner_of(const dpm::V3& x) const;
+  void add_ghosts(double h);
+  void share_events();
+  void migrate();
+  void remove_if_not(const std::vector<char>& keep);
+  void sort_by_id();
 
+  MPI_Comm comm_;
+  coupler::Decomposition dec_;
+  int rank_ = 0, size_ = 1;
   ParticleArrays p_;
   std::vector<double> D_, rho_p_, impulse_;
   std::vector<dpm::FluidSample> fluid_, seen_;
@@ -79,8 +92,18 @@ class DpmSolver final : public ParticleSolver {
   std::vector<Packed> packed_;
   std::vector<dpm::Motion> moved_;
   std::vector<dpm::V3> u_;
+  // owned particles followed by ghosts (for the collision search): start
+  // position, trajectory velocity, velocities after the step, diameter, mass, id
+  struct Near {
+    dpm::V3 x, u, v, w;
+    double D, m;
+    std::int64_t id;
+    int species;
+  };
+  std::vector<Near> near_;
   std::vector<dpm::Event> ev_;
   std::vector<double> hit_;
+  std::vector<char> pair_hit_;
   std::vector<int> tris_;  // mesh candidates (scratch)
 };
 

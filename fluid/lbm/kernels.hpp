@@ -1,4 +1,12 @@
 // Lattice Boltzmann cell kernels: one cell, no MPI, no I/O, no allocation.
+//
+// Populations are stored zero-centred: g_q = f_q - w_q, the deviation from the
+// rest equilibrium (rho = 1, u = 0). The density is 1 + sum g, the momentum
+// sum e g (the weights' first moment vanishes); collision, bounce-back,
+// streaming and the Zou-He closure keep their form (w_q = w_opp(q)). A fluid
+// at rest with a tiny velocity (seed 003 §5.1: u ~ 1e-10 in lattice units)
+// then keeps its momentum to round-off of itself instead of round-off of
+// populations of order one.
 #pragma once
 
 #include <utility>
@@ -26,7 +34,8 @@ inline CollisionParams collision_params(double tau, bool trt = false, double mag
 
 // Both populations of the pair (q, opp(q)) after the TRT collision with Guo
 // forcing (its source split the same way: even part 9 w (e.u)(e.F) - 3 w u.F,
-// odd part 3 w e.F).
+// odd part 3 w e.F). Zero-centred: rho is the deviation rho - 1, rho_m the
+// density of the momentum (1 for He-Luo).
 inline void trt_pair(double& fq, double& fo, double w, double rho, double rho_m, double eu, double uu,
                      double eF, double uF, const CollisionParams& p) {
   const double plus = 0.5 * (fq + fo), minus = 0.5 * (fq - fo);
@@ -46,14 +55,14 @@ inline void trt_pair(double& fq, double& fo, double w, double rho, double rho_m,
 // F: force density (lattice units). Returns u^2 of the cell (for the Mach check).
 template <class L, bool Incompressible>
 inline double collide(double* f, const CollisionParams& p, const double* F) {
-  double rho = 0.0, jx = 0.0, jy = 0.0, jz = 0.0;
+  double rho = 0.0, jx = 0.0, jy = 0.0, jz = 0.0;  // rho: the deviation rho - 1
   for (int q = 0; q < L::Q; ++q) {
     rho += f[q];
     jx += L::e[q][0] * f[q];
     jy += L::e[q][1] * f[q];
     jz += L::e[q][2] * f[q];
   }
-  const double rho_m = Incompressible ? 1.0 : rho;
+  const double rho_m = Incompressible ? 1.0 : 1.0 + rho;
   const double inv = Incompressible ? 1.0 : 1.0 / rho_m;
   const double ux = (jx + 0.5 * F[0]) * inv, uy = (jy + 0.5 * F[1]) * inv, uz = (jz + 0.5 * F[2]) * inv;
   const double uu = ux * ux + uy * uy + uz * uz;
@@ -69,7 +78,7 @@ inline double collide(double* f, const CollisionParams& p, const double* F) {
     trt_pair(f[q], f[o], L::w[q], rho, rho_m, eu, uu, eF, uF, p);
     moving += f[q] + f[o];
   }
-  f[0] = rho - moving;
+  f[0] = rho - moving;  // g_0 = (rho - 1) - sum of the others
   return uu;
 }
 
@@ -90,7 +99,7 @@ inline void collide_chunk(double (&f)[L::Q][W], const CollisionParams& p, const 
       uz[w] += L::e[q][2] * f[q][w];
     }
   for (int w = 0; w < W; ++w) {
-    const double inv = Incompressible ? 1.0 : 1.0 / rho[w];
+    const double inv = Incompressible ? 1.0 : 1.0 / (1.0 + rho[w]);
     ux[w] = (ux[w] + 0.5 * F[0]) * inv;
     uy[w] = (uy[w] + 0.5 * F[1]) * inv;
     uz[w] = (uz[w] + 0.5 * F[2]) * inv;
@@ -105,7 +114,7 @@ inline void collide_chunk(double (&f)[L::Q][W], const CollisionParams& p, const 
     if (o < q) continue;
     const double eF = L::e[q][0] * F[0] + L::e[q][1] * F[1] + L::e[q][2] * F[2];
     for (int w = 0; w < W; ++w) {
-      const double rho_m = Incompressible ? 1.0 : rho[w];
+      const double rho_m = Incompressible ? 1.0 : 1.0 + rho[w];
       const double eu = L::e[q][0] * ux[w] + L::e[q][1] * uy[w] + L::e[q][2] * uz[w];
       trt_pair(f[q][w], f[o][w], L::w[q], rho[w], rho_m, eu, uu[w], eF, uF[w], p);
       moving[w] += f[q][w] + f[o][w];
@@ -151,7 +160,7 @@ inline void relax_pair(double (&f)[L::Q][W], double omega, const double* rho, co
   if constexpr (q > 0 && o > q) {
     constexpr double w_q = L::w[q];
     for (int w = 0; w < W; ++w) {
-      const double rho_m = Incompressible ? 1.0 : rho[w];
+      const double rho_m = Incompressible ? 1.0 : 1.0 + rho[w];
       const double eu = e_dot<L, q>(ux[w], uy[w], uz[w]);
       const double even = w_q * (even0[w] + rho_m * 4.5 * eu * eu);
       const double odd = w_q * rho_m * 3.0 * eu;
@@ -166,8 +175,8 @@ template <class L, bool Incompressible, int W, int... qs>
 inline void bgk_chunk(double (&f)[L::Q][W], double omega, double* u2, std::integer_sequence<int, qs...>) {
   double rho[W] = {}, ux[W] = {}, uy[W] = {}, uz[W] = {}, even0[W], moving[W] = {};
   (add_moments<L, qs, W>(f, rho, ux, uy, uz), ...);
-  for (int w = 0; w < W; ++w) {
-    const double rho_m = Incompressible ? 1.0 : rho[w];
+  for (int w = 0; w < W; ++w) {  // rho: the deviation rho - 1
+    const double rho_m = Incompressible ? 1.0 : 1.0 + rho[w];
     const double inv = Incompressible ? 1.0 : 1.0 / rho_m;
     ux[w] *= inv;
     uy[w] *= inv;
@@ -186,12 +195,14 @@ inline void bgk_chunk(double (&f)[L::Q][W], double omega, double* u2) {
   detail::bgk_chunk<L, Incompressible, W>(f, omega, u2, std::make_integer_sequence<int, L::Q>{});
 }
 
+// Zero-centred equilibrium g_q = feq_q - w_q for the density rho (the density
+// itself, not its deviation) and velocity u.
 template <class L, bool Incompressible>
 inline double equilibrium(int q, double rho, const double* u) {
   const double eu = L::e[q][0] * u[0] + L::e[q][1] * u[1] + L::e[q][2] * u[2];
   const double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
   const double rho_m = Incompressible ? 1.0 : rho;
-  return L::w[q] * (rho + rho_m * (3.0 * eu + 4.5 * eu * eu - 1.5 * uu));
+  return L::w[q] * ((rho - 1.0) + rho_m * (3.0 * eu + 4.5 * eu * eu - 1.5 * uu));
 }
 
 // Zou & He (1997) closure of the unknown populations at a node of a face with
@@ -207,14 +218,16 @@ inline void zou_he(double* f, int axis, int s, bool velocity_face, double rho_gi
     if (L::e[q][axis] == 0) s0 += f[q];
     if (s * L::e[q][axis] < 0) sout += f[q];
   }
+  // s0 + 2 sout of the full populations: the weights add 1 (zero-centred storage)
+  const double known = (s0 + 2.0 * sout) + 1.0;
   double rho, u[3] = {0.0, 0.0, 0.0};
   if (velocity_face) {
     for (int d = 0; d < 3; ++d) u[d] = u_given[d];
     const double un = s * u[axis];
-    rho = Incompressible ? s0 + 2.0 * sout + un : (s0 + 2.0 * sout) / (1.0 - un);
+    rho = Incompressible ? known + un : known / (1.0 - un);
   } else {
     rho = rho_given;
-    const double un = Incompressible ? rho - s0 - 2.0 * sout : 1.0 - (s0 + 2.0 * sout) / rho;
+    const double un = Incompressible ? rho - known : 1.0 - known / rho;
     u[axis] = s * un;
   }
   const double rho_m = Incompressible ? 1.0 : rho;

@@ -122,11 +122,11 @@ class Core final : public LbmCore {
           // for the body force. A point-particle source is an impulse the
           // particles gave up in the window: it counts in full, so that fluid +
           // particles balance at the window's end.
-          const double rho_m = Incompressible ? 1.0 : r;
+          const double rho_m = Incompressible ? 1.0 : 1.0 + r;  // r: sum of the zero-centred populations
           u[3 * c + 0] = (jx - 0.5 * s_.force[0]) / rho_m;
           u[3 * c + 1] = (jy - 0.5 * s_.force[1]) / rho_m;
           u[3 * c + 2] = (jz - 0.5 * s_.force[2]) / rho_m;
-          rho[c] = r;
+          rho[c] = 1.0 + r;
         }
   }
 
@@ -177,6 +177,7 @@ class Core final : public LbmCore {
         rho += f[q];
         for (int d = 0; d < 3; ++d) jm[d] += L::e[q][d] * f[q];
       }
+      rho += 1.0;  // zero-centred populations (kernels.hpp)
       const double rho_m = Incompressible ? 1.0 : rho;
       const double u[3] = {(jm[0] + 0.5 * F[0]) / rho_m, (jm[1] + 0.5 * F[1]) / rho_m, (jm[2] + 0.5 * F[2]) / rho_m};
       const double eps = fraction[n];

@@ -89,6 +89,25 @@ inline void exchange(MPI_Comm comm, std::vector<std::vector<double>>& out, std::
   MPI_Alltoallv(flat.data(), sc.data(), sd.data(), MPI_DOUBLE, in.data(), rc.data(), rd.data(), MPI_DOUBLE, comm);
 }
 
+// Whether x, or one of its periodic images, lies within `reach` of the box
+// [lo, hi] (the block of another rank): then that rank needs a ghost copy.
+inline bool near_block(const double* x, const double* lo, const double* hi, double reach, const V3& lower,
+                       const V3& upper, const std::array<bool, 3>& periodic) {
+  for (int sx = -1; sx <= 1; ++sx)
+    for (int sy = -1; sy <= 1; ++sy)
+      for (int sz = -1; sz <= 1; ++sz) {
+        const int sh[3] = {sx, sy, sz};
+        bool in = true;
+        for (int d = 0; d < 3 && in; ++d) {
+          if (sh[d] != 0 && !periodic[d]) in = false;
+          const double y = x[d] + sh[d] * (upper[d] - lower[d]);
+          in = in && y > lo[d] - reach && y < hi[d] + reach;
+        }
+        if (in) return true;
+      }
+  return false;
+}
+
 class EventRecorder {
  public:
   void enable(bool collisions, bool bonds) {

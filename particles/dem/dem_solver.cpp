@@ -171,20 +171,9 @@ void DemSolver::add_ghosts() {
     if (!near) continue;
     for (int r = 0; r < size_; ++r) {
       if (r == rank_) continue;
-      bool send = false;
-      for (int sx = -1; sx <= 1 && !send; ++sx)
-        for (int sy = -1; sy <= 1 && !send; ++sy)
-          for (int sz = -1; sz <= 1 && !send; ++sz) {
-            const int sh[3] = {sx, sy, sz};
-            bool in = true;
-            for (int d = 0; d < 3 && in; ++d) {
-              if (sh[d] != 0 && !s_.periodic[d]) in = false;
-              const double y = x[d] + sh[d] * (s_.upper[d] - s_.lower[d]);
-              in = in && y > block_lo(r, d) - cell_size_ && y < block_hi(r, d) + cell_size_;
-            }
-            send = in;
-          }
-      if (send) pack(i, out_[r], false);
+      const double lo[3] = {block_lo(r, 0), block_lo(r, 1), block_lo(r, 2)};
+      const double hi[3] = {block_hi(r, 0), block_hi(r, 1), block_hi(r, 2)};
+      if (dem::near_block(x, lo, hi, cell_size_, s_.lower, s_.upper, s_.periodic)) pack(i, out_[r], false);
     }
   }
   dem::exchange(comm_, out_, in_);

@@ -84,6 +84,19 @@ V3 closest_on_triangle(const V3& p, const V3& a, const V3& b, const V3& c, bool&
 struct MeshWall::Fcl {
   std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> model;
   std::unique_ptr<fcl::CollisionObjectd> object;
+  // The triangles whose bounding volumes and shapes meet `shape` placed at tf.
+  void query(const std::shared_ptr<fcl::CollisionGeometryd>& shape, const fcl::Transform3d& tf,
+             std::vector<int>& triangles) const {
+    fcl::CollisionObjectd s(shape, tf);
+    s.computeAABB();
+    fcl::CollisionRequestd request(static_cast<std::size_t>(model->num_tris), false);
+    fcl::CollisionResultd result;
+    fcl::collide(object.get(), &s, request, result);
+    std::vector<fcl::Contactd> found;
+    result.getContacts(found);
+    triangles.clear();
+    for (const auto& c : found) triangles.push_back(static_cast<int>(c.b1));
+  }
 };
 
 MeshWall::MeshWall(TriangleMesh mesh, double friction) : mesh_(std::move(mesh)), friction_(friction) {
@@ -109,16 +122,9 @@ void MeshWall::contacts(const V3& x, double r, std::vector<MeshContact>& out) co
   // Broad phase: the triangles whose bounding volumes and shapes meet a slightly
   // larger sphere; the exact test follows.
   // (inflated: FCL's GJK tolerance would miss contacts of tiny overlap)
-  auto sphere = std::make_shared<fcl::Sphered>(r * 1.05);
-  fcl::CollisionObjectd s(sphere, fcl::Transform3d(Eigen::Translation3d(x)));
-  s.computeAABB();
-  fcl::CollisionRequestd request(mesh_.triangles.size(), false);
-  fcl::CollisionResultd result;
-  fcl::collide(fcl_->object.get(), &s, request, result);
-  std::vector<fcl::Contactd> found;
-  result.getContacts(found);
-  for (const auto& c : found) {
-    const int t = static_cast<int>(c.b1);
+  std::vector<int> hits;
+  fcl_->query(std::make_shared<fcl::Sphered>(r * 1.05), fcl::Transform3d(Eigen::Translation3d(x)), hits);
+  for (const int t : hits) {
     const auto& tr = mesh_.triangles[t];
     MeshContact m;
     m.triangle = t;
@@ -147,14 +153,7 @@ void MeshWall::swept_candidates(const V3& x0, const V3& x1, double r, std::vecto
     shape = std::make_shared<fcl::Capsuled>(rr, len);
   else
     shape = std::make_shared<fcl::Sphered>(rr);
-  fcl::CollisionObjectd s(shape, tf);
-  s.computeAABB();
-  fcl::CollisionRequestd request(mesh_.triangles.size(), false);
-  fcl::CollisionResultd result;
-  fcl::collide(fcl_->object.get(), &s, request, result);
-  std::vector<fcl::Contactd> found;
-  result.getContacts(found);
-  for (const auto& c : found) out.push_back(static_cast<int>(c.b1));
+  fcl_->query(shape, tf, out);
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
 }

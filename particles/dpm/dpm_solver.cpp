@@ -358,24 +358,15 @@ void DpmSolver::add_ghosts(double h) {
   const auto cell = [&](int d) { return (s_.upper[d] - s_.lower[d]) / dec_.cells()[d]; };
   std::vector<std::vector<double>> out(size_);
   for (std::size_t i = 0; i < n; ++i) {
-    const V3 x = at(p_.x, i);
     for (int r = 0; r < size_; ++r) {
       if (r == rank_) continue;
       const coupler::Box& b = dec_.block(r);
-      bool send = false;
-      for (int sx = -1; sx <= 1 && !send; ++sx)
-        for (int sy = -1; sy <= 1 && !send; ++sy)
-          for (int sz = -1; sz <= 1 && !send; ++sz) {
-            const int sh[3] = {sx, sy, sz};
-            bool in = true;
-            for (int d = 0; d < 3 && in; ++d) {
-              if (sh[d] != 0 && !s_.periodic[d]) in = false;
-              const double y = x[d] + sh[d] * (s_.upper[d] - s_.lower[d]);
-              in = in && y > s_.lower[d] + b.lo[d] * cell(d) - reach && y < s_.lower[d] + b.hi[d] * cell(d) + reach;
-            }
-            send = in;
-          }
-      if (!send) continue;
+      double lo[3], hi[3];
+      for (int d = 0; d < 3; ++d) {
+        lo[d] = s_.lower[d] + b.lo[d] * cell(d);
+        hi[d] = s_.lower[d] + b.hi[d] * cell(d);
+      }
+      if (!dem::near_block(&p_.x[3 * i], lo, hi, reach, s_.lower, s_.upper, s_.periodic)) continue;
       const Near& q = near_[i];
       out[r].insert(out[r].end(), {double(q.id), double(q.species), q.x[0], q.x[1], q.x[2], q.u[0], q.u[1], q.u[2],
                                    q.v[0], q.v[1], q.v[2], q.w[0], q.w[1], q.w[2], q.D, q.m});

@@ -4,7 +4,9 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -87,6 +89,17 @@ inline void exchange(MPI_Comm comm, std::vector<std::vector<double>>& out, std::
   }
   in.resize(tr);
   MPI_Alltoallv(flat.data(), sc.data(), sd.data(), MPI_DOUBLE, in.data(), rc.data(), rd.data(), MPI_DOUBLE, comm);
+}
+
+// The rank of `dec` whose block holds position x (clamped into the box).
+inline int owner_of(const double* x, const V3& lower, const V3& upper, const coupler::Decomposition& dec) {
+  coupler::Index3 c{};
+  for (int d = 0; d < 3; ++d) {
+    const long cells = dec.cells()[d];
+    const double t = (x[d] - lower[d]) / (upper[d] - lower[d]);
+    c[d] = std::clamp(static_cast<long>(std::floor(t * cells)), 0L, cells - 1);
+  }
+  return dec.owner(c);
 }
 
 // Whether x, or one of its periodic images, lies within `reach` of the box

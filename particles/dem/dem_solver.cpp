@@ -88,15 +88,7 @@ DemSolver::DemSolver(const Setup& setup, const Params&)
             bonds, s_.dt, nc_[0], nc_[1], nc_[2], cell_size_);
 }
 
-int DemSolver::owner_of(const double* x) const {
-  coupler::Index3 c{};
-  for (int d = 0; d < 3; ++d) {
-    const long cells = dec_.cells()[d];
-    const double t = (x[d] - s_.lower[d]) / (s_.upper[d] - s_.lower[d]);
-    c[d] = std::clamp(static_cast<long>(std::floor(t * cells)), 0L, cells - 1);
-  }
-  return dec_.owner(c);
-}
+int DemSolver::owner_of(const double* x) const { return dem::owner_of(x, s_.lower, s_.upper, dec_); }
 
 // id, species, x, v, w, radius, mass, inertia (14 doubles); full adds force,
 // hydrodynamic force and torque (23).

@@ -48,15 +48,7 @@ DpmSolver::DpmSolver(const Setup& setup, const Params&)
             s_.auto_step ? "eq. 4.15 at the start" : "given");
 }
 
-int DpmSolver::owner_of(const V3& x) const {
-  coupler::Index3 c{};
-  for (int d = 0; d < 3; ++d) {
-    const long cells = dec_.cells()[d];
-    const double t = (x[d] - s_.lower[d]) / (s_.upper[d] - s_.lower[d]);
-    c[d] = std::clamp(static_cast<long>(std::floor(t * cells)), 0L, cells - 1);
-  }
-  return dec_.owner(c);
-}
+int DpmSolver::owner_of(const V3& x) const { return dem::owner_of(x.data(), s_.lower, s_.upper, dec_); }
 
 // Keep the owned particles flagged in `keep` (all per-particle arrays, order kept).
 void DpmSolver::remove_if_not(const std::vector<char>& keep) {

@@ -13,6 +13,7 @@ degrees about the first of the other two axes. Needs only the standard library.
 """
 import argparse
 import math
+import os
 import struct
 
 ap = argparse.ArgumentParser()
@@ -65,6 +66,7 @@ def place(p):
     return [x[k] + a.center[k] for k in range(3)]
 
 
+os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
 with open(a.out, "wb") as f:
     f.write(b"coflow plate".ljust(80, b" "))
     f.write(struct.pack("<I", len(tris)))

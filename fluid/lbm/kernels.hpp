@@ -128,71 +128,88 @@ inline void collide_chunk(double (&f)[L::Q][W], const CollisionParams& p, const 
 // even/odd split dropped, and the lattice vectors' zero and unit components
 // folded at compile time (a multiplication by 0.0 is not free: the compiler may
 // not drop it). Same results as collide_chunk up to round-off.
+//
+// It is written on explicit four-wide vectors (the GCC/Clang vector extension:
+// one AVX instruction per operation, SSE pairs without AVX) rather than left to
+// the auto-vectoriser, whose choice for this loop nest changed with the code
+// around it: the same source ran scalar (22 MLUPS) or vectorised (65 MLUPS).
+using Vec4 = double __attribute__((vector_size(32)));
+
 namespace detail {
-template <class L, int q, int W>
-inline void add_moments(const double (&f)[L::Q][W], double* rho, double* jx, double* jy, double* jz) {
-  for (int w = 0; w < W; ++w) {
-    rho[w] += f[q][w];
-    if constexpr (L::e[q][0] == 1) jx[w] += f[q][w];
-    if constexpr (L::e[q][0] == -1) jx[w] -= f[q][w];
-    if constexpr (L::e[q][1] == 1) jy[w] += f[q][w];
-    if constexpr (L::e[q][1] == -1) jy[w] -= f[q][w];
-    if constexpr (L::e[q][2] == 1) jz[w] += f[q][w];
-    if constexpr (L::e[q][2] == -1) jz[w] -= f[q][w];
-  }
+template <class L, int q>
+[[gnu::always_inline]] inline Vec4 e_dot(Vec4 x, Vec4 y, Vec4 z) {
+  Vec4 s = {0.0, 0.0, 0.0, 0.0};
+  if constexpr (L::e[q][0] != 0) s = L::e[q][0] > 0 ? s + x : s - x;
+  if constexpr (L::e[q][1] != 0) s = L::e[q][1] > 0 ? s + y : s - y;
+  if constexpr (L::e[q][2] != 0) s = L::e[q][2] > 0 ? s + z : s - z;
+  return s;
 }
 
 template <class L, int q>
-inline double e_dot(double x, double y, double z) {
-  double s = 0.0;
-  if constexpr (L::e[q][0] != 0) s += L::e[q][0] > 0 ? x : -x;
-  if constexpr (L::e[q][1] != 0) s += L::e[q][1] > 0 ? y : -y;
-  if constexpr (L::e[q][2] != 0) s += L::e[q][2] > 0 ? z : -z;
-  return s;
+[[gnu::always_inline]] inline void add_moments(const Vec4 (&f)[L::Q], Vec4& rho, Vec4& jx, Vec4& jy, Vec4& jz) {
+  rho += f[q];
+  if constexpr (L::e[q][0] == 1) jx += f[q];
+  if constexpr (L::e[q][0] == -1) jx -= f[q];
+  if constexpr (L::e[q][1] == 1) jy += f[q];
+  if constexpr (L::e[q][1] == -1) jy -= f[q];
+  if constexpr (L::e[q][2] == 1) jz += f[q];
+  if constexpr (L::e[q][2] == -1) jz -= f[q];
 }
 
 // f_q += omega (feq_q - f_q) for the pair (q, opp q), feq split into its even
 // part w (rho + rho_m (4.5 (e.u)^2 - 1.5 u^2)) and odd part 3 w rho_m e.u.
-template <class L, bool Incompressible, int q, int W>
-inline void relax_pair(double (&f)[L::Q][W], double omega, const double* rho, const double* ux, const double* uy,
-                       const double* uz, const double* even0, double* moving) {
+template <class L, int q>
+[[gnu::always_inline]] inline void relax_pair(Vec4 (&f)[L::Q], double omega, Vec4 rho_m, Vec4 ux, Vec4 uy, Vec4 uz,
+                                              Vec4 even0, Vec4& moving) {
   constexpr int o = L::opp[q];
   if constexpr (q > 0 && o > q) {
     constexpr double w_q = L::w[q];
-    for (int w = 0; w < W; ++w) {
-      const double rho_m = Incompressible ? 1.0 : 1.0 + rho[w];
-      const double eu = e_dot<L, q>(ux[w], uy[w], uz[w]);
-      const double even = w_q * (even0[w] + rho_m * 4.5 * eu * eu);
-      const double odd = w_q * rho_m * 3.0 * eu;
-      f[q][w] += omega * (even + odd - f[q][w]);
-      f[o][w] += omega * (even - odd - f[o][w]);
-      moving[w] += f[q][w] + f[o][w];
-    }
+    const Vec4 eu = e_dot<L, q>(ux, uy, uz);
+    const Vec4 even = w_q * (even0 + rho_m * 4.5 * eu * eu);
+    const Vec4 odd = w_q * rho_m * 3.0 * eu;
+    f[q] += omega * (even + odd - f[q]);
+    f[o] += omega * (even - odd - f[o]);
+    moving += f[q] + f[o];
   }
 }
 
-template <class L, bool Incompressible, int W, int... qs>
-inline void bgk_chunk(double (&f)[L::Q][W], double omega, double* u2, std::integer_sequence<int, qs...>) {
-  double rho[W] = {}, ux[W] = {}, uy[W] = {}, uz[W] = {}, even0[W], moving[W] = {};
-  (add_moments<L, qs, W>(f, rho, ux, uy, uz), ...);
-  for (int w = 0; w < W; ++w) {  // rho: the deviation rho - 1
-    const double rho_m = Incompressible ? 1.0 : 1.0 + rho[w];
-    const double inv = Incompressible ? 1.0 : 1.0 / rho_m;
-    ux[w] *= inv;
-    uy[w] *= inv;
-    uz[w] *= inv;
-    u2[w] = ux[w] * ux[w] + uy[w] * uy[w] + uz[w] * uz[w];
-    even0[w] = rho[w] - 1.5 * rho_m * u2[w];
+template <class L, bool Incompressible, int... qs>
+[[gnu::always_inline]] inline Vec4 bgk_vec(Vec4 (&f)[L::Q], double omega, std::integer_sequence<int, qs...>) {
+  const Vec4 zero = {0.0, 0.0, 0.0, 0.0};
+  Vec4 rho = zero, ux = zero, uy = zero, uz = zero, moving = zero;  // rho: the deviation rho - 1
+  (add_moments<L, qs>(f, rho, ux, uy, uz), ...);
+  const Vec4 rho_m = Incompressible ? zero + 1.0 : 1.0 + rho;
+  if constexpr (!Incompressible) {
+    const Vec4 inv = 1.0 / rho_m;
+    ux *= inv;
+    uy *= inv;
+    uz *= inv;
   }
-  (relax_pair<L, Incompressible, qs, W>(f, omega, rho, ux, uy, uz, even0, moving), ...);
-  // The rest population takes the mass the others leave (as in collide()).
-  for (int w = 0; w < W; ++w) f[0][w] = rho[w] - moving[w];
+  const Vec4 uu = ux * ux + uy * uy + uz * uz;
+  const Vec4 even0 = rho - 1.5 * rho_m * uu;
+  (relax_pair<L, qs>(f, omega, rho_m, ux, uy, uz, even0, moving), ...);
+  f[0] = rho - moving;  // the rest population takes the mass the others leave (as in collide())
+  return uu;
 }
 }  // namespace detail
 
+// Four cells: f[q] holds population q of cells 0..3. Returns their u^2.
+template <class L, bool Incompressible>
+[[gnu::always_inline]] inline Vec4 bgk_vec(Vec4 (&f)[L::Q], double omega) {
+  return detail::bgk_vec<L, Incompressible>(f, omega, std::make_integer_sequence<int, L::Q>{});
+}
+
+// The same on a chunk of W cells (W a multiple of 4), cell index innermost.
 template <class L, bool Incompressible, int W>
 inline void bgk_chunk(double (&f)[L::Q][W], double omega, double* u2) {
-  detail::bgk_chunk<L, Incompressible, W>(f, omega, u2, std::make_integer_sequence<int, L::Q>{});
+  static_assert(W % 4 == 0);
+  for (int c = 0; c < W; c += 4) {
+    Vec4 v[L::Q];
+    for (int q = 0; q < L::Q; ++q) __builtin_memcpy(&v[q], &f[q][c], sizeof(Vec4));
+    const Vec4 uu = bgk_vec<L, Incompressible>(v, omega);
+    for (int q = 0; q < L::Q; ++q) __builtin_memcpy(&f[q][c], &v[q], sizeof(Vec4));
+    __builtin_memcpy(u2 + c, &uu, sizeof(Vec4));
+  }
 }
 
 // Zero-centred equilibrium g_q = feq_q - w_q for the density rho (the density

@@ -37,11 +37,25 @@ class Core final : public LbmCore {
       g_[d] = s.cells[d] > 1 ? 1 : 0;
       P_[d] = n_[d] + 2 * g_[d];
     }
-    // Rows padded to whole cache lines, and an offset that puts interior cell
-    // i = 1 of every row on a 64-byte boundary, so that chunks of 8 cells can
-    // be written with streaming (non-temporal) stores.
+    // Open faces (pressure, velocity, outflow) of the domain that bound this block.
+    for (int f = 0; f < 6; ++f) {
+      const int axis = f / 2;
+      const bool at_face = f % 2 == 0 ? b.lo[axis] == 0 : b.hi[axis] == s.cells[axis];
+      const FaceType t = s.faces[f].type;
+      open_[f] = at_face && (t == FaceType::pressure || t == FaceType::velocity || t == FaceType::outflow);
+      wall_[f] = at_face && t == FaceType::wall;
+    }
+    build_halo(rank);
+    // The interior pass's rows: whole rows when no other rank borders the block
+    // along x (its x ghosts are then ready before the pass), less the cells on
+    // open faces; otherwise without the two end cells.
+    row_i0_ = x_local_ ? (open_[0] ? 1 : 0) : g_[0];
+    row_i1_ = x_local_ ? n_[0] - (open_[1] ? 1 : 0) : n_[0] - g_[0];
+    // Rows padded to whole cache lines, and an offset that puts the first cell
+    // of those rows on a 64-byte boundary, so that chunks of 8 cells can be
+    // written with streaming (non-temporal) stores.
     P_[0] = (P_[0] + 7) / 8 * 8;
-    shift_ = (8 - (g_[0] + 1) % 8) % 8;
+    shift_ = (8 - (g_[0] + row_i0_) % 8) % 8;
     N_ = (P_[0] * P_[1] * P_[2] + shift_ + 7) / 8 * 8;
     for (int q = 0; q < L::Q; ++q) off_[q] = L::e[q][0] + P_[0] * (L::e[q][1] + P_[1] * L::e[q][2]);
     a_.assign(static_cast<std::size_t>(L::Q) * N_, 0.0);
@@ -55,15 +69,6 @@ class Core final : public LbmCore {
           s.initial(origin_[0] + i, origin_[1] + j, origin_[2] + k, rho, u);
           for (int q = 0; q < L::Q; ++q) a_[q * N_ + idx(i, j, k)] = lbm::equilibrium<L, Incompressible>(q, rho, u);
         }
-    // Open faces (pressure, velocity, outflow) of the domain that bound this block.
-    for (int f = 0; f < 6; ++f) {
-      const int axis = f / 2;
-      const bool at_face = f % 2 == 0 ? b.lo[axis] == 0 : b.hi[axis] == s.cells[axis];
-      const FaceType t = s.faces[f].type;
-      open_[f] = at_face && (t == FaceType::pressure || t == FaceType::velocity || t == FaceType::outflow);
-      wall_[f] = at_face && t == FaceType::wall;
-    }
-    build_halo(rank);
   }
 
   ~Core() override {
@@ -74,26 +79,33 @@ class Core final : public LbmCore {
   }
 
   void step() override {
-    // 1. Start the halo exchange of the post-collision populations.
+    // 1. Start the halo exchange of the post-collision populations; halos with
+    //    this rank itself (a periodic axis not split) are copied at once.
     post_halo();
-    // 2. Interior cells read no ghost: compute them while messages fly.
+    // When no other rank borders this block along x, its x ghosts are ready
+    // now (copied, or walls filled from owned cells): the interior pass then
+    // takes whole rows, and the rows' end cells need no second visit.
+    if (x_local_) fill_walls(0, 2);
+    // 2. Interior rows read no ghost from another rank: compute them while
+    //    messages fly.
     max_u2_ = 0.0;
-    const long i0 = g_[0], i1 = n_[0] - g_[0];
+    const long i0 = row_i0_, i1 = row_i1_;
     for (long k = g_[2]; k < n_[2] - g_[2]; ++k)
       for (long j = g_[1]; j < n_[1] - g_[1]; ++j) fast_row(i0, i1, j, k);
     // 3. Ghosts: from neighbours, then walls (bounce-back, seed 000 eq. 2.44).
     finish_halo();
-    fill_walls();
-    // 4. The shell: rows on the block's faces, and the ends of the other rows.
+    fill_walls(x_local_ ? 2 : 0, 6);
+    // 4. The shell: rows on the block's faces, and the end cells of the others
+    //    that the interior pass left.
     for (long k = 0; k < n_[2]; ++k)
       for (long j = 0; j < n_[1]; ++j) {
         const bool face_row = (g_[1] && (j == 0 || j == n_[1] - 1)) || (g_[2] && (k == 0 || k == n_[2] - 1));
         if (face_row) {
           shell_row(0, n_[0], j, k);
-        } else if (g_[0]) {
-          shell_row(0, 1, j, k);
-          if (n_[0] > 1) shell_row(n_[0] - 1, n_[0], j, k);
+          continue;
         }
+        if (i0 > 0) shell_row(0, 1, j, k);
+        if (i1 < n_[0] && n_[0] > 1) shell_row(n_[0] - 1, n_[0], j, k);
       }
 #if defined(__AVX__)
     _mm_sfence();  // order the streaming stores before anything reads them
@@ -258,13 +270,86 @@ class Core final : public LbmCore {
     // BGK without body force takes the lean kernel; the choice is made per row
     // (a test inside the chunk loop halves the speed).
     if (lean_)
-      fast_row<true>(i0, i1, j, k);
+      lean_row(i0, i1, j, k);
     else
-      fast_row<false>(i0, i1, j, k);
+      general_row(i0, i1, j, k);
   }
 
-  template <bool Lean>
-  void fast_row(long i0, long i1, long j, long k) {
+  // The lean row: BGK without force, eight cells (one cache line per
+  // population) as two vectors of four. Both halves of a line are stored
+  // together: a streaming store of half a line, completed later, costs a
+  // read-modify-write in memory (4x slower here).
+  void lean_row(long i0, long i1, long j, long k) {
+    using lbm::Vec4;
+    const double* __restrict src = a_.data();
+    double* __restrict dst = b_.data();
+    const long base = idx(0, j, k), N = N_;
+    long off[L::Q];
+    for (int q = 0; q < L::Q; ++q) off[q] = off_[q];
+    const double omega = p_.omega;
+    Vec4 mx = {0.0, 0.0, 0.0, 0.0};  // max u^2, NaN-sticky
+    const auto chunk = [&](long i, bool stream) __attribute__((always_inline)) {
+      const long x = base + i;
+      Vec4 lo[L::Q], hi[L::Q];
+#pragma GCC unroll 19
+      for (int q = 0; q < L::Q; ++q) {
+        __builtin_memcpy(&lo[q], src + q * N + x - off[q], sizeof(Vec4));
+        __builtin_memcpy(&hi[q], src + q * N + x + 4 - off[q], sizeof(Vec4));
+      }
+      const Vec4 uu_lo = lbm::bgk_vec<L, Incompressible>(lo, omega);
+      const Vec4 uu_hi = lbm::bgk_vec<L, Incompressible>(hi, omega);
+      mx = ((uu_lo > mx) | (uu_lo != uu_lo)) ? uu_lo : mx;
+      mx = ((uu_hi > mx) | (uu_hi != uu_hi)) ? uu_hi : mx;
+#if defined(__AVX__)
+      if (stream) {  // whole cache lines: stream them out, no write-allocate read
+#pragma GCC unroll 19
+        for (int q = 0; q < L::Q; ++q) {
+          _mm256_stream_pd(dst + q * N + x, lo[q]);
+          _mm256_stream_pd(dst + q * N + x + 4, hi[q]);
+        }
+        return;
+      }
+#endif
+#pragma GCC unroll 19
+      for (int q = 0; q < L::Q; ++q) {
+        __builtin_memcpy(dst + q * N + x, &lo[q], sizeof(Vec4));
+        __builtin_memcpy(dst + q * N + x + 4, &hi[q], sizeof(Vec4));
+      }
+    };
+    if (i1 - i0 < 8) {
+      const double F[3] = {0.0, 0.0, 0.0};
+      for (long i = i0; i < i1; ++i) {
+        const long x = base + i;
+        double f[L::Q];
+        for (int q = 0; q < L::Q; ++q) f[q] = src[q * N + x - off[q]];
+        const double uu = lbm::collide<L, Incompressible>(f, p_, F);
+        mx[0] = (uu > mx[0] || uu != uu) ? uu : mx[0];
+        for (int q = 0; q < L::Q; ++q) dst[q * N + x] = f[q];
+      }
+    } else {
+      // A cell's update reads only the previous array, so computing it twice
+      // writes the same values: a head and a tail that are not whole cache
+      // lines take a full chunk that overlaps its neighbour, with cached stores.
+      long i = i0, done = i0;  // cells [i0, done) are written
+      if (const long mis = (base + i0) & 7; mis != 0) {
+        chunk(i0, false);
+        i = i0 + 8 - mis;
+        done = i0 + 8;
+      }
+      for (; i + 8 <= i1; i += 8, done = i) chunk(i, true);
+      if (done < i1) chunk(i1 - 8, false);
+    }
+    for (int w = 0; w < 4; ++w) max_u2_ = (mx[w] > max_u2_ || mx[w] != mx[w]) && max_u2_ == max_u2_ ? mx[w] : max_u2_;
+  }
+
+  void fold_u2(long i0, long i1) {
+    const double* u2 = row_u2_.data();
+    double m = max_u2_;
+    for (long c = i0; c < i1; ++c) m = u2[c] > m || u2[c] != u2[c] ? u2[c] : m;
+    max_u2_ = (m != m) ? m : std::max(max_u2_, m);
+  }
+
+  void general_row(long i0, long i1, long j, long k) {
     const double* __restrict src = a_.data();
     double* __restrict dst = b_.data();
     double* __restrict u2 = row_u2_.data();
@@ -275,7 +360,15 @@ class Core final : public LbmCore {
     const auto p = p_;
     constexpr int W = 8;
     constexpr long kPrefetch = 64;  // doubles ahead (8 chunks)
+    const auto one = [&](long i) {
+      const long x = base + i;
+      double f[L::Q];
+      for (int q = 0; q < L::Q; ++q) f[q] = src[q * N + x - off[q]];
+      u2[i] = lbm::collide<L, Incompressible>(f, p, F);
+      for (int q = 0; q < L::Q; ++q) dst[q * N + x] = f[q];
+    };
     long i = i0;
+    for (; i < i1 && ((base + i) & 7) != 0; ++i) one(i);  // up to a cache line's start
     for (; i + W <= i1; i += W) {
       const long x = base + i;
       double f[L::Q][W];
@@ -287,10 +380,7 @@ class Core final : public LbmCore {
 #pragma GCC unroll 19
       for (int q = 0; q < L::Q; ++q)
         for (int w = 0; w < W; ++w) f[q][w] = src[q * N + x + w - off[q]];
-      if constexpr (Lean)
-        lbm::bgk_chunk<L, Incompressible, W>(f, p.omega, u2 + i);
-      else
-        lbm::collide_chunk<L, Incompressible, W>(f, p, F, u2 + i);
+      lbm::collide_chunk<L, Incompressible, W>(f, p, F, u2 + i);
 #if defined(__AVX__)
       if ((x & 7) == 0) {
         // Whole cache lines: stream them out, no write-allocate read.
@@ -306,61 +396,60 @@ class Core final : public LbmCore {
       for (int q = 0; q < L::Q; ++q)
         for (int w = 0; w < W; ++w) dst[q * N + x + w] = f[q][w];
     }
-    for (; i < i1; ++i) {
-      const long x = base + i;
-      double f[L::Q];
-      for (int q = 0; q < L::Q; ++q) f[q] = src[q * N + x - off[q]];
-      u2[i] = lbm::collide<L, Incompressible>(f, p, F);
-      for (int q = 0; q < L::Q; ++q) dst[q * N + x] = f[q];
-    }
-    double m = max_u2_;
-    for (long c = i0; c < i1; ++c) m = u2[c] > m || u2[c] != u2[c] ? u2[c] : m;
-    max_u2_ = (m != m) ? m : std::max(max_u2_, m);
+    for (; i < i1; ++i) one(i);
+    fold_u2(i0, i1);
   }
 
-  // Cells that may lie on an open face: pull, close the unknowns, collide.
+  // Cells of the shell: runs off the open faces take the row kernels.
   void shell_row(long i0, long i1, long j, long k) {
+    long run = i0;  // first cell of the current run of cells off the open faces
     for (long i = i0; i < i1; ++i) {
-      double F[3];
-      force_at(i, j, k, F);
       const long loc[3] = {i, j, k};
       bool open = false;
       for (int f = 0; f < 6 && !open; ++f)
         open = open_[f] && loc[f / 2] == (f % 2 == 0 ? 0 : n_[f / 2] - 1);
-      if (!open) {
-        fast_row(i, i + 1, j, k);
-        continue;
-      }
-      const long x = idx(i, j, k);
-      double f[L::Q];
-      for (int q = 0; q < L::Q; ++q) f[q] = a_[q * N_ + x - off_[q]];
-      // Outflow faces first (zero gradient: the next node's post-collision
-      // populations), then Zou-He faces, in face order, as lbm-reference does.
-      for (int pass = 0; pass < 2; ++pass)
-        for (int face = 0; face < 6; ++face) {
-          const int axis = face / 2;
-          if (!open_[face] || loc[axis] != (face % 2 == 0 ? 0 : n_[axis] - 1)) continue;
-          const int s = face % 2 == 0 ? 1 : -1;
-          const lbm::Face& fc = s_.faces[face];
-          if ((fc.type == FaceType::outflow) != (pass == 0)) continue;
-          if (fc.type == FaceType::outflow) {
-            const long inner = x + s * (axis == 0 ? 1 : axis == 1 ? P_[0] : P_[0] * P_[1]);
-            for (int q = 0; q < L::Q; ++q)
-              if (s * L::e[q][axis] > 0) f[q] = a_[q * N_ + inner];
-          } else {
-            lbm::zou_he<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data());
-          }
-        }
-      const double uu = lbm::collide<L, Incompressible>(f, p_, F);
-      max_u2_ = (uu > max_u2_ || uu != uu) ? uu : max_u2_;
-      for (int q = 0; q < L::Q; ++q) b_[q * N_ + x] = f[q];
+      if (!open) continue;
+      fast_row(run, i, j, k);
+      run = i + 1;
+      open_cell(i, j, k);
     }
+    fast_row(run, i1, j, k);
+  }
+
+  // A cell on an open face: pull, close the unknowns, collide.
+  void open_cell(long i, long j, long k) {
+    double F[3];
+    force_at(i, j, k, F);
+    const long loc[3] = {i, j, k};
+    const long x = idx(i, j, k);
+    double f[L::Q];
+    for (int q = 0; q < L::Q; ++q) f[q] = a_[q * N_ + x - off_[q]];
+    // Outflow faces first (zero gradient: the next node's post-collision
+    // populations), then Zou-He faces, in face order, as lbm-reference does.
+    for (int pass = 0; pass < 2; ++pass)
+      for (int face = 0; face < 6; ++face) {
+        const int axis = face / 2;
+        if (!open_[face] || loc[axis] != (face % 2 == 0 ? 0 : n_[axis] - 1)) continue;
+        const int s = face % 2 == 0 ? 1 : -1;
+        const lbm::Face& fc = s_.faces[face];
+        if ((fc.type == FaceType::outflow) != (pass == 0)) continue;
+        if (fc.type == FaceType::outflow) {
+          const long inner = x + s * (axis == 0 ? 1 : axis == 1 ? P_[0] : P_[0] * P_[1]);
+          for (int q = 0; q < L::Q; ++q)
+            if (s * L::e[q][axis] > 0) f[q] = a_[q * N_ + inner];
+        } else {
+          lbm::zou_he<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data());
+        }
+      }
+    const double uu = lbm::collide<L, Incompressible>(f, p_, F);
+    max_u2_ = (uu > max_u2_ || uu != uu) ? uu : max_u2_;
+    for (int q = 0; q < L::Q; ++q) b_[q * N_ + x] = f[q];
   }
 
   // Half-way bounce-back: the population a boundary node pulls from beyond a
   // wall is the one it sent towards the wall, reversed.
-  void fill_walls() {
-    for (int face = 0; face < 6; ++face) {
+  void fill_walls(int face0, int face1) {
+    for (int face = face0; face < face1; ++face) {
       if (!wall_[face]) continue;
       const int axis = face / 2, s = face % 2 == 0 ? 1 : -1;
       long lo[3] = {0, 0, 0}, hi[3] = {n_[0], n_[1], n_[2]};
@@ -377,15 +466,31 @@ class Core final : public LbmCore {
   }
 
   // ---- halo: direct exchange with every face/edge/corner neighbour ----
+  // Only the populations a ghost is pulled for travel: towards direction d,
+  // those with e_q,a = d_a on every axis where d_a != 0 (5 of 19 through a
+  // face of D3Q19, 1 through an edge, none through a corner).
   struct Halo {
     int rank = -1;
+    int d[3] = {0, 0, 0};    // direction of the neighbour
     Box send_box, recv_box;  // local (ghost-offset) coordinates, owned-relative
+    std::vector<int> send_q, recv_q;
     std::vector<double> send_buf, recv_buf;
     MPI_Request send = MPI_REQUEST_NULL, recv = MPI_REQUEST_NULL;
   };
 
+  static std::vector<int> crossing(const int d[3], int sign) {
+    std::vector<int> qs;
+    for (int q = 0; q < L::Q; ++q) {
+      bool all = true;
+      for (int a = 0; a < 3; ++a) all = all && (d[a] == 0 || L::e[q][a] == sign * d[a]);
+      if (all) qs.push_back(q);
+    }
+    return qs;
+  }
+
   void build_halo(int rank) {
     const Box& b = dec_.block(rank);
+    bool x_from_other = false;
     for (int dz = -g_[2]; dz <= g_[2]; ++dz)
       for (int dy = -g_[1]; dy <= g_[1]; ++dy)
         for (int dx = -g_[0]; dx <= g_[0]; ++dx) {
@@ -400,14 +505,23 @@ class Core final : public LbmCore {
           if (!exists) continue;
           Halo h;
           h.rank = dec_.owner(probe);
+          if (dx != 0 && dy == 0 && dz == 0 && h.rank != rank) x_from_other = true;
           for (int a = 0; a < 3; ++a) {
+            h.d[a] = d[a];
             h.send_box.lo[a] = d[a] < 0 ? 0 : d[a] > 0 ? n_[a] - 1 : 0;
             h.send_box.hi[a] = d[a] < 0 ? 1 : d[a] > 0 ? n_[a] : n_[a];
             h.recv_box.lo[a] = d[a] < 0 ? -1 : d[a] > 0 ? n_[a] : 0;
             h.recv_box.hi[a] = d[a] < 0 ? 0 : d[a] > 0 ? n_[a] + 1 : n_[a];
           }
-          h.send_buf.resize(h.send_box.volume() * L::Q);
-          h.recv_buf.resize(h.recv_box.volume() * L::Q);
+          h.send_q = crossing(d, 1);
+          h.recv_q = crossing(d, -1);
+          if (h.send_q.empty()) continue;
+          if (h.rank == rank) {  // a periodic axis of one block: copied in post_halo
+            halo_.push_back(std::move(h));
+            continue;
+          }
+          h.send_buf.resize(h.send_box.volume() * h.send_q.size());
+          h.recv_buf.resize(h.recv_box.volume() * h.recv_q.size());
           const int tag_send = 500 + (dx + 1) + 3 * (dy + 1) + 9 * (dz + 1);
           const int tag_recv = 500 + (-dx + 1) + 3 * (-dy + 1) + 9 * (-dz + 1);
           halo_.push_back(std::move(h));
@@ -416,8 +530,10 @@ class Core final : public LbmCore {
                         comm_, &hh.send);
           MPI_Recv_init(hh.recv_buf.data(), static_cast<int>(hh.recv_buf.size()), MPI_DOUBLE, hh.rank, tag_recv,
                         comm_, &hh.recv);
+          ++remote_;
         }
-    requests_.resize(2 * halo_.size());
+    x_local_ = g_[0] && !x_from_other;
+    requests_.resize(2 * remote_);
   }
 
   template <class F>
@@ -429,24 +545,33 @@ class Core final : public LbmCore {
 
   void post_halo() {
     coupler::Timer t(coupler::trace().halo_s);
-    for (std::size_t n = 0; n < halo_.size(); ++n) {
-      Halo& h = halo_[n];
+    std::size_t n = 0;
+    for (Halo& h : halo_) {
+      if (h.send == MPI_REQUEST_NULL) {
+        // To this rank itself: the face cells land in the ghosts on the
+        // opposite side, one period away.
+        const long shift = h.d[0] * n_[0] + P_[0] * (h.d[1] * n_[1] + P_[1] * h.d[2] * n_[2]);
+        for (const int q : h.send_q) for_box(h.send_box, [&](long x) { a_[q * N_ + x - shift] = a_[q * N_ + x]; });
+        continue;
+      }
       MPI_Start(&h.recv);
       double* out = h.send_buf.data();
-      for (int q = 0; q < L::Q; ++q) for_box(h.send_box, [&](long x) { *out++ = a_[q * N_ + x]; });
+      for (const int q : h.send_q) for_box(h.send_box, [&](long x) { *out++ = a_[q * N_ + x]; });
       MPI_Start(&h.send);
       requests_[2 * n] = h.recv;
       requests_[2 * n + 1] = h.send;
+      ++n;
     }
   }
 
   void finish_halo() {
-    if (halo_.empty()) return;
+    if (remote_ == 0) return;
     coupler::wait_all(requests_, "the fluid halo exchange", &coupler::trace().halo_s);
     coupler::Timer t(coupler::trace().halo_s);
     for (Halo& h : halo_) {
+      if (h.recv == MPI_REQUEST_NULL) continue;
       const double* in = h.recv_buf.data();
-      for (int q = 0; q < L::Q; ++q) for_box(h.recv_box, [&](long x) { a_[q * N_ + x] = *in++; });
+      for (const int q : h.recv_q) for_box(h.recv_box, [&](long x) { a_[q * N_ + x] = *in++; });
     }
   }
 
@@ -464,6 +589,9 @@ class Core final : public LbmCore {
   double max_u2_ = 0.0;
   bool open_[6], wall_[6];
   std::vector<Halo> halo_;
+  std::size_t remote_ = 0;  // halos with other ranks
+  bool x_local_ = false;    // no other rank borders the block along x
+  long row_i0_ = 0, row_i1_ = 0;  // cells of the interior pass's rows
   std::vector<MPI_Request> requests_;
 };
 

@@ -82,47 +82,6 @@ inline double collide(double* f, const CollisionParams& p, const double* F) {
   return uu;
 }
 
-// The same collision for W cells at once, cell index innermost so that every
-// operation is a vector operation (same arithmetic, same order as collide()).
-// The loops over q are unrolled so that the lattice vectors are constants and
-// the zero and unit components cost nothing.
-template <class L, bool Incompressible, int W>
-inline void collide_chunk(double (&f)[L::Q][W], const CollisionParams& p, const double* F, double* u2) {
-  double rho[W], ux[W], uy[W], uz[W], uu[W], uF[W], moving[W];
-  for (int w = 0; w < W; ++w) rho[w] = ux[w] = uy[w] = uz[w] = 0.0;
-#pragma GCC unroll 19
-  for (int q = 0; q < L::Q; ++q)
-    for (int w = 0; w < W; ++w) {
-      rho[w] += f[q][w];
-      ux[w] += L::e[q][0] * f[q][w];
-      uy[w] += L::e[q][1] * f[q][w];
-      uz[w] += L::e[q][2] * f[q][w];
-    }
-  for (int w = 0; w < W; ++w) {
-    const double inv = Incompressible ? 1.0 : 1.0 / (1.0 + rho[w]);
-    ux[w] = (ux[w] + 0.5 * F[0]) * inv;
-    uy[w] = (uy[w] + 0.5 * F[1]) * inv;
-    uz[w] = (uz[w] + 0.5 * F[2]) * inv;
-    uu[w] = ux[w] * ux[w] + uy[w] * uy[w] + uz[w] * uz[w];
-    uF[w] = ux[w] * F[0] + uy[w] * F[1] + uz[w] * F[2];
-    moving[w] = 0.0;
-    u2[w] = uu[w];
-  }
-#pragma GCC unroll 19
-  for (int q = 1; q < L::Q; ++q) {
-    const int o = L::opp[q];
-    if (o < q) continue;
-    const double eF = L::e[q][0] * F[0] + L::e[q][1] * F[1] + L::e[q][2] * F[2];
-    for (int w = 0; w < W; ++w) {
-      const double rho_m = Incompressible ? 1.0 : 1.0 + rho[w];
-      const double eu = L::e[q][0] * ux[w] + L::e[q][1] * uy[w] + L::e[q][2] * uz[w];
-      trt_pair(f[q][w], f[o][w], L::w[q], rho[w], rho_m, eu, uu[w], eF, uF[w], p);
-      moving[w] += f[q][w] + f[o][w];
-    }
-  }
-  for (int w = 0; w < W; ++w) f[0][w] = rho[w] - moving[w];
-}
-
 // The lean path for BGK without a force (tau_minus = tau, F = 0): the same
 // collision (seed 000 eqs 2.33 / 2.47 and 2.42) with the force terms and the
 // even/odd split dropped, and the lattice vectors' zero and unit components
@@ -207,6 +166,74 @@ inline void bgk_chunk(double (&f)[L::Q][W], double omega, double* u2) {
     Vec4 v[L::Q];
     for (int q = 0; q < L::Q; ++q) __builtin_memcpy(&v[q], &f[q][c], sizeof(Vec4));
     const Vec4 uu = bgk_vec<L, Incompressible>(v, omega);
+    for (int q = 0; q < L::Q; ++q) __builtin_memcpy(&f[q][c], &v[q], sizeof(Vec4));
+    __builtin_memcpy(u2 + c, &uu, sizeof(Vec4));
+  }
+}
+
+namespace detail {
+// trt_pair (above) on four cells; eF = e_q . F is the same for all four.
+template <class L, bool Incompressible, int q>
+[[gnu::always_inline]] inline void trt_pair_vec(Vec4 (&f)[L::Q], const CollisionParams& p, const double* F, Vec4 rho,
+                                                Vec4 rho_m, Vec4 ux, Vec4 uy, Vec4 uz, Vec4 uu, Vec4 uF,
+                                                Vec4& moving) {
+  constexpr int o = L::opp[q];
+  if constexpr (q > 0 && o > q) {
+    constexpr double w = L::w[q];
+    const double eF = L::e[q][0] * F[0] + L::e[q][1] * F[1] + L::e[q][2] * F[2];
+    const Vec4 eu = e_dot<L, q>(ux, uy, uz);
+    const Vec4 plus = 0.5 * (f[q] + f[o]), minus = 0.5 * (f[q] - f[o]);
+    const Vec4 feq_plus = w * (rho + rho_m * (4.5 * eu * eu - 1.5 * uu));
+    const Vec4 feq_minus = w * rho_m * 3.0 * eu;
+    const Vec4 s_plus = p.force_plus * w * (9.0 * eu * eF - 3.0 * uF);
+    const double s_minus = p.force_minus * w * 3.0 * eF;
+    const Vec4 even = p.omega * (plus - feq_plus) - s_plus;
+    const Vec4 odd = p.omega_minus * (minus - feq_minus) - s_minus;
+    f[q] = f[q] - even - odd;
+    f[o] = f[o] - even + odd;
+    moving += f[q] + f[o];
+  }
+}
+
+template <class L, bool Incompressible, int... qs>
+[[gnu::always_inline]] inline Vec4 collide_vec(Vec4 (&f)[L::Q], const CollisionParams& p, const double* F,
+                                               std::integer_sequence<int, qs...>) {
+  const Vec4 zero = {0.0, 0.0, 0.0, 0.0};
+  Vec4 rho = zero, ux = zero, uy = zero, uz = zero, moving = zero;  // rho: the deviation rho - 1
+  (add_moments<L, qs>(f, rho, ux, uy, uz), ...);
+  const Vec4 rho_m = Incompressible ? zero + 1.0 : 1.0 + rho;
+  ux += 0.5 * F[0];
+  uy += 0.5 * F[1];
+  uz += 0.5 * F[2];
+  if constexpr (!Incompressible) {
+    const Vec4 inv = 1.0 / rho_m;
+    ux *= inv;
+    uy *= inv;
+    uz *= inv;
+  }
+  const Vec4 uu = ux * ux + uy * uy + uz * uz;
+  const Vec4 uF = ux * F[0] + uy * F[1] + uz * F[2];
+  (trt_pair_vec<L, Incompressible, qs>(f, p, F, rho, rho_m, ux, uy, uz, uu, uF, moving), ...);
+  f[0] = rho - moving;
+  return uu;
+}
+}  // namespace detail
+
+// collide() on four cells (TRT with Guo forcing, the same force on all four).
+// Returns their u^2.
+template <class L, bool Incompressible>
+[[gnu::always_inline]] inline Vec4 collide_vec(Vec4 (&f)[L::Q], const CollisionParams& p, const double* F) {
+  return detail::collide_vec<L, Incompressible>(f, p, F, std::make_integer_sequence<int, L::Q>{});
+}
+
+// The same on a chunk of W cells (W a multiple of 4), cell index innermost.
+template <class L, bool Incompressible, int W>
+inline void collide_chunk(double (&f)[L::Q][W], const CollisionParams& p, const double* F, double* u2) {
+  static_assert(W % 4 == 0);
+  for (int c = 0; c < W; c += 4) {
+    Vec4 v[L::Q];
+    for (int q = 0; q < L::Q; ++q) __builtin_memcpy(&v[q], &f[q][c], sizeof(Vec4));
+    const Vec4 uu = collide_vec<L, Incompressible>(v, p, F);
     for (int q = 0; q < L::Q; ++q) __builtin_memcpy(&f[q][c], &v[q], sizeof(Vec4));
     __builtin_memcpy(u2 + c, &uu, sizeof(Vec4));
   }

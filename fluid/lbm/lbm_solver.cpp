@@ -61,7 +61,6 @@ class Core final : public LbmCore {
     a_.assign(static_cast<std::size_t>(L::Q) * N_, 0.0);
     b_.assign(a_.size(), 0.0);
     lean_ = !s.trt && s.force[0] == 0.0 && s.force[1] == 0.0 && s.force[2] == 0.0;
-    row_u2_.assign(n_[0], 0.0);
     for (long k = 0; k < n_[2]; ++k)
       for (long j = 0; j < n_[1]; ++j)
         for (long i = 0; i < n_[0]; ++i) {
@@ -270,23 +269,26 @@ class Core final : public LbmCore {
     // BGK without body force takes the lean kernel; the choice is made per row
     // (a test inside the chunk loop halves the speed).
     if (lean_)
-      lean_row(i0, i1, j, k);
+      vec_row<true>(i0, i1, j, k);
     else
-      general_row(i0, i1, j, k);
+      vec_row<false>(i0, i1, j, k);
   }
 
-  // The lean row: BGK without force, eight cells (one cache line per
-  // population) as two vectors of four. Both halves of a line are stored
-  // together: a streaming store of half a line, completed later, costs a
-  // read-modify-write in memory (4x slower here).
-  void lean_row(long i0, long i1, long j, long k) {
+  // Eight cells (one cache line per population) at a time, as two vectors of
+  // four, with the lean kernel (BGK without force) or the general one (TRT,
+  // Guo forcing). Both halves of a line are stored together: a streaming store
+  // of half a line, completed later, costs a read-modify-write in memory (4x
+  // slower here).
+  template <bool Lean>
+  void vec_row(long i0, long i1, long j, long k) {
     using lbm::Vec4;
     const double* __restrict src = a_.data();
     double* __restrict dst = b_.data();
     const long base = idx(0, j, k), N = N_;
     long off[L::Q];
     for (int q = 0; q < L::Q; ++q) off[q] = off_[q];
-    const double omega = p_.omega;
+    const auto p = p_;
+    const double F[3] = {s_.force[0], s_.force[1], s_.force[2]};
     Vec4 mx = {0.0, 0.0, 0.0, 0.0};  // max u^2, NaN-sticky
     const auto chunk = [&](long i, bool stream) __attribute__((always_inline)) {
       const long x = base + i;
@@ -296,8 +298,14 @@ class Core final : public LbmCore {
         __builtin_memcpy(&lo[q], src + q * N + x - off[q], sizeof(Vec4));
         __builtin_memcpy(&hi[q], src + q * N + x + 4 - off[q], sizeof(Vec4));
       }
-      const Vec4 uu_lo = lbm::bgk_vec<L, Incompressible>(lo, omega);
-      const Vec4 uu_hi = lbm::bgk_vec<L, Incompressible>(hi, omega);
+      Vec4 uu_lo, uu_hi;
+      if constexpr (Lean) {
+        uu_lo = lbm::bgk_vec<L, Incompressible>(lo, p.omega);
+        uu_hi = lbm::bgk_vec<L, Incompressible>(hi, p.omega);
+      } else {
+        uu_lo = lbm::collide_vec<L, Incompressible>(lo, p, F);
+        uu_hi = lbm::collide_vec<L, Incompressible>(hi, p, F);
+      }
       mx = ((uu_lo > mx) | (uu_lo != uu_lo)) ? uu_lo : mx;
       mx = ((uu_hi > mx) | (uu_hi != uu_hi)) ? uu_hi : mx;
 #if defined(__AVX__)
@@ -317,12 +325,11 @@ class Core final : public LbmCore {
       }
     };
     if (i1 - i0 < 8) {
-      const double F[3] = {0.0, 0.0, 0.0};
       for (long i = i0; i < i1; ++i) {
         const long x = base + i;
         double f[L::Q];
         for (int q = 0; q < L::Q; ++q) f[q] = src[q * N + x - off[q]];
-        const double uu = lbm::collide<L, Incompressible>(f, p_, F);
+        const double uu = lbm::collide<L, Incompressible>(f, p, F);
         mx[0] = (uu > mx[0] || uu != uu) ? uu : mx[0];
         for (int q = 0; q < L::Q; ++q) dst[q * N + x] = f[q];
       }
@@ -340,64 +347,6 @@ class Core final : public LbmCore {
       if (done < i1) chunk(i1 - 8, false);
     }
     for (int w = 0; w < 4; ++w) max_u2_ = (mx[w] > max_u2_ || mx[w] != mx[w]) && max_u2_ == max_u2_ ? mx[w] : max_u2_;
-  }
-
-  void fold_u2(long i0, long i1) {
-    const double* u2 = row_u2_.data();
-    double m = max_u2_;
-    for (long c = i0; c < i1; ++c) m = u2[c] > m || u2[c] != u2[c] ? u2[c] : m;
-    max_u2_ = (m != m) ? m : std::max(max_u2_, m);
-  }
-
-  void general_row(long i0, long i1, long j, long k) {
-    const double* __restrict src = a_.data();
-    double* __restrict dst = b_.data();
-    double* __restrict u2 = row_u2_.data();
-    const long base = idx(0, j, k), N = N_;
-    long off[L::Q];
-    for (int q = 0; q < L::Q; ++q) off[q] = off_[q];
-    const double F[3] = {s_.force[0], s_.force[1], s_.force[2]};
-    const auto p = p_;
-    constexpr int W = 8;
-    constexpr long kPrefetch = 64;  // doubles ahead (8 chunks)
-    const auto one = [&](long i) {
-      const long x = base + i;
-      double f[L::Q];
-      for (int q = 0; q < L::Q; ++q) f[q] = src[q * N + x - off[q]];
-      u2[i] = lbm::collide<L, Incompressible>(f, p, F);
-      for (int q = 0; q < L::Q; ++q) dst[q * N + x] = f[q];
-    };
-    long i = i0;
-    for (; i < i1 && ((base + i) & 7) != 0; ++i) one(i);  // up to a cache line's start
-    for (; i + W <= i1; i += W) {
-      const long x = base + i;
-      double f[L::Q][W];
-      // 38 concurrent streams overwhelm the hardware prefetchers: help them.
-#pragma GCC unroll 19
-      for (int q = 0; q < L::Q; ++q) {
-        __builtin_prefetch(src + q * N + x + kPrefetch - off[q], 0, 0);
-      }
-#pragma GCC unroll 19
-      for (int q = 0; q < L::Q; ++q)
-        for (int w = 0; w < W; ++w) f[q][w] = src[q * N + x + w - off[q]];
-      lbm::collide_chunk<L, Incompressible, W>(f, p, F, u2 + i);
-#if defined(__AVX__)
-      if ((x & 7) == 0) {
-        // Whole cache lines: stream them out, no write-allocate read.
-#pragma GCC unroll 19
-        for (int q = 0; q < L::Q; ++q) {
-          _mm256_stream_pd(dst + q * N + x, _mm256_loadu_pd(&f[q][0]));
-          _mm256_stream_pd(dst + q * N + x + 4, _mm256_loadu_pd(&f[q][4]));
-        }
-        continue;
-      }
-#endif
-#pragma GCC unroll 19
-      for (int q = 0; q < L::Q; ++q)
-        for (int w = 0; w < W; ++w) dst[q * N + x + w] = f[q][w];
-    }
-    for (; i < i1; ++i) one(i);
-    fold_u2(i0, i1);
   }
 
   // Cells of the shell: runs off the open faces take the row kernels.
@@ -582,7 +531,6 @@ class Core final : public LbmCore {
   long origin_[3], n_[3], g_[3], P_[3], N_, shift_ = 0;
   long off_[L::Q];
   HugeVector<double> a_, b_;  // post-collision populations; a_ is current
-  std::vector<double> row_u2_;
   bool lean_ = false;  // BGK without body force: lbm::bgk_chunk
   std::vector<double> src_;     // per owned cell source (lattice units), empty: none
   std::vector<char> src_row_;   // rows (j, k) holding a source

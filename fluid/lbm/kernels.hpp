@@ -11,6 +11,10 @@
 
 #include <utility>
 
+#if defined(__AVX__)
+#include <immintrin.h>
+#endif
+
 #include "fluid/lbm/lattice.hpp"
 
 namespace coflow::fluid::lbm {
@@ -82,16 +86,11 @@ inline double collide(double* f, const CollisionParams& p, const double* F) {
   return uu;
 }
 
-// The lean path for BGK without a force (tau_minus = tau, F = 0): the same
-// collision (seed 000 eqs 2.33 / 2.47 and 2.42) with the force terms and the
-// even/odd split dropped, and the lattice vectors' zero and unit components
-// folded at compile time (a multiplication by 0.0 is not free: the compiler may
-// not drop it). Same results as collide_chunk up to round-off.
-//
-// It is written on explicit four-wide vectors (the GCC/Clang vector extension:
-// one AVX instruction per operation, SSE pairs without AVX) rather than left to
-// the auto-vectoriser, whose choice for this loop nest changed with the code
-// around it: the same source ran scalar (22 MLUPS) or vectorised (65 MLUPS).
+// Four doubles as one value (the GCC/Clang vector extension: one AVX
+// instruction per operation, SSE pairs without AVX). The kernels below are
+// written on it rather than left to the auto-vectoriser, whose choice for the
+// old loop nest changed with the code around it: the same source ran scalar
+// (22 MLUPS) or vectorised (65 MLUPS).
 using Vec4 = double __attribute__((vector_size(32)));
 
 namespace detail {
@@ -105,70 +104,129 @@ template <class L, int q>
 }
 
 template <class L, int q>
-[[gnu::always_inline]] inline void add_moments(const Vec4 (&f)[L::Q], Vec4& rho, Vec4& jx, Vec4& jy, Vec4& jz) {
-  rho += f[q];
-  if constexpr (L::e[q][0] == 1) jx += f[q];
-  if constexpr (L::e[q][0] == -1) jx -= f[q];
-  if constexpr (L::e[q][1] == 1) jy += f[q];
-  if constexpr (L::e[q][1] == -1) jy -= f[q];
-  if constexpr (L::e[q][2] == 1) jz += f[q];
-  if constexpr (L::e[q][2] == -1) jz -= f[q];
+[[gnu::always_inline]] inline void add_moment(Vec4 f, Vec4& rho, Vec4& jx, Vec4& jy, Vec4& jz) {
+  rho += f;
+  if constexpr (L::e[q][0] == 1) jx += f;
+  if constexpr (L::e[q][0] == -1) jx -= f;
+  if constexpr (L::e[q][1] == 1) jy += f;
+  if constexpr (L::e[q][1] == -1) jy -= f;
+  if constexpr (L::e[q][2] == 1) jz += f;
+  if constexpr (L::e[q][2] == -1) jz -= f;
 }
 
-// f_q += omega (feq_q - f_q) for the pair (q, opp q), feq split into its even
-// part w (rho + rho_m (4.5 (e.u)^2 - 1.5 u^2)) and odd part 3 w rho_m e.u.
 template <class L, int q>
-[[gnu::always_inline]] inline void relax_pair(Vec4 (&f)[L::Q], double omega, Vec4 rho_m, Vec4 ux, Vec4 uy, Vec4 uz,
-                                              Vec4 even0, Vec4& moving) {
-  constexpr int o = L::opp[q];
-  if constexpr (q > 0 && o > q) {
-    constexpr double w_q = L::w[q];
-    const Vec4 eu = e_dot<L, q>(ux, uy, uz);
-    const Vec4 even = w_q * (even0 + rho_m * 4.5 * eu * eu);
-    const Vec4 odd = w_q * rho_m * 3.0 * eu;
-    f[q] += omega * (even + odd - f[q]);
-    f[o] += omega * (even - odd - f[o]);
-    moving += f[q] + f[o];
-  }
-}
-
-template <class L, bool Incompressible, int... qs>
-[[gnu::always_inline]] inline Vec4 bgk_vec(Vec4 (&f)[L::Q], double omega, std::integer_sequence<int, qs...>) {
-  const Vec4 zero = {0.0, 0.0, 0.0, 0.0};
-  Vec4 rho = zero, ux = zero, uy = zero, uz = zero, moving = zero;  // rho: the deviation rho - 1
-  (add_moments<L, qs>(f, rho, ux, uy, uz), ...);
-  const Vec4 rho_m = Incompressible ? zero + 1.0 : 1.0 + rho;
-  if constexpr (!Incompressible) {
-    const Vec4 inv = 1.0 / rho_m;
-    ux *= inv;
-    uy *= inv;
-    uz *= inv;
-  }
-  const Vec4 uu = ux * ux + uy * uy + uz * uz;
-  const Vec4 even0 = rho - 1.5 * rho_m * uu;
-  (relax_pair<L, qs>(f, omega, rho_m, ux, uy, uz, even0, moving), ...);
-  f[0] = rho - moving;  // the rest population takes the mass the others leave (as in collide())
-  return uu;
+[[gnu::always_inline]] inline void add_moments(const Vec4 (&f)[L::Q], Vec4& rho, Vec4& jx, Vec4& jy, Vec4& jz) {
+  add_moment<L, q>(f[q], rho, jx, jy, jz);
 }
 }  // namespace detail
 
-// Four cells: f[q] holds population q of cells 0..3. Returns their u^2.
-template <class L, bool Incompressible>
-[[gnu::always_inline]] inline Vec4 bgk_vec(Vec4 (&f)[L::Q], double omega) {
-  return detail::bgk_vec<L, Incompressible>(f, omega, std::make_integer_sequence<int, L::Q>{});
+// One cache line of the lean path: BGK without a force (tau_minus = tau,
+// F = 0), the collision of seed 000 eqs 2.33 / 2.47 and 2.42, on the eight
+// cells x..x+7 of a row. Population q of cell c is pulled from
+// src[q n + c - off[q]] and written to dst[q n + c].
+//
+// Written for a core that is short of registers: the moments are summed as
+// the populations arrive, and the relaxation reads each pair again (from L1)
+// and stores both halves of its two cache lines at once (streaming stores when
+// `Stream`: a line written half now and half later costs a read-modify-write
+// in memory). The equilibrium is folded to w (omega e0 + c45 (e.u)^2) +-
+// w c3 e.u with e0 = rho - 1.5 rho_m u^2, c45 = 4.5 omega rho_m,
+// c3 = 3 omega rho_m, and the zero and unit lattice components are folded at
+// compile time. Same results as collide() up to round-off.
+struct LineRef {
+  const double* __restrict src;
+  double* __restrict dst;
+  long n;           // stride between populations
+  const long* off;  // pull offsets
+};
+
+namespace detail {
+struct LineCells {  // four cells' macroscopic values
+  Vec4 rho, ux, uy, uz, uu, e0, c45, c3, moving;
+};
+
+template <class L, int... qs>
+[[gnu::always_inline]] inline void line_moments(const LineRef& r, long x, Vec4& rho, Vec4& jx, Vec4& jy, Vec4& jz,
+                                                std::integer_sequence<int, qs...>) {
+  const auto at = [&](int q) __attribute__((always_inline)) {
+    Vec4 v;
+    __builtin_memcpy(&v, r.src + q * r.n + x - r.off[q], sizeof(Vec4));
+    return v;
+  };
+  (add_moment<L, qs>(at(qs), rho, jx, jy, jz), ...);
 }
 
-// The same on a chunk of W cells (W a multiple of 4), cell index innermost.
-template <class L, bool Incompressible, int W>
-inline void bgk_chunk(double (&f)[L::Q][W], double omega, double* u2) {
-  static_assert(W % 4 == 0);
-  for (int c = 0; c < W; c += 4) {
-    Vec4 v[L::Q];
-    for (int q = 0; q < L::Q; ++q) __builtin_memcpy(&v[q], &f[q][c], sizeof(Vec4));
-    const Vec4 uu = bgk_vec<L, Incompressible>(v, omega);
-    for (int q = 0; q < L::Q; ++q) __builtin_memcpy(&f[q][c], &v[q], sizeof(Vec4));
-    __builtin_memcpy(u2 + c, &uu, sizeof(Vec4));
+template <class L, bool Incompressible>
+[[gnu::always_inline]] inline LineCells line_cells(const LineRef& r, long x, double omega) {
+  const Vec4 zero = {0.0, 0.0, 0.0, 0.0};
+  LineCells c{zero, zero, zero, zero, zero, zero, zero, zero, zero};
+  line_moments<L>(r, x, c.rho, c.ux, c.uy, c.uz, std::make_integer_sequence<int, L::Q>{});
+  const Vec4 rho_m = Incompressible ? zero + 1.0 : 1.0 + c.rho;  // rho: the deviation rho - 1
+  if constexpr (!Incompressible) {
+    const Vec4 inv = 1.0 / rho_m;
+    c.ux *= inv;
+    c.uy *= inv;
+    c.uz *= inv;
   }
+  c.uu = c.ux * c.ux + c.uy * c.uy + c.uz * c.uz;
+  c.e0 = omega * (c.rho - 1.5 * rho_m * c.uu);
+  c.c45 = (4.5 * omega) * rho_m;
+  c.c3 = (3.0 * omega) * rho_m;
+  return c;
+}
+
+template <bool Stream>
+[[gnu::always_inline]] inline void put(double* p, Vec4 v) {
+#if defined(__AVX__)
+  if constexpr (Stream) {
+    _mm256_stream_pd(p, v);
+    return;
+  }
+#endif
+  __builtin_memcpy(p, &v, sizeof(Vec4));
+}
+
+template <class L, bool Stream, int q>
+[[gnu::always_inline]] inline void line_pair(const LineRef& r, long x, double keep, LineCells (&c)[2]) {
+  constexpr int o = L::opp[q];
+  if constexpr (q > 0 && o > q) {
+    constexpr double w = L::w[q];
+    Vec4 fq[2], fo[2];
+    for (int h = 0; h < 2; ++h) {
+      Vec4 gq, go;
+      __builtin_memcpy(&gq, r.src + q * r.n + x + 4 * h - r.off[q], sizeof(Vec4));
+      __builtin_memcpy(&go, r.src + o * r.n + x + 4 * h - r.off[o], sizeof(Vec4));
+      const Vec4 eu = e_dot<L, q>(c[h].ux, c[h].uy, c[h].uz);
+      const Vec4 even = w * (c[h].e0 + c[h].c45 * eu * eu);
+      const Vec4 odd = w * c[h].c3 * eu;
+      fq[h] = keep * gq + (even + odd);
+      fo[h] = keep * go + (even - odd);
+      c[h].moving += fq[h] + fo[h];
+    }
+    put<Stream>(r.dst + q * r.n + x, fq[0]);
+    put<Stream>(r.dst + q * r.n + x + 4, fq[1]);
+    put<Stream>(r.dst + o * r.n + x, fo[0]);
+    put<Stream>(r.dst + o * r.n + x + 4, fo[1]);
+  }
+}
+
+template <class L, bool Stream, int... qs>
+[[gnu::always_inline]] inline void line_relax(const LineRef& r, long x, double keep, LineCells (&c)[2],
+                                              std::integer_sequence<int, qs...>) {
+  (line_pair<L, Stream, qs>(r, x, keep, c), ...);
+}
+}  // namespace detail
+
+// Returns the larger u^2 of each lane (NaN if any cell's is NaN).
+template <class L, bool Incompressible, bool Stream>
+[[gnu::always_inline]] inline Vec4 bgk_line(const LineRef& r, long x, double omega) {
+  detail::LineCells c[2] = {detail::line_cells<L, Incompressible>(r, x, omega),
+                            detail::line_cells<L, Incompressible>(r, x + 4, omega)};
+  detail::line_relax<L, Stream>(r, x, 1.0 - omega, c, std::make_integer_sequence<int, L::Q>{});
+  // The rest population takes the mass the others leave (as in collide()).
+  detail::put<Stream>(r.dst + x, c[0].rho - c[0].moving);
+  detail::put<Stream>(r.dst + x + 4, c[1].rho - c[1].moving);
+  return ((c[1].uu > c[0].uu) | (c[1].uu != c[1].uu)) ? c[1].uu : c[0].uu;
 }
 
 namespace detail {

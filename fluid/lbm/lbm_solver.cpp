@@ -290,22 +290,23 @@ class Core final : public LbmCore {
     const auto p = p_;
     const double F[3] = {s_.force[0], s_.force[1], s_.force[2]};
     Vec4 mx = {0.0, 0.0, 0.0, 0.0};  // max u^2, NaN-sticky
+    const lbm::LineRef ref{src, dst, N, off};
     const auto chunk = [&](long i, bool stream) __attribute__((always_inline)) {
       const long x = base + i;
+      if constexpr (Lean) {
+        const Vec4 uu = stream ? lbm::bgk_line<L, Incompressible, true>(ref, x, p.omega)
+                               : lbm::bgk_line<L, Incompressible, false>(ref, x, p.omega);
+        mx = ((uu > mx) | (uu != uu)) ? uu : mx;
+        return;
+      }
       Vec4 lo[L::Q], hi[L::Q];
 #pragma GCC unroll 19
       for (int q = 0; q < L::Q; ++q) {
         __builtin_memcpy(&lo[q], src + q * N + x - off[q], sizeof(Vec4));
         __builtin_memcpy(&hi[q], src + q * N + x + 4 - off[q], sizeof(Vec4));
       }
-      Vec4 uu_lo, uu_hi;
-      if constexpr (Lean) {
-        uu_lo = lbm::bgk_vec<L, Incompressible>(lo, p.omega);
-        uu_hi = lbm::bgk_vec<L, Incompressible>(hi, p.omega);
-      } else {
-        uu_lo = lbm::collide_vec<L, Incompressible>(lo, p, F);
-        uu_hi = lbm::collide_vec<L, Incompressible>(hi, p, F);
-      }
+      const Vec4 uu_lo = lbm::collide_vec<L, Incompressible>(lo, p, F);
+      const Vec4 uu_hi = lbm::collide_vec<L, Incompressible>(hi, p, F);
       mx = ((uu_lo > mx) | (uu_lo != uu_lo)) ? uu_lo : mx;
       mx = ((uu_hi > mx) | (uu_hi != uu_hi)) ? uu_hi : mx;
 #if defined(__AVX__)
@@ -531,7 +532,7 @@ class Core final : public LbmCore {
   long origin_[3], n_[3], g_[3], P_[3], N_, shift_ = 0;
   long off_[L::Q];
   HugeVector<double> a_, b_;  // post-collision populations; a_ is current
-  bool lean_ = false;  // BGK without body force: lbm::bgk_chunk
+  bool lean_ = false;  // BGK without body force: lbm::bgk_line
   std::vector<double> src_;     // per owned cell source (lattice units), empty: none
   std::vector<char> src_row_;   // rows (j, k) holding a source
   double max_u2_ = 0.0;

@@ -114,10 +114,6 @@ template <class L, int q>
   if constexpr (L::e[q][2] == -1) jz -= f;
 }
 
-template <class L, int q>
-[[gnu::always_inline]] inline void add_moments(const Vec4 (&f)[L::Q], Vec4& rho, Vec4& jx, Vec4& jy, Vec4& jz) {
-  add_moment<L, q>(f[q], rho, jx, jy, jz);
-}
 }  // namespace detail
 
 // One cache line of the lean path: BGK without a force (tau_minus = tau,
@@ -229,72 +225,84 @@ template <class L, bool Incompressible, bool Stream>
   return ((c[1].uu > c[0].uu) | (c[1].uu != c[1].uu)) ? c[1].uu : c[0].uu;
 }
 
+// The same by cache line for the general collision (TRT, Guo forcing with
+// the force F the same on all eight cells): collide() on cells x..x+7.
 namespace detail {
-// trt_pair (above) on four cells; eF = e_q . F is the same for all four.
-template <class L, bool Incompressible, int q>
-[[gnu::always_inline]] inline void trt_pair_vec(Vec4 (&f)[L::Q], const CollisionParams& p, const double* F, Vec4 rho,
-                                                Vec4 rho_m, Vec4 ux, Vec4 uy, Vec4 uz, Vec4 uu, Vec4 uF,
-                                                Vec4& moving) {
+struct TrtCells {
+  Vec4 rho, ux, uy, uz, uF, e0, c45, c3, moving;  // e0 = rho - 1.5 rho_m u^2
+};
+
+template <class L, bool Incompressible>
+[[gnu::always_inline]] inline TrtCells trt_cells(const LineRef& r, long x, const double* F) {
+  const Vec4 zero = {0.0, 0.0, 0.0, 0.0};
+  TrtCells c{zero, zero, zero, zero, zero, zero, zero, zero, zero};
+  line_moments<L>(r, x, c.rho, c.ux, c.uy, c.uz, std::make_integer_sequence<int, L::Q>{});
+  const Vec4 rho_m = Incompressible ? zero + 1.0 : 1.0 + c.rho;
+  c.ux += 0.5 * F[0];
+  c.uy += 0.5 * F[1];
+  c.uz += 0.5 * F[2];
+  if constexpr (!Incompressible) {
+    const Vec4 inv = 1.0 / rho_m;
+    c.ux *= inv;
+    c.uy *= inv;
+    c.uz *= inv;
+  }
+  const Vec4 uu = c.ux * c.ux + c.uy * c.uy + c.uz * c.uz;
+  c.uF = c.ux * F[0] + c.uy * F[1] + c.uz * F[2];
+  c.e0 = c.rho - 1.5 * rho_m * uu;
+  c.c45 = 4.5 * rho_m;
+  c.c3 = 3.0 * rho_m;
+  return c;
+}
+
+template <class L, bool Stream, int q>
+[[gnu::always_inline]] inline void trt_line_pair(const LineRef& r, long x, const CollisionParams& p, const double* F,
+                                                 TrtCells (&c)[2]) {
   constexpr int o = L::opp[q];
   if constexpr (q > 0 && o > q) {
     constexpr double w = L::w[q];
     const double eF = L::e[q][0] * F[0] + L::e[q][1] * F[1] + L::e[q][2] * F[2];
-    const Vec4 eu = e_dot<L, q>(ux, uy, uz);
-    const Vec4 plus = 0.5 * (f[q] + f[o]), minus = 0.5 * (f[q] - f[o]);
-    const Vec4 feq_plus = w * (rho + rho_m * (4.5 * eu * eu - 1.5 * uu));
-    const Vec4 feq_minus = w * rho_m * 3.0 * eu;
-    const Vec4 s_plus = p.force_plus * w * (9.0 * eu * eF - 3.0 * uF);
     const double s_minus = p.force_minus * w * 3.0 * eF;
-    const Vec4 even = p.omega * (plus - feq_plus) - s_plus;
-    const Vec4 odd = p.omega_minus * (minus - feq_minus) - s_minus;
-    f[q] = f[q] - even - odd;
-    f[o] = f[o] - even + odd;
-    moving += f[q] + f[o];
+    Vec4 fq[2], fo[2];
+    for (int h = 0; h < 2; ++h) {
+      Vec4 gq, go;
+      __builtin_memcpy(&gq, r.src + q * r.n + x + 4 * h - r.off[q], sizeof(Vec4));
+      __builtin_memcpy(&go, r.src + o * r.n + x + 4 * h - r.off[o], sizeof(Vec4));
+      const Vec4 eu = e_dot<L, q>(c[h].ux, c[h].uy, c[h].uz);
+      const Vec4 feq_plus = w * (c[h].e0 + c[h].c45 * eu * eu);
+      const Vec4 feq_minus = w * c[h].c3 * eu;
+      const Vec4 s_plus = (p.force_plus * w) * (9.0 * eF * eu - 3.0 * c[h].uF);
+      const Vec4 even = p.omega * (0.5 * (gq + go) - feq_plus) - s_plus;
+      const Vec4 odd = p.omega_minus * (0.5 * (gq - go) - feq_minus) - s_minus;
+      fq[h] = gq - even - odd;
+      fo[h] = go - even + odd;
+      c[h].moving += fq[h] + fo[h];
+    }
+    put<Stream>(r.dst + q * r.n + x, fq[0]);
+    put<Stream>(r.dst + q * r.n + x + 4, fq[1]);
+    put<Stream>(r.dst + o * r.n + x, fo[0]);
+    put<Stream>(r.dst + o * r.n + x + 4, fo[1]);
   }
 }
 
-template <class L, bool Incompressible, int... qs>
-[[gnu::always_inline]] inline Vec4 collide_vec(Vec4 (&f)[L::Q], const CollisionParams& p, const double* F,
-                                               std::integer_sequence<int, qs...>) {
-  const Vec4 zero = {0.0, 0.0, 0.0, 0.0};
-  Vec4 rho = zero, ux = zero, uy = zero, uz = zero, moving = zero;  // rho: the deviation rho - 1
-  (add_moments<L, qs>(f, rho, ux, uy, uz), ...);
-  const Vec4 rho_m = Incompressible ? zero + 1.0 : 1.0 + rho;
-  ux += 0.5 * F[0];
-  uy += 0.5 * F[1];
-  uz += 0.5 * F[2];
-  if constexpr (!Incompressible) {
-    const Vec4 inv = 1.0 / rho_m;
-    ux *= inv;
-    uy *= inv;
-    uz *= inv;
-  }
-  const Vec4 uu = ux * ux + uy * uy + uz * uz;
-  const Vec4 uF = ux * F[0] + uy * F[1] + uz * F[2];
-  (trt_pair_vec<L, Incompressible, qs>(f, p, F, rho, rho_m, ux, uy, uz, uu, uF, moving), ...);
-  f[0] = rho - moving;
-  return uu;
+template <class L, bool Stream, int... qs>
+[[gnu::always_inline]] inline void trt_line_relax(const LineRef& r, long x, const CollisionParams& p, const double* F,
+                                                  TrtCells (&c)[2], std::integer_sequence<int, qs...>) {
+  (trt_line_pair<L, Stream, qs>(r, x, p, F, c), ...);
 }
 }  // namespace detail
 
-// collide() on four cells (TRT with Guo forcing, the same force on all four).
-// Returns their u^2.
-template <class L, bool Incompressible>
-[[gnu::always_inline]] inline Vec4 collide_vec(Vec4 (&f)[L::Q], const CollisionParams& p, const double* F) {
-  return detail::collide_vec<L, Incompressible>(f, p, F, std::make_integer_sequence<int, L::Q>{});
-}
-
-// The same on a chunk of W cells (W a multiple of 4), cell index innermost.
-template <class L, bool Incompressible, int W>
-inline void collide_chunk(double (&f)[L::Q][W], const CollisionParams& p, const double* F, double* u2) {
-  static_assert(W % 4 == 0);
-  for (int c = 0; c < W; c += 4) {
-    Vec4 v[L::Q];
-    for (int q = 0; q < L::Q; ++q) __builtin_memcpy(&v[q], &f[q][c], sizeof(Vec4));
-    const Vec4 uu = collide_vec<L, Incompressible>(v, p, F);
-    for (int q = 0; q < L::Q; ++q) __builtin_memcpy(&f[q][c], &v[q], sizeof(Vec4));
-    __builtin_memcpy(u2 + c, &uu, sizeof(Vec4));
-  }
+// Returns the larger u^2 of each lane (NaN if any cell's is NaN).
+template <class L, bool Incompressible, bool Stream>
+[[gnu::always_inline]] inline Vec4 collide_line(const LineRef& r, long x, const CollisionParams& p, const double* F) {
+  detail::TrtCells c[2] = {detail::trt_cells<L, Incompressible>(r, x, F),
+                           detail::trt_cells<L, Incompressible>(r, x + 4, F)};
+  detail::trt_line_relax<L, Stream>(r, x, p, F, c, std::make_integer_sequence<int, L::Q>{});
+  detail::put<Stream>(r.dst + x, c[0].rho - c[0].moving);
+  detail::put<Stream>(r.dst + x + 4, c[1].rho - c[1].moving);
+  Vec4 uu[2];
+  for (int h = 0; h < 2; ++h) uu[h] = c[h].ux * c[h].ux + c[h].uy * c[h].uy + c[h].uz * c[h].uz;
+  return ((uu[1] > uu[0]) | (uu[1] != uu[1])) ? uu[1] : uu[0];
 }
 
 // Zero-centred equilibrium g_q = feq_q - w_q for the density rho (the density

@@ -274,16 +274,14 @@ class Core final : public LbmCore {
       vec_row<false>(i0, i1, j, k);
   }
 
-  // Eight cells (one cache line per population) at a time, as two vectors of
-  // four, with the lean kernel (BGK without force) or the general one (TRT,
-  // Guo forcing). Both halves of a line are stored together: a streaming store
-  // of half a line, completed later, costs a read-modify-write in memory (4x
-  // slower here).
+  // Eight cells (one cache line per population) at a time with the lean
+  // kernel (BGK without force) or the general one (TRT, Guo forcing); see
+  // lbm::bgk_line. Rows shorter than a line take the one-cell kernel.
   template <bool Lean>
   void vec_row(long i0, long i1, long j, long k) {
     using lbm::Vec4;
-    const double* __restrict src = a_.data();
-    double* __restrict dst = b_.data();
+    const double* src = a_.data();
+    double* dst = b_.data();
     const long base = idx(0, j, k), N = N_;
     long off[L::Q];
     for (int q = 0; q < L::Q; ++q) off[q] = off_[q];
@@ -293,37 +291,14 @@ class Core final : public LbmCore {
     const lbm::LineRef ref{src, dst, N, off};
     const auto chunk = [&](long i, bool stream) __attribute__((always_inline)) {
       const long x = base + i;
-      if constexpr (Lean) {
-        const Vec4 uu = stream ? lbm::bgk_line<L, Incompressible, true>(ref, x, p.omega)
-                               : lbm::bgk_line<L, Incompressible, false>(ref, x, p.omega);
-        mx = ((uu > mx) | (uu != uu)) ? uu : mx;
-        return;
-      }
-      Vec4 lo[L::Q], hi[L::Q];
-#pragma GCC unroll 19
-      for (int q = 0; q < L::Q; ++q) {
-        __builtin_memcpy(&lo[q], src + q * N + x - off[q], sizeof(Vec4));
-        __builtin_memcpy(&hi[q], src + q * N + x + 4 - off[q], sizeof(Vec4));
-      }
-      const Vec4 uu_lo = lbm::collide_vec<L, Incompressible>(lo, p, F);
-      const Vec4 uu_hi = lbm::collide_vec<L, Incompressible>(hi, p, F);
-      mx = ((uu_lo > mx) | (uu_lo != uu_lo)) ? uu_lo : mx;
-      mx = ((uu_hi > mx) | (uu_hi != uu_hi)) ? uu_hi : mx;
-#if defined(__AVX__)
-      if (stream) {  // whole cache lines: stream them out, no write-allocate read
-#pragma GCC unroll 19
-        for (int q = 0; q < L::Q; ++q) {
-          _mm256_stream_pd(dst + q * N + x, lo[q]);
-          _mm256_stream_pd(dst + q * N + x + 4, hi[q]);
-        }
-        return;
-      }
-#endif
-#pragma GCC unroll 19
-      for (int q = 0; q < L::Q; ++q) {
-        __builtin_memcpy(dst + q * N + x, &lo[q], sizeof(Vec4));
-        __builtin_memcpy(dst + q * N + x + 4, &hi[q], sizeof(Vec4));
-      }
+      Vec4 uu;
+      if constexpr (Lean)
+        uu = stream ? lbm::bgk_line<L, Incompressible, true>(ref, x, p.omega)
+                    : lbm::bgk_line<L, Incompressible, false>(ref, x, p.omega);
+      else
+        uu = stream ? lbm::collide_line<L, Incompressible, true>(ref, x, p, F)
+                    : lbm::collide_line<L, Incompressible, false>(ref, x, p, F);
+      mx = ((uu > mx) | (uu != uu)) ? uu : mx;
     };
     if (i1 - i0 < 8) {
       for (long i = i0; i < i1; ++i) {

@@ -193,8 +193,9 @@ template <class L, bool Stream, int q>
       __builtin_memcpy(&gq, r.src + q * r.n + x + 4 * h - r.off[q], sizeof(Vec4));
       __builtin_memcpy(&go, r.src + o * r.n + x + 4 * h - r.off[o], sizeof(Vec4));
       const Vec4 eu = e_dot<L, q>(c[h].ux, c[h].uy, c[h].uz);
-      const Vec4 even = w * (c[h].e0 + c[h].c45 * eu * eu);
-      const Vec4 odd = w * c[h].c3 * eu;
+      // w e0, w c45, w c3: the same for every pair of a weight (computed once)
+      const Vec4 even = w * c[h].e0 + (w * c[h].c45) * (eu * eu);
+      const Vec4 odd = (w * c[h].c3) * eu;
       fq[h] = keep * gq + (even + odd);
       fo[h] = keep * go + (even - odd);
       c[h].moving += fq[h] + fo[h];

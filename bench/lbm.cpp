@@ -142,23 +142,32 @@ int main(int argc, char** argv) {
   MPI_Init(&argc, &argv);
   log::init("bench", 1);  // rank 1: warnings only
   const int steps = argc > 1 ? std::atoi(argv[1]) : 10;
-  const double bw = copy_bandwidth();
-  const double roof = bw / 304.0 / 1e6;
+  // The bandwidth a shared host gives drifts within minutes: it is measured
+  // before the kernels and again after them, and the roofline takes the larger.
+  double bw = copy_bandwidth();
+  double roof = bw / 304.0 / 1e6;
   std::printf("copy bandwidth (1 core, loads + streaming stores): %.2f GB/s\n", bw / 1e9);
   std::printf("bytes per cell update: 304 (D3Q19, A/B arrays: 19 x 8 B loads + 19 x 8 B streaming stores)\n");
   std::printf("roofline: %.1f MLUPS\n", roof);
   const double pattern = pattern_mlups(256, 3);
   std::printf("memory pattern alone (19 pulled loads + 19 streaming stores, no collision) 256^3: %.1f MLUPS (%.0f "
-              "%% of roofline)\n",
+              "%% of the roofline before)\n",
               pattern, 100 * pattern / roof);
   const double general = mlups(256, std::max(3, steps / 2), true);
-  std::printf("D3Q19 TRT + Guo body force 256^3 periodic, 1 rank: %.1f MLUPS (%.0f %% of roofline)\n", general,
+  std::printf("D3Q19 TRT + Guo body force 256^3 periodic, 1 rank: %.1f MLUPS (%.0f %% of the roofline before)\n", general,
               100 * general / roof);
   double last = 0.0;
   for (long n : {128L, 256L}) {
     last = mlups(n, n == 128 ? steps : std::max(3, steps / 2), false);
-    std::printf("D3Q19 BGK %ld^3 periodic, 1 rank: %.1f MLUPS (%.0f %% of roofline)\n", n, last, 100 * last / roof);
+    std::printf("D3Q19 BGK %ld^3 periodic, 1 rank: %.1f MLUPS (%.0f %% of the roofline before)\n", n, last, 100 * last / roof);
   }
+  const double bw_after = copy_bandwidth();
+  if (bw_after > bw) {
+    bw = bw_after;
+    roof = bw / 304.0 / 1e6;
+  }
+  std::printf("copy bandwidth after the kernels: %.2f GB/s; roofline (larger of the two): %.1f MLUPS\n",
+              bw_after / 1e9, roof);
   std::printf("RESULT mlups=%.2f roofline_mlups=%.2f fraction=%.3f\n", last, roof, last / roof);
   MPI_Finalize();
   return 0;

@@ -182,6 +182,22 @@ template <bool Stream>
   __builtin_memcpy(p, &v, sizeof(Vec4));
 }
 
+// Populations q and o (pulled) of the four cells from y.
+template <int q, int o>
+[[gnu::always_inline]] inline void get_pair(const LineRef& r, long y, Vec4& gq, Vec4& go) {
+  __builtin_memcpy(&gq, r.src + q * r.n + y - r.off[q], sizeof(Vec4));
+  __builtin_memcpy(&go, r.src + o * r.n + y - r.off[o], sizeof(Vec4));
+}
+
+// The cache lines of q and o at x, both halves of each stored together.
+template <bool Stream, int q, int o>
+[[gnu::always_inline]] inline void put_pair(const LineRef& r, long x, const Vec4 (&fq)[2], const Vec4 (&fo)[2]) {
+  put<Stream>(r.dst + q * r.n + x, fq[0]);
+  put<Stream>(r.dst + q * r.n + x + 4, fq[1]);
+  put<Stream>(r.dst + o * r.n + x, fo[0]);
+  put<Stream>(r.dst + o * r.n + x + 4, fo[1]);
+}
+
 template <class L, bool Stream, int q>
 [[gnu::always_inline]] inline void line_pair(const LineRef& r, long x, double keep, LineCells (&c)[2]) {
   constexpr int o = L::opp[q];
@@ -190,8 +206,7 @@ template <class L, bool Stream, int q>
     Vec4 fq[2], fo[2];
     for (int h = 0; h < 2; ++h) {
       Vec4 gq, go;
-      __builtin_memcpy(&gq, r.src + q * r.n + x + 4 * h - r.off[q], sizeof(Vec4));
-      __builtin_memcpy(&go, r.src + o * r.n + x + 4 * h - r.off[o], sizeof(Vec4));
+      get_pair<q, o>(r, x + 4 * h, gq, go);
       const Vec4 eu = e_dot<L, q>(c[h].ux, c[h].uy, c[h].uz);
       // w e0, w c45, w c3: the same for every pair of a weight (computed once)
       const Vec4 even = w * c[h].e0 + (w * c[h].c45) * (eu * eu);
@@ -200,10 +215,7 @@ template <class L, bool Stream, int q>
       fo[h] = keep * go + (even - odd);
       c[h].moving += fq[h] + fo[h];
     }
-    put<Stream>(r.dst + q * r.n + x, fq[0]);
-    put<Stream>(r.dst + q * r.n + x + 4, fq[1]);
-    put<Stream>(r.dst + o * r.n + x, fo[0]);
-    put<Stream>(r.dst + o * r.n + x + 4, fo[1]);
+    put_pair<Stream, q, o>(r, x, fq, fo);
   }
 }
 
@@ -267,8 +279,7 @@ template <class L, bool Stream, int q>
     Vec4 fq[2], fo[2];
     for (int h = 0; h < 2; ++h) {
       Vec4 gq, go;
-      __builtin_memcpy(&gq, r.src + q * r.n + x + 4 * h - r.off[q], sizeof(Vec4));
-      __builtin_memcpy(&go, r.src + o * r.n + x + 4 * h - r.off[o], sizeof(Vec4));
+      get_pair<q, o>(r, x + 4 * h, gq, go);
       const Vec4 eu = e_dot<L, q>(c[h].ux, c[h].uy, c[h].uz);
       const Vec4 feq_plus = w * (c[h].e0 + c[h].c45 * eu * eu);
       const Vec4 feq_minus = w * c[h].c3 * eu;
@@ -279,10 +290,7 @@ template <class L, bool Stream, int q>
       fo[h] = go - even + odd;
       c[h].moving += fq[h] + fo[h];
     }
-    put<Stream>(r.dst + q * r.n + x, fq[0]);
-    put<Stream>(r.dst + q * r.n + x + 4, fq[1]);
-    put<Stream>(r.dst + o * r.n + x, fo[0]);
-    put<Stream>(r.dst + o * r.n + x + 4, fo[1]);
+    put_pair<Stream, q, o>(r, x, fq, fo);
   }
 }
 

@@ -173,30 +173,49 @@ void DpmSolver::find_pair_events(double h, std::vector<dpm::Event>& out) {
   }
   start_.push_back(static_cast<long>(n));
   long nb[27];
+  // For a cell off the grid's faces, the neighbours of each (dy, dz) are the
+  // keys lo..lo+2 with lo = key + (dz nc_y + dy) nc_x - 1, which grows with the
+  // key: one cursor per (dy, dz) walks the sorted keys once per step (binary
+  // searches for each of 27 mostly empty cells cost 80 % of a dilute gas's run).
+  const long K = static_cast<long>(keys_.size());
+  long cursor[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   for (std::size_t c = 0; c < keys_.size(); ++c) {
     const long key = keys_[c];
     const long cc[3] = {key % nc[0], (key / nc[0]) % nc[1], key / (nc[0] * nc[1])};
     int count = 0;
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const long o[3] = {dx, dy, dz};
-          long q[3];
-          bool ok = true;
-          for (int k = 0; k < 3; ++k) {
-            q[k] = cc[k] + o[k];
-            if (q[k] < 0 || q[k] >= nc[k]) {
-              if (!s_.periodic[k]) ok = false;
-              q[k] = (q[k] + nc[k]) % nc[k];
-            }
-          }
-          if (!ok) continue;
-          const long k2 = key_of(q[0], q[1], q[2]);
-          const auto it = std::lower_bound(keys_.begin(), keys_.end(), k2);
-          if (it == keys_.end() || *it != k2) continue;
-          const long slot = static_cast<long>(it - keys_.begin());
-          if (!small || std::find(nb, nb + count, slot) == nb + count) nb[count++] = slot;
+    bool inner = !small;
+    for (int k = 0; k < 3; ++k) inner = inner && cc[k] > 0 && cc[k] < nc[k] - 1;
+    if (inner) {
+      int r = 0;
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy, ++r) {
+          const long lo = key + (dz * nc[1] + dy) * nc[0] - 1;
+          long& at = cursor[r];
+          while (at < K && keys_[static_cast<std::size_t>(at)] < lo) ++at;
+          for (long slot = at; slot < K && keys_[static_cast<std::size_t>(slot)] <= lo + 2; ++slot) nb[count++] = slot;
         }
+    } else {
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const long o[3] = {dx, dy, dz};
+            long q[3];
+            bool ok = true;
+            for (int k = 0; k < 3; ++k) {
+              q[k] = cc[k] + o[k];
+              if (q[k] < 0 || q[k] >= nc[k]) {
+                if (!s_.periodic[k]) ok = false;
+                q[k] = (q[k] + nc[k]) % nc[k];
+              }
+            }
+            if (!ok) continue;
+            const long k2 = key_of(q[0], q[1], q[2]);
+            const auto it = std::lower_bound(keys_.begin(), keys_.end(), k2);
+            if (it == keys_.end() || *it != k2) continue;
+            const long slot = static_cast<long>(it - keys_.begin());
+            if (!small || std::find(nb, nb + count, slot) == nb + count) nb[count++] = slot;
+          }
+    }
     for (long a = start_[c]; a < start_[c + 1]; ++a) {
       const Packed& pa = packed_[static_cast<std::size_t>(a)];
       for (int m = 0; m < count; ++m)

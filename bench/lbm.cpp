@@ -25,6 +25,7 @@
 #include "coflow/catalog.hpp"
 #include "coflow/log.hpp"
 #include "coflow/trace.hpp"
+#include "fluid/lbm/lattice.hpp"
 #include "fluid/lbm/lbm_solver.hpp"
 #include "fluid/schema.hpp"
 
@@ -97,14 +98,12 @@ fluid:
 // and the copy bandwidth is the cost of the 38 streams; the gap between it and
 // the solver is the cost of the collision.
 double pattern_mlups(long n, int steps) {
-  constexpr int Q = 19;
-  static constexpr int e[Q][3] = {{0, 0, 0},  {1, 0, 0},  {-1, 0, 0}, {0, 1, 0},  {0, -1, 0}, {0, 0, 1},  {0, 0, -1},
-                                  {1, 1, 0},  {-1, -1, 0}, {1, -1, 0}, {-1, 1, 0}, {1, 0, 1},  {-1, 0, -1}, {1, 0, -1},
-                                  {-1, 0, 1}, {0, 1, 1},  {0, -1, -1}, {0, 1, -1}, {0, -1, 1}};
+  using L = fluid::lbm::D3Q19;
+  constexpr int Q = L::Q;
   const long P0 = n + 8, P1 = n + 2, P2 = n + 2, N = P0 * P1 * P2;
   HugeVector<double> a(Q * N, 1e-3), b(Q * N, 0.0);
   long off[Q];
-  for (int q = 0; q < Q; ++q) off[q] = e[q][0] + P0 * (e[q][1] + P1 * e[q][2]);
+  for (int q = 0; q < Q; ++q) off[q] = L::e[q][0] + P0 * (L::e[q][1] + P1 * L::e[q][2]);
   double best = 0.0;
   for (int s = 0; s < steps; ++s) {
     const double t0 = coupler::now();

@@ -38,17 +38,21 @@ inline CollisionParams collision_params(double tau, bool trt = false, double mag
 
 // Both populations of the pair (q, opp(q)) after the TRT collision with Guo
 // forcing (its source split the same way: even part 9 w (e.u)(e.F) - 3 w u.F,
-// odd part 3 w e.F). Zero-centred: rho is the deviation rho - 1, rho_m the
-// density of the momentum (1 for He-Luo).
-inline void trt_pair(double& fq, double& fo, double w, double rho, double rho_m, double eu, double uu,
-                     double eF, double uF, const CollisionParams& p) {
-  const double plus = 0.5 * (fq + fo), minus = 0.5 * (fq - fo);
-  const double feq_plus = w * (rho + rho_m * (4.5 * eu * eu - 1.5 * uu));
-  const double feq_minus = w * rho_m * 3.0 * eu;
-  const double s_plus = p.force_plus * w * (9.0 * eu * eF - 3.0 * uF);
+// odd part 3 w e.F). The equilibrium w (e0 + c45 (e.u)^2 + c3 e.u) comes with
+// the cell's terms folded: e0 = rho - 1.5 rho_m u^2, c45 = 4.5 rho_m,
+// c3 = 3 rho_m. Zero-centred: rho is the deviation rho - 1, rho_m the density
+// of the momentum (1 for He-Luo). T: double for one cell, Vec4 for four (the
+// line kernels below).
+template <class T>
+[[gnu::always_inline]] inline void trt_pair(T& fq, T& fo, double w, T e0, T c45, T c3, T eu, double eF, T uF,
+                                            const CollisionParams& p) {
+  const T plus = 0.5 * (fq + fo), minus = 0.5 * (fq - fo);
+  const T feq_plus = w * (e0 + c45 * eu * eu);
+  const T feq_minus = w * c3 * eu;
+  const T s_plus = (p.force_plus * w) * (9.0 * eF * eu - 3.0 * uF);
   const double s_minus = p.force_minus * w * 3.0 * eF;
-  const double even = p.omega * (plus - feq_plus) - s_plus;
-  const double odd = p.omega_minus * (minus - feq_minus) - s_minus;
+  const T even = p.omega * (plus - feq_plus) - s_plus;
+  const T odd = p.omega_minus * (minus - feq_minus) - s_minus;
   fq = fq - even - odd;
   fo = fo - even + odd;
 }
@@ -71,6 +75,7 @@ inline double collide(double* f, const CollisionParams& p, const double* F) {
   const double ux = (jx + 0.5 * F[0]) * inv, uy = (jy + 0.5 * F[1]) * inv, uz = (jz + 0.5 * F[2]) * inv;
   const double uu = ux * ux + uy * uy + uz * uz;
   const double uF = ux * F[0] + uy * F[1] + uz * F[2];
+  const double e0 = rho - 1.5 * rho_m * uu, c45 = 4.5 * rho_m, c3 = 3.0 * rho_m;
   // Pairs (q, opp q) for the moving populations; the rest population takes the
   // mass the others leave, so that rounding cannot bias the total mass.
   double moving = 0.0;
@@ -79,7 +84,7 @@ inline double collide(double* f, const CollisionParams& p, const double* F) {
     if (o < q) continue;
     const double eu = L::e[q][0] * ux + L::e[q][1] * uy + L::e[q][2] * uz;
     const double eF = L::e[q][0] * F[0] + L::e[q][1] * F[1] + L::e[q][2] * F[2];
-    trt_pair(f[q], f[o], L::w[q], rho, rho_m, eu, uu, eF, uF, p);
+    trt_pair(f[q], f[o], L::w[q], e0, c45, c3, eu, eF, uF, p);
     moving += f[q] + f[o];
   }
   f[0] = rho - moving;  // g_0 = (rho - 1) - sum of the others
@@ -92,6 +97,11 @@ inline double collide(double* f, const CollisionParams& p, const double* F) {
 // old loop nest changed with the code around it: the same source ran scalar
 // (22 MLUPS) or vectorised (65 MLUPS).
 using Vec4 = double __attribute__((vector_size(32)));
+
+// The larger of a and b, and NaN once either is (the Mach check must see a NaN
+// in any cell): for u^2 of one cell, or of four lanes at once.
+[[gnu::always_inline]] inline double nan_max(double a, double b) { return (b > a || b != b) ? b : a; }
+[[gnu::always_inline]] inline Vec4 nan_max(Vec4 a, Vec4 b) { return ((b > a) | (b != b)) ? b : a; }
 
 namespace detail {
 template <class L, int q>
@@ -235,14 +245,14 @@ template <class L, bool Incompressible, bool Stream>
   // The rest population takes the mass the others leave (as in collide()).
   detail::put<Stream>(r.dst + x, c[0].rho - c[0].moving);
   detail::put<Stream>(r.dst + x + 4, c[1].rho - c[1].moving);
-  return ((c[1].uu > c[0].uu) | (c[1].uu != c[1].uu)) ? c[1].uu : c[0].uu;
+  return nan_max(c[0].uu, c[1].uu);
 }
 
 // The same by cache line for the general collision (TRT, Guo forcing with
 // the force F the same on all eight cells): collide() on cells x..x+7.
 namespace detail {
 struct TrtCells {
-  Vec4 rho, ux, uy, uz, uF, e0, c45, c3, moving;  // e0 = rho - 1.5 rho_m u^2
+  Vec4 rho, ux, uy, uz, uF, e0, c45, c3, moving;  // e0, c45, c3: see trt_pair
 };
 
 template <class L, bool Incompressible>
@@ -275,20 +285,15 @@ template <class L, bool Stream, int q>
   if constexpr (q > 0 && o > q) {
     constexpr double w = L::w[q];
     const double eF = L::e[q][0] * F[0] + L::e[q][1] * F[1] + L::e[q][2] * F[2];
-    const double s_minus = p.force_minus * w * 3.0 * eF;
     Vec4 fq[2], fo[2];
     for (int h = 0; h < 2; ++h) {
       Vec4 gq, go;
       get_pair<q, o>(r, x + 4 * h, gq, go);
       const Vec4 eu = e_dot<L, q>(c[h].ux, c[h].uy, c[h].uz);
-      const Vec4 feq_plus = w * (c[h].e0 + c[h].c45 * eu * eu);
-      const Vec4 feq_minus = w * c[h].c3 * eu;
-      const Vec4 s_plus = (p.force_plus * w) * (9.0 * eF * eu - 3.0 * c[h].uF);
-      const Vec4 even = p.omega * (0.5 * (gq + go) - feq_plus) - s_plus;
-      const Vec4 odd = p.omega_minus * (0.5 * (gq - go) - feq_minus) - s_minus;
-      fq[h] = gq - even - odd;
-      fo[h] = go - even + odd;
-      c[h].moving += fq[h] + fo[h];
+      trt_pair(gq, go, w, c[h].e0, c[h].c45, c[h].c3, eu, eF, c[h].uF, p);
+      fq[h] = gq;
+      fo[h] = go;
+      c[h].moving += gq + go;
     }
     put_pair<Stream, q, o>(r, x, fq, fo);
   }
@@ -309,9 +314,10 @@ template <class L, bool Incompressible, bool Stream>
   detail::trt_line_relax<L, Stream>(r, x, p, F, c, std::make_integer_sequence<int, L::Q>{});
   detail::put<Stream>(r.dst + x, c[0].rho - c[0].moving);
   detail::put<Stream>(r.dst + x + 4, c[1].rho - c[1].moving);
+  // u^2 again rather than held through the relaxation (one register fewer)
   Vec4 uu[2];
   for (int h = 0; h < 2; ++h) uu[h] = c[h].ux * c[h].ux + c[h].uy * c[h].uy + c[h].uz * c[h].uz;
-  return ((uu[1] > uu[0]) | (uu[1] != uu[1])) ? uu[1] : uu[0];
+  return nan_max(uu[0], uu[1]);
 }
 
 // Zero-centred equilibrium g_q = feq_q - w_q for the density rho (the density

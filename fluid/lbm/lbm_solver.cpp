@@ -253,7 +253,7 @@ class Core final : public LbmCore {
       force_at(i, j, k, F);
       for (int q = 0; q < L::Q; ++q) f[q] = a_[q * N_ + x - off_[q]];
       const double uu = lbm::collide<L, Incompressible>(f, p_, F);
-      max_u2_ = (uu > max_u2_ || uu != uu) ? uu : max_u2_;
+      max_u2_ = lbm::nan_max(max_u2_, uu);
       for (int q = 0; q < L::Q; ++q) b_[q * N_ + x] = f[q];
     }
   }
@@ -298,7 +298,7 @@ class Core final : public LbmCore {
       else
         uu = stream ? lbm::collide_line<L, Incompressible, true>(ref, x, p, F)
                     : lbm::collide_line<L, Incompressible, false>(ref, x, p, F);
-      mx = ((uu > mx) | (uu != uu)) ? uu : mx;
+      mx = lbm::nan_max(mx, uu);
     };
     if (i1 - i0 < 8) {
       for (long i = i0; i < i1; ++i) {
@@ -306,7 +306,7 @@ class Core final : public LbmCore {
         double f[L::Q];
         for (int q = 0; q < L::Q; ++q) f[q] = src[q * N + x - off[q]];
         const double uu = lbm::collide<L, Incompressible>(f, p, F);
-        mx[0] = (uu > mx[0] || uu != uu) ? uu : mx[0];
+        mx[0] = lbm::nan_max(mx[0], uu);
         for (int q = 0; q < L::Q; ++q) dst[q * N + x] = f[q];
       }
     } else {
@@ -322,7 +322,7 @@ class Core final : public LbmCore {
       for (; i + 8 <= i1; i += 8, done = i) chunk(i, true);
       if (done < i1) chunk(i1 - 8, false);
     }
-    for (int w = 0; w < 4; ++w) max_u2_ = (mx[w] > max_u2_ || mx[w] != mx[w]) && max_u2_ == max_u2_ ? mx[w] : max_u2_;
+    for (int w = 0; w < 4; ++w) max_u2_ = lbm::nan_max(max_u2_, mx[w]);
   }
 
   // Cells of the shell: runs off the open faces take the row kernels.
@@ -367,7 +367,7 @@ class Core final : public LbmCore {
         }
       }
     const double uu = lbm::collide<L, Incompressible>(f, p_, F);
-    max_u2_ = (uu > max_u2_ || uu != uu) ? uu : max_u2_;
+    max_u2_ = lbm::nan_max(max_u2_, uu);
     for (int q = 0; q < L::Q; ++q) b_[q * N_ + x] = f[q];
   }
 
@@ -547,8 +547,7 @@ void LbmSolver::advance(double dt) {
       ++solid_steps_;
     }
     ++steps_;
-    u2 = std::max(u2, core_->max_u2());
-    if (core_->max_u2() != core_->max_u2()) u2 = core_->max_u2();
+    u2 = lbm::nan_max(u2, core_->max_u2());
   }
   // Mach number (seed 000 eq. 2.38 and 2.52): warn above 0.1, stop above 0.3 or on NaN.
   double global = 0.0;

@@ -6,13 +6,18 @@
 // copy bandwidth of this machine measured in the same run, and the roofline.
 // The kernel reads 19 populations and writes 19 with streaming stores (no
 // write-allocate): 304 B per cell update, so roofline MLUPS = bandwidth / 304 B,
-// with the bandwidth of a copy using the same loads and streaming stores.
-// Last line: RESULT mlups=... roofline_mlups=... fraction=... (for 256^3)
+// with the bandwidth of a copy using the same loads and streaming stores. A
+// shared host's bandwidth drifts by tens of per cent within a minute, so every
+// timed step is paired with copies right before and after it (best of two
+// passes each), and its fraction taken against the larger of the two; the figures are the medians
+// over the steps (with the range).
+// Last line: RESULT mlups=... roofline_mlups=... fraction=... (256^3, medians)
 #include <mpi.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 #include <vector>
 #if defined(__AVX__)
 #include <immintrin.h>
@@ -36,11 +41,10 @@ namespace {
 
 // Copy bandwidth with the same store kind as the kernel: loads and streaming
 // (non-temporal) stores, traffic = 2 x the array size.
-double copy_bandwidth() {
-  const std::size_t n = std::size_t(1) << 26;  // 512 MiB per array
-  HugeVector<double> a(n, 1.0), b(n, 0.0);
-  double best = 0.0;
-  for (int r = 0; r < 5; ++r) {
+struct Copy {
+  static constexpr std::size_t n = std::size_t(1) << 26;  // 512 MiB per array
+  HugeVector<double> a = HugeVector<double>(n, 1.0), b = HugeVector<double>(n, 0.0);
+  double once() {
     const double t0 = coupler::now();
 #if defined(__AVX__)
     for (std::size_t i = 0; i < n; i += 4) _mm256_stream_pd(b.data() + i, _mm256_load_pd(a.data() + i));
@@ -49,15 +53,43 @@ double copy_bandwidth() {
     std::copy(a.begin(), a.end(), b.begin());
 #endif
     const double t = coupler::now() - t0;
-    best = std::max(best, 2.0 * n * sizeof(double) / t);
-    a[r] = b[n - 1 - r];
+    a[0] = b[n - 1];
+    return 2.0 * n * sizeof(double) / t;
   }
-  return best;
+  double best(int repeats) {
+    double bw = 0.0;
+    for (int r = 0; r < repeats; ++r) bw = std::max(bw, once());
+    return bw;
+  }
+};
+
+constexpr double bytes_per_update = 304.0;
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
+// MLUPS of each step and the roofline (MLUPS) beside it.
+struct Steps {
+  std::vector<double> mlups, roof, fraction;
+  void add(double m, double r) {
+    mlups.push_back(m);
+    roof.push_back(r);
+    fraction.push_back(m / r);
+  }
+  std::string describe() const {
+    const auto [lo, hi] = std::minmax_element(fraction.begin(), fraction.end());
+    return fmt::format("{:.1f} MLUPS, roofline beside it {:.1f}: fraction {:.2f} ({:.2f}-{:.2f} over {} steps)",
+                       median(mlups), median(roof), median(fraction), *lo, *hi, fraction.size());
+  }
+};
+
 // general: TRT with a Guo body force (the general kernel) instead of BGK
-// without force (the lean kernel).
-double mlups(long n, int steps, bool general) {
+// without force (the lean kernel); packed: populations one after another
+// instead of lbm::spaced_stride apart (fluid.lbm.layout).
+Steps mlups(long n, int steps, bool general, bool packed, Copy& copy) {
   const std::string text = fmt::format(R"(
 run: {{name: bench-lbm, end_time: 1.0}}
 domain: {{lower: [0, 0, 0], upper: [{0}, {0}, {0}], cells: [{1}, {1}, {1}], periodic: [true, true, true]}}
@@ -67,9 +99,10 @@ fluid:
   viscosity: 1.0e-6
   initial: {{field: taylor-green, amplitude: 1.0e-4}}
   body_force: [{2}, 0.0, 0.0]
-  lbm: {{lattice: D3Q19, formulation: standard, tau: 0.8, collision: {3}}}
+  lbm: {{lattice: D3Q19, formulation: standard, tau: 0.8, collision: {3}, layout: {4}}}
 )",
-                                       n * 1e-3, n, general ? 1.0e-3 : 0.0, general ? "trt" : "bgk");
+                                       n * 1e-3, n, general ? 1.0e-3 : 0.0, general ? "trt" : "bgk",
+                                       packed ? "packed" : "auto");
   const config::Config cfg = config::parse_config_node(YAML::Load(text), "bench", catalog());
   fluid::FluidParams params;
   {
@@ -84,11 +117,18 @@ fluid:
   const coupler::Decomposition dec({n, n, n}, 1, {1, 1, 1}, {true, true, true});
   fluid::LbmSolver solver(fluid::FluidSolver::Setup{cfg, params, dec, 0, MPI_COMM_WORLD}, lp);
   const double dt = solver.time_step();
-  solver.advance(2 * dt);  // warm-up
-  const double t0 = coupler::now();
-  solver.advance(steps * dt);
-  const double t = coupler::now() - t0;
-  return static_cast<double>(n) * n * n * steps / t / 1e6;
+  solver.advance(2 * dt);  // warm-up (first touch of the pages)
+  Steps out;
+  double before = copy.best(2);
+  for (int s = 0; s < steps; ++s) {
+    const double t0 = coupler::now();
+    solver.advance(dt);
+    const double t = coupler::now() - t0;
+    const double after = copy.best(2);
+    out.add(static_cast<double>(n) * n * n / t / 1e6, std::max(before, after) / bytes_per_update / 1e6);
+    before = after;
+  }
+  return out;
 }
 
 // The kernel's memory pattern without its arithmetic: two arrays of 19
@@ -141,33 +181,26 @@ int main(int argc, char** argv) {
   MPI_Init(&argc, &argv);
   log::init("bench", 1);  // rank 1: warnings only
   const int steps = argc > 1 ? std::atoi(argv[1]) : 10;
-  // The bandwidth a shared host gives drifts within minutes: it is measured
-  // before the kernels and again after them, and the roofline takes the larger.
-  double bw = copy_bandwidth();
-  double roof = bw / 304.0 / 1e6;
-  std::printf("copy bandwidth (1 core, loads + streaming stores): %.2f GB/s\n", bw / 1e9);
+  Copy copy;
+  const double bw = copy.best(5);
+  const double roof = bw / bytes_per_update / 1e6;
+  std::printf("copy bandwidth (1 core, loads + streaming stores), best of 5 at the start: %.2f GB/s\n", bw / 1e9);
   std::printf("bytes per cell update: 304 (D3Q19, A/B arrays: 19 x 8 B loads + 19 x 8 B streaming stores)\n");
-  std::printf("roofline: %.1f MLUPS\n", roof);
+  std::printf("roofline at the start: %.1f MLUPS\n", roof);
   const double pattern = pattern_mlups(256, 3);
   std::printf("memory pattern alone (19 pulled loads + 19 streaming stores, no collision) 256^3: %.1f MLUPS (%.0f "
-              "%% of the roofline before)\n",
+              "%% of the roofline at the start)\n",
               pattern, 100 * pattern / roof);
-  const double general = mlups(256, std::max(3, steps / 2), true);
-  std::printf("D3Q19 TRT + Guo body force 256^3 periodic, 1 rank: %.1f MLUPS (%.0f %% of the roofline before)\n", general,
-              100 * general / roof);
-  double last = 0.0;
-  for (long n : {128L, 256L}) {
-    last = mlups(n, n == 128 ? steps : std::max(3, steps / 2), false);
-    std::printf("D3Q19 BGK %ld^3 periodic, 1 rank: %.1f MLUPS (%.0f %% of the roofline before)\n", n, last, 100 * last / roof);
-  }
-  const double bw_after = copy_bandwidth();
-  if (bw_after > bw) {
-    bw = bw_after;
-    roof = bw / 304.0 / 1e6;
-  }
-  std::printf("copy bandwidth after the kernels: %.2f GB/s; roofline (larger of the two): %.1f MLUPS\n",
-              bw_after / 1e9, roof);
-  std::printf("RESULT mlups=%.2f roofline_mlups=%.2f fraction=%.3f\n", last, roof, last / roof);
+  std::printf("per step, medians (MLUPS, roofline from the copies just before and after, fraction):\n");
+  std::printf("D3Q19 TRT + Guo body force 256^3 periodic, 1 rank: %s\n",
+              mlups(256, std::max(3, steps / 2), true, false, copy).describe().c_str());
+  std::printf("D3Q19 BGK 128^3 periodic, 1 rank: %s\n", mlups(128, 2 * steps, false, false, copy).describe().c_str());
+  std::printf("D3Q19 BGK 256^3 periodic, 1 rank, packed layout: %s\n",
+              mlups(256, steps, false, true, copy).describe().c_str());
+  const Steps last = mlups(256, steps, false, false, copy);
+  std::printf("D3Q19 BGK 256^3 periodic, 1 rank: %s\n", last.describe().c_str());
+  std::printf("RESULT mlups=%.2f roofline_mlups=%.2f fraction=%.3f\n", median(last.mlups), median(last.roof),
+              median(last.fraction));
   MPI_Finalize();
   return 0;
 }

@@ -5,6 +5,7 @@
 #include <immintrin.h>
 #endif
 #include <cmath>
+#include <new>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -56,10 +57,29 @@ class Core final : public LbmCore {
     // written with streaming (non-temporal) stores.
     P_[0] = (P_[0] + 7) / 8 * 8;
     shift_ = (8 - (g_[0] + row_i0_) % 8) % 8;
-    N_ = (P_[0] * P_[1] * P_[2] + shift_ + 7) / 8 * 8;
+    // Populations spaced_stride apart when the block fits (the line kernels
+    // then keep every address in a register: lbm::SpacedRef), else packed.
+    // The spaced arrays reserve 2 Q spaced_stride values of address space;
+    // where that is refused (a limit on it), packed.
+    const long cells = (P_[0] * P_[1] * P_[2] + shift_ + 7) / 8 * 8;
     for (int q = 0; q < L::Q; ++q) off_[q] = L::e[q][0] + P_[0] * (L::e[q][1] + P_[1] * L::e[q][2]);
-    a_.assign(static_cast<std::size_t>(L::Q) * N_, 0.0);
-    b_.assign(a_.size(), 0.0);
+    spaced_ = !s.packed && cells <= lbm::spaced_stride;
+    if (spaced_) {
+      try {
+        a_ = StridedArrays<double>(L::Q, lbm::spaced_stride, cells);
+        b_ = StridedArrays<double>(L::Q, lbm::spaced_stride, cells);
+      } catch (const std::bad_alloc&) {
+        a_ = {};
+        spaced_ = false;
+        log::warn("lbm: no address space for the spaced population layout ({:.1f} GiB); packed layout (slower)",
+                  2.0 * L::Q * lbm::spaced_stride * sizeof(double) / (1 << 30));
+      }
+    }
+    N_ = spaced_ ? lbm::spaced_stride : cells;
+    if (!spaced_) {
+      a_ = StridedArrays<double>(L::Q, N_, cells);
+      b_ = StridedArrays<double>(L::Q, N_, cells);
+    }
     lean_ = !s.trt && s.force[0] == 0.0 && s.force[1] == 0.0 && s.force[2] == 0.0;
     for (long k = 0; k < n_[2]; ++k)
       for (long j = 0; j < n_[1]; ++j)
@@ -279,32 +299,36 @@ class Core final : public LbmCore {
   // lbm::bgk_line. Rows shorter than a line take the one-cell kernel.
   template <bool Lean>
   void vec_row(long i0, long i1, long j, long k) {
+    if (spaced_)
+      vec_row<Lean>(i0, i1, j, k, lbm::SpacedRef<L>(a_.data(), b_.data(), idx(0, j, k), off_));
+    else
+      vec_row<Lean>(i0, i1, j, k, lbm::LineRef{a_.data() + idx(0, j, k), b_.data() + idx(0, j, k), N_, off_});
+  }
+
+  template <bool Lean, class Ref>
+  void vec_row(long i0, long i1, long j, long k, const Ref ref) {
     using lbm::Vec4;
     const double* src = a_.data();
     double* dst = b_.data();
     const long base = idx(0, j, k), N = N_;
-    long off[L::Q];
-    for (int q = 0; q < L::Q; ++q) off[q] = off_[q];
     const auto p = p_;
     const double F[3] = {s_.force[0], s_.force[1], s_.force[2]};
     Vec4 mx = {0.0, 0.0, 0.0, 0.0};  // max u^2, NaN-sticky
-    const lbm::LineRef ref{src, dst, N, off};
     const auto chunk = [&](long i, bool stream) __attribute__((always_inline)) {
-      const long x = base + i;
       Vec4 uu;
       if constexpr (Lean)
-        uu = stream ? lbm::bgk_line<L, Incompressible, true>(ref, x, p.omega)
-                    : lbm::bgk_line<L, Incompressible, false>(ref, x, p.omega);
+        uu = stream ? lbm::bgk_line<L, Incompressible, true>(ref, i, p.omega)
+                    : lbm::bgk_line<L, Incompressible, false>(ref, i, p.omega);
       else
-        uu = stream ? lbm::collide_line<L, Incompressible, true>(ref, x, p, F)
-                    : lbm::collide_line<L, Incompressible, false>(ref, x, p, F);
+        uu = stream ? lbm::collide_line<L, Incompressible, true>(ref, i, p, F)
+                    : lbm::collide_line<L, Incompressible, false>(ref, i, p, F);
       mx = lbm::nan_max(mx, uu);
     };
     if (i1 - i0 < 8) {
       for (long i = i0; i < i1; ++i) {
         const long x = base + i;
         double f[L::Q];
-        for (int q = 0; q < L::Q; ++q) f[q] = src[q * N + x - off[q]];
+        for (int q = 0; q < L::Q; ++q) f[q] = src[q * N + x - off_[q]];
         const double uu = lbm::collide<L, Incompressible>(f, p, F);
         mx[0] = lbm::nan_max(mx[0], uu);
         for (int q = 0; q < L::Q; ++q) dst[q * N + x] = f[q];
@@ -506,7 +530,8 @@ class Core final : public LbmCore {
   lbm::CollisionParams p_;
   long origin_[3], n_[3], g_[3], P_[3], N_, shift_ = 0;
   long off_[L::Q];
-  HugeVector<double> a_, b_;  // post-collision populations; a_ is current
+  StridedArrays<double> a_, b_;  // post-collision populations, N_ apart; a_ is current
+  bool spaced_ = false;          // N_ = lbm::spaced_stride
   bool lean_ = false;  // BGK without body force: lbm::bgk_line
   std::vector<double> src_;     // per owned cell source (lattice units), empty: none
   std::vector<char> src_row_;   // rows (j, k) holding a source

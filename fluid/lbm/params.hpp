@@ -17,6 +17,7 @@ struct LbmParams {
   double tau = 0.8;
   std::string collision = "bgk";
   double magic = 0.1875;
+  std::string layout = "auto";
   void visit(config::Visitor& v) {
     v("lattice", lattice, "velocity set", config::one_of({"D2Q9", "D3Q19"}));
     v("formulation", formulation,
@@ -30,6 +31,11 @@ struct LbmParams {
     v("magic", magic,
       "trt: Lambda = (tau - 1/2)(tau_minus - 1/2); 3/16 puts bounce-back walls exactly for Poiseuille",
       config::positive());
+    v("layout", layout,
+      "lbm: memory layout of the populations. auto: a fixed distance apart (2^25 cells) when a rank's "
+      "block fits it, so that the kernels reach them from a few registers; packed: one after another "
+      "(the layout of larger blocks; same results)",
+      config::one_of({"auto", "packed"}));
   }
   // Checks against the rest of the configuration.
   void check(config::Visitor& v, const config::Config& cfg) const {

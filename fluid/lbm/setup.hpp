@@ -45,6 +45,7 @@ struct Setup {
   std::array<long, 3> cells{1, 1, 1};    // global grid
   std::array<Face, 6> faces;             // x-, x+, y-, y+, z-, z+
   std::array<double, 3> force{0, 0, 0};  // uniform body force density, lattice units
+  bool packed = false;                   // populations packed even where the block fits the spaced stride
   // Initial lattice density and velocity of the cell with global index (i, j, k).
   std::function<void(long i, long j, long k, double& rho, double* u)> initial;
 };
@@ -58,6 +59,7 @@ inline Setup make_setup(const config::Config& cfg, const FluidParams& fp, const 
   s.tau = lp.tau;
   s.trt = lp.collision == "trt";
   s.magic = lp.magic;
+  s.packed = lp.layout == "packed";
   for (int d = 0; d < 3; ++d) s.cells[d] = cfg.domain.cells[d];
   for (int f = 0; f < 6; ++f) {
     const BoundaryParams b = fp.boundary(f, cfg);

@@ -12,6 +12,8 @@
 #                       checks that the restitution decreases
 #   formulations        runs CONFIG with fluid.lbm.formulation standard and
 #                       incompressible; prints both profile errors and their ratio
+#   address_limit       ARGS: a limit (KiB) on address space; runs CONFIG with
+#                       and without it and compares (lbm's layout fallback)
 # Every metric printed is checked against the rows of references.csv whose first
 # column is CASE: `case,metric,op,bound,source`.
 set -u
@@ -64,6 +66,15 @@ case "$mode" in
     es=$(check profile "$out/standard" | sed -n 's/^l2_error=//p')
     ei=$(check profile "$out/incompressible" | sed -n 's/^l2_error=//p')
     awk -v s="$es" -v i="$ei" 'BEGIN { printf "l2_error_standard=%s\nl2_error_incompressible=%s\nerror_ratio=%.4f\n", s, i, i/s }' | tee -a "$metrics" ;;
+  address_limit)
+    # ARGS: an address-space limit (KiB) below lbm's spaced reservation: the run
+    # under it must fall back to the packed layout, say so, and match a run
+    # without the limit bit for bit.
+    run "$out/free"
+    ( ulimit -v "$1" && run "$out/limited" )
+    fallback=0; grep -q "packed layout (slower)" "$out/limited.log" && fallback=1
+    echo "fallback_logged=$fallback" | tee -a "$metrics"
+    check compare "$out/limited" "$out/free" | tee -a "$metrics" ;;
   damping)
     # ARGS: local damping values; restitution must fall as damping grows.
     prev=""; mono=1; list=""

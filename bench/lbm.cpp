@@ -31,7 +31,7 @@
 #include "coflow/log.hpp"
 #include "coflow/trace.hpp"
 #include "fluid/lbm/lattice.hpp"
-#include "fluid/lbm/lbm_solver.hpp"
+#include "fluid/driver.hpp"
 #include "fluid/schema.hpp"
 
 using namespace coflow;
@@ -104,25 +104,16 @@ fluid:
                                        n * 1e-3, n, general ? 1.0e-3 : 0.0, general ? "trt" : "bgk",
                                        packed ? "packed" : "auto");
   const config::Config cfg = config::parse_config_node(YAML::Load(text), "bench", catalog());
-  fluid::FluidParams params;
-  {
-    config::Reader r(cfg.resolved["fluid"], "bench", "fluid");
-    params.visit(r, cfg);
-  }
-  fluid::lbm::LbmParams lp;
-  {
-    config::Reader r(cfg.resolved["fluid"]["lbm"], "bench", "fluid.lbm");
-    lp.visit(r);
-  }
+  const fluid::FluidParams params = fluid::read_params(cfg);
   const coupler::Decomposition dec({n, n, n}, 1, {1, 1, 1}, {true, true, true});
-  fluid::LbmSolver solver(fluid::FluidSolver::Setup{cfg, params, dec, 0, MPI_COMM_WORLD}, lp);
-  const double dt = solver.time_step();
-  solver.advance(2 * dt);  // warm-up (first touch of the pages)
+  const auto solver = fluid::make_solver({cfg, params, dec, 0, MPI_COMM_WORLD});
+  const double dt = solver->time_step();
+  solver->advance(2 * dt);  // warm-up (first touch of the pages)
   Steps out;
   double before = copy.best(2);
   for (int s = 0; s < steps; ++s) {
     const double t0 = coupler::now();
-    solver.advance(dt);
+    solver->advance(dt);
     const double t = coupler::now() - t0;
     const double after = copy.best(2);
     out.add(static_cast<double>(n) * n * n / t / 1e6, std::max(before, after) / bytes_per_update / 1e6);

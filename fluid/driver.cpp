@@ -13,8 +13,6 @@
 
 namespace coflow::fluid {
 
-namespace {
-
 FluidParams read_params(const config::Config& cfg) {
   FluidParams p;
   config::Reader r(cfg.resolved["fluid"], cfg.file, "fluid");
@@ -22,6 +20,18 @@ FluidParams read_params(const config::Config& cfg) {
   r.check();
   return p;
 }
+
+std::unique_ptr<FluidSolver> make_solver(const FluidSolver::Setup& setup) {
+  const auto& cfg = setup.cfg;
+  const auto& entry = registry().at(cfg.component("fluid").variant);
+  YAML::Node sub = entry.params_section.empty() ? YAML::Node() : cfg.resolved["fluid"][entry.params_section];
+  config::Reader r(sub, cfg.file, "fluid." + entry.params_section);
+  std::unique_ptr<FluidSolver> solver = entry.create(setup, r);
+  r.check();
+  return solver;
+}
+
+namespace {
 
 void write_series(output::Series& series, double t, const Diagnostics& d) {
   const double row[] = {t, d.mass, d.momentum[0], d.momentum[1], d.momentum[2], d.kinetic_energy,
@@ -38,12 +48,7 @@ void run(coupler::Session& s) {
     throw std::runtime_error(
         "fluid.solver is 'external': run your own executable with `coflow run --exe fluid=PATH`");
   const FluidParams params = read_params(cfg);
-  const auto& entry = registry().at(info.variant);
-  FluidSolver::Setup setup{cfg, params, s.decomposition(), s.rank(), s.comm()};
-  YAML::Node sub = entry.params_section.empty() ? YAML::Node() : cfg.resolved["fluid"][entry.params_section];
-  config::Reader r(sub, cfg.file, "fluid." + entry.params_section);
-  std::unique_ptr<FluidSolver> solver = entry.create(setup, r);
-  r.check();
+  std::unique_ptr<FluidSolver> solver = make_solver({cfg, params, s.decomposition(), s.rank(), s.comm()});
 
   const double dt = solver->time_step();
   const double window = s.negotiate_window(dt);

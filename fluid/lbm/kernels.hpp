@@ -244,8 +244,7 @@ struct LineCells {  // four cells' values: v = 3 omega j, k, E0 (see above)
   Vec4 rho, vx, vy, vz, k, e0, moving;
 };
 
-template <class T>
-[[gnu::always_inline]] inline Vec4 get(const T* p) {
+[[gnu::always_inline]] inline Vec4 get(const double* p) {
   Vec4 v;
   __builtin_memcpy(&v, p, sizeof(Vec4));
   return v;

@@ -63,22 +63,21 @@ class Core final : public LbmCore {
     // where that is refused (a limit on it), packed.
     const long cells = (P_[0] * P_[1] * P_[2] + shift_ + 7) / 8 * 8;
     for (int q = 0; q < L::Q; ++q) off_[q] = L::e[q][0] + P_[0] * (L::e[q][1] + P_[1] * L::e[q][2]);
+    const auto allocate = [&](long stride) {
+      a_ = {};  // release a refused attempt's first array before the next
+      a_ = StridedArrays<double>(L::Q, stride, cells);
+      b_ = StridedArrays<double>(L::Q, stride, cells);
+      N_ = stride;
+    };
     spaced_ = !s.packed && cells <= lbm::spaced_stride;
-    if (spaced_) {
-      try {
-        a_ = StridedArrays<double>(L::Q, lbm::spaced_stride, cells);
-        b_ = StridedArrays<double>(L::Q, lbm::spaced_stride, cells);
-      } catch (const std::bad_alloc&) {
-        a_ = {};
-        spaced_ = false;
-        log::warn("lbm: no address space for the spaced population layout ({:.1f} GiB); packed layout (slower)",
-                  2.0 * L::Q * lbm::spaced_stride * sizeof(double) / (1 << 30));
-      }
-    }
-    N_ = spaced_ ? lbm::spaced_stride : cells;
-    if (!spaced_) {
-      a_ = StridedArrays<double>(L::Q, N_, cells);
-      b_ = StridedArrays<double>(L::Q, N_, cells);
+    try {
+      allocate(spaced_ ? lbm::spaced_stride : cells);
+    } catch (const std::bad_alloc&) {
+      if (!spaced_) throw;
+      spaced_ = false;
+      log::warn("lbm: no address space for the spaced population layout ({:.1f} GiB); packed layout (slower)",
+                2.0 * L::Q * lbm::spaced_stride * sizeof(double) / (1 << 30));
+      allocate(cells);
     }
     lean_ = !s.trt && s.force[0] == 0.0 && s.force[1] == 0.0 && s.force[2] == 0.0;
     for (long k = 0; k < n_[2]; ++k)

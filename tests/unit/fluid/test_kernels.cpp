@@ -50,9 +50,10 @@ struct Row {
 // The eight cells from x written by a line kernel on both layouts equal the
 // one-cell kernel's, and lane l of the returned u^2 is the larger of cells
 // x + l and x + 4 + l.
-template <class Row>
-void check_line(const Row& row, long x, const CollisionParams& p, const double* F, const Vec4 (&u2)[2]) {
-  constexpr int Q = sizeof(row.off) / sizeof(long);
+template <class L, bool Incompressible>
+void check_line(const Row<L, Incompressible>& row, long x, const CollisionParams& p, const double* F,
+                const Vec4 (&u2)[2]) {
+  constexpr int Q = L::Q;
   double u2_one[8];
   for (long c = x; c < x + 8; ++c) {
     double f[Q];

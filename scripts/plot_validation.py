@@ -121,7 +121,7 @@ if os.path.exists(f"{run}/series/particles.csv"):
     v = [-float(r["momentum_z"]) / m for r in rows]
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.plot(t, v, label="coflow: lbm + psm + dem, d = 12 cells")
-    ax.axhline(0.0572, color="k", lw=1, ls="--", label="ten Cate et al. 2002, terminal (E2)")
+    ax.axhline(0.060, color="k", lw=1, ls="--", label="ten Cate et al. 2002, terminal (E2)")
     ax.set_xlabel("time (s)")
     ax.set_ylabel("settling speed (m/s)")
     mm = metrics("psm_settling_sphere_e2")
@@ -132,7 +132,7 @@ if os.path.exists(f"{run}/series/particles.csv"):
     fig.savefig(f"{out}/psm_settling_e2.png", dpi=110)
 
 # 5b. Settling sphere, all four cases of ten Cate et al. (2002), when run.
-ten_cate = {"e1": 0.0360, "e2": 0.0572, "e3": 0.0873, "e4": 0.1222}
+ten_cate = {"e1": 0.038, "e2": 0.060, "e3": 0.091, "e4": 0.128}  # ten Cate et al. 2002, Table 1
 runs_e = {c: f"{cases}/{c}" for c in ten_cate if os.path.exists(f"{cases}/{c}/series/particles.csv")}
 if "e2" not in runs_e and os.path.exists(f"{runs}/val-psm_settling_sphere_e2/run/series/particles.csv"):
     runs_e["e2"] = f"{runs}/val-psm_settling_sphere_e2/run"

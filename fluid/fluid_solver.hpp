@@ -24,6 +24,7 @@ struct BoundaryParams {
   std::string type = "wall";  // wall | pressure | velocity | outflow
   config::Numbers value;      // pressure (Pa) or velocity (m/s)
   double ramp = 0.0;          // s: the value rises linearly from zero over this time
+  std::string closure = "auto";  // lbm: regularized | zou-he | auto (the type's default)
   void visit(config::Visitor& v);
 };
 

@@ -14,8 +14,15 @@ void BoundaryParams::visit(config::Visitor& v) {
     "s: the value rises linearly from zero (gauge pressure 0, fluid at rest) to `value` over this time, instead of "
     "starting at once",
     config::at_least(0.0));
+  v("closure", closure,
+    "lbm: how a pressure or velocity face sets its populations: regularized (Latt et al. 2008; auto for pressure "
+    "faces: no odd-even oscillation) or zou-he (Zou & He 1997; auto for velocity faces)",
+    config::one_of({"auto", "regularized", "zou-he"}));
   if (!v.reading()) return;
   const bool given = v.given("value");
+  if ((type == "wall" || type == "outflow") && closure != "auto")
+    v.fail("closure", fmt::format("a {} boundary has no closure to choose", type));
+  if (closure == "auto") closure = type == "pressure" ? "regularized" : type == "velocity" ? "zou-he" : "auto";
   if (type == "pressure" && (!given || value.values.size() != 1))
     v.fail(given ? "value" : "", "a pressure boundary needs one number, e.g. value: 0.0 (Pa)");
   if (type == "velocity" && (!given || value.values.size() != 3))

@@ -38,6 +38,7 @@ config::ComponentSchema schema() {
       return;
     }
     for (const auto& e : registry().entries()) {
+      if (e.params_section.empty()) continue;  // a method without parameters (point)
       const bool chosen = v.reading() ? info.variant == e.name : true;
       if (chosen)
         v.section(e.params_section, fmt::format("parameters of method {}", e.name),

@@ -15,6 +15,7 @@
 #include "coflow/log.hpp"
 #include "coflow/output.hpp"
 #include "coflow/exchange.hpp"
+#include "coflow/finite.hpp"
 #include "coflow/gather.hpp"
 #include "coflow/protocol.hpp"
 #include "particles/schema.hpp"
@@ -326,6 +327,20 @@ void run(coupler::Session& s) {
     impulse_out->send(impulse_records, positions);
   };
 
+  // Every window, before the state goes anywhere: a particle whose state is
+  // not finite stops the run here, named, rather than in the fluid later.
+  const bool point_variant = params.point_particles;
+  auto check_state = [&] {
+    const ParticleArrays& p = solver->particles();
+    const std::string hint = point_variant
+                                 ? "the step may be too long for the particles' response time: set particles.time_step: auto"
+                                 : "the step may be too large for the contact stiffness (seed 000 eq. 2.19): lower "
+                                   "particles.time_step_fraction or the stiffness";
+    for (const auto& [field, values] : {std::pair<const char*, const std::vector<double>*>{"position", &p.x},
+                                        {"velocity", &p.v}, {"angular velocity", &p.w}, {"force", &p.force}})
+      coupler::check_finite(s.comm(), {fmt::format("particles ({})", info.variant), field, "particle", hint},
+                            solver->steps(), solver->time(), *values, 3, p.id);
+  };
   if (w0 == 0) write_output(0);
   for (long w = w0 + 1; w <= s.windows(); ++w) {
     if (to_immersed) send_states();
@@ -337,6 +352,7 @@ void run(coupler::Session& s) {
       pending = receive_loads();
       apply_loads(pending);
     }
+    check_state();
     coupler::trace().steps = solver->steps();
     write_events();
     write_output(w);

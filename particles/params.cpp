@@ -6,9 +6,11 @@
 
 #include <fmt/format.h>
 
+#include "coflow/decomposition.hpp"
 #include "particles/dem/initial.hpp"
 #include "particles/dem/mesh.hpp"
 #include "particles/particles_interface.hpp"
+#include "particles/size_distribution.hpp"
 
 namespace coflow::particles {
 
@@ -22,7 +24,7 @@ double largest_diameter(const ParticleParams& p) {
     switch (dist.kind) {
       case config::Distribution::Kind::fixed: d = std::max(d, dist.a); break;
       case config::Distribution::Kind::uniform: d = std::max(d, dist.b); break;
-      case config::Distribution::Kind::lognormal: d = std::max(d, dist.a + 6.0 * dist.b); break;
+      case config::Distribution::Kind::lognormal: d = std::max(d, lognormal_cutoff(dist.a, dist.b)); break;
     }
   }
   return d;
@@ -150,7 +152,8 @@ void InjectionParams::visit(Visitor& v) {
 
 void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
   v("time_step", time_step,
-    "s, or auto: dem, time_step_fraction x the critical step (seed 000 eqs 2.19-2.20); dpm, 0.2 x the smallest of "
+    "s, or auto: dem, the smaller of time_step_fraction x the critical step (seed 000 eqs 2.19-2.20) and half the "
+    "critical step of a grain in 12 contacts, shortened as grains crush; dpm, 0.2 x the smallest of "
     "the cell crossing time, the response time and the mean time between collisions (seed 003 eq. 4.15)",
     config::positive());
   v("time_step_fraction", time_step_fraction, "t_frac of eq. 2.20", config::in_range(1e-6, 1.0));
@@ -307,6 +310,16 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
     for (const auto& name : collision.pairs[n].species)
       if (species_index(name) < 0)
         v.fail("collision", fmt::format("pairs item {} names species '{}', which is not defined under species", n, name));
+  // Langevin dispersion (seed 003 eqs 3.35-3.42) draws u' from the fluid's k and
+  // epsilon: a fluid that supplies neither would silently give u' = 0.
+  if (point_particles && dispersion.model == "langevin") {
+    const std::string fluid = cfg.has("fluid") ? cfg.component("fluid").variant : "none";
+    if (fluid != "analytic" && fluid != "external")
+      v.fail("dispersion.model",
+             fmt::format("langevin dispersion needs the turbulence (k and epsilon) of the fluid, and fluid.solver {} "
+                         "provides none; use fluid.solver: analytic with a turbulence field, or dispersion.model: none",
+                         fluid));
+  }
   if (point_particles)
     for (const auto& [name, sp] : species)
       if (sp.fixed) v.fail("species", fmt::format("species '{}' is fixed: fixed particles are for dem, not dpm", name));
@@ -323,6 +336,90 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
       v.fail("time_step", fmt::format("{:.4g} s exceeds the critical step 2 sqrt(m/k) = {:.4g} s of the lightest "
                                       "particle (seed 000 eq. 2.19): the integration would be unstable; use auto",
                                       time_step.value, crit));
+  }
+}
+
+namespace {
+
+bool inside(const Vec3& x, const config::Config& cfg) {
+  for (int a = 0; a < 3; ++a)
+    if (x[a] < cfg.domain.lower[a] || x[a] > cfg.domain.upper[a]) return false;
+  return true;
+}
+
+std::string point_text(const Vec3& x) { return fmt::format("({:.4g}, {:.4g}, {:.4g})", x[0], x[1], x[2]); }
+
+std::string domain_text(const config::Config& cfg) {
+  return fmt::format("{} to {}", point_text(cfg.domain.lower), point_text(cfg.domain.upper));
+}
+
+}  // namespace
+
+void ParticleParams::check_geometry(Visitor& v, const config::Config& cfg, const config::ComponentInfo& info) const {
+  const auto& d = cfg.domain;
+  const double D = largest_diameter(*this);
+  const auto h = d.spacing();
+  std::array<int, 3> dims{0, 0, 0};
+  if (!info.decomposition.is_auto) dims = info.decomposition.value;
+  std::array<int, 3> used{1, 1, 1};
+  try {
+    used = coupler::Decomposition({d.cells[0], d.cells[1], d.cells[2]}, info.ranks, dims, d.periodic).dims();
+  } catch (const std::exception&) {
+    return;  // the decomposition itself is reported elsewhere
+  }
+  for (int a = 0; a < 3; ++a) {
+    const double extent = d.upper[a] - d.lower[a];
+    if (d.cells[a] > 1 && D > extent) {
+      v.fail("species", fmt::format("the largest particle ({:.4g} m) is larger than the domain along {} ({:.4g} m): "
+                                    "enlarge the domain or use smaller particles",
+                                    D, "xyz"[a], extent));
+      return;
+    }
+    // The smallest block along a (cells split as evenly as possible).
+    const double block = static_cast<double>(d.cells[a] / used[a]) * h[a];
+    if (used[a] > 1 && D > block)
+      v.fail("ranks", fmt::format("{} ranks cut {} into blocks of {:.4g} m, smaller than the largest particle ({:.4g} "
+                                  "m), whose contacts would then reach past the neighbouring blocks: use at most {} "
+                                  "blocks along {} (particles.ranks or particles.decomposition)",
+                                  info.ranks, "xyz"[a], block, D, std::max(1L, static_cast<long>(extent / D)), "xyz"[a]));
+  }
+  for (std::size_t n = 0; n < initial.size(); ++n) {
+    const auto& it = initial[n];
+    if (it.kind == "single" && !inside(it.position, cfg))
+      v.fail("initial", fmt::format("item {}: position {} is outside the domain ({}); move it inside", n,
+                                    point_text(it.position), domain_text(cfg)));
+    if ((it.kind == "lattice" || it.kind == "random") && (!inside(it.lower, cfg) || !inside(it.upper, cfg)))
+      v.fail("initial", fmt::format("item {}: region {} to {} reaches outside the domain ({}); keep it inside", n,
+                                    point_text(it.lower), point_text(it.upper), domain_text(cfg)));
+  }
+  for (std::size_t n = 0; n < injection.size(); ++n)
+    if (!inside(injection[n].center, cfg))
+      v.fail("injection", fmt::format("item {}: centre {} is outside the domain ({}); particles would enter nowhere",
+                                      n, point_text(injection[n].center), domain_text(cfg)));
+  check_meshes_inside(v, cfg);
+}
+
+void ParticleParams::check_meshes_inside(Visitor& v, const config::Config& cfg) const {
+  for (std::size_t n = 0; n < walls.size(); ++n) {
+    if (walls[n].mesh.empty()) continue;
+    dem::TriangleMesh m;
+    try {
+      m = dem::read_stl(walls[n].mesh.path);
+    } catch (const std::exception&) {
+      continue;  // reported by visit()
+    }
+    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (const auto& x : m.vertices)
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], x[a]);
+        hi[a] = std::max(hi[a], x[a]);
+      }
+    bool overlaps = !m.vertices.empty();
+    for (int a = 0; a < 3; ++a) overlaps = overlaps && hi[a] >= cfg.domain.lower[a] && lo[a] <= cfg.domain.upper[a];
+    if (!overlaps)
+      v.fail("walls", fmt::format("item {}: the mesh {} spans {} to {}, entirely outside the domain ({}); is it in "
+                                  "other units or another frame?",
+                                  n, walls[n].mesh.path, point_text(lo), point_text(hi), domain_text(cfg)));
   }
 }
 

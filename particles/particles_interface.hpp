@@ -122,6 +122,11 @@ struct ParticleParams {
   std::vector<InitialItem> initial;
   std::vector<InjectionParams> injection;  // dpm
   void visit(config::Visitor& v, const config::Config& cfg);
+  // Placement against the domain and the blocks of `info`'s decomposition:
+  // particles larger than the domain or than a block, and particles, regions,
+  // inlets and meshes outside the domain (validate time).
+  void check_geometry(config::Visitor& v, const config::Config& cfg, const config::ComponentInfo& info) const;
+  void check_meshes_inside(config::Visitor& v, const config::Config& cfg) const;
   int species_index(const std::string& name) const;
   bool point_particles = false;  // a dpm variant (set from particles.solver)
 };

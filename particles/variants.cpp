@@ -41,6 +41,7 @@ config::ComponentSchema schema() {
     ParticleParams p;
     p.point_particles = info.variant == "dpm" || info.variant == "dpm-reference";
     p.visit(v, cfg);
+    if (v.reading()) p.check_geometry(v, cfg, info);
   };
   return s;
 }

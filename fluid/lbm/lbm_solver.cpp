@@ -79,6 +79,7 @@ class Core final : public LbmCore {
                 2.0 * L::Q * lbm::spaced_stride * sizeof(double) / (1 << 30));
       allocate(cells);
     }
+    log::info("lbm: {} population layout", spaced_ ? "spaced" : "packed");
     lean_ = !s.trt && s.force[0] == 0.0 && s.force[1] == 0.0 && s.force[2] == 0.0;
     for (long k = 0; k < n_[2]; ++k)
       for (long j = 0; j < n_[1]; ++j)
@@ -386,7 +387,15 @@ class Core final : public LbmCore {
           for (int q = 0; q < L::Q; ++q)
             if (s * L::e[q][axis] > 0) f[q] = a_[q * N_ + inner];
         } else {
-          lbm::zou_he<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data());
+          if (fc.regularized) {
+            long in[3] = {i, j, k};
+            in[axis] += s;
+            double uin[3];  // the node's own force stands for the inner node's (it may lie in a halo)
+            lbm::post_collision_velocity<L, Incompressible>(&a_[idx(in[0], in[1], in[2])], N_, F, uin);
+            lbm::regularized<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data(), uin);
+          } else {
+            lbm::zou_he<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data());
+          }
         }
       }
     const double uu = lbm::collide<L, Incompressible>(f, p_, F);

@@ -23,6 +23,7 @@ struct Face {
   double rho_full = 1.0;            // the values at the end of the ramp
   std::array<double, 3> u_full{0, 0, 0};
   double ramp_steps = 0.0;          // steps of the linear ramp from rest (0: none)
+  bool regularized = false;         // pressure/velocity: Latt et al. (2008) instead of Zou-He
 };
 
 // Pressure and velocity faces at the step that ends at time (step + 1) dt:
@@ -76,6 +77,7 @@ inline Setup make_setup(const config::Config& cfg, const FluidParams& fp, const 
       for (int d = 0; d < 3; ++d) face.u_full[d] = b.value.values.at(d) / s.units.velocity();
     }
     face.ramp_steps = b.ramp / s.units.dt;
+    face.regularized = b.closure == "regularized";
     // A 2D run has no z faces: treat them as periodic (one cell, nothing crosses).
     if (cfg.domain.cells[f / 2] == 1) face.type = FaceType::periodic;
   }

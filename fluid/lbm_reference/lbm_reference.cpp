@@ -248,38 +248,91 @@ void LbmReference::apply_face(int face, std::vector<double>& fs, const std::vect
             if (s * e_[q][axis] > 0) f[q] = g[q];
           continue;
         }
-        double s0 = 0, sout = 0;
-        for (int q = 0; q < Q_; ++q) {
-          if (e_[q][axis] == 0) s0 += f[q];
-          if (s * e_[q][axis] < 0) sout += f[q];
-        }
         double rho, u[3] = {0, 0, 0};
-        if (F.type == FaceType::velocity) {
-          for (int d = 0; d < 3; ++d) u[d] = F.u[d];
-          const double un = s * u[axis];
-          rho = s_.incompressible ? s0 + 2 * sout + un : (s0 + 2 * sout) / (1.0 - un);
-        } else {
-          rho = F.rho;
-          const double un = s_.incompressible ? rho - s0 - 2 * sout : 1.0 - (s0 + 2 * sout) / rho;
-          u[axis] = s * un;
+        face_state(f, axis, s, F, rho, u);
+        if (F.regularized && F.type == FaceType::pressure) {
+          // The mean of the mass-balance velocity and that of the next node
+          // in, from its post-collision populations of the last step (momentum
+          // rho u + F/2 with Guo's forcing; the node's own force stands for
+          // the inner node's): no odd-even mode at the face (kernels.hpp).
+          long in[3] = {i, j, k};
+          in[axis] += s;
+          const double* g = &post[index(in[0], in[1], in[2]) * Q_];
+          double Fc[3], rho_in = 0.0, m[3] = {0, 0, 0};
+          force_at(index(i, j, k), Fc);
+          for (int q = 0; q < Q_; ++q) {
+            rho_in += g[q];
+            for (int d = 0; d < 3; ++d) m[d] += e_[q][d] * g[q];
+          }
+          const double rho_m = s_.incompressible ? 1.0 : rho_in;
+          for (int d = 0; d < 3; ++d) u[d] = 0.5 * (u[d] + (m[d] - 0.5 * Fc[d]) / rho_m);
         }
-        const double rho_m = s_.incompressible ? 1.0 : rho;
-        double N[3] = {0, 0, 0};
-        for (int t = 0; t < 3; ++t) {
-          if (t == axis) continue;
-          for (int q = 0; q < Q_; ++q)
-            if (e_[q][axis] == 0) N[t] += 0.5 * f[q] * e_[q][t];
-          N[t] -= rho_m * u[t] / 3.0;
-        }
-        for (int q = 0; q < Q_; ++q) {
-          if (s * e_[q][axis] <= 0) continue;
-          const double eu = e_[q][0] * u[0] + e_[q][1] * u[1] + e_[q][2] * u[2];
-          double v = f[opp_[q]] + 6.0 * w_[q] * rho_m * eu;
-          for (int t = 0; t < 3; ++t)
-            if (t != axis) v -= e_[q][t] * N[t];
-          f[q] = v;
-        }
+        if (F.regularized)
+          regularize(f, axis, s, rho, u);
+        else
+          zou_he(f, axis, s, rho, u);
       }
+}
+
+// rho and u of a face node from its known populations and the face's value
+// (Zou & He 1997): a velocity face gives u, a pressure face rho.
+void LbmReference::face_state(const double* f, int axis, int s, const lbm::Face& F, double& rho, double u[3]) const {
+  double s0 = 0, sout = 0;
+  for (int q = 0; q < Q_; ++q) {
+    if (e_[q][axis] == 0) s0 += f[q];
+    if (s * e_[q][axis] < 0) sout += f[q];
+  }
+  if (F.type == FaceType::velocity) {
+    for (int d = 0; d < 3; ++d) u[d] = F.u[d];
+    const double un = s * u[axis];
+    rho = s_.incompressible ? s0 + 2 * sout + un : (s0 + 2 * sout) / (1.0 - un);
+  } else {
+    rho = F.rho;
+    const double un = s_.incompressible ? rho - s0 - 2 * sout : 1.0 - (s0 + 2 * sout) / rho;
+    u[axis] = s * un;
+  }
+}
+
+// The unknown populations by Zou & He (1997) in Hecht & Harting's (2010) form.
+void LbmReference::zou_he(double* f, int axis, int s, double rho, const double u[3]) const {
+  const double rho_m = s_.incompressible ? 1.0 : rho;
+  double N[3] = {0, 0, 0};
+  for (int t = 0; t < 3; ++t) {
+    if (t == axis) continue;
+    for (int q = 0; q < Q_; ++q)
+      if (e_[q][axis] == 0) N[t] += 0.5 * f[q] * e_[q][t];
+    N[t] -= rho_m * u[t] / 3.0;
+  }
+  for (int q = 0; q < Q_; ++q) {
+    if (s * e_[q][axis] <= 0) continue;
+    const double eu = e_[q][0] * u[0] + e_[q][1] * u[1] + e_[q][2] * u[2];
+    double v = f[opp_[q]] + 6.0 * w_[q] * rho_m * eu;
+    for (int t = 0; t < 3; ++t)
+      if (t != axis) v -= e_[q][t] * N[t];
+    f[q] = v;
+  }
+}
+
+// All populations rebuilt as equilibrium plus the regularized non-equilibrium
+// part (Latt et al. 2008; at pressure faces with the inner node's velocity,
+// kernels.hpp): the unknowns' non-equilibrium is their opposite's,
+// Pi^neq = sum e e f^neq, f = f^eq + w / (2 c_s^4) (e e - c_s^2 I) : Pi^neq.
+void LbmReference::regularize(double* f, int axis, int s, double rho, const double u[3]) const {
+  std::vector<double> neq(Q_);
+  for (int q = 0; q < Q_; ++q) {
+    const int k = s * e_[q][axis] > 0 ? opp_[q] : q;
+    neq[q] = f[k] - equilibrium(k, rho, u);
+  }
+  double pi[3][3] = {};
+  for (int q = 0; q < Q_; ++q)
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) pi[a][b] += e_[q][a] * e_[q][b] * neq[q];
+  for (int q = 0; q < Q_; ++q) {
+    double qpi = 0.0;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) qpi += (e_[q][a] * e_[q][b] - (a == b ? 1.0 / 3.0 : 0.0)) * pi[a][b];
+    f[q] = equilibrium(q, rho, u) + 4.5 * w_[q] * qpi;
+  }
 }
 
 // The populations, one cell after another, as the checkpoint's grid field.

@@ -1,4 +1,5 @@
 #include "immersed/point/point.hpp"
+#include "immersed/point/stencil.hpp"
 
 #include <algorithm>
 #include <array>
@@ -8,6 +9,7 @@
 #include <stdexcept>
 
 #include "coflow/exchange.hpp"
+#include "coflow/finite.hpp"
 #include "coflow/log.hpp"
 #include "coflow/output.hpp"
 #include "coflow/protocol.hpp"
@@ -18,42 +20,6 @@
 namespace coflow::immersed {
 
 using coupler::Index3;
-
-namespace {
-
-// The 8 cells around a point and their trilinear weights (cell centres at
-// lower + (i + 1/2) h). Non-periodic axes clamp to the domain, so that a point
-// between the last centre and a wall takes that cell's value (interpolation)
-// and gives it the whole weight (spreading stays conservative).
-struct Stencil {
-  Index3 cell[8];
-  double weight[8];
-};
-
-Stencil stencil(const double* x, const config::DomainParams& dom, double h) {
-  long i0[3];
-  double t[3];
-  for (int d = 0; d < 3; ++d) {
-    const double s = (x[d] - dom.lower[d]) / h - 0.5;
-    i0[d] = static_cast<long>(std::floor(s));
-    t[d] = s - static_cast<double>(i0[d]);
-  }
-  Stencil st;
-  for (int c = 0; c < 8; ++c) {
-    double w = 1.0;
-    for (int d = 0; d < 3; ++d) {
-      const int up = (c >> d) & 1;
-      long i = i0[d] + up;
-      w *= up ? t[d] : 1.0 - t[d];
-      if (!dom.periodic[d]) i = std::clamp(i, 0L, static_cast<long>(dom.cells[d]) - 1);
-      st.cell[c][d] = i;
-    }
-    st.weight[c] = w;
-  }
-  return st;
-}
-
-}  // namespace
 
 void PointMethod::run(coupler::Session& s) {
   const auto& cfg = s.config();
@@ -160,7 +126,11 @@ void PointMethod::run(coupler::Session& s) {
           source[static_cast<std::size_t>(l) * 3 + d] -= st.weight[c] * r.impulse[d] / (s.window() * cell_volume);
       }
     }
-    // 4. To the fluid.
+    // 4. To the fluid, once it is known to be finite.
+    coupler::check_finite(s.comm(),
+                          {"immersed (point)", "momentum source", "cell value",
+                           "a particle's impulse is not finite: see the particles' log"},
+                          w, w * s.window(), source, 3);
     source_out.send(source);
 
     if (s.series_due(w)) {

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "coflow/exchange.hpp"
+#include "coflow/finite.hpp"
 #include "coflow/log.hpp"
 #include "coflow/output.hpp"
 #include "coflow/protocol.hpp"
@@ -233,6 +234,11 @@ void PsmMethod::run(coupler::Session& s) {
         total[3 + d] += loads[p].torque[d];
       }
     }
+    coupler::check_finite(s.comm(),
+                          {"immersed (psm)", "hydrodynamic load (force, torque)", "particle record",
+                           "the fluid's force on the solid cells is not finite: see the fluid's log"},
+                          w, w * s.window(),
+                          std::span<const double>(reinterpret_cast<const double*>(loads.data()), 6 * loads.size()), 6);
     results.resize(n * sizeof(protocol::ParticleLoad));
     if (n > 0) std::memcpy(results.data(), loads.data(), results.size());
     points.send_results(results);

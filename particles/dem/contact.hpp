@@ -1,6 +1,7 @@
 // Soft-sphere contact law of seed 000 §2.2.2: one contact, no MPI, no I/O.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Core>
@@ -102,5 +103,34 @@ inline double local_damping(double alpha, double f, double v) {
 
 // The critical step of a mass-spring pair (eq. 2.19).
 inline double critical_step(double mass, double stiffness) { return 2.0 * std::sqrt(mass / stiffness); }
+
+// The densest coordination the automatic step allows for: 12 contacts (a
+// monodisperse close packing).
+inline constexpr double kPackCoordination = 12.0;
+
+// The critical step of a grain of mass m inside a dense pack. One contact
+// between spheres (I = 0.4 m r^2) couples the two grains' translations through
+// K_N along the normal (mass-normalised norm 2 K_N / m) and translations and
+// rotations through k_S across it (norm (2 + 2 r^2 m / I) k_S / m = 7 k_S / m).
+// A grain in Z contacts takes part in Z such terms, so the pack's largest
+// eigenvalue is at most Z max(2 K_N, 7 k_S) / m, and the leapfrog is stable
+// below 2 / sqrt of that. With K_N = k_S and Z = 12 this is 0.109 of eq. 2.19's
+// pair step: seed 000's t_frac = 0.1 sits at the edge, as the gravity pour
+// showed (docs/validation.md).
+inline double pack_critical_step(double mass, const ContactLaw& law) {
+  return 2.0 * std::sqrt(mass / (kPackCoordination * std::max(2.0 * law.kn, 7.0 * law.ks)));
+}
+
+// The automatic step (particles.time_step: auto): t_frac of the pair step of
+// eq. 2.20, and no more than half the dense pack's critical step.
+inline double automatic_step(double mass, const ContactLaw& law, double t_frac) {
+  return std::min(t_frac * critical_step(mass, std::max(law.kn, law.ks)), 0.5 * pack_critical_step(mass, law));
+}
+
+// Equal parts of h, each no longer than `stable` (1e-9 of slack: a step that
+// is the stable one up to round-off is not split).
+inline long split_for(double h, double stable) {
+  return std::max(1L, static_cast<long>(std::ceil(h / stable - 1e-9)));
+}
 
 }  // namespace coflow::particles::dem

@@ -39,6 +39,7 @@ class DemSolver final : public ParticleSolver {
   void step(double h);
 
  private:
+  long crushed_substeps(double h) const;  // parts of a step h once crushed grains need a shorter one
   void build_cells();
   // Verlet list: for each particle i, the j > i within reach + skin (CSR).
   void build_list();

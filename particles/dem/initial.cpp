@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "coflow/output.hpp"
+#include "particles/size_distribution.hpp"
 
 namespace coflow::particles::dem {
 
@@ -22,10 +23,8 @@ double sample_diameter(const config::Distribution& d, std::mt19937_64& rng) {
     case config::Distribution::Kind::fixed: return d.a;
     case config::Distribution::Kind::uniform: return std::uniform_real_distribution<double>(d.a, d.b)(rng);
     case config::Distribution::Kind::lognormal: {
-      // Mean D and standard deviation s of the diameter: sigma^2 = ln(1 + s^2/D^2),
-      // mu = ln D - sigma^2/2 (seed 003 eqs 4.20-4.21, corrected: PHYSICS.md §4).
-      const double s2 = std::log(1.0 + d.b * d.b / (d.a * d.a));
-      return std::lognormal_distribution<double>(std::log(d.a) - 0.5 * s2, std::sqrt(s2))(rng);
+      std::normal_distribution<double> normal(0.0, 1.0);
+      return truncated_lognormal(d.a, d.b, [&](int) { return normal(rng); });
     }
   }
   return d.a;
@@ -220,15 +219,19 @@ DemSetup make_setup(const ParticleParams& p, const config::Config& cfg, const Pa
   }
   for (const auto& w : p.walls)
     if (!w.mesh.empty()) s.meshes.emplace_back(read_stl(w.mesh.path), w.friction >= 0 ? w.friction : c.friction);
-  // Time step, seed 000 eqs 2.19-2.20.
+  // Time step, seed 000 eqs 2.19-2.20, and no more than half a dense pack's
+  // critical step (contact.hpp, automatic_step).
   const double k = std::max(c.normal_stiffness, c.shear_stiffness);
-  double crit = 1e300;
+  double crit = 1e300, lightest = 1e300;
   for (std::size_t i = 0; i < parts.size(); ++i) {
     crit = std::min(crit, critical_step(parts.mass[i], k));
+    lightest = std::min(lightest, parts.mass[i]);
     s.max_radius = std::max(s.max_radius, parts.radius[i]);
   }
+  s.auto_step = p.time_step.is_auto;
+  s.t_frac = p.time_step_fraction;
   if (p.time_step.is_auto) {
-    s.dt = p.time_step_fraction * crit;
+    s.dt = automatic_step(lightest, s.law, s.t_frac);
   } else {
     s.dt = p.time_step.value;
     if (s.dt > crit)

@@ -24,6 +24,8 @@ struct DemSetup {
   V3 lower = V3::Zero(), upper = V3::Zero();
   std::array<bool, 3> periodic{false, false, false};
   double dt = 0.0;             // the step
+  bool auto_step = true;       // particles.time_step: auto (the step follows crushed grains' masses)
+  double t_frac = 0.1;         // eq. 2.20
   double max_radius = 0.0;
   std::vector<char> fixed;     // per species: held in place
   std::vector<MeshWall> meshes;  // triangle-mesh walls

@@ -7,6 +7,7 @@
 #include "particles/dem/checkpoint.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <tuple>
 
 namespace coflow::particles {
@@ -164,7 +165,18 @@ void DemReference::step(double h) {
 }
 
 void DemReference::advance(double dt, long substeps) {
-  for (long n = 0; n < substeps; ++n) step(dt / substeps);
+  const double h = dt / substeps;
+  for (long n = 0; n < substeps; ++n) {
+    // Crushed grains are lighter: split the step as the automatic step of the
+    // lightest grain now requires (as dem does).
+    long parts = 1;
+    if (s_.auto_step && s_.crush > 0.0 && !p_.empty()) {
+      double lightest = std::numeric_limits<double>::infinity();
+      for (const auto& p : p_) lightest = std::min(lightest, p.m);
+      parts = dem::split_for(h, dem::automatic_step(lightest, s_.law, s_.t_frac));
+    }
+    for (long m = 0; m < parts; ++m) step(h / parts);
+  }
 }
 
 const ParticleArrays& DemReference::particles() const {

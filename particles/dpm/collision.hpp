@@ -35,12 +35,13 @@ struct Restitution {
 // Velocities after the collision of p and q (masses m, diameters D). n is the
 // unit normal from p to q; then (u_r . n) > 0 while they approach, and the
 // seed's slip criterion reads |u_rc,t| > 7/2 mu (1 + e) (u_r . n) (eqs 3.44-3.45
-// print a minus sign that belongs to the opposite orientation of n).
-inline void collide_pair(V3& up, V3& wp, double mp, double Dp, V3& uq, V3& wq, double mq, double Dq, const V3& n,
+// print a minus sign that belongs to the opposite orientation of n). Returns
+// whether an impulse was applied (false: the pair does not approach).
+inline bool collide_pair(V3& up, V3& wp, double mp, double Dp, V3& uq, V3& wq, double mq, double Dq, const V3& n,
                          const Restitution& r) {
   const V3 ur = up - uq;                                               // eq. 3.46
   const double un = ur.dot(n);
-  if (un <= 0.0) return;                                               // not approaching
+  if (un <= 0.0) return false;                                         // not approaching
   const V3 urc = ur + 0.5 * Dp * wp.cross(n) + 0.5 * Dq * wq.cross(n);  // eq. 3.47
   const V3 urc_t = urc - urc.dot(n) * n;                               // eq. 3.48
   const double slip = urc_t.norm();
@@ -61,13 +62,15 @@ inline void collide_pair(V3& up, V3& wp, double mp, double Dp, V3& uq, V3& wq, d
     wp -= 10.0 / 7.0 / Dp * fp * nt;
     wq -= 10.0 / 7.0 / Dq * fq * nt;
   }
+  return true;
 }
 
 // Velocities after hitting a wall whose unit normal n points from the particle
-// into the wall ((u . n) > 0 on approach), eqs 3.50-3.52.
-inline void collide_wall(V3& u, V3& w, double D, const V3& n, const Restitution& r) {
+// into the wall ((u . n) > 0 on approach), eqs 3.50-3.52. Returns whether an
+// impulse was applied.
+inline bool collide_wall(V3& u, V3& w, double D, const V3& n, const Restitution& r) {
   const double un = u.dot(n);
-  if (un <= 0.0) return;
+  if (un <= 0.0) return false;
   const V3 urc = u + 0.5 * D * w.cross(n);  // eq. 3.52
   const V3 urc_t = urc - urc.dot(n) * n;
   const double slip = urc_t.norm();
@@ -79,6 +82,7 @@ inline void collide_wall(V3& u, V3& w, double D, const V3& n, const Restitution&
     u -= 2.0 / 7.0 * urc_t + (1.0 + r.e) * urc.dot(n) * n;
     w -= 10.0 / 7.0 / D * n.cross(urc_t);
   }
+  return true;
 }
 
 // Earliest t in [0, dt) at which a sphere of radius R with centre x + u t

@@ -96,6 +96,10 @@ double DpmSolver::stable_step() const {
   double dt = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < p_.size(); ++i)
     dt = std::min(dt, dpm::lagrangian_step(s_, D_[i], rho_p_[i], at(p_.v, i), fluid_[i]));
+  if (s_.collisions)  // tau_c of eq. 4.15
+    dt = std::min(dt, 0.2 * dpm::mean_collision_time(
+                               p_.size(), [&](std::size_t i) { return at(p_.x, i); },
+                               [&](std::size_t i) { return at(p_.v, i); }, [&](std::size_t i) { return D_[i]; }, s_));
   if (size_ > 1) MPI_Allreduce(MPI_IN_PLACE, &dt, 1, MPI_DOUBLE, MPI_MIN, comm_);
   return std::isfinite(dt) ? dt : 1.0;
 }
@@ -249,6 +253,7 @@ void DpmSolver::step(double h) {
     }
     moved_[i] = dpm::rk4({at(p_.x, i), at(p_.v, i), at(p_.w, i)}, D_[i], p_.mass[i], p_.inertia[i], rho_p_[i],
                          seen_[i], s_, h);
+    ranges_.note(p_.species[i], moved_[i].beyond);
     u_[i] = (moved_[i].x - at(p_.x, i)) / h;
   }
   // 2. Collisions along the trajectories, earliest first (as dpm-reference).
@@ -284,10 +289,12 @@ void DpmSolver::step(double h) {
       V3 nrm, point;
       const dpm::Restitution* law = nullptr;
       dpm::wall_contact(e.b, at(p_.x, e.i), u_[e.i], e.t, D_[e.i], s_, nrm, point, law);
-      events_.impact(time_ + e.t, e.a, -1 - e.b, point, nrm, moved_[e.i].v);
-      dpm::collide_wall(moved_[e.i].v, moved_[e.i].w, D_[e.i], nrm, *law);
+      const V3 before = moved_[e.i].v;
+      if (dpm::collide_wall(moved_[e.i].v, moved_[e.i].w, D_[e.i], nrm, *law)) {  // only applied impulses count
+        events_.impact(time_ + e.t, e.a, -1 - e.b, point, nrm, before);
+        ++wall_collisions_;
+      }
       hit_[e.i] = e.t;
-      ++wall_collisions_;
       continue;
     }
     if (e.i == kNone || e.j == kNone) {  // neither is owned here (or only one is known)
@@ -305,11 +312,12 @@ void DpmSolver::step(double h) {
     Near& B = near_[e.j];
     const V3 d = dpm::min_image((A.x + A.u * e.t) - (B.x + B.u * e.t), s_);
     const V3 nrm = -d.normalized();
-    if (e.i < n) {  // the owner of a logs and counts it
-      events_.collision(time_ + e.t, e.a, e.b, -nrm, A.v - B.v);
+    const V3 relative = A.v - B.v;
+    const bool applied = dpm::collide_pair(A.v, A.w, A.m, A.D, B.v, B.w, B.m, B.D, nrm, s_.pair_law(A.species, B.species));
+    if (applied && e.i < n) {  // the owner of a logs and counts it; only applied impulses count
+      events_.collision(time_ + e.t, e.a, e.b, -nrm, relative);
       ++collisions_;
     }
-    dpm::collide_pair(A.v, A.w, A.m, A.D, B.v, B.w, B.m, B.D, nrm, s_.pair_law(A.species, B.species));
     hit_[e.i] = hit_[e.j] = e.t;
     pair_hit_[e.i] = pair_hit_[e.j] = 1;
   }
@@ -528,6 +536,7 @@ void DpmSolver::advance(double dt, long substeps) {
     const long k = dpm::lagrangian_substeps(s_, h, stable_step());
     for (long m = 0; m < k; ++m) step(h / k);
   }
+  ranges_.report(comm_, s_.species_names);
 }
 
 void DpmSolver::set_hydrodynamic(std::span<const double>, std::span<const double>) {

@@ -13,6 +13,7 @@
 
 #include "particles/dem/dem_common.hpp"
 #include "particles/dpm/injection.hpp"
+#include "particles/dpm/range_warnings.hpp"
 #include "particles/dpm/setup.hpp"
 #include "particles/particles_interface.hpp"
 
@@ -78,6 +79,7 @@ class DpmSolver final : public ParticleSolver {
   double time_ = 0.0;
   long steps_ = 0;
   long collisions_ = 0, wall_collisions_ = 0;
+  dpm::RangeWarnings ranges_;  // correlations used beyond their range, warned once
   bool all_pairs_ = false;
   dem::EventRecorder events_;
   // sparse cell list (rebuilt every step)

@@ -61,9 +61,16 @@ inline double rotation_coefficient(double re_r) {
 // and density rho_p moving with v and spinning with w, eqs 3.29-3.30 times m_p
 // and I_p. Lift terms use the prefactor pi rho D^n / 8 of eq. 3.29 (eqs 2.22 and
 // 2.24 print pi / 24, which does not match Sommerfeld's form they cite).
+// Correlations used beyond the range their authors fitted them on (FluidLoad::beyond):
+// Mei 1992's Saffman correction for 0.005 <= beta <= 0.4; Oesterle & Dinh
+// 1998's Magnus coefficient up to Re_p 140; Dennis et al. 1980's rotational
+// coefficient up to Re_r 1000.
+enum Beyond : unsigned { kSaffmanBeta = 1u, kMagnusReP = 2u, kRotationReR = 4u };
+
 struct FluidLoad {
   V3 drag = V3::Zero(), saffman = V3::Zero(), magnus = V3::Zero();
   V3 torque = V3::Zero();
+  unsigned beyond = 0;  // Beyond flags of the terms that acted outside their range
   V3 force() const { return drag + saffman + magnus; }
 };
 
@@ -79,14 +86,20 @@ inline FluidLoad fluid_load(const FluidSample& f, double D, const V3& v, const V
   if (on.saffman_lift && wf > 0.0 && re_p > 0.0) {
     const double re_s = f.rho * D * D * wf / f.mu;  // eq. 2.21
     L.saffman = std::numbers::pi * f.rho * D * D * D / 8.0 * saffman_coefficient(re_p, re_s) * rel.cross(f.vorticity);
+    const double beta = 0.5 * re_s / re_p;
+    if (beta < 0.005 || beta > 0.4) L.beyond |= kSaffmanBeta;
   }
   const V3 omega = 0.5 * f.vorticity - w;  // rotation relative to the fluid
   const double om = omega.norm();
   const double re_r = f.rho * D * D * om / f.mu;  // eq. 2.26
-  if (on.magnus_lift && om > 0.0 && re_p > 0.0)
+  if (on.magnus_lift && om > 0.0 && re_p > 0.0) {
     L.magnus = std::numbers::pi * f.rho * D * D / 8.0 * magnus_coefficient(re_p, re_r) * speed * omega.cross(rel) / om;
-  if (on.torque && om > 0.0)  // eq. 2.33
+    if (re_p > 140.0) L.beyond |= kMagnusReP;
+  }
+  if (on.torque && om > 0.0) {  // eq. 2.33
     L.torque = 0.5 * f.rho * std::pow(0.5 * D, 5) * rotation_coefficient(re_r) * om * omega;
+    if (re_r > 1000.0) L.beyond |= kRotationReR;
+  }
   return L;
 }
 

@@ -22,6 +22,7 @@
 #include "particles/dpm/dispersion.hpp"
 #include "particles/dpm/forces.hpp"
 #include "particles/particles_interface.hpp"
+#include "particles/size_distribution.hpp"
 
 namespace coflow::particles::dpm {
 
@@ -71,7 +72,7 @@ inline std::vector<Inlet> make_inlets(const ParticleParams& p) {
     in.diameter = sp.diameter;
     in.dmax = sp.diameter.kind == config::Distribution::Kind::fixed     ? sp.diameter.a
               : sp.diameter.kind == config::Distribution::Kind::uniform ? sp.diameter.b
-                                                                        : sp.diameter.a + 6.0 * sp.diameter.b;
+                                                                        : lognormal_cutoff(sp.diameter.a, sp.diameter.b);
     in.mass_flow = ip.mass_flow;
     in.speed = ip.speed;
     in.cos_spread = std::cos(ip.spread_angle * std::numbers::pi / 180.0);
@@ -107,10 +108,13 @@ inline double inlet_diameter(const Inlet& in, std::uint64_t seed, int k) {
     case config::Distribution::Kind::fixed: return d.a;
     case config::Distribution::Kind::uniform: return d.a + (d.b - d.a) * u1;
     case config::Distribution::Kind::lognormal: {
-      // sigma^2 = ln(1 + s^2 / D^2), mu = ln D - sigma^2 / 2 (eqs 4.20-4.21, corrected).
-      const double s2 = std::log(1.0 + d.b * d.b / (d.a * d.a));
-      const double z = std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * inlet_uniform(seed, k, in.serial, 0, 1));
-      return std::min(in.dmax, std::exp(std::log(d.a) - 0.5 * s2 + std::sqrt(s2) * z));
+      // Box-Muller from the r-th pair of this particle's uniforms (attempt 0).
+      auto normal = [&](int r) {
+        const double a = r == 0 ? u1 : inlet_uniform(seed, k, in.serial, 0, 2 * r);
+        const double b = inlet_uniform(seed, k, in.serial, 0, 2 * r + 1);
+        return std::sqrt(-2.0 * std::log(a)) * std::cos(2.0 * std::numbers::pi * b);
+      };
+      return truncated_lognormal(d.a, d.b, normal);
     }
   }
   return d.a;

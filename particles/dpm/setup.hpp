@@ -8,8 +8,11 @@
 #include <cstdint>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
+#include <numbers>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <fmt/format.h>
@@ -29,6 +32,7 @@ struct DpmSetup {
   std::array<Restitution, 6> wall{};  // per face: wall coefficients (symmetry: e = 1, mu = 0)
   Restitution pair;                   // particle-particle (default)
   std::vector<Restitution> pairs;     // per species pair, ns x ns
+  std::vector<std::string> species_names;
   int ns = 0;
   const Restitution& pair_law(int a, int b) const { return pairs[static_cast<std::size_t>(a * ns + b)]; }
   bool collisions = true;
@@ -38,6 +42,7 @@ struct DpmSetup {
   V3 lower = V3::Zero(), upper = V3::Zero();
   std::array<bool, 3> periodic{false, false, false};
   double cell = 0.0;                  // fluid cell size (t_V.C of eq. 4.15)
+  V3 spacing = V3::Ones();            // fluid cell sizes along x, y, z (cells of the tau_c estimate)
   FluidSample still;                  // the fluid without a coupling partner: at rest
   bool auto_step = true;
   double dt = 0.0;                    // the configured step (auto: the start's eq. 4.15 value)
@@ -59,8 +64,10 @@ inline DpmSetup make_setup(const ParticleParams& p, const config::Config& cfg) {
     s.periodic[d] = cfg.domain.periodic[d];
   }
   s.cell = cfg.domain.spacing()[0];
+  for (int d = 0; d < 3; ++d) s.spacing[d] = cfg.domain.spacing()[d];
   s.pair = {p.collision.restitution, p.collision.friction};
   s.ns = static_cast<int>(p.species.size());
+  for (const auto& sp : p.species) s.species_names.push_back(sp.first);
   s.pairs.assign(static_cast<std::size_t>(s.ns * s.ns), s.pair);
   for (const auto& pp : p.collision.pairs) {
     const int a = p.species_index(pp.species.at(0)), b = p.species_index(pp.species.at(1));
@@ -116,6 +123,48 @@ inline double lagrangian_step(const DpmSetup& s, double D, double rho_p, const V
   return 0.2 * t;
 }
 
+// The mean time between collisions tau_c of eq. 4.15, the inverse of the
+// collision frequency (seed 003 §2.2.1.2), from kinetic theory in each fluid
+// cell: a particle meets the cell's others at f = n pi D^2 g, with n the cell's
+// number density, D its mean diameter and g the mean relative speed of a
+// Maxwellian at the cell's granular temperature T = <|v - <v>|^2> / 3,
+// g = sqrt(16 T / pi); so f = 4 n D^2 sqrt(pi T), seed 003 eq. 5.9 per particle
+// with g0 = 1. The particle ranks' blocks are whole fluid cells, so a cell's
+// particles are on one rank. Returns the smallest tau_c over the cells holding
+// two or more particles (infinity where none does). x(i), v(i), D(i): the
+// position, velocity and diameter of particle i of n.
+template <class Pos, class Vel, class Diam>
+double mean_collision_time(std::size_t n, Pos x, Vel v, Diam D, const DpmSetup& s) {
+  struct Cell {
+    long count = 0;
+    double D = 0.0;
+    V3 v = V3::Zero();
+    double v2 = 0.0;
+  };
+  std::map<std::array<long, 3>, Cell> cells;
+  for (std::size_t i = 0; i < n; ++i) {
+    std::array<long, 3> key;
+    for (int d = 0; d < 3; ++d) key[d] = static_cast<long>(std::floor((x(i)[d] - s.lower[d]) / s.spacing[d]));
+    Cell& c = cells[key];
+    ++c.count;
+    c.D += D(i);
+    c.v += v(i);
+    c.v2 += v(i).squaredNorm();
+  }
+  const double volume = s.spacing[0] * s.spacing[1] * s.spacing[2];
+  double tau = std::numeric_limits<double>::infinity();
+  for (const auto& [key, c] : cells) {
+    if (c.count < 2) continue;
+    const double k = static_cast<double>(c.count);
+    double T = (c.v2 / k - (c.v / k).squaredNorm()) / 3.0;
+    if (T <= 1e-12 * c.v2 / k) T = 0.0;  // no spread of velocities but round-off
+    const double Dm = c.D / k;
+    const double f = 4.0 * (k / volume) * Dm * Dm * std::sqrt(std::numbers::pi * T);
+    if (f > 0.0) tau = std::min(tau, 1.0 / f);
+  }
+  return tau;
+}
+
 // Distance from x to the plane of face f (positive inside the box) and the unit
 // normal pointing out of the box through f.
 inline double face_distance(int f, const V3& x, const DpmSetup& s) {
@@ -134,13 +183,16 @@ inline V3 face_normal(int f) {
 struct Motion {
   V3 x, v, w;
   V3 impulse = V3::Zero();  // of the fluid forces over the step, N s (eq. 3.43)
+  unsigned beyond = 0;      // correlations used outside their range (forces.hpp, Beyond)
 };
 inline Motion rk4(const Motion& s, double D, double m, double I, double rho_p, const FluidSample& fluid,
                   const DpmSetup& set, double h) {
   const V3 g = set.forces.gravity_buoyancy ? V3(gravity_buoyancy(1.0, rho_p, fluid.rho, set.gravity)) : V3(V3::Zero());
   V3 J = V3::Zero();
+  unsigned beyond = 0;
   auto rate = [&](const V3& v, const V3& w, V3& dv, V3& dw, double weight) {
     const FluidLoad L = fluid_load(fluid, D, v, w, set.forces);
+    beyond |= L.beyond;
     J += weight * L.force();
     dv = L.force() / m + g;  // eq. 3.29
     dw = L.torque / I;       // eq. 3.30
@@ -154,7 +206,7 @@ inline Motion rk4(const Motion& s, double D, double m, double I, double rho_p, c
   const V3 v4 = s.v + h * a3, w4 = s.w + h * b3;
   rate(v4, w4, a4, b4, h / 6.0);
   return {s.x + h / 6.0 * (s.v + 2.0 * v2 + 2.0 * v3 + v4), s.v + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4),
-          s.w + h / 6.0 * (b1 + 2.0 * b2 + 2.0 * b3 + b4), J};
+          s.w + h / 6.0 * (b1 + 2.0 * b2 + 2.0 * b3 + b4), J, beyond};
 }
 
 // A collision found in a step: time, the two ids (b < 0: the wall face -1 - b)

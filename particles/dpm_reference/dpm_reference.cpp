@@ -40,6 +40,10 @@ DpmReference::DpmReference(const Setup& setup, const Params&) : params_(setup.pa
 double DpmReference::stable_step() const {
   double dt = std::numeric_limits<double>::infinity();
   for (const auto& p : p_) dt = std::min(dt, dpm::lagrangian_step(s_, p.D, p.rho_p, p.v, p.fluid));
+  if (s_.collisions)  // the mean time between collisions, tau_c of eq. 4.15
+    dt = std::min(dt, 0.2 * dpm::mean_collision_time(
+                               p_.size(), [&](std::size_t i) { return p_[i].x; }, [&](std::size_t i) { return p_[i].v; },
+                               [&](std::size_t i) { return p_[i].D; }, s_));
   return std::isfinite(dt) ? dt : 1.0;  // nothing limits it: the window decides
 }
 
@@ -57,6 +61,7 @@ void DpmReference::step(double h) {
       seen[i].u += p.uprime;
     }
     next[i] = dpm::rk4({p.x, p.v, p.w}, p.D, p.m, p.I, p.rho_p, seen[i], s_, h);
+    ranges_.note(p.species, next[i].beyond);
   }
   // 2. Collisions along the straight trajectories x + u t, t in [0, h), with u
   //    the mean velocity of the step (eqs 4.23-4.28), every pair and every wall
@@ -88,20 +93,24 @@ void DpmReference::step(double h) {
       V3 n, point;
       const dpm::Restitution* law = nullptr;
       dpm::wall_contact(e.b, a.x, u[e.i], e.t, a.D, s_, n, point, law);
-      events_.impact(time_ + e.t, a.id, -1 - e.b, point, n, next[e.i].v);
-      dpm::collide_wall(next[e.i].v, next[e.i].w, a.D, n, *law);
+      const V3 before = next[e.i].v;
+      if (dpm::collide_wall(next[e.i].v, next[e.i].w, a.D, n, *law)) {  // only applied impulses count
+        events_.impact(time_ + e.t, a.id, -1 - e.b, point, n, before);
+        ++wall_collisions_;
+      }
       hit[e.i] = e.t;
-      ++wall_collisions_;
       continue;
     }
     Particle& b = p_[e.j];
     const V3 d = dpm::min_image((a.x + u[e.i] * e.t) - (b.x + u[e.j] * e.t), s_);
     const V3 n = -d.normalized();  // from a to b
-    events_.collision(time_ + e.t, a.id, b.id, -n, next[e.i].v - next[e.j].v);
-    dpm::collide_pair(next[e.i].v, next[e.i].w, a.m, a.D, next[e.j].v, next[e.j].w, b.m, b.D, n,
-                      s_.pair_law(a.species, b.species));
+    const V3 relative = next[e.i].v - next[e.j].v;
+    if (dpm::collide_pair(next[e.i].v, next[e.i].w, a.m, a.D, next[e.j].v, next[e.j].w, b.m, b.D, n,
+                          s_.pair_law(a.species, b.species))) {  // only applied impulses count
+      events_.collision(time_ + e.t, a.id, b.id, -n, relative);
+      ++collisions_;
+    }
     hit[e.i] = hit[e.j] = e.t;
-    ++collisions_;
   }
   // 3. New states: after a collision the particle continues from the contact
   //    point with its new velocity (eqs 4.30-4.31).
@@ -144,6 +153,7 @@ void DpmReference::advance(double dt, long substeps) {
     const long k = dpm::lagrangian_substeps(s_, h, stable_step());
     for (long m = 0; m < k; ++m) step(h / k);
   }
+  ranges_.report(MPI_COMM_SELF, s_.species_names);
 }
 
 const ParticleArrays& DpmReference::particles() const {

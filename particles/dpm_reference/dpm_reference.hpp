@@ -7,6 +7,7 @@
 
 #include "particles/dem/dem_common.hpp"
 #include "particles/dpm/injection.hpp"
+#include "particles/dpm/range_warnings.hpp"
 #include "particles/dpm/setup.hpp"
 #include "particles/particles_interface.hpp"
 
@@ -62,6 +63,7 @@ class DpmReference final : public ParticleSolver {
   double time_ = 0.0;
   long steps_ = 0;
   long collisions_ = 0, wall_collisions_ = 0;
+  dpm::RangeWarnings ranges_;  // correlations used beyond their range, warned once
   dem::EventRecorder events_;
   mutable ParticleArrays view_;
 };

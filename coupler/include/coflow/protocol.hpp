@@ -21,6 +21,7 @@ struct ParticleLoad {
   double force[3];
   double torque[3];
 };
+static_assert(sizeof(ParticleLoad) == 6 * sizeof(double), "read as six doubles (check_finite)");
 
 inline void add_load(std::byte* into, const std::byte* from) {
   ParticleLoad a, b;

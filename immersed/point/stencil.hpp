@@ -1,0 +1,47 @@
+// Trilinear interpolation and spreading stencil of the point method (seed 003
+// §4.2.2: the fluid at a particle, and the particle's momentum source back to
+// the same cells with the same weights, so that spreading conserves momentum).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "coflow/decomposition.hpp"
+#include "coflow/run_config.hpp"
+
+namespace coflow::immersed {
+
+// The 8 cells around a point and their trilinear weights (cell centres at
+// lower + (i + 1/2) h). Non-periodic axes clamp to the domain, so that a point
+// between the last centre and a wall takes that cell's value (interpolation)
+// and gives it the whole weight (spreading stays conservative). On periodic
+// axes the indices may be -1 or n: the exchange wraps them.
+struct Stencil {
+  coupler::Index3 cell[8];
+  double weight[8];
+};
+
+inline Stencil stencil(const double* x, const config::DomainParams& dom, double h) {
+  long i0[3];
+  double t[3];
+  for (int d = 0; d < 3; ++d) {
+    const double s = (x[d] - dom.lower[d]) / h - 0.5;
+    i0[d] = static_cast<long>(std::floor(s));
+    t[d] = s - static_cast<double>(i0[d]);
+  }
+  Stencil st;
+  for (int c = 0; c < 8; ++c) {
+    double w = 1.0;
+    for (int d = 0; d < 3; ++d) {
+      const int up = (c >> d) & 1;
+      long i = i0[d] + up;
+      w *= up ? t[d] : 1.0 - t[d];
+      if (!dom.periodic[d]) i = std::clamp(i, 0L, static_cast<long>(dom.cells[d]) - 1);
+      st.cell[c][d] = i;
+    }
+    st.weight[c] = w;
+  }
+  return st;
+}
+
+}  // namespace coflow::immersed

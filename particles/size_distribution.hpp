@@ -1,0 +1,30 @@
+// Particle diameters drawn from a species' size distribution, the same way in
+// DEM (initial packings) and DPM (inlets).
+#pragma once
+
+#include <cmath>
+
+namespace coflow::particles {
+
+// The largest diameter a log-normal species may draw: mean + 6 standard
+// deviations (largest_diameter, the ghost layers and the inlets' reach use it).
+inline double lognormal_cutoff(double mean, double std) { return mean + 6.0 * std; }
+
+// A diameter from the log-normal with mean D and standard deviation s
+// (sigma^2 = ln(1 + s^2 / D^2), mu = ln D - sigma^2 / 2: seed 003 eqs
+// 4.20-4.21, corrected as PHYSICS.md §4 says), truncated at
+// lognormal_cutoff(D, s) by resampling: a draw above it is discarded and drawn
+// anew, so the result follows the log-normal density renormalised on
+// (0, cutoff] (clamping would instead pile the tail's mass onto the cutoff).
+// normal(r) returns the r-th standard normal deviate of this particle.
+template <class Normal>
+double truncated_lognormal(double D, double s, Normal normal) {
+  const double s2 = std::log(1.0 + s * s / (D * D));
+  const double mu = std::log(D) - 0.5 * s2, sigma = std::sqrt(s2), cutoff = lognormal_cutoff(D, s);
+  for (int r = 0;; ++r) {
+    const double d = std::exp(mu + sigma * normal(r));
+    if (d <= cutoff) return d;
+  }
+}
+
+}  // namespace coflow::particles

@@ -161,6 +161,7 @@ void run_fluid(coupler::Session& s, const DummyParams& p) {
   std::vector<double> values;
   std::vector<long> got_cells;
   std::vector<double> got_values;
+  long checked = 0;  // windows whose received source was checked
   for (long w = 1; w <= s.windows(); ++w) {
     misbehave(s, p, w);
     coupler::trace().steps = w;
@@ -247,11 +248,12 @@ void run_fluid(coupler::Session& s, const DummyParams& p) {
       receive_source();
       send_velocity();
     }
+    ++checked;
     s.checkpoint(w, [](const std::string&) {});  // a component with no state still takes part
     s.window_done(w);
   }
   for (auto& e : to_immersed) e->flush();
-  s.set_final("dummy.checked_windows", static_cast<double>(s.windows()));
+  s.set_final("dummy.checked_windows", static_cast<double>(checked));
 }
 
 // --------------------------------------------------------------- immersed ---

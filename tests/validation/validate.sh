@@ -6,6 +6,8 @@
 #   compare             ARGS: "A overrides" "B overrides" (each a space-separated list
 #                       of key=value); runs both and compares the last snapshots
 #                       and the event logs (events/*.csv) when the runs write them
+#   layouts             as compare; run A must log the packed population layout and
+#                       run B the spaced one (lbm)
 #   order               ARGS: three override lists (coarse, medium, fine);
 #                       prints l2 errors and the observed orders of convergence
 #   damping             ARGS: local damping values; runs the impact per value and
@@ -16,7 +18,7 @@
 #                       and without it and compares (lbm's layout fallback)
 # Every metric printed is checked against the rows of references.csv whose first
 # column is CASE: `case,metric,op,bound,source`.
-set -u
+set -u -o pipefail
 case_name=$1 bin=$2 out=$3 mode=$4 cfg=$5; shift 5
 here=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$out"
@@ -35,16 +37,22 @@ sets() {  # "a=1 b=2" -> --set a=1 --set b=2
 check() { "$bin/coflow-check" "$@" || { echo "FAIL: coflow-check $*"; exit 1; }; }
 
 case "$mode" in
-  profile|decay|mass|ramp|impact|pour|momentum|drag|settling|dpm_settling|granular_gas|two_way|dispersion|grid_turbulence|injection|jet|rotation)
+  profile|decay|mass|ramp|impact|pour|crush|momentum|drag|settling|dpm_settling|granular_gas|two_way|dispersion|grid_turbulence|injection|jet|rotation)
     run "$out/run" "$@"
-    check "$mode" "$out/run" | tee -a "$metrics" ;;
-  compare)
+    check "$mode" "$out/run" | tee -a "$metrics" || exit 1 ;;
+  compare|layouts)
     mapfile -t a < <(sets "$1"); mapfile -t b < <(sets "$2")
     run "$out/a" "${a[@]}"; run "$out/b" "${b[@]}"
-    check compare "$out/a" "$out/b" | tee -a "$metrics"
+    check compare "$out/a" "$out/b" | tee -a "$metrics" || exit 1
+    if [ "$mode" = layouts ]; then  # run a took the packed layout, run b the spaced one
+      grep -q "packed population layout" "$out/a/logs/fluid.log" && pa=1 || pa=0
+      grep -q "spaced population layout" "$out/b/logs/fluid.log" && sb=1 || sb=0
+      printf 'layout_a_packed=%s\nlayout_b_spaced=%s\n' "$pa" "$sb" | tee -a "$metrics"
+    fi
     # Event logs, when written, must be the same line for line.
-    for f in events/collisions.csv events/bonds.csv; do
+    for f in events/collisions.csv events/bonds.csv events/impacts.csv; do
       if [ -f "$out/a/$f" ] || [ -f "$out/b/$f" ]; then
+        [ -f "$out/a/$f" ] && [ -f "$out/b/$f" ] || { echo "FAIL: $f written by one run only"; exit 1; }
         lines=$(wc -l <"$out/a/$f")
         cmp -s "$out/a/$f" "$out/b/$f" || { echo "FAIL: $f differs between the two runs"; exit 1; }
         echo "${f#events/}: $((lines - 1)) events, identical"
@@ -55,17 +63,18 @@ case "$mode" in
     for n in 1 2 3; do
       mapfile -t s < <(sets "${!n}")
       run "$out/res$n" "${s[@]}"
-      e=$(check profile "$out/res$n" | sed -n 's/^l2_error=//p')
+      e=$(check profile "$out/res$n" | sed -n 's/^l2_error=//p') || exit 1
       echo "l2_error_$n=$e" | tee -a "$metrics"; errs+=("$e")
     done
     awk -v a="${errs[0]}" -v b="${errs[1]}" -v c="${errs[2]}" \
-      'BEGIN { printf "order_12=%.4f\norder_23=%.4f\n", log(a/b)/log(2), log(b/c)/log(2) }' | tee -a "$metrics" ;;
+      'BEGIN { printf "order_12=%.4f\norder_23=%.4f\n", log(a/b)/log(2), log(b/c)/log(2) }' | tee -a "$metrics" || exit 1 ;;
   formulations)
     run "$out/standard" --set fluid.lbm.formulation=standard "$@"
     run "$out/incompressible" --set fluid.lbm.formulation=incompressible "$@"
-    es=$(check profile "$out/standard" | sed -n 's/^l2_error=//p')
-    ei=$(check profile "$out/incompressible" | sed -n 's/^l2_error=//p')
-    awk -v s="$es" -v i="$ei" 'BEGIN { printf "l2_error_standard=%s\nl2_error_incompressible=%s\nerror_ratio=%.4f\n", s, i, i/s }' | tee -a "$metrics" ;;
+    es=$(check profile "$out/standard" | sed -n 's/^l2_error=//p') || exit 1
+    ei=$(check profile "$out/incompressible" | sed -n 's/^l2_error=//p') || exit 1
+    oe=$(check profile "$out/incompressible" | sed -n 's/^odd_even=//p') || exit 1
+    awk -v s="$es" -v i="$ei" -v o="$oe" 'BEGIN { printf "l2_error_standard=%s\nl2_error_incompressible=%s\nerror_ratio=%.4f\nodd_even_incompressible=%s\n", s, i, i/s, o }' | tee -a "$metrics" || exit 1 ;;
   address_limit)
     # ARGS: an address-space limit (KiB) below lbm's spaced reservation: the run
     # under it must fall back to the packed layout, say so, and match a run
@@ -73,19 +82,19 @@ case "$mode" in
     run "$out/free"
     ( ulimit -v "$1" && run "$out/limited" )
     fallback=0; grep -q "packed layout (slower)" "$out/limited.log" && fallback=1
-    echo "fallback_logged=$fallback" | tee -a "$metrics"
-    check compare "$out/limited" "$out/free" | tee -a "$metrics" ;;
+    echo "fallback_logged=$fallback" | tee -a "$metrics" || exit 1
+    check compare "$out/limited" "$out/free" | tee -a "$metrics" || exit 1 ;;
   damping)
     # ARGS: local damping values; restitution must fall as damping grows.
     prev=""; mono=1; list=""
     for a in "$@"; do
       run "$out/alpha-$a" --set particles.contact.local_damping="$a"
-      e=$(check impact "$out/alpha-$a" | sed -n 's/^restitution=//p')
+      e=$(check impact "$out/alpha-$a" | sed -n 's/^restitution=//p') || exit 1
       echo "restitution_alpha_$a=$e" | tee -a "$metrics"; list="$list $a:$e"
       if [ -n "$prev" ] && ! awk -v p="$prev" -v e="$e" 'BEGIN { exit !(e < p) }'; then mono=0; fi
       prev=$e
     done
-    echo "restitution_decreasing=$mono" | tee -a "$metrics" ;;
+    echo "restitution_decreasing=$mono" | tee -a "$metrics" || exit 1 ;;
   *) echo "FAIL: unknown mode $mode"; exit 1 ;;
 esac
 
@@ -95,7 +104,7 @@ while IFS=, read -r c metric op bound source; do
   n=$((n + 1))
   value=$(sed -n "s/^$metric=//p" "$metrics" | tail -n 1)
   if [ -z "$value" ]; then echo "FAIL: metric $metric not produced"; status=1; continue; fi
-  if awk -v v="$value" -v b="$bound" -v op="$op" 'BEGIN { exit !((op == "<" && v < b) || (op == ">" && v > b) || (op == "<=" && v <= b) || (op == ">=" && v >= b)) }'; then
+  if awk -v v="$value" -v b="$bound" -v op="$op" 'BEGIN { if (v !~ /^[-+]?[0-9.]+([eE][-+]?[0-9]+)?$/) exit 1; exit !((op == "<" && v < b) || (op == ">" && v > b) || (op == "<=" && v <= b) || (op == ">=" && v >= b)) }'; then
     echo "ok: $metric = $value $op $bound  ($source)"
   else
     echo "FAIL: $metric = $value, required $op $bound  ($source)"; status=1

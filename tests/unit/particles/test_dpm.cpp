@@ -7,10 +7,12 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <vector>
 
 #include "coflow/catalog.hpp"
 #include "particles/dpm/collision.hpp"
 #include "particles/dpm/forces.hpp"
+#include "particles/dpm/setup.hpp"
 #include "particles/dpm_reference/dpm_reference.hpp"
 #include "particles/schema.hpp"
 
@@ -187,4 +189,66 @@ particles:
   const double got = dpm.particles().v[0];
   CHECK_THAT(got, WithinRel(v, 1e-4));
   CHECK(got < 0.1e-4);  // it did slow down: 30 us ~ 2.7 tau
+}
+
+TEST_CASE("collisions apply an impulse only to approaching pairs, and say so", "[dpm]") {
+  const V3 n(1, 0, 0);  // from p to q
+  V3 up(-0.1, 0, 0), wp = V3::Zero(), uq(0.2, 0, 0), wq = V3::Zero();  // separating
+  CHECK_FALSE(collide_pair(up, wp, 1.0, 1e-3, uq, wq, 1.0, 1e-3, n, {0.9, 0.3}));
+  CHECK(up == V3(-0.1, 0, 0));
+  CHECK(uq == V3(0.2, 0, 0));
+  up = V3(0.3, 0, 0);  // approaching
+  CHECK(collide_pair(up, wp, 1.0, 1e-3, uq, wq, 1.0, 1e-3, n, {0.9, 0.3}));
+  V3 u(0, 0, 1.0), w = V3::Zero();  // leaving the floor
+  CHECK_FALSE(collide_wall(u, w, 1e-3, V3(0, 0, -1), {0.5, 0.0}));
+  CHECK(u == V3(0, 0, 1.0));
+}
+
+TEST_CASE("mean time between collisions of eq. 4.15 from kinetic theory per cell", "[dpm]") {
+  // One 1 mm cell holding 8 particles of 0.1 mm moving +-u along x: T = u^2 / 3,
+  // f = 4 n D^2 sqrt(pi T) (seed 003 eq. 5.9 per particle, g0 = 1).
+  DpmSetup s;
+  s.spacing = V3(1e-3, 1e-3, 1e-3);
+  std::vector<V3> x, v;
+  std::vector<double> D;
+  const double u = 0.2;
+  for (int i = 0; i < 8; ++i) {
+    x.emplace_back(1e-4 + 1e-4 * i, 5e-4, 5e-4);
+    v.emplace_back(i % 2 ? u : -u, 0, 0);
+    D.push_back(1e-4);
+  }
+  // a lone particle in another cell has no partner and sets no time
+  x.emplace_back(2.5e-3, 5e-4, 5e-4);
+  v.emplace_back(10.0, 0, 0);
+  D.push_back(1e-4);
+  const double n = 8 / 1e-9, f = 4.0 * n * 1e-8 * std::sqrt(std::numbers::pi * u * u / 3.0);
+  const double tau = mean_collision_time(
+      x.size(), [&](std::size_t i) { return x[i]; }, [&](std::size_t i) { return v[i]; },
+      [&](std::size_t i) { return D[i]; }, s);
+  CHECK_THAT(tau, WithinRel(1.0 / f, 1e-12));
+  // no spread of velocities: no collisions expected
+  for (auto& vi : v) vi = V3(u, 0, 0);
+  CHECK(std::isinf(mean_collision_time(
+      x.size(), [&](std::size_t i) { return x[i]; }, [&](std::size_t i) { return v[i]; },
+      [&](std::size_t i) { return D[i]; }, s)));
+}
+
+TEST_CASE("correlations used beyond their published range are flagged", "[dpm]") {
+  FluidSample f;
+  f.rho = 1000.0;
+  f.mu = 1e-3;
+  const ForceSet all{};
+  const double D = 1e-3;
+  // Re_p = rho D |u - v| / mu = 50, a shear giving beta = Re_s / (2 Re_p) = 0.1: every term in range.
+  f.vorticity = V3(0, 0, 10.0);  // Re_s = rho D^2 |omega| / mu = 10
+  FluidLoad L = fluid_load(f, D, V3(0.05, 0, 0), V3(0, 0, 1.0), all);
+  CHECK(L.beyond == 0u);
+  // beta = 10 / (2 x 500) = 0.01 still in; at Re_p 5000, beta = 0.001: Saffman-Mei beyond, and Magnus beyond Re_p 140.
+  L = fluid_load(f, D, V3(5.0, 0, 0), V3(0, 0, 1.0), all);
+  CHECK((L.beyond & kSaffmanBeta) != 0u);
+  CHECK((L.beyond & kMagnusReP) != 0u);
+  CHECK((L.beyond & kRotationReR) == 0u);
+  // Re_r = rho D^2 |omega_rel| / mu = 2000: the rotational coefficient beyond 1000.
+  L = fluid_load(f, D, V3(0.05, 0, 0), V3(0, 0, 2005.0), all);
+  CHECK((L.beyond & kRotationReR) != 0u);
 }

@@ -1,0 +1,92 @@
+#!/usr/bin/env bash
+# slurm.sh BIN_DIR CONFIG OUT
+# A real Slurm on this machine (Debian's slurmctld, slurmd, munge): the
+# quickstart through `coflow run --launcher srun` must equal the same run
+# through mpirun, and a component killed under srun must end the step within
+# 10 s with the component named. The daemons run from a temporary directory
+# and are stopped by their PIDs at the end, whatever happens.
+# Needs root (the daemons run as root here); otherwise, or without Slurm,
+# reported as skipped (exit 77).
+set -u
+bin=$1 cfg=$2 out=$3
+here=$(cd "$(dirname "$0")" && pwd)
+for p in slurmctld slurmd srun sinfo munged; do
+  command -v "$p" >/dev/null 2>&1 || [ -x "/usr/sbin/$p" ] || { echo "SKIP: $p is not installed (scripts/setup installs it)"; exit 77; }
+done
+[ "$(id -u)" -eq 0 ] || { echo "SKIP: the test Slurm runs its daemons as root"; exit 77; }
+export PATH=/usr/sbin:$PATH
+rm -rf "$out"; mkdir -p "$out"
+tmp=$(mktemp -d /tmp/coflow-slurm.XXXXXX)
+pids=()
+cleanup() {
+  for f in "$tmp"/slurmd.pid "$tmp"/slurmctld.pid "$tmp"/munged.pid; do
+    [ -f "$f" ] && kill "$(cat "$f")" 2>/dev/null
+  done
+  sleep 0.5
+  for f in "$tmp"/slurmd.pid "$tmp"/slurmctld.pid "$tmp"/munged.pid; do
+    [ -f "$f" ] && kill -9 "$(cat "$f")" 2>/dev/null
+  done
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+fail() { echo "FAIL: $*"; for l in "$tmp"/*.log; do [ -f "$l" ] && { echo "--- $l"; tail -n 15 "$l"; }; done; exit 1; }
+
+# munge: its own key and socket in the temporary directory.
+dd if=/dev/urandom bs=1 count=1024 of="$tmp/munge.key" 2>/dev/null
+chown munge:munge "$tmp" "$tmp/munge.key" 2>/dev/null; chmod 700 "$tmp"; chmod 400 "$tmp/munge.key"
+mkdir -p "$tmp/munge"; chown munge:munge "$tmp/munge"
+runuser -u munge -- munged --key-file="$tmp/munge.key" --socket="$tmp/munge/munge.socket" \
+  --pid-file="$tmp/munged.pid" --log-file="$tmp/munged.log" --seed-file="$tmp/munge.seed" \
+  || fail "munged did not start"
+chmod 755 "$tmp"
+
+host=$(hostname -s)
+ranks=8
+sed -e "s|@HOST@|$host|g" -e "s|@TMP@|$tmp|g" -e "s|@CPUS@|$ranks|g" "$here/slurm.conf.in" >"$tmp/slurm.conf"
+mkdir -p "$tmp/state" "$tmp/spool"
+export SLURM_CONF=$tmp/slurm.conf
+slurmctld -f "$SLURM_CONF" || fail "slurmctld did not start"
+slurmd -f "$SLURM_CONF" || fail "slurmd did not start"
+for i in $(seq 1 100); do
+  sinfo -h -o %t 2>/dev/null | grep -q idle && break
+  sleep 0.2
+done
+sinfo -h -o %t | grep -q idle || fail "the node did not become idle: $(sinfo 2>&1)"
+echo "slurm up: $(sinfo -h -o '%P %D %t %c')"
+
+# 1. The quickstart through srun equals the mpirun run.
+"$bin/coflow" run "$cfg" --set run.output.dir="$out/mpirun" >"$out/mpirun.log" 2>&1 || { tail -n 20 "$out/mpirun.log"; fail "the mpirun run failed"; }
+timeout 300 "$bin/coflow" run "$cfg" --launcher srun --set run.output.dir="$out/srun" >"$out/srun.log" 2>&1 \
+  || { tail -n 30 "$out/srun.log"; fail "the srun run failed"; }
+grep -q "coflow: run '.*' finished" "$out/srun.log" || { cat "$out/srun.log"; fail "no summary table under srun"; }
+grep -q "@coflow progress" "$out/srun.log" && fail "raw progress lines under srun"
+grep -q '"status": "ok"' "$out/srun/summary.json" || fail "summary.json under srun"
+m=$("$bin/coflow-check" compare "$out/mpirun" "$out/srun") || { echo "$m"; fail "compare"; }
+echo "$m"
+nonzero=$(echo "$m" | grep -E '^[a-z_]+_difference=' | grep -vE '=0\.000000e\+00$')
+[ -z "$nonzero" ] || fail "srun and mpirun runs differ: $nonzero"
+echo "srun run equals the mpirun run bit for bit"
+
+# 2. A component killed under srun ends the step within 10 s, named.
+"$bin/coflow" run "$cfg" --launcher srun --set run.output.dir="$out/killed" --set run.end_time=1000 \
+  >"$out/killed.log" 2>&1 &
+launcher=$!
+for i in $(seq 1 300); do
+  victim=$(pgrep -f "coflow-particles .*$out/killed/config.yaml" | head -n 1)
+  [ -n "$victim" ] && grep -q "progress" "$out/killed.log" 2>/dev/null && break
+  sleep 0.1
+done
+[ -n "$victim" ] || { kill "$launcher"; fail "coflow-particles never started under srun"; }
+kill -9 "$victim"
+t0=$(date +%s.%N)
+for i in $(seq 1 150); do kill -0 "$launcher" 2>/dev/null || break; sleep 0.1; done
+t1=$(date +%s.%N)
+if kill -0 "$launcher" 2>/dev/null; then kill "$launcher"; fail "the step still runs 15 s after a component was killed"; fi
+wait "$launcher"; rc=$?
+took=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.1f", b - a }')
+echo "killed component: the step ended in $took s with exit status $rc"
+awk -v t="$took" 'BEGIN { exit !(t <= 10) }' || fail "the step took $took s to end (10 s allowed)"
+[ "$rc" -ne 0 ] || fail "exit status 0 after a component was killed"
+grep -q "run failed in component 'particles'" "$out/killed.log" || { tail -n 20 "$out/killed.log"; fail "the killed component is not named"; }
+grep -q '"failed_component": "particles"' "$out/killed/summary.json" || fail "summary.json does not name the component"
+echo "ok"

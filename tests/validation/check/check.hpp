@@ -1,0 +1,110 @@
+// coflow-check: metrics of a finished run against analytic solutions and
+// published data, printed as `name=value` lines for tests/validation/validate.sh.
+// One file per physics (lbm.cpp, dem.cpp, psm.cpp, dpm.cpp) and the run-to-run
+// comparison (compare.cpp); this header holds what they share: reading a run's
+// resolved config.yaml, its series and its snapshots.
+#pragma once
+
+#include <cmath>
+#include <cstdio>
+#include <algorithm>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include "coflow/catalog.hpp"
+#include "coflow/output.hpp"
+#include "coflow/run_config.hpp"
+#include "fluid/analytic/analytic_fluid.hpp"
+#include "fluid/fluid_solver.hpp"
+
+namespace coflow::check {
+
+inline config::Config load(const std::string& dir) { return config::parse_config(dir + "/config.yaml", catalog()); }
+
+inline fluid::FluidParams fluid_params(const config::Config& cfg) {
+  fluid::FluidParams p;
+  config::Reader r(cfg.resolved["fluid"], cfg.file, "fluid");
+  p.visit(r, cfg);
+  return p;
+}
+
+inline std::string last_snapshot(const std::string& dir) {
+  std::ifstream in(dir + "/fluid/index.csv");
+  std::string line, last;
+  std::getline(in, line);
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  if (last.empty()) throw std::runtime_error(dir + ": no fluid snapshot");
+  return dir + "/fluid/" + output::snapshot_name(std::stol(last.substr(0, last.find(','))));
+}
+
+inline std::vector<std::vector<double>> read_series(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    std::vector<double> r;
+    std::stringstream ss(line);
+    for (std::string v; std::getline(ss, v, ',');) r.push_back(std::stod(v));
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+// Kolmogorov-Smirnov distance between the sample x and the distribution cdf.
+template <class Cdf>
+double ks_distance(std::vector<double> x, Cdf cdf) {
+  std::sort(x.begin(), x.end());
+  double d = 0.0;
+  const double k = static_cast<double>(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double F = cdf(x[i]);
+    d = std::max({d, std::abs(F - i / k), std::abs(F - (i + 1) / k)});
+  }
+  return d;
+}
+
+inline std::vector<std::pair<long, double>> snapshots(const std::string& dir, const std::string& component) {
+  std::ifstream in(dir + "/" + component + "/index.csv");
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::pair<long, double>> out;
+  while (std::getline(in, line))
+    if (!line.empty()) out.emplace_back(std::stol(line.substr(0, line.find(','))), std::stod(line.substr(line.find(',') + 1)));
+  return out;
+}
+
+// lbm.cpp
+int profile(const std::string& dir);
+int decay(const std::string& dir);
+int ramp(const std::string& dir);
+int mass(const std::string& dir);
+// psm.cpp
+int momentum(const std::string& dir);
+int drag(const std::string& dir);
+int settling(const std::string& dir);
+int rotation(const std::string& dir);
+// dem.cpp
+int impact(const std::string& dir);
+int pour(const std::string& dir);
+int crush(const std::string& dir);
+// dpm.cpp
+int dpm_settling(const std::string& dir);
+int granular_gas(const std::string& dir);
+int two_way(const std::string& dir);
+int dispersion(const std::string& dir);
+int grid_turbulence(const std::string& dir);
+int injection(const std::string& dir);
+int jet(const std::string& dir);
+// compare.cpp
+int compare(const std::string& a, const std::string& b);
+
+}  // namespace coflow::check

@@ -1,0 +1,68 @@
+// coflow-check: two runs compared snapshot against snapshot.
+#include "check.hpp"
+
+namespace coflow::check {
+
+// The largest |a_i - b_i| and the largest |a_i| of two arrays; a NaN or an
+// infinity in either fails the comparison (std::max would drop a NaN).
+std::pair<double, double> largest_difference(const std::vector<double>& a, const std::vector<double>& b,
+                                             const char* what) {
+  double diff = 0.0, scale = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (!std::isfinite(a[i]) || !std::isfinite(b[i]))
+      throw std::runtime_error(fmt::format("{}: value {} is not finite ({} against {})", what, i, a[i], b[i]));
+    diff = std::max(diff, std::abs(a[i] - b[i]));
+    scale = std::max(scale, std::abs(a[i]));
+  }
+  return {diff, scale};
+}
+
+// Particle snapshots of two runs: largest position difference over the diameter.
+int compare_particles(const std::string& a, const std::string& b) {
+  const auto sa = snapshots(a, "particles"), sb = snapshots(b, "particles");
+  const std::string fa = a + "/particles/" + output::snapshot_name(sa.back().first);
+  const std::string fb = b + "/particles/" + output::snapshot_name(sb.back().first);
+  // Snapshots of different rank counts hold the particles in different orders:
+  // compare by id.
+  auto by_id = [](const std::string& f, const std::string& name, int nc) {
+    const auto id = output::read_dataset(f, "id");
+    const auto v = output::read_dataset(f, name);
+    std::vector<std::size_t> order(id.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t p, std::size_t q) { return id[p] < id[q]; });
+    std::vector<double> out;
+    for (std::size_t i : order)
+      for (int c = 0; c < nc; ++c) out.push_back(v[nc * i + c]);
+    return out;
+  };
+  const auto xa = by_id(fa, "position", 3), xb = by_id(fb, "position", 3);
+  const auto va = by_id(fa, "velocity", 3), vb = by_id(fb, "velocity", 3);
+  const auto ra = by_id(fa, "radius", 1);
+  if (xa.size() != xb.size()) throw std::runtime_error("particle counts differ");
+  const auto [dx, xmax] = largest_difference(xa, xb, "particle positions");
+  const auto [dv, vmax] = largest_difference(va, vb, "particle velocities");
+  double dmin = 1e300;
+  for (double r : ra) dmin = std::min(dmin, 2 * r);
+  std::printf("particles=%zu\nposition_difference=%.6e\nvelocity_difference=%.6e\n", ra.size(), dx / dmin,
+              vmax > 0 ? dv / vmax : dv);
+  return 0;
+}
+
+int compare(const std::string& a, const std::string& b) {
+  if (!std::ifstream(a + "/fluid/index.csv")) return compare_particles(a, b);
+  const auto ua = output::read_dataset(last_snapshot(a), "velocity");
+  const auto ub = output::read_dataset(last_snapshot(b), "velocity");
+  if (ua.size() != ub.size()) throw std::runtime_error("snapshots differ in size");
+  const auto [diff, scale] = largest_difference(ua, ub, "fluid velocity");
+  const auto pa = output::read_dataset(last_snapshot(a), "pressure");
+  const auto pb = output::read_dataset(last_snapshot(b), "pressure");
+  if (pa.size() != pb.size()) throw std::runtime_error("pressure snapshots differ in size");
+  const auto [pdiff, pscale] = largest_difference(pa, pb, "fluid pressure");
+  std::printf("max_velocity=%.6e\nmax_difference=%.6e\npressure_difference=%.6e\n", scale, scale > 0 ? diff / scale : diff,
+              pscale > 0 ? pdiff / pscale : pdiff);
+  // Coupled runs: the particles too.
+  if (std::ifstream(a + "/particles/index.csv")) return compare_particles(a, b);
+  return 0;
+}
+
+}  // namespace coflow::check

@@ -1,0 +1,134 @@
+// coflow-check: lattice Boltzmann channel, duct, Couette, Taylor-Green, ramp and mass metrics.
+#include "check.hpp"
+
+namespace coflow::check {
+
+// Fully developed flow in a rectangular duct, |y| < a, |z| < b, driven by G:
+// u = 16 G a^2 / (mu pi^3) sum_{n odd} (-1)^((n-1)/2) / n^3
+//       [1 - cosh(n pi z / 2a) / cosh(n pi b / 2a)] cos(n pi y / 2a).
+double duct(double y, double z, double a, double b, double G, double mu) {
+  double s = 0.0;
+  for (int n = 1; n < 200; n += 2) {
+    const double k = n * std::numbers::pi / (2 * a);
+    const double ratio = std::exp(k * (std::abs(z) - b)) * (1 + std::exp(-2 * k * std::abs(z))) / (1 + std::exp(-2 * k * b));
+    s += ((n - 1) / 2 % 2 ? -1.0 : 1.0) / (n * n * n) * (1 - ratio) * std::cos(k * y);
+  }
+  return 16 * G * a * a / (mu * std::pow(std::numbers::pi, 3)) * s;
+}
+
+// The odd-even (two-cell) mode along x of a flow in x: the largest second
+// difference of u_x, |u(i) - (u(i-1) + u(i+1))/2|, over the cells, relative to
+// the largest u_x. A smooth profile along the channel has none (Poiseuille is
+// uniform in x); a pressure face's odd-even mode shows as its amplitude.
+double odd_even(const std::vector<double>& u, long nx, long ny, long nz) {
+  double worst = 0.0, peak = 0.0;
+  for (long k = 0; k < nz; ++k)
+    for (long j = 0; j < ny; ++j)
+      for (long i = 0; i < nx; ++i) {
+        const auto at = [&](long ii) { return u[((k * ny + j) * nx + ii) * 3]; };
+        peak = std::max(peak, std::abs(at(i)));
+        if (i > 0 && i + 1 < nx) worst = std::max(worst, std::abs(at(i) - 0.5 * (at(i - 1) + at(i + 1))));
+      }
+  return peak > 0.0 ? worst / peak : 0.0;
+}
+
+int profile(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  const auto& d = cfg.domain;
+  const auto h = d.spacing();
+  const double mu = fp.density * fp.viscosity;
+  std::vector<std::size_t> dims;
+  const auto u = output::read_dataset(last_snapshot(dir), "velocity", &dims);
+  const long nz = dims[0], ny = dims[1], nx = dims[2];
+
+  const auto b_xm = fp.boundary(0, cfg), b_xp = fp.boundary(1, cfg), b_yp = fp.boundary(3, cfg);
+  // Pressure-driven: Zou-He values act at the centres of the boundary cells.
+  double G = fp.body_force[0];
+  if (b_xm.type == "pressure" && b_xp.type == "pressure")
+    G = (b_xm.value.values[0] - b_xp.value.values[0]) / ((nx - 1) * h[0]);
+  const bool couette = b_yp.type == "velocity";
+  const bool duct_flow = !d.periodic[2] && nz > 1;
+  double err2 = 0.0, ref2 = 0.0;
+  for (long k = 0; k < nz; ++k)
+    for (long j = 0; j < ny; ++j)
+      for (long i = 0; i < nx; ++i) {
+        const double y = (j + 0.5) * h[1], z = (k + 0.5) * h[2];
+        const double H = ny * h[1], W = nz * h[2];
+        double ua;
+        if (couette)
+          ua = b_yp.value.values[0] * y / ((ny - 0.5) * h[1]);
+        else if (duct_flow)
+          ua = duct(y - H / 2, z - W / 2, H / 2, W / 2, G, mu);
+        else
+          ua = G * y * (H - y) / (2 * mu);
+        const double un = u[((k * ny + j) * nx + i) * 3];
+        err2 += (un - ua) * (un - ua);
+        ref2 += ua * ua;
+      }
+  std::printf("l2_error=%.6e\n", std::sqrt(err2 / ref2));
+  if (b_xm.type == "pressure" || b_xp.type == "pressure") std::printf("odd_even=%.6e\n", odd_even(u, nx, ny, nz));
+  return 0;
+}
+
+int decay(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  const auto& d = cfg.domain;
+  const auto rows = read_series(dir + "/series/fluid.csv");
+  // Least-squares slope of ln E(t); E ~ exp(-2 nu (kx^2 + ky^2) t) for the 2D vortex.
+  double st = 0, se = 0, stt = 0, ste = 0;
+  int n = 0;
+  for (const auto& r : rows) {
+    if (r[0] <= 0) continue;
+    const double e = std::log(r[5]);
+    st += r[0];
+    se += e;
+    stt += r[0] * r[0];
+    ste += r[0] * e;
+    ++n;
+  }
+  const double slope = (n * ste - st * se) / (n * stt - st * st);
+  const double kx = 2 * std::numbers::pi / (d.upper[0] - d.lower[0]), ky = 2 * std::numbers::pi / (d.upper[1] - d.lower[1]);
+  const double expected = 2 * fp.viscosity * (kx * kx + ky * ky);
+  std::printf("decay_rate=%.9e\nexpected_rate=%.9e\ndecay_rate_error=%.6e\n", -slope, expected,
+              std::abs(-slope - expected) / expected);
+  return 0;
+}
+
+// A ramped pressure face (fluid.boundaries.x-.ramp): the pressure of the x- cells
+// in the last snapshot against value x min(1, t / ramp).
+int ramp(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  const auto b = fp.boundary(0, cfg);
+  if (b.type != "pressure" || b.ramp <= 0.0) throw std::runtime_error("x- is not a ramped pressure face");
+  const std::string snap = last_snapshot(dir);
+  std::vector<std::size_t> dims;
+  const auto p = output::read_dataset(snap, "pressure", &dims);
+  double t = 0.0;
+  {
+    std::ifstream in(dir + "/fluid/index.csv");
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line))
+      if (!line.empty()) t = std::stod(line.substr(line.find(',') + 1));
+  }
+  const long nz = dims[0], ny = dims[1], nx = dims[2];
+  const double expected = b.value.values[0] * std::min(1.0, t / b.ramp);
+  double worst = 0.0;
+  for (long k = 0; k < nz; ++k)
+    for (long j = 0; j < ny; ++j) worst = std::max(worst, std::abs(p[(k * ny + j) * nx] - expected));
+  std::printf("time=%.6g\ninlet_expected=%.9e\nramp_error=%.6e\n", t, expected, worst / b.value.values[0]);
+  return 0;
+}
+
+int mass(const std::string& dir) {
+  const auto rows = read_series(dir + "/series/fluid.csv");
+  double worst = 0.0;
+  for (const auto& r : rows) worst = std::max(worst, std::abs(r[1] - rows.front()[1]) / rows.front()[1]);
+  std::printf("rows=%zu\nmass_drift=%.6e\n", rows.size(), worst);
+  return 0;
+}
+
+}  // namespace coflow::check

@@ -1,0 +1,45 @@
+// coflow-check: metrics of a finished run against analytic solutions and
+// published data, printed as `name=value` lines for tests/validation/validate.sh.
+//
+//   coflow-check profile RUN_DIR   steady channel/duct/Couette profile: l2_error
+//   coflow-check decay RUN_DIR     Taylor-Green energy decay rate: decay_rate_error
+//   coflow-check mass RUN_DIR      relative mass drift over the run: mass_drift
+//   coflow-check compare RUN_A RUN_B   last snapshots: max_difference (relative)
+//   coflow-check impact RUN_DIR    two-sphere impact: duration_error, restitution, energy_error
+//   coflow-check pour RUN_DIR      gravity pour: kinetic_energy_ratio, packing_fraction
+//   ... and the modes listed below (one per validation family).
+//
+// The physical parameters come from the run's resolved config.yaml.
+#include "check.hpp"
+
+using namespace coflow::check;
+
+int main(int argc, char** argv) {
+  try {
+    const std::string what = argc > 1 ? argv[1] : "";
+    if (what == "profile" && argc == 3) return profile(argv[2]);
+    if (what == "decay" && argc == 3) return decay(argv[2]);
+    if (what == "mass" && argc == 3) return mass(argv[2]);
+    if (what == "ramp" && argc == 3) return ramp(argv[2]);
+    if (what == "compare" && argc == 4) return compare(argv[2], argv[3]);
+    if (what == "impact" && argc == 3) return impact(argv[2]);
+    if (what == "pour" && argc == 3) return pour(argv[2]);
+    if (what == "crush" && argc == 3) return crush(argv[2]);
+    if (what == "momentum" && argc == 3) return momentum(argv[2]);
+    if (what == "drag" && argc == 3) return drag(argv[2]);
+    if (what == "settling" && argc == 3) return settling(argv[2]);
+    if (what == "dpm_settling" && argc == 3) return dpm_settling(argv[2]);
+    if (what == "granular_gas" && argc == 3) return granular_gas(argv[2]);
+    if (what == "two_way" && argc == 3) return two_way(argv[2]);
+    if (what == "dispersion" && argc == 3) return dispersion(argv[2]);
+    if (what == "grid_turbulence" && argc == 3) return grid_turbulence(argv[2]);
+    if (what == "injection" && argc == 3) return injection(argv[2]);
+    if (what == "jet" && argc == 3) return jet(argv[2]);
+    if (what == "rotation" && argc == 3) return rotation(argv[2]);
+    std::fprintf(stderr, "usage: coflow-check profile|decay|mass RUN_DIR | compare RUN_A RUN_B\n");
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "coflow-check: %s\n", e.what());
+    return 1;
+  }
+}

@@ -109,6 +109,38 @@ std::vector<std::string> mpirun_argv(const Launch& l, const std::string& config_
   return a;
 }
 
+// srun --multi-prog: one line per rank range, the program and its arguments.
+std::string multi_prog(const Launch& l, const std::string& config_path, const std::string& restart) {
+  std::string conf;
+  int first = 0;
+  for (std::size_t i = 0; i < l.components.size(); ++i) {
+    conf += fmt::format("{}-{} {} {}{}\n", first, first + l.ranks[i] - 1, l.exes[i], config_path,
+                        restart.empty() ? "" : " --restart " + restart);
+    first += l.ranks[i];
+  }
+  return conf;
+}
+
+// The CPUs Slurm gives this step: the allocation's on this node when inside
+// one (SLURM_JOB_CPUS_PER_NODE, e.g. "8" or "8(x2)"), else this machine's.
+int slurm_cpus() {
+  if (const char* c = std::getenv("SLURM_JOB_CPUS_PER_NODE")) {
+    const int n = std::atoi(c);
+    if (n > 0) return n;
+  }
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+// Debian's Open MPI runs under srun only through PMIx; --kill-on-bad-exit ends
+// the step when any rank fails, so that a dead component never leaves the
+// others waiting; --overcommit where the ranks exceed the CPUs.
+std::vector<std::string> srun_argv(const Launch& l, const std::string& conf_path) {
+  std::vector<std::string> a{"srun", "--mpi=pmix", "--kill-on-bad-exit=1", "-n", std::to_string(l.total)};
+  if (l.total > slurm_cpus()) a.push_back("--overcommit");
+  a.insert(a.end(), {"--multi-prog", conf_path});
+  return a;
+}
+
 // ------------------------------------------------------------- progress ---
 
 class Progress {
@@ -162,6 +194,26 @@ struct Failure {
   std::string reason;
 };
 
+// The launcher's own report of a process that died: Open MPI's "process rank
+// N ... exited on signal / non-zero status", srun's "task N: Exited with exit
+// code / Killed / Terminated". The world rank N names the component.
+Failure dead_process(const std::string& s, const Launch& launch) {
+  long r = -1;
+  if (const auto at = s.find("process rank "); at != std::string::npos &&
+      (s.find("exited on signal") != std::string::npos || s.find("non-zero status") != std::string::npos))
+    r = std::atol(s.c_str() + at + 13);
+  if (const auto at = s.find(": task "); s.rfind("srun: error:", 0) == 0 && at != std::string::npos &&
+      (s.find("Exited with exit code") != std::string::npos || s.find("Killed") != std::string::npos ||
+       s.find("Terminated") != std::string::npos || s.find("Segmentation") != std::string::npos))
+    r = std::atol(s.c_str() + at + 7);
+  long first = 0;
+  for (std::size_t i = 0; r >= 0 && i < launch.components.size(); ++i) {
+    if (r < first + launch.ranks[i]) return {launch.components[i], std::to_string(r - first), s};
+    first += launch.ranks[i];
+  }
+  return {};
+}
+
 // Runs argv with stdout+stderr piped to us; returns the exit status.
 int run_child(const std::vector<std::string>& argv, const Launch& launch, Progress& progress,
               Failure& failure) {
@@ -209,21 +261,7 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
       if (failure.component.empty()) failure = f;
       continue;
     }
-    // Open MPI's own report of a process that died.
-    if (failure.component.empty()) {
-      const auto at = s.find("process rank ");
-      if (at != std::string::npos && (s.find("exited on signal") != std::string::npos ||
-                                      s.find("non-zero status") != std::string::npos)) {
-        int r = std::atoi(s.c_str() + at + 13), first = 0;
-        for (std::size_t i = 0; i < launch.components.size(); ++i) {
-          if (r < first + launch.ranks[i]) {
-            failure = {launch.components[i], std::to_string(r - first), s};
-            break;
-          }
-          first += launch.ranks[i];
-        }
-      }
-    }
+    if (failure.component.empty()) failure = dead_process(s, launch);
     progress.clear();
     std::fprintf(stderr, "%s\n", s.c_str());
     std::fflush(stderr);
@@ -279,6 +317,44 @@ void write_failed_summary(const Config& cfg, const Failure& f, int code, double 
     coflow::output::atomic_write(dir + "/summary.json", json);
   } catch (const std::exception&) {
   }
+}
+
+// The launcher (mpirun or srun) and every component executable must be there.
+int check_executables(const std::string& launcher, const Launch& launch) {
+  if (find_in_path(launcher).empty()) {
+    std::cerr << "coflow: '" << launcher << "' not found; "
+              << (launcher == "srun" ? "run where Slurm is installed, or use --launcher mpirun"
+                                     : "install Open MPI (scripts/setup does)")
+              << "\n";
+    return 1;
+  }
+  for (const auto& exe : launch.exes)
+    if (access(exe.c_str(), X_OK) != 0) {
+      std::cerr << "coflow: component executable " << exe << " is missing; build it (scripts/setup)\n";
+      return 1;
+    }
+  if (geteuid() == 0) {
+    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+  }
+  // More ranks than cores: ranks waiting in MPI give their core away instead of
+  // spinning (srun does not tell Open MPI that the node is oversubscribed).
+  if (launch.total > static_cast<int>(std::max(1u, std::thread::hardware_concurrency())))
+    setenv("OMPI_MCA_mpi_yield_when_idle", "1", 0);
+  return 0;
+}
+
+// A fresh run directory (stale snapshots or a stale summary would mislead),
+// and the resolved configuration the components read.
+void prepare_run_directory(const Config& cfg, const std::string& dir, const std::string& restart) {
+  if (restart.empty()) {
+    std::error_code ec;
+    for (const char* sub : {"fluid", "particles", "immersed", "series", "events", "logs"}) fs::remove_all(dir + "/" + sub, ec);
+    fs::remove(dir + "/summary.json", ec);
+    fs::remove(dir + "/run.xdmf", ec);
+  }
+  fs::create_directories(dir);
+  coflow::output::atomic_write(dir + "/config.yaml", YAML::Dump(cfg.resolved) + "\n");
 }
 
 // --------------------------------------------------------------- docs -----
@@ -400,65 +476,17 @@ int main(int argc, char** argv) {
   const std::string dir = cfg.output_dir();
   const std::string resolved = dir + "/config.yaml";
 
-  if (launcher == "srun") {
-    // srun --multi-prog: one line per rank range, the program and its arguments.
-    std::string conf;
-    int first = 0;
-    for (std::size_t i = 0; i < launch.components.size(); ++i) {
-      conf += fmt::format("{}-{} {} {}{}\n", first, first + launch.ranks[i] - 1, launch.exes[i], resolved,
-                          restart.empty() ? "" : " --restart " + restart);
-      first += launch.ranks[i];
-    }
-    const std::string conf_path = dir + "/multi-prog.conf";
-    const std::vector<std::string> argv_srun{"srun", "-n", std::to_string(launch.total), "--multi-prog", conf_path};
-    std::printf("%s\n", join_cmd(argv_srun).c_str());
-    if (dry) {
-      std::printf("%s", conf.c_str());
-      return 0;
-    }
-    fs::create_directories(dir);
-    coflow::output::atomic_write(resolved, YAML::Dump(cfg.resolved) + "\n");
-    coflow::output::atomic_write(conf_path, conf);
-    if (find_in_path("srun").empty()) {
-      std::cerr << "coflow: srun not found on PATH; the multi-prog file is " << conf_path << "\n";
-      return 1;
-    }
-    std::vector<char*> a;
-    for (const auto& s : argv_srun) a.push_back(const_cast<char*>(s.c_str()));
-    a.push_back(nullptr);
-    execvp(a[0], a.data());
-    std::perror("coflow: exec srun");
-    return 1;
-  }
-
-  const auto argv_mpi = mpirun_argv(launch, resolved, restart);
+  const std::string conf_path = dir + "/multi-prog.conf";
+  const bool srun = launcher == "srun";
+  const auto argv_launch = srun ? srun_argv(launch, conf_path) : mpirun_argv(launch, resolved, restart);
   if (dry) {
-    std::printf("%s\n", join_cmd(argv_mpi).c_str());
+    std::printf("%s\n", join_cmd(argv_launch).c_str());
+    if (srun) std::printf("%s", multi_prog(launch, resolved, restart).c_str());
     return 0;
   }
-  if (find_in_path(argv_mpi[0]).empty()) {
-    std::cerr << "coflow: '" << argv_mpi[0] << "' not found; install Open MPI (scripts/setup does)\n";
-    return 1;
-  }
-  for (const auto& exe : launch.exes)
-    if (access(exe.c_str(), X_OK) != 0) {
-      std::cerr << "coflow: component executable " << exe << " is missing; build it (scripts/setup)\n";
-      return 1;
-    }
-  if (geteuid() == 0) {
-    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
-    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
-  }
-
-  // A fresh run directory: stale snapshots or a stale summary would mislead.
-  if (restart.empty()) {
-    std::error_code ec;
-    for (const char* sub : {"fluid", "particles", "immersed", "series", "events", "logs"}) fs::remove_all(dir + "/" + sub, ec);
-    fs::remove(dir + "/summary.json", ec);
-    fs::remove(dir + "/run.xdmf", ec);
-  }
-  fs::create_directories(dir);
-  coflow::output::atomic_write(resolved, YAML::Dump(cfg.resolved) + "\n");
+  if (const int rc = check_executables(argv_launch[0], launch); rc != 0) return rc;
+  prepare_run_directory(cfg, dir, restart);
+  if (srun) coflow::output::atomic_write(conf_path, multi_prog(launch, resolved, restart));
 
   std::printf("coflow: running '%s' with %s\n", cfg.run.name.c_str(),
               fmt::format("{}", fmt::join(launch.components, " + ")).c_str());
@@ -466,7 +494,7 @@ int main(int argc, char** argv) {
   Progress progress(isatty(STDOUT_FILENO));
   Failure failure;
   const double t0 = coflow::coupler::now();
-  const int rc = run_child(argv_mpi, launch, progress, failure);
+  const int rc = run_child(argv_launch, launch, progress, failure);
   const double wall = coflow::coupler::now() - t0;
 
   if (rc == 0) {

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <iostream>
 #include <limits>
+#include <set>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -29,13 +30,6 @@ Trace& trace() {
 
 namespace {
 
-struct Hello {
-  char name[16];
-  int appnum;
-  int size;
-  int rank;
-  std::uint64_t hash;
-};
 
 // Connected pairs, in the order every component creates them.
 const std::vector<std::pair<std::string, std::string>>& pairs() {
@@ -125,67 +119,74 @@ Session::~Session() {
   if (comm_ != MPI_COMM_NULL) MPI_Comm_free(&comm_);
 }
 
+// Discovery by identity: each rank says which component it is (the name is
+// compiled into, or passed to, each executable) and the world is split by that
+// name. MPI_APPNUM is not used to find components: under `srun --multi-prog`
+// every rank has appnum 0. It still tells, where the launcher sets it, whether
+// one component was launched twice.
+std::string Session::check_launch(const std::vector<Hello>& all, const std::map<std::string, int>& first_rank) const {
+  std::map<std::string, std::set<int>> apps;  // component -> the appnums its ranks carry
+  std::map<int, std::set<std::string>> names;  // appnum -> the components carrying it
+  for (const Hello& h : all) {
+    if (h.hash != cfg_.hash)
+      return fmt::format("components read different configurations ({} and {}): launch every component with the "
+                         "same file",
+                         component_, std::string(h.name));
+    apps[h.name].insert(h.appnum);
+    names[h.appnum].insert(h.name);
+  }
+  bool appnums_meaningful = true;  // false under srun --multi-prog: all ranks carry 0
+  for (const auto& [app, n] : names) appnums_meaningful = appnums_meaningful && n.size() == 1;
+  for (const auto& [name, a] : apps)
+    if (appnums_meaningful && a.size() > 1)
+      return fmt::format("component '{}' was launched twice; launch each component once", name);
+  if (first_rank.size() == 1) return "";  // standalone
+  for (const auto& [name, info] : cfg_.components) {
+    if (!ranks_of_.count(name))
+      return fmt::format("the configuration has a '{}' section but coflow-{} was not launched", name, name);
+    if (ranks_of_.at(name) != info.ranks)
+      return fmt::format("{}.ranks is {} in the configuration but {} ranks were launched", name, info.ranks,
+                         ranks_of_.at(name));
+  }
+  for (const auto& [name, n] : ranks_of_)
+    if (!cfg_.has(name))
+      return fmt::format("coflow-{} was launched but the configuration has no '{}' section", name, name);
+  return "";
+}
+
 void Session::discover() {
   int* appnum_attr = nullptr;
   int flag = 0;
   MPI_Comm_get_attr(MPI_COMM_WORLD, MPI_APPNUM, &appnum_attr, &flag);
-  const int appnum = flag ? *appnum_attr : 0;
-  MPI_Comm_split(MPI_COMM_WORLD, appnum, world_rank_, &comm_);
-  MPI_Comm_rank(comm_, &rank_);
-  MPI_Comm_size(comm_, &size_);
-
   Hello me{};
   std::snprintf(me.name, sizeof me.name, "%s", component_.c_str());
-  me.appnum = appnum;
-  me.size = size_;
-  me.rank = rank_;
+  me.appnum = flag ? *appnum_attr : 0;
   me.hash = cfg_.hash;
   std::vector<Hello> all(world_size_);
   MPI_Allgather(&me, sizeof(Hello), MPI_BYTE, all.data(), sizeof(Hello), MPI_BYTE, MPI_COMM_WORLD);
-
   // Every rank reaches the same verdict from the same data, so all fail together.
-  std::map<int, std::string> app_name;
   std::map<std::string, int> first_rank;  // component -> lowest world rank
-  std::string problem;
   for (int r = 0; r < world_size_; ++r) {
-    const Hello& h = all[r];
-    const std::string name(h.name);
-    if (h.hash != cfg_.hash && problem.empty())
-      problem = fmt::format(
-          "components read different configurations ({} and {}): launch every component with "
-          "the same file",
-          component_, name);
-    auto it = app_name.find(h.appnum);
-    if (it == app_name.end()) {
-      if (first_rank.count(name) && problem.empty())
-        problem = fmt::format("component '{}' was launched twice; launch each component once", name);
-      app_name[h.appnum] = name;
-      first_rank[name] = r;
-      ranks_of_[name] = h.size;
-    }
+    const std::string name(all[r].name);
+    if (!first_rank.count(name)) first_rank[name] = r;
+    ++ranks_of_[name];
   }
-  standalone_ = app_name.size() == 1;
-  if (problem.empty() && !standalone_) {
-    for (const auto& [name, info] : cfg_.components) {
-      if (!ranks_of_.count(name))
-        problem = fmt::format("the configuration has a '{}' section but coflow-{} was not launched",
-                              name, name);
-      else if (ranks_of_[name] != info.ranks)
-        problem = fmt::format("{}.ranks is {} in the configuration but {} ranks were launched",
-                              name, info.ranks, ranks_of_[name]);
-      if (!problem.empty()) break;
-    }
-    for (const auto& [name, n] : ranks_of_)
-      if (problem.empty() && !cfg_.has(name))
-        problem = fmt::format("coflow-{} was launched but the configuration has no '{}' section", name, name);
+  int color = 0;  // the component's place among the names (the map is sorted)
+  for (const auto& [name, r] : first_rank) {
+    if (name == component_) break;
+    ++color;
   }
+  MPI_Comm_split(MPI_COMM_WORLD, color, world_rank_, &comm_);
+  MPI_Comm_rank(comm_, &rank_);
+  MPI_Comm_size(comm_, &size_);
+  standalone_ = first_rank.size() == 1;
+  const std::string problem = check_launch(all, first_rank);
   if (!problem.empty()) {
     if (world_rank_ == 0) std::cerr << kFailedTag << " " << component_ << " " << rank_ << " " << problem << std::endl;
     if (rank_ == 0) std::cerr << "coflow-" << component_ << ": error: " << problem << std::endl;
     MPI_Finalize();
     std::exit(2);
   }
-
   int tag = 700;
   for (const auto& [a, b] : pairs()) {
     ++tag;

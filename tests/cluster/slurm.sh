@@ -17,36 +17,49 @@ done
 export PATH=/usr/sbin:$PATH
 rm -rf "$out"; mkdir -p "$out"
 tmp=$(mktemp -d /tmp/coflow-slurm.XXXXXX)
-pids=()
+pids=()  # the daemons, started in the foreground (-D / -F) in the background
 cleanup() {
-  for f in "$tmp"/slurmd.pid "$tmp"/slurmctld.pid "$tmp"/munged.pid; do
-    [ -f "$f" ] && kill "$(cat "$f")" 2>/dev/null
+  if [ -n "${SLURM_CONF:-}" ]; then  # end our jobs first, so that no step outlives slurmd
+    scancel --full -u root >/dev/null 2>&1
+    for i in $(seq 1 30); do [ -z "$(squeue -h 2>/dev/null)" ] && break; sleep 0.2; done
+  fi
+  # Step daemons started since this test began (ours): let them finish, then
+  # make sure.
+  steps() { ps -o pid=,etimes=,stat= -C slurmstepd 2>/dev/null | awk -v age=$((SECONDS + 1)) '$2 <= age && $3 !~ /Z/ { print $1 }'; }
+  for i in $(seq 1 50); do [ -z "$(steps)" ] && break; sleep 0.2; done
+  for p in $(steps); do kill -9 "$p" 2>/dev/null; done
+  for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done
+  for i in $(seq 1 20); do
+    alive=0; for p in "${pids[@]}"; do kill -0 "$p" 2>/dev/null && alive=1; done
+    [ $alive -eq 0 ] && break; sleep 0.1
   done
-  sleep 0.5
-  for f in "$tmp"/slurmd.pid "$tmp"/slurmctld.pid "$tmp"/munged.pid; do
-    [ -f "$f" ] && kill -9 "$(cat "$f")" 2>/dev/null
-  done
+  for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null; done
   rm -rf "$tmp"
 }
 trap cleanup EXIT
-fail() { echo "FAIL: $*"; for l in "$tmp"/*.log; do [ -f "$l" ] && { echo "--- $l"; tail -n 15 "$l"; }; done; exit 1; }
+fail() { echo "FAIL: $*"; for l in "$tmp"/*.log "$tmp"/munge/*.log; do [ -f "$l" ] && { echo "--- $l"; tail -n 15 "$l"; }; done; exit 1; }
 
-# munge: its own key and socket in the temporary directory.
-dd if=/dev/urandom bs=1 count=1024 of="$tmp/munge.key" 2>/dev/null
-chown munge:munge "$tmp" "$tmp/munge.key" 2>/dev/null; chmod 700 "$tmp"; chmod 400 "$tmp/munge.key"
-mkdir -p "$tmp/munge"; chown munge:munge "$tmp/munge"
-runuser -u munge -- munged --key-file="$tmp/munge.key" --socket="$tmp/munge/munge.socket" \
-  --pid-file="$tmp/munged.pid" --log-file="$tmp/munged.log" --seed-file="$tmp/munge.seed" \
-  || fail "munged did not start"
+# munge: its own key and socket in the temporary directory (the socket's
+# directory must be reachable by all, the key readable by munge alone).
 chmod 755 "$tmp"
-
+mkdir -p "$tmp/munge" "$tmp/munge-key"
+dd if=/dev/urandom bs=1 count=1024 of="$tmp/munge-key/munge.key" 2>/dev/null
+chown -R munge:munge "$tmp/munge" "$tmp/munge-key"
+chmod 755 "$tmp/munge"; chmod 700 "$tmp/munge-key"; chmod 400 "$tmp/munge-key/munge.key"
+runuser -u munge -- munged -F --key-file="$tmp/munge-key/munge.key" --socket="$tmp/munge/munge.socket" \
+  --pid-file="$tmp/munge/munged.pid" --log-file="$tmp/munge/munged.log" --seed-file="$tmp/munge/munge.seed" &
+pids+=($!)
+for i in $(seq 1 50); do [ -S "$tmp/munge/munge.socket" ] && break; sleep 0.1; done
+[ -S "$tmp/munge/munge.socket" ] || fail "munged did not start"
 host=$(hostname -s)
 ranks=8
 sed -e "s|@HOST@|$host|g" -e "s|@TMP@|$tmp|g" -e "s|@CPUS@|$ranks|g" "$here/slurm.conf.in" >"$tmp/slurm.conf"
 mkdir -p "$tmp/state" "$tmp/spool"
 export SLURM_CONF=$tmp/slurm.conf
-slurmctld -f "$SLURM_CONF" || fail "slurmctld did not start"
-slurmd -f "$SLURM_CONF" || fail "slurmd did not start"
+slurmctld -D -f "$SLURM_CONF" >"$tmp/slurmctld.out" 2>&1 &
+pids+=($!)
+slurmd -D -f "$SLURM_CONF" >"$tmp/slurmd.out" 2>&1 &
+pids+=($!)
 for i in $(seq 1 100); do
   sinfo -h -o %t 2>/dev/null | grep -q idle && break
   sleep 0.2

@@ -25,8 +25,8 @@ case "$got" in *"-np 1 $bin/coflow-fluid o/config.yaml --restart $PWD/ckpt"*) ;;
 "$bin/coflow" run --dry-run --restart . "$cfg" >/dev/null 2>&1; rc=$?
 [ $rc -eq 2 ] || fail "--restart of a directory without checkpoint.yaml: exit $rc, expected 2"
 
-got=$("$bin/coflow" run --dry-run --launcher srun "$cfg")
-printf '%s\n' "$got" | head -n 1 | grep -qx "srun -n 6 --multi-prog out/coupler-dummies/multi-prog.conf" || fail "srun line: $got"
+got=$(SLURM_JOB_CPUS_PER_NODE=2 "$bin/coflow" run --dry-run --launcher srun "$cfg")  # 6 ranks on 2 CPUs: --overcommit
+printf '%s\n' "$got" | head -n 1 | grep -qx "srun --mpi=pmix --kill-on-bad-exit=1 -n 6 --overcommit --multi-prog out/coupler-dummies/multi-prog.conf" || fail "srun line: $got"
 printf '%s\n' "$got" | grep -qx "0-1 $bin/coflow-fluid out/coupler-dummies/config.yaml" || fail "multi-prog fluid line"
 printf '%s\n' "$got" | grep -qx "2-4 $bin/coflow-immersed out/coupler-dummies/config.yaml" || fail "multi-prog immersed line"
 printf '%s\n' "$got" | grep -qx "5-5 $bin/coflow-particles out/coupler-dummies/config.yaml" || fail "multi-prog particles line"

@@ -5,6 +5,7 @@
 
 #include <mpi.h>
 
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <stdexcept>
@@ -21,6 +22,14 @@ namespace coflow::coupler {
 class SolverError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+};
+
+// One rank's discovery record: which component it is, the MPI_APPNUM the
+// launcher gave it, and the hash of the configuration it read.
+struct Hello {
+  char name[16];
+  int appnum;
+  std::uint64_t hash;
 };
 
 struct Args {
@@ -105,6 +114,7 @@ class Session {
 
  private:
   void discover();
+  std::string check_launch(const std::vector<Hello>& all, const std::map<std::string, int>& first_rank) const;
   void prepare_output();
 
   std::string component_;

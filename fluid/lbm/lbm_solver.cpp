@@ -596,18 +596,62 @@ void LbmSolver::advance(double dt) {
                           owned_.lo[2] + c / (nx * ny));
     }
     throw coupler::SolverError(fmt::format("lbm: the populations are not finite at step {} {} (field: "
-                                           "distribution functions); reduce the velocities or forcing, or raise tau",
+                                           "distribution functions); reduce the velocities or the forcing",
                                            steps_, where));
   }
   if (mach > 0.3)
     throw coupler::SolverError(fmt::format(
-        "lbm: Mach number {:.3f} at step {} exceeds 0.3 (max velocity {:.4g} m/s); the lattice Boltzmann "
-        "method is invalid there: lower the velocities, refine the grid, or raise fluid.lbm.tau",
-        mach, steps_, std::sqrt(global) * s_.units.velocity()));
+        "lbm: Mach number {:.3f} at step {} exceeds 0.3 (max velocity {:.4g} m/s {}); the lattice Boltzmann "
+        "method is invalid there. {}",
+        mach, steps_, std::sqrt(global) * s_.units.velocity(), fastest_cell(), mach_advice(mach)));
   if (mach > 0.1 && !mach_warned_) {
     log::warn("lbm: Mach number {:.3f} at step {} exceeds 0.1: compressibility errors grow as Ma^2", mach, steps_);
     mach_warned_ = true;
   }
+}
+
+// Where the fastest fluid is (collective): "in cell (i, j, k) at (x, y, z) m".
+std::string LbmSolver::fastest_cell() const {
+  std::vector<double> u, rho;
+  core_->macroscopic(u, rho);
+  struct {
+    double u2;
+    int rank;
+  } mine{-1.0, 0}, best{};
+  MPI_Comm_rank(comm_, &mine.rank);
+  long at = -1;
+  for (std::size_t c = 0; 3 * c + 2 < u.size(); ++c) {
+    const double u2 = u[3 * c] * u[3 * c] + u[3 * c + 1] * u[3 * c + 1] + u[3 * c + 2] * u[3 * c + 2];
+    if (u2 > mine.u2) {
+      mine.u2 = u2;
+      at = static_cast<long>(c);
+    }
+  }
+  MPI_Allreduce(&mine, &best, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm_);
+  long cell[3] = {0, 0, 0};
+  if (best.rank == mine.rank && at >= 0) {
+    const long nx = owned_.extent(0), ny = owned_.extent(1);
+    cell[0] = owned_.lo[0] + at % nx;
+    cell[1] = owned_.lo[1] + (at / nx) % ny;
+    cell[2] = owned_.lo[2] + at / (nx * ny);
+  }
+  MPI_Bcast(cell, 3, MPI_LONG, best.rank, comm_);
+  const double dx = s_.units.dx;
+  return fmt::format("in cell ({}, {}, {}) at ({:.4g}, {:.4g}, {:.4g}) m", cell[0], cell[1], cell[2],
+                     s_.lower[0] + (cell[0] + 0.5) * dx, s_.lower[1] + (cell[1] + 0.5) * dx,
+                     s_.lower[2] + (cell[2] + 0.5) * dx);
+}
+
+// What brings Mach down to 0.1 with the physics kept: at a fixed viscosity and
+// grid, dt = (tau - 1/2) dx^2 / (3 nu), so the lattice velocity u dt / dx, and
+// Mach, scale with tau - 1/2 (raising tau raises Mach); at a fixed tau they
+// scale with dx.
+std::string LbmSolver::mach_advice(double mach) const {
+  const double f = 0.1 / mach;
+  return fmt::format("Mach scales with tau - 1/2 at this viscosity and grid: fluid.lbm.tau = {:.4g} (now {}) "
+                     "gives Mach 0.1; or refine the grid to dx = {:.4g} m ({:.0f}x as many cells per axis); or lower "
+                     "the velocities",
+                     0.5 + (s_.units.tau - 0.5) * f, s_.units.tau, s_.units.dx * f, std::ceil(1.0 / f));
 }
 
 void LbmSolver::set_solid(std::span<const long> cells, std::span<const double> fraction,

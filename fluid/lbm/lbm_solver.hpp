@@ -61,6 +61,8 @@ class LbmSolver final : public FluidSolver {
   const lbm::Setup& setup() const { return s_; }
 
  private:
+  std::string fastest_cell() const;           // collective
+  std::string mach_advice(double mach) const;
   lbm::Setup s_;
   MPI_Comm comm_;
   coupler::Box owned_;

@@ -44,6 +44,7 @@ struct Setup {
   bool trt = false;
   double magic = 0.1875;
   std::array<long, 3> cells{1, 1, 1};    // global grid
+  std::array<double, 3> lower{0, 0, 0};  // the domain's lower corner, m
   std::array<Face, 6> faces;             // x-, x+, y-, y+, z-, z+
   std::array<double, 3> force{0, 0, 0};  // uniform body force density, lattice units
   bool packed = false;                   // populations packed even where the block fits the spaced stride
@@ -62,6 +63,7 @@ inline Setup make_setup(const config::Config& cfg, const FluidParams& fp, const 
   s.magic = lp.magic;
   s.packed = lp.layout == "packed";
   for (int d = 0; d < 3; ++d) s.cells[d] = cfg.domain.cells[d];
+  for (int d = 0; d < 3; ++d) s.lower[d] = cfg.domain.lower[d];
   for (int f = 0; f < 6; ++f) {
     const BoundaryParams b = fp.boundary(f, cfg);
     Face& face = s.faces[f];

@@ -77,12 +77,16 @@ TEST_CASE("lbm stops above Mach 0.3 and runs on below it", "[lbm]") {
   for (const auto& line : sink->last_formatted())
     warned = warned || line.find("exceeds 0.1: compressibility errors") != std::string::npos;
   CHECK(warned);
-  // Peak 0.23 (Mach 0.40): stopped at the first step.
+  // Peak 0.23 (Mach 0.40; 0.367 at step 1): stopped at the first step.
   Box fast(2.3e-3);
   const std::string e = error_of(fast, 1);  // the check closes each advance
   INFO(e);
   CHECK(e.find("Mach number 0.") != std::string::npos);
   CHECK(e.find("at step 1 exceeds 0.3") != std::string::npos);
+  // The cell of the maximum, and advice that lowers Mach: tau 0.8 at Ma 0.40
+  // Ma 0.367 at step 1 -> 0.5 + 0.3 x 0.1 / 0.367 = 0.582 (raising tau would raise Mach).
+  CHECK(e.find("in cell (") != std::string::npos);
+  CHECK(e.find("fluid.lbm.tau = 0.58") != std::string::npos);
 }
 
 TEST_CASE("lbm stops on non-finite populations, naming the step, cell and field", "[lbm]") {

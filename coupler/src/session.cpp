@@ -163,7 +163,13 @@ void Session::discover() {
   me.appnum = flag ? *appnum_attr : 0;
   me.hash = cfg_.hash;
   std::vector<Hello> all(world_size_);
-  MPI_Allgather(&me, sizeof(Hello), MPI_BYTE, all.data(), sizeof(Hello), MPI_BYTE, MPI_COMM_WORLD);
+  // Non-blocking, so that a component that never joins (an executable that
+  // exits at start, or hangs before MPI) ends the run after coupling.timeout
+  // instead of leaving the others waiting.
+  MPI_Request req = MPI_REQUEST_NULL;
+  MPI_Iallgather(&me, sizeof(Hello), MPI_BYTE, all.data(), sizeof(Hello), MPI_BYTE, MPI_COMM_WORLD, &req);
+  wait_one(req, "every component to start (discovery): one of the executables exited or hangs before joining the "
+                "run; check its log and any --exe");
   // Every rank reaches the same verdict from the same data, so all fail together.
   std::map<std::string, int> first_rank;  // component -> lowest world rank
   for (int r = 0; r < world_size_; ++r) {

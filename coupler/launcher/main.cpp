@@ -2,6 +2,7 @@
 // the component executables, runs it without a shell, shows progress, and
 // reports how the run ended.
 #include <fcntl.h>
+#include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -15,6 +16,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -214,9 +216,65 @@ Failure dead_process(const std::string& s, const Launch& launch) {
   return {};
 }
 
+// What the launcher reads from the components' combined output.
+struct Watch {
+  const Launch& launch;
+  Progress& progress;
+  Failure& failure;
+  std::set<std::string> started;  // components whose rank 0 logged "coflow-<component> started"
+};
+
+// One line of the components' output: progress and failure tags are taken,
+// everything else is shown.
+void take_line(const std::string& s, Watch& w) {
+  const std::string ptag = coflow::coupler::kProgressTag, ftag = coflow::coupler::kFailedTag;
+  if (s.rfind(ptag, 0) == 0) {
+    double t = 0, end = 0, wall = 0;
+    long win = 0, n = 0;
+    if (std::sscanf(s.c_str() + ptag.size(), "%lf %lf %ld %ld %lf", &t, &end, &win, &n, &wall) == 5)
+      w.progress.update(t, end, win, n, wall);
+    return;
+  }
+  if (s.rfind(ftag, 0) == 0) {
+    std::istringstream is(s.substr(ftag.size()));
+    Failure f;
+    is >> f.component >> f.rank;
+    std::getline(is, f.reason);
+    if (!f.reason.empty() && f.reason[0] == ' ') f.reason.erase(0, 1);
+    if (w.failure.component.empty()) w.failure = f;
+    return;
+  }
+  for (const auto& c : w.launch.components)
+    if (s.find("coflow-" + c + " started:") != std::string::npos) w.started.insert(c);
+  if (w.failure.component.empty()) w.failure = dead_process(s, w.launch);
+  w.progress.clear();
+  std::fprintf(stderr, "%s\n", s.c_str());
+  std::fflush(stderr);
+}
+
+// The components that have not started after `limit` seconds (an executable
+// that exits or hangs before joining holds the others in MPI start-up, where
+// no timeout of theirs runs): the launch is stopped and they are named.
+bool start_overdue(Watch& w, double since, double limit, pid_t pid) {
+  if (w.started.size() == w.launch.components.size() || coflow::coupler::now() - since < limit) return false;
+  std::string missing, own;
+  for (std::size_t i = 0; i < w.launch.components.size(); ++i) {
+    const std::string& c = w.launch.components[i];
+    if (!w.started.count(c)) missing += (missing.empty() ? "" : ", ") + c;
+    if (w.launch.exes[i] != self_dir() + "/coflow-" + c) own += fmt::format(" {}={}", c, w.launch.exes[i]);
+  }
+  // One executable that never starts MPI holds every other in MPI start-up.
+  const std::string suspect = own.empty() ? std::string() : fmt::format("; your own executables:{}", own);
+  w.failure = {missing, "", fmt::format("{} did not start within {:.0f} s (coupling.timeout): an executable exited or "
+                                        "hangs before joining the run, which holds the others in MPI start-up{}",
+                                        missing, limit, suspect)};
+  kill(pid, SIGTERM);
+  return true;
+}
+
 // Runs argv with stdout+stderr piped to us; returns the exit status.
-int run_child(const std::vector<std::string>& argv, const Launch& launch, Progress& progress,
-              Failure& failure) {
+int run_child(const std::vector<std::string>& argv, const Launch& launch, Progress& progress, Failure& failure,
+              double start_limit) {
   int fds[2];
   if (pipe(fds) != 0) throw std::runtime_error("pipe failed");
   std::vector<char*> cargv;
@@ -237,43 +295,29 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
   close(fds[1]);
   signal(SIGINT, forward_signal);
   signal(SIGTERM, forward_signal);
-
-  FILE* in = fdopen(fds[0], "r");
-  char* line = nullptr;
-  size_t cap = 0;
-  const std::string ptag = coflow::coupler::kProgressTag, ftag = coflow::coupler::kFailedTag;
-  while (getline(&line, &cap, in) > 0) {
-    std::string s(line);
-    if (!s.empty() && s.back() == '\n') s.pop_back();
-    if (s.rfind(ptag, 0) == 0) {
-      double t = 0, end = 0, wall = 0;
-      long w = 0, n = 0;
-      if (std::sscanf(s.c_str() + ptag.size(), "%lf %lf %ld %ld %lf", &t, &end, &w, &n, &wall) == 5)
-        progress.update(t, end, w, n, wall);
-      continue;
+  Watch w{launch, progress, failure, {}};
+  const double since = coflow::coupler::now();
+  bool stopped = false;
+  std::string buf;
+  char chunk[4096];
+  for (;;) {
+    pollfd p{fds[0], POLLIN, 0};
+    if (poll(&p, 1, 1000) > 0) {
+      const ssize_t n = read(fds[0], chunk, sizeof chunk);
+      if (n <= 0) break;
+      buf.append(chunk, static_cast<std::size_t>(n));
+      for (std::size_t nl; (nl = buf.find('\n')) != std::string::npos; buf.erase(0, nl + 1)) take_line(buf.substr(0, nl), w);
     }
-    if (s.rfind(ftag, 0) == 0) {
-      std::istringstream is(s.substr(ftag.size()));
-      Failure f;
-      is >> f.component >> f.rank;
-      std::getline(is, f.reason);
-      if (!f.reason.empty() && f.reason[0] == ' ') f.reason.erase(0, 1);
-      if (failure.component.empty()) failure = f;
-      continue;
-    }
-    if (failure.component.empty()) failure = dead_process(s, launch);
-    progress.clear();
-    std::fprintf(stderr, "%s\n", s.c_str());
-    std::fflush(stderr);
+    if (!stopped) stopped = start_overdue(w, since, start_limit, pid);
   }
-  free(line);
-  fclose(in);
+  if (!buf.empty()) take_line(buf, w);
+  close(fds[0]);
   int status = 0;
   while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
   g_child = 0;
   progress.done();
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  if (WIFEXITED(status)) return WEXITSTATUS(status) == 0 && stopped ? 1 : WEXITSTATUS(status);
   if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
   return 1;
 }
@@ -494,7 +538,7 @@ int main(int argc, char** argv) {
   Progress progress(isatty(STDOUT_FILENO));
   Failure failure;
   const double t0 = coflow::coupler::now();
-  const int rc = run_child(argv_launch, launch, progress, failure);
+  const int rc = run_child(argv_launch, launch, progress, failure, cfg.coupling.timeout);
   const double wall = coflow::coupler::now() - t0;
 
   if (rc == 0) {
@@ -510,11 +554,17 @@ int main(int argc, char** argv) {
       failure.reason = first;
     }
   }
+  if (failure.reason.empty())
+    failure.reason = fmt::format("the launch ended with exit status {} and no component reported why", rc);
   write_failed_summary(cfg, failure, rc, wall);
-  if (failure.component.empty())
+  if (failure.component.empty() && fs::exists(dir + "/logs"))
     std::fprintf(stderr, "\ncoflow: run failed (exit status %d); see %s/logs/\n", rc, dir.c_str());
+  else if (failure.component.empty())
+    std::fprintf(stderr, "\ncoflow: run failed (exit status %d) before any component started (no logs were "
+                         "written): an executable exited at start (is every --exe a coflow component?)\n", rc);
   else
-    std::fprintf(stderr, "\ncoflow: run failed in component '%s' (rank %s): %s\n  logs: %s/logs/\n",
-                 failure.component.c_str(), failure.rank.c_str(), failure.reason.c_str(), dir.c_str());
+    std::fprintf(stderr, "\ncoflow: run failed in component '%s'%s: %s\n%s\n", failure.component.c_str(),
+                 failure.rank.empty() ? "" : fmt::format(" (rank {})", failure.rank).c_str(), failure.reason.c_str(),
+                 fs::exists(dir + "/logs") ? fmt::format("  logs: {}/logs/", dir).c_str() : "  (no logs were written)");
   return rc == 2 ? 2 : 1;
 }

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# check_start_failures.sh BIN_DIR CONFIG OUT
+# A component executable that never joins the run must end it with a message
+# naming it, within the coupling timeout (not hang), and summary.json must say
+# why: one that exits 0 at once (/bin/true: the others wait in MPI start-up)
+# and one that fails at once (/bin/false).
+set -u
+bin=$1 cfg=$2 out=$3
+rm -rf "$out"; mkdir -p "$out"
+fail() { echo "FAIL: $*"; exit 1; }
+start=$(date +%s)
+timeout 60 "$bin/coflow" run "$cfg" --exe fluid=/bin/true --set coupling.timeout=5 --set run.output.dir="$out/true" \
+  >"$out/true.log" 2>&1; rc=$?
+took=$(( $(date +%s) - start ))
+cat "$out/true.log" | tail -n 3
+[ $rc -ne 124 ] || fail "/bin/true as the fluid: the launch hung (killed after 60 s)"
+[ $rc -ne 0 ] || fail "/bin/true as the fluid: exit status 0"
+[ $took -le 20 ] || fail "/bin/true as the fluid: took $took s with coupling.timeout 5"
+grep -q "did not start within 5 s" "$out/true.log" || fail "no start-up message"
+grep -q "fluid=/bin/true" "$out/true.log" || fail "the executable is not named"
+grep -q '"reason": "fluid, immersed, particles did not start' "$out/true/summary.json" || fail "summary.json reason"
+timeout 60 "$bin/coflow" run "$cfg" --exe fluid=/bin/false --set run.output.dir="$out/false" >"$out/false.log" 2>&1; rc=$?
+tail -n 2 "$out/false.log"
+[ $rc -ne 0 ] && [ $rc -ne 124 ] || fail "/bin/false as the fluid: exit status $rc"
+grep -q "before any component started" "$out/false.log" || fail "/bin/false: no message"
+grep -q "see $out/false/logs/" "$out/false.log" && fail "/bin/false: points at a logs directory that does not exist"
+grep -q '"reason": ""' "$out/false/summary.json" && fail "/bin/false: empty reason in summary.json"
+echo "ok: stopped in $took s"

@@ -533,7 +533,7 @@ void DpmSolver::inject(double h) {
 void DpmSolver::advance(double dt, long substeps) {
   const double h = dt / substeps;
   for (long n = 0; n < substeps; ++n) {
-    const long k = dpm::lagrangian_substeps(s_, h, stable_step());
+    const long k = s_.auto_step ? dpm::lagrangian_substeps(s_, h, stable_step()) : 1;  // eq. 4.15 only when automatic
     for (long m = 0; m < k; ++m) step(h / k);
   }
   ranges_.report(comm_, s_.species_names);

@@ -150,7 +150,7 @@ void DpmReference::advance(double dt, long substeps) {
   const double h = dt / substeps;
   for (long n = 0; n < substeps; ++n) {
     // Sub-steps of the Lagrangian step of eq. 4.15 when it is shorter.
-    const long k = dpm::lagrangian_substeps(s_, h, stable_step());
+    const long k = s_.auto_step ? dpm::lagrangian_substeps(s_, h, stable_step()) : 1;  // eq. 4.15 only when automatic
     for (long m = 0; m < k; ++m) step(h / k);
   }
   ranges_.report(MPI_COMM_SELF, s_.species_names);

@@ -36,8 +36,10 @@ using coflow::config::ConfigError;
 namespace {
 
 volatile sig_atomic_t g_child = 0;
+volatile sig_atomic_t g_interrupted = 0;  // the signal the user sent (Ctrl-C: SIGINT)
 
 void forward_signal(int sig) {
+  g_interrupted = sig;
   if (g_child > 0) kill(g_child, sig);
 }
 
@@ -401,6 +403,33 @@ void prepare_run_directory(const Config& cfg, const std::string& dir, const std:
   coflow::output::atomic_write(dir + "/config.yaml", YAML::Dump(cfg.resolved) + "\n");
 }
 
+// After Ctrl-C (or SIGTERM): what was written, and how to go on from it.
+int report_interrupted(const std::string& cfg_path, const std::vector<std::string>& overrides, const std::string& dir,
+                       int rc, double wall, const Config& cfg) {
+  std::vector<std::string> checkpoints;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir + "/checkpoints", ec)) {
+    const std::string n = e.path().filename().string();
+    if (e.is_directory() && n.rfind("window_", 0) == 0 && n.find(".partial") == std::string::npos)
+      checkpoints.push_back(e.path().string());
+  }
+  std::sort(checkpoints.begin(), checkpoints.end());
+  write_failed_summary(cfg, {"", "", fmt::format("interrupted by signal {} after {:.1f} s", int(g_interrupted), wall)},
+                       rc, wall);
+  std::fprintf(stderr, "\ncoflow: interrupted after %.1f s; snapshots and series written so far are in %s/\n", wall,
+               dir.c_str());
+  if (checkpoints.empty())
+    std::fprintf(stderr, "  no checkpoint was written (set run.checkpoint.every to be able to restart)\n");
+  else
+  {
+    std::string sets;
+    for (const auto& o : overrides) sets += " --set " + ::quoted(o);
+    std::fprintf(stderr, "  restart from the last checkpoint with:\n    coflow run %s%s --restart %s\n",
+                 ::quoted(cfg_path).c_str(), sets.c_str(), ::quoted(checkpoints.back()).c_str());
+  }
+  return 128 + int(g_interrupted);
+}
+
 // --------------------------------------------------------------- docs -----
 
 void print_variants(bool markdown) {
@@ -545,6 +574,7 @@ int main(int argc, char** argv) {
     print_summary(dir);
     return 0;
   }
+  if (g_interrupted) return report_interrupted(cfg_path, overrides, dir, rc, wall, cfg);
   if (failure.component.empty()) {
     std::ifstream f(dir + "/logs/FAILED");
     std::string first;

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# check_interrupt.sh BIN_DIR CONFIG OUT
+# Ctrl-C (SIGINT to the launcher) stops the run with a message saying what was
+# written and the command that restarts from the last checkpoint; that command
+# then finishes the run.
+set -u
+bin=$1 cfg=$2 out=$3
+rm -rf "$out"; mkdir -p "$out"
+fail() { echo "FAIL: $*"; tail -n 20 "$out/run.log"; exit 1; }
+"$bin/coflow" run "$cfg" --set run.output.dir="$out/run" --set run.checkpoint.every=0.05 >"$out/run.log" 2>&1 &
+pid=$!
+for i in $(seq 1 600); do
+  ls -d "$out"/run/checkpoints/window_* >/dev/null 2>&1 && break
+  sleep 0.1
+done
+ls -d "$out"/run/checkpoints/window_* >/dev/null 2>&1 || { kill "$pid"; fail "no checkpoint written"; }
+sleep 0.5
+kill -INT "$pid"
+wait "$pid"; rc=$?
+[ $rc -eq 130 ] || fail "exit status $rc after SIGINT, expected 130"
+grep -q "coflow: interrupted after" "$out/run.log" || fail "no interruption message"
+grep -q '"reason": "interrupted by signal 2' "$out/run/summary.json" || fail "summary.json reason"
+restart=$(sed -n 's/^ *coflow run .* --restart //p' "$out/run.log" | tr -d "'")
+[ -n "$restart" ] && [ -d "$restart" ] || fail "no restart command naming a checkpoint"
+grep -q -- "--set run.output.dir=$out/run " "$out/run.log" || fail "the restart command lacks the run's --set"
+"$bin/coflow" run "$cfg" --set run.output.dir="$out/run" --restart "$restart" >"$out/restart.log" 2>&1 ||
+  { tail -n 20 "$out/restart.log"; fail "the restart failed"; }
+grep -q '"status": "ok"' "$out/run/summary.json" || fail "the restarted run did not finish"
+echo "ok: interrupted, told how to restart from $(basename "$restart"), restarted to the end"

@@ -31,6 +31,12 @@ config::ComponentSchema schema() {
   s.variants = registry().names();
   s.variants.push_back("external");
   s.doc = "the fluid component (omit the section, or solver: none, for no fluid)";
+  // The snapshot fields each variant writes (LbmSolver/LbmReference/AnalyticFluid::fields).
+  s.writes = [](const std::string& variant) -> std::vector<std::string> {
+    if (variant == "lbm" || variant == "lbm-reference") return {"velocity", "pressure", "density", "solid_fraction"};
+    if (variant == "analytic") return {"velocity", "pressure", "density", "vorticity", "k", "epsilon"};
+    return {};  // external: its own business
+  };
   s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);
     const auto names = registry().names();

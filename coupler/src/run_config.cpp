@@ -1,7 +1,9 @@
 #include "coflow/run_config.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 namespace coflow::config {
 
@@ -104,6 +106,21 @@ static void visit_top(Visitor& v, Config& cfg, const Catalog& catalog) {
   }
 }
 
+// Every requested snapshot field must be one that a present component's
+// variant writes (a field nobody writes would silently be missing).
+static void check_output_fields(Reader& r, const Config& cfg, const Catalog& catalog) {
+  for (const auto& schema : catalog) {
+    if (!cfg.has(schema.section) || !schema.writes) continue;
+    const std::string& variant = cfg.component(schema.section).variant;
+    const auto writes = schema.writes(variant);
+    if (writes.empty()) continue;
+    for (const auto& f : cfg.run.output.fields)
+      if (std::find(writes.begin(), writes.end(), f) == writes.end())
+        r.fail("run.output.fields", fmt::format("{}.{} {} does not write '{}'; it writes: {}", schema.section,
+                                                schema.selector, variant, f, fmt::join(writes, ", ")));
+  }
+}
+
 Config parse_config_node(YAML::Node root, const std::string& file, const Catalog& catalog) {
   Config cfg;
   cfg.file = file;
@@ -114,6 +131,7 @@ Config parse_config_node(YAML::Node root, const std::string& file, const Catalog
     r.fail("", "no component to run: add at least one of the sections fluid, immersed, particles");
   if (r.problems().empty() && cfg.has("immersed") && (!cfg.has("fluid") || !cfg.has("particles")))
     r.fail("immersed", "the immersed component couples a fluid and particles: add both sections");
+  if (r.problems().empty()) check_output_fields(r, cfg, catalog);
   r.check();
   cfg.resolved = r.resolved();
   cfg.resolved["run"]["output"]["dir"] = cfg.output_dir();

@@ -74,6 +74,9 @@ struct ComponentSchema {
   std::vector<std::string> variants;
   std::string doc;
   std::function<void(Visitor&, const Config&, ComponentInfo&)> visit;
+  // The snapshot fields (run.output.fields) a variant writes; empty: not known
+  // (external), so not checked.
+  std::function<std::vector<std::string>(const std::string& variant)> writes;
 };
 
 using Catalog = std::vector<ComponentSchema>;

@@ -1,7 +1,11 @@
 #include "coflow/run_config.hpp"
 
+#include "coflow/decomposition.hpp"
+
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <stdexcept>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -108,6 +112,31 @@ static void visit_top(Visitor& v, Config& cfg, const Catalog& catalog) {
 
 // Every requested snapshot field must be one that a present component's
 // variant writes (a field nobody writes would silently be missing).
+// Each component's ranks must split the grid into blocks of at least one cell;
+// otherwise say the most ranks that can.
+static void check_decompositions(Reader& r, const Config& cfg) {
+  const auto& d = cfg.domain;
+  const coupler::Index3 cells{d.cells[0], d.cells[1], d.cells[2]};
+  for (const auto& [section, info] : cfg.components) {
+    std::array<int, 3> dims{0, 0, 0};
+    if (!info.decomposition.is_auto) dims = info.decomposition.value;
+    try {
+      coupler::Decomposition(cells, info.ranks, dims, d.periodic);
+    } catch (const std::invalid_argument& e) {
+      int most = static_cast<int>(std::min<long>(info.ranks - 1, cells[0] * cells[1] * cells[2]));
+      for (; most > 1; --most) {
+        try {
+          coupler::Decomposition(cells, most, {0, 0, 0}, d.periodic);
+          break;
+        } catch (const std::invalid_argument&) {
+        }
+      }
+      r.fail(section + ".ranks", fmt::format("{} ranks cannot split the {}x{}x{} grid ({}); at most {} can", info.ranks,
+                                             cells[0], cells[1], cells[2], e.what(), most));
+    }
+  }
+}
+
 static void check_output_fields(Reader& r, const Config& cfg, const Catalog& catalog) {
   for (const auto& schema : catalog) {
     if (!cfg.has(schema.section) || !schema.writes) continue;
@@ -132,6 +161,7 @@ Config parse_config_node(YAML::Node root, const std::string& file, const Catalog
   if (r.problems().empty() && cfg.has("immersed") && (!cfg.has("fluid") || !cfg.has("particles")))
     r.fail("immersed", "the immersed component couples a fluid and particles: add both sections");
   if (r.problems().empty()) check_output_fields(r, cfg, catalog);
+  if (r.problems().empty()) check_decompositions(r, cfg);
   r.check();
   cfg.resolved = r.resolved();
   cfg.resolved["run"]["output"]["dir"] = cfg.output_dir();

@@ -336,10 +336,9 @@ void run(coupler::Session& s) {
                                  ? "the step may be too long for the particles' response time: set particles.time_step: auto"
                                  : "the step may be too large for the contact stiffness (seed 000 eq. 2.19): lower "
                                    "particles.time_step_fraction or the stiffness";
-    for (const auto& [field, values] : {std::pair<const char*, const std::vector<double>*>{"position", &p.x},
-                                        {"velocity", &p.v}, {"angular velocity", &p.w}, {"force", &p.force}})
-      coupler::check_finite(s.comm(), {fmt::format("particles ({})", info.variant), field, "particle", hint},
-                            solver->steps(), solver->time(), *values, 3, p.id);
+    coupler::check_finite(s.comm(), {fmt::format("particles ({})", info.variant), "particle", hint}, solver->steps(),
+                          solver->time(), {{"position", p.x}, {"velocity", p.v}, {"angular velocity", p.w},
+                                           {"force", p.force}}, 3, p.id);
   };
   if (w0 == 0) write_output(0);
   for (long w = w0 + 1; w <= s.windows(); ++w) {

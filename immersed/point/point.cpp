@@ -128,9 +128,8 @@ void PointMethod::run(coupler::Session& s) {
     }
     // 4. To the fluid, once it is known to be finite.
     coupler::check_finite(s.comm(),
-                          {"immersed (point)", "momentum source", "cell value",
-                           "a particle's impulse is not finite: see the particles' log"},
-                          w, w * s.window(), source, 3);
+                          {"immersed (point)", "cell value", "a particle's impulse is not finite: see the particles' log"},
+                          w, w * s.window(), {{"momentum source", source}}, 3);
     source_out.send(source);
 
     if (s.series_due(w)) {

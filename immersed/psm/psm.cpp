@@ -235,10 +235,12 @@ void PsmMethod::run(coupler::Session& s) {
       }
     }
     coupler::check_finite(s.comm(),
-                          {"immersed (psm)", "hydrodynamic load (force, torque)", "particle record",
+                          {"immersed (psm)", "particle record",
                            "the fluid's force on the solid cells is not finite: see the fluid's log"},
                           w, w * s.window(),
-                          std::span<const double>(reinterpret_cast<const double*>(loads.data()), 6 * loads.size()), 6);
+                          {{"hydrodynamic load (force, torque)",
+                            std::span<const double>(reinterpret_cast<const double*>(loads.data()), 6 * loads.size())}},
+                          6);
     results.resize(n * sizeof(protocol::ParticleLoad));
     if (n > 0) std::memcpy(results.data(), loads.data(), results.size());
     points.send_results(results);

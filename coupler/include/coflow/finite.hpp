@@ -9,21 +9,28 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace coflow::coupler {
+
+// One field to check: its name and values, per_item values an item.
+struct FiniteField {
+  std::string name;  // e.g. "velocity"
+  std::span<const double> values;
+};
 
 // What a failed check names.
 struct FiniteCheck {
   std::string component;  // e.g. "particles (dem)"
-  std::string field;      // e.g. "velocity"
   std::string item;       // e.g. "particle" (the n-th item's id, if ids are given, is named)
   std::string hint;       // the likely cause and what to do
 };
 
-// Collective over comm: throws SolverError on every rank when any rank holds a
-// non-finite value in `values` (per_item values an item). `ids`, when not
-// empty, names the items (one id an item); otherwise their index on the rank.
-void check_finite(MPI_Comm comm, const FiniteCheck& what, long step, double time, std::span<const double> values,
+// Collective over comm (one reduction for all the fields): throws SolverError
+// on every rank when any rank holds a non-finite value in any field. `ids`,
+// when not empty, names the items (one id an item); otherwise their index on
+// the rank.
+void check_finite(MPI_Comm comm, const FiniteCheck& what, long step, double time, const std::vector<FiniteField>& fields,
                   int per_item, std::span<const std::int64_t> ids = {});
 
 }  // namespace coflow::coupler

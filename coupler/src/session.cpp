@@ -119,19 +119,30 @@ Session::~Session() {
   if (comm_ != MPI_COMM_NULL) MPI_Comm_free(&comm_);
 }
 
+namespace {
+
+// One rank's discovery record: which component it is, the MPI_APPNUM the
+// launcher gave it, and the hash of the configuration it read.
+struct Hello {
+  char name[16];
+  int appnum;
+  std::uint64_t hash;
+};
+
 // Discovery by identity: each rank says which component it is (the name is
 // compiled into, or passed to, each executable) and the world is split by that
 // name. MPI_APPNUM is not used to find components: under `srun --multi-prog`
 // every rank has appnum 0. It still tells, where the launcher sets it, whether
-// one component was launched twice.
-std::string Session::check_launch(const std::vector<Hello>& all, const std::map<std::string, int>& first_rank) const {
+// one component was launched twice. Returns the problem, or "".
+std::string check_launch(const config::Config& cfg, const std::string& component, const std::vector<Hello>& all,
+                         const std::map<std::string, int>& ranks_of) {
   std::map<std::string, std::set<int>> apps;  // component -> the appnums its ranks carry
   std::map<int, std::set<std::string>> names;  // appnum -> the components carrying it
   for (const Hello& h : all) {
-    if (h.hash != cfg_.hash)
+    if (h.hash != cfg.hash)
       return fmt::format("components read different configurations ({} and {}): launch every component with the "
                          "same file",
-                         component_, std::string(h.name));
+                         component, std::string(h.name));
     apps[h.name].insert(h.appnum);
     names[h.appnum].insert(h.name);
   }
@@ -140,19 +151,21 @@ std::string Session::check_launch(const std::vector<Hello>& all, const std::map<
   for (const auto& [name, a] : apps)
     if (appnums_meaningful && a.size() > 1)
       return fmt::format("component '{}' was launched twice; launch each component once", name);
-  if (first_rank.size() == 1) return "";  // standalone
-  for (const auto& [name, info] : cfg_.components) {
-    if (!ranks_of_.count(name))
+  if (ranks_of.size() == 1) return "";  // standalone
+  for (const auto& [name, info] : cfg.components) {
+    if (!ranks_of.count(name))
       return fmt::format("the configuration has a '{}' section but coflow-{} was not launched", name, name);
-    if (ranks_of_.at(name) != info.ranks)
+    if (ranks_of.at(name) != info.ranks)
       return fmt::format("{}.ranks is {} in the configuration but {} ranks were launched", name, info.ranks,
-                         ranks_of_.at(name));
+                         ranks_of.at(name));
   }
-  for (const auto& [name, n] : ranks_of_)
-    if (!cfg_.has(name))
+  for (const auto& [name, n] : ranks_of)
+    if (!cfg.has(name))
       return fmt::format("coflow-{} was launched but the configuration has no '{}' section", name, name);
   return "";
 }
+
+}  // namespace
 
 void Session::discover() {
   int* appnum_attr = nullptr;
@@ -186,7 +199,7 @@ void Session::discover() {
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &size_);
   standalone_ = first_rank.size() == 1;
-  const std::string problem = check_launch(all, first_rank);
+  const std::string problem = check_launch(cfg_, component_, all, ranks_of_);
   if (!problem.empty()) {
     if (world_rank_ == 0) std::cerr << kFailedTag << " " << component_ << " " << rank_ << " " << problem << std::endl;
     if (rank_ == 0) std::cerr << "coflow-" << component_ << ": error: " << problem << std::endl;

@@ -24,14 +24,6 @@ class SolverError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// One rank's discovery record: which component it is, the MPI_APPNUM the
-// launcher gave it, and the hash of the configuration it read.
-struct Hello {
-  char name[16];
-  int appnum;
-  std::uint64_t hash;
-};
-
 struct Args {
   std::string config;
   std::string restart;  // checkpoint directory, or empty
@@ -114,7 +106,6 @@ class Session {
 
  private:
   void discover();
-  std::string check_launch(const std::vector<Hello>& all, const std::map<std::string, int>& first_rank) const;
   void prepare_output();
 
   std::string component_;

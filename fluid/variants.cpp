@@ -37,6 +37,15 @@ config::ComponentSchema schema() {
     if (variant == "analytic") return {"velocity", "pressure", "density", "vorticity", "k", "epsilon"};
     return {};  // external: its own business
   };
+  // lbm takes the solids of psm and returns the force on them; analytic is a
+  // prescribed flow (with turbulence) that nothing feeds back into.
+  s.contract = [](const config::Config&, const std::string& variant) {
+    namespace f = config::fields;
+    config::Contract c;
+    if (variant == "lbm" || variant == "lbm-reference") c.provides = {f::velocity, f::pressure, f::solid_force};
+    if (variant == "analytic") c.provides = {f::velocity, f::pressure, f::k, f::epsilon};
+    return c;
+  };
   s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);
     const auto names = registry().names();

@@ -29,6 +29,25 @@ config::ComponentSchema schema() {
   s.variants = registry().names();
   s.variants.push_back("external");
   s.doc = "the coupling between particles and the fluid grid: psm or point";
+  // psm: solids into the fluid cells, loads back to the particles, either
+  // scheme. point: the fluid at the particles out, their impulses back into the
+  // fluid as a momentum source, serial-explicit only (the impulse of a window
+  // enters the same window's fluid step).
+  s.contract = [](const config::Config&, const std::string& variant) {
+    namespace f = config::fields;
+    config::Contract c;
+    const std::string key = "immersed.method";
+    if (variant == "psm") {
+      c.provides = {f::solid_fraction, f::hydrodynamic_load};
+      c.needs = {{f::solid_force, key, ""}, {f::particle_state, key, ""}};
+    }
+    if (variant == "point") {
+      c.provides = {f::fluid_at_particle, f::momentum_source};
+      c.needs = {{f::velocity, key, ""}, {f::particle_state, key, ""}, {f::impulse, key, ""}};
+      c.schemes = {config::Scheme::serial_explicit};
+    }
+    return c;
+  };
   s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);
     const auto names = registry().names();

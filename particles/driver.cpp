@@ -183,7 +183,7 @@ void run(coupler::Session& s) {
   // while the immersed side and the fluid compute this window's; those arrive
   // after the sub-steps, are matched to the particles by id (a particle may
   // have moved to another rank meanwhile) and act in the next window.
-  const bool lagged = to_immersed && !point && cfg.coupling.scheme == "parallel-explicit";
+  const bool lagged = to_immersed && !point && cfg.coupling.scheme == config::Scheme::parallel_explicit;
   auto send_states = [&] {
     const ParticleArrays& p = solver->particles();
     const std::size_t n = p.size();

@@ -310,16 +310,6 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
     for (const auto& name : collision.pairs[n].species)
       if (species_index(name) < 0)
         v.fail("collision", fmt::format("pairs item {} names species '{}', which is not defined under species", n, name));
-  // Langevin dispersion (seed 003 eqs 3.35-3.42) draws u' from the fluid's k and
-  // epsilon: a fluid that supplies neither would silently give u' = 0.
-  if (point_particles && dispersion.model == "langevin") {
-    const std::string fluid = cfg.has("fluid") ? cfg.component("fluid").variant : "none";
-    if (fluid != "analytic" && fluid != "external")
-      v.fail("dispersion.model",
-             fmt::format("langevin dispersion needs the turbulence (k and epsilon) of the fluid, and fluid.solver {} "
-                         "provides none; use fluid.solver: analytic with a turbulence field, or dispersion.model: none",
-                         fluid));
-  }
   if (point_particles)
     for (const auto& [name, sp] : species)
       if (sp.fixed) v.fail("species", fmt::format("species '{}' is fixed: fixed particles are for dem, not dpm", name));

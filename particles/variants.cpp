@@ -31,6 +31,26 @@ config::ComponentSchema schema() {
   s.variants = registry().names();
   s.variants.push_back("external");
   s.doc = "the particle component: soft-sphere DEM (dem) or point particles (dpm, dpm-reference)";
+  // dem takes forces and torques (psm); dpm takes the fluid at its particles
+  // and gives back impulses (point), and its Langevin dispersion draws on the
+  // fluid's k and epsilon (seed 003 eqs 3.35-3.42).
+  s.contract = [](const config::Config& cfg, const std::string& variant) {
+    namespace f = config::fields;
+    config::Contract c;
+    const std::string key = "particles.solver";
+    if (variant == "dem" || variant == "dem-reference") {
+      c.provides = {f::particle_state};
+      c.needs = {{f::hydrodynamic_load, key, "immersed"}};
+    }
+    if (variant == "dpm" || variant == "dpm-reference") {
+      c.provides = {f::particle_state, f::impulse};
+      c.needs = {{f::fluid_at_particle, key, "immersed"}};
+      c.schemes = {config::Scheme::serial_explicit};
+      if (config::resolved_text(cfg, {"particles", "dispersion", "model"}) == "langevin")
+        for (const auto& field : {f::k, f::epsilon}) c.needs.push_back({field, "particles.dispersion.model", "", "or dispersion.model: none"});
+    }
+    return c;
+  };
   s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);
     const auto names = registry().names();

@@ -241,7 +241,7 @@ void run_fluid(coupler::Session& s, const DummyParams& p) {
     // serial-explicit: the fluid steps on this window's source, then sends its
     // velocity; parallel-explicit: it sends first, so particles and fluid work
     // at the same time on the previous window's data.
-    if (cfg.coupling.scheme == "parallel-explicit") {
+    if (cfg.coupling.scheme == config::Scheme::parallel_explicit) {
       send_velocity();
       receive_source();
     } else {
@@ -349,7 +349,7 @@ void run_immersed(coupler::Session& s, const DummyParams& p) {
         });
       }
     };
-    if (cfg.coupling.scheme == "parallel-explicit") {
+    if (cfg.coupling.scheme == config::Scheme::parallel_explicit) {
       receive_velocity();
       send_source();
     } else {

@@ -432,6 +432,41 @@ int report_interrupted(const std::string& cfg_path, const std::vector<std::strin
 
 // --------------------------------------------------------------- docs -----
 
+// The coupling contracts (coflow/contract.hpp) as a table: what `coflow
+// validate` matches. Needs that depend on a variant's keys are noted below it.
+void print_contracts() {
+  using namespace coflow::config;
+  std::printf("\n## Coupling contracts\n\n"
+              "What each variant provides to the other components, what it needs from them (a need\n"
+              "marked *with X* holds only when component X is in the run) and which coupling schemes\n"
+              "it runs. `coflow validate` rejects a run whose needs no other component meets, or\n"
+              "whose scheme a variant does not run. An `external` variant's contract is open.\n\n"
+              "| variant | provides | needs | schemes |\n|---|---|---|---|\n");
+  const Config none;
+  auto join_fields = [](const std::vector<Field>& f) {
+    std::string out;
+    for (const auto& x : f) out += (out.empty() ? "" : ", ") + x.name;
+    return out.empty() ? std::string("–") : out;
+  };
+  for (const auto& schema : coflow::catalog()) {
+    if (!schema.contract) continue;
+    for (const auto& v : schema.variants) {
+      if (v == "external") continue;
+      const Contract c = schema.contract(none, v);
+      std::string needs, schemes;
+      for (const auto& n : c.needs)
+        needs += (needs.empty() ? "" : ", ") + n.field.name + (n.only_with.empty() ? "" : " *with " + n.only_with + "*");
+      for (Scheme sc : c.schemes) schemes += (schemes.empty() ? "" : ", ") + std::string(scheme_name(sc));
+      std::printf("| `%s.%s: %s` | %s | %s | %s |\n", schema.section.c_str(), schema.selector.c_str(), v.c_str(),
+                  join_fields(c.provides).c_str(), needs.empty() ? "–" : needs.c_str(), schemes.c_str());
+    }
+  }
+  std::printf("\n`particles.dispersion.model: langevin` (dpm) also needs `k` and `epsilon` from the fluid.\n"
+              "Fields: velocity, pressure, k, epsilon, solid_fraction, solid_force and momentum_source live\n"
+              "on fluid cells; particle_state, hydrodynamic_load, fluid_at_particle and impulse at the\n"
+              "particles (docs/protocol.md).\n");
+}
+
 void print_variants(bool markdown) {
   using coflow::config::Describer;
   if (markdown) {
@@ -455,6 +490,7 @@ void print_variants(bool markdown) {
                   v.name.c_str(), v.summary.c_str());
     std::printf("- `<component>.solver|method = external`: your own executable, run with "
                 "`coflow run --exe <component>=PATH` (see docs/protocol.md).\n");
+    print_contracts();
     return;
   }
   for (const auto& comp : coflow::config::component_order()) {

@@ -45,7 +45,18 @@ void RunParams::visit(Visitor& v) {
 }
 
 void CouplingParams::visit(Visitor& v) {
-  v("scheme", scheme, "coupling scheme", one_of({"serial-explicit", "parallel-explicit"}));
+  std::string name = scheme_name(scheme);
+  v("scheme", name,
+    "coupling scheme: serial-explicit (the particles step on this window's loads) or parallel-explicit (on the "
+    "previous window's, while the fluid computes this window's)",
+    one_of(scheme_names()));
+  if (v.reading()) {
+    try {
+      scheme = scheme_from_name(name);
+    } catch (const std::invalid_argument&) {
+      // reported by one_of above
+    }
+  }
   v("window", window, "coupling window in s (auto: the fluid time step)", positive());
   v("timeout", timeout, "seconds a rank waits for a partner before the whole run is aborted",
     positive());
@@ -162,8 +173,9 @@ Config parse_config_node(YAML::Node root, const std::string& file, const Catalog
     r.fail("immersed", "the immersed component couples a fluid and particles: add both sections");
   if (r.problems().empty()) check_output_fields(r, cfg, catalog);
   if (r.problems().empty()) check_decompositions(r, cfg);
-  r.check();
   cfg.resolved = r.resolved();
+  if (r.problems().empty()) check_contracts(r, cfg, catalog);
+  r.check();
   cfg.resolved["run"]["output"]["dir"] = cfg.output_dir();
   cfg.hash = hash_text(YAML::Dump(cfg.resolved));
   return cfg;
@@ -179,6 +191,18 @@ Config parse_config(const std::string& file, const Catalog& catalog,
 void describe_config(Visitor& v, const Catalog& catalog) {
   Config cfg;
   visit_top(v, cfg, catalog);
+}
+
+// By recursion on const nodes: reassigning a YAML::Node would rebind the tree.
+static std::string text_at(const YAML::Node& n, const std::vector<std::string>& path, std::size_t i) {
+  if (i == path.size()) return n.IsScalar() ? n.Scalar() : "";
+  if (!n.IsMap()) return "";
+  const YAML::Node child = n[path[i]];
+  return child ? text_at(child, path, i + 1) : "";
+}
+
+std::string resolved_text(const Config& cfg, const std::vector<std::string>& path) {
+  return text_at(cfg.resolved, path, 0);
 }
 
 std::uint64_t hash_text(const std::string& text) {

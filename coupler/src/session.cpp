@@ -275,7 +275,7 @@ double Session::negotiate_window(double preferred) {
                     "with the configuration of the run that wrote it",
                     restart_window_length_, window_)}});
   log::info("coupling window {:.6g} s, {} windows to t = {:.6g} s ({})", window_, windows_,
-            cfg_.run.end_time, cfg_.coupling.scheme);
+            cfg_.run.end_time, config::scheme_name(cfg_.coupling.scheme));
   return window_;
 }
 
@@ -376,7 +376,7 @@ void Session::finish() {
         "{{\n  \"name\": {},\n  \"status\": \"ok\",\n  \"end_time\": {:.17g},\n  \"window\": {:.17g},\n"
         "  \"windows\": {},\n  \"wall_s\": {:.6f},\n  \"scheme\": {},\n  \"components\": {{\n    {}\n  }}\n}}\n",
         output::json_quote(cfg_.run.name), cfg_.run.end_time, window_, windows_, now() - start_,
-        output::json_quote(cfg_.coupling.scheme), comps);
+        output::json_quote(config::scheme_name(cfg_.coupling.scheme)), comps);
     output::atomic_write(dir_ + "/summary.json", json);
     const auto& d = cfg_.domain;
     const auto h = d.spacing();

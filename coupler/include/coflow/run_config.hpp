@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "coflow/config.hpp"
+#include "coflow/contract.hpp"
 
 namespace coflow::config {
 
@@ -38,7 +39,7 @@ struct RunParams {
 };
 
 struct CouplingParams {
-  std::string scheme = "serial-explicit";
+  Scheme scheme = Scheme::serial_explicit;
   AutoDouble window;
   double timeout = 300.0;  // s a rank may wait for a partner before the run is aborted
   void visit(Visitor& v);
@@ -77,6 +78,10 @@ struct ComponentSchema {
   // The snapshot fields (run.output.fields) a variant writes; empty: not known
   // (external), so not checked.
   std::function<std::vector<std::string>(const std::string& variant)> writes;
+  // What a variant provides, needs and which schemes it runs (coflow/contract.hpp);
+  // called once the whole file is read, so it may depend on the variant's keys.
+  // Unset: an open contract (nothing checked).
+  std::function<Contract(const Config&, const std::string& variant)> contract;
 };
 
 using Catalog = std::vector<ComponentSchema>;
@@ -134,5 +139,8 @@ P read_section(const Config& cfg, const std::string& path_in_resolved, const std
 }
 
 std::uint64_t hash_text(const std::string& text);
+
+// The scalar at a path of the resolved configuration, or "" where there is none.
+std::string resolved_text(const Config& cfg, const std::vector<std::string>& path);
 
 }  // namespace coflow::config

@@ -23,7 +23,7 @@ int momentum(const std::string& dir) {
   const auto cfg = load(dir);
   std::vector<std::vector<double>> in_flight;
   double window = 0.0;
-  if (cfg.coupling.scheme == "parallel-explicit") {
+  if (cfg.coupling.scheme == coflow::config::Scheme::parallel_explicit) {
     in_flight = read_series(dir + "/series/immersed.csv");
     window = cfg.run.end_time / YAML::LoadFile(dir + "/summary.json")["windows"].as<double>();
   }

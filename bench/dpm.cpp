@@ -29,6 +29,7 @@
 #include "coflow/trace.hpp"
 #include "particles/dpm/dpm_solver.hpp"
 #include "particles/dpm/setup.hpp"
+#include "particles/particles_interface.hpp"
 #include "particles/schema.hpp"
 
 using namespace coflow;

@@ -32,6 +32,7 @@
 #include "coflow/trace.hpp"
 #include "fluid/lbm/lattice.hpp"
 #include "fluid/driver.hpp"
+#include "fluid/fluid_solver.hpp"
 #include "fluid/schema.hpp"
 
 using namespace coflow;

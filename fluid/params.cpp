@@ -3,7 +3,7 @@
 
 #include <fmt/format.h>
 
-#include "fluid/fluid_solver.hpp"
+#include "fluid/params.hpp"
 
 namespace coflow::fluid {
 

@@ -1,14 +1,24 @@
+// The fluid component's schema (keys, defaults, docs, contracts), apart from
+// its solvers: the launcher links this alone. fluid/variants.cpp holds the
+// solver factories.
 #pragma once
 
+#include <vector>
+
+#include "coflow/catalog.hpp"
 #include "coflow/registry.hpp"
 #include "coflow/run_config.hpp"
-#include "fluid/fluid_solver.hpp"
 
 namespace coflow::fluid {
 
-// name -> variant. Every variant has one line in register_fluid_variants().
+class FluidSolver;
+
+// The variants' names, summaries and parameter sections (not "external").
+const std::vector<VariantSchema>& variant_schemas();
+config::ComponentSchema schema();
+
+// name -> solver factory. Every variant has one line in register_fluid_variants().
 Registry<FluidSolver>& registry();
 void register_fluid_variants(Registry<FluidSolver>& r);
-config::ComponentSchema schema();
 
 }  // namespace coflow::fluid

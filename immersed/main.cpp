@@ -4,6 +4,7 @@
 
 #include "coflow/catalog.hpp"
 #include "coflow/session.hpp"
+#include "immersed/immersed_interface.hpp"
 #include "immersed/schema.hpp"
 
 int main(int argc, char** argv) {
@@ -16,10 +17,10 @@ int main(int argc, char** argv) {
       throw std::runtime_error("immersed.method '" + info.variant +
                                "' has no built-in implementation yet; run your own executable with "
                                "`coflow run --exe immersed=PATH`");
-    const auto& entry = immersed::registry().at(info.variant);
+    const std::string& section = find_variant(immersed::variant_schemas(), info.variant).params_section;
     immersed::ImmersedMethod::Setup setup{cfg, s.decomposition(), s.rank(), s.comm()};
-    config::Reader r(cfg.resolved["immersed"][entry.params_section], cfg.file, "immersed." + entry.params_section);
-    std::unique_ptr<immersed::ImmersedMethod> method = entry.create(setup, r);
+    config::Reader r(cfg.resolved["immersed"][section], cfg.file, "immersed." + section);
+    std::unique_ptr<immersed::ImmersedMethod> method = immersed::registry().at(info.variant).create(setup, r);
     r.check();
     method->run(s);
   });

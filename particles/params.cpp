@@ -7,8 +7,8 @@
 #include <fmt/format.h>
 
 #include "coflow/decomposition.hpp"
-#include "particles/dem/initial.hpp"
-#include "particles/dem/mesh.hpp"
+#include "particles/dem/bond_file.hpp"
+#include "particles/dem/stl.hpp"
 #include "particles/particles_interface.hpp"
 #include "particles/size_distribution.hpp"
 
@@ -182,6 +182,20 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
     walls.emplace_back();
     walls.back().visit(s);
   });
+  visit_boundaries(v, cfg);
+  visit_initial(v);
+  v.list("injection", "particle inlets (dpm): a mass flow through a disk or a rectangle", [&](Visitor& s) {
+    injection.emplace_back();
+    injection.back().visit(s);
+  });
+  if (!v.reading()) return;
+  check_references(v);
+  check_initial_overlaps(v);
+  check_files(v);
+  check_time_step(v);
+}
+
+void ParticleParams::visit_boundaries(Visitor& v, const config::Config& cfg) {
   v.section("boundaries", "particle boundary per face (default: wall, or periodic where the domain is)",
             [&](Visitor& s) {
               const char* faces[] = {"x-", "x+", "y-", "y+", "z-", "z+"};
@@ -196,6 +210,9 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
                                        : "a periodic particle face needs domain.periodic true on that axis");
               }
             });
+}
+
+void ParticleParams::visit_initial(Visitor& v) {
   auto region = [](Visitor& s, InitialItem& it) {
     s.section("region", "box to fill", [&](Visitor& r) {
       r.required("lower", it.lower, "lower corner, m");
@@ -242,11 +259,11 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
                 it.kind = "file";
                 s.required("path", it.path, "HDF5 file (particles/step_*.h5 of an earlier run), relative to this file");
               }}});
-  v.list("injection", "particle inlets (dpm): a mass flow through a disk or a rectangle", [&](Visitor& s) {
-    injection.emplace_back();
-    injection.back().visit(s);
-  });
-  if (!v.reading()) return;
+}
+
+// Every species a key names is defined; fixed particles and injection belong
+// to one model each.
+void ParticleParams::check_references(Visitor& v) const {
   for (std::size_t n = 0; n < injection.size(); ++n) {
     if (species_index(injection[n].species) < 0)
       v.fail("injection", fmt::format("item {} uses species '{}', which is not defined under species", n,
@@ -259,7 +276,17 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
     if (it.kind != "file" && species_index(it.species) < 0)
       v.fail("initial", fmt::format("item {} uses species '{}', which is not defined under species", n, it.species));
   }
-  // Initial particles may not overlap unless they are to be cemented.
+  for (std::size_t n = 0; n < collision.pairs.size(); ++n)
+    for (const auto& name : collision.pairs[n].species)
+      if (species_index(name) < 0)
+        v.fail("collision", fmt::format("pairs item {} names species '{}', which is not defined under species", n, name));
+  if (point_particles)
+    for (const auto& [name, sp] : species)
+      if (sp.fixed) v.fail("species", fmt::format("species '{}' is fixed: fixed particles are for dem, not dpm", name));
+}
+
+// Initial particles may not overlap unless they are to be cemented.
+void ParticleParams::check_initial_overlaps(Visitor& v) const {
   auto largest = [&](const std::string& name) {
     const int k = species_index(name);
     if (k < 0) return 0.0;
@@ -285,6 +312,10 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
                                       n, m, std::sqrt(d2), touch));
     }
   }
+}
+
+// The mesh and bond files named must be readable and well formed.
+void ParticleParams::check_files(Visitor& v) const {
   for (const auto& w : walls) {
     if (w.mesh.empty()) continue;
     if (!std::ifstream(w.mesh.path)) {
@@ -306,14 +337,10 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
       v.fail("contact.bond.pairs", fmt::format("not a usable bond file: {}", e.what()));
     }
   }
-  for (std::size_t n = 0; n < collision.pairs.size(); ++n)
-    for (const auto& name : collision.pairs[n].species)
-      if (species_index(name) < 0)
-        v.fail("collision", fmt::format("pairs item {} names species '{}', which is not defined under species", n, name));
-  if (point_particles)
-    for (const auto& [name, sp] : species)
-      if (sp.fixed) v.fail("species", fmt::format("species '{}' is fixed: fixed particles are for dem, not dpm", name));
-  // An explicit step beyond the stability limit of eq. 2.19 cannot work.
+}
+
+// An explicit step beyond the stability limit of seed 000 eq. 2.19 cannot work.
+void ParticleParams::check_time_step(Visitor& v) const {
   if (!time_step.is_auto && contact.normal_stiffness > 0 && !point_particles) {
     double crit = 1e300;
     for (const auto& [name, sp] : species) {
@@ -326,8 +353,7 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
       v.fail("time_step", fmt::format("{:.4g} s exceeds the critical step 2 sqrt(m/k) = {:.4g} s of the lightest "
                                       "particle (seed 000 eq. 2.19): the integration would be unstable; use auto",
                                       time_step.value, crit));
-  }
-}
+  }}
 
 namespace {
 

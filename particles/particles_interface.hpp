@@ -122,6 +122,12 @@ struct ParticleParams {
   std::vector<InitialItem> initial;
   std::vector<InjectionParams> injection;  // dpm
   void visit(config::Visitor& v, const config::Config& cfg);
+  void visit_boundaries(config::Visitor& v, const config::Config& cfg);
+  void visit_initial(config::Visitor& v);
+  void check_references(config::Visitor& v) const;
+  void check_initial_overlaps(config::Visitor& v) const;
+  void check_files(config::Visitor& v) const;
+  void check_time_step(config::Visitor& v) const;
   // Placement against the domain and the blocks of `info`'s decomposition:
   // particles larger than the domain or than a block, and particles, regions,
   // inlets and meshes outside the domain (validate time).

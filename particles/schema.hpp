@@ -1,14 +1,23 @@
+// The particles component's schema (keys, defaults, docs, contracts), apart
+// from its solvers: the launcher links this alone. particles/variants.cpp
+// holds the solver factories.
 #pragma once
 
+#include <vector>
+
+#include "coflow/catalog.hpp"
 #include "coflow/registry.hpp"
 #include "coflow/run_config.hpp"
-#include "particles/particles_interface.hpp"
 
 namespace coflow::particles {
 
-// name -> variant. Every variant has one line in register_particles_variants().
+class ParticleSolver;
+
+const std::vector<VariantSchema>& variant_schemas();
+config::ComponentSchema schema();
+
+// name -> solver factory. Every variant has one line in register_particles_variants().
 Registry<ParticleSolver>& registry();
 void register_particles_variants(Registry<ParticleSolver>& r);
-config::ComponentSchema schema();
 
 }  // namespace coflow::particles

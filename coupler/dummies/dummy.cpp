@@ -23,7 +23,6 @@
 #include <random>
 #include <thread>
 
-#include "coflow/catalog.hpp"
 #include "coflow/exchange.hpp"
 #include "coflow/log.hpp"
 #include "coflow/session.hpp"
@@ -430,7 +429,7 @@ void run_particles(coupler::Session& s, const DummyParams& p) {
 
 int main(int argc, char** argv) {
   const std::string component = COFLOW_DUMMY;
-  return coupler::run_component(component, argc, argv, coflow::catalog(), [&](coupler::Session& s) {
+  return coupler::run_component(component, argc, argv, [&](coupler::Session& s) {
     DummyParams p;
     YAML::Node section = s.config().resolved[component]["dummy"];
     config::Reader r(section, s.config().file, component + ".dummy");

@@ -509,57 +509,16 @@ void print_variants(bool markdown) {
   }
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{"coflow: partitioned co-simulation of particle-laden flows"};
-  app.require_subcommand(1);
-
+// The options of `coflow run`.
+struct RunOptions {
   std::string cfg_path, launcher = "mpirun", restart;
   std::vector<std::string> overrides, exes;
-  bool dry = false, markdown = false;
+  bool dry = false;
+};
 
-  auto* run = app.add_subcommand("run", "validate a configuration and run it");
-  run->add_option("config", cfg_path, "run configuration (YAML)")->required();
-  run->add_flag("--dry-run", dry, "print the launch command and stop");
-  run->add_option("--launcher", launcher, "mpirun (default) or srun")->check(CLI::IsMember({"mpirun", "srun"}));
-  run->add_option("--restart", restart, "restart from a checkpoint directory");
-  run->add_option("--set", overrides, "override a key: --set fluid.lbm.tau=0.9 (repeatable)");
-  run->add_option("--exe", exes, "use your own executable for a component: --exe fluid=PATH");
-
-  auto* val = app.add_subcommand("validate", "check a configuration and print the resolved one");
-  val->add_option("config", cfg_path, "run configuration (YAML)")->required();
-  val->add_option("--set", overrides, "override a key: key.path=value");
-
-  auto* var = app.add_subcommand("variants", "list solvers, methods and their options");
-  var->add_flag("--markdown", markdown, "print the full configuration reference in Markdown");
-
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int rc = app.exit(e);
-    return rc == 0 ? 0 : 2;
-  }
-
-  if (var->parsed()) {
-    print_variants(markdown);
-    return 0;
-  }
-
-  Config cfg;
-  try {
-    cfg = coflow::config::parse_config(cfg_path, coflow::catalog(), overrides);
-  } catch (const ConfigError& e) {
-    std::cerr << e.what() << std::endl;
-    return 2;
-  }
-
-  if (val->parsed()) {
-    std::cout << "# " << cfg_path << ": valid\n" << YAML::Dump(cfg.resolved) << std::endl;
-    return 0;
-  }
-
-  std::map<std::string, std::string> exe_override;
+// --exe COMPONENT=PATH: the executables that replace the built-in ones.
+// Returns exit status 2, with a message, on a bad one.
+int read_exe_overrides(const std::vector<std::string>& exes, std::map<std::string, std::string>& out) {
   for (const auto& e : exes) {
     const auto eq = e.find('=');
     const std::string comp = e.substr(0, eq == std::string::npos ? 0 : eq);
@@ -572,45 +531,26 @@ int main(int argc, char** argv) {
       std::cerr << "--exe " << e << ": no such file\n";
       return 2;
     }
-    exe_override[comp] = e.substr(eq + 1);
+    out[comp] = e.substr(eq + 1);
   }
-  if (!restart.empty() && !fs::is_regular_file(fs::path(restart) / "checkpoint.yaml")) {
+  return 0;
+}
+
+// --restart DIR must be a checkpoint; it is made absolute for the components.
+int check_restart(std::string& restart) {
+  if (restart.empty()) return 0;
+  if (!fs::is_regular_file(fs::path(restart) / "checkpoint.yaml")) {
     std::cerr << "--restart " << restart << ": not a checkpoint (no checkpoint.yaml); checkpoints are the "
               << "directories out/<name>/checkpoints/window_NNNNNN written with run.checkpoint.every\n";
     return 2;
   }
-  if (!restart.empty()) restart = fs::absolute(restart).string();
+  restart = fs::absolute(restart).string();
+  return 0;
+}
 
-  const Launch launch = plan(cfg, exe_override);
-  const std::string dir = cfg.output_dir();
-  const std::string resolved = dir + "/config.yaml";
-
-  const std::string conf_path = dir + "/multi-prog.conf";
-  const bool srun = launcher == "srun";
-  const auto argv_launch = srun ? srun_argv(launch, conf_path) : mpirun_argv(launch, resolved, restart);
-  if (dry) {
-    std::printf("%s\n", join_cmd(argv_launch).c_str());
-    if (srun) std::printf("%s", multi_prog(launch, resolved, restart).c_str());
-    return 0;
-  }
-  if (const int rc = check_executables(argv_launch[0], launch); rc != 0) return rc;
-  prepare_run_directory(cfg, dir, restart);
-  if (srun) coflow::output::atomic_write(conf_path, multi_prog(launch, resolved, restart));
-
-  std::printf("coflow: running '%s' with %s\n", cfg.run.name.c_str(),
-              fmt::format("{}", fmt::join(launch.components, " + ")).c_str());
-  std::fflush(stdout);
-  Progress progress(isatty(STDOUT_FILENO));
-  Failure failure;
-  const double t0 = coflow::coupler::now();
-  const int rc = run_child(argv_launch, launch, progress, failure, cfg.coupling.timeout);
-  const double wall = coflow::coupler::now() - t0;
-
-  if (rc == 0) {
-    print_summary(dir);
-    return 0;
-  }
-  if (g_interrupted) return report_interrupted(cfg_path, overrides, dir, rc, wall, cfg);
+// A failed run: name the component and its reason (from its own report, or
+// from logs/FAILED), write the summary, and return the launcher's exit status.
+int report_failure(const Config& cfg, const std::string& dir, Failure failure, int rc, double wall) {
   if (failure.component.empty()) {
     std::ifstream f(dir + "/logs/FAILED");
     std::string first;
@@ -633,4 +573,91 @@ int main(int argc, char** argv) {
                  failure.rank.empty() ? "" : fmt::format(" (rank {})", failure.rank).c_str(), failure.reason.c_str(),
                  fs::exists(dir + "/logs") ? fmt::format("  logs: {}/logs/", dir).c_str() : "  (no logs were written)");
   return rc == 2 ? 2 : 1;
+}
+
+// `coflow run` on a valid configuration: plan, launch, follow, report.
+int run(const Config& cfg, RunOptions o) {
+  std::map<std::string, std::string> exe_override;
+  if (const int rc = read_exe_overrides(o.exes, exe_override); rc != 0) return rc;
+  if (const int rc = check_restart(o.restart); rc != 0) return rc;
+
+  const Launch launch = plan(cfg, exe_override);
+  const std::string dir = cfg.output_dir();
+  const std::string resolved = dir + "/config.yaml";
+  const std::string conf_path = dir + "/multi-prog.conf";
+  const bool srun = o.launcher == "srun";
+  const auto argv_launch = srun ? srun_argv(launch, conf_path) : mpirun_argv(launch, resolved, o.restart);
+  if (o.dry) {
+    std::printf("%s\n", join_cmd(argv_launch).c_str());
+    if (srun) std::printf("%s", multi_prog(launch, resolved, o.restart).c_str());
+    return 0;
+  }
+  if (const int rc = check_executables(argv_launch[0], launch); rc != 0) return rc;
+  prepare_run_directory(cfg, dir, o.restart);
+  if (srun) coflow::output::atomic_write(conf_path, multi_prog(launch, resolved, o.restart));
+
+  std::printf("coflow: running '%s' with %s\n", cfg.run.name.c_str(),
+              fmt::format("{}", fmt::join(launch.components, " + ")).c_str());
+  std::fflush(stdout);
+  Progress progress(isatty(STDOUT_FILENO));
+  Failure failure;
+  const double t0 = coflow::coupler::now();
+  const int rc = run_child(argv_launch, launch, progress, failure, cfg.coupling.timeout);
+  const double wall = coflow::coupler::now() - t0;
+  if (rc == 0) {
+    print_summary(dir);
+    return 0;
+  }
+  if (g_interrupted) return report_interrupted(o.cfg_path, o.overrides, dir, rc, wall, cfg);
+  return report_failure(cfg, dir, failure, rc, wall);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"coflow: partitioned co-simulation of particle-laden flows"};
+  app.require_subcommand(1);
+
+  RunOptions o;
+  bool markdown = false;
+
+  auto* run_cmd = app.add_subcommand("run", "validate a configuration and run it");
+  run_cmd->add_option("config", o.cfg_path, "run configuration (YAML)")->required();
+  run_cmd->add_flag("--dry-run", o.dry, "print the launch command and stop");
+  run_cmd->add_option("--launcher", o.launcher, "mpirun (default) or srun")->check(CLI::IsMember({"mpirun", "srun"}));
+  run_cmd->add_option("--restart", o.restart, "restart from a checkpoint directory");
+  run_cmd->add_option("--set", o.overrides, "override a key: --set fluid.lbm.tau=0.9 (repeatable)");
+  run_cmd->add_option("--exe", o.exes, "use your own executable for a component: --exe fluid=PATH");
+
+  auto* val = app.add_subcommand("validate", "check a configuration and print the resolved one");
+  val->add_option("config", o.cfg_path, "run configuration (YAML)")->required();
+  val->add_option("--set", o.overrides, "override a key: key.path=value");
+
+  auto* var = app.add_subcommand("variants", "list solvers, methods and their options");
+  var->add_flag("--markdown", markdown, "print the full configuration reference in Markdown");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);
+    return rc == 0 ? 0 : 2;
+  }
+
+  if (var->parsed()) {
+    print_variants(markdown);
+    return 0;
+  }
+
+  Config cfg;
+  try {
+    cfg = coflow::config::parse_config(o.cfg_path, coflow::catalog(), o.overrides);
+  } catch (const ConfigError& e) {
+    std::cerr << e.what() << std::endl;
+    return 2;
+  }
+  if (val->parsed()) {
+    std::cout << "# " << o.cfg_path << ": valid\n" << YAML::Dump(cfg.resolved) << std::endl;
+    return 0;
+  }
+  return run(cfg, o);
 }

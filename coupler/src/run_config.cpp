@@ -89,7 +89,10 @@ std::string Config::output_dir() const {
 void visit_component_common(Visitor& v, const ComponentSchema& schema, ComponentInfo& info) {
   std::vector<std::string> names = schema.variants;
   names.push_back("none");
-  v.required(schema.selector, info.variant, "which variant runs this component", one_of(names));
+  if (schema.variants.empty())  // an open schema: any name
+    v.required(schema.selector, info.variant, "which variant runs this component");
+  else
+    v.required(schema.selector, info.variant, "which variant runs this component", one_of(names));
   v("ranks", info.ranks, "MPI ranks of this component", at_least(1));
   v("decomposition", info.decomposition,
     "blocks per axis of this component's share of the domain (auto: balanced)", positive());
@@ -161,9 +164,30 @@ static void check_output_fields(Reader& r, const Config& cfg, const Catalog& cat
   }
 }
 
+Catalog open_catalog() {
+  Catalog c;
+  for (const auto& [section, selector] : std::vector<std::pair<std::string, std::string>>{
+           {"fluid", "solver"}, {"immersed", "method"}, {"particles", "solver"}}) {
+    ComponentSchema s;
+    s.section = section;
+    s.selector = selector;
+    s.doc = "the " + section + " component (its keys are checked by the launcher)";
+    s.visit = [s](Visitor& v, const Config&, ComponentInfo& info) {
+      visit_component_common(v, s, info);
+      v.accept_other_keys();
+    };
+    c.push_back(s);
+  }
+  return c;
+}
+
 Config parse_config_node(YAML::Node root, const std::string& file, const Catalog& catalog) {
   Config cfg;
   cfg.file = file;
+  // The hash of what was read (file and overrides), not of the resolved file:
+  // a component that reads the file with another catalogue (open_catalog())
+  // fills in other defaults but read the same configuration.
+  cfg.hash = hash_text(YAML::Dump(root));
   Reader r(root, file);
   visit_top(r, cfg, catalog);
   r.finish();
@@ -177,7 +201,6 @@ Config parse_config_node(YAML::Node root, const std::string& file, const Catalog
   if (r.problems().empty()) check_contracts(r, cfg, catalog);
   r.check();
   cfg.resolved["run"]["output"]["dir"] = cfg.output_dir();
-  cfg.hash = hash_text(YAML::Dump(cfg.resolved));
   return cfg;
 }
 

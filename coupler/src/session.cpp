@@ -456,4 +456,9 @@ int run_component(const std::string& component, int argc, char** argv,
   return 0;
 }
 
+int run_component(const std::string& component, int argc, char** argv, const std::function<void(Session&)>& body) {
+  static const config::Catalog open = config::open_catalog();
+  return run_component(component, argc, argv, open, body);
+}
+
 }  // namespace coflow::coupler

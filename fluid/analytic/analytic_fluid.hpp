@@ -1,24 +1,10 @@
 // Prescribed flow fields for component tests and one-way coupled runs.
 #pragma once
 
+#include "fluid/analytic/params.hpp"
 #include "fluid/fluid_solver.hpp"
 
 namespace coflow::fluid {
-
-struct AnalyticParams {
-  std::string field = "quiescent";
-  Vec3 velocity{0, 0, 0};       // uniform
-  double k = 0.0, epsilon = 0.0;  // uniform: homogeneous turbulence
-  double max_velocity = 0.0;    // poiseuille: centre-line speed; taylor-green: amplitude
-  int flow_axis = 0;            // poiseuille: flow direction
-  int wall_axis = 1;            // poiseuille: wall-normal direction
-  // grid-turbulence (Snyder & Lumley 1971, seed 003 eqs 5.21-5.23)
-  double mean_velocity = 6.55;  // mean speed along flow_axis, m/s
-  double mesh_size = 0.0254;    // grid spacing M, m
-  double grid_position = 0.0;   // coordinate of the grid along flow_axis, m
-  void visit(config::Visitor& v);
-  void check(config::Visitor& v, const config::Config& cfg) const;
-};
 
 // Snyder & Lumley's decay laws, seed 003 eqs 5.21-5.22: the mean-square streamwise
 // fluctuation (w' in the seed) and lateral fluctuation v' as functions of
@@ -39,10 +25,6 @@ struct GridDecay {
 class AnalyticFluid final : public FluidSolver {
  public:
   using Params = AnalyticParams;
-  static constexpr const char* params_section = "analytic";
-  static constexpr const char* summary =
-      "prescribed fields (quiescent, uniform, poiseuille, taylor-green, grid-turbulence), exact at any time";
-
   AnalyticFluid(const Setup& setup, const Params& params);
 
   double time_step() const override { return 0.0; }

@@ -38,10 +38,6 @@ class LbmCore {
 class LbmSolver final : public FluidSolver {
  public:
   using Params = lbm::LbmParams;
-  static constexpr const char* params_section = "lbm";
-  static constexpr const char* summary =
-      "lattice Boltzmann, D2Q9/D3Q19, BGK, standard or He-Luo incompressible, Zou-He faces, MPI";
-
   LbmSolver(const Setup& setup, const Params& params);
 
   double time_step() const override { return s_.units.dt; }

@@ -16,10 +16,6 @@ namespace coflow::fluid {
 class LbmReference final : public FluidSolver {
  public:
   using Params = lbm::LbmParams;
-  static constexpr const char* params_section = "lbm";
-  static constexpr const char* summary =
-      "plain serial lattice Boltzmann (the oracle for lbm): same physics, simplest code";
-
   LbmReference(const Setup& setup, const Params& params);
 
   double time_step() const override { return s_.units.dt; }

@@ -16,24 +16,13 @@
 #pragma once
 
 #include "immersed/immersed_interface.hpp"
-
-namespace coflow::config {
-class Visitor;
-}
+#include "immersed/point/params.hpp"
 
 namespace coflow::immersed {
-
-struct PointParams {
-  void visit(config::Visitor&) {}  // trilinear interpolation and spreading: nothing to choose yet
-};
 
 class PointMethod final : public ImmersedMethod {
  public:
   using Params = PointParams;
-  static constexpr const char* params_section = "";
-  static constexpr const char* summary =
-      "point particles (seed 003): fluid interpolated at the particles, momentum sources spread back conservatively";
-
   PointMethod(const Setup& setup, const Params& params) : setup_(setup), p_(params) {}
   void run(coupler::Session& s) override;
 

@@ -16,14 +16,9 @@
 #include <vector>
 
 #include "immersed/immersed_interface.hpp"
+#include "immersed/psm/params.hpp"
 
 namespace coflow::immersed {
-
-struct PsmParams {
-  int refinement = 3;     // octree levels for cells cut by a sphere surface
-  bool buoyancy = true;   // add -rho_f V g to each particle (the LBM fluid carries no hydrostatic gradient)
-  void visit(config::Visitor& v);
-};
 
 // Fraction of the cube [lo, lo + h]^3 inside the sphere (c, r): exact 0 or 1
 // when the cube is wholly outside or inside, otherwise the cube is split into 8
@@ -33,10 +28,6 @@ double cube_fraction(const std::array<double, 3>& lo, double h, const std::array
 class PsmMethod final : public ImmersedMethod {
  public:
   using Params = PsmParams;
-  static constexpr const char* params_section = "psm";
-  static constexpr const char* summary =
-      "partially saturated cells (Noble & Torczynski 1998), resolved spheres on the fluid grid";
-
   PsmMethod(const Setup& setup, const Params& params) : setup_(setup), p_(params) {}
   void run(coupler::Session& s) override;
 

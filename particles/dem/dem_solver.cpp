@@ -346,67 +346,61 @@ void DemSolver::for_candidates(std::size_t i, F&& f) {
   for (long j : js) f(static_cast<std::size_t>(j));
 }
 
-void DemSolver::step(double h) {
-  if (size_ > 1) add_ghosts();
+// One listed pair (i, j) with its history in list_state_[k] while
+// list_live_[k] (touching or bonded), as dem-reference keeps it in its map.
+void DemSolver::pair_contact(std::size_t i, std::size_t j, long k, double h) {
+  const V3 xi(&p_.x[3 * i]), xj(&p_.x[3 * j]);
+  const V3 d = dem::min_image(xi - xj, s_);
+  const double dist = d.norm();
+  const double ri = p_.radius[i], rj = p_.radius[j];
+  const double overlap = ri + rj - dist;
+  dem::ContactState& state = list_state_[k];
+  if (overlap <= 0.0 && (!list_live_[k] || !state.bonded)) {
+    list_live_[k] = 0;  // apart and not cemented: the history ends
+    return;
+  }
+  if (!list_live_[k]) {
+    list_live_[k] = 1;
+    state = dem::ContactState{};
+    if (owned_[i]) {  // each pair counted once: by the owner of its smaller id
+      ++collisions_;
+      events_.collision(time_, p_.id[i], p_.id[j], d / dist, V3(&p_.v[3 * i]) - V3(&p_.v[3 * j]));
+    }
+  }
+  const V3 nrm = d / dist;
+  const double a1 = ri - 0.5 * overlap, a2 = rj - 0.5 * overlap;
+  const V3 vi(&p_.v[3 * i]), vj(&p_.v[3 * j]), wi(&p_.w[3 * i]), wj(&p_.w[3 * j]);
+  const V3 vrel = (vi + wi.cross(-a1 * nrm)) - (vj + wj.cross(a2 * nrm));
+  const dem::ContactForce c = dem::contact_force(nrm, overlap, a1, a2, vrel, ri + rj, state, s_.law, h);
+  if (c.failure != dem::Failure::none) {
+    if (owned_[i]) {
+      ++broken_;
+      events_.bond(time_, p_.id[i], p_.id[j], c);
+    }
+    if (c.failure == dem::Failure::compression) {
+      if (owned_[i]) crushed_.push_back(i);
+      if (owned_[j]) crushed_.push_back(j);
+    }
+  }
+  if (!c.active) {
+    list_live_[k] = 0;
+    return;
+  }
+  for (int q = 0; q < 3; ++q) {
+    if (owned_[i]) {
+      p_.force[3 * i + q] += c.force[q];
+      torque_[3 * i + q] += c.torque1[q];
+    }
+    if (owned_[j]) {
+      p_.force[3 * j + q] -= c.force[q];
+      torque_[3 * j + q] += c.torque2[q];
+    }
+  }
+}
+
+// Walls: domain faces, the same law against a plane.
+void DemSolver::face_contacts(double h) {
   const std::size_t n = p_.size();
-  std::fill(p_.force.begin(), p_.force.end(), 0.0);
-  std::fill(torque_.begin(), torque_.end(), 0.0);
-  crushed_.clear();
-  if (size_ > 1 || !list_valid_ || list_stale()) build_list();
-  // The history of listed pair k lives in list_state_[k] while list_live_[k]
-  // (touching or bonded), as dem-reference keeps it in its map.
-  auto pair = [&](std::size_t i, std::size_t j, long k) {
-      const V3 xi(&p_.x[3 * i]), xj(&p_.x[3 * j]);
-      const V3 d = dem::min_image(xi - xj, s_);
-      const double dist = d.norm();
-      const double ri = p_.radius[i], rj = p_.radius[j];
-      const double overlap = ri + rj - dist;
-      dem::ContactState& state = list_state_[k];
-      if (overlap <= 0.0 && (!list_live_[k] || !state.bonded)) {
-        list_live_[k] = 0;  // apart and not cemented: the history ends
-        return;
-      }
-      if (!list_live_[k]) {
-        list_live_[k] = 1;
-        state = dem::ContactState{};
-        if (owned_[i]) {  // each pair counted once: by the owner of its smaller id
-          ++collisions_;
-          events_.collision(time_, p_.id[i], p_.id[j], d / dist, V3(&p_.v[3 * i]) - V3(&p_.v[3 * j]));
-        }
-      }
-      const V3 nrm = d / dist;
-      const double a1 = ri - 0.5 * overlap, a2 = rj - 0.5 * overlap;
-      const V3 vi(&p_.v[3 * i]), vj(&p_.v[3 * j]), wi(&p_.w[3 * i]), wj(&p_.w[3 * j]);
-      const V3 vrel = (vi + wi.cross(-a1 * nrm)) - (vj + wj.cross(a2 * nrm));
-      const dem::ContactForce c = dem::contact_force(nrm, overlap, a1, a2, vrel, ri + rj, state, s_.law, h);
-      if (c.failure != dem::Failure::none) {
-        if (owned_[i]) {
-          ++broken_;
-          events_.bond(time_, p_.id[i], p_.id[j], c);
-        }
-        if (c.failure == dem::Failure::compression) {
-          if (owned_[i]) crushed_.push_back(i);
-          if (owned_[j]) crushed_.push_back(j);
-        }
-      }
-      if (!c.active) {
-        list_live_[k] = 0;
-        return;
-      }
-      for (int q = 0; q < 3; ++q) {
-        if (owned_[i]) {
-          p_.force[3 * i + q] += c.force[q];
-          torque_[3 * i + q] += c.torque1[q];
-        }
-        if (owned_[j]) {
-          p_.force[3 * j + q] -= c.force[q];
-          torque_[3 * j + q] += c.torque2[q];
-        }
-      }
-  };
-  for (std::size_t i = 0; i < n; ++i)
-    for (long k = list_start_[i]; k < list_start_[i + 1]; ++k) pair(i, static_cast<std::size_t>(list_items_[k]), k);
-  // Walls: domain faces, the same law against a plane.
   std::array<int, 6> wall_faces{};
   int nwalls = 0;
   for (int f = 0; f < 6; ++f)
@@ -436,8 +430,12 @@ void DemSolver::step(double h) {
         torque_[3 * i + q] += c.torque1[q];
       }
     }
-  // Triangle-mesh walls: the same law against the closest point of each
-  // triangle touched (FCL's hierarchy finds the candidates).
+}
+
+// Triangle-mesh walls: the same law against the closest point of each
+// triangle touched (FCL's hierarchy finds the candidates).
+void DemSolver::mesh_contacts(double h) {
+  const std::size_t n = p_.size();
   for (std::size_t i = 0; i < n && !s_.meshes.empty(); ++i) {
     if (!owned_[i]) continue;
     const V3 xi(&p_.x[3 * i]);
@@ -471,14 +469,22 @@ void DemSolver::step(double h) {
       }
     }
   }
-  // Histories of faces and triangles no longer touched.
-  for (auto it = walls_.begin(); it != walls_.end();)
-    it = it->second.seen != steps_ ? walls_.erase(it) : std::next(it);
-  for (std::size_t i : crushed_) {  // grain crushing (seed 000 §2.2.2)
+}
+
+// Grain crushing (seed 000 §2.2.2): a grain whose bond failed in compression
+// loses a fraction of its radius.
+void DemSolver::crush_grains() {
+  for (std::size_t i : crushed_) {
     p_.radius[i] *= 1.0 - s_.crush;
     p_.mass[i] *= std::pow(1.0 - s_.crush, 3);
     p_.inertia[i] = 0.4 * p_.mass[i] * p_.radius[i] * p_.radius[i];
   }
+}
+
+// The owned, free particles move (seed 000 eqs 2.11-2.14 with local damping),
+// wrapped on periodic axes.
+void DemSolver::integrate_owned(double h) {
+  const std::size_t n = p_.size();
   for (std::size_t i = 0; i < n; ++i) {
     if (!owned_[i]) continue;
     V3 x(&p_.x[3 * i]), v(&p_.v[3 * i]), w(&p_.w[3 * i]);
@@ -499,9 +505,11 @@ void DemSolver::step(double h) {
       p_.w[3 * i + q] = w[q];
     }
   }
-  if (size_ > 1) drop_ghosts();
-  // Outlets: particles whose centre left the box are no longer this rank's
-  // (nor anyone's); the same compaction as for ghosts drops them, order kept.
+}
+
+// Outlets: particles whose centre left the box are no longer this rank's
+// (nor anyone's); the same compaction as for ghosts drops them, order kept.
+void DemSolver::drop_outlets() {
   bool leaving = false;
   bool outlets = false;
   for (int f = 0; f < 6; ++f) outlets = outlets || s_.faces[f] == dem::Face::outlet;
@@ -513,6 +521,27 @@ void DemSolver::step(double h) {
         leaving = true;
       }
   if (leaving) drop_ghosts();
+}
+
+void DemSolver::step(double h) {
+  if (size_ > 1) add_ghosts();
+  const std::size_t n = p_.size();
+  std::fill(p_.force.begin(), p_.force.end(), 0.0);
+  std::fill(torque_.begin(), torque_.end(), 0.0);
+  crushed_.clear();
+  if (size_ > 1 || !list_valid_ || list_stale()) build_list();
+  for (std::size_t i = 0; i < n; ++i)
+    for (long k = list_start_[i]; k < list_start_[i + 1]; ++k)
+      pair_contact(i, static_cast<std::size_t>(list_items_[k]), k, h);
+  face_contacts(h);
+  mesh_contacts(h);
+  // Histories of faces and triangles no longer touched.
+  for (auto it = walls_.begin(); it != walls_.end();)
+    it = it->second.seen != steps_ ? walls_.erase(it) : std::next(it);
+  crush_grains();
+  integrate_owned(h);
+  if (size_ > 1) drop_ghosts();
+  drop_outlets();
   if (size_ > 1) migrate();
   time_ += h;
   ++steps_;

@@ -18,10 +18,6 @@ namespace coflow::particles {
 class DemSolver final : public ParticleSolver {
  public:
   using Params = dem::DemParams;
-  static constexpr const char* params_section = "";
-  static constexpr const char* summary =
-      "soft-sphere DEM (seed 000 §2.2): linear springs, Coulomb slip, bonds and crushing, cell lists";
-
   DemSolver(const Setup& setup, const Params& params);
 
   double time_step() const override { return s_.dt; }
@@ -39,7 +35,13 @@ class DemSolver final : public ParticleSolver {
   void step(double h);
 
  private:
-  long crushed_substeps(double h) const;  // parts of a step h once crushed grains need a shorter one
+  long crushed_substeps(double h) const;
+  void pair_contact(std::size_t i, std::size_t j, long k, double h);
+  void face_contacts(double h);
+  void mesh_contacts(double h);
+  void crush_grains();
+  void integrate_owned(double h);
+  void drop_outlets();  // parts of a step h once crushed grains need a shorter one
   void build_cells();
   // Verlet list: for each particle i, the j > i within reach + skin (CSR).
   void build_list();

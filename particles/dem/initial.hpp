@@ -4,6 +4,7 @@
 #include <array>
 #include <string>
 
+#include "particles/dem/bond_file.hpp"
 #include "particles/dem/contact.hpp"
 #include "particles/dem/mesh.hpp"
 #include "particles/particles_interface.hpp"
@@ -35,15 +36,6 @@ struct DemSetup {
 inline std::int64_t mesh_wall_key(std::size_t mesh, int triangle) {
   return 6 + (static_cast<std::int64_t>(mesh) << 24) + triangle;
 }
-
-// A CSV file of bonded pairs (header `i,j`, then one pair of particle ids per
-// line; blank lines and lines starting with # are skipped). Each pair comes with
-// its line number. Throws "file:line: reason" on anything else.
-struct BondPair {
-  std::int64_t i = 0, j = 0;
-  int line = 0;
-};
-std::vector<BondPair> read_bond_csv(const std::string& path);
 
 // The particles of `initial`, with masses and inertias; deterministic from run.seed.
 ParticleArrays make_initial(const ParticleParams& p, const config::Config& cfg);

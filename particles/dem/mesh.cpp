@@ -11,54 +11,6 @@
 
 namespace coflow::particles::dem {
 
-TriangleMesh read_stl(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open the mesh file", path));
-  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  TriangleMesh m;
-  auto add = [&](const V3& a, const V3& b, const V3& c) {
-    const int base = static_cast<int>(m.vertices.size());
-    m.vertices.insert(m.vertices.end(), {a, b, c});
-    m.triangles.push_back({base, base + 1, base + 2});
-  };
-  // Binary: 80-byte header, uint32 count, 50 bytes per triangle.
-  if (data.size() >= 84) {
-    std::uint32_t n = 0;
-    std::memcpy(&n, data.data() + 80, 4);
-    if (data.size() == 84 + 50ull * n) {
-      for (std::uint32_t t = 0; t < n; ++t) {
-        float v[12];
-        std::memcpy(v, data.data() + 84 + 50ull * t, sizeof v);
-        add(V3(v[3], v[4], v[5]), V3(v[6], v[7], v[8]), V3(v[9], v[10], v[11]));
-      }
-      if (n == 0) throw std::runtime_error(fmt::format("{}: the binary STL holds no triangle", path));
-      return m;
-    }
-  }
-  std::istringstream s(data);
-  std::string word;
-  s >> word;
-  if (word != "solid")
-    throw std::runtime_error(fmt::format("{}: neither a binary STL (size does not match its triangle count) nor "
-                                         "an ASCII STL (does not start with 'solid')",
-                                         path));
-  std::vector<V3> corners;
-  while (s >> word) {
-    if (word != "vertex") continue;
-    V3 v;
-    if (!(s >> v[0] >> v[1] >> v[2]))
-      throw std::runtime_error(fmt::format("{}: a vertex line without three numbers", path));
-    corners.push_back(v);
-    if (corners.size() == 3) {
-      add(corners[0], corners[1], corners[2]);
-      corners.clear();
-    }
-  }
-  if (!corners.empty()) throw std::runtime_error(fmt::format("{}: a facet with fewer than three vertices", path));
-  if (m.triangles.empty()) throw std::runtime_error(fmt::format("{}: the ASCII STL holds no facet", path));
-  return m;
-}
-
 V3 closest_on_triangle(const V3& p, const V3& a, const V3& b, const V3& c, bool& face) {
   face = false;
   const V3 ab = b - a, ac = c - a, ap = p - a;

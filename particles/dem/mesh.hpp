@@ -8,16 +8,9 @@
 #include <vector>
 
 #include "particles/dem/contact.hpp"
+#include "particles/dem/stl.hpp"
 
 namespace coflow::particles::dem {
-
-struct TriangleMesh {
-  std::vector<V3> vertices;
-  std::vector<std::array<int, 3>> triangles;
-};
-
-// Reads an STL file; throws std::runtime_error naming the file and the problem.
-TriangleMesh read_stl(const std::string& path);
 
 struct MeshContact {
   int triangle = 0;

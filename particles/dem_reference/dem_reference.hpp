@@ -14,9 +14,6 @@ namespace coflow::particles {
 class DemReference final : public ParticleSolver {
  public:
   using Params = dem::DemParams;
-  static constexpr const char* params_section = "";
-  static constexpr const char* summary = "plain serial soft-sphere DEM, all pairs (the oracle for dem)";
-
   DemReference(const Setup& setup, const Params& params);
 
   double time_step() const override { return s_.dt; }

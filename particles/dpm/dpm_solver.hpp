@@ -24,10 +24,6 @@ class DpmSolver final : public ParticleSolver {
   struct Params {
     void visit(config::Visitor&) {}  // common particle keys only
   };
-  static constexpr const char* params_section = "";
-  static constexpr const char* summary =
-      "point particles (seed 003): drag, lift, torque, RK4, hard-sphere collisions found with cell lists";
-
   DpmSolver(const Setup& setup, const Params& params);
 
   double time_step() const override { return dt_; }

@@ -18,11 +18,6 @@ class DpmReference final : public ParticleSolver {
   struct Params {
     void visit(config::Visitor&) {}  // common particle keys only
   };
-  static constexpr const char* params_section = "";
-  static constexpr const char* summary =
-      "plain serial point particles (seed 003): drag, lift, torque, RK4, hard-sphere collisions over all pairs "
-      "(the oracle for dpm)";
-
   DpmReference(const Setup& setup, const Params& params);
 
   double time_step() const override { return dt_; }

@@ -1,5 +1,10 @@
-// A plain registry: name -> factory, filled by one explicit function per
-// component (no macros, no self-registering statics).
+// Variants, in two halves that link apart:
+// - VariantSchema: a variant's name, summary and parameter keys (its YAML
+//   subsection). A component's schema library lists them; the launcher and
+//   the docs generator link the schema libraries only.
+// - Registry: name -> factory of the solver class, filled by one explicit
+//   function per component (no macros, no self-registering statics); linked by
+//   the component executable.
 #pragma once
 
 #include <algorithm>
@@ -17,24 +22,45 @@
 
 namespace coflow {
 
-// Interface::Setup is what every variant of a family is constructed from.
-// A variant T provides:
-//   struct T::Params { void visit(config::Visitor&); };   (its YAML subsection)
-//   static constexpr const char* T::params_section;      ("" when none)
-//   static constexpr const char* T::summary;             (one line for `coflow variants`)
-//   T(const Interface::Setup&, const T::Params&)
+struct VariantSchema {
+  std::string name;
+  std::string summary;         // one line for `coflow variants`
+  std::string params_section;  // "" when the variant has no subsection
+  // Visit the variant's Params (defaults), for reading or describing; with a
+  // configuration, also run the Params' checks against the rest of it.
+  std::function<void(config::Visitor&, const config::Config*)> visit;
+};
+
+// A variant whose Params declares `void visit(config::Visitor&)` and
+// optionally `void check(config::Visitor&, const config::Config&) const`.
+template <class Params>
+VariantSchema variant_schema(std::string name, std::string summary, std::string params_section = "") {
+  VariantSchema s{std::move(name), std::move(summary), std::move(params_section), {}};
+  s.visit = [](config::Visitor& v, const config::Config* cfg) {
+    Params p;
+    p.visit(v);
+    if constexpr (requires { p.check(v, *cfg); })
+      if (cfg && v.reading()) p.check(v, *cfg);
+  };
+  return s;
+}
+
+template <class List>
+const VariantSchema& find_variant(const List& list, const std::string& name) {
+  auto it = std::find_if(list.begin(), list.end(), [&](const VariantSchema& e) { return e.name == name; });
+  if (it == list.end()) throw std::invalid_argument(fmt::format("unknown variant '{}'", name));
+  return *it;
+}
+
+// Interface::Setup is what every variant of a family is constructed from. A
+// variant T provides `T::Params` (the struct its VariantSchema reads) and
+// `T(const Interface::Setup&, const T::Params&)`.
 template <class Interface>
 class Registry {
  public:
   using Setup = typename Interface::Setup;
   struct Entry {
     std::string name;
-    std::string summary;
-    std::string params_section;
-    // Visit the variant's Params (defaults), for reading or describing; with a
-    // configuration, also run the Params' checks against the rest of it.
-    std::function<void(config::Visitor&, const config::Config*)> visit;
-    std::function<void(config::Visitor&)> describe;
     // Read the Params from a visitor over the subsection and build the variant.
     std::function<std::unique_ptr<Interface>(const Setup&, config::Visitor&)> create;
   };
@@ -43,18 +69,6 @@ class Registry {
   void add(std::string name) {
     Entry e;
     e.name = std::move(name);
-    e.summary = T::summary;
-    e.params_section = T::params_section;
-    e.visit = [](config::Visitor& v, const config::Config* cfg) {
-      typename T::Params p;
-      p.visit(v);
-      if constexpr (requires { p.check(v, *cfg); })
-        if (cfg && v.reading()) p.check(v, *cfg);
-    };
-    e.describe = [](config::Visitor& v) {
-      typename T::Params p;
-      p.visit(v);
-    };
     e.create = [](const Setup& setup, config::Visitor& v) -> std::unique_ptr<Interface> {
       typename T::Params p;
       p.visit(v);

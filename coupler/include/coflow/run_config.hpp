@@ -86,6 +86,12 @@ struct ComponentSchema {
 
 using Catalog = std::vector<ComponentSchema>;
 
+// The three component sections with only their common keys checked (selector,
+// ranks, decomposition) and any other key accepted: what a component built
+// outside the tree reads the file with, linking libcoflow alone. The launcher
+// has checked the whole file against the full catalogue before any rank starts.
+Catalog open_catalog();
+
 struct Config {
   std::string file;                    // as given by the user
   RunParams run;
@@ -94,7 +100,7 @@ struct Config {
   Vec3 gravity{0, 0, 0};
   std::map<std::string, ComponentInfo> components;  // by section name; only present ones
   YAML::Node resolved;                 // every key, defaults filled in
-  std::uint64_t hash = 0;              // of the resolved configuration
+  std::uint64_t hash = 0;              // of the configuration as read (file and overrides)
 
   bool has(const std::string& section) const { return components.count(section) != 0; }
   const ComponentInfo& component(const std::string& section) const { return components.at(section); }

@@ -132,6 +132,9 @@ class Session {
 // the session, and turning any exception into a whole-run abort.
 int run_component(const std::string& component, int argc, char** argv,
                   const config::Catalog& catalog, const std::function<void(Session&)>& body);
+// The same for a component built outside the tree: it reads the file with
+// config::open_catalog() and links libcoflow alone.
+int run_component(const std::string& component, int argc, char** argv, const std::function<void(Session&)>& body);
 
 // Format of the lines the launcher reads from the components' output.
 inline constexpr const char* kProgressTag = "@coflow progress";

@@ -17,6 +17,7 @@
 #include "coflow/run_config.hpp"
 #include "coflow/session.hpp"
 #include "fluid/driver.hpp"
+#include "fluid/fluid_solver.hpp"
 #include "fluid/schema.hpp"
 
 using namespace coflow;

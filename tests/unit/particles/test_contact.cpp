@@ -11,6 +11,7 @@
 #include "particles/dem/contact.hpp"
 #include "particles/dem/dem_solver.hpp"
 #include "particles/dem_reference/dem_reference.hpp"
+#include "particles/particles_interface.hpp"
 #include "particles/schema.hpp"
 
 using namespace coflow::particles::dem;

@@ -14,6 +14,7 @@
 #include "particles/dpm/forces.hpp"
 #include "particles/dpm/setup.hpp"
 #include "particles/dpm_reference/dpm_reference.hpp"
+#include "particles/particles_interface.hpp"
 #include "particles/schema.hpp"
 
 using namespace coflow::particles::dpm;

@@ -1,0 +1,47 @@
+// The keys common to every fluid variant (fluid.*): material, boundaries,
+// initial state. Part of the fluid schema library.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "coflow/config.hpp"
+#include "coflow/run_config.hpp"
+
+namespace coflow::fluid {
+
+using config::Vec3;
+
+// One face of the box: x-, x+, y-, y+, z-, z+.
+struct BoundaryParams {
+  std::string type = "wall";  // wall | pressure | velocity | outflow
+  config::Numbers value;      // pressure (Pa) or velocity (m/s)
+  double ramp = 0.0;          // s: the value rises linearly from zero over this time
+  std::string closure = "auto";  // lbm: regularized | zou-he | auto (the type's default)
+  void visit(config::Visitor& v);
+};
+
+inline const std::vector<std::string>& face_names() {
+  static const std::vector<std::string> f{"x-", "x+", "y-", "y+", "z-", "z+"};
+  return f;
+}
+
+// Keys common to every fluid variant.
+struct FluidParams {
+  double density = 1000.0;
+  double viscosity = 1e-6;
+  Vec3 body_force{0, 0, 0};
+  std::map<std::string, BoundaryParams> boundaries;  // by face; non-periodic faces default to wall
+  Vec3 initial_velocity{0, 0, 0};
+  double initial_pressure = 0.0;
+  std::string initial_field = "uniform";  // uniform | taylor-green
+  double initial_amplitude = 0.0;          // taylor-green: U0, m/s
+  void visit(config::Visitor& v, const config::Config& cfg);
+  // Initial velocity (m/s) and pressure (Pa) at a point.
+  void initial_state(const config::Config& cfg, const Vec3& x, Vec3& u, double& p) const;
+  // The boundary of a face (a wall when not given); periodic faces have type "periodic".
+  BoundaryParams boundary(int face, const config::Config& cfg) const;
+};
+
+}  // namespace coflow::fluid

@@ -1,0 +1,98 @@
+#include "fluid/schema.hpp"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "fluid/analytic/params.hpp"
+#include "fluid/lbm/params.hpp"
+#include "fluid/params.hpp"
+
+namespace coflow::fluid {
+
+const std::vector<VariantSchema>& variant_schemas() {
+  static const std::vector<VariantSchema> v{
+      variant_schema<lbm::LbmParams>(
+          "lbm", "lattice Boltzmann, D2Q9/D3Q19, BGK or TRT, standard or He-Luo incompressible, regularized and "
+                 "Zou-He faces, MPI",
+          "lbm"),
+      variant_schema<lbm::LbmParams>(
+          "lbm-reference", "plain serial lattice Boltzmann (the oracle for lbm): same physics, simplest code", "lbm"),
+      variant_schema<AnalyticParams>(
+          "analytic",
+          "prescribed fields (quiescent, uniform, poiseuille, taylor-green, grid-turbulence), exact at any time",
+          "analytic"),
+  };
+  return v;
+}
+
+namespace {
+
+// lbm takes the solids of psm and returns the force on them; analytic is a
+// prescribed flow (with turbulence) that nothing feeds back into.
+config::Contract contract(const config::Config&, const std::string& variant) {
+  namespace f = config::fields;
+  config::Contract c;
+  if (variant == "lbm" || variant == "lbm-reference") c.provides = {f::velocity, f::pressure, f::solid_force};
+  if (variant == "analytic") c.provides = {f::velocity, f::pressure, f::k, f::epsilon};
+  return c;
+}
+
+// The snapshot fields each variant writes (LbmSolver/LbmReference/AnalyticFluid::fields).
+std::vector<std::string> writes(const std::string& variant) {
+  if (variant == "lbm" || variant == "lbm-reference") return {"velocity", "pressure", "density", "solid_fraction"};
+  if (variant == "analytic") return {"velocity", "pressure", "density", "vorticity", "k", "epsilon"};
+  return {};  // external: its own business
+}
+
+// One subsection per variant family; only the chosen one may be given.
+void visit_variant_sections(config::Visitor& v, const config::Config& cfg, const config::ComponentInfo& info) {
+  std::vector<std::string> done;
+  for (const auto& e : variant_schemas()) {
+    if (e.params_section.empty() || std::find(done.begin(), done.end(), e.params_section) != done.end()) continue;
+    const VariantSchema* chosen = &e;
+    if (v.reading()) {
+      chosen = &find_variant(variant_schemas(), info.variant);
+      if (chosen->params_section != e.params_section) chosen = nullptr;
+    }
+    if (chosen) {
+      done.push_back(e.params_section);
+      v.section(e.params_section, fmt::format("parameters of solver {}", e.name),
+                [&](config::Visitor& sub) { chosen->visit(sub, v.reading() ? &cfg : nullptr); });
+    } else if (v.given(e.params_section)) {
+      v.fail(e.params_section, fmt::format("only used with solver: {} (this run uses solver: {}); "
+                                           "remove the section or change the solver",
+                                           e.name, info.variant));
+    }
+  }
+}
+
+}  // namespace
+
+config::ComponentSchema schema() {
+  config::ComponentSchema s;
+  s.section = "fluid";
+  s.selector = "solver";
+  for (const auto& e : variant_schemas()) s.variants.push_back(e.name);
+  s.variants.push_back("external");
+  s.doc = "the fluid component (omit the section, or solver: none, for no fluid)";
+  s.writes = writes;
+  s.contract = contract;
+  s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
+    config::visit_component_common(v, s, info);
+    const bool known = std::any_of(variant_schemas().begin(), variant_schemas().end(),
+                                   [&](const VariantSchema& e) { return e.name == info.variant; });
+    if (v.reading() && !known) {  // external, none, or a wrong name reported above
+      v.accept_other_keys();  // checked by the external executable itself
+      return;
+    }
+    FluidParams p;
+    p.visit(v, cfg);
+    visit_variant_sections(v, cfg, info);
+  };
+  return s;
+}
+
+ComponentEntry schema_entry() { return {schema(), variant_schemas()}; }
+
+}  // namespace coflow::fluid

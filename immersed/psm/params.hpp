@@ -1,0 +1,14 @@
+// immersed.psm: the keys of the partially saturated cells method.
+#pragma once
+
+#include "coflow/config.hpp"
+
+namespace coflow::immersed {
+
+struct PsmParams {
+  int refinement = 3;     // octree levels for cells cut by a sphere surface
+  bool buoyancy = true;   // add -rho_f V g to each particle (the LBM fluid carries no hydrostatic gradient)
+  void visit(config::Visitor& v);
+};
+
+}  // namespace coflow::immersed

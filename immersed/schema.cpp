@@ -1,0 +1,78 @@
+#include "immersed/schema.hpp"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "immersed/point/params.hpp"
+#include "immersed/psm/params.hpp"
+
+namespace coflow::immersed {
+
+const std::vector<VariantSchema>& variant_schemas() {
+  static const std::vector<VariantSchema> v{
+      variant_schema<PsmParams>(
+          "psm", "partially saturated cells (Noble & Torczynski 1998), resolved spheres on the fluid grid", "psm"),
+      variant_schema<PointParams>("point", "point particles (seed 003): fluid interpolated at the particles, "
+                                           "momentum sources spread back conservatively"),
+  };
+  return v;
+}
+
+namespace {
+
+// psm: solids into the fluid cells, loads back to the particles, either
+// scheme. point: the fluid at the particles out, their impulses back into the
+// fluid as a momentum source, serial-explicit only (the impulse of a window
+// enters the same window's fluid step).
+config::Contract contract(const config::Config&, const std::string& variant) {
+  namespace f = config::fields;
+  config::Contract c;
+  const std::string key = "immersed.method";
+  if (variant == "psm") {
+    c.provides = {f::solid_fraction, f::hydrodynamic_load};
+    c.needs = {{f::solid_force, key}, {f::particle_state, key}};
+  }
+  if (variant == "point") {
+    c.provides = {f::fluid_at_particle, f::momentum_source};
+    c.needs = {{f::velocity, key}, {f::particle_state, key}, {f::impulse, key}};
+    c.schemes = {config::Scheme::serial_explicit};
+  }
+  return c;
+}
+
+}  // namespace
+
+config::ComponentSchema schema() {
+  config::ComponentSchema s;
+  s.section = "immersed";
+  s.selector = "method";
+  for (const auto& e : variant_schemas()) s.variants.push_back(e.name);
+  s.variants.push_back("external");
+  s.doc = "the coupling between particles and the fluid grid: psm or point";
+  s.contract = contract;
+  s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
+    config::visit_component_common(v, s, info);
+    const bool known = std::any_of(variant_schemas().begin(), variant_schemas().end(),
+                                   [&](const VariantSchema& e) { return e.name == info.variant; });
+    if (v.reading() && !known) {  // external, none, or a wrong name reported above
+      v.accept_other_keys();
+      return;
+    }
+    for (const auto& e : variant_schemas()) {
+      if (e.params_section.empty()) continue;  // a method without parameters (point)
+      const bool chosen = v.reading() ? info.variant == e.name : true;
+      if (chosen)
+        v.section(e.params_section, fmt::format("parameters of method {}", e.name),
+                  [&](config::Visitor& sub) { e.visit(sub, v.reading() ? &cfg : nullptr); });
+      else if (v.given(e.params_section))
+        v.fail(e.params_section, fmt::format("only used with method: {} (this run uses method: {})", e.name,
+                                             info.variant));
+    }
+  };
+  return s;
+}
+
+ComponentEntry schema_entry() { return {schema(), variant_schemas()}; }
+
+}  // namespace coflow::immersed

@@ -1,0 +1,50 @@
+#include "particles/dem/bond_file.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <fstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace coflow::particles::dem {
+
+std::vector<BondPair> read_bond_csv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot open the bond file", path));
+  std::vector<BondPair> pairs;
+  std::string line;
+  int number = 0;
+  bool header = false;
+  while (std::getline(in, line)) {
+    ++number;
+    line.erase(std::remove_if(line.begin(), line.end(), [](unsigned char c) { return std::isspace(c); }), line.end());
+    if (line.empty() || line[0] == '#') continue;
+    if (!header) {
+      if (line != "i,j")
+        throw std::runtime_error(fmt::format("{}:{}: the first line must be the header i,j (got '{}')", path, number, line));
+      header = true;
+      continue;
+    }
+    BondPair b;
+    b.line = number;
+    const auto comma = line.find(',');
+    const char* end = line.data() + line.size();
+    const auto r1 = std::from_chars(line.data(), line.data() + std::min(comma, line.size()), b.i);
+    const auto r2 = comma == std::string::npos ? std::from_chars_result{line.data(), std::errc::invalid_argument}
+                                                : std::from_chars(line.data() + comma + 1, end, b.j);
+    if (comma == std::string::npos || r1.ec != std::errc() || r2.ec != std::errc() ||
+        r1.ptr != line.data() + comma || r2.ptr != end)
+      throw std::runtime_error(fmt::format("{}:{}: expected two particle ids 'i,j' (got '{}')", path, number, line));
+    if (b.i < 0 || b.j < 0 || b.i == b.j)
+      throw std::runtime_error(
+          fmt::format("{}:{}: a bond joins two different particles with ids >= 0 (got {},{})", path, number, b.i, b.j));
+    if (b.i > b.j) std::swap(b.i, b.j);
+    pairs.push_back(b);
+  }
+  if (!header) throw std::runtime_error(fmt::format("{}: empty bond file (expected the header i,j)", path));
+  return pairs;
+}
+
+}  // namespace coflow::particles::dem

@@ -1,0 +1,92 @@
+#include "particles/event_log.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "coflow/gather.hpp"
+
+namespace coflow::particles {
+
+EventLog::EventLog(coupler::Session& s, const config::OutputParams& out, bool point_particles, long w0)
+    : s_(s), collisions_(out.collision_events), bonds_(out.bond_events) {
+  if (s.rank() != 0) return;
+  const auto mode = w0 > 0 ? std::ios::app : std::ios::trunc;
+  if (collisions_) {
+    std::filesystem::create_directories(s.output_dir() + "/events");
+    collisions_csv_.open(s.output_dir() + "/events/collisions.csv", mode);
+    if (w0 == 0) collisions_csv_ << "time,i,j,angle,relative_speed,normal_speed\n";
+    if (point_particles) {
+      impacts_csv_.open(s.output_dir() + "/events/impacts.csv", mode);
+      if (w0 == 0) impacts_csv_ << "time,id,wall,x,y,z,angle,speed\n";
+    }
+  }
+  if (bonds_) {
+    std::filesystem::create_directories(s.output_dir() + "/events");
+    bonds_csv_.open(s.output_dir() + "/events/bonds.csv", mode);
+    if (w0 == 0) bonds_csv_ << "time,i,j,mode,normal_force,shear_force\n";
+  }
+}
+
+void EventLog::write(const ParticleEvents& ev) {
+  if (!wanted()) return;
+  write_pairs(ev);  // the order of the two gathers is every rank's
+  write_impacts(ev);
+  if (s_.rank() != 0) return;
+  collisions_csv_.flush();
+  bonds_csv_.flush();
+  impacts_csv_.flush();
+}
+
+// Collisions and bond failures: (kind, time, i, j, four values) rows.
+void EventLog::write_pairs(const ParticleEvents& ev) {
+  std::vector<double> local;
+  for (const auto& e : ev.collisions)
+    local.insert(local.end(), {0.0, e.time, double(e.i), double(e.j), e.angle, e.relative_speed, e.normal_speed});
+  for (const auto& e : ev.bonds)
+    local.insert(local.end(), {1.0, e.time, double(e.i), double(e.j), double(static_cast<int>(e.mode)),
+                               e.normal_force, e.shear_force});
+  const std::vector<double> all = coupler::gather_to_root<double>(s_.comm(), local, MPI_DOUBLE);
+  if (s_.rank() != 0) return;
+  constexpr std::size_t W = 7;
+  std::vector<std::size_t> order(all.size() / W);
+  for (std::size_t n = 0; n < order.size(); ++n) order[n] = n;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return std::lexicographical_compare(&all[W * a], &all[W * a + 4], &all[W * b], &all[W * b + 4]);
+  });
+  static constexpr const char* modes[] = {"", "tension", "compression", "shear"};
+  for (std::size_t n : order) {
+    const double* e = &all[W * n];
+    if (e[0] == 0.0)
+      collisions_csv_ << fmt::format("{:.17g},{},{},{:.17g},{:.17g},{:.17g}\n", e[1], std::int64_t(e[2]),
+                                     std::int64_t(e[3]), e[4], e[5], e[6]);
+    else
+      bonds_csv_ << fmt::format("{:.17g},{},{},{},{:.17g},{:.17g}\n", e[1], std::int64_t(e[2]), std::int64_t(e[3]),
+                                modes[static_cast<int>(e[4])], e[5], e[6]);
+  }
+}
+
+// Wall impacts (point particles): time, id, wall, contact point, angle, speed.
+void EventLog::write_impacts(const ParticleEvents& ev) {
+  std::vector<double> hits;
+  for (const auto& e : ev.impacts)
+    hits.insert(hits.end(), {e.time, double(e.id), double(e.wall), e.point[0], e.point[1], e.point[2], e.angle, e.speed});
+  const std::vector<double> all = coupler::gather_to_root<double>(s_.comm(), hits, MPI_DOUBLE);
+  if (s_.rank() != 0 || !impacts_csv_.is_open()) return;
+  constexpr std::size_t H = 8;
+  std::vector<std::size_t> by(all.size() / H);
+  for (std::size_t n = 0; n < by.size(); ++n) by[n] = n;
+  std::sort(by.begin(), by.end(), [&](std::size_t a, std::size_t b) {
+    return std::lexicographical_compare(&all[H * a], &all[H * a + 3], &all[H * b], &all[H * b + 3]);
+  });
+  for (std::size_t n : by) {
+    const double* e = &all[H * n];
+    impacts_csv_ << fmt::format("{:.17g},{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", e[0], std::int64_t(e[1]),
+                                std::int64_t(e[2]), e[3], e[4], e[5], e[6], e[7]);
+  }
+}
+
+}  // namespace coflow::particles

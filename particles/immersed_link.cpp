@@ -1,0 +1,193 @@
+#include "particles/immersed_link.hpp"
+
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <unordered_map>
+
+#include <fmt/format.h>
+
+#include "coflow/gather.hpp"
+#include "coflow/protocol.hpp"
+
+namespace coflow::particles {
+
+ImmersedLink::ImmersedLink(coupler::Session& s, ParticleSolver& solver, const ParticleParams& params)
+    : s_(s), solver_(solver) {
+  const auto& cfg = s.config();
+  point_ = cfg.component("immersed").variant == "point";
+  lagged_ = !point_ && cfg.coupling.scheme == config::Scheme::parallel_explicit;
+  const auto dest = s.decomposition_of("immersed", s.partner_ranks("immersed"));
+  const auto h = cfg.domain.spacing();
+  to_immersed_ = std::make_unique<coupler::PointExchange>(
+      s.partner("immersed"), coupler::PointExchange::Role::origin, dest, cfg.domain.lower, h,
+      sizeof(protocol::ParticleRecord), point_ ? sizeof(protocol::FluidAtParticle) : sizeof(protocol::ParticleLoad),
+      protocol::kTagParticles, point_ ? 0 : coupling_ghost_cells(params, cfg));
+  if (point_)
+    impulse_out_ = std::make_unique<coupler::PointExchange>(
+        s.partner("immersed"), coupler::PointExchange::Role::origin, dest, cfg.domain.lower, h,
+        sizeof(protocol::ParticleImpulse), sizeof(double), protocol::kTagImpulse, 0);
+}
+
+void ImmersedLink::before_step() {
+  send_states();
+  if (point_) receive_fluid();
+  else if (!lagged_) apply_loads(receive_loads());
+}
+
+void ImmersedLink::after_step() {
+  if (point_) send_impulses();
+  if (lagged_) {
+    pending_ = receive_loads();
+    apply_loads(pending_);
+  }
+}
+
+void ImmersedLink::send_states() {
+  const ParticleArrays& p = solver_.particles();
+  const std::size_t n = p.size();
+  records_.resize(n * sizeof(protocol::ParticleRecord));
+  positions_.resize(n);
+  sent_ids_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    protocol::ParticleRecord rec{};
+    rec.id = p.id[i];
+    for (int d = 0; d < 3; ++d) {
+      rec.x[d] = p.x[3 * i + d];
+      rec.v[d] = p.v[3 * i + d];
+      rec.w[d] = p.w[3 * i + d];
+      positions_[i][d] = rec.x[d];
+    }
+    rec.radius = p.radius[i];
+    rec.mass = p.mass[i];
+    sent_ids_[i] = p.id[i];
+    std::memcpy(records_.data() + i * sizeof rec, &rec, sizeof rec);
+  }
+  to_immersed_->send(records_, positions_);
+}
+
+// Loads as (id, force, torque) rows of 7 doubles.
+std::vector<double> ImmersedLink::receive_loads() {
+  const std::size_t n = sent_ids_.size();
+  loads_.assign(n * sizeof(protocol::ParticleLoad), std::byte{0});
+  to_immersed_->receive_results(loads_, protocol::add_load);
+  std::vector<double> rows(7 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    protocol::ParticleLoad l;
+    std::memcpy(&l, loads_.data() + i * sizeof l, sizeof l);
+    rows[7 * i] = static_cast<double>(sent_ids_[i]);
+    for (int d = 0; d < 3; ++d) {
+      rows[7 * i + 1 + d] = l.force[d];
+      rows[7 * i + 4 + d] = l.torque[d];
+    }
+  }
+  return rows;
+}
+
+// Hand the rows to the particles that hold these ids now; rows whose particle
+// is on another rank travel to all ranks (few: those that crossed a border in
+// the window); a particle that left the domain drops its row.
+void ImmersedLink::apply_loads(const std::vector<double>& rows) {
+  const ParticleArrays& p = solver_.particles();
+  const std::size_t n = p.size();
+  std::unordered_map<std::int64_t, std::size_t> slot;
+  slot.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) slot.emplace(p.id[i], i);
+  hforce_.assign(3 * n, 0.0);
+  htorque_.assign(3 * n, 0.0);
+  std::vector<double> away;
+  auto put = [&](const double* row) {
+    const auto it = slot.find(static_cast<std::int64_t>(row[0]));
+    if (it == slot.end()) return false;
+    for (int d = 0; d < 3; ++d) {
+      hforce_[3 * it->second + d] = row[1 + d];
+      htorque_[3 * it->second + d] = row[4 + d];
+    }
+    return true;
+  };
+  for (std::size_t k = 0; k < rows.size(); k += 7)
+    if (!put(&rows[k])) away.insert(away.end(), &rows[k], &rows[k] + 7);
+  if (s_.size() > 1) {
+    const std::vector<double> all = coupler::allgather<double>(s_.comm(), away, MPI_DOUBLE);
+    for (std::size_t k = 0; k < all.size(); k += 7) put(&all[k]);
+  }
+  solver_.set_hydrodynamic(hforce_, htorque_);
+}
+
+void ImmersedLink::save(const std::string& dir) {
+  if (!lagged_) return;
+  const std::vector<double> all = coupler::gather_to_root<double>(s_.comm(), pending_, MPI_DOUBLE);
+  if (s_.rank() != 0) return;
+  std::ofstream f(dir + "/hydrodynamic.csv");
+  f << "id,fx,fy,fz,tx,ty,tz\n";
+  for (std::size_t k = 0; k < all.size(); k += 7)
+    f << fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", std::int64_t(all[k]), all[k + 1],
+                     all[k + 2], all[k + 3], all[k + 4], all[k + 5], all[k + 6]);
+}
+
+void ImmersedLink::load(const std::string& dir) {
+  if (!lagged_) return;
+  std::ifstream f(dir + "/hydrodynamic.csv");
+  if (!f) throw std::runtime_error(dir + "/hydrodynamic.csv: missing (the checkpoint of a parallel-explicit run)");
+  std::string line;
+  std::getline(f, line);
+  std::vector<double> rows;
+  while (std::getline(f, line)) {
+    std::istringstream in(line);
+    std::string cell;
+    while (std::getline(in, cell, ',')) rows.push_back(std::stod(cell));
+  }
+  if (rows.size() % 7 != 0) throw std::runtime_error(dir + "/hydrodynamic.csv: malformed");
+  // Every rank read all rows: keep those of its own particles.
+  const ParticleArrays& p = solver_.particles();
+  std::unordered_map<std::int64_t, std::size_t> slot;
+  for (std::size_t i = 0; i < p.size(); ++i) slot.emplace(p.id[i], i);
+  std::vector<double> mine;
+  for (std::size_t k = 0; k < rows.size(); k += 7)
+    if (slot.count(static_cast<std::int64_t>(rows[k]))) mine.insert(mine.end(), &rows[k], &rows[k] + 7);
+  pending_ = mine;
+  apply_loads(mine);
+}
+
+void ImmersedLink::receive_fluid() {
+  const std::size_t n = sent_ids_.size();
+  fluid_bytes_.assign(n * sizeof(protocol::FluidAtParticle), std::byte{0});
+  to_immersed_->receive_results(fluid_bytes_);
+  samples_.resize(ParticleSolver::kFluidValues * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    protocol::FluidAtParticle f;
+    std::memcpy(&f, fluid_bytes_.data() + i * sizeof f, sizeof f);
+    double* row = &samples_[ParticleSolver::kFluidValues * i];
+    for (int d = 0; d < 3; ++d) {
+      row[d] = f.u[d];
+      row[3 + d] = f.vorticity[d];
+    }
+    row[6] = f.k;
+    row[7] = f.epsilon;
+    row[8] = f.rho;
+    row[9] = f.mu;
+  }
+  solver_.set_fluid(samples_);
+}
+
+void ImmersedLink::send_impulses() {
+  solver_.take_impulse(impulse_);
+  const ParticleArrays& p = solver_.particles();
+  const std::size_t n = p.size();
+  impulse_records_.resize(n * sizeof(protocol::ParticleImpulse));
+  positions_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    protocol::ParticleImpulse rec{};
+    rec.id = p.id[i];
+    for (int d = 0; d < 3; ++d) {
+      rec.x[d] = p.x[3 * i + d];
+      rec.impulse[d] = impulse_[3 * i + d];
+      positions_[i][d] = rec.x[d];
+    }
+    std::memcpy(impulse_records_.data() + i * sizeof rec, &rec, sizeof rec);
+  }
+  impulse_out_->send(impulse_records_, positions_);
+}
+
+}  // namespace coflow::particles

@@ -1,0 +1,86 @@
+#include "particles/schema.hpp"
+
+#include <algorithm>
+
+#include "particles/particles_interface.hpp"
+
+namespace coflow::particles {
+
+namespace {
+
+// The particle variants read only the common keys (ParticleParams).
+struct CommonKeysOnly {
+  void visit(config::Visitor&) {}
+};
+
+}  // namespace
+
+const std::vector<VariantSchema>& variant_schemas() {
+  static const std::vector<VariantSchema> v{
+      variant_schema<CommonKeysOnly>(
+          "dem", "soft-sphere DEM (seed 000 §2.2): linear springs, Coulomb slip, bonds and crushing, cell lists"),
+      variant_schema<CommonKeysOnly>("dem-reference", "plain serial soft-sphere DEM, all pairs (the oracle for dem)"),
+      variant_schema<CommonKeysOnly>(
+          "dpm", "point particles (seed 003): drag, lift, torque, RK4, hard-sphere collisions found with cell lists"),
+      variant_schema<CommonKeysOnly>("dpm-reference",
+                                     "plain serial point particles (seed 003): drag, lift, torque, RK4, hard-sphere "
+                                     "collisions over all pairs (the oracle for dpm)"),
+  };
+  return v;
+}
+
+namespace {
+
+bool point_particles(const std::string& variant) { return variant == "dpm" || variant == "dpm-reference"; }
+
+// dem takes forces and torques (psm); dpm takes the fluid at its particles
+// and gives back impulses (point), and its Langevin dispersion draws on the
+// fluid's k and epsilon (seed 003 eqs 3.35-3.42).
+config::Contract contract(const config::Config& cfg, const std::string& variant) {
+  namespace f = config::fields;
+  config::Contract c;
+  const std::string key = "particles.solver";
+  if (variant == "dem" || variant == "dem-reference") {
+    c.provides = {f::particle_state};
+    c.needs = {{f::hydrodynamic_load, key, "immersed"}};
+  }
+  if (point_particles(variant)) {
+    c.provides = {f::particle_state, f::impulse};
+    c.needs = {{f::fluid_at_particle, key, "immersed"}};
+    c.schemes = {config::Scheme::serial_explicit};
+    if (config::resolved_text(cfg, {"particles", "dispersion", "model"}) == "langevin")
+      for (const auto& field : {f::k, f::epsilon})
+        c.needs.push_back({field, "particles.dispersion.model", "", "or dispersion.model: none"});
+  }
+  return c;
+}
+
+}  // namespace
+
+config::ComponentSchema schema() {
+  config::ComponentSchema s;
+  s.section = "particles";
+  s.selector = "solver";
+  for (const auto& e : variant_schemas()) s.variants.push_back(e.name);
+  s.variants.push_back("external");
+  s.doc = "the particle component: soft-sphere DEM (dem) or point particles (dpm, dpm-reference)";
+  s.contract = contract;
+  s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
+    config::visit_component_common(v, s, info);
+    const bool known = std::any_of(variant_schemas().begin(), variant_schemas().end(),
+                                   [&](const VariantSchema& e) { return e.name == info.variant; });
+    if (v.reading() && !known) {
+      v.accept_other_keys();  // external or none: checked by that executable
+      return;
+    }
+    ParticleParams p;
+    p.point_particles = point_particles(info.variant);
+    p.visit(v, cfg);
+    if (v.reading()) p.check_geometry(v, cfg, info);
+  };
+  return s;
+}
+
+ComponentEntry schema_entry() { return {schema(), variant_schemas()}; }
+
+}  // namespace coflow::particles

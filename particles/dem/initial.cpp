@@ -46,6 +46,97 @@ void add(ParticleArrays& a, int species, double density, double diameter, const 
   a.inertia.push_back(0.4 * m * r * r);
 }
 
+// A simple cubic lattice of species s filling the item's region.
+void add_lattice(ParticleArrays& a, const ParticleParams& p, const InitialItem& it, int s, std::mt19937_64& rng) {
+  const auto& sp = p.species[s].second;
+  long n[3];
+  for (int d = 0; d < 3; ++d) n[d] = std::max(1L, static_cast<long>(std::floor((it.upper[d] - it.lower[d]) / it.spacing + 1e-9)));
+  for (long k = 0; k < n[2]; ++k)
+    for (long j = 0; j < n[1]; ++j)
+      for (long i = 0; i < n[0]; ++i) {
+        const V3 x(it.lower[0] + (i + 0.5) * it.spacing, it.lower[1] + (j + 0.5) * it.spacing,
+                   it.lower[2] + (k + 0.5) * it.spacing);
+        add(a, s, sp.density, sample_diameter(sp.diameter, rng), x, V3(it.velocity.data()), V3::Zero());
+      }
+}
+
+// Random sequential addition: draw a size and a position, keep it if it
+// overlaps nothing placed before (checked on a cell grid).
+void add_random(ParticleArrays& a, const ParticleParams& p, const InitialItem& it, int s, std::mt19937_64& rng) {
+  const auto& sp = p.species[s].second;
+  const V3 lo(it.lower.data()), hi(it.upper.data());
+  const double volume = (hi - lo).prod();
+  const double target_volume = it.volume_fraction * volume;
+  double placed_volume = 0.0;
+  long placed = 0;
+  const std::size_t first = a.size();
+  double dmax = sp.diameter.kind == config::Distribution::Kind::uniform ? sp.diameter.b : sp.diameter.a * 3.0;
+  std::vector<std::vector<long>> grid;
+  std::array<long, 3> nc{};
+  // Overlap search grid: cells of at least the largest diameter, at most 128 per axis.
+  for (int d = 0; d < 3; ++d) nc[d] = std::clamp(static_cast<long>((hi[d] - lo[d]) / dmax), 1L, 128L);
+  grid.resize(nc[0] * nc[1] * nc[2]);
+  auto cell_of = [&](const V3& x) {
+    std::array<long, 3> c{};
+    for (int d = 0; d < 3; ++d) c[d] = std::clamp(static_cast<long>((x[d] - lo[d]) / (hi[d] - lo[d]) * nc[d]), 0L, nc[d] - 1);
+    return c;
+  };
+  std::normal_distribution<double> vel(0.0, it.velocity_std);
+  long attempts = 0;
+  while ((it.count > 0 && placed < it.count) || (it.count == 0 && placed_volume < target_volume)) {
+    if (++attempts > 1000 * (placed + 100))
+      throw std::runtime_error(fmt::format(
+          "particles.initial: random fill of species '{}' placed only {} particles (solid fraction {:.3f}) before "
+          "running out of room; use fewer particles, a larger region, or a lattice",
+          it.species, placed, placed_volume / volume));
+    const double diam = std::min(sample_diameter(sp.diameter, rng), dmax);
+    V3 x;
+    for (int d = 0; d < 3; ++d)
+      x[d] = std::uniform_real_distribution<double>(lo[d] + 0.5 * diam, hi[d] - 0.5 * diam)(rng);
+    const auto c = cell_of(x);
+    bool free = true;
+    for (long dz = -1; dz <= 1 && free; ++dz)
+      for (long dy = -1; dy <= 1 && free; ++dy)
+        for (long dx = -1; dx <= 1 && free; ++dx) {
+          const long cx = c[0] + dx, cy = c[1] + dy, cz = c[2] + dz;
+          if (cx < 0 || cy < 0 || cz < 0 || cx >= nc[0] || cy >= nc[1] || cz >= nc[2]) continue;
+          for (long q : grid[(cz * nc[1] + cy) * nc[0] + cx]) {
+            const V3 y(&a.x[3 * q]);
+            if ((y - x).norm() < a.radius[q] + 0.5 * diam) {
+              free = false;
+              break;
+            }
+          }
+        }
+    if (!free) continue;
+    const V3 mean(it.velocity[0], it.velocity[1], it.velocity[2]);
+    const V3 v = it.velocity_std > 0 ? V3(vel(rng), vel(rng), vel(rng)) : V3::Zero();
+    add(a, s, sp.density, diam, x, mean + v, V3::Zero());
+    grid[(c[2] * nc[1] + c[1]) * nc[0] + c[0]].push_back(static_cast<long>(a.size() - 1));
+    placed_volume += std::numbers::pi * diam * diam * diam / 6.0;
+    ++placed;
+  }
+  (void)first;
+}
+
+// Particles from an HDF5 snapshot written by coflow.
+void add_from_file(ParticleArrays& a, const ParticleParams& p, const InitialItem& it) {
+  std::vector<std::size_t> dims;
+  const std::string& file = it.path.path;
+  const auto x = output::read_dataset(file, "position", &dims);
+  const auto v = output::read_dataset(file, "velocity");
+  const auto w = output::read_dataset(file, "angular_velocity");
+  const auto r = output::read_dataset(file, "radius");
+  const auto sp = output::read_dataset(file, "species");
+  for (std::size_t n = 0; n < r.size(); ++n) {
+    const int s2 = static_cast<int>(sp[n]);
+    if (s2 < 0 || s2 >= static_cast<int>(p.species.size()))
+      throw std::runtime_error(fmt::format("{}: particle {} has species {}, but only {} are defined", file, n,
+                                           s2, p.species.size()));
+    add(a, s2, p.species[s2].second.density, 2.0 * r[n], V3(&x[3 * n]), V3(&v[3 * n]), V3(&w[3 * n]));
+  }
+}
+
 }  // namespace
 
 ParticleArrays make_initial(const ParticleParams& p, const config::Config& cfg) {
@@ -58,88 +149,11 @@ ParticleArrays make_initial(const ParticleParams& p, const config::Config& cfg) 
       add(a, s, sp.density, sample_diameter(sp.diameter, rng), V3(it.position.data()), V3(it.velocity.data()),
           V3(it.angular_velocity.data()));
     } else if (it.kind == "lattice") {
-      const auto& sp = p.species[s].second;
-      long n[3];
-      for (int d = 0; d < 3; ++d) n[d] = std::max(1L, static_cast<long>(std::floor((it.upper[d] - it.lower[d]) / it.spacing + 1e-9)));
-      for (long k = 0; k < n[2]; ++k)
-        for (long j = 0; j < n[1]; ++j)
-          for (long i = 0; i < n[0]; ++i) {
-            const V3 x(it.lower[0] + (i + 0.5) * it.spacing, it.lower[1] + (j + 0.5) * it.spacing,
-                       it.lower[2] + (k + 0.5) * it.spacing);
-            add(a, s, sp.density, sample_diameter(sp.diameter, rng), x, V3(it.velocity.data()), V3::Zero());
-          }
+      add_lattice(a, p, it, s, rng);
     } else if (it.kind == "random") {
-      // Random sequential addition: draw a size and a position, keep it if it
-      // overlaps nothing placed before (checked on a cell grid).
-      const auto& sp = p.species[s].second;
-      const V3 lo(it.lower.data()), hi(it.upper.data());
-      const double volume = (hi - lo).prod();
-      const double target_volume = it.volume_fraction * volume;
-      double placed_volume = 0.0;
-      long placed = 0;
-      const std::size_t first = a.size();
-      double dmax = sp.diameter.kind == config::Distribution::Kind::uniform ? sp.diameter.b : sp.diameter.a * 3.0;
-      std::vector<std::vector<long>> grid;
-      std::array<long, 3> nc{};
-      // Overlap search grid: cells of at least the largest diameter, at most 128 per axis.
-      for (int d = 0; d < 3; ++d) nc[d] = std::clamp(static_cast<long>((hi[d] - lo[d]) / dmax), 1L, 128L);
-      grid.resize(nc[0] * nc[1] * nc[2]);
-      auto cell_of = [&](const V3& x) {
-        std::array<long, 3> c{};
-        for (int d = 0; d < 3; ++d) c[d] = std::clamp(static_cast<long>((x[d] - lo[d]) / (hi[d] - lo[d]) * nc[d]), 0L, nc[d] - 1);
-        return c;
-      };
-      std::normal_distribution<double> vel(0.0, it.velocity_std);
-      long attempts = 0;
-      while ((it.count > 0 && placed < it.count) || (it.count == 0 && placed_volume < target_volume)) {
-        if (++attempts > 1000 * (placed + 100))
-          throw std::runtime_error(fmt::format(
-              "particles.initial: random fill of species '{}' placed only {} particles (solid fraction {:.3f}) before "
-              "running out of room; use fewer particles, a larger region, or a lattice",
-              it.species, placed, placed_volume / volume));
-        const double diam = std::min(sample_diameter(sp.diameter, rng), dmax);
-        V3 x;
-        for (int d = 0; d < 3; ++d)
-          x[d] = std::uniform_real_distribution<double>(lo[d] + 0.5 * diam, hi[d] - 0.5 * diam)(rng);
-        const auto c = cell_of(x);
-        bool free = true;
-        for (long dz = -1; dz <= 1 && free; ++dz)
-          for (long dy = -1; dy <= 1 && free; ++dy)
-            for (long dx = -1; dx <= 1 && free; ++dx) {
-              const long cx = c[0] + dx, cy = c[1] + dy, cz = c[2] + dz;
-              if (cx < 0 || cy < 0 || cz < 0 || cx >= nc[0] || cy >= nc[1] || cz >= nc[2]) continue;
-              for (long q : grid[(cz * nc[1] + cy) * nc[0] + cx]) {
-                const V3 y(&a.x[3 * q]);
-                if ((y - x).norm() < a.radius[q] + 0.5 * diam) {
-                  free = false;
-                  break;
-                }
-              }
-            }
-        if (!free) continue;
-        const V3 mean(it.velocity[0], it.velocity[1], it.velocity[2]);
-        const V3 v = it.velocity_std > 0 ? V3(vel(rng), vel(rng), vel(rng)) : V3::Zero();
-        add(a, s, sp.density, diam, x, mean + v, V3::Zero());
-        grid[(c[2] * nc[1] + c[1]) * nc[0] + c[0]].push_back(static_cast<long>(a.size() - 1));
-        placed_volume += std::numbers::pi * diam * diam * diam / 6.0;
-        ++placed;
-      }
-      (void)first;
+      add_random(a, p, it, s, rng);
     } else if (it.kind == "file") {
-      std::vector<std::size_t> dims;
-      const std::string& file = it.path.path;
-      const auto x = output::read_dataset(file, "position", &dims);
-      const auto v = output::read_dataset(file, "velocity");
-      const auto w = output::read_dataset(file, "angular_velocity");
-      const auto r = output::read_dataset(file, "radius");
-      const auto sp = output::read_dataset(file, "species");
-      for (std::size_t n = 0; n < r.size(); ++n) {
-        const int s2 = static_cast<int>(sp[n]);
-        if (s2 < 0 || s2 >= static_cast<int>(p.species.size()))
-          throw std::runtime_error(fmt::format("{}: particle {} has species {}, but only {} are defined", file, n,
-                                               s2, p.species.size()));
-        add(a, s2, p.species[s2].second.density, 2.0 * r[n], V3(&x[3 * n]), V3(&v[3 * n]), V3(&w[3 * n]));
-      }
+      add_from_file(a, p, it);
     }
   }
   return a;

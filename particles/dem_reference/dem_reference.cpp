@@ -34,10 +34,9 @@ DemReference::DemReference(const Setup& setup, const Params&) : comm_(setup.comm
   log::info("dem-reference: {} particles, {} bonds, step {:.4g} s", p_.size(), contacts_.size(), s_.dt);
 }
 
-void DemReference::step(double h) {
-  for (auto& p : p_) p.F = p.T = V3::Zero();
-  std::vector<std::size_t> crushed;
-  // Particle pairs, seed 000 eqs 2.11-2.18.
+// Particle pairs, seed 000 eqs 2.11-2.18; the grains whose bond failed in
+// compression go to `crushed`.
+void DemReference::pair_forces(double h, std::vector<std::size_t>& crushed) {
   for (std::size_t i = 0; i < p_.size(); ++i)
     for (std::size_t j = i + 1; j < p_.size(); ++j) {
       Particle& a = p_[i];
@@ -77,7 +76,10 @@ void DemReference::step(double h) {
       a.T += c.torque1;
       b.T += c.torque2;
     }
-  // Domain faces that are walls: the same law with a plane (eq. 2.13, R1 - d).
+}
+
+// Domain faces that are walls: the same law with a plane (eq. 2.13, R1 - d).
+void DemReference::wall_forces(double h) {
   for (auto& a : p_)
     for (int f = 0; f < 6; ++f) {
       if (s_.faces[f] != dem::Face::wall) continue;
@@ -101,7 +103,10 @@ void DemReference::step(double h) {
       a.F += c.force;
       a.T += c.torque1;
     }
-  // Triangle meshes: every triangle is tested (no hierarchy).
+}
+
+// Triangle meshes: every triangle is tested (no hierarchy).
+void DemReference::mesh_forces(double h) {
   std::vector<dem::MeshContact> hits;
   for (auto& a : p_)
     for (std::size_t m = 0; m < s_.meshes.size(); ++m) {
@@ -134,6 +139,11 @@ void DemReference::step(double h) {
   if (!s_.meshes.empty())  // histories of mesh contacts not renewed this step are dropped
     for (auto it = walls_.begin(); it != walls_.end();)
       it = (it->first.second >= 6 && it->second.seen != steps_) ? walls_.erase(it) : std::next(it);
+}
+
+// Crushing, the integration (seed 000 eqs 2.11-2.14), the periodic wrap and
+// the outlets.
+void DemReference::move(double h, const std::vector<std::size_t>& crushed) {
   // Grain crushing on compressive bond failure: radius and mass reduced.
   for (std::size_t i : crushed) {
     Particle& a = p_[i];
@@ -160,6 +170,15 @@ void DemReference::step(double h) {
     if (!out) kept.push_back(a);
   }
   p_.swap(kept);
+}
+
+void DemReference::step(double h) {
+  for (auto& p : p_) p.F = p.T = V3::Zero();
+  std::vector<std::size_t> crushed;
+  pair_forces(h, crushed);
+  wall_forces(h);
+  mesh_forces(h);
+  move(h, crushed);
   time_ += h;
   ++steps_;
 }

@@ -31,6 +31,10 @@ class DemReference final : public ParticleSolver {
   void step(double h);
 
  private:
+  void pair_forces(double h, std::vector<std::size_t>& crushed);
+  void wall_forces(double h);
+  void mesh_forces(double h);
+  void move(double h, const std::vector<std::size_t>& crushed);
   struct Particle {
     std::int64_t id;
     int species;

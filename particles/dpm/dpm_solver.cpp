@@ -110,116 +110,26 @@ double DpmSolver::stable_step() const {
 // neighbour.
 void DpmSolver::find_pair_events(double h, std::vector<dpm::Event>& out) {
   const std::size_t n = near_.size(), owned = p_.size();
-  auto event = [&](std::size_t i, std::size_t j) {
-    if (i >= owned && j >= owned) return;  // two ghosts: their owners see them
-    const std::size_t a = near_[i].id < near_[j].id ? i : j, b = a == i ? j : i;
-    const V3 d = dpm::min_image(near_[a].x - near_[b].x, s_);
-    const double t = dpm::contact_time(d, near_[a].u - near_[b].u, 0.5 * (near_[a].D + near_[b].D), h);
-    if (std::isfinite(t)) out.push_back({t, near_[a].id, near_[b].id, a, b});
-  };
   if (all_pairs_) {
     for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t j = i + 1; j < n; ++j) event(i, j);
+      for (std::size_t j = i + 1; j < n; ++j) {
+        if (i >= owned && j >= owned) continue;  // two ghosts: their owners see them
+        const std::size_t a = near_[i].id < near_[j].id ? i : j, b = a == i ? j : i;
+        const V3 d = dpm::min_image(near_[a].x - near_[b].x, s_);
+        const double t = dpm::contact_time(d, near_[a].u - near_[b].u, 0.5 * (near_[a].D + near_[b].D), h);
+        if (std::isfinite(t)) out.push_back({t, near_[a].id, near_[b].id, a, b});
+      }
     return;
   }
-  double dmax = 0.0, umax = 0.0;
-  for (const Near& q : near_) {
-    dmax = std::max(dmax, q.D);
-    umax = std::max(umax, q.u.norm());
-  }
-  if (size_ > 1) {  // the same cells on every rank
-    double m[2] = {dmax, umax};
-    MPI_Allreduce(MPI_IN_PLACE, m, 2, MPI_DOUBLE, MPI_MAX, comm_);
-    dmax = m[0];
-    umax = m[1];
-  }
-  // Cells of edge D_max + 2 u_max h, stored sparsely: particles sorted by cell
-  // key, occupied cells found by binary search. The cost does not depend on
-  // the box or on how the particles cluster (a jet packs thousands into a
-  // column a few particles wide).
-  const double edge = dmax + 2.0 * umax * h;
-  long nc[3];
-  for (int k = 0; k < 3; ++k)
-    nc[k] = std::max(1L, std::min(1L << 20, static_cast<long>((s_.upper[k] - s_.lower[k]) / edge)));
-  const bool small = nc[0] < 3 || nc[1] < 3 || nc[2] < 3;  // neighbours may repeat
-  auto key_of = [&](long cx, long cy, long cz) { return (cz * nc[1] + cy) * nc[0] + cx; };
-  // Sort by cell into a packed copy (position, trajectory velocity, diameter,
-  // id, index), so that the neighbour loops read contiguous memory.
-  cell_.resize(n);
-  order_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    long c[3];
-    for (int k = 0; k < 3; ++k) {
-      const double L = s_.upper[k] - s_.lower[k];
-      c[k] = std::clamp(static_cast<long>((near_[i].x[k] - s_.lower[k]) / L * nc[k]), 0L, nc[k] - 1);
-    }
-    cell_[i] = key_of(c[0], c[1], c[2]);
-    order_[i] = i;
-  }
-  std::sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) {
-    return cell_[a] != cell_[b] ? cell_[a] < cell_[b] : a < b;
-  });
-  packed_.resize(n);
-  keys_.clear();
-  start_.clear();
-  for (std::size_t r = 0; r < n; ++r) {
-    const std::size_t i = order_[r];
-    Packed& q = packed_[r];
-    q.x = near_[i].x;
-    q.u = near_[i].u;
-    q.D = near_[i].D;
-    q.id = near_[i].id;
-    q.index = i;
-    if (keys_.empty() || keys_.back() != cell_[i]) {
-      keys_.push_back(cell_[i]);
-      start_.push_back(static_cast<long>(r));
-    }
-  }
-  start_.push_back(static_cast<long>(n));
-  long nb[27];
+  sort_into_cells(h);
   // For a cell off the grid's faces, the neighbours of each (dy, dz) are the
   // keys lo..lo+2 with lo = key + (dz nc_y + dy) nc_x - 1, which grows with the
   // key: one cursor per (dy, dz) walks the sorted keys once per step (binary
   // searches for each of 27 mostly empty cells cost 80 % of a dilute gas's run).
-  const long K = static_cast<long>(keys_.size());
   long cursor[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  long nb[27];
   for (std::size_t c = 0; c < keys_.size(); ++c) {
-    const long key = keys_[c];
-    const long cc[3] = {key % nc[0], (key / nc[0]) % nc[1], key / (nc[0] * nc[1])};
-    int count = 0;
-    bool inner = !small;
-    for (int k = 0; k < 3; ++k) inner = inner && cc[k] > 0 && cc[k] < nc[k] - 1;
-    if (inner) {
-      int r = 0;
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy, ++r) {
-          const long lo = key + (dz * nc[1] + dy) * nc[0] - 1;
-          long& at = cursor[r];
-          while (at < K && keys_[static_cast<std::size_t>(at)] < lo) ++at;
-          for (long slot = at; slot < K && keys_[static_cast<std::size_t>(slot)] <= lo + 2; ++slot) nb[count++] = slot;
-        }
-    } else {
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const long o[3] = {dx, dy, dz};
-            long q[3];
-            bool ok = true;
-            for (int k = 0; k < 3; ++k) {
-              q[k] = cc[k] + o[k];
-              if (q[k] < 0 || q[k] >= nc[k]) {
-                if (!s_.periodic[k]) ok = false;
-                q[k] = (q[k] + nc[k]) % nc[k];
-              }
-            }
-            if (!ok) continue;
-            const long k2 = key_of(q[0], q[1], q[2]);
-            const auto it = std::lower_bound(keys_.begin(), keys_.end(), k2);
-            if (it == keys_.end() || *it != k2) continue;
-            const long slot = static_cast<long>(it - keys_.begin());
-            if (!small || std::find(nb, nb + count, slot) == nb + count) nb[count++] = slot;
-          }
-    }
+    const int count = neighbour_cells(c, cursor, nb);
     for (long a = start_[c]; a < start_[c + 1]; ++a) {
       const Packed& pa = packed_[static_cast<std::size_t>(a)];
       for (int m = 0; m < count; ++m)
@@ -235,9 +145,103 @@ void DpmSolver::find_pair_events(double h, std::vector<dpm::Event>& out) {
   }
 }
 
-void DpmSolver::step(double h) {
+// Cells of edge D_max + 2 u_max h (the same on every rank), stored sparsely:
+// particles sorted by cell key into a packed copy (position, trajectory
+// velocity, diameter, id, index), occupied cells found by binary search. The
+// cost does not depend on the box or on how the particles cluster (a jet packs
+// thousands into a column a few particles wide).
+void DpmSolver::sort_into_cells(double h) {
+  const std::size_t n = near_.size();
+  double dmax = 0.0, umax = 0.0;
+  for (const Near& q : near_) {
+    dmax = std::max(dmax, q.D);
+    umax = std::max(umax, q.u.norm());
+  }
+  if (size_ > 1) {
+    double m[2] = {dmax, umax};
+    MPI_Allreduce(MPI_IN_PLACE, m, 2, MPI_DOUBLE, MPI_MAX, comm_);
+    dmax = m[0];
+    umax = m[1];
+  }
+  const double edge = dmax + 2.0 * umax * h;
+  for (int k = 0; k < 3; ++k)
+    nc_[k] = std::max(1L, std::min(1L << 20, static_cast<long>((s_.upper[k] - s_.lower[k]) / edge)));
+  cell_.resize(n);
+  order_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    long c[3];
+    for (int k = 0; k < 3; ++k) {
+      const double L = s_.upper[k] - s_.lower[k];
+      c[k] = std::clamp(static_cast<long>((near_[i].x[k] - s_.lower[k]) / L * nc_[k]), 0L, nc_[k] - 1);
+    }
+    cell_[i] = (c[2] * nc_[1] + c[1]) * nc_[0] + c[0];
+    order_[i] = i;
+  }
+  std::sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) {
+    return cell_[a] != cell_[b] ? cell_[a] < cell_[b] : a < b;
+  });
+  packed_.resize(n);
+  keys_.clear();
+  start_.clear();
+  for (std::size_t r = 0; r < n; ++r) {
+    const std::size_t i = order_[r];
+    packed_[r] = {near_[i].x, near_[i].u, near_[i].D, near_[i].id, i};
+    if (keys_.empty() || keys_.back() != cell_[i]) {
+      keys_.push_back(cell_[i]);
+      start_.push_back(static_cast<long>(r));
+    }
+  }
+  start_.push_back(static_cast<long>(n));
+}
+
+// The occupied neighbour cells (slots in keys_) of occupied cell c, itself
+// included; `cursor` carries the walk of inner cells from one cell to the next.
+int DpmSolver::neighbour_cells(std::size_t c, long* cursor, long* nb) const {
+  const long K = static_cast<long>(keys_.size());
+  const long key = keys_[c];
+  const long cc[3] = {key % nc_[0], (key / nc_[0]) % nc_[1], key / (nc_[0] * nc_[1])};
+  const bool small = nc_[0] < 3 || nc_[1] < 3 || nc_[2] < 3;  // neighbours may repeat
+  int count = 0;
+  bool inner = !small;
+  for (int k = 0; k < 3; ++k) inner = inner && cc[k] > 0 && cc[k] < nc_[k] - 1;
+  if (inner) {
+    int r = 0;
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy, ++r) {
+        const long lo = key + (dz * nc_[1] + dy) * nc_[0] - 1;
+        long& at = cursor[r];
+        while (at < K && keys_[static_cast<std::size_t>(at)] < lo) ++at;
+        for (long slot = at; slot < K && keys_[static_cast<std::size_t>(slot)] <= lo + 2; ++slot) nb[count++] = slot;
+      }
+    return count;
+  }
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const long o[3] = {dx, dy, dz};
+        long q[3];
+        bool ok = true;
+        for (int k = 0; k < 3; ++k) {
+          q[k] = cc[k] + o[k];
+          if (q[k] < 0 || q[k] >= nc_[k]) {
+            if (!s_.periodic[k]) ok = false;
+            q[k] = (q[k] + nc_[k]) % nc_[k];
+          }
+        }
+        if (!ok) continue;
+        const long k2 = (q[2] * nc_[1] + q[1]) * nc_[0] + q[0];
+        const auto it = std::lower_bound(keys_.begin(), keys_.end(), k2);
+        if (it == keys_.end() || *it != k2) continue;
+        const long slot = static_cast<long>(it - keys_.begin());
+        if (!small || std::find(nb, nb + count, slot) == nb + count) nb[count++] = slot;
+      }
+  return count;
+}
+
+// 1. Fluid forces and gravity, RK4 (seed 003 eqs 4.12-4.14), with the
+// Langevin fluctuation of the fluid velocity seen (eqs 3.35-3.42).
+void DpmSolver::move_freely(double h) {
   const std::size_t n = p_.size();
-  // 1. Fluid forces and gravity, RK4 (seed 003 eqs 4.12-4.14).
   moved_.resize(n);
   u_.resize(n);
   seen_.resize(n);
@@ -256,8 +260,12 @@ void DpmSolver::step(double h) {
     ranges_.note(p_.species[i], moved_[i].beyond);
     u_[i] = (moved_[i].x - at(p_.x, i)) / h;
   }
-  // 2. Collisions along the trajectories, earliest first (as dpm-reference).
-  //    The owned particles, then ghosts from the neighbours (several ranks).
+}
+
+// 2a. Collisions along the trajectories, earliest first (as dpm-reference):
+// the owned particles, then ghosts from the neighbours (several ranks).
+void DpmSolver::collect_events(double h) {
+  const std::size_t n = p_.size();
   near_.resize(n);
   for (std::size_t i = 0; i < n; ++i)
     near_[i] = {at(p_.x, i), u_[i], moved_[i].v, moved_[i].w, D_[i], p_.mass[i], p_.id[i], p_.species[i]};
@@ -270,6 +278,12 @@ void DpmSolver::step(double h) {
   }
   if (size_ > 1) share_events();  // every rank: all events, indices local (or none)
   std::sort(ev_.begin(), ev_.end());
+}
+
+// 2b. Each particle takes its first event only (eqs 4.30-4.31 at walls and
+// between particles); the pair collisions' new velocities replace the free ones.
+void DpmSolver::apply_events() {
+  const std::size_t n = p_.size();
   hit_.assign(near_.size(), -1.0);
   pair_hit_.assign(near_.size(), 0);
   std::unordered_map<std::int64_t, char> elsewhere;  // ids hit that are not here (several ranks)
@@ -326,7 +340,12 @@ void DpmSolver::step(double h) {
       moved_[i].v = near_[i].v;
       moved_[i].w = near_[i].w;
     }
-  // 3. New states (eqs 4.30-4.31 after a collision), then the faces.
+}
+
+// 3. New states (eqs 4.30-4.31 after a collision), then the faces: particles
+// that leave through an outlet are dropped, order kept.
+void DpmSolver::commit_states(double h) {
+  const std::size_t n = p_.size();
   std::size_t keep = 0;
   for (std::size_t i = 0; i < n; ++i) {
     V3 x = hit_[i] < 0.0 ? moved_[i].x : V3(at(p_.x, i) + u_[i] * hit_[i] + moved_[i].v * (h - hit_[i]));
@@ -356,6 +375,13 @@ void DpmSolver::step(double h) {
     for (auto* a : {&p_.radius, &p_.mass, &p_.inertia, &D_, &rho_p_}) a->resize(keep);
     fluid_.resize(keep);
   }
+}
+
+void DpmSolver::step(double h) {
+  move_freely(h);
+  collect_events(h);
+  apply_events();
+  commit_states(h);
   inject(h);
   if (size_ > 1) migrate();
   time_ += h;

@@ -48,6 +48,12 @@ class DpmSolver final : public ParticleSolver {
  private:
   double stable_step() const;
   void find_pair_events(double h, std::vector<dpm::Event>& out);
+  void sort_into_cells(double h);
+  int neighbour_cells(std::size_t c, long* cursor, long* nb) const;
+  void move_freely(double h);
+  void collect_events(double h);
+  void apply_events();
+  void commit_states(double h);
   void set_derived();
   void inject(double h);
   int owner_of(const dpm::V3& x) const;
@@ -85,6 +91,7 @@ class DpmSolver final : public ParticleSolver {
     std::int64_t id;
     std::size_t index;
   };
+  long nc_[3] = {1, 1, 1};  // collision cells per axis
   std::vector<long> start_, keys_, cell_;  // per occupied cell: first packed row; its key; per particle: key
   std::vector<std::size_t> order_;
   std::vector<Packed> packed_;

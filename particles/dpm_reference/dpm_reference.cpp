@@ -47,30 +47,11 @@ double DpmReference::stable_step() const {
   return std::isfinite(dt) ? dt : 1.0;  // nothing limits it: the window decides
 }
 
-void DpmReference::step(double h) {
-  // 1. Fluid forces and gravity, classical RK4 (seed 003 eqs 4.12-4.14); the
-  //    fluid at the particle is held over the step.
-  //    With dispersion the fluid seen is the mean plus the Langevin fluctuation.
-  std::vector<dpm::Motion> next(p_.size());
-  std::vector<dpm::FluidSample> seen(p_.size());
-  for (std::size_t i = 0; i < p_.size(); ++i) {
-    Particle& p = p_[i];
-    seen[i] = p.fluid;
-    if (s_.dispersion.on) {
-      dpm::langevin_step(p.uprime, p.turbulent, p.fluid, p.v, h, s_.dispersion, p.id, steps_);
-      seen[i].u += p.uprime;
-    }
-    next[i] = dpm::rk4({p.x, p.v, p.w}, p.D, p.m, p.I, p.rho_p, seen[i], s_, h);
-    ranges_.note(p.species, next[i].beyond);
-  }
-  // 2. Collisions along the straight trajectories x + u t, t in [0, h), with u
-  //    the mean velocity of the step (eqs 4.23-4.28), every pair and every wall
-  //    face tested. Events are taken earliest first (ties by particle ids); a
-  //    particle collides at most once per step (binary collisions: the step is
-  //    a fraction of the mean time between collisions, eq. 4.15).
+// 2. Collisions along the straight trajectories x + u t, t in [0, h), with u
+//    the mean velocity of the step (eqs 4.23-4.28), every pair and every wall
+//    face tested.
+std::vector<dpm::Event> DpmReference::find_events(double h, const std::vector<V3>& u) const {
   std::vector<dpm::Event> events;
-  std::vector<V3> u(p_.size());
-  for (std::size_t i = 0; i < p_.size(); ++i) u[i] = (next[i].x - p_[i].x) / h;
   if (s_.collisions)
     for (std::size_t i = 0; i < p_.size(); ++i)
       for (std::size_t j = i + 1; j < p_.size(); ++j) {
@@ -84,7 +65,15 @@ void DpmReference::step(double h) {
     dpm::wall_events(p_[i].x, u[i], p_[i].D, p_[i].id, i, h, s_, events);
     dpm::mesh_events(p_[i].x, u[i], p_[i].D, p_[i].id, i, h, s_, scratch, events);  // every triangle
   }
-  std::sort(events.begin(), events.end());
+  return events;
+}
+
+// Events are taken earliest first (ties by particle ids); a particle collides
+// at most once per step (binary collisions: the step is a fraction of the mean
+// time between collisions, eq. 4.15). Returns each particle's collision time
+// (-1: none).
+std::vector<double> DpmReference::collide(const std::vector<dpm::Event>& events, const std::vector<V3>& u,
+                                          std::vector<dpm::Motion>& next) {
   std::vector<double> hit(p_.size(), -1.0);  // collision time, -1: none
   for (const dpm::Event& e : events) {
     if (hit[e.i] >= 0.0 || (e.b >= 0 && hit[e.j] >= 0.0)) continue;
@@ -112,6 +101,47 @@ void DpmReference::step(double h) {
     }
     hit[e.i] = hit[e.j] = e.t;
   }
+  return hit;
+}
+
+// 5. Inlets: the particles that entered during the step (injection.hpp).
+void DpmReference::inject_at_inlets(double h) {
+  for (std::size_t k = 0; k < inlets_.size(); ++k) {
+    std::vector<std::pair<V3, double>> nearby;
+    for (const Particle& p : p_)
+      if ((p.x - inlets_[k].center).norm() < dpm::inlet_reach(inlets_[k], h)) nearby.emplace_back(p.x, p.D);
+    std::vector<dpm::Entering> entering;
+    dpm::inject(inlets_[k], static_cast<int>(k), s_.dispersion.seed, time_, h, nearby, entering);
+    for (const dpm::Entering& e : entering) {
+      const double rho_p = inlets_[k].density, m = rho_p * std::numbers::pi * e.D * e.D * e.D / 6.0;
+      p_.push_back({next_id_++, e.species, e.x, e.v, V3::Zero(), e.D, m, 0.1 * m * e.D * e.D, rho_p, s_.still,
+                    V3::Zero(), V3::Zero()});
+    }
+  }
+}
+
+void DpmReference::step(double h) {
+  // 1. Fluid forces and gravity, classical RK4 (seed 003 eqs 4.12-4.14); the
+  //    fluid at the particle is held over the step.
+  //    With dispersion the fluid seen is the mean plus the Langevin fluctuation.
+  std::vector<dpm::Motion> next(p_.size());
+  std::vector<dpm::FluidSample> seen(p_.size());
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    Particle& p = p_[i];
+    seen[i] = p.fluid;
+    if (s_.dispersion.on) {
+      dpm::langevin_step(p.uprime, p.turbulent, p.fluid, p.v, h, s_.dispersion, p.id, steps_);
+      seen[i].u += p.uprime;
+    }
+    next[i] = dpm::rk4({p.x, p.v, p.w}, p.D, p.m, p.I, p.rho_p, seen[i], s_, h);
+    ranges_.note(p.species, next[i].beyond);
+  }
+  // 2. Collisions along the straight trajectories (find_events, collide).
+  std::vector<V3> u(p_.size());
+  for (std::size_t i = 0; i < p_.size(); ++i) u[i] = (next[i].x - p_[i].x) / h;
+  std::vector<dpm::Event> events = find_events(h, u);
+  std::sort(events.begin(), events.end());
+  const std::vector<double> hit = collide(events, u, next);
   // 3. New states: after a collision the particle continues from the contact
   //    point with its new velocity (eqs 4.30-4.31).
   for (std::size_t i = 0; i < p_.size(); ++i) {
@@ -129,19 +159,7 @@ void DpmReference::step(double h) {
     if (dpm::apply_faces(p.x, s_)) kept.push_back(p);
   }
   p_.swap(kept);
-  // 5. Inlets: the particles that entered during the step (injection.hpp).
-  for (std::size_t k = 0; k < inlets_.size(); ++k) {
-    std::vector<std::pair<V3, double>> nearby;
-    for (const Particle& p : p_)
-      if ((p.x - inlets_[k].center).norm() < dpm::inlet_reach(inlets_[k], h)) nearby.emplace_back(p.x, p.D);
-    std::vector<dpm::Entering> entering;
-    dpm::inject(inlets_[k], static_cast<int>(k), s_.dispersion.seed, time_, h, nearby, entering);
-    for (const dpm::Entering& e : entering) {
-      const double rho_p = inlets_[k].density, m = rho_p * std::numbers::pi * e.D * e.D * e.D / 6.0;
-      p_.push_back({next_id_++, e.species, e.x, e.v, V3::Zero(), e.D, m, 0.1 * m * e.D * e.D, rho_p, s_.still,
-                    V3::Zero(), V3::Zero()});
-    }
-  }
+  inject_at_inlets(h);
   time_ += h;
   ++steps_;
 }

@@ -37,6 +37,10 @@ class DpmReference final : public ParticleSolver {
   void step(double h);
 
  private:
+  std::vector<dpm::Event> find_events(double h, const std::vector<dpm::V3>& u) const;
+  std::vector<double> collide(const std::vector<dpm::Event>& events, const std::vector<dpm::V3>& u,
+                              std::vector<dpm::Motion>& next);
+  void inject_at_inlets(double h);
   struct Particle {
     std::int64_t id;
     int species;

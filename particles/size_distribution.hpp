@@ -12,7 +12,7 @@ inline double lognormal_cutoff(double mean, double std) { return mean + 6.0 * st
 
 // A diameter from the log-normal with mean D and standard deviation s
 // (sigma^2 = ln(1 + s^2 / D^2), mu = ln D - sigma^2 / 2: seed 003 eqs
-// 4.20-4.21, corrected as PHYSICS.md §4 says), truncated at
+// 4.20-4.21, whose sigma formula has its parentheses misplaced), truncated at
 // lognormal_cutoff(D, s) by resampling: a draw above it is discarded and drawn
 // anew, so the result follows the log-normal density renormalised on
 // (0, cutoff] (clamping would instead pile the tail's mass onto the cutoff).

@@ -1,6 +1,6 @@
 // SI <-> lattice units. dx comes from the domain; dt from tau and the viscosity,
-// nu = c_s^2 (tau - 1/2) dt (seed 000 eq. 2.41, with the source's c_s^2/3 typo
-// corrected: PHYSICS.md §2). Lattice density 1 is the fluid density.
+// nu = c_s^2 (tau - 1/2) dt (seed 000 eq. 2.41, which writes c_s^2/3: a typo;
+// this is the standard relation). Lattice density 1 is the fluid density.
 #pragma once
 
 #include <cmath>

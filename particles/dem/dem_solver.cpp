@@ -481,7 +481,7 @@ void DemSolver::crush_grains() {
   }
 }
 
-// The owned, free particles move (seed 000 eqs 2.11-2.14 with local damping),
+// The owned, free particles move (seed 000 eqs 2.3-2.10: leapfrog, with local damping),
 // wrapped on periodic axes.
 void DemSolver::integrate_owned(double h) {
   const std::size_t n = p_.size();

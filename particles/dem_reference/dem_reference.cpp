@@ -141,7 +141,7 @@ void DemReference::mesh_forces(double h) {
       it = (it->first.second >= 6 && it->second.seen != steps_) ? walls_.erase(it) : std::next(it);
 }
 
-// Crushing, the integration (seed 000 eqs 2.11-2.14), the periodic wrap and
+// Crushing, the integration (seed 000 eqs 2.3-2.10), the periodic wrap and
 // the outlets.
 void DemReference::move(double h, const std::vector<std::size_t>& crushed) {
   // Grain crushing on compressive bond failure: radius and mass reduced.

@@ -185,7 +185,12 @@ void DpmSolver::sort_into_cells(double h) {
   start_.clear();
   for (std::size_t r = 0; r < n; ++r) {
     const std::size_t i = order_[r];
-    packed_[r] = {near_[i].x, near_[i].u, near_[i].D, near_[i].id, i};
+    Packed& q = packed_[r];
+    q.x = near_[i].x;
+    q.u = near_[i].u;
+    q.D = near_[i].D;
+    q.id = near_[i].id;
+    q.index = i;
     if (keys_.empty() || keys_.back() != cell_[i]) {
       keys_.push_back(cell_[i]);
       start_.push_back(static_cast<long>(r));
@@ -198,20 +203,22 @@ void DpmSolver::sort_into_cells(double h) {
 // included; `cursor` carries the walk of inner cells from one cell to the next.
 int DpmSolver::neighbour_cells(std::size_t c, long* cursor, long* nb) const {
   const long K = static_cast<long>(keys_.size());
-  const long key = keys_[c];
-  const long cc[3] = {key % nc_[0], (key / nc_[0]) % nc_[1], key / (nc_[0] * nc_[1])};
-  const bool small = nc_[0] < 3 || nc_[1] < 3 || nc_[2] < 3;  // neighbours may repeat
+  const long* keys = keys_.data();
+  const long nc[3] = {nc_[0], nc_[1], nc_[2]};
+  const long key = keys[c];
+  const long cc[3] = {key % nc[0], (key / nc[0]) % nc[1], key / (nc[0] * nc[1])};
+  const bool small = nc[0] < 3 || nc[1] < 3 || nc[2] < 3;  // neighbours may repeat
   int count = 0;
   bool inner = !small;
-  for (int k = 0; k < 3; ++k) inner = inner && cc[k] > 0 && cc[k] < nc_[k] - 1;
+  for (int k = 0; k < 3; ++k) inner = inner && cc[k] > 0 && cc[k] < nc[k] - 1;
   if (inner) {
     int r = 0;
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy, ++r) {
-        const long lo = key + (dz * nc_[1] + dy) * nc_[0] - 1;
+        const long lo = key + (dz * nc[1] + dy) * nc[0] - 1;
         long& at = cursor[r];
-        while (at < K && keys_[static_cast<std::size_t>(at)] < lo) ++at;
-        for (long slot = at; slot < K && keys_[static_cast<std::size_t>(slot)] <= lo + 2; ++slot) nb[count++] = slot;
+        while (at < K && keys[at] < lo) ++at;
+        for (long slot = at; slot < K && keys[slot] <= lo + 2; ++slot) nb[count++] = slot;
       }
     return count;
   }
@@ -223,13 +230,13 @@ int DpmSolver::neighbour_cells(std::size_t c, long* cursor, long* nb) const {
         bool ok = true;
         for (int k = 0; k < 3; ++k) {
           q[k] = cc[k] + o[k];
-          if (q[k] < 0 || q[k] >= nc_[k]) {
+          if (q[k] < 0 || q[k] >= nc[k]) {
             if (!s_.periodic[k]) ok = false;
-            q[k] = (q[k] + nc_[k]) % nc_[k];
+            q[k] = (q[k] + nc[k]) % nc[k];
           }
         }
         if (!ok) continue;
-        const long k2 = (q[2] * nc_[1] + q[1]) * nc_[0] + q[0];
+        const long k2 = (q[2] * nc[1] + q[1]) * nc[0] + q[0];
         const auto it = std::lower_bound(keys_.begin(), keys_.end(), k2);
         if (it == keys_.end() || *it != k2) continue;
         const long slot = static_cast<long>(it - keys_.begin());

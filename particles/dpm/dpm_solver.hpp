@@ -49,7 +49,7 @@ class DpmSolver final : public ParticleSolver {
   double stable_step() const;
   void find_pair_events(double h, std::vector<dpm::Event>& out);
   void sort_into_cells(double h);
-  int neighbour_cells(std::size_t c, long* cursor, long* nb) const;
+  [[gnu::always_inline]] inline int neighbour_cells(std::size_t c, long* cursor, long* nb) const;
   void move_freely(double h);
   void collect_events(double h);
   void apply_events();

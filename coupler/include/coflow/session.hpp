@@ -1,6 +1,9 @@
-// A component's view of a coupled run: its communicator, the intercommunicators
-// to its partners, the time windows, the output directory, failure handling and
-// the end-of-run summary. See docs/protocol.md for the calling sequence.
+// A component's view of a coupled run, in three parts: discovery (its
+// communicator and the intercommunicators to its partners, coflow/discovery.hpp),
+// the clock (the time windows, coflow/clock.hpp) and the run directory (output,
+// checkpoints, summary, coflow/run_directory.hpp); the session adds restart,
+// failure handling and the end-of-run summary. See docs/protocol.md for the
+// calling sequence.
 #pragma once
 
 #include <mpi.h>
@@ -8,12 +11,16 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "coflow/clock.hpp"
 #include "coflow/decomposition.hpp"
+#include "coflow/discovery.hpp"
 #include "coflow/run_config.hpp"
+#include "coflow/run_directory.hpp"
 #include "coflow/trace.hpp"
 
 namespace coflow::coupler {
@@ -41,41 +48,41 @@ class Session {
   const std::string& component() const { return component_; }
   const config::Config& config() const { return cfg_; }
   const Args& args() const { return args_; }
-  MPI_Comm comm() const { return comm_; }
-  int rank() const { return rank_; }
-  int size() const { return size_; }
+  MPI_Comm comm() const { return discovery_->comm(); }
+  int rank() const { return discovery_->rank(); }
+  int size() const { return discovery_->size(); }
   // True when this component was launched alone (component-level runs).
-  bool standalone() const { return standalone_; }
+  bool standalone() const { return discovery_->standalone(); }
 
   // Partners present in this launch, and the intercommunicator to each.
-  bool has_partner(const std::string& component) const { return inter_.count(component) != 0; }
-  MPI_Comm partner(const std::string& component) const;
+  bool has_partner(const std::string& component) const { return discovery_->has_partner(component); }
+  MPI_Comm partner(const std::string& component) const { return discovery_->partner(component); }
 
   // This component's decomposition of the fluid grid, and any other's.
-  Decomposition decomposition() const { return decomposition_of(component_, size_); }
+  Decomposition decomposition() const { return decomposition_of(component_, size()); }
   Decomposition decomposition_of(const std::string& component, int ranks) const;
-  int partner_ranks(const std::string& component) const;
+  int partner_ranks(const std::string& component) const { return discovery_->partner_ranks(component); }
 
   // --- time windows -------------------------------------------------------
   // Collective over every component: each offers its preferred window (the
   // fluid its step; 0 for no preference). The result is coupling.window when
   // given, else the smallest offer. Sets the number of windows to cover end_time.
   double negotiate_window(double preferred);
-  double window() const { return window_; }
+  double window() const { return clock_->window(); }
   // Sub-steps of a solver with natural step `step` inside one window (the last
   // sub-step is shortened so the window is covered exactly).
-  long substeps(double step) const;
-  long windows() const { return windows_; }
+  long substeps(double step) const { return clock_->substeps(step); }
+  long windows() const { return clock_->windows(); }
   // Whether a snapshot / series row falls at the end of window w (1-based);
   // window 0 is the initial state.
-  bool snapshot_due(long w) const;
-  bool series_due(long w) const;
+  bool snapshot_due(long w) const { return clock_->snapshot_due(w); }
+  bool series_due(long w) const { return clock_->series_due(w); }
   // Progress for the launcher (world rank 0 reports, throttled).
   void window_done(long w);
 
   // --- output ---------------------------------------------------------------
-  const std::string& output_dir() const { return dir_; }
-  std::string component_dir() const { return dir_ + "/" + component_; }
+  const std::string& output_dir() const { return dir_->path(); }
+  std::string component_dir() const { return dir_->component_dir(); }
   // Record the snapshot of window `step` in the component's index and rebuild
   // run.xdmf; it is indexed at step x window (one time for all components).
   void snapshot_written(long step, double time, std::size_t count, const std::vector<std::string>& fields);
@@ -88,11 +95,11 @@ class Session {
   // The checkpoint is written into <out>/checkpoints/window_<w>.partial and renamed
   // into place once every component has finished (a collective over all), so a
   // crash never leaves a half-written checkpoint as the latest one.
-  bool checkpoint_due(long w) const;
+  bool checkpoint_due(long w) const { return clock_->checkpoint_due(w); }
   // All of it in one call: when due, save(dir) between begin and end (I/O time).
   void checkpoint(long w, const std::function<void(const std::string&)>& save);
-  std::string begin_checkpoint(long w);  // this component's directory in it
-  void end_checkpoint(long w);
+  std::string begin_checkpoint(long w) { return dir_->begin_checkpoint(w); }  // this component's directory in it
+  void end_checkpoint(long w) { dir_->end_checkpoint(w, window()); }
   // Restart: the window the checkpoint was written at (0 when not restarting),
   // and this component's directory in it.
   long restart_window() const { return restart_window_; }
@@ -105,25 +112,20 @@ class Session {
   [[noreturn]] void fail(const std::string& reason, int code = 1);
 
  private:
-  void discover();
-  void prepare_output();
+  void read_restart();
+  std::string summary_entry();
 
   std::string component_;
   config::Config cfg_;
   Args args_;
-  MPI_Comm comm_ = MPI_COMM_NULL;
-  int rank_ = 0, size_ = 1, world_rank_ = 0, world_size_ = 1;
-  bool standalone_ = true;
-  std::map<std::string, MPI_Comm> inter_;
-  std::map<std::string, int> ranks_of_;  // component -> ranks in this launch
-  std::string dir_;
-  double window_ = 0.0;
-  long windows_ = 0;
   double start_ = 0.0;
-  double last_progress_ = 0.0;
-  std::vector<std::pair<std::string, double>> finals_;
   long restart_window_ = 0;
   double restart_window_length_ = 0.0;
+  std::unique_ptr<Discovery> discovery_;
+  std::unique_ptr<RunDirectory> dir_;
+  std::unique_ptr<Clock> clock_;
+  double last_progress_ = 0.0;
+  std::vector<std::pair<std::string, double>> finals_;
   bool finished_ = false;
 };
 

@@ -1,0 +1,41 @@
+// The run's clock: the coupling window every component agreed on, how many
+// windows cover run.end_time, and which windows carry a snapshot, a series row
+// or a checkpoint. docs/protocol.md §2.
+#pragma once
+
+#include <string>
+
+#include "coflow/run_config.hpp"
+
+namespace coflow::coupler {
+
+class Clock {
+ public:
+  // restart_window, restart_window_length: of the checkpoint restarted from (0: none).
+  Clock(const config::Config& cfg, long restart_window, double restart_window_length, std::string restart_file);
+
+  // Collective over every component: each offers its preferred window (the
+  // fluid its step; 0 for no preference). The result is coupling.window when
+  // given, else the smallest offer; with no offer, one window per output interval.
+  double negotiate(double preferred);
+  double window() const { return window_; }
+  long windows() const { return windows_; }
+  // Sub-steps of a solver with natural step `step` inside one window.
+  long substeps(double step) const;
+  // Whether a snapshot / series row / checkpoint falls at the end of window w
+  // (1-based; window 0 is the initial state).
+  bool snapshot_due(long w) const;
+  bool series_due(long w) const;
+  bool checkpoint_due(long w) const;
+  long restart_window() const { return restart_window_; }
+
+ private:
+  const config::Config& cfg_;
+  long restart_window_ = 0;
+  double restart_window_length_ = 0.0;
+  std::string restart_file_;
+  double window_ = 0.0;
+  long windows_ = 0;
+};
+
+}  // namespace coflow::coupler

@@ -1,0 +1,78 @@
+#include "coflow/clock.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+#include <mpi.h>
+
+#include "coflow/log.hpp"
+
+namespace coflow::coupler {
+
+Clock::Clock(const config::Config& cfg, long restart_window, double restart_window_length, std::string restart_file)
+    : cfg_(cfg),
+      restart_window_(restart_window),
+      restart_window_length_(restart_window_length),
+      restart_file_(std::move(restart_file)) {}
+
+double Clock::negotiate(double preferred) {
+  const double offer = preferred > 0 ? preferred : std::numeric_limits<double>::infinity();
+  double w = offer;
+  MPI_Allreduce(&offer, &w, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+  if (!cfg_.coupling.window.is_auto) w = cfg_.coupling.window.value;
+  if (!std::isfinite(w)) {
+    // Nobody has a natural step: one window per output interval.
+    const auto& o = cfg_.run.output;
+    const double series = o.series_every.is_auto ? o.every : o.series_every.value;
+    w = cfg_.run.end_time;
+    for (double e : {o.every, series})
+      if (e > 0) w = std::min(w, e);
+  }
+  window_ = w;
+  windows_ = std::max(1L, static_cast<long>(std::ceil(cfg_.run.end_time / w - 1e-9)));
+  if (restart_window_ > 0 && std::abs(window_ - restart_window_length_) > 1e-12 * window_)
+    throw config::ConfigError({config::Problem{
+        restart_file_, 0, 0, "window_length",
+        fmt::format("the checkpoint was written with windows of {:.17g} s but this run has {:.17g} s: restart "
+                    "with the configuration of the run that wrote it",
+                    restart_window_length_, window_)}});
+  log::info("coupling window {:.6g} s, {} windows to t = {:.6g} s ({})", window_, windows_,
+            cfg_.run.end_time, config::scheme_name(cfg_.coupling.scheme));
+  return window_;
+}
+
+long Clock::substeps(double step) const {
+  if (step <= 0) return 1;
+  return std::max(1L, static_cast<long>(std::ceil(window_ / step - 1e-9)));
+}
+
+static bool crosses(long w, double window, double every) {
+  if (every <= 0) return false;
+  if (w == 0) return true;
+  const double a = (w - 1) * window / every, b = w * window / every;
+  return std::floor(b + 1e-9) > std::floor(a + 1e-9);
+}
+
+bool Clock::snapshot_due(long w) const {
+  if (w == restart_window_ && w > 0) return false;  // the run being restarted wrote it
+  return crosses(w, window_, cfg_.run.output.every) || (w == windows_ && cfg_.run.output.every > 0);
+}
+
+bool Clock::series_due(long w) const {
+  if (w == restart_window_ && w > 0) return false;
+  const auto& o = cfg_.run.output;
+  const double every = o.series_every.is_auto ? o.every : o.series_every.value;
+  if (every <= 0) return w == 0 || w == windows_;
+  return crosses(w, window_, every) || w == windows_;
+}
+
+bool Clock::checkpoint_due(long w) const {
+  const auto& c = cfg_.run.checkpoint;
+  if (c.every <= 0 || w <= 0 || w == restart_window_) return false;
+  const double a = (w - 1) * window_ / c.every, b = w * window_ / c.every;
+  return std::floor(b + 1e-9) > std::floor(a + 1e-9);
+}
+
+}  // namespace coflow::coupler

@@ -1,0 +1,94 @@
+#include "coflow/run_directory.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "coflow/log.hpp"
+#include "coflow/output.hpp"
+#include "coflow/wait.hpp"
+
+namespace coflow::coupler {
+
+namespace fs = std::filesystem;
+
+RunDirectory::RunDirectory(const std::string& component, const config::Config& cfg, MPI_Comm comm, int rank,
+                           int world_rank)
+    : component_(component), cfg_(cfg), comm_(comm), rank_(rank), world_rank_(world_rank), dir_(cfg.output_dir()) {
+  if (rank_ == 0) {
+    for (const char* sub : {"", "/series", "/logs", "/events", "/checkpoints"}) fs::create_directories(dir_ + sub);
+    fs::create_directories(component_dir());
+    if (world_rank_ == 0) output::atomic_write(dir_ + "/config.yaml", YAML::Dump(cfg_.resolved) + "\n");
+  }
+  MPI_Barrier(comm_);
+  log::init(component_, rank_, dir_ + "/logs/" + component_ + ".log");
+}
+
+void RunDirectory::snapshot_written(long step, double time, double window, std::size_t count,
+                                    const std::vector<std::string>& fields) const {
+  if (rank_ != 0) return;
+  // Index every component's snapshot of window w at the same time, w x window,
+  // whatever round-off its own clock has gathered (sub-steps add up), so that
+  // ParaView shows fluid and particles at one time.
+  if (window > 0) time = static_cast<double>(step) * window;
+  output::append_index(dir_, component_, {step, time, count}, fields);
+  write_xdmf();
+}
+
+std::string RunDirectory::begin_checkpoint(long w) const {
+  const std::string dir = fmt::format("{}/checkpoints/window_{:06d}.partial/{}", dir_, w, component_);
+  if (rank_ == 0) fs::create_directories(dir);
+  MPI_Barrier(comm_);
+  return dir;
+}
+
+void RunDirectory::end_checkpoint(long w, double window) const {
+  // Every rank of every component has written its part: then the checkpoint is complete.
+  MPI_Request r;
+  MPI_Ibarrier(MPI_COMM_WORLD, &r);
+  wait_one(r, "the other components to finish their checkpoint");
+  if (world_rank_ == 0) {
+    const std::string base = fmt::format("{}/checkpoints/window_{:06d}", dir_, w);
+    output::atomic_write(base + ".partial/checkpoint.yaml",
+                         fmt::format("name: {}\nwindow: {}\ntime: {:.17g}\nwindow_length: {:.17g}\n", cfg_.run.name, w,
+                                     w * window, window));
+    fs::remove_all(base);
+    fs::rename(base + ".partial", base);
+    // Keep the newest run.checkpoint.keep checkpoints.
+    std::vector<std::string> all;
+    for (const auto& e : fs::directory_iterator(dir_ + "/checkpoints")) {
+      const std::string n = e.path().filename().string();
+      if (e.is_directory() && n.rfind("window_", 0) == 0 && n.find(".partial") == std::string::npos)
+        all.push_back(e.path().string());
+    }
+    std::sort(all.begin(), all.end());
+    const std::size_t keep = static_cast<std::size_t>(cfg_.run.checkpoint.keep);
+    for (std::size_t i = 0; i + keep < all.size(); ++i) fs::remove_all(all[i]);
+    log::info("checkpoint written: {}", base);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
+void RunDirectory::write_xdmf() const {
+  const auto& d = cfg_.domain;
+  const auto h = d.spacing();
+  output::write_xdmf(dir_, {{d.lower[0], d.lower[1], d.lower[2]}, {h[0], h[1], h[2]},
+                            {d.cells[0], d.cells[1], d.cells[2]}});
+}
+
+void RunDirectory::write_summary(const std::string& json) const {
+  output::atomic_write(dir_ + "/summary.json", json);
+  write_xdmf();
+}
+
+void RunDirectory::record_failure(int rank, const std::string& reason) const noexcept {
+  try {
+    std::ofstream(dir_ + "/logs/FAILED", std::ios::app) << component_ << " rank " << rank << ": " << reason << "\n";
+  } catch (...) {
+  }
+}
+
+}  // namespace coflow::coupler

@@ -15,6 +15,7 @@
 #include "coflow/session.hpp"
 #include "coflow/trace.hpp"
 #include "coflow/wait.hpp"
+#include "fluid/grid/cell_fields.hpp"
 #include "fluid/lbm/kernels.hpp"
 
 namespace coflow::fluid {
@@ -686,25 +687,13 @@ void LbmSolver::save(const std::string& dir) {
   std::vector<double> f;
   core_->get_populations(f);
   const auto& c = s_.cells;
-  output::write_grid(comm_, dir + "/lbm.h5", time(), steps_, {c[0], c[1], c[2]}, owned_, owned_,
-                     {{"populations", core_->q(), f}});
+  grid::save_cell_fields(comm_, dir + "/lbm.h5", time(), steps_, {c[0], c[1], c[2]}, owned_,
+                         {{"populations", core_->q(), f}});
 }
 
 void LbmSolver::load(const std::string& dir, long steps, double) {
-  std::vector<std::size_t> dims;
-  const auto all = output::read_dataset(dir + "/lbm.h5", "populations", &dims);
-  const int Q = core_->q();
   const auto& c = s_.cells;
-  if (dims.size() != 4 || dims[0] != std::size_t(c[2]) || dims[1] != std::size_t(c[1]) ||
-      dims[2] != std::size_t(c[0]) || dims[3] != std::size_t(Q))
-    throw std::runtime_error(dir + "/lbm.h5: the checkpoint is for another grid or lattice");
-  std::vector<double> f;
-  f.reserve(owned_.volume() * Q);
-  for (long k = owned_.lo[2]; k < owned_.hi[2]; ++k)
-    for (long j = owned_.lo[1]; j < owned_.hi[1]; ++j)
-      for (long i = owned_.lo[0]; i < owned_.hi[0]; ++i)
-        for (int q = 0; q < Q; ++q) f.push_back(all[((k * c[1] + j) * c[0] + i) * Q + q]);
-  core_->set_populations(f);
+  core_->set_populations(grid::load_cell_field(dir + "/lbm.h5", "populations", {c[0], c[1], c[2]}, owned_, core_->q()));
   steps_ = steps;
 }
 

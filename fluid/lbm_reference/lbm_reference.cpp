@@ -1,5 +1,7 @@
 #include "fluid/lbm_reference/lbm_reference.hpp"
 
+#include "fluid/grid/cell_fields.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -337,16 +339,11 @@ void LbmReference::regularize(double* f, int axis, int s, double rho, const doub
 
 // The populations, one cell after another, as the checkpoint's grid field.
 void LbmReference::save(const std::string& dir) {
-  output::write_grid(comm_, dir + "/lbm.h5", time(), steps_, {n_[0], n_[1], n_[2]}, box_, box_,
-                     {{"populations", Q_, f_}});
+  grid::save_cell_fields(comm_, dir + "/lbm.h5", time(), steps_, {n_[0], n_[1], n_[2]}, box_, {{"populations", Q_, f_}});
 }
 
 void LbmReference::load(const std::string& dir, long steps, double) {
-  std::vector<std::size_t> dims;
-  const auto f = output::read_dataset(dir + "/lbm.h5", "populations", &dims);
-  if (f.size() != f_.size())
-    throw std::runtime_error(dir + "/lbm.h5: the checkpoint is for another grid or lattice");
-  f_ = f;
+  f_ = grid::load_cell_field(dir + "/lbm.h5", "populations", {n_[0], n_[1], n_[2]}, box_, Q_);
   steps_ = steps;
 }
 

@@ -1,0 +1,28 @@
+// Cell fields on the fluid grid, for any fluid method (lbm now, fv next): the
+// owned block of each rank is one part of a global field. A checkpoint of cell
+// fields is one HDF5 file of global datasets, so a run may restart on another
+// rank count.
+#pragma once
+
+#include <mpi.h>
+
+#include <string>
+#include <vector>
+
+#include "coflow/decomposition.hpp"
+#include "coflow/output.hpp"
+
+namespace coflow::fluid::grid {
+
+// Collective over `comm`: each field (owned cells, x fastest, `components` per
+// cell) into one global dataset [nz][ny][nx][c] of `path`, with the time and step.
+void save_cell_fields(MPI_Comm comm, const std::string& path, double time, long step, const coupler::Index3& cells,
+                      const coupler::Box& owned, const std::vector<output::GridField>& fields);
+
+// The owned block (x fastest, `components` per cell) of field `name` of a file
+// written by save_cell_fields with any rank count. Throws, naming the file,
+// when its grid or its components differ from `cells` and `components`.
+std::vector<double> load_cell_field(const std::string& path, const std::string& name, const coupler::Index3& cells,
+                                    const coupler::Box& owned, int components);
+
+}  // namespace coflow::fluid::grid

@@ -78,6 +78,7 @@ config::ComponentSchema schema() {
   s.doc = "the fluid component (omit the section, or solver: none, for no fluid)";
   s.writes = writes;
   s.contract = contract;
+  s.report = report;
   s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);
     const bool known = std::any_of(variant_schemas().begin(), variant_schemas().end(),

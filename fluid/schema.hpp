@@ -16,6 +16,8 @@ class FluidSolver;
 // The variants' names, summaries and parameter sections (not "external").
 const std::vector<VariantSchema>& variant_schemas();
 config::ComponentSchema schema();
+// The fluid's part of the pre-run report (fluid/report.cpp).
+void report(const config::Config& cfg, const std::string& variant, config::Report& r);
 
 // name -> solver factory. Every variant has one line in register_fluid_variants().
 Registry<FluidSolver>& registry();

@@ -65,6 +65,7 @@ config::ComponentSchema schema() {
   s.variants.push_back("external");
   s.doc = "the particle component: soft-sphere DEM (dem) or point particles (dpm, dpm-reference)";
   s.contract = contract;
+  s.report = report;
   s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);
     const bool known = std::any_of(variant_schemas().begin(), variant_schemas().end(),

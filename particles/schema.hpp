@@ -15,6 +15,8 @@ class ParticleSolver;
 
 const std::vector<VariantSchema>& variant_schemas();
 config::ComponentSchema schema();
+// The particles' part of the pre-run report (particles/report.cpp).
+void report(const config::Config& cfg, const std::string& variant, config::Report& r);
 
 // name -> solver factory. Every variant has one line in register_particles_variants().
 Registry<ParticleSolver>& registry();

@@ -514,7 +514,22 @@ struct RunOptions {
   std::string cfg_path, launcher = "mpirun", restart;
   std::vector<std::string> overrides, exes;
   bool dry = false;
+  bool strict = false;
 };
+
+// The pre-run report (coflow/report.hpp), with `prefix` on each line. With
+// --strict a warning fails the command (exit status 2).
+int print_report(const Config& cfg, const RunOptions& o, const std::string& prefix, std::FILE* out) {
+  const coflow::config::Report r = coflow::config::pre_run_report(cfg, coflow::catalog());
+  std::fprintf(out, "%s", r.text(prefix).c_str());
+  std::fflush(out);
+  if (o.strict && !r.warnings.empty()) {
+    std::fprintf(stderr, "%s: %zu warning(s) and --strict: not running; fix them or leave out --strict\n",
+                 o.cfg_path.c_str(), r.warnings.size());
+    return 2;
+  }
+  return 0;
+}
 
 // --exe COMPONENT=PATH: the executables that replace the built-in ones.
 // Returns exit status 2, with a message, on a bad one.
@@ -593,6 +608,7 @@ int run(const Config& cfg, RunOptions o) {
     return 0;
   }
   if (const int rc = check_executables(argv_launch[0], launch); rc != 0) return rc;
+  if (const int rc = print_report(cfg, o, "", stdout); rc != 0) return rc;
   prepare_run_directory(cfg, dir, o.restart);
   if (srun) coflow::output::atomic_write(conf_path, multi_prog(launch, resolved, o.restart));
 
@@ -628,10 +644,12 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--restart", o.restart, "restart from a checkpoint directory");
   run_cmd->add_option("--set", o.overrides, "override a key: --set fluid.lbm.tau=0.9 (repeatable)");
   run_cmd->add_option("--exe", o.exes, "use your own executable for a component: --exe fluid=PATH");
+  run_cmd->add_flag("--strict", o.strict, "refuse to run when the pre-run report has a warning");
 
   auto* val = app.add_subcommand("validate", "check a configuration and print the resolved one");
   val->add_option("config", o.cfg_path, "run configuration (YAML)")->required();
   val->add_option("--set", o.overrides, "override a key: key.path=value");
+  val->add_flag("--strict", o.strict, "exit status 2 when the pre-run report has a warning");
 
   auto* var = app.add_subcommand("variants", "list solvers, methods and their options");
   var->add_flag("--markdown", markdown, "print the full configuration reference in Markdown");
@@ -656,8 +674,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (val->parsed()) {
-    std::cout << "# " << o.cfg_path << ": valid\n" << YAML::Dump(cfg.resolved) << std::endl;
-    return 0;
+    std::cout << "# " << o.cfg_path << ": valid\n" << std::flush;
+    const int rc = print_report(cfg, o, "# ", stdout);
+    std::cout << YAML::Dump(cfg.resolved) << std::endl;
+    return rc;
   }
   return run(cfg, o);
 }

@@ -228,6 +228,24 @@ std::string resolved_text(const Config& cfg, const std::vector<std::string>& pat
   return text_at(cfg.resolved, path, 0);
 }
 
+static YAML::Node node_at(const YAML::Node& n, const std::vector<std::string>& path, std::size_t i) {
+  if (i == path.size()) return n;
+  if (!n.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
+  const YAML::Node child = n[path[i]];
+  return child ? node_at(child, path, i + 1) : YAML::Node(YAML::NodeType::Undefined);
+}
+
+YAML::Node resolved_node(const Config& cfg, const std::string& dotted_path) {
+  std::vector<std::string> path;
+  std::string rest = dotted_path;
+  while (!rest.empty()) {
+    const auto dot = rest.find('.');
+    path.push_back(rest.substr(0, dot));
+    rest = dot == std::string::npos ? "" : rest.substr(dot + 1);
+  }
+  return node_at(cfg.resolved, path, 0);
+}
+
 std::uint64_t hash_text(const std::string& text) {
   std::uint64_t h = 1469598103934665603ull;  // FNV-1a
   for (unsigned char c : text) {

@@ -10,6 +10,7 @@
 
 #include "coflow/config.hpp"
 #include "coflow/contract.hpp"
+#include "coflow/report.hpp"
 
 namespace coflow::config {
 
@@ -82,6 +83,8 @@ struct ComponentSchema {
   // called once the whole file is read, so it may depend on the variant's keys.
   // Unset: an open contract (nothing checked).
   std::function<Contract(const Config&, const std::string& variant)> contract;
+  // The component's part of the pre-run report (coflow/report.hpp); unset: none.
+  std::function<void(const Config&, const std::string& variant, Report&)> report;
 };
 
 using Catalog = std::vector<ComponentSchema>;
@@ -125,19 +128,16 @@ void describe_config(Visitor& v, const Catalog& catalog);
 // Declare the common keys of a component section (selector, ranks, decomposition).
 void visit_component_common(Visitor& v, const ComponentSchema& schema, ComponentInfo& info);
 
+// The node at a dotted path of the resolved configuration (an undefined node
+// where there is none). It never modifies the configuration: assigning one
+// YAML::Node to another would rebind the shared tree.
+YAML::Node resolved_node(const Config& cfg, const std::string& dotted_path);
+
 // Re-read a section of a resolved configuration into a Params struct.
 template <class P>
 P read_section(const Config& cfg, const std::string& path_in_resolved, const std::string& path_label) {
-  YAML::Node n = cfg.resolved;
-  std::string rest = path_in_resolved, part;
-  while (!rest.empty()) {
-    const auto dot = rest.find('.');
-    part = rest.substr(0, dot);
-    n = n[part];
-    rest = dot == std::string::npos ? "" : rest.substr(dot + 1);
-  }
   P p;
-  Reader r(n, cfg.file, path_label);
+  Reader r(resolved_node(cfg, path_in_resolved), cfg.file, path_label);
   p.visit(r);
   r.finish();
   r.check();

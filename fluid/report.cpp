@@ -1,0 +1,125 @@
+// The fluid's part of the pre-run report (coflow/report.hpp).
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "coflow/decomposition.hpp"
+#include "fluid/lbm/params.hpp"
+#include "fluid/lbm/units.hpp"
+#include "fluid/params.hpp"
+#include "fluid/schema.hpp"
+
+namespace coflow::fluid {
+
+namespace {
+
+// A rough cost of one cell update of lbm per rank, for the wall-time estimate:
+// bench-lbm gives about 100 million on a 256^3 block of the project's 2-core VM;
+// small blocks, forces and psm cells are slower.
+constexpr double kCellUpdatesPerRankPerSecond = 30e6;
+// and a coupled window costs about half a millisecond of exchanges and waiting
+// (the quickstart: 2280 windows in about 6 s besides the fluid's updates).
+constexpr double kSecondsPerCoupledWindow = 5e-4;
+constexpr double kLongRunHours = 12.0;
+
+FluidParams read_fluid(const config::Config& cfg) {
+  FluidParams p;
+  config::Reader r(cfg.resolved["fluid"], cfg.file, "fluid");
+  p.visit(r, cfg);
+  return p;
+}
+
+// The largest speed the configuration gives: initial velocity (or Taylor-Green
+// amplitude) and velocity faces. 0 when a force or a pressure drop drives the flow.
+double velocity_scale(const FluidParams& p, const config::Config& cfg) {
+  double u = std::sqrt(p.initial_velocity[0] * p.initial_velocity[0] + p.initial_velocity[1] * p.initial_velocity[1] +
+                       p.initial_velocity[2] * p.initial_velocity[2]);
+  if (p.initial_field == "taylor-green") u = std::max(u, std::abs(p.initial_amplitude));
+  for (int f = 0; f < 6; ++f) {
+    const BoundaryParams b = p.boundary(f, cfg);
+    if (b.type != "velocity") continue;
+    double s = 0.0;
+    for (double x : b.value.values) s += x * x;
+    u = std::max(u, std::sqrt(s));
+  }
+  return u;
+}
+
+void report_mach(config::Report& r, double u, const lbm::Units& units, double tau, double dx) {
+  if (u <= 0.0) {
+    r.add("fluid", "velocity scale",
+          "no initial or boundary velocity: Mach is checked as the run goes (a warning above 0.1, a stop above 0.3)");
+    return;
+  }
+  const double lattice_u = u / units.velocity(), mach = lattice_u * std::sqrt(3.0);
+  r.add("fluid", "velocity scale", fmt::format("U = {} m/s (largest initial or boundary velocity)", config::number(u)));
+  r.add("fluid", "Mach", fmt::format("{} (lattice speed U dt/dx = {})", config::number(mach), config::number(lattice_u)));
+  if (mach <= 0.1) return;
+  // With dx and nu fixed, Mach is proportional to tau - 1/2 and to dx.
+  const double tau01 = 0.5 + (tau - 0.5) * 0.1 / mach;
+  r.warn("fluid", fmt::format("Mach {} > 0.1 at U = {} m/s: compressibility errors grow as Ma^2; {}",
+                              config::number(mach), config::number(u),
+                              tau01 >= 0.51 ? fmt::format("fluid.lbm.tau {} gives Mach 0.1 at this dx", config::number(tau01))
+                                            : fmt::format("cells of {} m give Mach 0.1 at this tau (tau below 0.51 "
+                                                          "is unstable)",
+                                                          config::number(dx * 0.1 / mach))));
+}
+
+void report_lbm(const config::Config& cfg, config::Report& r) {
+  const FluidParams fp = read_fluid(cfg);
+  const auto lp = config::read_section<lbm::LbmParams>(cfg, "fluid.lbm", "fluid.lbm");
+  const auto& d = cfg.domain;
+  const double dx = d.spacing()[0];
+  const lbm::Units units = lbm::Units::from(dx, fp.viscosity, fp.density, lp.tau);
+  const long cells = static_cast<long>(d.cells[0]) * d.cells[1] * d.cells[2];
+  const auto& info = cfg.component("fluid");
+  std::array<int, 3> dims{0, 0, 0};
+  if (!info.decomposition.is_auto) dims = info.decomposition.value;
+  const coupler::Decomposition dec({d.cells[0], d.cells[1], d.cells[2]}, info.ranks, dims, d.periodic);
+  long block = 0;
+  for (int k = 0; k < info.ranks; ++k) block = std::max(block, dec.block(k).volume());
+  r.add("fluid", "grid", fmt::format("{} x {} x {} cells of {} m ({} cells; at most {} per rank)", d.cells[0],
+                                     d.cells[1], d.cells[2], config::number(dx), cells, block));
+  r.add("fluid", "lattice", fmt::format("{} {}, tau {}, {}", lp.lattice, lp.collision, config::number(lp.tau),
+                                        lp.formulation));
+  const double steps = std::ceil(cfg.run.end_time / units.dt - 1e-9);
+  r.add("fluid", "time step", fmt::format("dt = {} s: {} steps to {} s", config::number(units.dt),
+                                          config::number(steps), config::number(cfg.run.end_time)));
+  const double u = velocity_scale(fp, cfg);
+  report_mach(r, u, units, lp.tau, dx);
+  if (u > 0.0) {
+    double L = 1e300;
+    for (int a = 0; a < (d.two_dimensional() ? 2 : 3); ++a) L = std::min(L, d.upper[a] - d.lower[a]);
+    r.add("fluid", "Reynolds", fmt::format("Re = U L / nu = {} (L = {} m, the smallest side of the box)",
+                                           config::number(u * L / fp.viscosity), config::number(L)));
+  }
+  const int Q = lp.lattice == "D2Q9" ? 9 : 19;
+  r.add("fluid", "memory", fmt::format("about {} MiB per rank (two copies of {} populations per cell)",
+                                       config::number(2.0 * Q * 8.0 * block * 1.1 / (1 << 20)), Q));
+  const double window = cfg.coupling.window.is_auto ? units.dt : cfg.coupling.window.value;
+  const double windows = cfg.components.size() > 1 ? std::ceil(cfg.run.end_time / window - 1e-9) : 0.0;
+  const double hours = (steps * block / kCellUpdatesPerRankPerSecond + windows * kSecondsPerCoupledWindow) / 3600.0;
+  r.add("fluid", "wall time",
+        fmt::format("about {} (a rough figure: {} cell updates per second per rank{})", config::duration(hours * 3600.0),
+                    config::number(kCellUpdatesPerRankPerSecond),
+                    windows > 0 ? fmt::format(", {} s per coupled window", kSecondsPerCoupledWindow) : ""));
+  if (hours > kLongRunHours)
+    r.warn("fluid", fmt::format("the run would take about {} ({} steps of {} cells per rank): check "
+                                "fluid.viscosity (water: 1e-6 m^2/s), fluid.lbm.tau, the grid and run.end_time",
+                                config::duration(hours * 3600.0), config::number(steps), block));
+}
+
+}  // namespace
+
+void report(const config::Config& cfg, const std::string& variant, config::Report& r) {
+  if (variant == "lbm" || variant == "lbm-reference") {
+    report_lbm(cfg, r);
+    return;
+  }
+  if (variant == "analytic")
+    r.add("fluid", "flow", "prescribed (" + config::resolved_text(cfg, {"fluid", "analytic", "field"}) +
+                               "), exact at any time; no time step");
+}
+
+}  // namespace coflow::fluid

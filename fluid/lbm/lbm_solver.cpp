@@ -16,7 +16,9 @@
 #include "coflow/trace.hpp"
 #include "coflow/wait.hpp"
 #include "fluid/grid/cell_fields.hpp"
+#include "fluid/lbm/halo.hpp"
 #include "fluid/lbm/kernels.hpp"
+#include "fluid/lbm/layout.hpp"
 
 namespace coflow::fluid {
 
@@ -31,13 +33,13 @@ template <class L, bool Incompressible>
 class Core final : public LbmCore {
  public:
   Core(const lbm::Setup& s, const Decomposition& dec, int rank, MPI_Comm comm)
-      : s_(s), dec_(dec), comm_(comm), p_(lbm::collision_params(s.tau, s.trt, s.magic)) {
+      : s_(s), dec_(dec), comm_(comm), collision_(lbm::collision_params(s.tau, s.trt, s.magic)) {
     const Box& b = dec.block(rank);
     for (int d = 0; d < 3; ++d) {
-      origin_[d] = b.lo[d];
-      n_[d] = b.extent(d);
-      g_[d] = s.cells[d] > 1 ? 1 : 0;
-      P_[d] = n_[d] + 2 * g_[d];
+      lay_.origin[d] = b.lo[d];
+      lay_.extent[d] = b.extent(d);
+      lay_.ghost[d] = s.cells[d] > 1 ? 1 : 0;
+      lay_.padded[d] = lay_.extent[d] + 2 * lay_.ghost[d];
     }
     // Open faces (pressure, velocity, outflow) of the domain that bound this block.
     for (int f = 0; f < 6; ++f) {
@@ -47,28 +49,29 @@ class Core final : public LbmCore {
       open_[f] = at_face && (t == FaceType::pressure || t == FaceType::velocity || t == FaceType::outflow);
       wall_[f] = at_face && t == FaceType::wall;
     }
-    build_halo(rank);
+    halo_.build(lay_, dec_, rank, s_.cells, comm_);
+    x_local_ = halo_.x_local();
     // The interior pass's rows: whole rows when no other rank borders the block
     // along x (its x ghosts are then ready before the pass), less the cells on
     // open faces; otherwise without the two end cells.
-    row_i0_ = x_local_ ? (open_[0] ? 1 : 0) : g_[0];
-    row_i1_ = x_local_ ? n_[0] - (open_[1] ? 1 : 0) : n_[0] - g_[0];
+    row_i0_ = x_local_ ? (open_[0] ? 1 : 0) : lay_.ghost[0];
+    row_i1_ = x_local_ ? lay_.extent[0] - (open_[1] ? 1 : 0) : lay_.extent[0] - lay_.ghost[0];
     // Rows padded to whole cache lines, and an offset that puts the first cell
     // of those rows on a 64-byte boundary, so that chunks of 8 cells can be
     // written with streaming (non-temporal) stores.
-    P_[0] = (P_[0] + 7) / 8 * 8;
-    shift_ = (8 - (g_[0] + row_i0_) % 8) % 8;
+    lay_.padded[0] = (lay_.padded[0] + 7) / 8 * 8;
+    lay_.shift = (8 - (lay_.ghost[0] + row_i0_) % 8) % 8;
     // Populations spaced_stride apart when the block fits (the line kernels
     // then keep every address in a register: lbm::SpacedRef), else packed.
     // The spaced arrays reserve 2 Q spaced_stride values of address space;
     // where that is refused (a limit on it), packed.
-    const long cells = (P_[0] * P_[1] * P_[2] + shift_ + 7) / 8 * 8;
-    for (int q = 0; q < L::Q; ++q) off_[q] = L::e[q][0] + P_[0] * (L::e[q][1] + P_[1] * L::e[q][2]);
+    const long cells = (lay_.padded[0] * lay_.padded[1] * lay_.padded[2] + lay_.shift + 7) / 8 * 8;
+    for (int q = 0; q < L::Q; ++q) off_[q] = L::e[q][0] + lay_.padded[0] * (L::e[q][1] + lay_.padded[1] * L::e[q][2]);
     const auto allocate = [&](long stride) {
-      a_ = {};  // release a refused attempt's first array before the next
-      a_ = StridedArrays<double>(L::Q, stride, cells);
-      b_ = StridedArrays<double>(L::Q, stride, cells);
-      N_ = stride;
+      f_ = {};  // release a refused attempt's first array before the next
+      f_ = StridedArrays<double>(L::Q, stride, cells);
+      f_next_ = StridedArrays<double>(L::Q, stride, cells);
+      lay_.stride = stride;
     };
     spaced_ = !s.packed && cells <= lbm::spaced_stride;
     try {
@@ -82,26 +85,19 @@ class Core final : public LbmCore {
     }
     log::info("lbm: {} population layout", spaced_ ? "spaced" : "packed");
     lean_ = !s.trt && s.force[0] == 0.0 && s.force[1] == 0.0 && s.force[2] == 0.0;
-    for (long k = 0; k < n_[2]; ++k)
-      for (long j = 0; j < n_[1]; ++j)
-        for (long i = 0; i < n_[0]; ++i) {
+    for (long k = 0; k < lay_.extent[2]; ++k)
+      for (long j = 0; j < lay_.extent[1]; ++j)
+        for (long i = 0; i < lay_.extent[0]; ++i) {
           double rho, u[3];
-          s.initial(origin_[0] + i, origin_[1] + j, origin_[2] + k, rho, u);
-          for (int q = 0; q < L::Q; ++q) a_[q * N_ + idx(i, j, k)] = lbm::equilibrium<L, Incompressible>(q, rho, u);
+          s.initial(lay_.origin[0] + i, lay_.origin[1] + j, lay_.origin[2] + k, rho, u);
+          for (int q = 0; q < L::Q; ++q) f_[q * lay_.stride + idx(i, j, k)] = lbm::equilibrium<L, Incompressible>(q, rho, u);
         }
-  }
-
-  ~Core() override {
-    for (auto& h : halo_) {
-      if (h.send != MPI_REQUEST_NULL) MPI_Request_free(&h.send);
-      if (h.recv != MPI_REQUEST_NULL) MPI_Request_free(&h.recv);
-    }
   }
 
   void step() override {
     // 1. Start the halo exchange of the post-collision populations; halos with
     //    this rank itself (a periodic axis not split) are copied at once.
-    post_halo();
+    halo_.post(f_.data(), lay_.stride);
     // When no other rank borders this block along x, its x ghosts are ready
     // now (copied, or walls filled from owned cells): the interior pass then
     // takes whole rows, and the rows' end cells need no second visit.
@@ -110,41 +106,41 @@ class Core final : public LbmCore {
     //    messages fly.
     max_u2_ = 0.0;
     const long i0 = row_i0_, i1 = row_i1_;
-    for (long k = g_[2]; k < n_[2] - g_[2]; ++k)
-      for (long j = g_[1]; j < n_[1] - g_[1]; ++j) fast_row(i0, i1, j, k);
+    for (long k = lay_.ghost[2]; k < lay_.extent[2] - lay_.ghost[2]; ++k)
+      for (long j = lay_.ghost[1]; j < lay_.extent[1] - lay_.ghost[1]; ++j) fast_row(i0, i1, j, k);
     // 3. Ghosts: from neighbours, then walls (bounce-back, seed 000 eq. 2.44).
-    finish_halo();
+    halo_.finish(f_.data(), lay_.stride);
     fill_walls(x_local_ ? 2 : 0, 6);
     // 4. The shell: rows on the block's faces, and the end cells of the others
     //    that the interior pass left.
-    for (long k = 0; k < n_[2]; ++k)
-      for (long j = 0; j < n_[1]; ++j) {
-        const bool face_row = (g_[1] && (j == 0 || j == n_[1] - 1)) || (g_[2] && (k == 0 || k == n_[2] - 1));
+    for (long k = 0; k < lay_.extent[2]; ++k)
+      for (long j = 0; j < lay_.extent[1]; ++j) {
+        const bool face_row = (lay_.ghost[1] && (j == 0 || j == lay_.extent[1] - 1)) || (lay_.ghost[2] && (k == 0 || k == lay_.extent[2] - 1));
         if (face_row) {
-          shell_row(0, n_[0], j, k);
+          shell_row(0, lay_.extent[0], j, k);
           continue;
         }
         if (i0 > 0) shell_row(0, 1, j, k);
-        if (i1 < n_[0] && n_[0] > 1) shell_row(n_[0] - 1, n_[0], j, k);
+        if (i1 < lay_.extent[0] && lay_.extent[0] > 1) shell_row(lay_.extent[0] - 1, lay_.extent[0], j, k);
       }
 #if defined(__AVX__)
     _mm_sfence();  // order the streaming stores before anything reads them
 #endif
-    std::swap(a_, b_);
+    std::swap(f_, f_next_);
   }
 
   void macroscopic(std::vector<double>& u, std::vector<double>& rho) const override {
-    const long cells = n_[0] * n_[1] * n_[2];
+    const long cells = lay_.extent[0] * lay_.extent[1] * lay_.extent[2];
     u.resize(3 * cells);
     rho.resize(cells);
     long c = 0;
-    for (long k = 0; k < n_[2]; ++k)
-      for (long j = 0; j < n_[1]; ++j)
-        for (long i = 0; i < n_[0]; ++i, ++c) {
+    for (long k = 0; k < lay_.extent[2]; ++k)
+      for (long j = 0; j < lay_.extent[1]; ++j)
+        for (long i = 0; i < lay_.extent[0]; ++i, ++c) {
           const long x = idx(i, j, k);
           double r = 0, jx = 0, jy = 0, jz = 0;
           for (int q = 0; q < L::Q; ++q) {
-            const double f = a_[q * N_ + x];
+            const double f = f_[q * lay_.stride + x];
             r += f;
             jx += L::e[q][0] * f;
             jy += L::e[q][1] * f;
@@ -166,19 +162,19 @@ class Core final : public LbmCore {
   int q() const override { return L::Q; }
 
   void get_populations(std::vector<double>& out) const override {
-    out.resize(static_cast<std::size_t>(n_[0] * n_[1] * n_[2]) * L::Q);
+    out.resize(static_cast<std::size_t>(lay_.extent[0] * lay_.extent[1] * lay_.extent[2]) * L::Q);
     std::size_t o = 0;
-    for (long k = 0; k < n_[2]; ++k)
-      for (long j = 0; j < n_[1]; ++j)
-        for (long i = 0; i < n_[0]; ++i)
-          for (int q = 0; q < L::Q; ++q) out[o++] = a_[q * N_ + idx(i, j, k)];
+    for (long k = 0; k < lay_.extent[2]; ++k)
+      for (long j = 0; j < lay_.extent[1]; ++j)
+        for (long i = 0; i < lay_.extent[0]; ++i)
+          for (int q = 0; q < L::Q; ++q) out[o++] = f_[q * lay_.stride + idx(i, j, k)];
   }
   void set_populations(const std::vector<double>& in) override {
     std::size_t o = 0;
-    for (long k = 0; k < n_[2]; ++k)
-      for (long j = 0; j < n_[1]; ++j)
-        for (long i = 0; i < n_[0]; ++i)
-          for (int q = 0; q < L::Q; ++q) a_[q * N_ + idx(i, j, k)] = in[o++];
+    for (long k = 0; k < lay_.extent[2]; ++k)
+      for (long j = 0; j < lay_.extent[1]; ++j)
+        for (long i = 0; i < lay_.extent[0]; ++i)
+          for (int q = 0; q < L::Q; ++q) f_[q * lay_.stride + idx(i, j, k)] = in[o++];
   }
 
   // Noble & Torczynski's partially saturated cells (seed 000 eqs 2.66-2.68) on
@@ -192,20 +188,20 @@ class Core final : public LbmCore {
   void psm(std::span<const long> cells, std::span<const double> fraction, std::span<const double> us,
            std::span<double> gain) override {
     const double* F = s_.force.data();
-    const double omega = p_.omega, tau = s_.tau;
+    const double omega = collision_.omega, tau = s_.tau;
     for (std::size_t n = 0; n < cells.size(); ++n) {
       const long c = cells[n];
-      const long i = c % n_[0], j = (c / n_[0]) % n_[1], k = c / (n_[0] * n_[1]);
+      const long i = c % lay_.extent[0], j = (c / lay_.extent[0]) % lay_.extent[1], k = c / (lay_.extent[0] * lay_.extent[1]);
       // Cells on an open face (pressure, velocity, outflow) keep their Zou-He /
       // outflow closure and stay fluid: a grain there is leaving the domain.
       const long loc[3] = {i, j, k};
       bool on_open = false;
-      for (int f = 0; f < 6; ++f) on_open = on_open || (open_[f] && loc[f / 2] == (f % 2 == 0 ? 0 : n_[f / 2] - 1));
+      for (int f = 0; f < 6; ++f) on_open = on_open || (open_[f] && loc[f / 2] == (f % 2 == 0 ? 0 : lay_.extent[f / 2] - 1));
       if (on_open) continue;
       const long x = idx(i, j, k);
       double f[L::Q], rho = 0, jm[3] = {0, 0, 0};
       for (int q = 0; q < L::Q; ++q) {
-        f[q] = b_[q * N_ + x - off_[q]];
+        f[q] = f_next_[q * lay_.stride + x - off_[q]];
         rho += f[q];
         for (int d = 0; d < 3; ++d) jm[d] += L::e[q][d] * f[q];
       }
@@ -230,7 +226,7 @@ class Core final : public LbmCore {
           eF += L::e[q][d] * F[d];
         }
         const double S = (1.0 - 0.5 * omega) * L::w[q] * (3.0 * (eF - uF) + 9.0 * eu * eF);
-        a_[q * N_ + x] = f[q] - (1.0 - B) * omega * (f[q] - feq[q]) + (1.0 - B) * S + B * omega_s;
+        f_[q * lay_.stride + x] = f[q] - (1.0 - B) * omega * (f[q] - feq[q]) + (1.0 - B) * S + B * omega_s;
         for (int d = 0; d < 3; ++d) g[d] += B * omega_s * L::e[q][d];
       }
       for (int d = 0; d < 3; ++d) gain[3 * n + d] += g[d];
@@ -239,30 +235,28 @@ class Core final : public LbmCore {
 
   long first_nonfinite() const override {
     long c = 0;
-    for (long k = 0; k < n_[2]; ++k)
-      for (long j = 0; j < n_[1]; ++j)
-        for (long i = 0; i < n_[0]; ++i, ++c)
+    for (long k = 0; k < lay_.extent[2]; ++k)
+      for (long j = 0; j < lay_.extent[1]; ++j)
+        for (long i = 0; i < lay_.extent[0]; ++i, ++c)
           for (int q = 0; q < L::Q; ++q)
-            if (!std::isfinite(a_[q * N_ + idx(i, j, k)])) return c;
+            if (!std::isfinite(f_[q * lay_.stride + idx(i, j, k)])) return c;
     return -1;
   }
 
  private:
-  long idx(long i, long j, long k) const {
-    return shift_ + ((k + g_[2]) * P_[1] + (j + g_[1])) * P_[0] + (i + g_[0]);
-  }
+  long idx(long i, long j, long k) const { return lay_.idx(i, j, k); }
 
   void set_source(std::span<const double> force) override {
     src_.assign(force.begin(), force.end());
-    src_row_.assign(static_cast<std::size_t>(n_[1] * n_[2]), 0);
+    src_row_.assign(static_cast<std::size_t>(lay_.extent[1] * lay_.extent[2]), 0);
     for (std::size_t c = 0; c < src_.size() / 3; ++c)
       if (src_[3 * c] != 0.0 || src_[3 * c + 1] != 0.0 || src_[3 * c + 2] != 0.0)
-        src_row_[c / static_cast<std::size_t>(n_[0])] = 1;
+        src_row_[c / static_cast<std::size_t>(lay_.extent[0])] = 1;
   }
 
   // Body force plus the cell's source.
   void force_at(long i, long j, long k, double F[3]) const {
-    const long c = (k * n_[1] + j) * n_[0] + i;
+    const long c = (k * lay_.extent[1] + j) * lay_.extent[0] + i;
     for (int d = 0; d < 3; ++d) F[d] = s_.force[d] + (src_.empty() ? 0.0 : src_[3 * c + d]);
   }
 
@@ -272,10 +266,10 @@ class Core final : public LbmCore {
       const long x = idx(i, j, k);
       double f[L::Q], F[3];
       force_at(i, j, k, F);
-      for (int q = 0; q < L::Q; ++q) f[q] = a_[q * N_ + x - off_[q]];
-      const double uu = lbm::collide<L, Incompressible>(f, p_, F);
+      for (int q = 0; q < L::Q; ++q) f[q] = f_[q * lay_.stride + x - off_[q]];
+      const double uu = lbm::collide<L, Incompressible>(f, collision_, F);
       max_u2_ = lbm::nan_max(max_u2_, uu);
-      for (int q = 0; q < L::Q; ++q) b_[q * N_ + x] = f[q];
+      for (int q = 0; q < L::Q; ++q) f_next_[q * lay_.stride + x] = f[q];
     }
   }
 
@@ -283,7 +277,7 @@ class Core final : public LbmCore {
   // vectorises over i: each population streams with a constant offset.
   void fast_row(long i0, long i1, long j, long k) {
     if (i1 <= i0) return;
-    if (!src_.empty() && src_row_[k * n_[1] + j]) {
+    if (!src_.empty() && src_row_[k * lay_.extent[1] + j]) {
       source_row(i0, i1, j, k);
       return;
     }
@@ -301,18 +295,18 @@ class Core final : public LbmCore {
   template <bool Lean>
   void vec_row(long i0, long i1, long j, long k) {
     if (spaced_)
-      vec_row<Lean>(i0, i1, j, k, lbm::SpacedRef<L>(a_.data(), b_.data(), idx(0, j, k), off_));
+      vec_row<Lean>(i0, i1, j, k, lbm::SpacedRef<L>(f_.data(), f_next_.data(), idx(0, j, k), off_));
     else
-      vec_row<Lean>(i0, i1, j, k, lbm::LineRef{a_.data() + idx(0, j, k), b_.data() + idx(0, j, k), N_, off_});
+      vec_row<Lean>(i0, i1, j, k, lbm::LineRef{f_.data() + idx(0, j, k), f_next_.data() + idx(0, j, k), lay_.stride, off_});
   }
 
   template <bool Lean, class Ref>
   void vec_row(long i0, long i1, long j, long k, const Ref ref) {
     using lbm::Vec4;
-    const double* src = a_.data();
-    double* dst = b_.data();
-    const long base = idx(0, j, k), N = N_;
-    const auto p = p_;
+    const double* src = f_.data();
+    double* dst = f_next_.data();
+    const long base = idx(0, j, k), N = lay_.stride;
+    const auto p = collision_;
     const double F[3] = {s_.force[0], s_.force[1], s_.force[2]};
     Vec4 mx = {0.0, 0.0, 0.0, 0.0};  // max u^2, NaN-sticky
     const auto chunk = [&](long i, bool stream) __attribute__((always_inline)) {
@@ -357,7 +351,7 @@ class Core final : public LbmCore {
       const long loc[3] = {i, j, k};
       bool open = false;
       for (int f = 0; f < 6 && !open; ++f)
-        open = open_[f] && loc[f / 2] == (f % 2 == 0 ? 0 : n_[f / 2] - 1);
+        open = open_[f] && loc[f / 2] == (f % 2 == 0 ? 0 : lay_.extent[f / 2] - 1);
       if (!open) continue;
       fast_row(run, i, j, k);
       run = i + 1;
@@ -373,35 +367,35 @@ class Core final : public LbmCore {
     const long loc[3] = {i, j, k};
     const long x = idx(i, j, k);
     double f[L::Q];
-    for (int q = 0; q < L::Q; ++q) f[q] = a_[q * N_ + x - off_[q]];
+    for (int q = 0; q < L::Q; ++q) f[q] = f_[q * lay_.stride + x - off_[q]];
     // Outflow faces first (zero gradient: the next node's post-collision
     // populations), then Zou-He faces, in face order, as lbm-reference does.
     for (int pass = 0; pass < 2; ++pass)
       for (int face = 0; face < 6; ++face) {
         const int axis = face / 2;
-        if (!open_[face] || loc[axis] != (face % 2 == 0 ? 0 : n_[axis] - 1)) continue;
+        if (!open_[face] || loc[axis] != (face % 2 == 0 ? 0 : lay_.extent[axis] - 1)) continue;
         const int s = face % 2 == 0 ? 1 : -1;
         const lbm::Face& fc = s_.faces[face];
         if ((fc.type == FaceType::outflow) != (pass == 0)) continue;
         if (fc.type == FaceType::outflow) {
-          const long inner = x + s * (axis == 0 ? 1 : axis == 1 ? P_[0] : P_[0] * P_[1]);
+          const long inner = x + s * (axis == 0 ? 1 : axis == 1 ? lay_.padded[0] : lay_.padded[0] * lay_.padded[1]);
           for (int q = 0; q < L::Q; ++q)
-            if (s * L::e[q][axis] > 0) f[q] = a_[q * N_ + inner];
+            if (s * L::e[q][axis] > 0) f[q] = f_[q * lay_.stride + inner];
         } else {
           if (fc.regularized) {
             long in[3] = {i, j, k};
             in[axis] += s;
             double uin[3];  // the node's own force stands for the inner node's (it may lie in a halo)
-            lbm::post_collision_velocity<L, Incompressible>(&a_[idx(in[0], in[1], in[2])], N_, F, uin);
+            lbm::post_collision_velocity<L, Incompressible>(&f_[idx(in[0], in[1], in[2])], lay_.stride, F, uin);
             lbm::regularized<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data(), uin);
           } else {
             lbm::zou_he<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data());
           }
         }
       }
-    const double uu = lbm::collide<L, Incompressible>(f, p_, F);
+    const double uu = lbm::collide<L, Incompressible>(f, collision_, F);
     max_u2_ = lbm::nan_max(max_u2_, uu);
-    for (int q = 0; q < L::Q; ++q) b_[q * N_ + x] = f[q];
+    for (int q = 0; q < L::Q; ++q) f_next_[q * lay_.stride + x] = f[q];
   }
 
   // Half-way bounce-back: the population a boundary node pulls from beyond a
@@ -410,147 +404,35 @@ class Core final : public LbmCore {
     for (int face = face0; face < face1; ++face) {
       if (!wall_[face]) continue;
       const int axis = face / 2, s = face % 2 == 0 ? 1 : -1;
-      long lo[3] = {0, 0, 0}, hi[3] = {n_[0], n_[1], n_[2]};
-      lo[axis] = face % 2 == 0 ? 0 : n_[axis] - 1;
+      long lo[3] = {0, 0, 0}, hi[3] = {lay_.extent[0], lay_.extent[1], lay_.extent[2]};
+      lo[axis] = face % 2 == 0 ? 0 : lay_.extent[axis] - 1;
       hi[axis] = lo[axis] + 1;
       for (long k = lo[2]; k < hi[2]; ++k)
         for (long j = lo[1]; j < hi[1]; ++j)
           for (long i = lo[0]; i < hi[0]; ++i) {
             const long x = idx(i, j, k);
             for (int q = 0; q < L::Q; ++q)
-              if (s * L::e[q][axis] > 0) a_[q * N_ + x - off_[q]] = a_[L::opp[q] * N_ + x];
+              if (s * L::e[q][axis] > 0) f_[q * lay_.stride + x - off_[q]] = f_[L::opp[q] * lay_.stride + x];
           }
-    }
-  }
-
-  // ---- halo: direct exchange with every face/edge/corner neighbour ----
-  // Only the populations a ghost is pulled for travel: towards direction d,
-  // those with e_q,a = d_a on every axis where d_a != 0 (5 of 19 through a
-  // face of D3Q19, 1 through an edge, none through a corner).
-  struct Halo {
-    int rank = -1;
-    int d[3] = {0, 0, 0};    // direction of the neighbour
-    Box send_box, recv_box;  // local (ghost-offset) coordinates, owned-relative
-    std::vector<int> send_q, recv_q;
-    std::vector<double> send_buf, recv_buf;
-    MPI_Request send = MPI_REQUEST_NULL, recv = MPI_REQUEST_NULL;
-  };
-
-  static std::vector<int> crossing(const int d[3], int sign) {
-    std::vector<int> qs;
-    for (int q = 0; q < L::Q; ++q) {
-      bool all = true;
-      for (int a = 0; a < 3; ++a) all = all && (d[a] == 0 || L::e[q][a] == sign * d[a]);
-      if (all) qs.push_back(q);
-    }
-    return qs;
-  }
-
-  void build_halo(int rank) {
-    const Box& b = dec_.block(rank);
-    bool x_from_other = false;
-    for (int dz = -g_[2]; dz <= g_[2]; ++dz)
-      for (int dy = -g_[1]; dy <= g_[1]; ++dy)
-        for (int dx = -g_[0]; dx <= g_[0]; ++dx) {
-          if (!dx && !dy && !dz) continue;
-          const int d[3] = {dx, dy, dz};
-          Index3 probe{};
-          bool exists = true;
-          for (int a = 0; a < 3; ++a) {
-            probe[a] = d[a] < 0 ? b.lo[a] - 1 : d[a] > 0 ? b.hi[a] : b.lo[a];
-            if ((probe[a] < 0 || probe[a] >= s_.cells[a]) && !dec_.periodic()[a]) exists = false;
-          }
-          if (!exists) continue;
-          Halo h;
-          h.rank = dec_.owner(probe);
-          if (dx != 0 && dy == 0 && dz == 0 && h.rank != rank) x_from_other = true;
-          for (int a = 0; a < 3; ++a) {
-            h.d[a] = d[a];
-            h.send_box.lo[a] = d[a] < 0 ? 0 : d[a] > 0 ? n_[a] - 1 : 0;
-            h.send_box.hi[a] = d[a] < 0 ? 1 : d[a] > 0 ? n_[a] : n_[a];
-            h.recv_box.lo[a] = d[a] < 0 ? -1 : d[a] > 0 ? n_[a] : 0;
-            h.recv_box.hi[a] = d[a] < 0 ? 0 : d[a] > 0 ? n_[a] + 1 : n_[a];
-          }
-          h.send_q = crossing(d, 1);
-          h.recv_q = crossing(d, -1);
-          if (h.send_q.empty()) continue;
-          if (h.rank == rank) {  // a periodic axis of one block: copied in post_halo
-            halo_.push_back(std::move(h));
-            continue;
-          }
-          h.send_buf.resize(h.send_box.volume() * h.send_q.size());
-          h.recv_buf.resize(h.recv_box.volume() * h.recv_q.size());
-          const int tag_send = 500 + (dx + 1) + 3 * (dy + 1) + 9 * (dz + 1);
-          const int tag_recv = 500 + (-dx + 1) + 3 * (-dy + 1) + 9 * (-dz + 1);
-          halo_.push_back(std::move(h));
-          Halo& hh = halo_.back();
-          MPI_Send_init(hh.send_buf.data(), static_cast<int>(hh.send_buf.size()), MPI_DOUBLE, hh.rank, tag_send,
-                        comm_, &hh.send);
-          MPI_Recv_init(hh.recv_buf.data(), static_cast<int>(hh.recv_buf.size()), MPI_DOUBLE, hh.rank, tag_recv,
-                        comm_, &hh.recv);
-          ++remote_;
-        }
-    x_local_ = g_[0] && !x_from_other;
-    requests_.resize(2 * remote_);
-  }
-
-  template <class F>
-  void for_box(const Box& bx, F&& f) const {
-    for (long k = bx.lo[2]; k < bx.hi[2]; ++k)
-      for (long j = bx.lo[1]; j < bx.hi[1]; ++j)
-        for (long i = bx.lo[0]; i < bx.hi[0]; ++i) f(idx(i, j, k));
-  }
-
-  void post_halo() {
-    coupler::Timer t(coupler::trace().halo_s);
-    std::size_t n = 0;
-    for (Halo& h : halo_) {
-      if (h.send == MPI_REQUEST_NULL) {
-        // To this rank itself: the face cells land in the ghosts on the
-        // opposite side, one period away.
-        const long shift = h.d[0] * n_[0] + P_[0] * (h.d[1] * n_[1] + P_[1] * h.d[2] * n_[2]);
-        for (const int q : h.send_q) for_box(h.send_box, [&](long x) { a_[q * N_ + x - shift] = a_[q * N_ + x]; });
-        continue;
-      }
-      MPI_Start(&h.recv);
-      double* out = h.send_buf.data();
-      for (const int q : h.send_q) for_box(h.send_box, [&](long x) { *out++ = a_[q * N_ + x]; });
-      MPI_Start(&h.send);
-      requests_[2 * n] = h.recv;
-      requests_[2 * n + 1] = h.send;
-      ++n;
-    }
-  }
-
-  void finish_halo() {
-    if (remote_ == 0) return;
-    coupler::wait_all(requests_, "the fluid halo exchange", &coupler::trace().halo_s);
-    coupler::Timer t(coupler::trace().halo_s);
-    for (Halo& h : halo_) {
-      if (h.recv == MPI_REQUEST_NULL) continue;
-      const double* in = h.recv_buf.data();
-      for (const int q : h.recv_q) for_box(h.recv_box, [&](long x) { a_[q * N_ + x] = *in++; });
     }
   }
 
   const lbm::Setup& s_;
   Decomposition dec_;
   MPI_Comm comm_;
-  lbm::CollisionParams p_;
-  long origin_[3], n_[3], g_[3], P_[3], N_, shift_ = 0;
-  long off_[L::Q];
-  StridedArrays<double> a_, b_;  // post-collision populations, N_ apart; a_ is current
-  bool spaced_ = false;          // N_ = lbm::spaced_stride
+  lbm::CollisionParams collision_;
+  lbm::Layout lay_;   // where the populations of the block live
+  long off_[L::Q];    // streaming offset of population q in cells
+  StridedArrays<double> f_, f_next_;  // post-collision populations, lay_.stride apart; f_ is current, f_next_ the step's output
+  bool spaced_ = false;          // lay_.stride = lbm::spaced_stride
   bool lean_ = false;  // BGK without body force: lbm::bgk_line
   std::vector<double> src_;     // per owned cell source (lattice units), empty: none
   std::vector<char> src_row_;   // rows (j, k) holding a source
   double max_u2_ = 0.0;
   bool open_[6], wall_[6];
-  std::vector<Halo> halo_;
-  std::size_t remote_ = 0;  // halos with other ranks
+  lbm::HaloExchange<L> halo_;
   bool x_local_ = false;    // no other rank borders the block along x
   long row_i0_ = 0, row_i1_ = 0;  // cells of the interior pass's rows
-  std::vector<MPI_Request> requests_;
 };
 
 template <class L>

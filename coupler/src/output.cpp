@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 namespace coflow::output {
 
@@ -267,12 +268,10 @@ void append_index(const std::string& dir, const std::string& component, const Sn
       text = ss.str();
     }
   }
-  if (text.empty()) {
-    text = "step,time,count";
-    for (const auto& f : fields) text += "," + f;
-    text += "\n";
-  }
-  text += fmt::format("{},{:.17g},{}\n", info.step, info.time, info.count);
+  if (text.empty()) text = "step,time,count,fields\n";
+  // The time to 12 significant digits: the rest is the round-off of adding
+  // windows (0.1, not 0.099999999999999992).
+  text += fmt::format("{},{:.12g},{},{}\n", info.step, info.time, info.count, fmt::join(fields, " "));
   atomic_write(path, text);
 }
 
@@ -287,14 +286,18 @@ IndexTable read_index(const std::string& path) {
   IndexTable t;
   std::ifstream in(path);
   std::string line;
-  if (!std::getline(in, line)) return t;
-  std::stringstream hs(line);
-  std::string col;
-  for (int i = 0; std::getline(hs, col, ','); ++i)
-    if (i >= 3) t.fields.push_back(col);
+  if (!std::getline(in, line)) return t;  // the header: step,time,count,fields
   while (std::getline(in, line)) {
     SnapshotInfo s;
-    if (std::sscanf(line.c_str(), "%ld,%lf,%zu", &s.step, &s.time, &s.count) == 3) t.rows.push_back(s);
+    if (std::sscanf(line.c_str(), "%ld,%lf,%zu", &s.step, &s.time, &s.count) != 3) continue;
+    t.rows.push_back(s);
+    if (!t.fields.empty()) continue;
+    std::size_t at = 0;
+    for (int commas = 0; commas < 3 && at != std::string::npos; ++commas) at = line.find(',', at == 0 ? 0 : at + 1);
+    if (at == std::string::npos) continue;
+    std::stringstream fs(line.substr(at + 1));
+    std::string f;
+    while (fs >> f) t.fields.push_back(f);
   }
   return t;
 }
@@ -311,7 +314,7 @@ void write_xdmf(const std::string& dir, const GridGeometry& grid) {
     x += "  <Grid Name=\"fluid\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
     for (const auto& s : fluid.rows) {
       const std::string file = "fluid/" + snapshot_name(s.step);
-      x += fmt::format("   <Grid Name=\"fluid\" GridType=\"Uniform\">\n    <Time Value=\"{:.17g}\"/>\n", s.time);
+      x += fmt::format("   <Grid Name=\"fluid\" GridType=\"Uniform\">\n    <Time Value=\"{:.12g}\"/>\n", s.time);
       x += fmt::format("    <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"{} {} {}\"/>\n", nz + 1, ny + 1, nx + 1);
       x += "    <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n";
       x += fmt::format("     <DataItem Format=\"XML\" Dimensions=\"3\">{:.17g} {:.17g} {:.17g}</DataItem>\n",
@@ -335,7 +338,7 @@ void write_xdmf(const std::string& dir, const GridGeometry& grid) {
     x += "  <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
     for (const auto& s : parts.rows) {
       const std::string file = "particles/" + snapshot_name(s.step);
-      x += fmt::format("   <Grid Name=\"particles\" GridType=\"Uniform\">\n    <Time Value=\"{:.17g}\"/>\n", s.time);
+      x += fmt::format("   <Grid Name=\"particles\" GridType=\"Uniform\">\n    <Time Value=\"{:.12g}\"/>\n", s.time);
       x += fmt::format("    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n", s.count);
       x += "    <Geometry GeometryType=\"XYZ\">\n";
       x += fmt::format("     <DataItem Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"{} 3\">{}:/position</DataItem>\n", s.count, file);

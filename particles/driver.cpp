@@ -76,7 +76,9 @@ void ParticleWindows::output(long w) {
   coupler::Timer t(coupler::trace().io_s);
   if (s_.series_due(w)) {
     const ParticleStats st = solver_->stats();
-    const double row[] = {solver_->time(), double(st.count), st.momentum[0], st.momentum[1], st.momentum[2],
+    // The window's end time, not the sum of the sub-steps (whose round-off
+    // would differ after a restart, which starts from w x window).
+    const double row[] = {w * s_.window(), double(st.count), st.momentum[0], st.momentum[1], st.momentum[2],
                           st.kinetic_energy, double(st.collisions), double(st.wall_collisions),
                           double(st.broken_bonds), st.rotational_energy};
     if (s_.rank() == 0) series_.row(row);

@@ -28,6 +28,7 @@
 #include "coflow/catalog.hpp"
 #include "coflow/output.hpp"
 #include "coflow/session.hpp"
+#include "restart.hpp"
 
 namespace fs = std::filesystem;
 using coflow::config::Config;
@@ -398,6 +399,9 @@ void prepare_run_directory(const Config& cfg, const std::string& dir, const std:
     for (const char* sub : {"fluid", "particles", "immersed", "series", "events", "logs"}) fs::remove_all(dir + "/" + sub, ec);
     fs::remove(dir + "/summary.json", ec);
     fs::remove(dir + "/run.xdmf", ec);
+  } else if (const std::string said = coflow::launcher::rewind_run_directory(cfg, dir, restart); !said.empty()) {
+    std::printf("coflow: restarting from %s: the run directory goes back to that time\n%s", restart.c_str(),
+                said.c_str());
   }
   fs::create_directories(dir);
   coflow::output::atomic_write(dir + "/config.yaml", YAML::Dump(cfg.resolved) + "\n");
@@ -551,18 +555,6 @@ int read_exe_overrides(const std::vector<std::string>& exes, std::map<std::strin
   return 0;
 }
 
-// --restart DIR must be a checkpoint; it is made absolute for the components.
-int check_restart(std::string& restart) {
-  if (restart.empty()) return 0;
-  if (!fs::is_regular_file(fs::path(restart) / "checkpoint.yaml")) {
-    std::cerr << "--restart " << restart << ": not a checkpoint (no checkpoint.yaml); checkpoints are the "
-              << "directories out/<name>/checkpoints/window_NNNNNN written with run.checkpoint.every\n";
-    return 2;
-  }
-  restart = fs::absolute(restart).string();
-  return 0;
-}
-
 // A failed run: name the component and its reason (from its own report, or
 // from logs/FAILED), write the summary, and return the launcher's exit status.
 int report_failure(const Config& cfg, const std::string& dir, Failure failure, int rc, double wall) {
@@ -594,7 +586,7 @@ int report_failure(const Config& cfg, const std::string& dir, Failure failure, i
 int run(const Config& cfg, RunOptions o) {
   std::map<std::string, std::string> exe_override;
   if (const int rc = read_exe_overrides(o.exes, exe_override); rc != 0) return rc;
-  if (const int rc = check_restart(o.restart); rc != 0) return rc;
+  if (const int rc = coflow::launcher::resolve_restart(cfg, o.restart); rc != 0) return rc;
 
   const Launch launch = plan(cfg, exe_override);
   const std::string dir = cfg.output_dir();
@@ -641,7 +633,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("config", o.cfg_path, "run configuration (YAML)")->required();
   run_cmd->add_flag("--dry-run", o.dry, "print the launch command and stop");
   run_cmd->add_option("--launcher", o.launcher, "mpirun (default) or srun")->check(CLI::IsMember({"mpirun", "srun"}));
-  run_cmd->add_option("--restart", o.restart, "restart from a checkpoint directory");
+  run_cmd->add_option("--restart", o.restart, "restart from a checkpoint directory, or latest (the run's newest)");
   run_cmd->add_option("--set", o.overrides, "override a key: --set fluid.lbm.tau=0.9 (repeatable)");
   run_cmd->add_option("--exe", o.exes, "use your own executable for a component: --exe fluid=PATH");
   run_cmd->add_flag("--strict", o.strict, "refuse to run when the pre-run report has a warning");

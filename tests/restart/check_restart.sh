@@ -22,3 +22,19 @@ diffs=$(echo "$m" | grep -E '^[a-z_]+_difference=')
 nonzero=$(echo "$diffs" | grep -vE '=0\.000000e\+00$')
 [ -z "$nonzero" ] || { echo "FAIL: the restarted run differs: $nonzero"; exit 1; }
 echo "restart from $(basename "$first") is bit-identical"
+# Restarting from the older checkpoint into the directory of the finished run
+# must not mix histories: the series and snapshot indexes are cut back to the
+# checkpoint, so after the rerun they equal the straight run's, bit for bit;
+# then --restart latest picks the run's newest checkpoint and changes nothing.
+same_series() {
+  for f in "$out"/straight/series/*.csv "$out"/straight/*/index.csv; do
+    rel=${f#"$out/straight/"}
+    cmp -s "$f" "$out/checkpointed/$rel" || { echo "FAIL ($1): $rel differs from the straight run's"; diff "$f" "$out/checkpointed/$rel" | head -5; exit 1; }
+  done
+}
+run "$out/checkpointed" --restart "$first" --set run.checkpoint.every="$every" --set run.checkpoint.keep=2 "$@"
+grep -q "the run directory goes back to that time" "$out/checkpointed.log" || { echo "FAIL: the rewind was not reported"; exit 1; }
+same_series "restart into the finished run's directory"
+run "$out/checkpointed" --restart latest --set run.checkpoint.every="$every" --set run.checkpoint.keep=2 "$@"
+same_series "--restart latest"
+echo "restart into the same directory keeps one history; --restart latest: ok"

@@ -1,0 +1,114 @@
+#include "restart.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <vector>
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include "coflow/output.hpp"
+
+namespace coflow::launcher {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The complete checkpoints of a run directory, oldest first.
+std::vector<fs::path> checkpoints(const std::string& dir) {
+  std::vector<fs::path> all;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir + "/checkpoints", ec)) {
+    const std::string n = e.path().filename().string();
+    if (e.is_directory() && n.rfind("window_", 0) == 0 && n.find(".partial") == std::string::npos &&
+        fs::is_regular_file(e.path() / "checkpoint.yaml"))
+      all.push_back(e.path());
+  }
+  std::sort(all.begin(), all.end());
+  return all;
+}
+
+// Keep the header and the rows whose first column passes `keep`; returns
+// how many rows went.
+template <class Keep>
+long cut_csv(const fs::path& path, Keep keep) {
+  std::ifstream in(path);
+  std::string line, text;
+  long cut = 0;
+  if (std::getline(in, line)) text = line + "\n";
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    if (keep(std::strtod(line.c_str(), nullptr)))
+      text += line + "\n";
+    else
+      ++cut;
+  }
+  in.close();
+  if (cut > 0) output::atomic_write(path.string(), text);
+  return cut;
+}
+
+}  // namespace
+
+int resolve_restart(const config::Config& cfg, std::string& restart) {
+  if (restart.empty()) return 0;
+  if (restart == "latest") {
+    const auto all = checkpoints(cfg.output_dir());
+    if (all.empty()) {
+      std::cerr << "--restart latest: no complete checkpoint in " << cfg.output_dir()
+                << "/checkpoints (set run.checkpoint.every to write them)\n";
+      return 2;
+    }
+    restart = all.back().string();
+  }
+  if (!fs::is_regular_file(fs::path(restart) / "checkpoint.yaml")) {
+    std::cerr << "--restart " << restart << ": not a checkpoint (no checkpoint.yaml); checkpoints are the "
+              << "directories out/<name>/checkpoints/window_NNNNNN written with run.checkpoint.every, or say latest\n";
+    return 2;
+  }
+  restart = fs::absolute(restart).lexically_normal().string();
+  return 0;
+}
+
+std::string rewind_run_directory(const config::Config& cfg, const std::string& dir, const std::string& restart) {
+  const YAML::Node c = YAML::LoadFile(restart + "/checkpoint.yaml");
+  const long w = c["window"].as<long>();
+  const double t = c["time"].as<double>();
+  const double tol = 1e-9 * std::max(1.0, std::abs(t));
+  std::string said;
+  std::error_code ec;
+  for (const char* sub : {"series", "events"})
+    for (const auto& e : fs::directory_iterator(dir + "/" + sub, ec))
+      if (e.path().extension() == ".csv")
+        if (const long n = cut_csv(e.path(), [&](double time) { return time <= t + tol; }); n > 0)
+          said += fmt::format("  {}: {} rows after t = {} s removed\n", e.path().string(), n, t);
+  for (const char* comp : {"fluid", "immersed", "particles"}) {
+    const fs::path index = fs::path(dir) / comp / "index.csv";
+    if (!fs::exists(index)) continue;
+    long gone = 0;
+    for (const auto& e : fs::directory_iterator(index.parent_path(), ec)) {
+      const std::string n = e.path().filename().string();
+      long step = -1;
+      if (std::sscanf(n.c_str(), "step_%ld.h5", &step) == 1 && step > w) fs::remove(e.path(), ec), ++gone;
+    }
+    cut_csv(index, [&](double step) { return step <= w + 0.5; });
+    if (gone > 0) said += fmt::format("  {}: {} snapshots after window {} removed\n", index.parent_path().string(), gone, w);
+  }
+  for (const auto& cp : checkpoints(dir))
+    if (cp.filename().string() > fmt::format("window_{:06d}", w)) {
+      fs::remove_all(cp, ec);
+      said += fmt::format("  {}: a later checkpoint, removed\n", cp.string());
+    }
+  const auto& d = cfg.domain;
+  const auto h = d.spacing();
+  if (!said.empty())
+    output::write_xdmf(dir, {{d.lower[0], d.lower[1], d.lower[2]}, {h[0], h[1], h[2]}, {d.cells[0], d.cells[1], d.cells[2]}});
+  return said;
+}
+
+}  // namespace coflow::launcher

@@ -171,6 +171,12 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
   v.section("contact", "soft-sphere contact law (dem)", [&](Visitor& s) { contact.visit(s); });
   v.section("collision", "hard-sphere collisions (dpm, seed 003 §3.2.4)", [&](Visitor& s) { collision.visit(s); });
   v.section("dispersion", "turbulent dispersion (dpm)", [&](Visitor& s) { dispersion.visit(s); });
+  v("coupling", coupling,
+    "dpm with immersed.method point: two-way (the particles' momentum source acts on the fluid, seed 003 eq. 3.43) "
+    "or one-way (the fluid does not feel the particles)",
+    config::one_of({"two-way", "one-way"}));
+  if (v.reading() && coupling == "one-way" && !point_particles)
+    v.fail("coupling", "one-way coupling is for point particles (particles.solver: dpm or dpm-reference)");
   v("forces", forces, "fluid forces on point particles (dpm), seed 003 eq. 3.29-3.30: any of gravity_buoyancy, drag, "
     "saffman_lift, magnus_lift, torque");
   if (v.reading())

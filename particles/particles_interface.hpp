@@ -121,6 +121,7 @@ struct ParticleParams {
   std::array<std::string, 6> boundaries{"", "", "", "", "", ""};  // per face; "" = default
   std::vector<InitialItem> initial;
   std::vector<InjectionParams> injection;  // dpm
+  std::string coupling = "two-way";        // dpm with point: two-way | one-way
   void visit(config::Visitor& v, const config::Config& cfg);
   void visit_boundaries(config::Visitor& v, const config::Config& cfg);
   void visit_initial(config::Visitor& v);

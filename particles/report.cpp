@@ -80,6 +80,13 @@ void report(const config::Config& cfg, const std::string& variant, config::Repor
   if (!p.injection.empty()) r.add("particles", "injection", fmt::format("{} inlet(s)", p.injection.size()));
   r.add("particles", "time step",
         p.time_step.is_auto ? std::string("auto (chosen at start, logged)") : config::number(p.time_step.value) + " s");
+  if (method == "point") {
+    const std::string fluid = cfg.component("fluid").variant;
+    r.add("particles", "coupling",
+          p.coupling == "one-way" ? std::string("one-way (particles.coupling): the fluid does not feel the particles")
+          : fluid == "analytic"   ? "one-way: fluid.solver analytic takes no momentum source"
+                                  : std::string("two-way (momentum source, seed 003 eq. 3.43)"));
+  }
   if (cfg.has("fluid")) report_resolution(p, cfg, method, r);
 }
 

@@ -8,6 +8,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
 #include "coflow/exchange.hpp"
 #include "coflow/finite.hpp"
 #include "coflow/log.hpp"
@@ -31,7 +33,7 @@ namespace {
 // known to be finite.
 class PointWindows final : public coupler::WindowParts {
  public:
-  PointWindows(coupler::Session& s, double rho, double mu);
+  PointWindows(coupler::Session& s, double rho, double mu, bool two_way);
   void before_step(long) override;   // 1, 2
   void step(long) override {}        // the particles and the fluid step
   void after_step(long w) override;  // 3, 4
@@ -49,6 +51,7 @@ class PointWindows final : public coupler::WindowParts {
   coupler::Session& s_;
   const config::DomainParams& dom_;
   double h_, rho_, mu_;
+  bool two_way_;  // the impulses are spread into the fluid's momentum source
   coupler::FieldExchange flow_in_, source_out_;
   coupler::PointExchange states_, impulses_;
   std::vector<double> flow_, source_;
@@ -58,12 +61,13 @@ class PointWindows final : public coupler::WindowParts {
   output::Series series_;
 };
 
-PointWindows::PointWindows(coupler::Session& s, double rho, double mu)
+PointWindows::PointWindows(coupler::Session& s, double rho, double mu, bool two_way)
     : s_(s),
       dom_(s.config().domain),
       h_(dom_.spacing()[0]),
       rho_(rho),
       mu_(mu),
+      two_way_(two_way),
       flow_in_(s.partner("fluid"), coupler::FieldExchange::Role::receiver, s.decomposition(), s.rank(),
                s.decomposition_of("fluid", s.partner_ranks("fluid")),
                coupler::FieldSpec{"flow", 5, coupler::Transfer::consistent, 2}, protocol::kTagFlow),
@@ -155,6 +159,7 @@ void PointWindows::after_step(long w) {
     std::memcpy(&r, records_.data() + p * sizeof r, sizeof r);
     const Stencil st = stencil(r.x, dom_, h_);
     for (int d = 0; d < 3; ++d) total_[d] += r.impulse[d] / s_.window();
+    if (!two_way_) continue;  // one-way: the fluid gets no source
     for (int c = 0; c < 8; ++c) {
       const long l = source_out_.local_index(st.cell[c]);
       for (int d = 0; d < 3; ++d)
@@ -184,8 +189,20 @@ void PointMethod::run(coupler::Session& s) {
     throw std::runtime_error("immersed.method point couples a fluid and particles: both sections must be present");
   const double rho = cfg.resolved["fluid"]["density"].as<double>();
   const double mu = rho * cfg.resolved["fluid"]["viscosity"].as<double>();
+  // One-way when asked, or when the fluid takes no momentum source (its
+  // contract: analytic is a prescribed flow).
+  const std::string fluid = cfg.component("fluid").variant;
+  const bool asked_one_way = config::resolved_text(cfg, {"particles", "coupling"}) == "one-way";
+  const bool fluid_takes = fluid != "analytic";
+  const bool two_way = !asked_one_way && fluid_takes;
+  log::info("point: {} coupling{}", two_way ? "two-way" : "one-way",
+            two_way ? " (the particles' momentum source acts on the fluid, seed 003 eq. 3.43)"
+                    : asked_one_way ? " (particles.coupling: one-way): the fluid does not feel the particles"
+                                    : fmt::format(" (fluid.solver {} takes no momentum source): the fluid does not "
+                                                  "feel the particles",
+                                                  fluid));
   s.negotiate_window(0.0);
-  PointWindows windows(s, rho, mu);
+  PointWindows windows(s, rho, mu, two_way);
   coupler::run_windows(s, windows);
 }
 

@@ -17,6 +17,23 @@ namespace coflow::particles {
 using config::Rule;
 using config::Visitor;
 
+dem::TriangleMesh load_mesh(const WallParams& w) {
+  dem::TriangleMesh m = dem::read_stl(w.mesh.path);
+  if (w.scale != 1.0 || w.translate[0] != 0.0 || w.translate[1] != 0.0 || w.translate[2] != 0.0)
+    dem::transform(m, w.scale, dem::V3(w.translate[0], w.translate[1], w.translate[2]));
+  return m;
+}
+
+std::string describe_mesh(const WallParams& w, const dem::TriangleMesh& m) {
+  const dem::MeshSummary s = dem::summarize(m);
+  const std::string scaled = w.scale != 1.0 ? fmt::format(", scaled by {}", w.scale) : "";
+  return fmt::format("{}: {} triangles, box ({:.4g}, {:.4g}, {:.4g}) to ({:.4g}, {:.4g}, {:.4g}) m{}, {}",
+                     std::filesystem::path(w.mesh.path).filename().string(), s.triangles, s.lower[0], s.lower[1],
+                     s.lower[2], s.upper[0], s.upper[1], s.upper[2], scaled,
+                     s.closed ? std::string("closed")
+                              : fmt::format("open ({} edges of one triangle: a one-sided surface)", s.open_edges));
+}
+
 double largest_diameter(const ParticleParams& p) {
   double d = 0.0;
   for (const auto& [name, sp] : p.species) {
@@ -96,6 +113,9 @@ void WallParams::visit(Visitor& v) {
   v("mesh", mesh, "a triangle mesh as a wall: an STL file (ASCII or binary), relative to this file");
   v("restitution", restitution, "restitution coefficient (hard-sphere dpm)", config::in_range(0.0, 1.0));
   v("friction", friction, "friction coefficient (default: the contact's for dem, the collision's for dpm)");
+  v("scale", scale, "mesh: factor applied to the file's coordinates (0.001 for a mesh drawn in millimetres)",
+    config::positive());
+  v("translate", translate, "mesh: shift in m applied after the scale");
   if (v.reading() && (face.empty() == mesh.empty()))
     v.fail("", "give exactly one of face (e.g. face: z-) or mesh (e.g. mesh: plate.stl)");
 }
@@ -331,7 +351,7 @@ void ParticleParams::check_files(Visitor& v) const {
       continue;
     }
     try {
-      dem::read_stl(w.mesh.path);
+      load_mesh(w);
     } catch (const std::exception& e) {
       v.fail("walls", fmt::format("not a usable STL mesh: {}", e.what()));
     }
@@ -426,7 +446,7 @@ void ParticleParams::check_meshes_inside(Visitor& v, const config::Config& cfg) 
     if (walls[n].mesh.empty()) continue;
     dem::TriangleMesh m;
     try {
-      m = dem::read_stl(walls[n].mesh.path);
+      m = load_mesh(walls[n]);
     } catch (const std::exception&) {
       continue;  // reported by visit()
     }

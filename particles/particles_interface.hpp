@@ -50,6 +50,8 @@ struct WallParams {
   config::FilePath mesh;    // STL file (triangle-mesh wall)
   double restitution = 1.0;
   double friction = -1.0;  // < 0: the contact friction
+  double scale = 1.0;      // mesh: factor on the file's coordinates
+  Vec3 translate{0, 0, 0}; // mesh: shift in m after the scale
   void visit(config::Visitor& v);
 };
 

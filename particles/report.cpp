@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "particles/dem/stl.hpp"
 #include "particles/particles_interface.hpp"
 #include "particles/schema.hpp"
 
@@ -87,6 +88,14 @@ void report(const config::Config& cfg, const std::string& variant, config::Repor
           : fluid == "analytic"   ? "one-way: fluid.solver analytic takes no momentum source"
                                   : std::string("two-way (momentum source, seed 003 eq. 3.43)"));
   }
+  for (const auto& w : p.walls)
+    if (!w.mesh.empty()) {
+      try {
+        r.add("particles", "mesh wall", describe_mesh(w, load_mesh(w)));
+      } catch (const std::exception&) {
+        // reported by validation
+      }
+    }
   if (cfg.has("fluid")) report_resolution(p, cfg, method, r);
 }
 

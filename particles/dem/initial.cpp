@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "coflow/log.hpp"
 #include "coflow/output.hpp"
 #include "particles/size_distribution.hpp"
 
@@ -194,8 +195,12 @@ DemSetup make_setup(const ParticleParams& p, const config::Config& cfg, const Pa
       }
     }
   }
-  for (const auto& w : p.walls)
-    if (!w.mesh.empty()) s.meshes.emplace_back(read_stl(w.mesh.path), w.friction >= 0 ? w.friction : c.friction);
+  for (const auto& w : p.walls) {
+    if (w.mesh.empty()) continue;
+    dem::TriangleMesh m = load_mesh(w);
+    log::info("mesh wall {}", describe_mesh(w, m));
+    s.meshes.emplace_back(std::move(m), w.friction >= 0 ? w.friction : c.friction);
+  }
   // Time step, seed 000 eqs 2.19-2.20, and no more than half a dense pack's
   // critical step (contact.hpp, automatic_step).
   const double k = std::max(c.normal_stiffness, c.shear_stiffness);

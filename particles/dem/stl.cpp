@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -56,6 +57,39 @@ TriangleMesh read_stl(const std::string& path) {
   if (!corners.empty()) throw std::runtime_error(fmt::format("{}: a facet with fewer than three vertices", path));
   if (m.triangles.empty()) throw std::runtime_error(fmt::format("{}: the ASCII STL holds no facet", path));
   return m;
+}
+
+void transform(TriangleMesh& m, double scale, const V3& shift) {
+  for (auto& x : m.vertices) x = scale * x + shift;
+}
+
+MeshSummary summarize(const TriangleMesh& m) {
+  MeshSummary s;
+  s.triangles = m.triangles.size();
+  if (!m.vertices.empty()) s.lower = s.upper = m.vertices.front();
+  for (const auto& x : m.vertices) {
+    s.lower = s.lower.cwiseMin(x);
+    s.upper = s.upper.cwiseMax(x);
+  }
+  // Vertices are matched by position (an STL repeats them per facet).
+  std::map<std::array<double, 3>, int> id;
+  auto key = [&](int v) {
+    const auto& x = m.vertices[static_cast<std::size_t>(v)];
+    return id.emplace(std::array<double, 3>{x[0], x[1], x[2]}, static_cast<int>(id.size())).first->second;
+  };
+  std::map<std::pair<int, int>, int> edges;
+  for (const auto& t : m.triangles)
+    for (int e = 0; e < 3; ++e) {
+      const int a = key(t[e]), b = key(t[(e + 1) % 3]);
+      ++edges[{std::min(a, b), std::max(a, b)}];
+    }
+  bool two = !edges.empty();
+  for (const auto& [edge, count] : edges) {
+    two = two && count == 2;
+    if (count == 1) ++s.open_edges;
+  }
+  s.closed = two;
+  return s;
 }
 
 }  // namespace coflow::particles::dem

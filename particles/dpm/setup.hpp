@@ -13,6 +13,8 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+
+#include "coflow/log.hpp"
 #include <vector>
 
 #include <fmt/format.h>
@@ -96,7 +98,9 @@ inline DpmSetup make_setup(const ParticleParams& p, const config::Config& cfg) {
   }
   for (const auto& w : p.walls)
     if (!w.mesh.empty()) {
-      s.meshes.push_back(std::make_shared<const dem::MeshWall>(dem::read_stl(w.mesh.path), w.friction));
+      dem::TriangleMesh m = load_mesh(w);
+      log::info("mesh wall {}", describe_mesh(w, m));
+      s.meshes.push_back(std::make_shared<const dem::MeshWall>(std::move(m), w.friction));
       s.mesh_law.push_back({w.restitution, w.friction >= 0 ? w.friction : p.collision.friction});
     }
   // Without a coupling partner the particles see the fluid section's fluid, at rest.

@@ -84,3 +84,24 @@ TEST_CASE("a flat mesh acts as one plane: one contact, whichever triangles", "[m
   wall.contacts(V3(0.5, 0.5, 0.2), 0.1, hits);
   CHECK(hits.empty());
 }
+
+TEST_CASE("mesh summary: triangles, box, closedness; scale and translate", "[mesh]") {
+  // A tetrahedron is closed: each of its 6 edges belongs to 2 of its 4 faces.
+  TriangleMesh tet;
+  tet.vertices = {V3(0, 0, 0), V3(1, 0, 0), V3(0, 1, 0), V3(0, 0, 1)};
+  tet.triangles = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  MeshSummary s = summarize(tet);
+  CHECK(s.triangles == 4);
+  CHECK(s.closed);
+  CHECK(s.open_edges == 0);
+  // Without one face it is open: the three edges of the missing face are single.
+  tet.triangles.pop_back();
+  s = summarize(tet);
+  CHECK_FALSE(s.closed);
+  CHECK(s.open_edges == 3);
+  // A mesh drawn in millimetres, brought to metres and moved: x -> 0.001 x + (1, 2, 3).
+  transform(tet, 0.001, V3(1, 2, 3));
+  s = summarize(tet);
+  CHECK(s.lower.isApprox(V3(1, 2, 3), 1e-15));
+  CHECK(s.upper.isApprox(V3(1.001, 2.001, 3.001), 1e-15));
+}

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "coflow/output.hpp"
 #include "particles/dem/stl.hpp"
 #include "particles/particles_interface.hpp"
 #include "particles/schema.hpp"
@@ -71,6 +72,42 @@ void report_resolution(const ParticleParams& p, const config::Config& cfg, const
   }
 }
 
+// initial: file takes the radii of the file; say where they differ from what
+// the species declare (the file's are used).
+void report_initial_files(const ParticleParams& p, config::Report& r) {
+  for (std::size_t n = 0; n < p.initial.size(); ++n) {
+    const auto& it = p.initial[n];
+    if (it.kind != "file") continue;
+    std::vector<double> radius, species;
+    try {
+      radius = output::read_dataset(it.path.path, "radius");
+      species = output::read_dataset(it.path.path, "species");
+    } catch (const std::exception&) {
+      continue;  // reported when the particles start
+    }
+    std::size_t off = 0;
+    std::string example;
+    for (std::size_t k = 0; k < radius.size() && k < species.size(); ++k) {
+      const auto sk = static_cast<std::size_t>(species[k]);
+      if (sk >= p.species.size()) continue;
+      const auto& d = p.species[sk].second.diameter;
+      const double D = 2.0 * radius[k];
+      const bool fits = d.kind == config::Distribution::Kind::fixed     ? std::abs(D - d.a) <= 1e-9 * d.a
+                        : d.kind == config::Distribution::Kind::uniform ? D >= d.a * (1 - 1e-9) && D <= d.b * (1 + 1e-9)
+                                                                        : true;
+      if (fits) continue;
+      if (off++ == 0)
+        example = fmt::format("diameter {} m where species '{}' says {} m", config::number(D), p.species[sk].first,
+                              config::number(d.mean()));
+    }
+    r.add("particles", fmt::format("initial item {}", n), fmt::format("{} particles from {}", radius.size(), it.path.path));
+    if (off > 0)
+      r.warn("particles", fmt::format("initial item {}: {} of the {} particles of {} have other diameters than their "
+                                      "species (e.g. {}); the file's radii are used",
+                                      n, off, radius.size(), it.path.path, example));
+  }
+}
+
 }  // namespace
 
 void report(const config::Config& cfg, const std::string& variant, config::Report& r) {
@@ -78,6 +115,7 @@ void report(const config::Config& cfg, const std::string& variant, config::Repor
   const ParticleParams p = read_particles(cfg, variant);
   const std::string method = cfg.has("immersed") ? cfg.component("immersed").variant : "";
   r.add("particles", "initial particles", initial_count(p));
+  report_initial_files(p, r);
   if (!p.injection.empty()) r.add("particles", "injection", fmt::format("{} inlet(s)", p.injection.size()));
   r.add("particles", "time step",
         p.time_step.is_auto ? std::string("auto (chosen at start, logged)") : config::number(p.time_step.value) + " s");

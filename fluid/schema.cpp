@@ -67,6 +67,22 @@ void visit_variant_sections(config::Visitor& v, const config::Config& cfg, const
   }
 }
 
+// A face of a non-periodic axis (of more than one cell) that the file leaves out
+// is a wall (FluidParams::boundary): the resolved file says so.
+void resolve(config::Config& cfg, const std::string& variant) {
+  if (variant == "external") return;
+  const auto& d = cfg.domain;
+  for (int f = 0; f < 6; ++f) {
+    const int axis = f / 2;
+    if (d.periodic[axis] || d.cells[axis] == 1) continue;
+    YAML::Node b = cfg.resolved["fluid"]["boundaries"][face_names()[f]];
+    if (b.IsDefined() && !b.IsNull()) continue;
+    b["type"] = "wall";
+    b["ramp"] = 0;
+    b["closure"] = "auto";
+  }
+}
+
 }  // namespace
 
 config::ComponentSchema schema() {
@@ -79,6 +95,7 @@ config::ComponentSchema schema() {
   s.writes = writes;
   s.contract = contract;
   s.report = report;
+  s.resolve = resolve;
   s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);
     const bool known = std::any_of(variant_schemas().begin(), variant_schemas().end(),

@@ -200,6 +200,8 @@ Config parse_config_node(YAML::Node root, const std::string& file, const Catalog
   cfg.resolved = r.resolved();
   if (r.problems().empty()) check_contracts(r, cfg, catalog);
   r.check();
+  for (const auto& schema : catalog)
+    if (schema.resolve && cfg.has(schema.section)) schema.resolve(cfg, cfg.component(schema.section).variant);
   cfg.resolved["run"]["output"]["dir"] = cfg.output_dir();
   return cfg;
 }

@@ -85,6 +85,10 @@ struct ComponentSchema {
   std::function<Contract(const Config&, const std::string& variant)> contract;
   // The component's part of the pre-run report (coflow/report.hpp); unset: none.
   std::function<void(const Config&, const std::string& variant, Report&)> report;
+  // Write into cfg.resolved what the variant takes by default but the schema
+  // leaves out (e.g. the boundaries of faces not given), so that the resolved
+  // file shows it. Unset: nothing to add.
+  std::function<void(Config&, const std::string& variant)> resolve;
 };
 
 using Catalog = std::vector<ComponentSchema>;

@@ -142,4 +142,7 @@ fluid:
   CHECK(c.hash != a.hash);  // another text
   CHECK_FALSE(a.resolved["fluid"]["boundaries"]["x-"]["value"].IsDefined());
   CHECK(a.resolved["fluid"]["boundaries"]["x+"]["value"].as<double>() == 2.5);
+  // Faces the file leaves out are walls, and the resolved file says so.
+  for (const char* face : {"y+", "z-", "z+"})
+    CHECK(a.resolved["fluid"]["boundaries"][face]["type"].as<std::string>() == "wall");
 }

@@ -8,8 +8,13 @@
 namespace coflow::fluid {
 
 void BoundaryParams::visit(config::Visitor& v) {
-  v.required("type", type, "boundary type", config::one_of({"wall", "pressure", "velocity", "outflow"}));
-  v("value", value, "pressure in Pa (type pressure) or velocity [u, v, w] in m/s (type velocity)");
+  v.required("type", type,
+             "wall (lbm: half-way bounce-back, the wall half a cell beyond the centres of the face's cells), "
+             "pressure or velocity (lbm: imposed at the centres of the face's cells), or outflow (zero gradient)",
+             config::one_of({"wall", "pressure", "velocity", "outflow"}));
+  v("value", value,
+    "pressure in Pa, relative to the reference pressure (type pressure), or velocity [u, v, w] in m/s (type "
+    "velocity)");
   v("ramp", ramp,
     "s: the value rises linearly from zero (gauge pressure 0, fluid at rest) to `value` over this time, instead of "
     "starting at once",

@@ -108,6 +108,31 @@ void write_long_attr(hid_t obj, const char* name, long v) {
   H5Sclose(s);
 }
 
+void write_string_attr(hid_t obj, const char* name, const std::string& v) {
+  if (v.empty()) return;
+  hid_t t = H5Tcopy(H5T_C_S1);
+  H5Tset_size(t, v.size());
+  H5Tset_strpad(t, H5T_STR_NULLPAD);
+  hid_t s = H5Screate(H5S_SCALAR);
+  hid_t a = H5Acreate2(obj, name, t, s, H5P_DEFAULT, H5P_DEFAULT);
+  h5check(H5Awrite(a, t, v.data()), "writing an attribute");
+  H5Aclose(a);
+  H5Sclose(s);
+  H5Tclose(t);
+}
+
+// The SI units of the datasets coflow writes (docs/output.md), an attribute
+// "units" of each; "" for a name it does not know.
+std::string units_of(const std::string& name) {
+  static const std::map<std::string, std::string> u{
+      {"velocity", "m/s"},       {"pressure", "Pa"},       {"density", "kg/m^3"},   {"solid_fraction", "1"},
+      {"vorticity", "1/s"},      {"k", "m^2/s^2"},         {"epsilon", "m^2/s^3"},  {"momentum_source", "N/m^3"},
+      {"position", "m"},         {"angular_velocity", "rad/s"}, {"radius", "m"},  {"force", "N"},
+      {"id", "1"},               {"species", "1"},         {"populations", "lattice units"}};
+  const auto it = u.find(name);
+  return it == u.end() ? "" : it->second;
+}
+
 // Write `local` (this rank's part, starting at `offset`) into a new dataset.
 void write_block(hid_t file, const std::string& name, hid_t type, const std::vector<hsize_t>& global,
                  const std::vector<hsize_t>& offset, const std::vector<hsize_t>& count,
@@ -116,6 +141,7 @@ void write_block(hid_t file, const std::string& name, hid_t type, const std::vec
   hid_t fs_ = H5Screate_simple(rank, global.data(), nullptr);
   hid_t ds = check_id(H5Dcreate2(file, name.c_str(), type, fs_, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                       ("creating dataset " + name).c_str());
+  write_string_attr(ds, "units", units_of(name));
   hsize_t n = 1;
   for (auto c : count) n *= c;
   hid_t ms = H5Screate_simple(rank, count.data(), nullptr);
@@ -164,6 +190,8 @@ void write_grid(MPI_Comm comm, const std::string& path, double time, long step,
   hid_t f = create_parallel(comm, tmp);
   write_scalar_attr(f, "time", time);
   write_long_attr(f, "step", step);
+  write_string_attr(f, "time_units", "s");
+  write_string_attr(f, "layout", "[nz][ny][nx] or [nz][ny][nx][component], x fastest; cell centres");
   const long nx = owned.extent(0), ny = owned.extent(1), nz = owned.extent(2);
   const long lx = local.extent(0), ly = local.extent(1);
   std::vector<double> buf;
@@ -192,7 +220,7 @@ void write_grid(MPI_Comm comm, const std::string& path, double time, long step,
 
 void write_points(MPI_Comm comm, const std::string& path, double time, long step, std::size_t count,
                   std::span<const std::int64_t> id, std::span<const std::int32_t> species,
-                  const std::vector<PointField>& fields) {
+                  const std::vector<PointField>& fields, const std::vector<std::string>& species_names) {
   unsigned long long n = count, offset = 0, total = 0;
   MPI_Exscan(&n, &offset, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
   int rank = 0;
@@ -205,6 +233,9 @@ void write_points(MPI_Comm comm, const std::string& path, double time, long step
   write_long_attr(f, "step", step);
   write_block(f, "id", H5T_NATIVE_INT64, {total}, {offset}, {n}, id.data());
   write_block(f, "species", H5T_NATIVE_INT32, {total}, {offset}, {n}, species.data());
+  write_string_attr(f, "time_units", "s");
+  // The species table: index i of "species" is the i-th name (comma-separated).
+  write_string_attr(f, "species_names", fmt::format("{}", fmt::join(species_names, ",")));
   for (const auto& fld : fields) {
     std::vector<hsize_t> g{total}, off{offset}, cnt{n};
     if (fld.components > 1) {

@@ -8,3 +8,14 @@ rm -rf "$out"
 grep -q '"status": "ok"' "$out/summary.json" || { echo "FAIL: summary status"; cat "$out/summary.json"; exit 1; }
 [ -n "$pv" ] && [ -x "$pv" ] || { echo "FAIL: pvpython not found (install python3-paraview)"; exit 1; }
 "$pv" --force-offscreen-rendering "$script" "$out"
+# Every dataset carries its SI units, and particle files their species table.
+fluid=$(ls "$out"/fluid/step_*.h5 2>/dev/null | tail -n 1)
+if [ -n "$fluid" ]; then
+  h5dump -a /velocity/units "$fluid" | grep -q '"m/s"' || { echo "FAIL: $fluid: velocity has no units attribute m/s"; exit 1; }
+fi
+particles=$(ls "$out"/particles/step_*.h5 2>/dev/null | tail -n 1)
+if [ -n "$particles" ]; then
+  h5dump -a /position/units "$particles" | grep -q '"m"' || { echo "FAIL: $particles: position has no units m"; exit 1; }
+  h5dump -a /species_names "$particles" | grep -q 'DATA' || { echo "FAIL: $particles: no species_names"; exit 1; }
+fi
+echo "units and species names in the HDF5 files: ok"

@@ -55,10 +55,11 @@ struct PointField {
   std::span<const double> data;
 };
 
-// Collective over `comm`: each rank contributes its `count` points.
+// Collective over `comm`: each rank contributes its `count` points. The file
+// records `species_names` (species i is the i-th) and every dataset's units.
 void write_points(MPI_Comm comm, const std::string& path, double time, long step, std::size_t count,
                   std::span<const std::int64_t> id, std::span<const std::int32_t> species,
-                  const std::vector<PointField>& fields);
+                  const std::vector<PointField>& fields, const std::vector<std::string>& species_names = {});
 
 // Read back (serial) for restarts, tests and initial conditions.
 std::vector<double> read_dataset(const std::string& path, const std::string& name,

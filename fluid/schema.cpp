@@ -86,21 +86,15 @@ void resolve(config::Config& cfg, const std::string& variant) {
 }  // namespace
 
 config::ComponentSchema schema() {
-  config::ComponentSchema s;
-  s.section = "fluid";
-  s.selector = "solver";
-  for (const auto& e : variant_schemas()) s.variants.push_back(e.name);
-  s.variants.push_back("external");
-  s.doc = "the fluid component (omit the section, or solver: none, for no fluid)";
+  config::ComponentSchema s = component_schema("fluid", "solver", variant_schemas(),
+                                                "the fluid component (omit the section, or solver: none, for no fluid)");
   s.writes = writes;
   s.contract = contract;
   s.report = report;
   s.resolve = resolve;
   s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);
-    const bool known = std::any_of(variant_schemas().begin(), variant_schemas().end(),
-                                   [&](const VariantSchema& e) { return e.name == info.variant; });
-    if (v.reading() && !known) {  // external, none, or a wrong name reported above
+    if (v.reading() && !has_variant(variant_schemas(), info.variant)) {  // external, none, or a wrong name reported above
       v.accept_other_keys();  // checked by the external executable itself
       return;
     }

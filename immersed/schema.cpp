@@ -44,18 +44,12 @@ config::Contract contract(const config::Config&, const std::string& variant) {
 }  // namespace
 
 config::ComponentSchema schema() {
-  config::ComponentSchema s;
-  s.section = "immersed";
-  s.selector = "method";
-  for (const auto& e : variant_schemas()) s.variants.push_back(e.name);
-  s.variants.push_back("external");
-  s.doc = "the coupling between particles and the fluid grid: psm or point";
+  config::ComponentSchema s = component_schema("immersed", "method", variant_schemas(),
+                                                "the coupling between particles and the fluid grid: psm or point");
   s.contract = contract;
   s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);
-    const bool known = std::any_of(variant_schemas().begin(), variant_schemas().end(),
-                                   [&](const VariantSchema& e) { return e.name == info.variant; });
-    if (v.reading() && !known) {  // external, none, or a wrong name reported above
+    if (v.reading() && !has_variant(variant_schemas(), info.variant)) {  // external, none, or a wrong name reported above
       v.accept_other_keys();
       return;
     }

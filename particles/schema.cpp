@@ -58,19 +58,13 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
 }  // namespace
 
 config::ComponentSchema schema() {
-  config::ComponentSchema s;
-  s.section = "particles";
-  s.selector = "solver";
-  for (const auto& e : variant_schemas()) s.variants.push_back(e.name);
-  s.variants.push_back("external");
-  s.doc = "the particle component: soft-sphere DEM (dem) or point particles (dpm, dpm-reference)";
+  config::ComponentSchema s = component_schema("particles", "solver", variant_schemas(),
+                                                "the particle component: soft-sphere DEM (dem) or point particles (dpm, dpm-reference)");
   s.contract = contract;
   s.report = report;
   s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);
-    const bool known = std::any_of(variant_schemas().begin(), variant_schemas().end(),
-                                   [&](const VariantSchema& e) { return e.name == info.variant; });
-    if (v.reading() && !known) {
+    if (v.reading() && !has_variant(variant_schemas(), info.variant)) {
       v.accept_other_keys();  // external or none: checked by that executable
       return;
     }

@@ -219,22 +219,16 @@ void describe_config(Visitor& v, const Catalog& catalog) {
 }
 
 // By recursion on const nodes: reassigning a YAML::Node would rebind the tree.
-static std::string text_at(const YAML::Node& n, const std::vector<std::string>& path, std::size_t i) {
-  if (i == path.size()) return n.IsScalar() ? n.Scalar() : "";
-  if (!n.IsMap()) return "";
-  const YAML::Node child = n[path[i]];
-  return child ? text_at(child, path, i + 1) : "";
-}
-
-std::string resolved_text(const Config& cfg, const std::vector<std::string>& path) {
-  return text_at(cfg.resolved, path, 0);
-}
-
 static YAML::Node node_at(const YAML::Node& n, const std::vector<std::string>& path, std::size_t i) {
   if (i == path.size()) return n;
   if (!n.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
   const YAML::Node child = n[path[i]];
   return child ? node_at(child, path, i + 1) : YAML::Node(YAML::NodeType::Undefined);
+}
+
+std::string resolved_text(const Config& cfg, const std::vector<std::string>& path) {
+  const YAML::Node n = node_at(cfg.resolved, path, 0);
+  return n.IsScalar() ? n.Scalar() : "";
 }
 
 YAML::Node resolved_node(const Config& cfg, const std::string& dotted_path) {

@@ -18,6 +18,7 @@
 #include "coflow/session.hpp"
 #include "coflow/trace.hpp"
 #include "coflow/window_loop.hpp"
+#include "immersed/series.hpp"
 #include "particles/particles_interface.hpp"
 
 namespace coflow::immersed {
@@ -58,7 +59,7 @@ class PointWindows final : public coupler::WindowParts {
   std::vector<std::byte> records_, results_;
   std::vector<std::uint8_t> owned_flags_;
   double total_[3] = {0, 0, 0};
-  output::Series series_;
+  ImmersedSeries series_;
 };
 
 PointWindows::PointWindows(coupler::Session& s, double rho, double mu, bool two_way)
@@ -80,13 +81,9 @@ PointWindows::PointWindows(coupler::Session& s, double rho, double mu, bool two_
       impulses_(s.partner("particles"), coupler::PointExchange::Role::destination, s.decomposition(), dom_.lower,
                 dom_.spacing(), sizeof(protocol::ParticleImpulse), sizeof(double), protocol::kTagImpulse, 0),
       flow_(flow_in_.local_size()),
-      source_(source_out_.local_size()) {
+      source_(source_out_.local_size()),
+      series_(s) {
   log::info("point: trilinear interpolation and spreading, fluid rho {:.4g} kg/m^3, mu {:.4g} Pa s", rho, mu);
-  if (s.rank() == 0)
-    series_ = output::Series(s.output_dir() + "/series/immersed.csv",
-                             {"time", "force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z",
-                              "solid_volume"},
-                             s.restart_window() > 0);
 }
 
 double PointWindows::value(Index3 g, int comp) const {
@@ -174,11 +171,8 @@ void PointWindows::after_step(long w) {
 }
 
 void PointWindows::output(long w) {
-  if (w == 0 || !s_.series_due(w)) return;
-  double sum[3];
-  MPI_Reduce(total_, sum, 3, MPI_DOUBLE, MPI_SUM, 0, s_.comm());
-  const double row[] = {w * s_.window(), sum[0], sum[1], sum[2], 0.0, 0.0, 0.0, 0.0};
-  if (s_.rank() == 0) series_.row(row);
+  const double total[7] = {total_[0], total_[1], total_[2], 0.0, 0.0, 0.0, 0.0};  // no torque, no solid volume
+  series_.write(w, total);
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "coflow/session.hpp"
 #include "coflow/trace.hpp"
 #include "coflow/window_loop.hpp"
+#include "immersed/series.hpp"
 #include "particles/particles_interface.hpp"
 
 namespace coflow::immersed {
@@ -110,7 +111,7 @@ class PsmWindows final : public coupler::WindowParts {
   std::vector<std::pair<Index3, double>> touched_;
   double solid_volume_ = 0.0;
   double total_[7] = {};
-  output::Series series_;
+  ImmersedSeries series_;
 };
 
 PsmWindows::PsmWindows(coupler::Session& s, const PsmParams& p, int ghost)
@@ -129,14 +130,10 @@ PsmWindows::PsmWindows(coupler::Session& s, const PsmParams& p, int ghost)
       from_fluid_(s.partner("fluid"), coupler::FieldExchange::Role::receiver, s.decomposition(), s.rank(),
                   s.decomposition_of("fluid", s.partner_ranks("fluid")),
                   coupler::FieldSpec{"solid_force", 3, coupler::Transfer::consistent, 0}, protocol::kTagSolidForce),
-      slot_of_(static_cast<std::size_t>(owned_.volume()), -1) {
+      slot_of_(static_cast<std::size_t>(owned_.volume()), -1),
+      series_(s) {
   log::info("psm: {} octree levels, ghost layer {} cells, buoyancy {}", p_.refinement, ghost,
             p_.buoyancy ? "on" : "off");
-  if (s.rank() == 0)
-    series_ = output::Series(s.output_dir() + "/series/immersed.csv",
-                             {"time", "force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z",
-                              "solid_volume"},
-                             s.restart_window() > 0);
 }
 
 void PsmWindows::before_step(long) {
@@ -275,13 +272,7 @@ void PsmWindows::after_step(long w) {
   coupler::trace().steps = w;
 }
 
-void PsmWindows::output(long w) {
-  if (w == 0 || !s_.series_due(w)) return;
-  double sum[7];
-  MPI_Reduce(total_, sum, 7, MPI_DOUBLE, MPI_SUM, 0, s_.comm());
-  const double row[] = {w * s_.window(), sum[0], sum[1], sum[2], sum[3], sum[4], sum[5], sum[6]};
-  if (s_.rank() == 0) series_.row(row);
-}
+void PsmWindows::output(long w) { series_.write(w, total_); }
 
 }  // namespace
 

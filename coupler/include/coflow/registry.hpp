@@ -52,6 +52,24 @@ const VariantSchema& find_variant(const List& list, const std::string& name) {
   return *it;
 }
 
+template <class List>
+bool has_variant(const List& list, const std::string& name) {
+  return std::any_of(list.begin(), list.end(), [&](const VariantSchema& e) { return e.name == name; });
+}
+
+// The parts of a component's schema every component fills alike: its section,
+// selector key, variant names (plus "external") and doc.
+inline config::ComponentSchema component_schema(std::string section, std::string selector,
+                                                const std::vector<VariantSchema>& variants, std::string doc) {
+  config::ComponentSchema s;
+  s.section = std::move(section);
+  s.selector = std::move(selector);
+  for (const auto& e : variants) s.variants.push_back(e.name);
+  s.variants.push_back("external");
+  s.doc = std::move(doc);
+  return s;
+}
+
 // Interface::Setup is what every variant of a family is constructed from. A
 // variant T provides `T::Params` (the struct its VariantSchema reads) and
 // `T(const Interface::Setup&, const T::Params&)`.

@@ -410,14 +410,7 @@ void prepare_run_directory(const Config& cfg, const std::string& dir, const std:
 // After Ctrl-C (or SIGTERM): what was written, and how to go on from it.
 int report_interrupted(const std::string& cfg_path, const std::vector<std::string>& overrides, const std::string& dir,
                        int rc, double wall, const Config& cfg) {
-  std::vector<std::string> checkpoints;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(dir + "/checkpoints", ec)) {
-    const std::string n = e.path().filename().string();
-    if (e.is_directory() && n.rfind("window_", 0) == 0 && n.find(".partial") == std::string::npos)
-      checkpoints.push_back(e.path().string());
-  }
-  std::sort(checkpoints.begin(), checkpoints.end());
+  const std::vector<std::string> checkpoints = coflow::coupler::complete_checkpoints(dir);
   write_failed_summary(cfg, {"", "", fmt::format("interrupted by signal {} after {:.1f} s", int(g_interrupted), wall)},
                        rc, wall);
   std::fprintf(stderr, "\ncoflow: interrupted after %.1f s; snapshots and series written so far are in %s/\n", wall,

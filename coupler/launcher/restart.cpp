@@ -12,26 +12,13 @@
 #include <yaml-cpp/yaml.h>
 
 #include "coflow/output.hpp"
+#include "coflow/run_directory.hpp"
 
 namespace coflow::launcher {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-// The complete checkpoints of a run directory, oldest first.
-std::vector<fs::path> checkpoints(const std::string& dir) {
-  std::vector<fs::path> all;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(dir + "/checkpoints", ec)) {
-    const std::string n = e.path().filename().string();
-    if (e.is_directory() && n.rfind("window_", 0) == 0 && n.find(".partial") == std::string::npos &&
-        fs::is_regular_file(e.path() / "checkpoint.yaml"))
-      all.push_back(e.path());
-  }
-  std::sort(all.begin(), all.end());
-  return all;
-}
 
 // Keep the header and the rows whose first column passes `keep`; returns
 // how many rows went.
@@ -58,13 +45,13 @@ long cut_csv(const fs::path& path, Keep keep) {
 int resolve_restart(const config::Config& cfg, std::string& restart) {
   if (restart.empty()) return 0;
   if (restart == "latest") {
-    const auto all = checkpoints(cfg.output_dir());
+    const auto all = coupler::complete_checkpoints(cfg.output_dir());
     if (all.empty()) {
       std::cerr << "--restart latest: no complete checkpoint in " << cfg.output_dir()
                 << "/checkpoints (set run.checkpoint.every to write them)\n";
       return 2;
     }
-    restart = all.back().string();
+    restart = all.back();
   }
   if (!fs::is_regular_file(fs::path(restart) / "checkpoint.yaml")) {
     std::cerr << "--restart " << restart << ": not a checkpoint (no checkpoint.yaml); checkpoints are the "
@@ -99,10 +86,10 @@ std::string rewind_run_directory(const config::Config& cfg, const std::string& d
     cut_csv(index, [&](double step) { return step <= w + 0.5; });
     if (gone > 0) said += fmt::format("  {}: {} snapshots after window {} removed\n", index.parent_path().string(), gone, w);
   }
-  for (const auto& cp : checkpoints(dir))
-    if (cp.filename().string() > fmt::format("window_{:06d}", w)) {
+  for (const auto& cp : coupler::complete_checkpoints(dir))
+    if (fs::path(cp).filename().string() > fmt::format("window_{:06d}", w)) {
       fs::remove_all(cp, ec);
-      said += fmt::format("  {}: a later checkpoint, removed\n", cp.string());
+      said += fmt::format("  {}: a later checkpoint, removed\n", cp);
     }
   const auto& d = cfg.domain;
   const auto h = d.spacing();

@@ -15,6 +15,18 @@ namespace coflow::coupler {
 
 namespace fs = std::filesystem;
 
+std::vector<std::string> complete_checkpoints(const std::string& run_dir) {
+  std::vector<std::string> all;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(run_dir + "/checkpoints", ec)) {
+    const std::string n = e.path().filename().string();
+    if (e.is_directory() && n.rfind("window_", 0) == 0 && n.find(".partial") == std::string::npos)
+      all.push_back(e.path().string());
+  }
+  std::sort(all.begin(), all.end());
+  return all;
+}
+
 RunDirectory::RunDirectory(const std::string& component, const config::Config& cfg, MPI_Comm comm, int rank,
                            int world_rank)
     : component_(component), cfg_(cfg), comm_(comm), rank_(rank), world_rank_(world_rank), dir_(cfg.output_dir()) {
@@ -58,13 +70,7 @@ void RunDirectory::end_checkpoint(long w, double window) const {
     fs::remove_all(base);
     fs::rename(base + ".partial", base);
     // Keep the newest run.checkpoint.keep checkpoints.
-    std::vector<std::string> all;
-    for (const auto& e : fs::directory_iterator(dir_ + "/checkpoints")) {
-      const std::string n = e.path().filename().string();
-      if (e.is_directory() && n.rfind("window_", 0) == 0 && n.find(".partial") == std::string::npos)
-        all.push_back(e.path().string());
-    }
-    std::sort(all.begin(), all.end());
+    const std::vector<std::string> all = complete_checkpoints(dir_);
     const std::size_t keep = static_cast<std::size_t>(cfg_.run.checkpoint.keep);
     for (std::size_t i = 0; i + keep < all.size(); ++i) fs::remove_all(all[i]);
     log::info("checkpoint written: {}", base);

@@ -13,6 +13,10 @@
 
 namespace coflow::coupler {
 
+// The complete checkpoints of a run directory (checkpoints/window_NNNNNN, not
+// .partial), oldest first.
+std::vector<std::string> complete_checkpoints(const std::string& run_dir);
+
 class RunDirectory {
  public:
   // Collective over the component: creates the folders, writes config.yaml

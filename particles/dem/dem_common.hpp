@@ -71,56 +71,6 @@ inline std::vector<std::pair<std::int64_t, std::int64_t>> bonds_from_file(const 
 
 // The event log both DEM variants keep (off until enabled): pairs touching for
 // the first time and bonds failing.
-// Variable-size all-to-all of doubles on a communicator: out[r] goes to rank r;
-// what every rank sent here lands in `in`, in rank order.
-inline void exchange(MPI_Comm comm, std::vector<std::vector<double>>& out, std::vector<double>& in) {
-  const int size = static_cast<int>(out.size());
-  std::vector<int> sc(size), rc(size), sd(size), rd(size);
-  for (int r = 0; r < size; ++r) sc[r] = static_cast<int>(out[r].size());
-  MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, comm);
-  std::vector<double> flat;
-  int ts = 0, tr = 0;
-  for (int r = 0; r < size; ++r) {
-    sd[r] = ts;
-    ts += sc[r];
-    rd[r] = tr;
-    tr += rc[r];
-    flat.insert(flat.end(), out[r].begin(), out[r].end());
-  }
-  in.resize(tr);
-  MPI_Alltoallv(flat.data(), sc.data(), sd.data(), MPI_DOUBLE, in.data(), rc.data(), rd.data(), MPI_DOUBLE, comm);
-}
-
-// The rank of `dec` whose block holds position x (clamped into the box).
-inline int owner_of(const double* x, const V3& lower, const V3& upper, const coupler::Decomposition& dec) {
-  coupler::Index3 c{};
-  for (int d = 0; d < 3; ++d) {
-    const long cells = dec.cells()[d];
-    const double t = (x[d] - lower[d]) / (upper[d] - lower[d]);
-    c[d] = std::clamp(static_cast<long>(std::floor(t * cells)), 0L, cells - 1);
-  }
-  return dec.owner(c);
-}
-
-// Whether x, or one of its periodic images, lies within `reach` of the box
-// [lo, hi] (the block of another rank): then that rank needs a ghost copy.
-inline bool near_block(const double* x, const double* lo, const double* hi, double reach, const V3& lower,
-                       const V3& upper, const std::array<bool, 3>& periodic) {
-  for (int sx = -1; sx <= 1; ++sx)
-    for (int sy = -1; sy <= 1; ++sy)
-      for (int sz = -1; sz <= 1; ++sz) {
-        const int sh[3] = {sx, sy, sz};
-        bool in = true;
-        for (int d = 0; d < 3 && in; ++d) {
-          if (sh[d] != 0 && !periodic[d]) in = false;
-          const double y = x[d] + sh[d] * (upper[d] - lower[d]);
-          in = in && y > lo[d] - reach && y < hi[d] + reach;
-        }
-        if (in) return true;
-      }
-  return false;
-}
-
 class EventRecorder {
  public:
   void enable(bool collisions, bool bonds) {

@@ -15,11 +15,12 @@ namespace coflow::particles {
 using dem::V3;
 
 DemSolver::DemSolver(const Setup& setup, const Params&)
-    : comm_(setup.comm), params_(setup.params), dec_(setup.decomposition) {
+    : comm_(setup.comm), params_(setup.params) {
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &size_);
   p_ = dem::make_initial(setup.params, setup.cfg);
   s_ = dem::make_setup(setup.params, setup.cfg, p_);
+  domain_ = store::Domain(setup.decomposition, s_.lower.data(), s_.upper.data(), s_.periodic, comm_);
   const std::size_t n = p_.size();
   torque_.assign(3 * n, 0.0);
   fh_.assign(3 * n, 0.0);
@@ -82,122 +83,21 @@ DemSolver::DemSolver(const Setup& setup, const Params&)
   // the histories that involve them.
   owned_.assign(n, 1);
   if (size_ > 1) {
-    for (std::size_t i = 0; i < n; ++i) owned_[i] = owner_of(&p_.x[3 * i]) == rank_;
+    for (std::size_t i = 0; i < n; ++i) owned_[i] = domain_.owner_of(&p_.x[3 * i]) == rank_;
     drop_ghosts();
   }
   log::info("dem: {} particles ({} on this rank), {} bonds, step {:.4g} s, {}x{}x{} cells of {:.4g} m", n, p_.size(),
             bonds, s_.dt, nc_[0], nc_[1], nc_[2], cell_size_);
 }
 
-int DemSolver::owner_of(const double* x) const { return dem::owner_of(x, s_.lower, s_.upper, dec_); }
-
-// id, species, x, v, w, radius, mass, inertia (14 doubles); full adds force,
-// hydrodynamic force and torque (23).
-void DemSolver::pack(std::size_t i, std::vector<double>& out, bool full) const {
-  out.push_back(static_cast<double>(p_.id[i]));
-  out.push_back(static_cast<double>(p_.species[i]));
-  for (const auto* a : {&p_.x, &p_.v, &p_.w})
-    for (int q = 0; q < 3; ++q) out.push_back((*a)[3 * i + q]);
-  out.push_back(p_.radius[i]);
-  out.push_back(p_.mass[i]);
-  out.push_back(p_.inertia[i]);
-  if (full)
-    for (const auto* a : {&p_.force, &fh_, &th_})
-      for (int q = 0; q < 3; ++q) out.push_back((*a)[3 * i + q]);
-}
-
-void DemSolver::unpack(const double* in, bool full, bool owned) {
-  p_.id.push_back(static_cast<std::int64_t>(in[0]));
-  p_.species.push_back(static_cast<std::int32_t>(in[1]));
-  for (int q = 0; q < 3; ++q) {
-    p_.x.push_back(in[2 + q]);
-    p_.v.push_back(in[5 + q]);
-    p_.w.push_back(in[8 + q]);
-    p_.force.push_back(full ? in[14 + q] : 0.0);
-    fh_.push_back(full ? in[17 + q] : 0.0);
-    th_.push_back(full ? in[20 + q] : 0.0);
-    torque_.push_back(0.0);
-  }
-  p_.radius.push_back(in[11]);
-  p_.mass.push_back(in[12]);
-  p_.inertia.push_back(in[13]);
-  owned_.push_back(owned ? 1 : 0);
-}
-
-void DemSolver::sort_by_id() {
-  const std::size_t n = p_.size();
-  std::vector<std::size_t> perm(n);
-  for (std::size_t i = 0; i < n; ++i) perm[i] = i;
-  std::sort(perm.begin(), perm.end(), [&](std::size_t a, std::size_t b) { return p_.id[a] < p_.id[b]; });
-  auto apply = [&](auto& v, int stride) {
-    auto copy = v;
-    for (std::size_t i = 0; i < n; ++i)
-      for (int q = 0; q < stride; ++q) v[stride * i + q] = copy[stride * perm[i] + q];
-  };
-  apply(p_.id, 1);
-  apply(p_.species, 1);
-  apply(p_.x, 3);
-  apply(p_.v, 3);
-  apply(p_.w, 3);
-  apply(p_.force, 3);
-  apply(fh_, 3);
-  apply(th_, 3);
-  apply(torque_, 3);
-  apply(p_.radius, 1);
-  apply(p_.mass, 1);
-  apply(p_.inertia, 1);
-  apply(owned_, 1);
-}
-
-
 void DemSolver::add_ghosts() {
-  out_.assign(size_, {});
-  const std::size_t n = p_.size();
-  const auto h = [&](int d) { return (s_.upper[d] - s_.lower[d]) / dec_.cells()[d]; };
-  auto block_lo = [&](int r, int d) { return s_.lower[d] + dec_.block(r).lo[d] * h(d); };
-  auto block_hi = [&](int r, int d) { return s_.lower[d] + dec_.block(r).hi[d] * h(d); };
-  for (std::size_t i = 0; i < n; ++i) {
-    const double* x = &p_.x[3 * i];
-    bool near = false;
-    for (int d = 0; d < 3; ++d)
-      near = near || x[d] - block_lo(rank_, d) < cell_size_ || block_hi(rank_, d) - x[d] < cell_size_;
-    if (!near) continue;
-    for (int r = 0; r < size_; ++r) {
-      if (r == rank_) continue;
-      const double lo[3] = {block_lo(r, 0), block_lo(r, 1), block_lo(r, 2)};
-      const double hi[3] = {block_hi(r, 0), block_hi(r, 1), block_hi(r, 2)};
-      if (dem::near_block(x, lo, hi, cell_size_, s_.lower, s_.upper, s_.periodic)) pack(i, out_[r], false);
-    }
-  }
-  dem::exchange(comm_, out_, in_);
-  for (std::size_t k = 0; k + 14 <= in_.size(); k += 14) unpack(&in_[k], false, false);
-  sort_by_id();
+  store_.unpack_all(domain_.send_ghosts(store_, cell_size_), store::ghosts);  // owned_ 0
+  store_.sort_by_id();
 }
 
 void DemSolver::drop_ghosts() {
   invalidate_list();  // local indices change
-  std::size_t keep = 0;
-  for (std::size_t i = 0; i < p_.size(); ++i) {
-    if (!owned_[i]) continue;
-    if (keep != i) {
-      p_.id[keep] = p_.id[i];
-      p_.species[keep] = p_.species[i];
-      p_.radius[keep] = p_.radius[i];
-      p_.mass[keep] = p_.mass[i];
-      p_.inertia[keep] = p_.inertia[i];
-      for (int q = 0; q < 3; ++q)
-        for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &fh_, &th_, &torque_}) (*a)[3 * keep + q] = (*a)[3 * i + q];
-    }
-    owned_[keep] = 1;
-    ++keep;
-  }
-  for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &fh_, &th_, &torque_}) a->resize(3 * keep);
-  p_.id.resize(keep);
-  p_.species.resize(keep);
-  p_.radius.resize(keep);
-  p_.mass.resize(keep);
-  p_.inertia.resize(keep);
-  owned_.resize(keep);
+  store_.keep(owned_);
   // Histories that no longer involve a particle of this rank.
   if (size_ > 1) {
     std::unordered_map<std::int64_t, char> mine;
@@ -214,17 +114,16 @@ void DemSolver::drop_ghosts() {
 
 void DemSolver::migrate() {
   invalidate_list();  // local indices change
-  out_.assign(size_, {});
-  std::vector<std::vector<double>> hist(size_);
+  const std::vector<int> owner = domain_.owners(store_);
+  const std::vector<double> received = domain_.send_leavers(store_, owner);
   std::unordered_map<std::int64_t, int> leaving;  // id -> new owner
-  for (std::size_t i = 0; i < p_.size(); ++i) {
-    const int o = owner_of(&p_.x[3 * i]);
-    if (o == rank_) continue;
-    pack(i, out_[o], true);
-    leaving[p_.id[i]] = o;
-    owned_[i] = 0;
-  }
+  for (std::size_t i = 0; i < owner.size(); ++i)
+    if (owner[i] != rank_) {
+      leaving[p_.id[i]] = owner[i];
+      owned_[i] = 0;
+    }
   // Contact histories travel with the particles that leave.
+  std::vector<std::vector<double>> hist(size_);
   for (const auto& [k, c] : contacts_)
     for (const std::int64_t id : {static_cast<std::int64_t>(k >> 32), static_cast<std::int64_t>(k & 0xffffffffu)}) {
       auto it = leaving.find(id);
@@ -238,22 +137,21 @@ void DemSolver::migrate() {
     hist[it->second].insert(hist[it->second].end(),
                             {double(k >> 32), -1.0 - double(k & 0xffffffffu), c.shear[0], c.shear[1], c.shear[2], double(c.bonded)});
   }
-  dem::exchange(comm_, out_, in_);
-  std::vector<double> received = in_;
-  dem::exchange(comm_, hist, in_);
+  std::vector<double> in;
+  store::exchange(comm_, hist, in);
   drop_ghosts();  // drops the leavers (and histories no particle here needs)
-  for (std::size_t k = 0; k + 23 <= received.size(); k += 23) unpack(&received[k], true, true);
-  for (std::size_t k = 0; k + 6 <= in_.size(); k += 6) {
+  store_.unpack_all(received, store::migrates);  // owned_ 1
+  for (std::size_t k = 0; k + 6 <= in.size(); k += 6) {
     dem::ContactState st;
-    st.shear = V3(in_[k + 2], in_[k + 3], in_[k + 4]);
-    st.bonded = in_[k + 5] != 0;
-    const auto a = static_cast<std::int64_t>(in_[k]);
-    if (in_[k + 1] >= 0)
-      contacts_.emplace(key(a, static_cast<std::int64_t>(in_[k + 1])), st);
+    st.shear = V3(in[k + 2], in[k + 3], in[k + 4]);
+    st.bonded = in[k + 5] != 0;
+    const auto a = static_cast<std::int64_t>(in[k]);
+    if (in[k + 1] >= 0)
+      contacts_.emplace(key(a, static_cast<std::int64_t>(in[k + 1])), st);
     else
-      walls_.emplace(key(a, static_cast<std::int64_t>(-1 - in_[k + 1])), st);
+      walls_.emplace(key(a, static_cast<std::int64_t>(-1 - in[k + 1])), st);
   }
-  sort_by_id();
+  store_.sort_by_id();
 }
 
 // Counting sort of the particles into cells (buffers reused: no allocation in
@@ -601,10 +499,10 @@ void DemSolver::load(const std::string& dir, long steps, double time) {
   // The checkpoint holds every rank's particles: keep this rank's.
   owned_.assign(n, 1);
   if (size_ > 1) {
-    for (std::size_t i = 0; i < n; ++i) owned_[i] = owner_of(&p_.x[3 * i]) == rank_;
+    for (std::size_t i = 0; i < n; ++i) owned_[i] = domain_.owner_of(&p_.x[3 * i]) == rank_;
     drop_ghosts();
   }
-  sort_by_id();
+  store_.sort_by_id();
   steps_ = steps;
   time_ = time;
 }

@@ -12,6 +12,8 @@
 
 #include "particles/dem/dem_common.hpp"
 #include "particles/particles_interface.hpp"
+#include "particles/store/domain.hpp"
+#include "particles/store/particle_store.hpp"
 
 namespace coflow::particles {
 
@@ -57,27 +59,28 @@ class DemSolver final : public ParticleSolver {
   void add_ghosts();
   void drop_ghosts();
   void migrate();
-  int owner_of(const double* x) const;
-  void pack(std::size_t i, std::vector<double>& out, bool full) const;
-  void unpack(const double* in, bool full, bool owned);
-  void sort_by_id();
+  void assign_particles(ParticleArrays a);  // every rank holds all: keep the owned ones
   template <class F>
   void for_candidates(std::size_t i, F&& f);
   static std::uint64_t key(std::int64_t a, std::int64_t b) {
     return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint64_t>(b);
   }
 
-  ParticleArrays p_;
-  std::vector<double> torque_, fh_, th_;
+  // The particles (store/particle_store.hpp): the common attributes, the
+  // torque of the step, the hydrodynamic force and torque of the window, and
+  // whether this rank owns the particle (0: a ghost copy).
+  store::ParticleStore store_;
+  ParticleArrays& p_ = store_.arrays();
+  std::vector<double>& torque_ = store_.add<double>("torque", 3, store::stays);
+  std::vector<double>& fh_ = store_.add<double>("hydrodynamic_force", 3, store::migrates);
+  std::vector<double>& th_ = store_.add<double>("hydrodynamic_torque", 3, store::migrates);
+  std::vector<char>& owned_ = store_.add<char>("owned", 1, store::migrates);
   std::unordered_map<std::uint64_t, dem::ContactState> contacts_, walls_;
   dem::DemSetup s_;
   MPI_Comm comm_;
   const ParticleParams& params_;
-  coupler::Decomposition dec_;
+  store::Domain domain_;
   int rank_ = 0, size_ = 1;
-  std::vector<char> owned_;  // 1 for this rank's particles, 0 for ghosts
-  std::vector<std::vector<double>> out_;
-  std::vector<double> in_;
   // cell list
   double cell_size_ = 0.0;
   double extra_ = 0.0;   // reach beyond contact: bond gap or bond stretch

@@ -27,19 +27,18 @@ void put(std::vector<double>& a, std::size_t i, const V3& v) {
 }  // namespace
 
 DpmSolver::DpmSolver(const Setup& setup, const Params&)
-    : comm_(setup.comm), dec_(setup.decomposition), params_(setup.params) {
+    : comm_(setup.comm), params_(setup.params) {
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &size_);
   s_ = dpm::make_setup(setup.params, setup.cfg);
+  domain_ = store::Domain(setup.decomposition, s_.lower.data(), s_.upper.data(), s_.periodic, comm_);
   p_ = dem::make_initial(setup.params, setup.cfg);  // every rank makes all, keeps its own
   const std::size_t total = p_.size();
   for (std::int64_t id : p_.id) next_id_ = std::max(next_id_, id + 1);
   p_.force.assign(3 * p_.size(), 0.0);
   if (size_ > 1) {
-    std::vector<char> mine(p_.size());
-    for (std::size_t i = 0; i < p_.size(); ++i) mine[i] = owner_of(at(p_.x, i)) == rank_;
     set_derived();
-    remove_if_not(mine);
+    keep_owned();
   }
   set_derived();
   inlets_ = dpm::make_inlets(setup.params);
@@ -48,34 +47,11 @@ DpmSolver::DpmSolver(const Setup& setup, const Params&)
             s_.auto_step ? "eq. 4.15 at the start" : "given");
 }
 
-int DpmSolver::owner_of(const V3& x) const { return dem::owner_of(x.data(), s_.lower, s_.upper, dec_); }
-
-// Keep the owned particles flagged in `keep` (all per-particle arrays, order kept).
-void DpmSolver::remove_if_not(const std::vector<char>& keep) {
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < p_.size(); ++i) {
-    if (!keep[i]) continue;
-    if (k != i) {
-      for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &impulse_, &uprime_})
-        for (int c = 0; c < 3; ++c) (*a)[3 * k + c] = (*a)[3 * i + c];
-      p_.id[k] = p_.id[i];
-      p_.species[k] = p_.species[i];
-      p_.radius[k] = p_.radius[i];
-      p_.mass[k] = p_.mass[i];
-      p_.inertia[k] = p_.inertia[i];
-      D_[k] = D_[i];
-      rho_p_[k] = rho_p_[i];
-      fluid_[k] = fluid_[i];
-      turbulent_[k] = turbulent_[i];
-    }
-    ++k;
-  }
-  for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &impulse_, &uprime_}) a->resize(3 * k);
-  p_.id.resize(k);
-  p_.species.resize(k);
-  for (auto* a : {&p_.radius, &p_.mass, &p_.inertia, &D_, &rho_p_}) a->resize(k);
-  fluid_.resize(k);
-  turbulent_.resize(k);
+void DpmSolver::keep_owned() {
+  const std::vector<int> owner = domain_.owners(store_);
+  std::vector<char> mine(owner.size());
+  for (std::size_t i = 0; i < owner.size(); ++i) mine[i] = owner[i] == rank_;
+  store_.keep(mine);
 }
 
 void DpmSolver::set_derived() {
@@ -353,35 +329,22 @@ void DpmSolver::apply_events() {
 // that leave through an outlet are dropped, order kept.
 void DpmSolver::commit_states(double h) {
   const std::size_t n = p_.size();
-  std::size_t keep = 0;
+  std::vector<char> inside(n, 1);
+  bool all_inside = true;
   for (std::size_t i = 0; i < n; ++i) {
     V3 x = hit_[i] < 0.0 ? moved_[i].x : V3(at(p_.x, i) + u_[i] * hit_[i] + moved_[i].v * (h - hit_[i]));
-    if (!dpm::apply_faces(x, s_)) continue;
-    put(p_.x, keep, x);
-    put(p_.v, keep, moved_[i].v);
-    put(p_.w, keep, moved_[i].w);
-    put(impulse_, keep, at(impulse_, i) + moved_[i].impulse);
-    put(p_.force, keep, dpm::fluid_load(seen_[i], D_[i], moved_[i].v, moved_[i].w, s_.forces).force());
-    put(uprime_, keep, at(uprime_, i));
-    turbulent_[keep] = turbulent_[i];
-    p_.id[keep] = p_.id[i];
-    p_.species[keep] = p_.species[i];
-    p_.radius[keep] = p_.radius[i];
-    p_.mass[keep] = p_.mass[i];
-    p_.inertia[keep] = p_.inertia[i];
-    D_[keep] = D_[i];
-    rho_p_[keep] = rho_p_[i];
-    fluid_[keep] = fluid_[i];
-    ++keep;
+    if (!dpm::apply_faces(x, s_)) {
+      inside[i] = 0;
+      all_inside = false;
+      continue;
+    }
+    put(p_.x, i, x);
+    put(p_.v, i, moved_[i].v);
+    put(p_.w, i, moved_[i].w);
+    put(impulse_, i, at(impulse_, i) + moved_[i].impulse);
+    put(p_.force, i, dpm::fluid_load(seen_[i], D_[i], moved_[i].v, moved_[i].w, s_.forces).force());
   }
-  if (keep < n) {
-    for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &impulse_, &uprime_}) a->resize(3 * keep);
-    turbulent_.resize(keep);
-    p_.id.resize(keep);
-    p_.species.resize(keep);
-    for (auto* a : {&p_.radius, &p_.mass, &p_.inertia, &D_, &rho_p_}) a->resize(keep);
-    fluid_.resize(keep);
-  }
+  if (!all_inside) store_.keep(inside);
 }
 
 void DpmSolver::step(double h) {
@@ -390,7 +353,7 @@ void DpmSolver::step(double h) {
   apply_events();
   commit_states(h);
   inject(h);
-  if (size_ > 1) migrate();
+  if (size_ > 1) domain_.migrate(store_);
   time_ += h;
   ++steps_;
 }
@@ -407,25 +370,18 @@ void DpmSolver::add_ghosts(double h) {
   }
   MPI_Allreduce(MPI_IN_PLACE, m, 2, MPI_DOUBLE, MPI_MAX, comm_);
   const double reach = m[0] + 2.0 * m[1] * h;
-  const auto cell = [&](int d) { return (s_.upper[d] - s_.lower[d]) / dec_.cells()[d]; };
   std::vector<std::vector<double>> out(size_);
   for (std::size_t i = 0; i < n; ++i) {
     for (int r = 0; r < size_; ++r) {
       if (r == rank_) continue;
-      const coupler::Box& b = dec_.block(r);
-      double lo[3], hi[3];
-      for (int d = 0; d < 3; ++d) {
-        lo[d] = s_.lower[d] + b.lo[d] * cell(d);
-        hi[d] = s_.lower[d] + b.hi[d] * cell(d);
-      }
-      if (!dem::near_block(&p_.x[3 * i], lo, hi, reach, s_.lower, s_.upper, s_.periodic)) continue;
+      if (!domain_.near_block(&p_.x[3 * i], r, reach)) continue;
       const Near& q = near_[i];
       out[r].insert(out[r].end(), {double(q.id), double(q.species), q.x[0], q.x[1], q.x[2], q.u[0], q.u[1], q.u[2],
                                    q.v[0], q.v[1], q.v[2], q.w[0], q.w[1], q.w[2], q.D, q.m});
     }
   }
   std::vector<double> in;
-  dem::exchange(comm_, out, in);
+  store::exchange(comm_, out, in);
   constexpr std::size_t G = 16;
   for (std::size_t k = 0; k + G <= in.size(); k += G) {
     const double* g = &in[k];
@@ -460,64 +416,6 @@ void DpmSolver::share_events() {
             ev_.end());
 }
 
-// Particles whose position another rank owns now move there with their whole
-// state; then every rank orders its particles by id.
-void DpmSolver::migrate() {
-  constexpr std::size_t F = 36;
-  std::vector<std::vector<double>> out(size_);
-  std::vector<char> stay(p_.size(), 1);
-  for (std::size_t i = 0; i < p_.size(); ++i) {
-    const int o = owner_of(at(p_.x, i));
-    if (o == rank_) continue;
-    stay[i] = 0;
-    const dpm::FluidSample& f = fluid_[i];
-    std::vector<double>& b = out[o];
-    b.insert(b.end(), {double(p_.id[i]), double(p_.species[i])});
-    for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &impulse_, &uprime_}) b.insert(b.end(), &(*a)[3 * i], &(*a)[3 * i] + 3);
-    b.insert(b.end(), {p_.radius[i], p_.mass[i], p_.inertia[i], D_[i], rho_p_[i], double(turbulent_[i]), f.u[0],
-                       f.u[1], f.u[2], f.vorticity[0], f.vorticity[1], f.vorticity[2], f.k, f.epsilon, f.rho, f.mu});
-  }
-  std::vector<double> in;
-  dem::exchange(comm_, out, in);
-  remove_if_not(stay);
-  for (std::size_t k = 0; k + F <= in.size(); k += F) {
-    const double* g = &in[k];
-    p_.id.push_back(static_cast<std::int64_t>(g[0]));
-    p_.species.push_back(static_cast<std::int32_t>(g[1]));
-    std::size_t o = 2;
-    for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &impulse_, &uprime_}) {
-      a->insert(a->end(), g + o, g + o + 3);
-      o += 3;
-    }
-    p_.radius.push_back(g[20]);
-    p_.mass.push_back(g[21]);
-    p_.inertia.push_back(g[22]);
-    D_.push_back(g[23]);
-    rho_p_.push_back(g[24]);
-    turbulent_.push_back(g[25] != 0.0 ? 1 : 0);
-    fluid_.push_back({V3(g + 26), V3(g + 29), g[32], g[33], g[34], g[35]});
-  }
-  sort_by_id();
-}
-
-void DpmSolver::sort_by_id() {
-  const std::size_t n = p_.size();
-  std::vector<std::size_t> order(n);
-  for (std::size_t i = 0; i < n; ++i) order[i] = i;
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p_.id[a] < p_.id[b]; });
-  auto permute = [&](auto& v, std::size_t width) {
-    auto copy = v;
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t c = 0; c < width; ++c) v[width * i + c] = copy[width * order[i] + c];
-  };
-  for (auto* a : {&p_.x, &p_.v, &p_.w, &p_.force, &impulse_, &uprime_}) permute(*a, 3);
-  for (auto* a : {&p_.radius, &p_.mass, &p_.inertia, &D_, &rho_p_}) permute(*a, 1);
-  permute(p_.id, 1);
-  permute(p_.species, 1);
-  permute(fluid_, 1);
-  permute(turbulent_, 1);
-}
-
 // 4. Inlets (injection.hpp): the particles that entered during the step.
 // With several ranks, rank 0 injects (with the particles near the inlet from
 // all ranks) and migration takes the new particles to their owners.
@@ -542,23 +440,17 @@ void DpmSolver::inject(double h) {
     dpm::inject(inlets_[k], static_cast<int>(k), s_.dispersion.seed, time_, h, nearby_, entering_);
     for (const dpm::Entering& e : entering_) {
       const double m = in.density * std::numbers::pi * e.D * e.D * e.D / 6.0;
-      p_.id.push_back(next_id_++);
-      p_.species.push_back(e.species);
-      for (int c = 0; c < 3; ++c) {
-        p_.x.push_back(e.x[c]);
-        p_.v.push_back(e.v[c]);
-        p_.w.push_back(0.0);
-        p_.force.push_back(0.0);
-        impulse_.push_back(0.0);
-        uprime_.push_back(0.0);
-      }
-      p_.radius.push_back(0.5 * e.D);
-      p_.mass.push_back(m);
-      p_.inertia.push_back(0.1 * m * e.D * e.D);
-      D_.push_back(e.D);
-      rho_p_.push_back(in.density);
-      fluid_.push_back(s_.still);
-      turbulent_.push_back(0);
+      const std::size_t i = store_.append();  // zero w, force, impulse, fluctuation
+      p_.id[i] = next_id_++;
+      p_.species[i] = e.species;
+      put(p_.x, i, e.x);
+      put(p_.v, i, e.v);
+      p_.radius[i] = 0.5 * e.D;
+      p_.mass[i] = m;
+      p_.inertia[i] = 0.1 * m * e.D * e.D;
+      D_[i] = e.D;
+      rho_p_[i] = in.density;
+      fluid_[i] = s_.still;
     }
   }
 }
@@ -634,11 +526,7 @@ void DpmSolver::load(const std::string& dir, long steps, double time) {
   dem::load_state(dir, params_, p_, contacts);
   set_derived();
   for (std::int64_t id : p_.id) next_id_ = std::max(next_id_, id + 1);
-  if (size_ > 1) {
-    std::vector<char> mine(p_.size());
-    for (std::size_t i = 0; i < p_.size(); ++i) mine[i] = owner_of(at(p_.x, i)) == rank_;
-    remove_if_not(mine);
-  }
+  if (size_ > 1) keep_owned();
   std::map<std::int64_t, dpm::Fluctuation> up;
   dpm::load_extra(dir, time_, next_id_, inlets_, up);
   for (std::size_t i = 0; i < p_.size(); ++i)

@@ -16,6 +16,29 @@
 #include "particles/dpm/range_warnings.hpp"
 #include "particles/dpm/setup.hpp"
 #include "particles/particles_interface.hpp"
+#include "particles/store/domain.hpp"
+#include "particles/store/particle_store.hpp"
+
+namespace coflow::particles::store {
+// A fluid sample travels as its 10 doubles: u, vorticity, k, epsilon, rho, mu.
+template <>
+struct Codec<dpm::FluidSample> {
+  static constexpr std::size_t doubles = 10;
+  static void put(const dpm::FluidSample& f, double* out) {
+    for (int d = 0; d < 3; ++d) {
+      out[d] = f.u[d];
+      out[3 + d] = f.vorticity[d];
+    }
+    out[6] = f.k;
+    out[7] = f.epsilon;
+    out[8] = f.rho;
+    out[9] = f.mu;
+  }
+  static dpm::FluidSample get(const double* in) {
+    return {dpm::V3(in), dpm::V3(in + 3), in[6], in[7], in[8], in[9]};
+  }
+};
+}  // namespace coflow::particles::store
 
 namespace coflow::particles {
 
@@ -56,21 +79,25 @@ class DpmSolver final : public ParticleSolver {
   void commit_states(double h);
   void set_derived();
   void inject(double h);
-  int owner_of(const dpm::V3& x) const;
+  void keep_owned();  // every rank holds all: keep this rank's
   void add_ghosts(double h);
   void share_events();
-  void migrate();
-  void remove_if_not(const std::vector<char>& keep);
-  void sort_by_id();
 
   MPI_Comm comm_;
-  coupler::Decomposition dec_;
+  store::Domain domain_;
   int rank_ = 0, size_ = 1;
-  ParticleArrays p_;
-  std::vector<double> D_, rho_p_, impulse_;
-  std::vector<dpm::FluidSample> fluid_, seen_;
-  std::vector<double> uprime_;      // turbulent fluctuation seen (dispersion), 3 per particle
-  std::vector<char> turbulent_;
+  // The particles (store/particle_store.hpp): the common attributes, then the
+  // diameter, density, impulse given to the fluid, fluid sample, turbulent
+  // fluctuation seen (dispersion) and whether it has started.
+  store::ParticleStore store_;
+  ParticleArrays& p_ = store_.arrays();
+  std::vector<double>& D_ = store_.add<double>("diameter", 1, store::migrates);
+  std::vector<double>& rho_p_ = store_.add<double>("density", 1, store::migrates);
+  std::vector<double>& impulse_ = store_.add<double>("impulse", 3, store::migrates);
+  std::vector<dpm::FluidSample>& fluid_ = store_.add<dpm::FluidSample>("fluid", 1, store::migrates);
+  std::vector<double>& uprime_ = store_.add<double>("fluctuation", 3, store::migrates);
+  std::vector<char>& turbulent_ = store_.add<char>("turbulent", 1, store::migrates);
+  std::vector<dpm::FluidSample> seen_;
   dpm::DpmSetup s_;
   std::vector<dpm::Inlet> inlets_;
   std::int64_t next_id_ = 0;

@@ -1,0 +1,107 @@
+#include "particles/store/domain.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace coflow::particles::store {
+
+void exchange(MPI_Comm comm, std::vector<std::vector<double>>& out, std::vector<double>& in) {
+  const int size = static_cast<int>(out.size());
+  std::vector<int> sc(size), rc(size), sd(size), rd(size);
+  for (int r = 0; r < size; ++r) sc[r] = static_cast<int>(out[r].size());
+  MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, comm);
+  std::vector<double> flat;
+  int ts = 0, tr = 0;
+  for (int r = 0; r < size; ++r) {
+    sd[r] = ts;
+    ts += sc[r];
+    rd[r] = tr;
+    tr += rc[r];
+    flat.insert(flat.end(), out[r].begin(), out[r].end());
+  }
+  in.resize(tr);
+  MPI_Alltoallv(flat.data(), sc.data(), sd.data(), MPI_DOUBLE, in.data(), rc.data(), rd.data(), MPI_DOUBLE, comm);
+}
+
+Domain::Domain(const coupler::Decomposition& dec, const double lower[3], const double upper[3],
+               const std::array<bool, 3>& periodic, MPI_Comm comm)
+    : dec_(dec), periodic_(periodic), comm_(comm) {
+  for (int d = 0; d < 3; ++d) {
+    lower_[d] = lower[d];
+    upper_[d] = upper[d];
+    cell_[d] = (upper[d] - lower[d]) / dec.cells()[d];
+  }
+  MPI_Comm_rank(comm, &rank_);
+  MPI_Comm_size(comm, &size_);
+}
+
+int Domain::owner_of(const double* x) const {
+  coupler::Index3 c{};
+  for (int d = 0; d < 3; ++d) {
+    const long cells = dec_.cells()[d];
+    const double t = (x[d] - lower_[d]) / (upper_[d] - lower_[d]);
+    c[d] = std::clamp(static_cast<long>(std::floor(t * cells)), 0L, cells - 1);
+  }
+  return dec_.owner(c);
+}
+
+std::vector<int> Domain::owners(const ParticleStore& s) const {
+  std::vector<int> o(s.size());
+  for (std::size_t i = 0; i < s.size(); ++i) o[i] = owner_of(&s.arrays().x[3 * i]);
+  return o;
+}
+
+bool Domain::near_block(const double* x, int r, double reach) const {
+  const double lo[3] = {block_lo(r, 0), block_lo(r, 1), block_lo(r, 2)};
+  const double hi[3] = {block_hi(r, 0), block_hi(r, 1), block_hi(r, 2)};
+  for (int sx = -1; sx <= 1; ++sx)
+    for (int sy = -1; sy <= 1; ++sy)
+      for (int sz = -1; sz <= 1; ++sz) {
+        const int sh[3] = {sx, sy, sz};
+        bool in = true;
+        for (int d = 0; d < 3 && in; ++d) {
+          if (sh[d] != 0 && !periodic_[d]) in = false;
+          const double y = x[d] + sh[d] * (upper_[d] - lower_[d]);
+          in = in && y > lo[d] - reach && y < hi[d] + reach;
+        }
+        if (in) return true;
+      }
+  return false;
+}
+
+std::vector<double> Domain::send_leavers(const ParticleStore& s, const std::vector<int>& owners) const {
+  std::vector<std::vector<double>> out(size_);
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if (owners[i] != rank_) s.pack(i, migrates, out[owners[i]]);
+  std::vector<double> in;
+  exchange(comm_, out, in);
+  return in;
+}
+
+void Domain::migrate(ParticleStore& s) const {
+  const std::vector<int> o = owners(s);
+  const std::vector<double> in = send_leavers(s, o);
+  std::vector<char> stay(o.size());
+  for (std::size_t i = 0; i < o.size(); ++i) stay[i] = o[i] == rank_;
+  s.keep(stay);
+  s.unpack_all(in, migrates);
+  s.sort_by_id();
+}
+
+std::vector<double> Domain::send_ghosts(const ParticleStore& s, double reach) const {
+  std::vector<std::vector<double>> out(size_);
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const double* x = &s.arrays().x[3 * i];
+    // Only a particle within reach of its own block's faces can be near another block.
+    bool near = false;
+    for (int d = 0; d < 3; ++d) near = near || x[d] - block_lo(rank_, d) < reach || block_hi(rank_, d) - x[d] < reach;
+    if (!near) continue;
+    for (int r = 0; r < size_; ++r)
+      if (r != rank_ && near_block(x, r, reach)) s.pack(i, ghosts, out[r]);
+  }
+  std::vector<double> in;
+  exchange(comm_, out, in);
+  return in;
+}
+
+}  // namespace coflow::particles::store

@@ -15,6 +15,7 @@
 #include "coflow/decomposition.hpp"
 #include "coflow/trace.hpp"
 #include "coflow/wait.hpp"
+#include "fluid/grid/neighbours.hpp"
 #include "fluid/lbm/layout.hpp"
 
 namespace coflow::fluid::lbm {
@@ -34,8 +35,7 @@ class HaloExchange {
 
   // The neighbours of block `rank`; `lay` (its extent and ghosts now, its
   // padding by the first post) must outlive the exchange.
-  void build(const Layout& lay, const coupler::Decomposition& dec, int rank, const std::array<long, 3>& cells,
-             MPI_Comm comm);
+  void build(const Layout& lay, const coupler::Decomposition& dec, int rank, MPI_Comm comm);
   // Whether no other rank borders the block along x (its x ghosts are then
   // ready once post() returns).
   bool x_local() const { return x_local_; }
@@ -63,7 +63,7 @@ class HaloExchange {
     }
     return qs;
   }
-  Link link_to(const int d[3], int owner) const;
+  static Link link_to(const grid::Neighbour& n);
   void start(Link& h, MPI_Comm comm);
 
   template <class F>
@@ -80,21 +80,17 @@ class HaloExchange {
   std::vector<MPI_Request> requests_;
 };
 
-// The link towards direction d, to the block of `owner`.
+// The link to a neighbour of the fluid grid (grid/neighbours.hpp, one ghost
+// layer) with the populations that cross to it and back.
 template <class L>
-typename HaloExchange<L>::Link HaloExchange<L>::link_to(const int d[3], int owner) const {
+typename HaloExchange<L>::Link HaloExchange<L>::link_to(const grid::Neighbour& n) {
   Link h;
-  h.rank = owner;
-  const long* n = lay_->extent;
-  for (int a = 0; a < 3; ++a) {
-    h.d[a] = d[a];
-    h.send_box.lo[a] = d[a] < 0 ? 0 : d[a] > 0 ? n[a] - 1 : 0;
-    h.send_box.hi[a] = d[a] < 0 ? 1 : d[a] > 0 ? n[a] : n[a];
-    h.recv_box.lo[a] = d[a] < 0 ? -1 : d[a] > 0 ? n[a] : 0;
-    h.recv_box.hi[a] = d[a] < 0 ? 0 : d[a] > 0 ? n[a] + 1 : n[a];
-  }
-  h.send_q = crossing(d, 1);
-  h.recv_q = crossing(d, -1);
+  h.rank = n.rank;
+  for (int a = 0; a < 3; ++a) h.d[a] = n.d[a];
+  h.send_box = n.send;
+  h.recv_box = n.recv;
+  h.send_q = crossing(h.d, 1);
+  h.recv_q = crossing(h.d, -1);
   return h;
 }
 
@@ -111,30 +107,17 @@ void HaloExchange<L>::start(Link& h, MPI_Comm comm) {
 }
 
 template <class L>
-void HaloExchange<L>::build(const Layout& lay, const coupler::Decomposition& dec, int rank, const std::array<long, 3>& cells,
-                            MPI_Comm comm) {
+void HaloExchange<L>::build(const Layout& lay, const coupler::Decomposition& dec, int rank, MPI_Comm comm) {
   lay_ = &lay;
-  const coupler::Box& b = dec.block(rank);
   const long* g = lay.ghost;
   bool x_from_other = false;
-  for (int dz = -g[2]; dz <= g[2]; ++dz)
-    for (int dy = -g[1]; dy <= g[1]; ++dy)
-      for (int dx = -g[0]; dx <= g[0]; ++dx) {
-        if (!dx && !dy && !dz) continue;
-        const int d[3] = {dx, dy, dz};
-        coupler::Index3 probe{};
-        bool exists = true;
-        for (int a = 0; a < 3; ++a) {
-          probe[a] = d[a] < 0 ? b.lo[a] - 1 : d[a] > 0 ? b.hi[a] : b.lo[a];
-          if ((probe[a] < 0 || probe[a] >= cells[a]) && !dec.periodic()[a]) exists = false;
-        }
-        if (!exists) continue;
-        Link h = link_to(d, dec.owner(probe));
-        if (dx != 0 && dy == 0 && dz == 0 && h.rank != rank) x_from_other = true;
-        if (h.send_q.empty()) continue;
-        links_.push_back(std::move(h));
-        if (links_.back().rank != rank) start(links_.back(), comm);  // else: copied in post()
-      }
+  for (const grid::Neighbour& n : grid::neighbours(dec, rank, {g[0], g[1], g[2]})) {
+    Link h = link_to(n);
+    if (n.d[0] != 0 && n.d[1] == 0 && n.d[2] == 0 && h.rank != rank) x_from_other = true;
+    if (h.send_q.empty()) continue;
+    links_.push_back(std::move(h));
+    if (links_.back().rank != rank) start(links_.back(), comm);  // else: copied in post()
+  }
   x_local_ = g[0] && !x_from_other;
   requests_.resize(2 * remote_);
 }

@@ -49,7 +49,7 @@ class Core final : public LbmCore {
       open_[f] = at_face && (t == FaceType::pressure || t == FaceType::velocity || t == FaceType::outflow);
       wall_[f] = at_face && t == FaceType::wall;
     }
-    halo_.build(lay_, dec_, rank, s_.cells, comm_);
+    halo_.build(lay_, dec_, rank, comm_);
     x_local_ = halo_.x_local();
     // The interior pass's rows: whole rows when no other rank borders the block
     // along x (its x ghosts are then ready before the pass), less the cells on

@@ -16,9 +16,11 @@
 #include "coflow/trace.hpp"
 #include "coflow/wait.hpp"
 #include "fluid/grid/cell_fields.hpp"
-#include "fluid/lbm/halo.hpp"
-#include "fluid/lbm/kernels.hpp"
+#include "fluid/lbm/boundaries.hpp"
+#include "fluid/lbm/collision.hpp"
 #include "fluid/lbm/layout.hpp"
+#include "fluid/lbm/populations.hpp"
+#include "fluid/lbm/psm_kernel.hpp"
 
 namespace coflow::fluid {
 
@@ -49,8 +51,8 @@ class Core final : public LbmCore {
       open_[f] = at_face && (t == FaceType::pressure || t == FaceType::velocity || t == FaceType::outflow);
       wall_[f] = at_face && t == FaceType::wall;
     }
-    halo_.build(lay_, dec_, rank, comm_);
-    x_local_ = halo_.x_local();
+    pop_.halo.build(lay_, dec_, rank, comm_);
+    x_local_ = pop_.halo.x_local();
     // The interior pass's rows: whole rows when no other rank borders the block
     // along x (its x ghosts are then ready before the pass), less the cells on
     // open faces; otherwise without the two end cells.
@@ -68,9 +70,7 @@ class Core final : public LbmCore {
     const long cells = (lay_.padded[0] * lay_.padded[1] * lay_.padded[2] + lay_.shift + 7) / 8 * 8;
     for (int q = 0; q < L::Q; ++q) off_[q] = L::e[q][0] + lay_.padded[0] * (L::e[q][1] + lay_.padded[1] * L::e[q][2]);
     const auto allocate = [&](long stride) {
-      f_ = {};  // release a refused attempt's first array before the next
-      f_ = StridedArrays<double>(L::Q, stride, cells);
-      f_next_ = StridedArrays<double>(L::Q, stride, cells);
+      pop_.allocate(stride, cells);
       lay_.stride = stride;
     };
     spaced_ = !s.packed && cells <= lbm::spaced_stride;
@@ -90,14 +90,14 @@ class Core final : public LbmCore {
         for (long i = 0; i < lay_.extent[0]; ++i) {
           double rho, u[3];
           s.initial(lay_.origin[0] + i, lay_.origin[1] + j, lay_.origin[2] + k, rho, u);
-          for (int q = 0; q < L::Q; ++q) f_[q * lay_.stride + idx(i, j, k)] = lbm::equilibrium<L, Incompressible>(q, rho, u);
+          for (int q = 0; q < L::Q; ++q) pop_.f[q * lay_.stride + idx(i, j, k)] = lbm::equilibrium<L, Incompressible>(q, rho, u);
         }
   }
 
   void step() override {
     // 1. Start the halo exchange of the post-collision populations; halos with
     //    this rank itself (a periodic axis not split) are copied at once.
-    halo_.post(f_.data(), lay_.stride);
+    pop_.halo.post(pop_.f.data(), lay_.stride);
     // When no other rank borders this block along x, its x ghosts are ready
     // now (copied, or walls filled from owned cells): the interior pass then
     // takes whole rows, and the rows' end cells need no second visit.
@@ -109,7 +109,7 @@ class Core final : public LbmCore {
     for (long k = lay_.ghost[2]; k < lay_.extent[2] - lay_.ghost[2]; ++k)
       for (long j = lay_.ghost[1]; j < lay_.extent[1] - lay_.ghost[1]; ++j) fast_row(i0, i1, j, k);
     // 3. Ghosts: from neighbours, then walls (bounce-back, seed 000 eq. 2.44).
-    halo_.finish(f_.data(), lay_.stride);
+    pop_.halo.finish(pop_.f.data(), lay_.stride);
     fill_walls(x_local_ ? 2 : 0, 6);
     // 4. The shell: rows on the block's faces, and the end cells of the others
     //    that the interior pass left.
@@ -126,7 +126,7 @@ class Core final : public LbmCore {
 #if defined(__AVX__)
     _mm_sfence();  // order the streaming stores before anything reads them
 #endif
-    std::swap(f_, f_next_);
+    pop_.swap();
   }
 
   void macroscopic(std::vector<double>& u, std::vector<double>& rho) const override {
@@ -140,7 +140,7 @@ class Core final : public LbmCore {
           const long x = idx(i, j, k);
           double r = 0, jx = 0, jy = 0, jz = 0;
           for (int q = 0; q < L::Q; ++q) {
-            const double f = f_[q * lay_.stride + x];
+            const double f = pop_.f[q * lay_.stride + x];
             r += f;
             jx += L::e[q][0] * f;
             jy += L::e[q][1] * f;
@@ -167,28 +167,21 @@ class Core final : public LbmCore {
     for (long k = 0; k < lay_.extent[2]; ++k)
       for (long j = 0; j < lay_.extent[1]; ++j)
         for (long i = 0; i < lay_.extent[0]; ++i)
-          for (int q = 0; q < L::Q; ++q) out[o++] = f_[q * lay_.stride + idx(i, j, k)];
+          for (int q = 0; q < L::Q; ++q) out[o++] = pop_.f[q * lay_.stride + idx(i, j, k)];
   }
   void set_populations(const std::vector<double>& in) override {
     std::size_t o = 0;
     for (long k = 0; k < lay_.extent[2]; ++k)
       for (long j = 0; j < lay_.extent[1]; ++j)
         for (long i = 0; i < lay_.extent[0]; ++i)
-          for (int q = 0; q < L::Q; ++q) f_[q * lay_.stride + idx(i, j, k)] = in[o++];
+          for (int q = 0; q < L::Q; ++q) pop_.f[q * lay_.stride + idx(i, j, k)] = in[o++];
   }
 
-  // Noble & Torczynski's partially saturated cells (seed 000 eqs 2.66-2.68) on
-  // the cells of the step just taken: pull the same streamed populations from
-  // the previous array (its ghosts still hold the halo and wall values), then
-  //   f_q <- f_q - (1 - B) omega (f_q - feq_q) + (1 - B) S_q + B Omega^s_q,
-  //   Omega^s_q = f_opp(q) - feq_opp(q)(rho, u) + feq_q(rho, u_s) - f_q,
-  // with B of eq. 2.67 and the Guo source S_q scaled by the fluid share 1 - B.
-  // (Eq. 2.68 as printed takes the solid equilibrium of opp(q); the original
-  // has feq_q(rho, u_s), which conserves momentum and is used here.)
+  // Partially saturated cells (psm_kernel.hpp) on the cells of the step just
+  // taken: pull the same streamed populations from the previous array (its
+  // ghosts still hold the halo and wall values) and collide them again.
   void psm(std::span<const long> cells, std::span<const double> fraction, std::span<const double> us,
            std::span<double> gain) override {
-    const double* F = s_.force.data();
-    const double omega = collision_.omega, tau = s_.tau;
     for (std::size_t n = 0; n < cells.size(); ++n) {
       const long c = cells[n];
       const long i = c % lay_.extent[0], j = (c / lay_.extent[0]) % lay_.extent[1], k = c / (lay_.extent[0] * lay_.extent[1]);
@@ -199,37 +192,11 @@ class Core final : public LbmCore {
       for (int f = 0; f < 6; ++f) on_open = on_open || (open_[f] && loc[f / 2] == (f % 2 == 0 ? 0 : lay_.extent[f / 2] - 1));
       if (on_open) continue;
       const long x = idx(i, j, k);
-      double f[L::Q], rho = 0, jm[3] = {0, 0, 0};
-      for (int q = 0; q < L::Q; ++q) {
-        f[q] = f_next_[q * lay_.stride + x - off_[q]];
-        rho += f[q];
-        for (int d = 0; d < 3; ++d) jm[d] += L::e[q][d] * f[q];
-      }
-      rho += 1.0;  // zero-centred populations (kernels.hpp)
-      const double rho_m = Incompressible ? 1.0 : rho;
-      const double u[3] = {(jm[0] + 0.5 * F[0]) / rho_m, (jm[1] + 0.5 * F[1]) / rho_m, (jm[2] + 0.5 * F[2]) / rho_m};
-      const double eps = fraction[n];
-      const double B = eps * (tau - 0.5) / ((1.0 - eps) + (tau - 0.5));  // eq. 2.67
-      double feq[L::Q], feq_s[L::Q];
-      for (int q = 0; q < L::Q; ++q) {
-        feq[q] = lbm::equilibrium<L, Incompressible>(q, rho, u);
-        feq_s[q] = lbm::equilibrium<L, Incompressible>(q, rho, &us[3 * n]);
-      }
-      double g[3] = {0, 0, 0}, uF = 0;
-      for (int d = 0; d < 3; ++d) uF += u[d] * F[d];
-      for (int q = 0; q < L::Q; ++q) {
-        const int o = L::opp[q];
-        const double omega_s = f[o] - feq[o] + feq_s[q] - f[q];
-        double eu = 0, eF = 0;
-        for (int d = 0; d < 3; ++d) {
-          eu += L::e[q][d] * u[d];
-          eF += L::e[q][d] * F[d];
-        }
-        const double S = (1.0 - 0.5 * omega) * L::w[q] * (3.0 * (eF - uF) + 9.0 * eu * eF);
-        f_[q * lay_.stride + x] = f[q] - (1.0 - B) * omega * (f[q] - feq[q]) + (1.0 - B) * S + B * omega_s;
-        for (int d = 0; d < 3; ++d) g[d] += B * omega_s * L::e[q][d];
-      }
-      for (int d = 0; d < 3; ++d) gain[3 * n + d] += g[d];
+      double f[L::Q], out[L::Q];
+      for (int q = 0; q < L::Q; ++q) f[q] = pop_.next[q * lay_.stride + x - off_[q]];
+      lbm::psm_collide<L, Incompressible>(f, s_.force.data(), collision_.omega, s_.tau, fraction[n], &us[3 * n], out,
+                                          &gain[3 * n]);
+      for (int q = 0; q < L::Q; ++q) pop_.f[q * lay_.stride + x] = out[q];
     }
   }
 
@@ -239,7 +206,7 @@ class Core final : public LbmCore {
       for (long j = 0; j < lay_.extent[1]; ++j)
         for (long i = 0; i < lay_.extent[0]; ++i, ++c)
           for (int q = 0; q < L::Q; ++q)
-            if (!std::isfinite(f_[q * lay_.stride + idx(i, j, k)])) return c;
+            if (!std::isfinite(pop_.f[q * lay_.stride + idx(i, j, k)])) return c;
     return -1;
   }
 
@@ -266,10 +233,10 @@ class Core final : public LbmCore {
       const long x = idx(i, j, k);
       double f[L::Q], F[3];
       force_at(i, j, k, F);
-      for (int q = 0; q < L::Q; ++q) f[q] = f_[q * lay_.stride + x - off_[q]];
+      for (int q = 0; q < L::Q; ++q) f[q] = pop_.f[q * lay_.stride + x - off_[q]];
       const double uu = lbm::collide<L, Incompressible>(f, collision_, F);
       max_u2_ = lbm::nan_max(max_u2_, uu);
-      for (int q = 0; q < L::Q; ++q) f_next_[q * lay_.stride + x] = f[q];
+      for (int q = 0; q < L::Q; ++q) pop_.next[q * lay_.stride + x] = f[q];
     }
   }
 
@@ -295,16 +262,16 @@ class Core final : public LbmCore {
   template <bool Lean>
   void vec_row(long i0, long i1, long j, long k) {
     if (spaced_)
-      vec_row<Lean>(i0, i1, j, k, lbm::SpacedRef<L>(f_.data(), f_next_.data(), idx(0, j, k), off_));
+      vec_row<Lean>(i0, i1, j, k, lbm::SpacedRef<L>(pop_.f.data(), pop_.next.data(), idx(0, j, k), off_));
     else
-      vec_row<Lean>(i0, i1, j, k, lbm::LineRef{f_.data() + idx(0, j, k), f_next_.data() + idx(0, j, k), lay_.stride, off_});
+      vec_row<Lean>(i0, i1, j, k, lbm::LineRef{pop_.f.data() + idx(0, j, k), pop_.next.data() + idx(0, j, k), lay_.stride, off_});
   }
 
   template <bool Lean, class Ref>
   void vec_row(long i0, long i1, long j, long k, const Ref ref) {
     using lbm::Vec4;
-    const double* src = f_.data();
-    double* dst = f_next_.data();
+    const double* src = pop_.f.data();
+    double* dst = pop_.next.data();
     const long base = idx(0, j, k), N = lay_.stride;
     const auto p = collision_;
     const double F[3] = {s_.force[0], s_.force[1], s_.force[2]};
@@ -360,62 +327,21 @@ class Core final : public LbmCore {
     fast_row(run, i1, j, k);
   }
 
-  // A cell on an open face: pull, close the unknowns, collide.
+  // A cell on an open face: pull, close the unknowns (boundaries.hpp), collide.
   void open_cell(long i, long j, long k) {
     double F[3];
     force_at(i, j, k, F);
-    const long loc[3] = {i, j, k};
     const long x = idx(i, j, k);
     double f[L::Q];
-    for (int q = 0; q < L::Q; ++q) f[q] = f_[q * lay_.stride + x - off_[q]];
-    // Outflow faces first (zero gradient: the next node's post-collision
-    // populations), then Zou-He faces, in face order, as lbm-reference does.
-    for (int pass = 0; pass < 2; ++pass)
-      for (int face = 0; face < 6; ++face) {
-        const int axis = face / 2;
-        if (!open_[face] || loc[axis] != (face % 2 == 0 ? 0 : lay_.extent[axis] - 1)) continue;
-        const int s = face % 2 == 0 ? 1 : -1;
-        const lbm::Face& fc = s_.faces[face];
-        if ((fc.type == FaceType::outflow) != (pass == 0)) continue;
-        if (fc.type == FaceType::outflow) {
-          const long inner = x + s * (axis == 0 ? 1 : axis == 1 ? lay_.padded[0] : lay_.padded[0] * lay_.padded[1]);
-          for (int q = 0; q < L::Q; ++q)
-            if (s * L::e[q][axis] > 0) f[q] = f_[q * lay_.stride + inner];
-        } else {
-          if (fc.regularized) {
-            long in[3] = {i, j, k};
-            in[axis] += s;
-            double uin[3];  // the node's own force stands for the inner node's (it may lie in a halo)
-            lbm::post_collision_velocity<L, Incompressible>(&f_[idx(in[0], in[1], in[2])], lay_.stride, F, uin);
-            lbm::regularized<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data(), uin);
-          } else {
-            lbm::zou_he<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data());
-          }
-        }
-      }
+    for (int q = 0; q < L::Q; ++q) f[q] = pop_.f[q * lay_.stride + x - off_[q]];
+    lbm::close_open_faces<L, Incompressible>(f, pop_.f.data(), lay_, i, j, k, open_, s_.faces, F);
     const double uu = lbm::collide<L, Incompressible>(f, collision_, F);
     max_u2_ = lbm::nan_max(max_u2_, uu);
-    for (int q = 0; q < L::Q; ++q) f_next_[q * lay_.stride + x] = f[q];
+    for (int q = 0; q < L::Q; ++q) pop_.next[q * lay_.stride + x] = f[q];
   }
 
-  // Half-way bounce-back: the population a boundary node pulls from beyond a
-  // wall is the one it sent towards the wall, reversed.
-  void fill_walls(int face0, int face1) {
-    for (int face = face0; face < face1; ++face) {
-      if (!wall_[face]) continue;
-      const int axis = face / 2, s = face % 2 == 0 ? 1 : -1;
-      long lo[3] = {0, 0, 0}, hi[3] = {lay_.extent[0], lay_.extent[1], lay_.extent[2]};
-      lo[axis] = face % 2 == 0 ? 0 : lay_.extent[axis] - 1;
-      hi[axis] = lo[axis] + 1;
-      for (long k = lo[2]; k < hi[2]; ++k)
-        for (long j = lo[1]; j < hi[1]; ++j)
-          for (long i = lo[0]; i < hi[0]; ++i) {
-            const long x = idx(i, j, k);
-            for (int q = 0; q < L::Q; ++q)
-              if (s * L::e[q][axis] > 0) f_[q * lay_.stride + x - off_[q]] = f_[L::opp[q] * lay_.stride + x];
-          }
-    }
-  }
+  // Bounce-back on this block's wall faces [face0, face1) (boundaries.hpp).
+  void fill_walls(int face0, int face1) { lbm::fill_walls<L>(pop_.f.data(), lay_, off_, wall_, face0, face1); }
 
   const lbm::Setup& s_;
   Decomposition dec_;
@@ -423,14 +349,13 @@ class Core final : public LbmCore {
   lbm::CollisionParams collision_;
   lbm::Layout lay_;   // where the populations of the block live
   long off_[L::Q];    // streaming offset of population q in cells
-  StridedArrays<double> f_, f_next_;  // post-collision populations, lay_.stride apart; f_ is current, f_next_ the step's output
+  lbm::Populations<L> pop_;  // the populations (f current, next the step's output) and their halo
   bool spaced_ = false;          // lay_.stride = lbm::spaced_stride
   bool lean_ = false;  // BGK without body force: lbm::bgk_line
   std::vector<double> src_;     // per owned cell source (lattice units), empty: none
   std::vector<char> src_row_;   // rows (j, k) holding a source
   double max_u2_ = 0.0;
   bool open_[6], wall_[6];
-  lbm::HaloExchange<L> halo_;
   bool x_local_ = false;    // no other rank borders the block along x
   long row_i0_ = 0, row_i1_ = 0;  // cells of the interior pass's rows
 };

@@ -256,7 +256,7 @@ void LbmReference::apply_face(int face, std::vector<double>& fs, const std::vect
           // The mean of the mass-balance velocity and that of the next node
           // in, from its post-collision populations of the last step (momentum
           // rho u + F/2 with Guo's forcing; the node's own force stands for
-          // the inner node's): no odd-even mode at the face (kernels.hpp).
+          // the inner node's): no odd-even mode at the face (lbm/boundaries.hpp).
           long in[3] = {i, j, k};
           in[axis] += s;
           const double* g = &post[index(in[0], in[1], in[2]) * Q_];
@@ -317,7 +317,7 @@ void LbmReference::zou_he(double* f, int axis, int s, double rho, const double u
 
 // All populations rebuilt as equilibrium plus the regularized non-equilibrium
 // part (Latt et al. 2008; at pressure faces with the inner node's velocity,
-// kernels.hpp): the unknowns' non-equilibrium is their opposite's,
+// lbm/boundaries.hpp): the unknowns' non-equilibrium is their opposite's,
 // Pi^neq = sum e e f^neq, f = f^eq + w / (2 c_s^4) (e e - c_s^2 I) : Pi^neq.
 void LbmReference::regularize(double* f, int axis, int s, double rho, const double u[3]) const {
   std::vector<double> neq(Q_);

@@ -5,7 +5,7 @@
 #include <random>
 
 #include "coflow/memory.hpp"
-#include "fluid/lbm/kernels.hpp"
+#include "fluid/lbm/collision.hpp"
 
 using namespace coflow::fluid::lbm;
 

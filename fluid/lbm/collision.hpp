@@ -1,4 +1,7 @@
-// Lattice Boltzmann cell kernels: one cell, no MPI, no I/O, no allocation.
+// Lattice Boltzmann collision kernels and the equilibrium: one cell (collide)
+// and lines of cells (bgk_line, collide_line), no MPI, no I/O, no allocation.
+// The boundary closures are in boundaries.hpp, the partially saturated cells'
+// collision in psm_kernel.hpp.
 //
 // Populations are stored zero-centred: g_q = f_q - w_q, the deviation from the
 // rest equilibrium (rho = 1, u = 0). The density is 1 + sum g, the momentum
@@ -431,113 +434,6 @@ inline double equilibrium(int q, double rho, const double* u) {
   const double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
   const double rho_m = Incompressible ? 1.0 : rho;
   return L::w[q] * ((rho - 1.0) + rho_m * (3.0 * eu + 4.5 * eu * eu - 1.5 * uu));
-}
-
-// The density and velocity of a node on a face with inward normal s along
-// `axis`, from its known populations (zero-centred) and the face's value
-// (Zou & He 1997): a velocity face gives u, rho follows from mass balance; a
-// pressure face gives rho, the normal u follows, the tangential u is zero.
-template <class L, bool Incompressible>
-inline void face_state(const double* f, int axis, int s, bool velocity_face, double rho_given, const double* u_given,
-                       double& rho, double* u) {
-  double s0 = 0.0, sout = 0.0;
-  for (int q = 0; q < L::Q; ++q) {
-    if (L::e[q][axis] == 0) s0 += f[q];
-    if (s * L::e[q][axis] < 0) sout += f[q];
-  }
-  // s0 + 2 sout of the full populations: the weights add 1 (zero-centred storage)
-  const double known = (s0 + 2.0 * sout) + 1.0;
-  u[0] = u[1] = u[2] = 0.0;
-  if (velocity_face) {
-    for (int d = 0; d < 3; ++d) u[d] = u_given[d];
-    const double un = s * u[axis];
-    rho = Incompressible ? known + un : known / (1.0 - un);
-  } else {
-    rho = rho_given;
-    const double un = Incompressible ? rho - known : 1.0 - known / rho;
-    u[axis] = s * un;
-  }
-}
-
-// Zou & He (1997) closure of the unknown populations at a node of a face with
-// inward normal s along `axis`, general form of Hecht & Harting (2010):
-//   f_q = f_opp(q) + 6 w_q rho_m (e_q . u) - sum_t e_q,t N_t,
-//   N_t = 1/2 sum_{e_q,axis = 0} f_q e_q,t - rho_m u_t / 3.
-template <class L, bool Incompressible>
-inline void zou_he(double* f, int axis, int s, bool velocity_face, double rho_given, const double* u_given) {
-  double rho, u[3];
-  face_state<L, Incompressible>(f, axis, s, velocity_face, rho_given, u_given, rho, u);
-  const double rho_m = Incompressible ? 1.0 : rho;
-  double N[3] = {0.0, 0.0, 0.0};
-  for (int t = 0; t < 3; ++t) {
-    if (t == axis) continue;
-    for (int q = 0; q < L::Q; ++q)
-      if (L::e[q][axis] == 0) N[t] += 0.5 * f[q] * L::e[q][t];
-    N[t] -= rho_m * u[t] / 3.0;
-  }
-  for (int q = 0; q < L::Q; ++q) {
-    if (s * L::e[q][axis] <= 0) continue;
-    const double eu = L::e[q][0] * u[0] + L::e[q][1] * u[1] + L::e[q][2] * u[2];
-    double v = f[L::opp[q]] + 6.0 * L::w[q] * rho_m * eu;
-    for (int t = 0; t < 3; ++t)
-      if (t != axis) v -= L::e[q][t] * N[t];
-    f[q] = v;
-  }
-}
-
-// Regularized closure (Latt, Chopard, Malaspinas, Deville & Michler 2008, Phys.
-// Rev. E 77, 056703, §III.B): rho and u as Zou-He; the unknown populations'
-// non-equilibrium parts by bounce-back of the opposite ones' (f_q^neq =
-// f_opp(q)^neq); then every population of the node is rebuilt as
-//   f_q = f_q^eq + w_q / (2 c_s^4) Q_q : Pi^neq,  Q_q = e_q e_q - c_s^2 I,
-// with Pi^neq = sum_q e_q e_q f_q^neq, so that only the hydrodynamic part of
-// the non-equilibrium survives (no odd-even mode at pressure faces).
-//
-// At a pressure face the velocity is the mean of the node's mass-balance value
-// (Zou & He) and the next node's inwards (u_inner): for a smooth flow the two
-// agree (to O(dx du/dx), zero in fully developed flow), while a two-cell
-// (odd-even) mode along the flow has opposite signs in them. Alone, the
-// mass-balance velocity lets such a mode live in steady state, pinned at the
-// face (+-7 % at Ma 0.09, tau 0.8: docs/validation.md); the mean gives it no
-// amplitude there (3e-4).
-template <class L, bool Incompressible>
-inline void regularized(double* f, int axis, int s, bool velocity_face, double rho_given, const double* u_given,
-                        const double* u_inner) {
-  double rho, u[3];
-  face_state<L, Incompressible>(f, axis, s, velocity_face, rho_given, u_given, rho, u);
-  if (!velocity_face)
-    for (int d = 0; d < 3; ++d) u[d] = 0.5 * (u[d] + u_inner[d]);
-  double feq[L::Q], neq[L::Q];
-  for (int q = 0; q < L::Q; ++q) feq[q] = equilibrium<L, Incompressible>(q, rho, u);
-  for (int q = 0; q < L::Q; ++q) {
-    const int k = s * L::e[q][axis] > 0 ? L::opp[q] : q;  // unknown: its opposite's
-    neq[q] = f[k] - feq[k];
-  }
-  double pi[3][3] = {};
-  for (int q = 0; q < L::Q; ++q)
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) pi[a][b] += L::e[q][a] * L::e[q][b] * neq[q];
-  for (int q = 0; q < L::Q; ++q) {
-    double qpi = 0.0;
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) qpi += (L::e[q][a] * L::e[q][b] - (a == b ? 1.0 / 3.0 : 0.0)) * pi[a][b];
-    f[q] = feq[q] + 4.5 * L::w[q] * qpi;  // 1 / (2 c_s^4) = 9 / 2
-  }
-}
-
-// The velocity of a node from its post-collision populations g (zero-centred,
-// stride apart) of the last step and the force density F: Guo's forcing
-// leaves the momentum rho u + F/2 after collision.
-template <class L, bool Incompressible>
-inline void post_collision_velocity(const double* g, long stride, const double* F, double* u) {
-  double rho = 1.0, m[3] = {0.0, 0.0, 0.0};
-  for (int q = 0; q < L::Q; ++q) {
-    const double v = g[q * stride];
-    rho += v;
-    for (int d = 0; d < 3; ++d) m[d] += L::e[q][d] * v;
-  }
-  const double rho_m = Incompressible ? 1.0 : rho;
-  for (int d = 0; d < 3; ++d) u[d] = (m[d] - 0.5 * F[d]) / rho_m;
 }
 
 }  // namespace coflow::fluid::lbm

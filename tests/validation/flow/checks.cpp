@@ -1,5 +1,5 @@
 // coflow-check: lattice Boltzmann channel, duct, Couette, Taylor-Green, ramp and mass metrics.
-#include "check.hpp"
+#include "../check/check.hpp"
 
 namespace coflow::check {
 

@@ -1,5 +1,5 @@
 // coflow-check: soft-sphere DEM: two-sphere impact and gravity pour.
-#include "check.hpp"
+#include "../check/check.hpp"
 
 namespace coflow::check {
 

@@ -1,5 +1,5 @@
 // coflow-check: point particles (dpm): settling, granular gases, two-way coupling, dispersion, grid turbulence, injection, jet on a plate.
-#include "check.hpp"
+#include "../check/check.hpp"
 
 namespace coflow::check {
 

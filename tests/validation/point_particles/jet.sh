@@ -10,8 +10,8 @@ here=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$out"
 # shellcheck disable=SC2086
 [ "$plate_args" = "-" ] && plate_args=""
-/usr/bin/python3 "$here/../../scripts/make_plate_stl.py" "$out/plate.stl" $plate_args || { echo "FAIL: plate"; exit 1; }
+/usr/bin/python3 "$here/../../../scripts/make_plate_stl.py" "$out/plate.stl" $plate_args || { echo "FAIL: plate"; exit 1; }
 walls="particles.walls=[{\"mesh\":\"$out/plate.stl\",\"restitution\":0.3,\"friction\":0.1}]"
 args=()
 for a in "$@"; do args+=("${a//@WALLS@/$walls}"); done
-exec "$here/validate.sh" "$case_name" "$bin" "$out" "$mode" "$cfg" "${args[@]}"
+exec "$here/../validate.sh" "$case_name" "$bin" "$out" "$mode" "$cfg" "${args[@]}"

@@ -1,5 +1,5 @@
 // coflow-check: resolved particles (psm): momentum, drag array, settling sphere, rotating sphere.
-#include "check.hpp"
+#include "../check/check.hpp"
 
 namespace coflow::check {
 

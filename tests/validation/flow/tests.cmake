@@ -1,0 +1,75 @@
+# Single-phase flow (lbm, lbm-reference): channel, duct and Couette profiles and
+# their orders, Taylor-Green decay, mass conservation, pressure and velocity
+# faces, and the crosschecks of lbm against lbm-reference, rank counts and
+# population layouts.
+# Included from tests/CMakeLists.txt (validation/tests.cmake): test names,
+# working folders and ${vcfg} are those of tests/.
+coflow_validation(lbm_poiseuille_2d_force profile lbm_poiseuille_2d_force.yaml 1)
+coflow_validation(lbm_poiseuille_2d_force_order order lbm_poiseuille_2d_force.yaml 1
+  "domain.cells=[4,16,1] domain.upper=[0.008,0.032,0.002]"
+  "domain.cells=[4,32,1] domain.upper=[0.004,0.032,0.001]"
+  "domain.cells=[4,64,1] domain.upper=[0.002,0.032,0.0005]")
+coflow_validation(lbm_poiseuille_2d_pressure profile lbm_poiseuille_2d_pressure.yaml 1)
+coflow_validation(lbm_poiseuille_2d_pressure_order order lbm_poiseuille_2d_pressure.yaml 1
+  "domain.cells=[32,16,1] domain.upper=[0.064,0.032,0.002] fluid.boundaries.x-.value=9.6875e-5"
+  "domain.cells=[64,32,1] domain.upper=[0.064,0.032,0.001] fluid.boundaries.x-.value=9.84375e-5"
+  "domain.cells=[128,64,1] domain.upper=[0.064,0.032,0.0005] fluid.boundaries.x-.value=9.921875e-5")
+coflow_validation(lbm_duct_3d_force profile lbm_duct_3d_force.yaml 1)
+coflow_validation(lbm_duct_3d_force_order order lbm_duct_3d_force.yaml 1
+  "domain.cells=[2,8,8] domain.upper=[0.008,0.032,0.032]"
+  "domain.cells=[2,16,16] domain.upper=[0.004,0.032,0.032]"
+  "domain.cells=[2,32,32] domain.upper=[0.002,0.032,0.032]")
+coflow_validation(lbm_duct_3d_pressure profile lbm_duct_3d_pressure.yaml 2)
+coflow_validation(lbm_pressure_large_drop formulations lbm_pressure_large_drop.yaml 1)
+# Mach 0.09: the regularized pressure faces hold no odd-even mode; Zou-He ones do.
+coflow_validation(lbm_poiseuille_2d_pressure_ma009 profile lbm_poiseuille_2d_pressure_ma009.yaml 1)
+coflow_validation(lbm_pressure_outlet_zou_he profile lbm_poiseuille_2d_pressure_ma009.yaml 1
+  --set fluid.boundaries.x-.closure=zou-he --set fluid.boundaries.x+.closure=zou-he)
+coflow_validation(lbm_couette profile lbm_couette.yaml 1)
+coflow_validation(lbm_taylor_green decay lbm_taylor_green.yaml 2)
+coflow_validation(lbm_mass_conservation mass lbm_mass_conservation.yaml 2)
+coflow_validation(lbm_vs_reference compare lbm_all_boundaries_3d.yaml 1
+  "fluid.solver=lbm" "fluid.solver=lbm-reference")
+coflow_validation(lbm_ranks_1_vs_4 compare lbm_all_boundaries_3d.yaml 2
+  "fluid.ranks=1" "fluid.ranks=4 fluid.decomposition=[2,2,1]")
+# The lean kernel (BGK without force) against the reference and across ranks;
+# a periodic x axis held by one block (its ghosts copied locally, whole rows in
+# the interior pass) with y and z split, with and without force.
+coflow_validation(lbm_vs_reference_lean compare lbm_all_boundaries_3d.yaml 1
+  "fluid.solver=lbm fluid.body_force=[0,0,0]" "fluid.solver=lbm-reference fluid.body_force=[0,0,0]")
+coflow_validation(lbm_ranks_1_vs_4_lean compare lbm_all_boundaries_3d.yaml 2
+  "fluid.ranks=1 fluid.body_force=[0,0,0]" "fluid.ranks=4 fluid.decomposition=[2,2,1] fluid.body_force=[0,0,0]")
+coflow_validation(lbm_ranks_periodic_x compare lbm_mass_conservation.yaml 2
+  "fluid.ranks=1 run.end_time=5.0 run.output.every=5.0"
+  "fluid.ranks=4 fluid.decomposition=[1,2,2] run.end_time=5.0 run.output.every=5.0")
+coflow_validation(lbm_vs_reference_periodic_x_lean compare lbm_mass_conservation.yaml 1
+  "fluid.solver=lbm fluid.ranks=1 fluid.body_force=[0,0,0] run.end_time=5.0 run.output.every=5.0"
+  "fluid.solver=lbm-reference fluid.ranks=1 fluid.body_force=[0,0,0] run.end_time=5.0 run.output.every=5.0")
+# The two population layouts (spaced when a block fits, packed for larger
+# blocks) give the same bits: general and lean kernels, the lean one also on
+# whole periodic rows and on four ranks (x whole, so that rows take the line
+# kernels).
+coflow_validation(lbm_layouts layouts lbm_all_boundaries_3d.yaml 1
+  "fluid.lbm.layout=packed" "fluid.lbm.layout=auto")
+coflow_validation(lbm_layouts_lean layouts lbm_all_boundaries_3d.yaml 2
+  "fluid.lbm.layout=packed fluid.ranks=4 fluid.decomposition=[1,2,2] fluid.body_force=[0,0,0]"
+  "fluid.lbm.layout=auto fluid.ranks=4 fluid.decomposition=[1,2,2] fluid.body_force=[0,0,0]")
+# Where the address space for the spaced layout is refused (here a 6 GB
+# limit), the packed one, with a warning and the same bits.
+coflow_validation(lbm_layout_address_limit address_limit lbm_all_boundaries_3d.yaml 1 6000000)
+coflow_validation(lbm_layouts_periodic_x_lean layouts lbm_mass_conservation.yaml 1
+  "fluid.lbm.layout=packed fluid.ranks=1 fluid.body_force=[0,0,0] run.end_time=5.0 run.output.every=5.0"
+  "fluid.lbm.layout=auto fluid.ranks=1 fluid.body_force=[0,0,0] run.end_time=5.0 run.output.every=5.0")
+# Ramped boundary values: the inlet pressure a quarter of the way up the ramp,
+# the steady profile once the ramp is over, and both variants with ramped
+# velocity and pressure faces.
+coflow_validation(lbm_pressure_ramp ramp lbm_poiseuille_2d_pressure.yaml 1
+  --set fluid.boundaries.x-.ramp=2400.0 --set run.end_time=600.0 --set run.output.every=600.0)
+coflow_validation(lbm_pressure_ramp_profile profile lbm_poiseuille_2d_pressure.yaml 1
+  --set fluid.boundaries.x-.ramp=300.0)
+coflow_validation(lbm_vs_reference_ramp compare lbm_all_boundaries_3d.yaml 1
+  "fluid.solver=lbm fluid.boundaries.x-.ramp=20.0 fluid.boundaries.x+.ramp=10.0"
+  "fluid.solver=lbm-reference fluid.boundaries.x-.ramp=20.0 fluid.boundaries.x+.ramp=10.0")
+coflow_validation(lbm_poiseuille_2d_trt profile lbm_poiseuille_2d_trt.yaml 1)
+coflow_validation(lbm_vs_reference_trt compare lbm_all_boundaries_3d.yaml 1
+  "fluid.solver=lbm fluid.lbm.collision=trt" "fluid.solver=lbm-reference fluid.lbm.collision=trt")

@@ -1,0 +1,26 @@
+# Granular contacts (dem, dem-reference): two-sphere impact and restitution,
+# pouring, bonds and crushing, mesh walls and outlets, crosschecks and ranks.
+# Included from tests/CMakeLists.txt (validation/tests.cmake): test names,
+# working folders and ${vcfg} are those of tests/.
+coflow_validation(dem_two_sphere_impact impact dem_two_sphere_impact.yaml 1)
+coflow_validation(dem_damping_curve damping dem_two_sphere_impact.yaml 1 0.0 0.05 0.1 0.2 0.4 0.7)
+coflow_validation(dem_vs_reference compare dem_crosscheck.yaml 1 "particles.solver=dem" "particles.solver=dem-reference")
+coflow_validation(dem_vs_reference_bonded compare dem_crosscheck_bonded.yaml 1 "particles.solver=dem" "particles.solver=dem-reference")
+coflow_validation(dem_gravity_pour pour dem_gravity_pour.yaml 1)
+# Bonds breaking and grains crushing on 4 ranks as on 1; and with the automatic
+# step, crushed (lighter) grains split the step alike in dem and dem-reference.
+coflow_validation(dem_bonded_ranks_1_vs_4 compare dem_crosscheck_bonded.yaml 2
+  "particles.ranks=1" "particles.ranks=4 particles.decomposition=[2,2,1]")
+coflow_validation(dem_crushing_auto_step crush dem_crosscheck_bonded.yaml 1
+  --set particles.time_step=auto --set particles.contact.bond.crush_fraction=0.2)
+coflow_validation(dem_crushing_auto_step_vs_reference compare dem_crosscheck_bonded.yaml 1
+  "particles.time_step=auto particles.contact.bond.crush_fraction=0.2 particles.solver=dem"
+  "particles.time_step=auto particles.contact.bond.crush_fraction=0.2 particles.solver=dem-reference")
+coflow_validation(dem_ranks_1_vs_4 compare dem_ranks.yaml 2
+  "particles.ranks=1" "particles.ranks=4 particles.decomposition=[2,2,1]")
+coflow_validation(dem_mesh_vs_face compare dem_mesh_wall.yaml 1
+  "particles.solver=dem" "particles.walls=[] particles.boundaries.z-=wall domain.lower=[0,0,0.001]")
+coflow_validation(dem_mesh_vs_reference compare dem_mesh_wall.yaml 1 "particles.solver=dem" "particles.solver=dem-reference")
+coflow_validation(dem_outlet_vs_reference compare dem_outlet.yaml 1 "particles.solver=dem" "particles.solver=dem-reference")
+coflow_validation(dem_outlet_1_vs_3 compare dem_outlet.yaml 2
+  "particles.ranks=1" "particles.ranks=3 particles.decomposition=[1,1,3]")

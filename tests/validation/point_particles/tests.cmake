@@ -1,0 +1,57 @@
+# Point particles (dpm, dpm-reference, immersed point): settling, granular
+# gases, two-way and one-way coupling, dispersion, injection, the jet on a
+# plate, crosschecks and ranks.
+# Included from tests/CMakeLists.txt (validation/tests.cmake): test names,
+# working folders and ${vcfg} are those of tests/.
+coflow_validation(dpm_settling dpm_settling dpm_settling.yaml 1)
+coflow_validation(dpm_granular_gas granular_gas dpm_granular_gas.yaml 1)
+coflow_validation(dpm_granular_gas_bidisperse granular_gas dpm_granular_gas_bidisperse.yaml 1)
+# A dense gas (alpha 0.05) where the mean collision time sets the step (eq. 4.15).
+coflow_validation(dpm_granular_gas_dense granular_gas dpm_granular_gas_dense.yaml 1)
+coflow_validation(dpm_vs_reference compare dpm_crosscheck.yaml 1 "particles.solver=dpm" "particles.solver=dpm-reference")
+coflow_validation(dpm_two_way two_way dpm_two_way.yaml 2)
+# The same at u_p(0) = 1 mm/s (Re_p 0.004): the drag factor is constant, as the
+# closed form of eqs 5.4-5.5 assumes.
+coflow_validation(dpm_two_way_stokes two_way dpm_two_way.yaml 2
+  --set "particles.initial=[{lattice: {species: droplet, spacing: 0.1, region: {lower: [0.0, 0.0, 0.0], upper: [1.0, 1.0, 1.0]}, velocity: [0.001, 0.0, 0.0]}}]")
+coflow_validation(dpm_dispersion dispersion dpm_dispersion.yaml 2)
+coflow_validation(dpm_injection injection dpm_injection.yaml 1)
+coflow_validation(dpm_jet_vs_reference compare dpm_jet_crosscheck.yaml 1
+  "particles.solver=dpm run.output.collision_events=true" "particles.solver=dpm-reference run.output.collision_events=true")
+# Point particles with one-way coupling: the fluid never feels them.
+coflow_run_ranks(np ${vcfg}/dpm_two_way.yaml)
+add_test(NAME validation.dpm_one_way
+  COMMAND ${CMAKE_CURRENT_LIST_DIR}/one_way.sh ${CMAKE_BINARY_DIR}/bin ${vcfg}/dpm_two_way.yaml
+          ${CMAKE_CURRENT_BINARY_DIR}/val-dpm_one_way)
+set_tests_properties(validation.dpm_one_way PROPERTIES LABELS "validation;mpi" PROCESSORS ${np})
+# Granular jet on a plate (seed 003 §5.3): the plate is written by
+# scripts/make_plate_stl.py (jet.sh).
+set(jet ${CMAKE_CURRENT_LIST_DIR}/jet.sh)
+function(coflow_jet name mode config procs plate)
+  add_test(NAME validation.${name}
+    COMMAND ${jet} ${name} ${CMAKE_BINARY_DIR}/bin ${CMAKE_CURRENT_BINARY_DIR}/val-${name} ${mode}
+            ${vcfg}/${config} ${plate} ${ARGN})
+  set(runs ${ARGN})
+  list(FILTER runs EXCLUDE REGEX "^--")
+  string(REPLACE "@WALLS@" "" runs "${runs}")
+  coflow_case_ranks(ranks ${vcfg}/${config} ${runs})
+  set_tests_properties(validation.${name} PROPERTIES LABELS "validation;mpi" PROCESSORS ${ranks})
+endfunction()
+coflow_jet(dpm_jet_plate_no_pp jet dpm_jet_plate.yaml 1 - --set @WALLS@ --set particles.collision.enabled=false)
+coflow_jet(dpm_jet_plate jet dpm_jet_plate.yaml 1 - --set @WALLS@)
+coflow_jet(dpm_mesh_vs_reference compare dpm_jet_crosscheck.yaml 1
+  "--size 0.02 --thickness 0.002 --cells 6 --center 0.025 0.025 0.02 --normal z --tilt 25"
+  "particles.solver=dpm run.output.collision_events=true @WALLS@"
+  "particles.solver=dpm-reference run.output.collision_events=true @WALLS@")
+coflow_validation(dpm_ranks_1_vs_4 compare dpm_crosscheck.yaml 2
+  "particles.ranks=1 run.end_time=0.05 run.output.every=0.025"
+  "particles.ranks=4 particles.decomposition=[2,2,1] run.end_time=0.05 run.output.every=0.025")
+coflow_jet(dpm_jet_ranks_1_vs_3 compare dpm_jet_crosscheck.yaml 2
+  "--size 0.02 --thickness 0.002 --cells 6 --center 0.025 0.025 0.02 --normal z --tilt 25"
+  "particles.ranks=1 run.output.collision_events=true @WALLS@"
+  "particles.ranks=3 particles.decomposition=[1,1,3] run.output.collision_events=true @WALLS@")
+coflow_validation(dpm_grid_turbulence grid_turbulence dpm_grid_turbulence.yaml 2)
+coflow_validation(dpm_grid_turbulence_ct026 grid_turbulence dpm_grid_turbulence.yaml 2 --set particles.dispersion.C_T=0.26)
+coflow_validation(dpm_two_way_loaded two_way dpm_two_way_loaded.yaml 2)
+coflow_validation(dpm_two_way_layouts compare dpm_two_way_loaded.yaml 2
+  "fluid.ranks=1 immersed.ranks=1 particles.ranks=1" "fluid.ranks=4 immersed.ranks=2 particles.ranks=4")

@@ -1,0 +1,27 @@
+# Resolved particles (immersed psm between lbm and dem): momentum balance,
+# drag of a sphere array, settling spheres (ten Cate et al.), rotation,
+# crosschecks of variants, ranks and schemes.
+# Included from tests/CMakeLists.txt (validation/tests.cmake): test names,
+# working folders and ${vcfg} are those of tests/.
+coflow_validation(psm_momentum momentum psm_momentum.yaml 2)
+coflow_validation(psm_momentum_2_1_2 momentum psm_momentum.yaml 2 --set fluid.ranks=2 --set particles.ranks=2)
+coflow_validation(psm_layouts compare psm_momentum.yaml 2
+  "fluid.ranks=1 immersed.ranks=1 particles.ranks=1" "fluid.ranks=2 immersed.ranks=2 particles.ranks=2")
+coflow_validation(psm_drag_array drag psm_drag_array.yaml 2)
+coflow_validation(psm_settling_sphere_e2 settling psm_settling_sphere_e2.yaml 2)
+# ten Cate et al.'s other three cases at full size (configs/cases, label long).
+foreach(e e1 e3 e4)
+  add_test(NAME validation.psm_settling_sphere_${e}
+    COMMAND ${validate} psm_settling_sphere_${e} ${CMAKE_BINARY_DIR}/bin ${CMAKE_CURRENT_BINARY_DIR}/val-settling-${e}
+            settling ${PROJECT_SOURCE_DIR}/configs/cases/settling_sphere_${e}.yaml
+            --set fluid.ranks=2 --set "run.output.fields=[velocity]")
+  set_tests_properties(validation.psm_settling_sphere_${e} PROPERTIES LABELS "validation;mpi" PROCESSORS 4)
+endforeach()
+coflow_validation(psm_variants compare psm_momentum.yaml 2
+  "fluid.solver=lbm particles.solver=dem" "fluid.solver=lbm-reference particles.solver=dem-reference")
+coflow_validation(psm_rotating_sphere rotation psm_rotating_sphere.yaml 2)
+coflow_validation(psm_momentum_periodic momentum psm_momentum_periodic.yaml 2
+  --set fluid.ranks=2 --set immersed.ranks=2 --set particles.ranks=2)
+coflow_validation(psm_momentum_parallel momentum psm_momentum.yaml 2 --set coupling.scheme=parallel-explicit)
+coflow_validation(psm_momentum_periodic_parallel momentum psm_momentum_periodic.yaml 2
+  --set fluid.ranks=2 --set immersed.ranks=2 --set particles.ranks=2 --set coupling.scheme=parallel-explicit)

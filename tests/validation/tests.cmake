@@ -1,0 +1,19 @@
+# Validation: a config from configs/validation, run, then coflow-check and
+# references.csv (validate.sh). Included from tests/CMakeLists.txt.
+# --- validation: a config from configs/validation + coflow-check + references.csv ---
+add_executable(coflow-check validation/check/main.cpp validation/check/compare.cpp validation/flow/checks.cpp
+  validation/granular/checks.cpp validation/point_particles/checks.cpp validation/resolved_particles/checks.cpp)
+target_link_libraries(coflow-check PRIVATE coflow_fluid coflow_immersed coflow_particles coflow_catalog coflow_warnings)
+set(validate ${CMAKE_CURRENT_SOURCE_DIR}/validation/validate.sh)
+set(vcfg ${PROJECT_SOURCE_DIR}/configs/validation)
+function(coflow_validation name mode config procs)
+  add_test(NAME validation.${name}
+    COMMAND ${validate} ${name} ${CMAKE_BINARY_DIR}/bin ${CMAKE_CURRENT_BINARY_DIR}/val-${name} ${mode}
+            ${vcfg}/${config} ${ARGN})
+  coflow_case_ranks(ranks ${vcfg}/${config} ${ARGN})  # `procs` was a guess; the config says
+  set_tests_properties(validation.${name} PROPERTIES LABELS "validation;mpi" PROCESSORS ${ranks})
+endfunction()
+# One folder per physics, each with its checks (coflow-check modes) and tests.
+foreach(physics flow granular point_particles resolved_particles)
+  include(${CMAKE_CURRENT_LIST_DIR}/${physics}/tests.cmake)
+endforeach()

@@ -18,6 +18,10 @@ DemSolver::DemSolver(const Setup& setup, const Params&)
     : comm_(setup.comm), params_(setup.params) {
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &size_);
+  store_.add("torque", 3, store::stays, torque_);
+  store_.add("hydrodynamic_force", 3, store::migrates, fh_);
+  store_.add("hydrodynamic_torque", 3, store::migrates, th_);
+  store_.add("owned", 1, store::migrates, owned_);
   p_ = dem::make_initial(setup.params, setup.cfg);
   s_ = dem::make_setup(setup.params, setup.cfg, p_);
   domain_ = store::Domain(setup.decomposition, s_.lower.data(), s_.upper.data(), s_.periodic, comm_);

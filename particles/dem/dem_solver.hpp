@@ -66,15 +66,13 @@ class DemSolver final : public ParticleSolver {
     return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint64_t>(b);
   }
 
-  // The particles (store/particle_store.hpp): the common attributes, the
-  // torque of the step, the hydrodynamic force and torque of the window, and
-  // whether this rank owns the particle (0: a ghost copy).
-  store::ParticleStore store_;
-  ParticleArrays& p_ = store_.arrays();
-  std::vector<double>& torque_ = store_.add<double>("torque", 3, store::stays);
-  std::vector<double>& fh_ = store_.add<double>("hydrodynamic_force", 3, store::migrates);
-  std::vector<double>& th_ = store_.add<double>("hydrodynamic_torque", 3, store::migrates);
-  std::vector<char>& owned_ = store_.add<char>("owned", 1, store::migrates);
+  // The particles: the common attributes, the torque of the step, the
+  // hydrodynamic force and torque of the window, and whether this rank owns
+  // the particle (0: a ghost copy); store_ moves them together.
+  ParticleArrays p_;
+  std::vector<double> torque_, fh_, th_;
+  std::vector<char> owned_;
+  store::ParticleStore store_{p_};
   std::unordered_map<std::uint64_t, dem::ContactState> contacts_, walls_;
   dem::DemSetup s_;
   MPI_Comm comm_;

@@ -30,6 +30,12 @@ DpmSolver::DpmSolver(const Setup& setup, const Params&)
     : comm_(setup.comm), params_(setup.params) {
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &size_);
+  store_.add("diameter", 1, store::migrates, D_);
+  store_.add("density", 1, store::migrates, rho_p_);
+  store_.add("impulse", 3, store::migrates, impulse_);
+  store_.add("fluid", 1, store::migrates, fluid_);
+  store_.add("fluctuation", 3, store::migrates, uprime_);
+  store_.add("turbulent", 1, store::migrates, turbulent_);
   s_ = dpm::make_setup(setup.params, setup.cfg);
   domain_ = store::Domain(setup.decomposition, s_.lower.data(), s_.upper.data(), s_.periodic, comm_);
   p_ = dem::make_initial(setup.params, setup.cfg);  // every rank makes all, keeps its own

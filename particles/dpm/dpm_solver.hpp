@@ -86,17 +86,15 @@ class DpmSolver final : public ParticleSolver {
   MPI_Comm comm_;
   store::Domain domain_;
   int rank_ = 0, size_ = 1;
-  // The particles (store/particle_store.hpp): the common attributes, then the
-  // diameter, density, impulse given to the fluid, fluid sample, turbulent
-  // fluctuation seen (dispersion) and whether it has started.
-  store::ParticleStore store_;
-  ParticleArrays& p_ = store_.arrays();
-  std::vector<double>& D_ = store_.add<double>("diameter", 1, store::migrates);
-  std::vector<double>& rho_p_ = store_.add<double>("density", 1, store::migrates);
-  std::vector<double>& impulse_ = store_.add<double>("impulse", 3, store::migrates);
-  std::vector<dpm::FluidSample>& fluid_ = store_.add<dpm::FluidSample>("fluid", 1, store::migrates);
-  std::vector<double>& uprime_ = store_.add<double>("fluctuation", 3, store::migrates);
-  std::vector<char>& turbulent_ = store_.add<char>("turbulent", 1, store::migrates);
+  // The particles: the common attributes, then the diameter, density, impulse
+  // given to the fluid, fluid sample, turbulent fluctuation seen (dispersion)
+  // and whether it has started; store_ moves them together.
+  ParticleArrays p_;
+  std::vector<double> D_, rho_p_, impulse_;
+  std::vector<dpm::FluidSample> fluid_;
+  std::vector<double> uprime_;
+  std::vector<char> turbulent_;
+  store::ParticleStore store_{p_};
   std::vector<dpm::FluidSample> seen_;
   dpm::DpmSetup s_;
   std::vector<dpm::Inlet> inlets_;

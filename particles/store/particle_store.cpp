@@ -8,17 +8,16 @@
 
 namespace coflow::particles::store {
 
-ParticleStore::ParticleStore() {
-  ParticleArrays& a = arrays_;
-  add_core("id", 1, always, a.id);
-  add_core("species", 1, always, a.species);
-  add_core("position", 3, always, a.x);
-  add_core("velocity", 3, always, a.v);
-  add_core("angular_velocity", 3, always, a.w);
-  add_core("radius", 1, always, a.radius);
-  add_core("mass", 1, always, a.mass);
-  add_core("inertia", 1, always, a.inertia);
-  add_core("force", 3, migrates, a.force);
+ParticleStore::ParticleStore(ParticleArrays& a) : arrays_(a) {
+  add("id", 1, always, a.id);
+  add("species", 1, always, a.species);
+  add("position", 3, always, a.x);
+  add("velocity", 3, always, a.v);
+  add("angular_velocity", 3, always, a.w);
+  add("radius", 1, always, a.radius);
+  add("mass", 1, always, a.mass);
+  add("inertia", 1, always, a.inertia);
+  add("force", 3, migrates, a.force);
 }
 
 std::size_t ParticleStore::row_doubles(Travel with) const {

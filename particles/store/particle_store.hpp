@@ -89,9 +89,13 @@ class TypedColumn final : public Column {
   std::vector<T>& data_;
 };
 
+// The store is a table of named columns over the model's own vectors: the
+// model keeps them as plain members (its hot loops read them directly, with no
+// indirection) and registers each once.
 class ParticleStore {
  public:
-  ParticleStore();
+  // The common attributes, `arrays`, must outlive the store.
+  explicit ParticleStore(ParticleArrays& arrays);
   ParticleStore(const ParticleStore&) = delete;
   ParticleStore& operator=(const ParticleStore&) = delete;
 
@@ -99,13 +103,11 @@ class ParticleStore {
   const ParticleArrays& arrays() const { return arrays_; }
   std::size_t size() const { return arrays_.size(); }
 
-  // A model's attribute: `width` entries of T per particle, owned by the store.
+  // A model's attribute: `width` entries of T per particle in `data` (which
+  // must outlive the store).
   template <class T>
-  std::vector<T>& add(const std::string& name, std::size_t width, Travel travel) {
-    auto data = std::make_shared<std::vector<T>>();
-    owned_.push_back(data);
-    columns_.push_back(std::make_unique<TypedColumn<T>>(name, width, travel, *data));
-    return *data;
+  void add(const std::string& name, std::size_t width, Travel travel, std::vector<T>& data) {
+    columns_.push_back(std::make_unique<TypedColumn<T>>(name, width, travel, data));
   }
 
   // Doubles of one row holding the attributes that travel `with`.
@@ -127,12 +129,7 @@ class ParticleStore {
   void check_sizes() const;
 
  private:
-  template <class T>
-  void add_core(const std::string& name, std::size_t width, Travel travel, std::vector<T>& data) {
-    columns_.push_back(std::make_unique<TypedColumn<T>>(name, width, travel, data));
-  }
-  ParticleArrays arrays_;
-  std::vector<std::shared_ptr<void>> owned_;
+  ParticleArrays& arrays_;
   std::vector<std::unique_ptr<Column>> columns_;
 };
 

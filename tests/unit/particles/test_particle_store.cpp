@@ -45,10 +45,14 @@ void fill(ParticleStore& s, std::vector<double>& torque, std::vector<Pair>& pair
 }  // namespace
 
 TEST_CASE("the particle store keeps and sorts every attribute together", "[particles]") {
-  ParticleStore s;
-  auto& torque = s.add<double>("torque", 3, stays);
-  auto& pair = s.add<Pair>("pair", 1, migrates);
-  auto& flag = s.add<char>("flag", 1, migrates);
+  coflow::particles::ParticleArrays arrays;
+  std::vector<double> torque;
+  std::vector<Pair> pair;
+  std::vector<char> flag;
+  ParticleStore s(arrays);
+  s.add("torque", 3, stays, torque);
+  s.add("pair", 1, migrates, pair);
+  s.add("flag", 1, migrates, flag);
   fill(s, torque, pair, flag);
   s.check_sizes();
   REQUIRE(s.arrays().id == std::vector<std::int64_t>{20, 10, 30});
@@ -66,13 +70,17 @@ TEST_CASE("the particle store keeps and sorts every attribute together", "[parti
 }
 
 TEST_CASE("migration rows carry what migrates; ghost rows what ghosts need", "[particles]") {
-  ParticleStore from, to;
-  auto& t0 = from.add<double>("torque", 3, stays);
-  auto& p0 = from.add<Pair>("pair", 1, migrates);
-  auto& f0 = from.add<char>("flag", 1, migrates);
-  auto& t1 = to.add<double>("torque", 3, stays);
-  auto& p1 = to.add<Pair>("pair", 1, migrates);
-  auto& f1 = to.add<char>("flag", 1, migrates);
+  coflow::particles::ParticleArrays a0, a1;
+  std::vector<double> t0, t1;
+  std::vector<Pair> p0, p1;
+  std::vector<char> f0, f1;
+  ParticleStore from(a0), to(a1);
+  from.add("torque", 3, stays, t0);
+  from.add("pair", 1, migrates, p0);
+  from.add("flag", 1, migrates, f0);
+  to.add("torque", 3, stays, t1);
+  to.add("pair", 1, migrates, p1);
+  to.add("flag", 1, migrates, f1);
   fill(from, t0, p0, f0);
   // id, species, x, v, w, radius, mass, inertia: 14; + force 3, pair 2, flag 1.
   REQUIRE(from.row_doubles(ghosts) == 14);

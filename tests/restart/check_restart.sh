@@ -22,6 +22,16 @@ diffs=$(echo "$m" | grep -E '^[a-z_]+_difference=')
 nonzero=$(echo "$diffs" | grep -vE '=0\.000000e\+00$')
 [ -z "$nonzero" ] || { echo "FAIL: the restarted run differs: $nonzero"; exit 1; }
 echo "restart from $(basename "$first") is bit-identical"
+# summary.json counts the windows each run ran: all of them straight, those
+# after the checkpoint's window when restarted.
+w0=$(basename "$first" | sed 's/^window_0*//'); w0=${w0:-0}
+counts() { /usr/bin/python3 -c 'import json,sys; s=json.load(open(sys.argv[1])); print(s["windows"], s["restarted_from_window"], s["windows_run"])' "$1/summary.json"; }
+read -r total from ran <<<"$(counts "$out/straight")"
+[ "$from" -eq 0 ] && [ "$ran" -eq "$total" ] || { echo "FAIL: straight run: windows $total, restarted_from_window $from, windows_run $ran"; exit 1; }
+read -r total2 from ran <<<"$(counts "$out/restarted")"
+[ "$total2" -eq "$total" ] && [ "$from" -eq "$w0" ] && [ "$ran" -eq $((total - w0)) ] ||
+  { echo "FAIL: restarted run: windows $total2, restarted_from_window $from (want $w0), windows_run $ran (want $((total - w0)))"; exit 1; }
+echo "summary.json: $total windows; the restart ran $ran from window $w0"
 # Restarting from the older checkpoint into the directory of the finished run
 # must not mix histories: the series and snapshot indexes are cut back to the
 # checkpoint, so after the rerun they equal the straight run's, bit for bit;

@@ -252,6 +252,9 @@ void ParticleParams::visit_boundaries(Visitor& v, const config::Config& cfg) {
                 s(faces[f], boundaries[f], "outlet | periodic | symmetry | wall",
                   config::one_of({"", "outlet", "periodic", "symmetry", "wall"}));
                 if (!s.reading() || boundaries[f].empty()) continue;
+                if (boundaries[f] == "symmetry" && !point_particles)
+                  s.fail(faces[f], "symmetry faces are for point particles (solver: dpm); dem has outlet, periodic "
+                                   "and wall faces");
                 const bool per = cfg.domain.periodic[f / 2];
                 if ((boundaries[f] == "periodic") != per)
                   s.fail(faces[f], per ? fmt::format("axis {} is periodic (domain.periodic): its faces are periodic",

@@ -55,6 +55,20 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
   return c;
 }
 
+// Faces the file leaves out of particles.boundaries (written "" by the
+// visitor) are periodic where the domain is, else walls (ParticleParams): the
+// resolved file says which.
+void resolve(config::Config& cfg, const std::string& variant) {
+  if (!has_variant(variant_schemas(), variant)) return;
+  const char* faces[] = {"x-", "x+", "y-", "y+", "z-", "z+"};
+  YAML::Node b = cfg.resolved["particles"]["boundaries"];
+  for (int f = 0; f < 6; ++f) {
+    const YAML::Node given = b[faces[f]];
+    if (given.IsDefined() && given.IsScalar() && !given.Scalar().empty()) continue;
+    b[faces[f]] = cfg.domain.periodic[f / 2] ? "periodic" : "wall";
+  }
+}
+
 }  // namespace
 
 config::ComponentSchema schema() {
@@ -62,6 +76,7 @@ config::ComponentSchema schema() {
                                                 "the particle component: soft-sphere DEM (dem) or point particles (dpm, dpm-reference)");
   s.contract = contract;
   s.report = report;
+  s.resolve = resolve;
   s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);
     if (v.reading() && !has_variant(variant_schemas(), info.variant)) {

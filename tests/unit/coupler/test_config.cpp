@@ -146,3 +146,25 @@ fluid:
   for (const char* face : {"y+", "z-", "z+"})
     CHECK(a.resolved["fluid"]["boundaries"][face]["type"].as<std::string>() == "wall");
 }
+
+TEST_CASE("particle faces left out are resolved to what the solver uses", "[config]") {
+  const char* text = R"(
+run: {name: demo, end_time: 1.0}
+domain: {lower: [0, 0, 0], upper: [1, 1, 1], cells: [4, 4, 4], periodic: [false, true, false]}
+particles:
+  solver: dpm
+  species: {sand: {density: 2500.0, diameter: 1.0e-3}}
+  boundaries: {x+: outlet, z-: symmetry}
+)";
+  const Config a = parse_config_node(YAML::Load(text), "a.yaml", coflow::catalog());
+  const YAML::Node b = a.resolved["particles"]["boundaries"];
+  CHECK(b["x-"].as<std::string>() == "wall");
+  CHECK(b["x+"].as<std::string>() == "outlet");
+  CHECK(b["y-"].as<std::string>() == "periodic");
+  CHECK(b["y+"].as<std::string>() == "periodic");
+  CHECK(b["z-"].as<std::string>() == "symmetry");
+  CHECK(b["z+"].as<std::string>() == "wall");
+  // The resolved file reads back to the same faces.
+  const Config c = parse_config_node(YAML::Load(YAML::Dump(a.resolved)), "c.yaml", coflow::catalog());
+  CHECK(c.resolved["particles"]["boundaries"]["z+"].as<std::string>() == "wall");
+}

@@ -11,6 +11,7 @@
 #include "coflow/protocol.hpp"
 #include "coflow/window_loop.hpp"
 #include "fluid/fluid_solver.hpp"
+#include "fluid/probes.hpp"
 #include "fluid/schema.hpp"
 
 namespace coflow::fluid {
@@ -51,7 +52,8 @@ void write_series(output::Series& series, double t, const Diagnostics& d) {
 class FluidWindows final : public coupler::WindowParts {
  public:
   FluidWindows(coupler::Session& s, std::unique_ptr<FluidSolver> solver, long per_window)
-      : s_(s), cfg_(s.config()), solver_(std::move(solver)), per_window_(per_window), owned_(solver_->owned()) {
+      : s_(s), cfg_(s.config()), solver_(std::move(solver)), per_window_(per_window), owned_(solver_->owned()),
+        probes_(cfg_, s.decomposition(), s.rank(), s.comm()) {
     psm_ = s.has_partner("immersed") && cfg_.component("immersed").variant == "psm";
     point_ = s.has_partner("immersed") && cfg_.component("immersed").variant == "point";
     if (psm_ || point_) open_exchanges();
@@ -64,6 +66,11 @@ class FluidWindows final : public coupler::WindowParts {
                                {"time", "mass", "momentum_x", "momentum_y", "momentum_z", "kinetic_energy",
                                 "max_velocity", "max_mach"},
                                w0 > 0);
+    if (s_.rank() == 0 && !probes_.empty()) {
+      std::vector<std::string> columns{"time"};
+      columns.insert(columns.end(), probes_.columns().begin(), probes_.columns().end());
+      probes_series_ = output::Series(s_.output_dir() + "/series/probes.csv", columns, w0 > 0);
+    }
     // With psm the initial snapshot waits for the first window's solids, so that it shows them.
     if (w0 == 0 && !psm_) output(0);
   }
@@ -105,6 +112,8 @@ class FluidWindows final : public coupler::WindowParts {
   coupler::Box owned_;
   bool psm_ = false, point_ = false;
   output::Series series_;
+  Probes probes_;
+  output::Series probes_series_;
   std::unique_ptr<coupler::FieldExchange> solid_in_, force_out_, flow_out_, source_in_;
   std::vector<long> solid_cells_;
   std::vector<double> solid_values_, fraction_, velocity_, force_;
@@ -123,6 +132,12 @@ void FluidWindows::output(long w) {
     s_.set_final("fluid.momentum_y", d.momentum[1]);
     s_.set_final("fluid.momentum_z", d.momentum[2]);
     s_.set_final("fluid.kinetic_energy", d.kinetic_energy);
+    if (!probes_.empty()) {
+      std::vector<double> row{time};
+      const std::vector<double> values = probes_.sample(*solver_);
+      row.insert(row.end(), values.begin(), values.end());
+      if (s_.rank() == 0) probes_series_.row(row);
+    }
   }
   if (s_.snapshot_due(w)) {
     const auto fields = solver_->fields(cfg_.run.output.fields);

@@ -729,8 +729,16 @@ void Reader::fail(std::string_view key, const std::string& message) {
   std::istringstream parts(k);
   for (std::string part; !k.empty() && std::getline(parts, part, '.');) {
     const YAML::Node& here = where;
-    if (!here.IsMap() || !here[part]) break;
-    where.reset(here[part]);
+    // An item of a list: run.output.probes[1].point
+    const auto open = part.find('[');
+    const std::string name = part.substr(0, open);
+    if (!here.IsMap() || !here[name]) break;
+    where.reset(here[name]);
+    if (open == std::string::npos) continue;
+    const std::size_t i = std::stoul(part.substr(open + 1));
+    const YAML::Node& list = where;
+    if (!list.IsSequence() || i >= list.size()) break;
+    where.reset(list[i]);
   }
   problem_at(where, k.empty() ? path_ : key_path(k), message);
 }

@@ -11,6 +11,49 @@
 
 namespace coflow::config {
 
+void ProbeParams::visit(Visitor& v) {
+  v.required("name", name, "column prefix in series/probes.csv (<name>_ux, _uy, _uz, _p; a line's samples "
+             "<name>_<k>_ux, ...)");
+  v("point", point, "[x, y, z] in m: one sample here");
+  v("from", from, "[x, y, z] in m: first sample of a line");
+  v("to", to, "[x, y, z] in m: last sample of a line");
+  v("points", points, "samples along the line, from and to included (2 or more)");
+  if (!v.reading()) return;
+  const bool line = v.given("from") || v.given("to");
+  if (v.given("point") == line) {
+    v.fail("", "give point: [x, y, z] for one sample, or from, to and points for a line");
+    return;
+  }
+  for (const auto& [key, n] : {std::pair{"point", &point}, std::pair{"from", &from}, std::pair{"to", &to}})
+    if (v.given(key) && n->values.size() != 3)
+      v.fail(key, fmt::format("needs 3 numbers [x, y, z] (got {})", n->values.size()));
+  if (line && !(v.given("from") && v.given("to")))
+    v.fail("", "a line of samples needs both from and to");
+  else if (line && points < 2)
+    v.fail("points", fmt::format("a line needs 2 or more points (got {})", points));
+  else if (!line && points != 0)
+    v.fail("points", "points is for a line (from, to); a point probe has one sample");
+}
+
+std::vector<Vec3> ProbeParams::samples() const {
+  const auto vec = [](const Numbers& n) { return Vec3{n.values.at(0), n.values.at(1), n.values.at(2)}; };
+  if (points == 0) return {vec(point)};
+  const Vec3 a = vec(from), b = vec(to);
+  std::vector<Vec3> out;
+  for (int k = 0; k < points; ++k) {
+    const double t = static_cast<double>(k) / static_cast<double>(points - 1);
+    out.push_back({a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])});
+  }
+  return out;
+}
+
+void PressureDropParams::visit(Visitor& v) {
+  v.required("name", name, "column prefix in series/probes.csv (<name>_p_from, <name>_p_to, <name>_dp)");
+  v.required("axis", axis, "the axis across the planes", one_of({"x", "y", "z"}));
+  v.required("from", from, "m: position of the first plane along the axis");
+  v.required("to", to, "m: position of the second plane; dp = p(from) - p(to), each the mean over its plane");
+}
+
 void OutputParams::visit(Visitor& v) {
   v("dir", dir, "output directory (default out/<run.name>)");
   v("every", every, "simulated seconds between snapshots; 0 writes none", non_negative());
@@ -25,6 +68,18 @@ void OutputParams::visit(Visitor& v) {
   v("bond_events", bond_events,
     "write events/bonds.csv: time,i,j,mode,normal_force,shear_force of each bond failure (dem; mode tension, "
     "compression or shear; normal_force > 0 compressive)");
+  v.list("probes", "fluid probes: velocity and pressure at points or along lines, every series row, into "
+         "series/probes.csv (trilinear between cell centres)",
+         [&](Visitor& s) {
+           probes.emplace_back();
+           probes.back().visit(s);
+         });
+  v.list("pressure_drops", "mean pressures over two planes and their difference, every series row, into "
+         "series/probes.csv",
+         [&](Visitor& s) {
+           pressure_drops.emplace_back();
+           pressure_drops.back().visit(s);
+         });
 }
 
 void CheckpointParams::visit(Visitor& v) {
@@ -151,6 +206,64 @@ static void check_decompositions(Reader& r, const Config& cfg) {
   }
 }
 
+// Probes and pressure drops sample the fluid inside the domain; their names
+// are unique column prefixes.
+static void check_probes(Reader& r, const Config& cfg, const Catalog& catalog) {
+  const auto& o = cfg.run.output;
+  if (o.probes.empty() && o.pressure_drops.empty()) return;
+  const std::string list = o.probes.empty() ? "run.output.pressure_drops" : "run.output.probes";
+  if (!cfg.has("fluid")) {
+    r.fail(list, "probes sample the fluid, and this run has none: add a fluid section or remove them");
+    return;
+  }
+  for (const auto& schema : catalog) {
+    if (schema.section != "fluid" || !schema.writes) continue;
+    const std::string& variant = cfg.component("fluid").variant;
+    const auto writes = schema.writes(variant);
+    for (const char* f : {"velocity", "pressure"})
+      if (!writes.empty() && std::find(writes.begin(), writes.end(), f) == writes.end())
+        r.fail(list, fmt::format("probes sample velocity and pressure; fluid.solver {} does not write {}", variant, f));
+  }
+  const auto& d = cfg.domain;
+  std::vector<std::string> names;
+  const auto inside = [&](const Vec3& x) {
+    for (int a = 0; a < 3; ++a)
+      if (!(x[a] >= d.lower[a] && x[a] <= d.upper[a])) return false;
+    return true;
+  };
+  const auto check_name = [&](const std::string& at, const std::string& name) {
+    if (name.empty() || name.find_first_of(", \t\"") != std::string::npos)
+      r.fail(at + ".name", fmt::format("'{}' is not a plain word (it names CSV columns)", name));
+    if (std::find(names.begin(), names.end(), name) != names.end())
+      r.fail(at + ".name", fmt::format("'{}' names another probe too; give each its own name", name));
+    names.push_back(name);
+  };
+  for (std::size_t i = 0; i < o.probes.size(); ++i) {
+    const std::string key = fmt::format("run.output.probes[{}]", i);
+    check_name(key, o.probes[i].name);
+    // The domain is a box: a line lies in it when both its ends do.
+    const ProbeParams& p = o.probes[i];
+    const std::vector<Vec3> xs = p.samples();
+    for (const auto& [k, x] : p.points == 0 ? std::vector<std::pair<std::string, Vec3>>{{"point", xs.front()}}
+                                            : std::vector<std::pair<std::string, Vec3>>{{"from", xs.front()},
+                                                                                        {"to", xs.back()}})
+      if (!inside(x))
+        r.fail(key + "." + k, fmt::format("[{}, {}, {}] lies outside the domain, [{}, {}, {}] to [{}, {}, {}]", x[0],
+                                          x[1], x[2], d.lower[0], d.lower[1], d.lower[2], d.upper[0], d.upper[1],
+                                          d.upper[2]));
+  }
+  for (std::size_t i = 0; i < o.pressure_drops.size(); ++i) {
+    const auto& p = o.pressure_drops[i];
+    const std::string key = fmt::format("run.output.pressure_drops[{}]", i);
+    check_name(key, p.name);
+    const int a = p.axis_index();
+    for (const auto& [k, x] : {std::pair{"from", p.from}, std::pair{"to", p.to}})
+      if (x < d.lower[a] || x > d.upper[a])
+        r.fail(key + "." + k, fmt::format("{} m lies outside the domain along {} ({} to {} m)", x, p.axis, d.lower[a],
+                                          d.upper[a]));
+  }
+}
+
 static void check_output_fields(Reader& r, const Config& cfg, const Catalog& catalog) {
   for (const auto& schema : catalog) {
     if (!cfg.has(schema.section) || !schema.writes) continue;
@@ -196,6 +309,7 @@ Config parse_config_node(YAML::Node root, const std::string& file, const Catalog
   if (r.problems().empty() && cfg.has("immersed") && (!cfg.has("fluid") || !cfg.has("particles")))
     r.fail("immersed", "the immersed component couples a fluid and particles: add both sections");
   if (r.problems().empty()) check_output_fields(r, cfg, catalog);
+  if (r.problems().empty()) check_probes(r, cfg, catalog);
   if (r.problems().empty()) check_decompositions(r, cfg);
   cfg.resolved = r.resolved();
   if (r.problems().empty()) check_contracts(r, cfg, catalog);

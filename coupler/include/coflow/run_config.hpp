@@ -14,6 +14,27 @@
 
 namespace coflow::config {
 
+// A probe of the fluid (series/probes.csv): velocity and pressure at a point,
+// or at `points` points evenly spaced from `from` to `to` (a line), trilinear
+// between cell centres.
+struct ProbeParams {
+  std::string name;
+  Numbers point, from, to;  // 3 numbers each where given (a list left out stays out of the resolved file)
+  int points = 0;           // a line's samples; 0 for a point probe
+  void visit(Visitor& v);
+  // The sample positions, in order.
+  std::vector<Vec3> samples() const;
+};
+
+// The mean pressure over two planes across `axis` and their difference.
+struct PressureDropParams {
+  std::string name;
+  std::string axis;  // x, y or z
+  double from = 0.0, to = 0.0;  // plane positions along axis, m
+  void visit(Visitor& v);
+  int axis_index() const { return axis == "y" ? 1 : axis == "z" ? 2 : 0; }
+};
+
 struct OutputParams {
   std::string dir;                 // default out/<run.name>
   double every = 0.0;              // s between snapshots; 0 = none
@@ -21,6 +42,8 @@ struct OutputParams {
   AutoDouble series_every;         // auto = every
   bool collision_events = false;
   bool bond_events = false;
+  std::vector<ProbeParams> probes;
+  std::vector<PressureDropParams> pressure_drops;
   void visit(Visitor& v);
 };
 

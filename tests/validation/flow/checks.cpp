@@ -71,6 +71,53 @@ int profile(const std::string& dir) {
   return 0;
 }
 
+// Probes in plane Poiseuille flow driven by pressure faces (the case's
+// probes: a line `mid` through the cell centres of one column, a point `c` on
+// the centreline between four centres, a pressure drop `ch` along x). Against
+// the analytic u(y) = G y (H - y) / (2 mu) and dp = G (to - from), and the
+// line's samples against the snapshot's cells they sit on (the same numbers).
+int probes(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  const auto h = cfg.domain.spacing();
+  const long nx = cfg.domain.cells[0], ny = cfg.domain.cells[1];
+  const double mu = fp.density * fp.viscosity, H = ny * h[1];
+  const double G = (fp.boundary(0, cfg).value.values[0] - fp.boundary(1, cfg).value.values[0]) / ((nx - 1) * h[0]);
+  std::ifstream in(dir + "/series/probes.csv");
+  std::string header;
+  std::getline(in, header);
+  std::vector<std::string> names;
+  std::stringstream hs(header);
+  for (std::string c; std::getline(hs, c, ',');) names.push_back(c);
+  const auto rows = read_series(dir + "/series/probes.csv");
+  const auto& last = rows.back();
+  const auto col = [&](const std::string& n) {
+    const auto it = std::find(names.begin(), names.end(), n);
+    if (it == names.end()) throw std::runtime_error("series/probes.csv has no column " + n);
+    return last[static_cast<std::size_t>(it - names.begin())];
+  };
+  const auto& mid = cfg.run.output.probes.at(0);
+  const auto xs = mid.samples();
+  const long i = static_cast<long>(std::floor((xs[0][0] - cfg.domain.lower[0]) / h[0]));
+  const auto u = output::read_dataset(last_snapshot(dir), "velocity");
+  double err2 = 0.0, ref2 = 0.0, same = 0.0;
+  for (long j = 0; j < mid.points; ++j) {
+    const double y = xs[static_cast<std::size_t>(j)][1];
+    const double ua = G * y * (H - y) / (2 * mu), un = col(fmt::format("mid_{}_ux", j));
+    err2 += (un - ua) * (un - ua);
+    ref2 += ua * ua;
+    const double diff = std::abs(un - u[(j * nx + i) * 3]) / (G * H * H / (8 * mu));
+    same = std::isnan(diff) ? diff : std::max(same, diff);
+  }
+  const double umax = G * H * H / (8 * mu), dp = G * (cfg.run.output.pressure_drops.at(0).to -
+                                                    cfg.run.output.pressure_drops.at(0).from);
+  std::printf("line_l2_error=%.6e\n", std::sqrt(err2 / ref2));
+  std::printf("line_vs_snapshot=%.6e\n", same);
+  std::printf("point_error=%.6e\n", std::abs(col("c_ux") - umax) / umax);
+  std::printf("pressure_drop_error=%.6e\n", std::abs(col("ch_dp") - dp) / std::abs(dp));
+  return 0;
+}
+
 int decay(const std::string& dir) {
   const auto cfg = load(dir);
   const auto fp = fluid_params(cfg);

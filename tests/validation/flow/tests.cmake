@@ -73,3 +73,12 @@ coflow_validation(lbm_vs_reference_ramp compare lbm_all_boundaries_3d.yaml 1
 coflow_validation(lbm_poiseuille_2d_trt profile lbm_poiseuille_2d_trt.yaml 1)
 coflow_validation(lbm_vs_reference_trt compare lbm_all_boundaries_3d.yaml 1
   "fluid.solver=lbm fluid.lbm.collision=trt" "fluid.solver=lbm-reference fluid.lbm.collision=trt")
+# Probes (run.output.probes, pressure_drops) in the pressure-driven channel: a
+# line through one column of cell centres, a point between four centres, the
+# pressure drop between two planes; on 4 ranks the point's stencil spans blocks.
+set(lbm_probes_sets
+  --set "run.output.probes=[{name: mid, from: [0.0325, 0.0005, 0.0005], to: [0.0325, 0.0315, 0.0005], points: 32}, {name: c, point: [0.032, 0.016, 0.0005]}]"
+  --set "run.output.pressure_drops=[{name: ch, axis: x, from: 0.016, to: 0.048}]")
+coflow_validation(lbm_probes probes lbm_poiseuille_2d_pressure.yaml 1 ${lbm_probes_sets})
+coflow_validation(lbm_probes_4_ranks probes lbm_poiseuille_2d_pressure.yaml 1 ${lbm_probes_sets}
+  --set fluid.ranks=4)

@@ -16,6 +16,7 @@
 #include "coflow/trace.hpp"
 #include "coflow/wait.hpp"
 #include "fluid/grid/cell_fields.hpp"
+#include "fluid/params.hpp"
 #include "fluid/lbm/boundaries.hpp"
 #include "fluid/lbm/collision.hpp"
 #include "fluid/lbm/layout.hpp"
@@ -407,13 +408,20 @@ void LbmSolver::advance(double dt) {
                                            "distribution functions); reduce the velocities or the forcing",
                                            steps_, where));
   }
-  if (mach > 0.3)
+  if (mach > 0.3) {
+    // A momentum source that drives the flow by itself gets its own advice: a
+    // finer grid would concentrate it further.
+    const std::string source = source_diagnosis();
     throw coupler::SolverError(fmt::format(
         "lbm: Mach number {:.3f} at step {} exceeds 0.3 (max velocity {:.4g} m/s {}); the lattice Boltzmann "
         "method is invalid there. {}",
-        mach, steps_, std::sqrt(global) * s_.units.velocity(), fastest_cell(), mach_advice(mach)));
+        mach, steps_, std::sqrt(global) * s_.units.velocity(), fastest_cell(),
+        source.empty() ? mach_advice(mach) : source));
+  }
   if (mach > 0.1 && !mach_warned_) {
-    log::warn("lbm: Mach number {:.3f} at step {} exceeds 0.1: compressibility errors grow as Ma^2", mach, steps_);
+    log::warn("lbm: Mach number {:.3f} at step {} exceeds 0.1 (max velocity {:.4g} m/s {}): compressibility errors "
+              "grow as Ma^2. {}",
+              mach, steps_, std::sqrt(global) * s_.units.velocity(), fastest_cell(), source_diagnosis());
     mach_warned_ = true;
   }
 }
@@ -462,6 +470,53 @@ std::string LbmSolver::mach_advice(double mach) const {
                      0.5 + (s_.units.tau - 0.5) * f, s_.units.tau, s_.units.dx * f, std::ceil(1.0 / f));
 }
 
+// When the point particles' momentum source is what drives the fluid past
+// Mach 0.1 (collective): the largest source density f and where it acts, with
+// the speed viscosity alone lets it drive across one cell, f dx^2 / mu. Above
+// the speed of Mach 0.1 that source by itself makes the flow too fast. The
+// usual cause (docs/validation.md, "point particles resting on a wall"):
+// particles that settled on a wall fall onto it step after step and hand
+// their weight to the cells next to it through drag. "" when no source acts
+// or it is too weak to matter.
+std::string LbmSolver::source_diagnosis() const {
+  struct {
+    double f;
+    int rank;
+  } mine{0.0, 0}, best{};
+  MPI_Comm_rank(comm_, &mine.rank);
+  long at = -1;
+  for (std::size_t c = 0; 3 * c + 2 < source_si_.size(); ++c) {
+    const double f = std::hypot(source_si_[3 * c], source_si_[3 * c + 1], source_si_[3 * c + 2]);
+    if (f > mine.f) mine.f = f, at = static_cast<long>(c);
+  }
+  MPI_Allreduce(&mine, &best, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm_);
+  long cell[3] = {-1, -1, -1};
+  if (best.rank == mine.rank && at >= 0) {
+    const long nx = owned_.extent(0), ny = owned_.extent(1);
+    cell[0] = owned_.lo[0] + at % nx, cell[1] = owned_.lo[1] + (at / nx) % ny, cell[2] = owned_.lo[2] + at / (nx * ny);
+  }
+  MPI_Bcast(cell, 3, MPI_LONG, best.rank, comm_);
+  const auto& u = s_.units;
+  const double drive = best.f * u.dx * u.dx / (u.rho * u.nu), mach01 = 0.1 * std::sqrt(lbm::cs2) * u.velocity();
+  if (cell[0] < 0 || drive <= mach01) return "";
+  std::string wall;
+  for (int f = 0; f < 6; ++f) {
+    const int a = f / 2;
+    const bool edge = f % 2 == 0 ? cell[a] == 0 : cell[a] == s_.cells[a] - 1;
+    if (edge && s_.cells[a] > 1 && s_.faces[f].type == FaceType::wall) wall = face_names()[f];
+  }
+  return fmt::format(
+      "The point particles' momentum source reaches {:.3g} N/m^3 in cell ({}, {}, {}){}; against viscosity alone "
+      "it drives f dx^2/mu = {:.3g} m/s across a cell, more than the {:.3g} m/s of Mach 0.1. {}Remedies: let "
+      "them leave (particles.boundaries: outlet on that face), particles.coupling: one-way, or coarser cells "
+      "(f dx^2/mu falls as 1/dx). ",
+      best.f, cell[0], cell[1], cell[2], wall.empty() ? "" : fmt::format(", next to the {} wall", wall), drive,
+      mach01,
+      wall.empty() ? "" : "Point particles that settle on a wall keep falling onto it step after step and pass "
+                          "their weight to the cells next to it through drag (coflow's point particles have no "
+                          "resting contact). ");
+}
+
 void LbmSolver::set_solid(std::span<const long> cells, std::span<const double> fraction,
                           std::span<const double> velocity) {
   solid_cells_.assign(cells.begin(), cells.end());
@@ -473,6 +528,7 @@ void LbmSolver::set_solid(std::span<const long> cells, std::span<const double> f
 }
 
 void LbmSolver::set_source(std::span<const double> force_density) {
+  source_si_.assign(force_density.begin(), force_density.end());
   std::vector<double> lattice(force_density.size());
   for (std::size_t n = 0; n < lattice.size(); ++n) lattice[n] = force_density[n] / s_.units.force_density();
   core_->set_source(lattice);

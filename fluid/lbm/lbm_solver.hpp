@@ -59,6 +59,8 @@ class LbmSolver final : public FluidSolver {
  private:
   std::string fastest_cell() const;           // collective
   std::string mach_advice(double mach) const;
+  std::string source_diagnosis() const;       // collective
+  std::vector<double> source_si_;  // the point particles' momentum source, N/m^3, 3 per owned cell
   lbm::Setup s_;
   MPI_Comm comm_;
   coupler::Box owned_;

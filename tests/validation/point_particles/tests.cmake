@@ -55,3 +55,9 @@ coflow_validation(dpm_grid_turbulence_ct026 grid_turbulence dpm_grid_turbulence.
 coflow_validation(dpm_two_way_loaded two_way dpm_two_way_loaded.yaml 2)
 coflow_validation(dpm_two_way_layouts compare dpm_two_way_loaded.yaml 2
   "fluid.ranks=1 immersed.ranks=1 particles.ranks=1" "fluid.ranks=4 immersed.ranks=2 particles.ranks=4")
+# Issue 19's case: point particles settling on a wall, two-way: runs, or stops
+# naming the cause; with the remedy it names, runs to its end.
+add_test(NAME validation.dpm_settling_on_wall
+  COMMAND ${CMAKE_CURRENT_LIST_DIR}/settling_on_wall.sh ${CMAKE_BINARY_DIR}/bin
+          ${CMAKE_CURRENT_LIST_DIR}/settling_on_wall.yaml ${CMAKE_CURRENT_BINARY_DIR}/val-dpm_settling_on_wall)
+set_tests_properties(validation.dpm_settling_on_wall PROPERTIES LABELS "validation;mpi" PROCESSORS 3)

@@ -31,7 +31,8 @@ void atomic_write(const std::string& path, const std::string& content) {
 
 std::string snapshot_name(long step) { return fmt::format("step_{:06d}.h5", step); }
 
-Series::Series(const std::string& path, std::vector<std::string> columns, bool append) : columns_(columns.size()) {
+Series::Series(const std::string& path, std::vector<std::string> columns, bool append)
+    : columns_(columns.size()), time_first_(!columns.empty() && columns[0] == "time") {
   if (append && fs::exists(path)) {
     out_.open(path, std::ios::app);
     if (!out_) throw std::runtime_error(fmt::format("cannot append to '{}'", path));
@@ -48,7 +49,10 @@ void Series::row(std::span<const double> values) {
   if (!out_.is_open()) return;
   if (values.size() != columns_) throw std::logic_error("series row with the wrong number of values");
   std::string line;
-  for (std::size_t i = 0; i < values.size(); ++i) line += fmt::format("{}{:.17g}", i ? "," : "", values[i]);
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (i) line += ',';
+    line += i == 0 && time_first_ ? fmt::format("{:.12g}", values[i]) : fmt::format("{:.17g}", values[i]);
+  }
   out_ << line << '\n';
   out_.flush();
 }

@@ -26,6 +26,9 @@ class Series {
  public:
   Series() = default;
   // append: continue an existing file (restart) instead of starting a new one.
+  // A first column named "time" is written with 12 significant digits (3, not
+  // 3.0000000000000027: a window's end accumulated in floating point); the
+  // other columns with 17 (every bit).
   Series(const std::string& path, std::vector<std::string> columns, bool append = false);
   void row(std::span<const double> values);
   bool is_open() const { return out_.is_open(); }
@@ -33,6 +36,7 @@ class Series {
  private:
   std::ofstream out_;
   std::size_t columns_ = 0;
+  bool time_first_ = false;
 };
 
 // A field of the local array (block grown by `ghost`), `components` per cell.

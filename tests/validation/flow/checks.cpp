@@ -118,6 +118,35 @@ int probes(const std::string& dir) {
   return 0;
 }
 
+// The tutorial's plane channel (configs/tutorial/1_channel.yaml): uniform
+// inflow U between walls H apart develops into Poiseuille's u(z) = 6 U z (H -
+// z) / H^2. The probe `centre` (between the two middle cell centres, where the
+// parabola is 1.5 U (1 - (dx/H)^2)) and the pressure drop `channel` (against
+// 12 mu U / H^2 over its planes' distance), at the last row.
+int channel(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  const double U = fp.boundary(0, cfg).value.values[0], H = cfg.domain.upper[2] - cfg.domain.lower[2];
+  const double dx = cfg.domain.spacing()[2], mu = fp.density * fp.viscosity;
+  std::ifstream in(dir + "/series/probes.csv");
+  std::string header;
+  std::getline(in, header);
+  std::vector<std::string> names;
+  std::stringstream hs(header);
+  for (std::string c; std::getline(hs, c, ',');) names.push_back(c);
+  const auto last = read_series(dir + "/series/probes.csv").back();
+  const auto col = [&](const std::string& n) {
+    const auto it = std::find(names.begin(), names.end(), n);
+    if (it == names.end()) throw std::runtime_error("series/probes.csv has no column " + n);
+    return last[static_cast<std::size_t>(it - names.begin())];
+  };
+  const auto& drop = cfg.run.output.pressure_drops.at(0);
+  const double centre = 1.5 * U * (1.0 - (dx / H) * (dx / H)), gradient = 12.0 * mu * U / (H * H);
+  std::printf("centre_error=%.6e\n", std::abs(col("centre_ux") - centre) / centre);
+  std::printf("gradient_error=%.6e\n", std::abs(col("channel_dp") / (drop.to - drop.from) - gradient) / gradient);
+  return 0;
+}
+
 int decay(const std::string& dir) {
   const auto cfg = load(dir);
   const auto fp = fluid_params(cfg);

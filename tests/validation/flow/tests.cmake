@@ -82,3 +82,5 @@ set(lbm_probes_sets
 coflow_validation(lbm_probes probes lbm_poiseuille_2d_pressure.yaml 1 ${lbm_probes_sets})
 coflow_validation(lbm_probes_4_ranks probes lbm_poiseuille_2d_pressure.yaml 1 ${lbm_probes_sets}
   --set fluid.ranks=4)
+# docs/tutorial.md, step 1: the developing plane channel against Poiseuille.
+coflow_validation(tutorial_channel channel ../tutorial/1_channel.yaml 1)

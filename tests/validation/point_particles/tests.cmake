@@ -61,3 +61,8 @@ add_test(NAME validation.dpm_settling_on_wall
   COMMAND ${CMAKE_CURRENT_LIST_DIR}/settling_on_wall.sh ${CMAKE_BINARY_DIR}/bin
           ${CMAKE_CURRENT_LIST_DIR}/settling_on_wall.yaml ${CMAKE_CURRENT_BINARY_DIR}/val-dpm_settling_on_wall)
 set_tests_properties(validation.dpm_settling_on_wall PROPERTIES LABELS "validation;mpi" PROCESSORS 3)
+# docs/tutorial.md, steps 2 and 3 (step 1 is validation.tutorial_channel).
+add_test(NAME validation.tutorial_particles
+  COMMAND ${CMAKE_CURRENT_LIST_DIR}/tutorial.sh ${CMAKE_BINARY_DIR}/bin ${PROJECT_SOURCE_DIR}/configs/tutorial
+          ${CMAKE_CURRENT_BINARY_DIR}/val-tutorial_particles)
+set_tests_properties(validation.tutorial_particles PROPERTIES LABELS "validation;mpi" PROCESSORS 3)

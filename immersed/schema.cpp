@@ -13,7 +13,7 @@ const std::vector<VariantSchema>& variant_schemas() {
   static const std::vector<VariantSchema> v{
       variant_schema<PsmParams>(
           "psm", "partially saturated cells (Noble & Torczynski 1998), resolved spheres on the fluid grid", "psm"),
-      variant_schema<PointParams>("point", "point particles (seed 003): fluid interpolated at the particles, "
+      variant_schema<PointParams>("point", "point particles: fluid interpolated at the particles, "
                                            "momentum sources spread back conservatively"),
   };
   return v;

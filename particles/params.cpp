@@ -61,7 +61,7 @@ void SpeciesParams::visit(Visitor& v) {
 }
 
 void BondParams::visit(Visitor& v) {
-  v("compressive_strength", compressive_strength, "sigma_cC of seed 000 eq. 2.15, Pa", config::non_negative());
+  v("compressive_strength", compressive_strength, "compressive strength sigma_cC of a bond: it fails when its compressive stress exceeds this, Pa", config::non_negative());
   v("tensile_strength", tensile_strength, "sigma_cT of eq. 2.15, Pa", config::non_negative());
   v("shear_strength", shear_strength, "tau_c of eq. 2.15, Pa", config::non_negative());
   v("crush_fraction", crush_fraction, "radius fraction lost by both grains on compressive failure",
@@ -76,7 +76,7 @@ void BondParams::visit(Visitor& v) {
 }
 
 void ContactParams::visit(Visitor& v) {
-  v("normal_stiffness", normal_stiffness, "K_N of seed 000 eq. 2.12, N/m", config::positive());
+  v("normal_stiffness", normal_stiffness, "K_N, stiffness of the linear normal spring of a contact (Cundall & Strack 1979), N/m", config::positive());
   v("shear_stiffness", shear_stiffness, "k_S of eq. 2.14, N/m", config::non_negative());
   v("friction", friction, "Coulomb coefficient mu of eq. 2.17", config::non_negative());
   v("local_damping", local_damping, "alpha of the local non-viscous damping, eqs 2.9-2.10", config::in_range(0.0, 0.99));
@@ -92,7 +92,7 @@ void CollisionPairParams::visit(Visitor& v) {
 }
 
 void CollisionParams::visit(Visitor& v) {
-  v("restitution", restitution, "restitution coefficient e of eqs 3.44-3.45 (seed 003)", config::in_range(0.0, 1.0));
+  v("restitution", restitution, "restitution coefficient e: the normal relative speed after a collision over that before", config::in_range(0.0, 1.0));
   v("friction", friction, "dynamic friction coefficient mu_d of eqs 3.44-3.45", config::non_negative());
   v("enabled", enabled, "particle-particle collisions on or off");
   v.list("pairs", "restitution and friction of particular species pairs (the others take the values above)",
@@ -103,10 +103,10 @@ void CollisionParams::visit(Visitor& v) {
 }
 
 void DispersionParams::visit(Visitor& v) {
-  v("model", model, "none, or langevin (Sommerfeld 2001; seed 003 eqs 3.35-3.42): the fluid velocity seen gets a "
+  v("model", model, "none, or langevin (Sommerfeld 2001): the fluid velocity seen gets a "
     "fluctuation correlated over T_L = C_T k / epsilon", config::one_of({"none", "langevin"}));
-  v("C_T", C_T, "coefficient of the Lagrangian integral time, eq. 3.38 (0.22; the seed fits grid turbulence best "
-    "with 0.26)", config::positive());
+  v("C_T", C_T, "coefficient of the Lagrangian integral time T_L = C_T k / epsilon (Sommerfeld 2001: 0.22; 0.26 fits "
+    "grid turbulence best, docs/validation.md)", config::positive());
 }
 
 void WallParams::visit(Visitor& v) {
@@ -124,12 +124,12 @@ void WallParams::visit(Visitor& v) {
 void InjectionParams::visit(Visitor& v) {
   v.required("species", species, "species name");
   v.required("mass_flow", mass_flow, "kg/s; each step injects the particles whose mass the flow has delivered "
-             "(seed 003 eqs 4.18-4.19, the remainder carried to the next step)", config::positive());
+             "(the remainder carried to the next step)", config::positive());
   v.required("speed", speed, "m/s", config::positive());
   v("direction", direction, "jet direction (default: the face's normal); e.g. a nozzle angle Phi in the x-y plane "
-    "is [cos Phi, sin Phi, 0] (seed 003 eq. 5.20)");
+    "is [cos Phi, sin Phi, 0]");
   v("spread_angle", spread_angle, "degrees: directions spread uniformly over the cone of this half-angle about "
-    "direction (the 3D form of the opening angle of seed 003 eq. 5.20)", config::in_range(0.0, 90.0));
+    "direction (a nozzle's opening angle, in 3D)", config::in_range(0.0, 90.0));
   v("start", start, "s: inject from this time", config::non_negative());
   v("stop", stop, "s: until this time (default: to the end)");
   bool has_disk = false, has_rect = false;
@@ -173,11 +173,11 @@ void InjectionParams::visit(Visitor& v) {
 
 void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
   v("time_step", time_step,
-    "s, or auto: dem, the smaller of time_step_fraction x the critical step (seed 000 eqs 2.19-2.20) and half the "
+    "s, or auto: dem, the smaller of time_step_fraction x the critical step 2 sqrt(m/K) and half the "
     "critical step of a grain in 12 contacts, shortened as grains crush; dpm, 0.2 x the smallest of "
-    "the cell crossing time, the response time and the mean time between collisions (seed 003 eq. 4.15)",
+    "the cell crossing time, the response time and the mean time between collisions",
     config::positive());
-  v("time_step_fraction", time_step_fraction, "t_frac of eq. 2.20", config::in_range(1e-6, 1.0));
+  v("time_step_fraction", time_step_fraction, "fraction of the critical step 2 sqrt(m/K) that dem takes with time_step: auto", config::in_range(1e-6, 1.0));
   v.entries("species", "particle kinds by name", [&](const std::string& name, Visitor& s) {
     species.emplace_back(name, SpeciesParams{});
     species.back().second.visit(s);
@@ -204,20 +204,20 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
   };
   only(false, "contact", [&] { v.section("contact", "soft-sphere contact law (dem)", [&](Visitor& s) { contact.visit(s); }); });
   only(true, "collision", [&] {
-    v.section("collision", "hard-sphere collisions (dpm, seed 003 §3.2.4)", [&](Visitor& s) { collision.visit(s); });
+    v.section("collision", "hard-sphere collisions with restitution and Coulomb friction (dpm)", [&](Visitor& s) { collision.visit(s); });
   });
   only(true, "dispersion",
        [&] { v.section("dispersion", "turbulent dispersion (dpm)", [&](Visitor& s) { dispersion.visit(s); }); });
   only(true, "coupling", [&] {
     v("coupling", coupling,
-      "dpm with immersed.method point: two-way (the particles' momentum source acts on the fluid, seed 003 eq. "
-      "3.43) or one-way (the fluid does not feel the particles)",
+      "dpm with immersed.method point: two-way (the particles' momentum source acts on the fluid: "
+      "particle-source-in-cell, Crowe, Sharma & Stock 1977) or one-way (the fluid does not feel the particles)",
       config::one_of({"two-way", "one-way"}));
   });
   only(true, "forces", [&] {
     v("forces", forces,
-      "fluid forces on point particles (dpm), seed 003 eq. 3.29-3.30: any of gravity_buoyancy, drag, "
-      "saffman_lift, magnus_lift, torque");
+      "fluid forces on point particles (dpm): any of gravity_buoyancy, drag (Schiller & Naumann 1933), "
+      "saffman_lift (Saffman 1965 with Mei 1992), magnus_lift (Oesterle & Dinh 1998), torque (Dennis et al. 1980)");
     if (v.reading())
       for (const auto& f : forces)
         if (f != "gravity_buoyancy" && f != "drag" && f != "saffman_lift" && f != "magnus_lift" && f != "torque")
@@ -401,7 +401,7 @@ void ParticleParams::check_time_step(Visitor& v) const {
     }
     if (time_step.value > crit)
       v.fail("time_step", fmt::format("{:.4g} s exceeds the critical step 2 sqrt(m/k) = {:.4g} s of the lightest "
-                                      "particle (seed 000 eq. 2.19): the integration would be unstable; use auto",
+                                      "particle: the integration would be unstable; use auto",
                                       time_step.value, crit));
   }}
 

@@ -124,7 +124,7 @@ void report(const config::Config& cfg, const std::string& variant, config::Repor
     r.add("particles", "coupling",
           p.coupling == "one-way" ? std::string("one-way (particles.coupling): the fluid does not feel the particles")
           : fluid == "analytic"   ? "one-way: fluid.solver analytic takes no momentum source"
-                                  : std::string("two-way (momentum source, seed 003 eq. 3.43)"));
+                                  : std::string("two-way (the particles' momentum source acts on the fluid)"));
   }
   for (const auto& w : p.walls)
     if (!w.mesh.empty()) {

@@ -18,12 +18,12 @@ struct CommonKeysOnly {
 const std::vector<VariantSchema>& variant_schemas() {
   static const std::vector<VariantSchema> v{
       variant_schema<CommonKeysOnly>(
-          "dem", "soft-sphere DEM (seed 000 §2.2): linear springs, Coulomb slip, bonds and crushing, cell lists"),
+          "dem", "soft-sphere DEM (Cundall & Strack 1979): linear springs, Coulomb slip, bonds and crushing, cell lists"),
       variant_schema<CommonKeysOnly>("dem-reference", "plain serial soft-sphere DEM, all pairs (the oracle for dem)"),
       variant_schema<CommonKeysOnly>(
-          "dpm", "point particles (seed 003): drag, lift, torque, RK4, hard-sphere collisions found with cell lists"),
+          "dpm", "point particles: drag, lift, torque, RK4, hard-sphere collisions found with cell lists"),
       variant_schema<CommonKeysOnly>("dpm-reference",
-                                     "plain serial point particles (seed 003): drag, lift, torque, RK4, hard-sphere "
+                                     "plain serial point particles: drag, lift, torque, RK4, hard-sphere "
                                      "collisions over all pairs (the oracle for dpm)"),
   };
   return v;

@@ -21,12 +21,12 @@ struct LbmParams {
   void visit(config::Visitor& v) {
     v("lattice", lattice, "velocity set", config::one_of({"D2Q9", "D3Q19"}));
     v("formulation", formulation,
-      "standard BGK, or incompressible (He & Luo 1997, seed 000 eqs 2.45-2.49)",
+      "standard BGK, or incompressible (He & Luo 1997: the equilibrium's velocity terms take the reference density)",
       config::one_of({"standard", "incompressible"}));
     v("tau", tau, "relaxation time in lattice units; with dx and the viscosity it fixes dt",
       config::greater(0.5));
     v("collision", collision,
-      "bgk (one relaxation time, seed 000 eq. 2.42) or trt (two relaxation times, Ginzburg 2008)",
+      "bgk (one relaxation time, Bhatnagar, Gross & Krook 1954; Qian, d'Humieres & Lallemand 1992) or trt (two relaxation times, Ginzburg 2008)",
       config::one_of({"bgk", "trt"}));
     v("magic", magic,
       "trt: Lambda = (tau - 1/2)(tau_minus - 1/2); 3/16 puts bounce-back walls exactly for Poiseuille",

@@ -142,11 +142,11 @@ void FluidWindows::output(long w) {
   if (s_.snapshot_due(w)) {
     const auto fields = solver_->fields(cfg_.run.output.fields);
     const auto& c = cfg_.domain.cells;
-    output::write_grid(s_.comm(), fmt::format("{}/{}", s_.component_dir(), output::snapshot_name(w)), time, w,
+    output::write_grid(s_.comm(), fmt::format("{}/{}", s_.component_dir(), s_.snapshot_file(w)), time, w,
                        {c[0], c[1], c[2]}, owned_, owned_, fields);
     std::vector<std::string> names;
     for (const auto& f : fields) names.push_back(f.name);
-    s_.snapshot_written(w, time, 0, names);
+    s_.snapshot_written(w, 0, names);
   }
 }
 

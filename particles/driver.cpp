@@ -93,11 +93,11 @@ void ParticleWindows::output(long w) {
                                                  {"force", 3, p.force}};
     std::vector<std::string> names;
     for (const auto& sp : params_.species) names.push_back(sp.first);
-    output::write_points(s_.comm(), fmt::format("{}/{}", s_.component_dir(), output::snapshot_name(w)),
+    output::write_points(s_.comm(), fmt::format("{}/{}", s_.component_dir(), s_.snapshot_file(w)),
                          solver_->time(), w, p.size(), p.id, p.species, fields, names);
     long count = static_cast<long>(p.size()), total = 0;
     MPI_Allreduce(&count, &total, 1, MPI_LONG, MPI_SUM, s_.comm());
-    s_.snapshot_written(w, solver_->time(), static_cast<std::size_t>(total),
+    s_.snapshot_written(w, static_cast<std::size_t>(total),
                        {"position", "velocity", "angular_velocity", "radius", "force"});
   }
 }

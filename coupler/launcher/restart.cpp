@@ -40,6 +40,24 @@ long cut_csv(const fs::path& path, Keep keep) {
   return cut;
 }
 
+// Keep the header and the index rows of snapshots at or before time t.
+void cut_index(const fs::path& path, double t) {
+  std::ifstream in(path);
+  std::string line, text;
+  bool cut = false;
+  if (std::getline(in, line)) text = line + "\n";
+  while (std::getline(in, line)) {
+    const auto comma = line.find(',');
+    if (line.empty() || comma == std::string::npos) continue;
+    if (std::strtod(line.c_str() + comma + 1, nullptr) <= t)
+      text += line + "\n";
+    else
+      cut = true;
+  }
+  in.close();
+  if (cut) output::atomic_write(path.string(), text);
+}
+
 }  // namespace
 
 int resolve_restart(const config::Config& cfg, std::string& restart) {
@@ -77,14 +95,19 @@ std::string rewind_run_directory(const config::Config& cfg, const std::string& d
   for (const char* comp : {"fluid", "immersed", "particles"}) {
     const fs::path index = fs::path(dir) / comp / "index.csv";
     if (!fs::exists(index)) continue;
+    // The snapshots indexed after t go, and their files (numbered above the
+    // last one kept).
+    long last = -1;
+    for (const output::SnapshotInfo& s : output::read_index(index.string()).rows)
+      if (s.time <= t + tol) last = std::max(last, s.number);
     long gone = 0;
     for (const auto& e : fs::directory_iterator(index.parent_path(), ec)) {
       const std::string n = e.path().filename().string();
-      long step = -1;
-      if (std::sscanf(n.c_str(), "step_%ld.h5", &step) == 1 && step > w) fs::remove(e.path(), ec), ++gone;
+      long number = -1;
+      if (std::sscanf(n.c_str(), "step_%ld.h5", &number) == 1 && number > last) fs::remove(e.path(), ec), ++gone;
     }
-    cut_csv(index, [&](double step) { return step <= w + 0.5; });
-    if (gone > 0) said += fmt::format("  {}: {} snapshots after window {} removed\n", index.parent_path().string(), gone, w);
+    cut_index(index, t + tol);
+    if (gone > 0) said += fmt::format("  {}: {} snapshots after t = {} s removed\n", index.parent_path().string(), gone, t);
   }
   for (const auto& cp : coupler::complete_checkpoints(dir))
     if (fs::path(cp).filename().string() > fmt::format("window_{:06d}", w)) {

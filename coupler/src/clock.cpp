@@ -60,6 +60,13 @@ bool Clock::snapshot_due(long w) const {
   return crosses(w, window_, cfg_.run.output.every) || (w == windows_ && cfg_.run.output.every > 0);
 }
 
+long Clock::snapshot_number(long w) const {
+  const double every = cfg_.run.output.every;
+  if (w <= 0 || every <= 0) return 0;
+  const long k = static_cast<long>(std::floor(w * window_ / every + 1e-9));
+  return crosses(w, window_, every) ? k : k + 1;
+}
+
 bool Clock::series_due(long w) const {
   if (w == restart_window_ && w > 0) return false;
   const auto& o = cfg_.run.output;

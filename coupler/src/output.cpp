@@ -303,28 +303,21 @@ void append_index(const std::string& dir, const std::string& component, const Sn
       text = ss.str();
     }
   }
-  if (text.empty()) text = "step,time,count,fields\n";
+  if (text.empty()) text = "snapshot,time,count,fields\n";
   // The time to 12 significant digits: the rest is the round-off of adding
   // windows (0.1, not 0.099999999999999992).
-  text += fmt::format("{},{:.12g},{},{}\n", info.step, info.time, info.count, fmt::join(fields, " "));
+  text += fmt::format("{},{:.12g},{},{}\n", info.number, info.time, info.count, fmt::join(fields, " "));
   atomic_write(path, text);
 }
-
-namespace {
-
-struct IndexTable {
-  std::vector<std::string> fields;
-  std::vector<SnapshotInfo> rows;
-};
 
 IndexTable read_index(const std::string& path) {
   IndexTable t;
   std::ifstream in(path);
   std::string line;
-  if (!std::getline(in, line)) return t;  // the header: step,time,count,fields
+  if (!std::getline(in, line)) return t;  // the header: snapshot,time,count,fields
   while (std::getline(in, line)) {
     SnapshotInfo s;
-    if (std::sscanf(line.c_str(), "%ld,%lf,%zu", &s.step, &s.time, &s.count) != 3) continue;
+    if (std::sscanf(line.c_str(), "%ld,%lf,%zu", &s.number, &s.time, &s.count) != 3) continue;
     t.rows.push_back(s);
     if (!t.fields.empty()) continue;
     std::size_t at = 0;
@@ -337,6 +330,8 @@ IndexTable read_index(const std::string& path) {
   return t;
 }
 
+namespace {
+
 }  // namespace
 
 void write_xdmf(const std::string& dir, const GridGeometry& grid) {
@@ -348,7 +343,7 @@ void write_xdmf(const std::string& dir, const GridGeometry& grid) {
     const long nx = grid.cells[0], ny = grid.cells[1], nz = grid.cells[2];
     x += "  <Grid Name=\"fluid\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
     for (const auto& s : fluid.rows) {
-      const std::string file = "fluid/" + snapshot_name(s.step);
+      const std::string file = "fluid/" + snapshot_name(s.number);
       x += fmt::format("   <Grid Name=\"fluid\" GridType=\"Uniform\">\n    <Time Value=\"{:.12g}\"/>\n", s.time);
       x += fmt::format("    <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"{} {} {}\"/>\n", nz + 1, ny + 1, nx + 1);
       x += "    <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n";
@@ -372,7 +367,7 @@ void write_xdmf(const std::string& dir, const GridGeometry& grid) {
   if (!parts.rows.empty()) {
     x += "  <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
     for (const auto& s : parts.rows) {
-      const std::string file = "particles/" + snapshot_name(s.step);
+      const std::string file = "particles/" + snapshot_name(s.number);
       x += fmt::format("   <Grid Name=\"particles\" GridType=\"Uniform\">\n    <Time Value=\"{:.12g}\"/>\n", s.time);
       x += fmt::format("    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n", s.count);
       x += "    <Geometry GeometryType=\"XYZ\">\n";

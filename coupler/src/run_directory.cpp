@@ -39,14 +39,10 @@ RunDirectory::RunDirectory(const std::string& component, const config::Config& c
   log::init(component_, rank_, dir_ + "/logs/" + component_ + ".log");
 }
 
-void RunDirectory::snapshot_written(long step, double time, double window, std::size_t count,
+void RunDirectory::snapshot_written(long number, double time, std::size_t count,
                                     const std::vector<std::string>& fields) const {
   if (rank_ != 0) return;
-  // Index every component's snapshot of window w at the same time, w x window,
-  // whatever round-off its own clock has gathered (sub-steps add up), so that
-  // ParaView shows fluid and particles at one time.
-  if (window > 0) time = static_cast<double>(step) * window;
-  output::append_index(dir_, component_, {step, time, count}, fields);
+  output::append_index(dir_, component_, {number, time, count}, fields);
   write_xdmf();
 }
 

@@ -87,9 +87,13 @@ void Session::window_done(long w) {
   std::fflush(stdout);
 }
 
-void Session::snapshot_written(long step, double time, std::size_t count,
-                               const std::vector<std::string>& fields) {
-  dir_->snapshot_written(step, time, window(), count, fields);
+std::string Session::snapshot_file(long w) const { return output::snapshot_name(clock_->snapshot_number(w)); }
+
+void Session::snapshot_written(long w, std::size_t count, const std::vector<std::string>& fields) {
+  // Every component's snapshot of window w at the same time, w x window,
+  // whatever round-off its own clock has gathered (sub-steps add up), so that
+  // ParaView shows fluid and particles at one time.
+  dir_->snapshot_written(clock_->snapshot_number(w), static_cast<double>(w) * window(), count, fields);
 }
 
 void Session::set_final(const std::string& key, double value) {

@@ -25,6 +25,11 @@ class Clock {
   // Whether a snapshot / series row / checkpoint falls at the end of window w
   // (1-based; window 0 is the initial state).
   bool snapshot_due(long w) const;
+  // The number of the snapshot written at window w: the multiple of
+  // run.output.every it reaches (the final window's, when it reaches none, the
+  // one after), so that snapshot k is at time k x every in every run, whatever
+  // the window.
+  long snapshot_number(long w) const;
   bool series_due(long w) const;
   bool checkpoint_due(long w) const;
   long restart_window() const { return restart_window_; }

@@ -73,12 +73,18 @@ double read_time(const std::string& path);
 // The snapshot index of one component, kept in <dir>/<component>/index.csv, and
 // the ParaView index <dir>/run.xdmf rebuilt from every component's index.
 struct SnapshotInfo {
-  long step = 0;
+  long number = 0;  // the file is <component>/step_<number>.h5
   double time = 0.0;
   std::size_t count = 0;  // points (particles); 0 for grids
 };
 void append_index(const std::string& dir, const std::string& component, const SnapshotInfo& info,
                   const std::vector<std::string>& fields);
+// A component's index.csv: its snapshots, and the fields of the first.
+struct IndexTable {
+  std::vector<std::string> fields;
+  std::vector<SnapshotInfo> rows;
+};
+IndexTable read_index(const std::string& path);
 
 struct GridGeometry {
   std::array<double, 3> lower{}, spacing{};

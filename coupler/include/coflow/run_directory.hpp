@@ -25,10 +25,9 @@ class RunDirectory {
 
   const std::string& path() const { return dir_; }
   std::string component_dir() const { return dir_ + "/" + component_; }
-  // Index a snapshot of this component at step x window and rebuild run.xdmf
+  // Index snapshot `number` of this component at `time` and rebuild run.xdmf
   // (component rank 0).
-  void snapshot_written(long step, double time, double window, std::size_t count,
-                        const std::vector<std::string>& fields) const;
+  void snapshot_written(long number, double time, std::size_t count, const std::vector<std::string>& fields) const;
   // This component's part of checkpoint w (collective over the component).
   std::string begin_checkpoint(long w) const;
   // Collective over all components: complete checkpoint w (time w x window),

@@ -83,9 +83,11 @@ class Session {
   // --- output ---------------------------------------------------------------
   const std::string& output_dir() const { return dir_->path(); }
   std::string component_dir() const { return dir_->component_dir(); }
-  // Record the snapshot of window `step` in the component's index and rebuild
-  // run.xdmf; it is indexed at step x window (one time for all components).
-  void snapshot_written(long step, double time, std::size_t count, const std::vector<std::string>& fields);
+  // The file name of the snapshot of window w (step_NNNNNN.h5, NNNNNN its number).
+  std::string snapshot_file(long w) const;
+  // Record the snapshot of window w in the component's index and rebuild
+  // run.xdmf; it is indexed at w x window (one time for all components).
+  void snapshot_written(long w, std::size_t count, const std::vector<std::string>& fields);
   // Final scalars reported in summary.json (component rank 0 only).
   void set_final(const std::string& key, double value);
 

@@ -1,3 +1,4 @@
+#include "particles/wall_loads.hpp"
 #include "particles/driver.hpp"
 
 #include <memory>
@@ -36,11 +37,13 @@ class ParticleWindows final : public coupler::WindowParts {
   void after_step(long) override {
     if (link_) link_->after_step();
     check_state();
+    walls_->add(*solver_);
     coupler::trace().steps = solver_->steps();
   }
   void output(long w) override;
   void save(const std::string& dir) override {
     solver_->save(dir);
+    walls_->save(dir);
     if (link_) link_->save(dir);
   }
 
@@ -54,6 +57,7 @@ class ParticleWindows final : public coupler::WindowParts {
   output::Series series_;
   std::unique_ptr<EventLog> events_;
   std::unique_ptr<ImmersedLink> link_;
+  std::unique_ptr<WallLoads> walls_;
 };
 
 void ParticleWindows::start(long w0) {
@@ -63,6 +67,7 @@ void ParticleWindows::start(long w0) {
                              {"time", "count", "momentum_x", "momentum_y", "momentum_z", "kinetic_energy",
                               "collisions", "wall_collisions", "broken_bonds", "rotational_energy"},
                              w0 > 0);
+  walls_ = std::make_unique<WallLoads>(s_, params_, w0);
   const auto& out = s_.config().run.output;
   solver_->record_events(out.collision_events, out.bond_events);
   events_ = std::make_unique<EventLog>(s_, out, params_.point_particles, w0);
@@ -82,6 +87,7 @@ void ParticleWindows::output(long w) {
                           st.kinetic_energy, double(st.collisions), double(st.wall_collisions),
                           double(st.broken_bonds), st.rotational_energy};
     if (s_.rank() == 0) series_.row(row);
+    walls_->row(w * s_.window());
     s_.set_final("particles.count", double(st.count));
     s_.set_final("particles.kinetic_energy", st.kinetic_energy);
     s_.set_final("particles.broken_bonds", double(st.broken_bonds));

@@ -62,8 +62,8 @@ void SpeciesParams::visit(Visitor& v) {
 
 void BondParams::visit(Visitor& v) {
   v("compressive_strength", compressive_strength, "compressive strength sigma_cC of a bond: it fails when its compressive stress exceeds this, Pa", config::non_negative());
-  v("tensile_strength", tensile_strength, "sigma_cT of eq. 2.15, Pa", config::non_negative());
-  v("shear_strength", shear_strength, "tau_c of eq. 2.15, Pa", config::non_negative());
+  v("tensile_strength", tensile_strength, "tensile strength sigma_cT of a bond: it fails when its tensile stress exceeds this, Pa", config::non_negative());
+  v("shear_strength", shear_strength, "shear strength tau_c of a bond: it fails when its shear stress exceeds this, Pa", config::non_negative());
   v("crush_fraction", crush_fraction, "radius fraction lost by both grains on compressive failure",
     config::in_range(0.0, 0.5));
   v("gap", gap,
@@ -77,10 +77,10 @@ void BondParams::visit(Visitor& v) {
 
 void ContactParams::visit(Visitor& v) {
   v("normal_stiffness", normal_stiffness, "K_N, stiffness of the linear normal spring of a contact (Cundall & Strack 1979), N/m", config::positive());
-  v("shear_stiffness", shear_stiffness, "k_S of eq. 2.14, N/m", config::non_negative());
-  v("friction", friction, "Coulomb coefficient mu of eq. 2.17", config::non_negative());
-  v("local_damping", local_damping, "alpha of the local non-viscous damping, eqs 2.9-2.10", config::in_range(0.0, 0.99));
-  v.section("bond", "cementation of the initial contacts (eq. 2.15); omit for none",
+  v("shear_stiffness", shear_stiffness, "k_S, stiffness of the tangential spring of a contact (Cundall & Strack 1979), N/m", config::non_negative());
+  v("friction", friction, "Coulomb friction coefficient mu: the tangential force is at most mu times the normal one", config::non_negative());
+  v("local_damping", local_damping, "alpha of the local non-viscous damping: a force -alpha |F| sign(v) on each component of a grain's motion, 0 for none", config::in_range(0.0, 0.99));
+  v.section("bond", "cementation of the initial contacts (bonds that carry tension and shear until they fail); omit for none",
             [&](Visitor& s) { bond.visit(s); }, &bonded);
 }
 
@@ -93,7 +93,7 @@ void CollisionPairParams::visit(Visitor& v) {
 
 void CollisionParams::visit(Visitor& v) {
   v("restitution", restitution, "restitution coefficient e: the normal relative speed after a collision over that before", config::in_range(0.0, 1.0));
-  v("friction", friction, "dynamic friction coefficient mu_d of eqs 3.44-3.45", config::non_negative());
+  v("friction", friction, "dynamic friction coefficient mu_d of the sliding during a collision", config::non_negative());
   v("enabled", enabled, "particle-particle collisions on or off");
   v.list("pairs", "restitution and friction of particular species pairs (the others take the values above)",
          [&](Visitor& s) {

@@ -230,6 +230,9 @@ class ParticleSolver {
   }
   virtual void take_impulse(std::vector<double>& impulse) { impulse.clear(); }
   virtual ParticleStats stats() = 0;  // collective; resets the event counters
+  // The impulse (N s) this rank's particles gave each wall since the last
+  // call (wall_impulse.hpp: 3 per wall, the six faces then the mesh walls).
+  virtual std::vector<double> take_wall_impulse() = 0;
   // Record discrete events (off by default); take_events() hands over and clears
   // this rank's record.
   virtual void record_events(bool collisions, bool bonds) {

@@ -25,6 +25,7 @@ DemSolver::DemSolver(const Setup& setup, const Params&)
   p_ = dem::make_initial(setup.params, setup.cfg);
   s_ = dem::make_setup(setup.params, setup.cfg, p_);
   domain_ = store::Domain(setup.decomposition, s_.lower.data(), s_.upper.data(), s_.periodic, comm_);
+  wall_impulse_.reset(s_.meshes.size());
   const std::size_t n = p_.size();
   torque_.assign(3 * n, 0.0);
   fh_.assign(3 * n, 0.0);
@@ -331,6 +332,7 @@ void DemSolver::face_contacts(double h) {
         p_.force[3 * i + q] += c.force[q];
         torque_[3 * i + q] += c.torque1[q];
       }
+      wall_impulse_.add(static_cast<std::size_t>(f), V3(-h * c.force));
     }
 }
 
@@ -368,6 +370,7 @@ void DemSolver::mesh_contacts(double h) {
           p_.force[3 * i + q] += c.force[q];
           torque_[3 * i + q] += c.torque1[q];
         }
+        wall_impulse_.add(6 + m, V3(-h * c.force));
       }
     }
   }

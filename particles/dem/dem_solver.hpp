@@ -14,6 +14,7 @@
 #include "particles/particles_interface.hpp"
 #include "particles/store/domain.hpp"
 #include "particles/store/particle_store.hpp"
+#include "particles/wall_impulse.hpp"
 
 namespace coflow::particles {
 
@@ -31,6 +32,7 @@ class DemSolver final : public ParticleSolver {
   ParticleStats stats() override;
   void record_events(bool collisions, bool bonds) override { events_.enable(collisions, bonds); }
   ParticleEvents take_events() override { return events_.take(); }
+  std::vector<double> take_wall_impulse() override { return wall_impulse_.take(); }
   void save(const std::string& dir) override;
   void load(const std::string& dir, long steps, double time) override;
 
@@ -99,6 +101,7 @@ class DemSolver final : public ParticleSolver {
   long steps_ = 0;
   long collisions_ = 0, wall_collisions_ = 0, broken_ = 0;
   dem::EventRecorder events_;
+  WallImpulse wall_impulse_;
 };
 
 }  // namespace coflow::particles

@@ -20,6 +20,7 @@ DemReference::DemReference(const Setup& setup, const Params&) : comm_(setup.comm
   if (size != 1) throw std::runtime_error("dem-reference is serial: set particles.ranks: 1");
   const ParticleArrays a = dem::make_initial(setup.params, setup.cfg);
   s_ = dem::make_setup(setup.params, setup.cfg, a);
+  wall_impulse_.reset(s_.meshes.size());
   for (std::size_t i = 0; i < a.size(); ++i)
     p_.push_back({a.id[i], a.species[i], V3(&a.x[3 * i]), V3(&a.v[3 * i]), V3(&a.w[3 * i]), a.radius[i], a.mass[i],
                   a.inertia[i], V3::Zero(), V3::Zero(), V3::Zero(), V3::Zero()});
@@ -102,6 +103,7 @@ void DemReference::wall_forces(double h) {
       const dem::ContactForce c = dem::contact_force(n, overlap, dist, 0.0, vrel, 2 * a.r, it->second, law, h);
       a.F += c.force;
       a.T += c.torque1;
+      wall_impulse_.add(static_cast<std::size_t>(f), V3(-h * c.force));
     }
 }
 
@@ -134,6 +136,7 @@ void DemReference::mesh_forces(double h) {
         const dem::ContactForce c = dem::contact_force(n, a.r - dist, dist, 0.0, vrel, 2 * a.r, it->second, law, h);
         a.F += c.force;
         a.T += c.torque1;
+        wall_impulse_.add(6 + m, V3(-h * c.force));
       }
     }
   if (!s_.meshes.empty())  // histories of mesh contacts not renewed this step are dropped

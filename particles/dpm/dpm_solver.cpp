@@ -38,6 +38,7 @@ DpmSolver::DpmSolver(const Setup& setup, const Params&)
   store_.add("turbulent", 1, store::migrates, turbulent_);
   s_ = dpm::make_setup(setup.params, setup.cfg);
   domain_ = store::Domain(setup.decomposition, s_.lower.data(), s_.upper.data(), s_.periodic, comm_);
+  wall_impulse_.reset(s_.meshes.size());
   p_ = dem::make_initial(setup.params, setup.cfg);  // every rank makes all, keeps its own
   const std::size_t total = p_.size();
   for (std::int64_t id : p_.id) next_id_ = std::max(next_id_, id + 1);
@@ -296,6 +297,7 @@ void DpmSolver::apply_events() {
       if (dpm::collide_wall(moved_[e.i].v, moved_[e.i].w, D_[e.i], nrm, *law)) {  // only applied impulses count
         events_.impact(time_ + e.t, e.a, -1 - e.b, point, nrm, before);
         ++wall_collisions_;
+        wall_impulse_.add(dpm::wall_slot(e.b), V3(-p_.mass[e.i] * (moved_[e.i].v - before)));
       }
       hit_[e.i] = e.t;
       continue;

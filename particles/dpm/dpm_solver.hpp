@@ -16,6 +16,7 @@
 #include "particles/dpm/range_warnings.hpp"
 #include "particles/dpm/setup.hpp"
 #include "particles/particles_interface.hpp"
+#include "particles/wall_impulse.hpp"
 #include "particles/store/domain.hpp"
 #include "particles/store/particle_store.hpp"
 
@@ -60,6 +61,7 @@ class DpmSolver final : public ParticleSolver {
   ParticleStats stats() override;
   void record_events(bool collisions, bool bonds) override { events_.enable(collisions, bonds); }
   ParticleEvents take_events() override { return events_.take(); }
+  std::vector<double> take_wall_impulse() override { return wall_impulse_.take(); }
   void save(const std::string& dir) override;
   void load(const std::string& dir, long steps, double time) override;
 
@@ -109,6 +111,7 @@ class DpmSolver final : public ParticleSolver {
   dpm::RangeWarnings ranges_;  // correlations used beyond their range, warned once
   bool all_pairs_ = false;
   dem::EventRecorder events_;
+  WallImpulse wall_impulse_;
   // sparse cell list (rebuilt every step)
   struct Packed {
     dpm::V3 x, u;

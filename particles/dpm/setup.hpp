@@ -273,6 +273,13 @@ inline void mesh_events(const V3& x, const V3& u, double D, std::int64_t id, std
   }
 }
 
+// The slot of a wall event's wall (b < 0) in WallImpulse: its face (0-5), or
+// 6 + its mesh.
+inline std::size_t wall_slot(std::int64_t b) {
+  const std::int64_t key = -1 - b;
+  return key < 6 ? static_cast<std::size_t>(key) : 6 + static_cast<std::size_t>((key - 6) >> 24);
+}
+
 // The wall of a wall event (b < 0): unit normal from the particle into the
 // wall at contact, the contact point and the coefficients. x, u: the particle's
 // position at the step's start and its trajectory velocity.

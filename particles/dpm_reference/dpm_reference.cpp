@@ -21,6 +21,7 @@ DpmReference::DpmReference(const Setup& setup, const Params&) : params_(setup.pa
   MPI_Comm_size(setup.comm, &size);
   if (size != 1) throw std::runtime_error("dpm-reference is serial: set particles.ranks: 1");
   s_ = dpm::make_setup(setup.params, setup.cfg);
+  wall_impulse_.reset(s_.meshes.size());
   s_.mesh_all_triangles = true;  // the oracle tests every triangle
   const ParticleArrays a = dem::make_initial(setup.params, setup.cfg);
   for (std::size_t i = 0; i < a.size(); ++i) {
@@ -86,6 +87,7 @@ std::vector<double> DpmReference::collide(const std::vector<dpm::Event>& events,
       if (dpm::collide_wall(next[e.i].v, next[e.i].w, a.D, n, *law)) {  // only applied impulses count
         events_.impact(time_ + e.t, a.id, -1 - e.b, point, n, before);
         ++wall_collisions_;
+        wall_impulse_.add(dpm::wall_slot(e.b), V3(-a.m * (next[e.i].v - before)));
       }
       hit[e.i] = e.t;
       continue;

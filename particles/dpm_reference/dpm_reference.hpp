@@ -10,6 +10,7 @@
 #include "particles/dpm/range_warnings.hpp"
 #include "particles/dpm/setup.hpp"
 #include "particles/particles_interface.hpp"
+#include "particles/wall_impulse.hpp"
 
 namespace coflow::particles {
 
@@ -31,6 +32,7 @@ class DpmReference final : public ParticleSolver {
   ParticleStats stats() override;
   void record_events(bool collisions, bool bonds) override { events_.enable(collisions, bonds); }
   ParticleEvents take_events() override { return events_.take(); }
+  std::vector<double> take_wall_impulse() override { return wall_impulse_.take(); }
   void save(const std::string& dir) override;
   void load(const std::string& dir, long steps, double time) override;
 
@@ -64,6 +66,7 @@ class DpmReference final : public ParticleSolver {
   long collisions_ = 0, wall_collisions_ = 0;
   dpm::RangeWarnings ranges_;  // correlations used beyond their range, warned once
   dem::EventRecorder events_;
+  WallImpulse wall_impulse_;
   mutable ParticleArrays view_;
 };
 

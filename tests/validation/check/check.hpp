@@ -96,6 +96,7 @@ int settling(const std::string& dir);
 int rotation(const std::string& dir);
 // dem.cpp
 int impact(const std::string& dir);
+int walls(const std::string& dir);
 int pour(const std::string& dir);
 int crush(const std::string& dir);
 // dpm.cpp

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
     if (what == "ramp" && argc == 3) return ramp(argv[2]);
     if (what == "compare" && argc == 4) return compare(argv[2], argv[3]);
     if (what == "impact" && argc == 3) return impact(argv[2]);
+    if (what == "walls" && argc == 3) return walls(argv[2]);
     if (what == "pour" && argc == 3) return pour(argv[2]);
     if (what == "crush" && argc == 3) return crush(argv[2]);
     if (what == "momentum" && argc == 3) return momentum(argv[2]);

@@ -3,6 +3,35 @@
 
 namespace coflow::check {
 
+// Grains of one species in a closed box under gravity, no fluid: between two
+// series rows the particles' momentum changes by M g dt minus the impulse they
+// give the walls (series/walls.csv, mean force x dt); contacts between grains
+// cancel. The largest residual of any component over all intervals, relative
+// to the weight's impulse M |g| dt.
+int walls(const std::string& dir) {
+  const auto cfg = load(dir);
+  const YAML::Node sp = cfg.resolved["particles"]["species"].begin()->second;
+  const double d = std::stod(sp["diameter"].Scalar()), rho = std::stod(sp["density"].Scalar());
+  const double m = rho * std::numbers::pi * d * d * d / 6.0;
+  const auto p = read_series(dir + "/series/particles.csv");
+  const auto w = read_series(dir + "/series/walls.csv");
+  if (p.size() != w.size() || p.size() < 2) throw std::runtime_error("particles.csv and walls.csv rows differ");
+  const auto& g = cfg.gravity;
+  double worst = 0.0;
+  for (std::size_t r = 1; r < p.size(); ++r) {
+    const double dt = w[r][0] - w[r - 1][0], M = m * p[r][1];
+    for (int q = 0; q < 3; ++q) {
+      double on_walls = 0.0;
+      for (std::size_t c = 1 + q; c < w[r].size(); c += 3) on_walls += w[r][c];
+      const double residual = (p[r][2 + q] - p[r - 1][2 + q]) - (M * g[q] - on_walls) * dt;
+      const double rel = std::abs(residual) / (M * std::hypot(g[0], g[1], g[2]) * dt);
+      worst = std::isnan(rel) ? rel : std::max(worst, rel);
+    }
+  }
+  std::printf("momentum_balance=%.6e\n", worst);
+  return 0;
+}
+
 // Two-sphere impact: contact duration (from the surface gap, crossings
 // interpolated), restitution, energy.
 int impact(const std::string& dir) {

@@ -24,3 +24,10 @@ coflow_validation(dem_mesh_vs_reference compare dem_mesh_wall.yaml 1 "particles.
 coflow_validation(dem_outlet_vs_reference compare dem_outlet.yaml 1 "particles.solver=dem" "particles.solver=dem-reference")
 coflow_validation(dem_outlet_1_vs_3 compare dem_outlet.yaml 2
   "particles.ranks=1" "particles.ranks=3 particles.decomposition=[1,1,3]")
+# Forces on walls (series/walls.csv): the momentum balance of grains in a
+# closed box, dem and its reference, dpm and its reference, and dem on 4 ranks.
+coflow_validation(particles_walls_dem walls particles_box_walls.yaml 1)
+coflow_validation(particles_walls_dem_reference walls particles_box_walls.yaml 1 --set particles.solver=dem-reference)
+coflow_validation(particles_walls_dem_4_ranks walls particles_box_walls.yaml 1 --set particles.ranks=4)
+coflow_validation(particles_walls_dpm walls particles_box_walls_dpm.yaml 1)
+coflow_validation(particles_walls_dpm_reference walls particles_box_walls_dpm.yaml 1 --set particles.solver=dpm-reference)

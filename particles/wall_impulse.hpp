@@ -1,0 +1,33 @@
+// The impulse the particles give each wall, kept by every particle variant for
+// series/walls.csv (particles/wall_loads.*): 3 values per wall, the six faces
+// of the domain (x-, x+, y-, y+, z-, z+) and then the mesh walls in the order
+// of particles.walls. A contact force F on a particle over a step h gives the
+// wall -F h; a hard-sphere collision that changes a particle's velocity by dv
+// gives it -m dv.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+namespace coflow::particles {
+
+class WallImpulse {
+ public:
+  void reset(std::size_t meshes) { sum_.assign(3 * (6 + meshes), 0.0); }
+  // Face f (0-5), or mesh m as slot 6 + m.
+  template <class V>
+  void add(std::size_t slot, const V& impulse) {
+    for (int q = 0; q < 3; ++q) sum_[3 * slot + q] += impulse[q];
+  }
+  // This rank's impulses since the last call; zeroes them.
+  std::vector<double> take() {
+    std::vector<double> out(sum_.size(), 0.0);
+    out.swap(sum_);
+    return out;
+  }
+
+ private:
+  std::vector<double> sum_;
+};
+
+}  // namespace coflow::particles

@@ -63,12 +63,21 @@ class FluidWindows final : public coupler::WindowParts {
     if (w0 > 0) solver_->load(s_.restart_dir(), w0 * per_window_, w0 * s_.window());
     if (s_.rank() == 0)
       series_ = output::Series(s_.output_dir() + "/series/fluid.csv",
-                               {"time", "mass", "momentum_x", "momentum_y", "momentum_z", "kinetic_energy",
-                                "max_velocity", "max_mach"},
+                               {{"time", "s"},
+                                {"mass", "kg"},
+                                {"momentum_x", "kg m/s"},
+                                {"momentum_y", "kg m/s"},
+                                {"momentum_z", "kg m/s"},
+                                {"kinetic_energy", "J"},
+                                {"max_velocity", "m/s"},
+                                {"max_mach", "1"}},
                                w0 > 0);
     if (s_.rank() == 0 && !probes_.empty()) {
-      std::vector<std::string> columns{"time"};
-      columns.insert(columns.end(), probes_.columns().begin(), probes_.columns().end());
+      std::vector<output::Series::Column> columns{{"time", "s"}};
+      for (const auto& c : probes_.columns()) columns.push_back({c, c.ends_with("_p") || c.ends_with("_p_from") ||
+                                                                           c.ends_with("_p_to") || c.ends_with("_dp")
+                                                                       ? "Pa"
+                                                                       : "m/s"});
       probes_series_ = output::Series(s_.output_dir() + "/series/probes.csv", columns, w0 > 0);
     }
     // With psm the initial snapshot waits for the first window's solids, so that it shows them.

@@ -15,8 +15,14 @@ class ImmersedSeries {
   explicit ImmersedSeries(coupler::Session& s) : s_(s) {
     if (s.rank() == 0)
       series_ = output::Series(s.output_dir() + "/series/immersed.csv",
-                               {"time", "force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z",
-                                "solid_volume"},
+                               {{"time", "s"},
+                                {"force_x", "N"},
+                                {"force_y", "N"},
+                                {"force_z", "N"},
+                                {"torque_x", "N m"},
+                                {"torque_y", "N m"},
+                                {"torque_z", "N m"},
+                                {"solid_volume", "m^3"}},
                                s.restart_window() > 0);
   }
   // Collective: when a row is due at window w (> 0), sum this rank's totals

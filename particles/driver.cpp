@@ -64,8 +64,16 @@ void ParticleWindows::start(long w0) {
   if (w0 > 0) solver_->load(s_.restart_dir(), w0 * substeps_, w0 * s_.window());
   if (s_.rank() == 0)
     series_ = output::Series(s_.output_dir() + "/series/particles.csv",
-                             {"time", "count", "momentum_x", "momentum_y", "momentum_z", "kinetic_energy",
-                              "collisions", "wall_collisions", "broken_bonds", "rotational_energy"},
+                             {{"time", "s"},
+                              {"count", "1"},
+                              {"momentum_x", "kg m/s"},
+                              {"momentum_y", "kg m/s"},
+                              {"momentum_z", "kg m/s"},
+                              {"kinetic_energy", "J"},
+                              {"collisions", "1"},
+                              {"wall_collisions", "1"},
+                              {"broken_bonds", "1"},
+                              {"rotational_energy", "J"}},
                              w0 > 0);
   walls_ = std::make_unique<WallLoads>(s_, params_, w0);
   const auto& out = s_.config().run.output;

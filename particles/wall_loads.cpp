@@ -30,9 +30,9 @@ WallLoads::WallLoads(coupler::Session& s, const ParticleParams& params, long w0)
       if (!(in >> v)) throw std::runtime_error(path + ": cannot read the wall impulses of the checkpoint");
   }
   if (s.rank() != 0 || empty()) return;
-  std::vector<std::string> columns{"time"};
+  std::vector<output::Series::Column> columns{{"time", "s"}};
   for (const auto& n : names_)
-    for (const char* c : {"_fx", "_fy", "_fz"}) columns.push_back(n + c);
+    for (const char* c : {"_fx", "_fy", "_fz"}) columns.push_back({n + c, "N"});
   series_ = output::Series(s.output_dir() + "/series/walls.csv", columns, w0 > 0);
 }
 

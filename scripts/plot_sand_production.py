@@ -20,6 +20,12 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+
+def series_lines(path):
+    """The lines of a coflow series file without its units line ('# s,kg,...')."""
+    return [line for line in open(path) if not line.startswith("#")]
+
+
 run = sys.argv[1] if len(sys.argv) > 1 else "out/sand-production"
 out = sys.argv[2] if len(sys.argv) > 2 else "docs/img"
 os.makedirs(out, exist_ok=True)
@@ -38,7 +44,7 @@ for i, line in enumerate(lines):
         break
 grain = density * math.pi * diameter ** 3 / 6.0
 
-rows = list(csv.DictReader(open(f"{run}/series/particles.csv")))
+rows = list(csv.DictReader(series_lines(f"{run}/series/particles.csv")))
 t = np.array([float(r["time"]) for r in rows])
 count = np.array([float(r["count"]) for r in rows])
 broken = np.array([float(r["broken_bonds"]) for r in rows])  # cumulative in the series

@@ -21,6 +21,12 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+
+def series_lines(path):
+    """The lines of a coflow series file without its units line ('# s,kg,...')."""
+    return [line for line in open(path) if not line.startswith("#")]
+
+
 runs = sys.argv[1] if len(sys.argv) > 1 else "build/tests"
 out = sys.argv[2] if len(sys.argv) > 2 else "docs/img"
 cases = sys.argv[3] if len(sys.argv) > 3 else "out/cases"
@@ -80,7 +86,7 @@ fig.tight_layout()
 fig.savefig(f"{out}/lbm_convergence.png", dpi=110)
 
 # 3. Taylor-Green decay.
-rows = list(csv.DictReader(open(f"{runs}/val-lbm_taylor_green/run/series/fluid.csv")))
+rows = list(csv.DictReader(series_lines(f"{runs}/val-lbm_taylor_green/run/series/fluid.csv")))
 t = np.array([float(r["time"]) for r in rows])
 E = np.array([float(r["kinetic_energy"]) for r in rows])
 k = 2 * math.pi / 0.064
@@ -115,7 +121,7 @@ fig.savefig(f"{out}/lbm_large_pressure_drop.png", dpi=110)
 # 5. Settling sphere, ten Cate et al. (2002) case E2.
 run = f"{runs}/val-psm_settling_sphere_e2/run"
 if os.path.exists(f"{run}/series/particles.csv"):
-    rows = list(csv.DictReader(open(f"{run}/series/particles.csv")))
+    rows = list(csv.DictReader(series_lines(f"{run}/series/particles.csv")))
     m = 1120.0 * math.pi * 0.015 ** 3 / 6.0
     t = [float(r["time"]) for r in rows]
     v = [-float(r["momentum_z"]) / m for r in rows]
@@ -140,7 +146,7 @@ if len(runs_e) > 1:
     m = 1120.0 * math.pi * 0.015 ** 3 / 6.0
     fig, ax = plt.subplots(figsize=(6, 4))
     for k, (c, run) in enumerate(sorted(runs_e.items())):
-        rows = list(csv.DictReader(open(f"{run}/series/particles.csv")))
+        rows = list(csv.DictReader(series_lines(f"{run}/series/particles.csv")))
         ax.plot([float(r["time"]) for r in rows], [-float(r["momentum_z"]) / m for r in rows], color=f"C{k}",
                 label=f"{c.upper()} coflow")
         ax.axhline(ten_cate[c], color=f"C{k}", lw=0.8, ls="--")
@@ -154,8 +160,8 @@ if len(runs_e) > 1:
 # 6. Rotating sphere: torque against Stokes.
 run = f"{runs}/val-psm_rotating_sphere/run"
 if os.path.exists(f"{run}/series/immersed.csv"):
-    im = list(csv.DictReader(open(f"{run}/series/immersed.csv")))
-    pa = {round(float(r["time"]), 9): r for r in csv.DictReader(open(f"{run}/series/particles.csv"))}
+    im = list(csv.DictReader(series_lines(f"{run}/series/immersed.csv")))
+    pa = {round(float(r["time"]), 9): r for r in csv.DictReader(series_lines(f"{run}/series/particles.csv"))}
     a, mu, rho_p = 0.008, 0.1, 50000.0
     I = 0.4 * rho_p * 4.0 / 3.0 * math.pi * a ** 3 * a * a
     t, ratio = [], []

@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Keep the header and the rows whose first column passes `keep`; returns
+// Keep the header, a units line and the rows whose first column passes `keep`; returns
 // how many rows went.
 template <class Keep>
 long cut_csv(const fs::path& path, Keep keep) {
@@ -30,7 +30,7 @@ long cut_csv(const fs::path& path, Keep keep) {
   if (std::getline(in, line)) text = line + "\n";
   while (std::getline(in, line)) {
     if (line.empty()) continue;
-    if (keep(std::strtod(line.c_str(), nullptr)))
+    if (line.starts_with("#") || keep(std::strtod(line.c_str(), nullptr)))  // a series' units line stays
       text += line + "\n";
     else
       ++cut;

@@ -31,8 +31,8 @@ void atomic_write(const std::string& path, const std::string& content) {
 
 std::string snapshot_name(long step) { return fmt::format("step_{:06d}.h5", step); }
 
-Series::Series(const std::string& path, std::vector<std::string> columns, bool append)
-    : columns_(columns.size()), time_first_(!columns.empty() && columns[0] == "time") {
+Series::Series(const std::string& path, const std::vector<Column>& columns, bool append)
+    : columns_(columns.size()), time_first_(!columns.empty() && columns[0].name == "time") {
   if (append && fs::exists(path)) {
     out_.open(path, std::ios::app);
     if (!out_) throw std::runtime_error(fmt::format("cannot append to '{}'", path));
@@ -40,7 +40,9 @@ Series::Series(const std::string& path, std::vector<std::string> columns, bool a
   }
   out_.open(path, std::ios::trunc);
   if (!out_) throw std::runtime_error(fmt::format("cannot write '{}'", path));
-  for (std::size_t i = 0; i < columns.size(); ++i) out_ << (i ? "," : "") << columns[i];
+  for (std::size_t i = 0; i < columns.size(); ++i) out_ << (i ? "," : "") << columns[i].name;
+  out_ << "\n# ";
+  for (std::size_t i = 0; i < columns.size(); ++i) out_ << (i ? "," : "") << columns[i].unit;
   out_ << '\n';
   out_.flush();
 }

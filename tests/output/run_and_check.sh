@@ -19,3 +19,12 @@ if [ -n "$particles" ]; then
   h5dump -a /species_names "$particles" | grep -q 'DATA' || { echo "FAIL: $particles: no species_names"; exit 1; }
 fi
 echo "units and species names in the HDF5 files: ok"
+# Every series names its columns on the first line and gives their units on
+# the second, one per column.
+for f in "$out"/series/*.csv; do
+  names=$(sed -n 1p "$f" | awk -F, '{ print NF }')
+  units=$(sed -n 2p "$f")
+  [[ $units == "# s,"* ]] || { echo "FAIL: $f: the second line is not the units line: $units"; exit 1; }
+  [ "$(echo "$units" | awk -F, '{ print NF }')" = "$names" ] || { echo "FAIL: $f: $names columns, other number of units"; exit 1; }
+done
+echo "units lines in the series: ok"

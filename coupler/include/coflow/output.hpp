@@ -25,11 +25,17 @@ std::string snapshot_name(long step);  // "step_000042.h5"
 class Series {
  public:
   Series() = default;
-  // append: continue an existing file (restart) instead of starting a new one.
+  // A column's name and unit ("1" for a count or a ratio).
+  struct Column {
+    std::string name, unit;
+  };
+  // A new file starts with the header of names and a second line of units,
+  // "# s,kg,...", which CSV readers skip as a comment (pandas comment='#',
+  // numpy genfromtxt). append: continue an existing file (restart) instead.
   // A first column named "time" is written with 12 significant digits (3, not
   // 3.0000000000000027: a window's end accumulated in floating point); the
   // other columns with 17 (every bit).
-  Series(const std::string& path, std::vector<std::string> columns, bool append = false);
+  Series(const std::string& path, const std::vector<Column>& columns, bool append = false);
   void row(std::span<const double> values);
   bool is_open() const { return out_.is_open(); }
 

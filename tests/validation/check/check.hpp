@@ -51,6 +51,7 @@ inline std::vector<std::vector<double>> read_series(const std::string& path) {
   std::getline(in, line);
   std::vector<std::vector<double>> rows;
   while (std::getline(in, line)) {
+    if (line.starts_with("#")) continue;  // the units line
     std::vector<double> r;
     std::stringstream ss(line);
     for (std::string v; std::getline(ss, v, ',');) r.push_back(std::stod(v));

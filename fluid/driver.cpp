@@ -8,6 +8,7 @@
 #include "coflow/log.hpp"
 #include "coflow/output.hpp"
 #include "coflow/exchange.hpp"
+#include "coflow/impulse_series.hpp"
 #include "coflow/protocol.hpp"
 #include "coflow/window_loop.hpp"
 #include "fluid/fluid_solver.hpp"
@@ -80,6 +81,7 @@ class FluidWindows final : public coupler::WindowParts {
                                                                        : "m/s"});
       probes_series_ = output::Series(s_.output_dir() + "/series/probes.csv", columns, w0 > 0);
     }
+    if (solver_->keeps_wall_impulse()) walls_ = wall_series(w0);
     // With psm the initial snapshot waits for the first window's solids, so that it shows them.
     if (w0 == 0 && !psm_) output(0);
   }
@@ -96,12 +98,16 @@ class FluidWindows final : public coupler::WindowParts {
   void step(long) override {
     solver_->advance(s_.window());
     coupler::trace().steps = solver_->steps();
+    if (walls_) walls_->add(solver_->take_wall_impulse());
   }
   void after_step(long) override {
     if (psm_) send_solid_force();
   }
   void output(long w) override;
-  void save(const std::string& dir) override { solver_->save(dir); }
+  void save(const std::string& dir) override {
+    solver_->save(dir);
+    if (walls_) walls_->save(dir);
+  }
   void finish() override {
     if (force_out_) force_out_->flush();
     if (flow_out_) flow_out_->flush();
@@ -109,6 +115,7 @@ class FluidWindows final : public coupler::WindowParts {
 
  private:
   void open_exchanges();
+  std::unique_ptr<coupler::ImpulseSeries> wall_series(long w0);
   void receive_solids();
   void send_solid_force();
   void send_flow();
@@ -123,6 +130,7 @@ class FluidWindows final : public coupler::WindowParts {
   output::Series series_;
   Probes probes_;
   output::Series probes_series_;
+  std::unique_ptr<coupler::ImpulseSeries> walls_;  // the fluid's force on its wall faces
   std::unique_ptr<coupler::FieldExchange> solid_in_, force_out_, flow_out_, source_in_;
   std::vector<long> solid_cells_;
   std::vector<double> solid_values_, fraction_, velocity_, force_;
@@ -141,6 +149,7 @@ void FluidWindows::output(long w) {
     s_.set_final("fluid.momentum_y", d.momentum[1]);
     s_.set_final("fluid.momentum_z", d.momentum[2]);
     s_.set_final("fluid.kinetic_energy", d.kinetic_energy);
+    if (walls_) walls_->row(w * s_.window());
     if (!probes_.empty()) {
       std::vector<double> row{time};
       const std::vector<double> values = probes_.sample(*solver_);
@@ -157,6 +166,20 @@ void FluidWindows::output(long w) {
     for (const auto& f : fields) names.push_back(f.name);
     s_.snapshot_written(w, 0, names);
   }
+}
+
+// series/fluid_walls.csv: the faces that are walls for the fluid.
+std::unique_ptr<coupler::ImpulseSeries> FluidWindows::wall_series(long w0) {
+  const FluidParams params = read_params(cfg_);
+  std::vector<std::string> names;
+  std::vector<std::size_t> slots;
+  for (int f = 0; f < 6; ++f) {
+    const int a = f / 2;
+    if (cfg_.domain.periodic[a] || cfg_.domain.cells[a] == 1 || params.boundary(f, cfg_).type != "wall") continue;
+    names.push_back(face_names()[f]);
+    slots.push_back(static_cast<std::size_t>(f));
+  }
+  return std::make_unique<coupler::ImpulseSeries>(s_, "fluid_walls", std::move(names), std::move(slots), 6, w0);
 }
 
 void FluidWindows::open_exchanges() {

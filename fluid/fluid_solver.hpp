@@ -77,6 +77,12 @@ class FluidSolver {
     throw std::runtime_error("this fluid solver does not take momentum sources (immersed.method point)");
   }
 
+  // The impulse (N s, 3 per face x- ... z+) this rank's fluid gave the wall
+  // faces since the last call, relative to the reference pressure; empty for
+  // a solver that does not keep it (series/fluid_walls.csv is then not written).
+  virtual std::vector<double> take_wall_impulse() { return {}; }
+  virtual bool keeps_wall_impulse() const { return false; }
+
   virtual void save(const std::string& dir) = 0;
   virtual void load(const std::string& dir, long steps, double time) = 0;
 };

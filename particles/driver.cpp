@@ -37,7 +37,7 @@ class ParticleWindows final : public coupler::WindowParts {
   void after_step(long) override {
     if (link_) link_->after_step();
     check_state();
-    walls_->add(*solver_);
+    walls_->add(solver_->take_wall_impulse());
     coupler::trace().steps = solver_->steps();
   }
   void output(long w) override;
@@ -57,7 +57,7 @@ class ParticleWindows final : public coupler::WindowParts {
   output::Series series_;
   std::unique_ptr<EventLog> events_;
   std::unique_ptr<ImmersedLink> link_;
-  std::unique_ptr<WallLoads> walls_;
+  std::unique_ptr<coupler::ImpulseSeries> walls_;
 };
 
 void ParticleWindows::start(long w0) {
@@ -75,7 +75,7 @@ void ParticleWindows::start(long w0) {
                               {"broken_bonds", "1"},
                               {"rotational_energy", "J"}},
                              w0 > 0);
-  walls_ = std::make_unique<WallLoads>(s_, params_, w0);
+  walls_ = make_wall_loads(s_, params_, w0);
   const auto& out = s_.config().run.output;
   solver_->record_events(out.collision_events, out.bond_events);
   events_ = std::make_unique<EventLog>(s_, out, params_.point_particles, w0);

@@ -1,63 +1,26 @@
 #include "particles/wall_loads.hpp"
 
-#include <fstream>
-#include <stdexcept>
-
 #include <fmt/format.h>
 
 namespace coflow::particles {
 
-WallLoads::WallLoads(coupler::Session& s, const ParticleParams& params, long w0) : s_(s) {
+std::unique_ptr<coupler::ImpulseSeries> make_wall_loads(coupler::Session& s, const ParticleParams& params, long w0) {
   const auto& d = s.config().domain;
   const char* faces[] = {"x-", "x+", "y-", "y+", "z-", "z+"};
+  std::vector<std::string> names;
+  std::vector<std::size_t> slots;
   for (int f = 0; f < 6; ++f)
     if (!d.periodic[f / 2] && params.boundaries[f] != "outlet") {
-      names_.push_back(faces[f]);
-      slots_.push_back(static_cast<std::size_t>(f));
+      names.push_back(faces[f]);
+      slots.push_back(static_cast<std::size_t>(f));
     }
   std::size_t meshes = 0;
   for (const auto& w : params.walls)
     if (!w.mesh.empty()) {
-      names_.push_back(fmt::format("mesh{}", meshes));
-      slots_.push_back(6 + meshes++);
+      names.push_back(fmt::format("mesh{}", meshes));
+      slots.push_back(6 + meshes++);
     }
-  sum_.assign(3 * (6 + meshes), 0.0);
-  since_ = static_cast<double>(w0) * s.window();
-  if (w0 > 0) {
-    const std::string path = s.restart_dir() + "/walls.csv";
-    std::ifstream in(path);
-    for (double& v : sum_)
-      if (!(in >> v)) throw std::runtime_error(path + ": cannot read the wall impulses of the checkpoint");
-  }
-  if (s.rank() != 0 || empty()) return;
-  std::vector<output::Series::Column> columns{{"time", "s"}};
-  for (const auto& n : names_)
-    for (const char* c : {"_fx", "_fy", "_fz"}) columns.push_back({n + c, "N"});
-  series_ = output::Series(s.output_dir() + "/series/walls.csv", columns, w0 > 0);
-}
-
-void WallLoads::add(ParticleSolver& solver) {
-  std::vector<double> window = solver.take_wall_impulse();
-  if (window.size() != sum_.size()) throw std::logic_error("wall impulses for another number of walls");
-  MPI_Allreduce(MPI_IN_PLACE, window.data(), static_cast<int>(window.size()), MPI_DOUBLE, MPI_SUM, s_.comm());
-  for (std::size_t k = 0; k < sum_.size(); ++k) sum_[k] += window[k];
-}
-
-void WallLoads::row(double t) {
-  const double span = t - since_;
-  std::vector<double> values{t};
-  for (const std::size_t slot : slots_)
-    for (int q = 0; q < 3; ++q) values.push_back(span > 0.0 ? sum_[3 * slot + q] / span : 0.0);
-  if (s_.rank() == 0 && !empty()) series_.row(values);
-  std::fill(sum_.begin(), sum_.end(), 0.0);
-  since_ = t;
-}
-
-void WallLoads::save(const std::string& dir) const {
-  if (s_.rank() != 0) return;
-  std::string text;
-  for (const double v : sum_) text += fmt::format("{:.17g}\n", v);
-  output::atomic_write(dir + "/walls.csv", text);
+  return std::make_unique<coupler::ImpulseSeries>(s, "walls", std::move(names), std::move(slots), 6 + meshes, w0);
 }
 
 }  // namespace coflow::particles

@@ -124,8 +124,13 @@ inline void post_collision_velocity(const double* g, long stride, const double* 
 // of a block: the population a boundary node pulls from beyond a wall is the
 // one it sent towards the wall, reversed. f: the current populations (the
 // ghosts beyond the walls are written); off: streaming offsets in cells.
+// momentum (3 per face): += the momentum each wall takes, 2 e_o g_o per
+// population g_o bounced (Ladd's momentum exchange), relative to the fluid at
+// rest (zero-centred populations: the reference pressure's share is left out).
+// A population bounced at an edge of two walls counts for the first face.
 template <class L>
-inline void fill_walls(double* f, const Layout& lay, const long* off, const bool* wall, int face0, int face1) {
+inline void fill_walls(double* f, const Layout& lay, const long* off, const bool* wall, int face0, int face1,
+                       double* momentum) {
   for (int face = face0; face < face1; ++face) {
     if (!wall[face]) continue;
     const int axis = face / 2, s = face % 2 == 0 ? 1 : -1;
@@ -136,8 +141,19 @@ inline void fill_walls(double* f, const Layout& lay, const long* off, const bool
       for (long j = lo[1]; j < hi[1]; ++j)
         for (long i = lo[0]; i < hi[0]; ++i) {
           const long x = lay.idx(i, j, k);
-          for (int q = 0; q < L::Q; ++q)
-            if (s * L::e[q][axis] > 0) f[q * lay.stride + x - off[q]] = f[L::opp[q] * lay.stride + x];
+          const long at[3] = {i, j, k};
+          for (int q = 0; q < L::Q; ++q) {
+            if (s * L::e[q][axis] <= 0) continue;
+            const double g = f[L::opp[q] * lay.stride + x];
+            f[q * lay.stride + x - off[q]] = g;
+            bool first = true;  // no wall face before this one bounces the same population
+            for (int other = 0; other < face && first; ++other) {
+              const int a = other / 2, so = other % 2 == 0 ? 1 : -1;
+              first = !(wall[other] && so * L::e[q][a] > 0 && at[a] == (other % 2 == 0 ? 0 : lay.extent[a] - 1));
+            }
+            if (first)
+              for (int d = 0; d < 3; ++d) momentum[3 * face + d] += 2.0 * L::e[L::opp[q]][d] * g;
+          }
         }
   }
 }

@@ -342,7 +342,12 @@ class Core final : public LbmCore {
   }
 
   // Bounce-back on this block's wall faces [face0, face1) (boundaries.hpp).
-  void fill_walls(int face0, int face1) { lbm::fill_walls<L>(pop_.f.data(), lay_, off_, wall_, face0, face1); }
+  void fill_walls(int face0, int face1) {
+    lbm::fill_walls<L>(pop_.f.data(), lay_, off_, wall_, face0, face1, wall_momentum_);
+  }
+  void take_wall_momentum(double* out) override {
+    for (int k = 0; k < 18; ++k) out[k] = wall_momentum_[k], wall_momentum_[k] = 0.0;
+  }
 
   const lbm::Setup& s_;
   Decomposition dec_;
@@ -356,6 +361,7 @@ class Core final : public LbmCore {
   std::vector<double> src_;     // per owned cell source (lattice units), empty: none
   std::vector<char> src_row_;   // rows (j, k) holding a source
   double max_u2_ = 0.0;
+  double wall_momentum_[18] = {};  // lattice momentum each wall face took since the last take
   bool open_[6], wall_[6];
   bool x_local_ = false;    // no other rank borders the block along x
   long row_i0_ = 0, row_i1_ = 0;  // cells of the interior pass's rows
@@ -532,6 +538,19 @@ void LbmSolver::set_source(std::span<const double> force_density) {
   std::vector<double> lattice(force_density.size());
   for (std::size_t n = 0; n < lattice.size(); ++n) lattice[n] = force_density[n] / s_.units.force_density();
   core_->set_source(lattice);
+}
+
+// Ladd's momentum exchange at the walls (boundaries.hpp), summed by the core
+// over the steps since the last call: one lattice momentum unit is
+// rho dx^3 dx/dt of impulse.
+std::vector<double> LbmSolver::take_wall_impulse() {
+  double m[18];
+  core_->take_wall_momentum(m);
+  const auto& u = s_.units;
+  const double unit = u.rho * u.dx * u.dx * u.dx * u.velocity();
+  std::vector<double> out(18);
+  for (int k = 0; k < 18; ++k) out[k] = unit * m[k];
+  return out;
 }
 
 void LbmSolver::take_solid_force(std::vector<double>& force) {

@@ -33,6 +33,9 @@ class LbmCore {
   // Per-cell force density added to the body force (lattice units, 3 per owned
   // cell; empty: none). Rows holding a source take the per-cell path.
   virtual void set_source(std::span<const double> force) = 0;
+  // The lattice momentum each face's wall took since the last call (3 per
+  // face, x- ... z+; this rank's walls), and zero it.
+  virtual void take_wall_momentum(double* out) = 0;
 };
 
 class LbmSolver final : public FluidSolver {
@@ -53,6 +56,8 @@ class LbmSolver final : public FluidSolver {
                  std::span<const double> velocity) override;
   void take_solid_force(std::vector<double>& force) override;
   void set_source(std::span<const double> force_density) override;
+  std::vector<double> take_wall_impulse() override;
+  bool keeps_wall_impulse() const override { return true; }
 
   const lbm::Setup& setup() const { return s_; }
 

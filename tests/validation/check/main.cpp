@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
     const std::string what = argc > 1 ? argv[1] : "";
     if (what == "profile" && argc == 3) return profile(argv[2]);
     if (what == "probes" && argc == 3) return probes(argv[2]);
+    if (what == "fluid_walls" && argc == 3) return fluid_walls(argv[2]);
     if (what == "channel" && argc == 3) return channel(argv[2]);
     if (what == "decay" && argc == 3) return decay(argv[2]);
     if (what == "mass" && argc == 3) return mass(argv[2]);

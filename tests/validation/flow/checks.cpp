@@ -147,6 +147,37 @@ int channel(const std::string& dir) {
   return 0;
 }
 
+// A body-force-driven flow between walls (periodic elsewhere): between two
+// series rows the fluid's momentum changes by F V dt minus the impulse it gives
+// the walls (series/fluid_walls.csv, Ladd's momentum exchange); the largest
+// residual of any component, relative to F V dt. And the walls' share of the
+// body force at the last row (1 in steady state).
+int fluid_walls(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  const auto& d = cfg.domain;
+  const double V = (d.upper[0] - d.lower[0]) * (d.upper[1] - d.lower[1]) * (d.upper[2] - d.lower[2]);
+  const auto f = read_series(dir + "/series/fluid.csv");
+  const auto w = read_series(dir + "/series/fluid_walls.csv");
+  if (f.size() != w.size() || f.size() < 2) throw std::runtime_error("fluid.csv and fluid_walls.csv rows differ");
+  const double F = std::hypot(fp.body_force[0], fp.body_force[1], fp.body_force[2]) * V;
+  double worst = 0.0, share = 0.0;
+  for (std::size_t r = 1; r < f.size(); ++r) {
+    const double dt = w[r][0] - w[r - 1][0];
+    for (int q = 0; q < 3; ++q) {
+      double on_walls = 0.0;
+      for (std::size_t c = 1 + q; c < w[r].size(); c += 3) on_walls += w[r][c];
+      const double residual = (f[r][2 + q] - f[r - 1][2 + q]) - (fp.body_force[q] * V - on_walls) * dt;
+      const double rel = std::abs(residual) / (F * dt);
+      worst = std::isnan(rel) ? rel : std::max(worst, rel);
+      if (q == 0) share = on_walls / (fp.body_force[0] * V);
+    }
+  }
+  std::printf("momentum_balance=%.6e\n", worst);
+  std::printf("steady_wall_share_error=%.6e\n", std::abs(share - 1.0));
+  return 0;
+}
+
 int decay(const std::string& dir) {
   const auto cfg = load(dir);
   const auto fp = fluid_params(cfg);

@@ -84,3 +84,9 @@ coflow_validation(lbm_probes_4_ranks probes lbm_poiseuille_2d_pressure.yaml 1 ${
   --set fluid.ranks=4)
 # docs/tutorial.md, step 1: the developing plane channel against Poiseuille.
 coflow_validation(tutorial_channel channel ../tutorial/1_channel.yaml 1)
+# The fluid's force on its walls (series/fluid_walls.csv): the momentum balance
+# of force-driven channel (2 walls) and duct (4 walls and their edges) flows.
+coflow_validation(lbm_walls_channel fluid_walls lbm_poiseuille_2d_force.yaml 1 --set run.output.series_every=60.0)
+coflow_validation(lbm_walls_duct fluid_walls lbm_duct_3d_force.yaml 1 --set run.output.series_every=30.0)
+coflow_validation(lbm_walls_duct_4_ranks fluid_walls lbm_duct_3d_force.yaml 1 --set run.output.series_every=30.0
+  --set fluid.ranks=4)

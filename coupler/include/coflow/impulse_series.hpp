@@ -1,0 +1,43 @@
+// A series of mean forces on walls (series/<file>.csv): a component hands in,
+// every window, this rank's impulse on each wall slot; the series sums the
+// ranks (so the sums are the same on every rank), writes at each series row
+// the mean force since the previous row for the named slots (columns time,
+// <name>_fx, _fy, _fz, in N), and keeps its sums in checkpoints so that a
+// restart continues them bit for bit. Used for the particles' forces on walls
+// (walls.csv) and the fluid's (fluid_walls.csv).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "coflow/output.hpp"
+#include "coflow/session.hpp"
+
+namespace coflow::coupler {
+
+class ImpulseSeries {
+ public:
+  // names[k] is slot slots[k] of the `slot_count` (3 values each) a window
+  // hands in; w0: the window restarted from (0: none; the sums are read from
+  // the checkpoint's <file>.csv otherwise).
+  ImpulseSeries(Session& s, const std::string& file, std::vector<std::string> names, std::vector<std::size_t> slots,
+                std::size_t slot_count, long w0);
+  bool empty() const { return names_.empty(); }
+  // Every window (collective): this rank's impulses of the window, N s.
+  void add(std::vector<double> window);
+  // A series row at time t: the mean forces since the previous row.
+  void row(double t);
+  // Into this component's part of a checkpoint (component rank 0).
+  void save(const std::string& dir) const;
+
+ private:
+  Session& s_;
+  std::string file_;
+  std::vector<std::string> names_;
+  std::vector<std::size_t> slots_;
+  std::vector<double> sum_;  // impulse since the last row, all slots
+  double since_ = 0.0;       // time of the last row
+  output::Series series_;
+};
+
+}  // namespace coflow::coupler

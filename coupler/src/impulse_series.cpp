@@ -1,0 +1,51 @@
+#include "coflow/impulse_series.hpp"
+
+#include <fstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace coflow::coupler {
+
+ImpulseSeries::ImpulseSeries(Session& s, const std::string& file, std::vector<std::string> names,
+                             std::vector<std::size_t> slots, std::size_t slot_count, long w0)
+    : s_(s), file_(file), names_(std::move(names)), slots_(std::move(slots)) {
+  sum_.assign(3 * slot_count, 0.0);
+  since_ = static_cast<double>(w0) * s.window();
+  if (w0 > 0) {
+    const std::string path = s.restart_dir() + "/" + file_ + ".csv";
+    std::ifstream in(path);
+    for (double& v : sum_)
+      if (!(in >> v)) throw std::runtime_error(path + ": cannot read the wall impulses of the checkpoint");
+  }
+  if (s.rank() != 0 || empty()) return;
+  std::vector<output::Series::Column> columns{{"time", "s"}};
+  for (const auto& n : names_)
+    for (const char* c : {"_fx", "_fy", "_fz"}) columns.push_back({n + c, "N"});
+  series_ = output::Series(s.output_dir() + "/series/" + file_ + ".csv", columns, w0 > 0);
+}
+
+void ImpulseSeries::add(std::vector<double> window) {
+  if (window.size() != sum_.size()) throw std::logic_error("wall impulses for another number of walls");
+  MPI_Allreduce(MPI_IN_PLACE, window.data(), static_cast<int>(window.size()), MPI_DOUBLE, MPI_SUM, s_.comm());
+  for (std::size_t k = 0; k < sum_.size(); ++k) sum_[k] += window[k];
+}
+
+void ImpulseSeries::row(double t) {
+  const double span = t - since_;
+  std::vector<double> values{t};
+  for (const std::size_t slot : slots_)
+    for (int q = 0; q < 3; ++q) values.push_back(span > 0.0 ? sum_[3 * slot + q] / span : 0.0);
+  if (s_.rank() == 0 && !empty()) series_.row(values);
+  std::fill(sum_.begin(), sum_.end(), 0.0);
+  since_ = t;
+}
+
+void ImpulseSeries::save(const std::string& dir) const {
+  if (s_.rank() != 0) return;
+  std::string text;
+  for (const double v : sum_) text += fmt::format("{:.17g}\n", v);
+  output::atomic_write(dir + "/" + file_ + ".csv", text);
+}
+
+}  // namespace coflow::coupler

@@ -281,9 +281,22 @@ void run(coupler::Session& s) {
     throw std::runtime_error(
         "fluid.solver is 'external': run your own executable with `coflow run --exe fluid=PATH`");
   const FluidParams params = read_params(cfg);
-  std::unique_ptr<FluidSolver> solver = make_solver({cfg, params, s.decomposition(), s.rank(), s.comm()});
-  const double dt = solver->time_step();
-  const long per_window = steps_per_window(cfg, dt, s.negotiate_window(dt));
+  FluidSolver::Setup setup{cfg, params, s.decomposition(), s.rank(), s.comm()};
+  std::unique_ptr<FluidSolver> solver = make_solver(setup);
+  double dt = solver->time_step();
+  const double window = s.negotiate_window(dt);
+  if (dt > 0 && window < dt * (1 - 1e-12) && cfg.coupling.window.is_auto) {
+    // The window was shortened so that snapshots fall at their exact times
+    // (coupler::output_window): the fluid takes it as its step.
+    log::info("fluid: step {:.6g} s shortened to the window {:.6g} s so that a whole number of steps makes "
+              "run.output.every",
+              dt, window);
+    solver.reset();  // the first solver's memory goes before the second is made
+    setup.time_step = window;
+    solver = make_solver(setup);
+    dt = solver->time_step();
+  }
+  const long per_window = steps_per_window(cfg, dt, window);
   FluidWindows windows(s, std::move(solver), per_window);
   coupler::run_windows(s, windows);
 }

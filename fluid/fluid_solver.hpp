@@ -37,6 +37,7 @@ class FluidSolver {
     coupler::Decomposition decomposition;
     int rank = 0;
     MPI_Comm comm = MPI_COMM_NULL;
+    double time_step = 0.0;  // s: the step the coupling window asks for; 0: the method's own
   };
 
   virtual ~FluidSolver() = default;

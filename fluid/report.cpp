@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "coflow/clock.hpp"
 #include "coflow/decomposition.hpp"
 #include "fluid/lbm/params.hpp"
 #include "fluid/lbm/units.hpp"
@@ -72,7 +73,12 @@ void report_lbm(const config::Config& cfg, config::Report& r) {
   const auto lp = config::read_section<lbm::LbmParams>(cfg, "fluid.lbm", "fluid.lbm");
   const auto& d = cfg.domain;
   const double dx = d.spacing()[0];
-  const lbm::Units units = lbm::Units::from(dx, fp.viscosity, fp.density, lp.tau);
+  // The step the coupling window asks for (coupler::output_window): tau adjusted.
+  const double natural = lbm::Units::from(dx, fp.viscosity, fp.density, lp.tau).dt;
+  const double window = coupler::output_window(natural, cfg);
+  const bool adjusted = cfg.coupling.window.is_auto && window < natural * (1 - 1e-12);
+  const double tau = adjusted ? lbm::tau_for_step(lp.tau, window, dx, fp.viscosity) : lp.tau;
+  const lbm::Units units = lbm::Units::from(dx, fp.viscosity, fp.density, tau);
   const long cells = static_cast<long>(d.cells[0]) * d.cells[1] * d.cells[2];
   const auto& info = cfg.component("fluid");
   std::array<int, 3> dims{0, 0, 0};
@@ -82,13 +88,18 @@ void report_lbm(const config::Config& cfg, config::Report& r) {
   for (int k = 0; k < info.ranks; ++k) block = std::max(block, dec.block(k).volume());
   r.add("fluid", "grid", fmt::format("{} x {} x {} cells of {} m ({} cells; at most {} per rank)", d.cells[0],
                                      d.cells[1], d.cells[2], config::number(dx), cells, block));
-  r.add("fluid", "lattice", fmt::format("{} {}, tau {}, {}", lp.lattice, lp.collision, config::number(lp.tau),
-                                        lp.formulation));
+  r.add("fluid", "lattice", fmt::format("{} {}, tau {}, {}{}", lp.lattice, lp.collision, config::number(tau),
+                                        lp.formulation,
+                                        adjusted ? fmt::format(" (fluid.lbm.tau {} shortened the step by {}% so that "
+                                                               "snapshots fall at multiples of run.output.every)",
+                                                               config::number(lp.tau),
+                                                               config::number(100.0 * (1.0 - window / natural)))
+                                                 : ""));
   const double steps = std::ceil(cfg.run.end_time / units.dt - 1e-9);
   r.add("fluid", "time step", fmt::format("dt = {} s: {} steps to {} s", config::number(units.dt),
                                           config::number(steps), config::number(cfg.run.end_time)));
   const double u = velocity_scale(fp, cfg);
-  report_mach(r, u, units, lp.tau, dx);
+  report_mach(r, u, units, tau, dx);
   if (u > 0.0) {
     double L = 1e300;
     for (int a = 0; a < (d.two_dimensional() ? 2 : 3); ++a) L = std::min(L, d.upper[a] - d.lower[a]);
@@ -98,7 +109,6 @@ void report_lbm(const config::Config& cfg, config::Report& r) {
   const int Q = lp.lattice == "D2Q9" ? 9 : 19;
   r.add("fluid", "memory", fmt::format("about {} MiB per rank (two copies of {} populations per cell)",
                                        config::number(2.0 * Q * 8.0 * block * 1.1 / (1 << 20)), Q));
-  const double window = cfg.coupling.window.is_auto ? units.dt : cfg.coupling.window.value;
   const double windows = cfg.components.size() > 1 ? std::ceil(cfg.run.end_time / window - 1e-9) : 0.0;
   const double hours = (steps * block / kCellUpdatesPerRankPerSecond + windows * kSecondsPerCoupledWindow) / 3600.0;
   r.add("fluid", "wall time",

@@ -17,11 +17,28 @@ Clock::Clock(const config::Config& cfg, long restart_window, double restart_wind
       restart_window_length_(restart_window_length),
       restart_file_(std::move(restart_file)) {}
 
+double output_window(double step, const config::Config& cfg) {
+  if (!cfg.coupling.window.is_auto) return cfg.coupling.window.value;
+  const double every = cfg.run.output.every;
+  if (every <= 0 || !(step > 0)) return step;
+  // A step that makes `every` in a whole number to 1e-6 (a tau given with
+  // that many digits for a round step) is kept: the snapshot times are then
+  // exact to far below the 12 digits they are written with.
+  const double ratio = every / step;
+  if (std::abs(ratio - std::round(ratio)) <= 1e-6 * ratio) return step;
+  const double n = std::ceil(ratio);
+  const double w = every / n;
+  return w >= 0.9 * step ? w : step;
+}
+
 double Clock::negotiate(double preferred) {
   const double offer = preferred > 0 ? preferred : std::numeric_limits<double>::infinity();
   double w = offer;
   MPI_Allreduce(&offer, &w, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
-  if (!cfg_.coupling.window.is_auto) w = cfg_.coupling.window.value;
+  if (!cfg_.coupling.window.is_auto)
+    w = cfg_.coupling.window.value;
+  else if (std::isfinite(w))
+    w = output_window(w, cfg_);
   if (!std::isfinite(w)) {
     // Nobody has a natural step: one window per output interval.
     const auto& o = cfg_.run.output;

@@ -112,7 +112,7 @@ void CouplingParams::visit(Visitor& v) {
       // reported by one_of above
     }
   }
-  v("window", window, "coupling window in s (auto: the fluid time step)", positive());
+  v("window", window, "coupling window in s (auto: the fluid's time step, shortened by at most 10 % (lbm: a slightly lower tau at the same viscosity) so that run.output.every is a whole number of windows and snapshots fall at its exact multiples)", positive());
   v("timeout", timeout, "seconds a rank waits for a partner before the whole run is aborted",
     positive());
 }

@@ -376,7 +376,8 @@ std::unique_ptr<LbmCore> make_core(const lbm::Setup& s, const Decomposition& d, 
 }  // namespace
 
 LbmSolver::LbmSolver(const Setup& setup, const Params& p)
-    : s_(lbm::make_setup(setup.cfg, setup.params, p)), comm_(setup.comm), owned_(setup.decomposition.block(setup.rank)) {
+    : s_(lbm::make_setup(setup.cfg, setup.params, p, setup.time_step)), comm_(setup.comm),
+      owned_(setup.decomposition.block(setup.rank)) {
   core_ = s_.d3 ? make_core<lbm::D3Q19>(s_, setup.decomposition, setup.rank, comm_)
                 : make_core<lbm::D2Q9>(s_, setup.decomposition, setup.rank, comm_);
   const auto& dims = setup.decomposition.dims();

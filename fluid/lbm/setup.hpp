@@ -52,13 +52,16 @@ struct Setup {
   std::function<void(long i, long j, long k, double& rho, double* u)> initial;
 };
 
-inline Setup make_setup(const config::Config& cfg, const FluidParams& fp, const LbmParams& lp) {
+// time_step > 0: the step the coupling window asks for (coupler::output_window),
+// taken by adjusting tau at the same viscosity.
+inline Setup make_setup(const config::Config& cfg, const FluidParams& fp, const LbmParams& lp, double time_step = 0.0) {
   Setup s;
   const auto h = cfg.domain.spacing();
-  s.units = Units::from(h[0], fp.viscosity, fp.density, lp.tau);
+  const double tau = tau_for_step(lp.tau, time_step, h[0], fp.viscosity);
+  s.units = Units::from(h[0], fp.viscosity, fp.density, tau);
   s.incompressible = lp.formulation == "incompressible";
   s.d3 = lp.lattice == "D3Q19";
-  s.tau = lp.tau;
+  s.tau = tau;
   s.trt = lp.collision == "trt";
   s.magic = lp.magic;
   s.packed = lp.layout == "packed";

@@ -10,6 +10,12 @@
 
 namespace coflow::fluid::lbm {
 
+// The relaxation time that gives the step dt at this viscosity and grid, the
+// inverse of dt = (tau - 1/2) dx^2 / (3 nu); dt <= 0 keeps `tau`.
+inline double tau_for_step(double tau, double dt, double dx, double nu) {
+  return dt > 0 ? 0.5 + 3.0 * nu * dt / (dx * dx) : tau;
+}
+
 struct Units {
   double dx = 1.0;       // m
   double dt = 1.0;       // s

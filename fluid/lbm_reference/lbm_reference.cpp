@@ -15,7 +15,7 @@ namespace coflow::fluid {
 using lbm::FaceType;
 
 LbmReference::LbmReference(const Setup& setup, const Params& p)
-    : s_(lbm::make_setup(setup.cfg, setup.params, p)), comm_(setup.comm) {
+    : s_(lbm::make_setup(setup.cfg, setup.params, p, setup.time_step)), comm_(setup.comm) {
   int size = 1;
   MPI_Comm_size(comm_, &size);
   if (size != 1) throw std::runtime_error("lbm-reference is serial: set fluid.ranks: 1");

@@ -9,6 +9,15 @@
 
 namespace coflow::coupler {
 
+// The window for a natural step (the smallest component step, e.g. the
+// fluid's): coupling.window when given; else the step shortened so that a
+// whole number of windows makes run.output.every, snapshots then falling at
+// their exact times (as OpenFOAM's adjustableRunTime adjusts its time step),
+// when that costs at most 10 % of the step; else the step itself (snapshots
+// at the first window end past each multiple, at most one window late). A
+// step that already makes `every` in a whole number, to 1e-6, is kept.
+double output_window(double step, const config::Config& cfg);
+
 class Clock {
  public:
   // restart_window, restart_window_length: of the checkpoint restarted from (0: none).
@@ -16,7 +25,8 @@ class Clock {
 
   // Collective over every component: each offers its preferred window (the
   // fluid its step; 0 for no preference). The result is coupling.window when
-  // given, else the smallest offer; with no offer, one window per output interval.
+  // given, else output_window() of the smallest offer (the fluid then takes
+  // it as its step); with no offer, one window per output interval.
   double negotiate(double preferred);
   double window() const { return window_; }
   long windows() const { return windows_; }

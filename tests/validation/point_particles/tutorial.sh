@@ -15,6 +15,11 @@ for step in 2_particles 3_coupled; do
   [ "$(echo "$row" | cut -d, -f1)" = 2 ] || fail "$step ended at $(echo "$row" | cut -d, -f1), not 2 s"
   [ "$(echo "$row" | cut -d, -f2)" -gt 0 ] || fail "$step has no grains in flight"
   echo "$step: $(echo "$row" | cut -d, -f2) grains in flight at t = 2 s"
+  # Snapshots at exactly the multiples of run.output.every (0.5 s), fluid and particles.
+  for comp in fluid particles; do
+    times=$(tail -n +2 "$out/$step/$comp/index.csv" | cut -d, -f1,2 | tr '\n' ' ')
+    [ "$times" = "0,0 1,0.5 2,1 3,1.5 4,2 " ] || fail "$step: $comp snapshots (number,time): $times"
+  done
 done
 grep -q "two-way" "$out/3_coupled/logs/immersed.log" || fail "step 3 does not log two-way coupling"
 "$bin/coflow" run "$dir/3_coupled.yaml" --set run.output.dir="$out/wall" --set particles.boundaries.z-=wall \

@@ -11,6 +11,11 @@
 
 namespace coflow::coupler {
 
+// Tolerance, in multiples of an interval: output_window keeps a step that
+// makes the interval in a whole number to 1e-6, so a window end within 1e-6 of
+// a multiple reaches it (and end_time within 1e-6 of a window end ends there).
+static constexpr double kReach = 1e-6;
+
 Clock::Clock(const config::Config& cfg, long restart_window, double restart_window_length, std::string restart_file)
     : cfg_(cfg),
       restart_window_(restart_window),
@@ -48,7 +53,7 @@ double Clock::negotiate(double preferred) {
       if (e > 0) w = std::min(w, e);
   }
   window_ = w;
-  windows_ = std::max(1L, static_cast<long>(std::ceil(cfg_.run.end_time / w - 1e-9)));
+  windows_ = std::max(1L, static_cast<long>(std::ceil(cfg_.run.end_time / w - kReach)));
   if (restart_window_ > 0 && std::abs(window_ - restart_window_length_) > 1e-12 * window_)
     throw config::ConfigError({config::Problem{
         restart_file_, 0, 0, "window_length",
@@ -69,7 +74,7 @@ static bool crosses(long w, double window, double every) {
   if (every <= 0) return false;
   if (w == 0) return true;
   const double a = (w - 1) * window / every, b = w * window / every;
-  return std::floor(b + 1e-9) > std::floor(a + 1e-9);
+  return std::floor(b + kReach) > std::floor(a + kReach);
 }
 
 bool Clock::snapshot_due(long w) const {
@@ -80,7 +85,7 @@ bool Clock::snapshot_due(long w) const {
 long Clock::snapshot_number(long w) const {
   const double every = cfg_.run.output.every;
   if (w <= 0 || every <= 0) return 0;
-  const long k = static_cast<long>(std::floor(w * window_ / every + 1e-9));
+  const long k = static_cast<long>(std::floor(w * window_ / every + kReach));
   return crosses(w, window_, every) ? k : k + 1;
 }
 
@@ -96,7 +101,7 @@ bool Clock::checkpoint_due(long w) const {
   const auto& c = cfg_.run.checkpoint;
   if (c.every <= 0 || w <= 0 || w == restart_window_) return false;
   const double a = (w - 1) * window_ / c.every, b = w * window_ / c.every;
-  return std::floor(b + 1e-9) > std::floor(a + 1e-9);
+  return std::floor(b + kReach) > std::floor(a + kReach);
 }
 
 }  // namespace coflow::coupler

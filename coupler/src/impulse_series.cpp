@@ -15,6 +15,7 @@ ImpulseSeries::ImpulseSeries(Session& s, const std::string& file, std::vector<st
   if (w0 > 0) {
     const std::string path = s.restart_dir() + "/" + file_ + ".csv";
     std::ifstream in(path);
+    if (!(in >> since_)) throw std::runtime_error(path + ": cannot read the time of the last row");
     for (double& v : sum_)
       if (!(in >> v)) throw std::runtime_error(path + ": cannot read the wall impulses of the checkpoint");
   }
@@ -43,7 +44,7 @@ void ImpulseSeries::row(double t) {
 
 void ImpulseSeries::save(const std::string& dir) const {
   if (s_.rank() != 0) return;
-  std::string text;
+  std::string text = fmt::format("{:.17g}\n", since_);  // the last row's time: sums run from there
   for (const double v : sum_) text += fmt::format("{:.17g}\n", v);
   output::atomic_write(dir + "/" + file_ + ".csv", text);
 }

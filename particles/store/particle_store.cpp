@@ -61,7 +61,8 @@ void ParticleStore::unpack_all(const std::vector<double>& rows, Travel with) {
 }
 
 void ParticleStore::keep(const std::vector<char>& mask) {
-  for (const auto& c : columns_) c->keep(mask);
+  const std::vector<char> copy = mask;  // the mask may be a column itself (dem's owned)
+  for (const auto& c : columns_) c->keep(copy);
 }
 
 void ParticleStore::sort_by_id() {

@@ -60,6 +60,28 @@ inline std::vector<std::vector<double>> read_series(const std::string& path) {
   return rows;
 }
 
+// The last row of a series, by column name.
+class LastRow {
+ public:
+  explicit LastRow(const std::string& path) : path_(path), last_(read_series(path).back()) {
+    std::ifstream in(path);
+    std::string header;
+    std::getline(in, header);
+    std::stringstream hs(header);
+    for (std::string c; std::getline(hs, c, ',');) names_.push_back(c);
+  }
+  double operator()(const std::string& name) const {
+    const auto it = std::find(names_.begin(), names_.end(), name);
+    if (it == names_.end()) throw std::runtime_error(path_ + " has no column " + name);
+    return last_.at(static_cast<std::size_t>(it - names_.begin()));
+  }
+
+ private:
+  std::string path_;
+  std::vector<double> last_;
+  std::vector<std::string> names_;
+};
+
 // Kolmogorov-Smirnov distance between the sample x and the distribution cdf.
 template <class Cdf>
 double ks_distance(std::vector<double> x, Cdf cdf) {

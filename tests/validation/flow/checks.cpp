@@ -83,19 +83,7 @@ int probes(const std::string& dir) {
   const long nx = cfg.domain.cells[0], ny = cfg.domain.cells[1];
   const double mu = fp.density * fp.viscosity, H = ny * h[1];
   const double G = (fp.boundary(0, cfg).value.values[0] - fp.boundary(1, cfg).value.values[0]) / ((nx - 1) * h[0]);
-  std::ifstream in(dir + "/series/probes.csv");
-  std::string header;
-  std::getline(in, header);
-  std::vector<std::string> names;
-  std::stringstream hs(header);
-  for (std::string c; std::getline(hs, c, ',');) names.push_back(c);
-  const auto rows = read_series(dir + "/series/probes.csv");
-  const auto& last = rows.back();
-  const auto col = [&](const std::string& n) {
-    const auto it = std::find(names.begin(), names.end(), n);
-    if (it == names.end()) throw std::runtime_error("series/probes.csv has no column " + n);
-    return last[static_cast<std::size_t>(it - names.begin())];
-  };
+  const LastRow col(dir + "/series/probes.csv");
   const auto& mid = cfg.run.output.probes.at(0);
   const auto xs = mid.samples();
   const long i = static_cast<long>(std::floor((xs[0][0] - cfg.domain.lower[0]) / h[0]));
@@ -128,18 +116,7 @@ int channel(const std::string& dir) {
   const auto fp = fluid_params(cfg);
   const double U = fp.boundary(0, cfg).value.values[0], H = cfg.domain.upper[2] - cfg.domain.lower[2];
   const double dx = cfg.domain.spacing()[2], mu = fp.density * fp.viscosity;
-  std::ifstream in(dir + "/series/probes.csv");
-  std::string header;
-  std::getline(in, header);
-  std::vector<std::string> names;
-  std::stringstream hs(header);
-  for (std::string c; std::getline(hs, c, ',');) names.push_back(c);
-  const auto last = read_series(dir + "/series/probes.csv").back();
-  const auto col = [&](const std::string& n) {
-    const auto it = std::find(names.begin(), names.end(), n);
-    if (it == names.end()) throw std::runtime_error("series/probes.csv has no column " + n);
-    return last[static_cast<std::size_t>(it - names.begin())];
-  };
+  const LastRow col(dir + "/series/probes.csv");
   const auto& drop = cfg.run.output.pressure_drops.at(0);
   const double centre = 1.5 * U * (1.0 - (dx / H) * (dx / H)), gradient = 12.0 * mu * U / (H * H);
   std::printf("centre_error=%.6e\n", std::abs(col("centre_ux") - centre) / centre);

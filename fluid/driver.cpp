@@ -41,7 +41,9 @@ namespace {
 void write_series(output::Series& series, double t, const Diagnostics& d) {
   const double row[] = {t, d.mass, d.momentum[0], d.momentum[1], d.momentum[2], d.kinetic_energy,
                         d.max_velocity, d.max_mach};
-  series.row(row);
+  std::vector<double> values(std::begin(row), std::end(row));
+  values.insert(values.end(), d.extra.begin(), d.extra.end());
+  series.row(values);
 }
 
 // The fluid's part of each window: with psm, the covered cells with their
@@ -62,17 +64,15 @@ class FluidWindows final : public coupler::WindowParts {
 
   void start(long w0) override {
     if (w0 > 0) solver_->load(s_.restart_dir(), w0 * per_window_, w0 * s_.window());
-    if (s_.rank() == 0)
-      series_ = output::Series(s_.output_dir() + "/series/fluid.csv",
-                               {{"time", "s"},
-                                {"mass", "kg"},
-                                {"momentum_x", "kg m/s"},
-                                {"momentum_y", "kg m/s"},
-                                {"momentum_z", "kg m/s"},
-                                {"kinetic_energy", "J"},
-                                {"max_velocity", "m/s"},
-                                {"max_mach", "1"}},
-                               w0 > 0);
+    if (s_.rank() == 0) {
+      std::vector<output::Series::Column> columns{{"time", "s"},         {"mass", "kg"},
+                                                  {"momentum_x", "kg m/s"}, {"momentum_y", "kg m/s"},
+                                                  {"momentum_z", "kg m/s"}, {"kinetic_energy", "J"},
+                                                  {"max_velocity", "m/s"},  {"max_mach", "1"}};
+      const auto extra = solver_->series_columns();
+      columns.insert(columns.end(), extra.begin(), extra.end());
+      series_ = output::Series(s_.output_dir() + "/series/fluid.csv", columns, w0 > 0);
+    }
     if (s_.rank() == 0 && !probes_.empty()) {
       std::vector<output::Series::Column> columns{{"time", "s"}};
       for (const auto& c : probes_.columns()) columns.push_back({c, c.ends_with("_p") || c.ends_with("_p_from") ||

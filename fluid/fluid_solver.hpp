@@ -27,6 +27,7 @@ struct Diagnostics {
   double kinetic_energy = 0.0;
   double max_velocity = 0.0;
   double max_mach = 0.0;
+  std::vector<double> extra;  // the values of FluidSolver::series_columns(), in order
 };
 
 class FluidSolver {
@@ -54,6 +55,8 @@ class FluidSolver {
   // Fields for snapshots, as arrays over owned() (no ghost), `components` per cell.
   virtual std::vector<output::GridField> fields(const config::StringList& names) = 0;
   virtual Diagnostics diagnostics() = 0;  // collective
+  // Columns of series/fluid.csv after the common ones (Diagnostics::extra).
+  virtual std::vector<output::Series::Column> series_columns() const { return {}; }
 
   // Checkpoint and restart (collective): the complete state, so that a restarted
   // run continues bit for bit.

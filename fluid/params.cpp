@@ -64,7 +64,28 @@ void FluidParams::visit(config::Visitor& v, const config::Config& cfg) {
     s("velocity", initial_velocity, "initial velocity, m/s");
     s("pressure", initial_pressure, "initial pressure, Pa");
     s("amplitude", initial_amplitude, "taylor-green: velocity amplitude U0, m/s");
+    visit_phase_regions(s, cfg, initial_phase);
+    if (s.reading() && !initial_phase.empty() && !v.given("two_phase"))
+      s.fail("phase", "painting phases needs a two-phase fluid: add fluid.two_phase (surface_tension, ...)");
   });
+  v.section(
+      "two_phase",
+      "two immiscible fluids of equal density by the colour-gradient lattice Boltzmann model (Rothman-Keller, with "
+      "the recolouring of Latva-Kokko & Rothman 2005); omit for one fluid",
+      [&](config::Visitor& s) {
+        if (!s.reading() || two_phase.on) two_phase.visit(s);
+      },
+      &two_phase.on);
+  visit_solids(v, cfg, solids);
+  if (!v.reading() || !two_phase.on) return;
+  if (two_phase.viscosity_blue == 0.0) two_phase.viscosity_blue = viscosity;
+  for (int f = 0; f < 6; ++f) {
+    const auto it = boundaries.find(face_names()[f]);
+    if (it != boundaries.end() && it->second.type != "wall")
+      v.fail("boundaries", fmt::format("face {}: a two-phase fluid takes walls and periodic faces only (inlets "
+                                       "and outlets that carry a phase are not built yet)",
+                                       face_names()[f]));
+  }
 }
 
 void FluidParams::initial_state(const config::Config& cfg, const Vec3& x, Vec3& u, double& p) const {

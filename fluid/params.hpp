@@ -8,6 +8,7 @@
 
 #include "coflow/config.hpp"
 #include "coflow/run_config.hpp"
+#include "fluid/two_phase_params.hpp"
 
 namespace coflow::fluid {
 
@@ -37,6 +38,9 @@ struct FluidParams {
   double initial_pressure = 0.0;
   std::string initial_field = "uniform";  // uniform | taylor-green
   double initial_amplitude = 0.0;          // taylor-green: U0, m/s
+  TwoPhaseParams two_phase;                // two_phase.on: the section is given
+  std::vector<PhaseRegion> initial_phase;  // two-phase: painted regions
+  std::vector<SolidParams> solids;         // interior solids
   void visit(config::Visitor& v, const config::Config& cfg);
   // Initial velocity (m/s) and pressure (Pa) at a point.
   void initial_state(const config::Config& cfg, const Vec3& x, Vec3& u, double& p) const;

@@ -30,17 +30,23 @@ namespace {
 
 // lbm takes the solids of psm and returns the force on them; analytic is a
 // prescribed flow (with turbulence) that nothing feeds back into.
-config::Contract contract(const config::Config&, const std::string& variant) {
+config::Contract contract(const config::Config& cfg, const std::string& variant) {
   namespace f = config::fields;
   config::Contract c;
-  if (variant == "lbm" || variant == "lbm-reference") c.provides = {f::velocity, f::pressure, f::solid_force};
+  // A two-phase lbm does not yet take partially saturated cells (wetted grains).
+  const YAML::Node tp = cfg.resolved["fluid"]["two_phase"];
+  const bool two_phase = tp.IsDefined() && !tp.IsNull();
+  if (variant == "lbm" || variant == "lbm-reference")
+    c.provides = two_phase ? std::vector<config::Field>{f::velocity, f::pressure}
+                           : std::vector<config::Field>{f::velocity, f::pressure, f::solid_force};
   if (variant == "analytic") c.provides = {f::velocity, f::pressure, f::k, f::epsilon};
   return c;
 }
 
 // The snapshot fields each variant writes (LbmSolver/LbmReference/AnalyticFluid::fields).
 std::vector<std::string> writes(const std::string& variant) {
-  if (variant == "lbm" || variant == "lbm-reference") return {"velocity", "pressure", "density", "solid_fraction"};
+  if (variant == "lbm" || variant == "lbm-reference")
+    return {"velocity", "pressure", "density", "solid_fraction", "phase"};
   if (variant == "analytic") return {"velocity", "pressure", "density", "vorticity", "k", "epsilon"};
   return {};  // external: its own business
 }
@@ -100,6 +106,10 @@ config::ComponentSchema schema() {
     }
     FluidParams p;
     p.visit(v, cfg);
+    if (v.reading() && info.variant.rfind("lbm", 0) != 0) {
+      if (p.two_phase.on) v.fail("two_phase", fmt::format("solver {} has one fluid; two_phase needs solver: lbm", info.variant));
+      if (!p.solids.empty()) v.fail("solids", fmt::format("solver {} takes no interior solids; use solver: lbm", info.variant));
+    }
     visit_variant_sections(v, cfg, info);
   };
   return s;

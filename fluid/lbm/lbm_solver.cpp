@@ -22,6 +22,8 @@
 #include "fluid/lbm/layout.hpp"
 #include "fluid/lbm/populations.hpp"
 #include "fluid/lbm/psm_kernel.hpp"
+#include "fluid/lbm/phase_series.hpp"
+#include "fluid/lbm/two_phase_core.hpp"
 
 namespace coflow::fluid {
 
@@ -378,9 +380,15 @@ std::unique_ptr<LbmCore> make_core(const lbm::Setup& s, const Decomposition& d, 
 LbmSolver::LbmSolver(const Setup& setup, const Params& p)
     : s_(lbm::make_setup(setup.cfg, setup.params, p, setup.time_step)), comm_(setup.comm),
       owned_(setup.decomposition.block(setup.rank)) {
-  core_ = s_.d3 ? make_core<lbm::D3Q19>(s_, setup.decomposition, setup.rank, comm_)
-                : make_core<lbm::D2Q9>(s_, setup.decomposition, setup.rank, comm_);
+  if (s_.tp.on || s_.tp.any_solid())
+    core_ = lbm::make_two_phase_core(s_, setup.decomposition, setup.rank, comm_);
+  else
+    core_ = s_.d3 ? make_core<lbm::D3Q19>(s_, setup.decomposition, setup.rank, comm_)
+                  : make_core<lbm::D2Q9>(s_, setup.decomposition, setup.rank, comm_);
   const auto& dims = setup.decomposition.dims();
+  if (s_.tp.on)
+    log::info("lbm two-phase (colour gradient): surface tension {:.6g} (lattice), beta {}, tau red {} blue {:.6g}",
+              s_.tp.gamma, s_.tp.beta, s_.tau, s_.tp.tau_blue);
   log::info("lbm {} {} {}, blocks {}x{}x{}: {}", s_.d3 ? "D3Q19" : "D2Q9", s_.trt ? "TRT" : "BGK",
             s_.incompressible ? "incompressible" : "standard", dims[0], dims[1], dims[2], s_.units.describe());
 }
@@ -594,10 +602,14 @@ std::vector<output::GridField> LbmSolver::fields(const config::StringList& names
     if (n == "velocity") f.push_back({n, 3, out_u_});
     if (n == "pressure") f.push_back({n, 1, out_p_});
     if (n == "density") f.push_back({n, 1, out_rho_});
-    if (n == "solid_fraction") {  // partially saturated cells (psm); zero elsewhere
-      out_solid_.assign(out_rho_.size(), 0.0);
+    if (n == "solid_fraction") {  // interior solids (1), partially saturated cells (psm); zero elsewhere
+      if (!core_->solid_mask(out_solid_)) out_solid_.assign(out_rho_.size(), 0.0);
       for (std::size_t c = 0; c < solid_cells_.size(); ++c) out_solid_[solid_cells_[c]] = solid_fraction_[c];
       f.push_back({n, 1, out_solid_});
+    }
+    if (n == "phase") {  // (rho_r - rho_b) / (rho_r + rho_b); one fluid: 1 (red); solids: 0
+      if (!core_->phase(out_phase_)) out_phase_.assign(out_rho_.size(), 1.0);
+      f.push_back({n, 1, out_phase_});
     }
   }
   return f;
@@ -629,7 +641,16 @@ Diagnostics LbmSolver::diagnostics() {
   d.kinetic_energy = global[4];
   d.max_velocity = gmax * cu;
   d.max_mach = gmax / std::sqrt(lbm::cs2);
+  if (s_.tp.on) {
+    core_->phase(out_phase_);
+    core_->solid_mask(out_solid_);
+    d.extra = lbm::phase_values(s_.units, s_.cells, rho, u, out_phase_, out_solid_, comm_);
+  }
   return d;
+}
+
+std::vector<output::Series::Column> LbmSolver::series_columns() const {
+  return s_.tp.on ? lbm::phase_columns() : std::vector<output::Series::Column>{};
 }
 
 }  // namespace coflow::fluid

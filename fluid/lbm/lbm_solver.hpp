@@ -36,6 +36,16 @@ class LbmCore {
   // The lattice momentum each face's wall took since the last call (3 per
   // face, x- ... z+; this rank's walls), and zero it.
   virtual void take_wall_momentum(double* out) = 0;
+  // Owned cells' colour fraction (rho_r - rho_b) / (rho_r + rho_b) and solid
+  // mask (1 in interior solids); false: one fluid, no solids (all red, fluid).
+  virtual bool phase(std::vector<double>& out) const {
+    (void)out;
+    return false;
+  }
+  virtual bool solid_mask(std::vector<double>& out) const {
+    (void)out;
+    return false;
+  }
 };
 
 class LbmSolver final : public FluidSolver {
@@ -50,6 +60,7 @@ class LbmSolver final : public FluidSolver {
   const coupler::Box& owned() const override { return owned_; }
   std::vector<output::GridField> fields(const config::StringList& names) override;
   Diagnostics diagnostics() override;
+  std::vector<output::Series::Column> series_columns() const override;
   void save(const std::string& dir) override;
   void load(const std::string& dir, long steps, double time) override;
   void set_solid(std::span<const long> cells, std::span<const double> fraction,
@@ -72,7 +83,7 @@ class LbmSolver final : public FluidSolver {
   std::unique_ptr<LbmCore> core_;
   long steps_ = 0;
   bool mach_warned_ = false;
-  std::vector<double> out_u_, out_rho_, out_p_, out_solid_;
+  std::vector<double> out_u_, out_rho_, out_p_, out_solid_, out_phase_;
   // PSM: covered cells, fraction, solid velocity (lattice units), and the fluid's
   // momentum gain summed over the steps since the last take_solid_force().
   std::vector<long> solid_cells_;

@@ -3,6 +3,11 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <numbers>
+#include <vector>
 #include <functional>
 #include <string>
 
@@ -36,8 +41,25 @@ inline void ramp_faces(std::array<Face, 6>& faces, long step) {
   }
 }
 
+// Two fluids (colour gradient, seed 000 §2.3.4) and interior solids.
+struct TwoPhase {
+  bool on = false;               // two fluids; else interior solids in one (red) fluid
+  double gamma = 0.0;            // surface tension, lattice units
+  double beta = 0.7;
+  double tau_blue = 0.8;
+  bool geometric = true;         // wetting: geometric (turn the colour gradient), else the seed's fixed colour
+  double wall_phase = 1.0;       // the box's walls: cos(theta), = their colour phi_s in the seed's wetting
+  std::vector<double> solid_phase;  // cos(theta) of solid n at index n (0: unused)
+  // Solid id per global cell (x fastest; 0 fluid); empty: no interior solids.
+  std::shared_ptr<const std::vector<std::uint8_t>> solids;
+  // Initial colour (+1 red, -1 blue) of the cell with global index (i, j, k).
+  std::function<double(long i, long j, long k)> initial_phase;
+  bool any_solid() const { return solids && !solids->empty(); }
+};
+
 struct Setup {
   Units units;
+  TwoPhase tp;                           // two fluids, or interior solids; else off
   bool incompressible = true;
   bool d3 = true;                        // D3Q19 (else D2Q9)
   double tau = 0.8;
@@ -51,6 +73,33 @@ struct Setup {
   // Initial lattice density and velocity of the cell with global index (i, j, k).
   std::function<void(long i, long j, long k, double& rho, double* u)> initial;
 };
+
+// The colours, viscosities and solids of a two-phase fluid or of one with
+// interior solids.
+inline void set_two_phase(Setup& s, const config::Config& cfg, const FluidParams& fp) {
+  TwoPhase& t = s.tp;
+  t.on = fp.two_phase.on;
+  const double deg = std::numbers::pi / 180.0;
+  if (t.on) {
+    const Units& u = s.units;
+    t.gamma = fp.two_phase.surface_tension * u.dt * u.dt / (u.rho * u.dx * u.dx * u.dx);
+    t.beta = fp.two_phase.beta;
+    t.tau_blue = 0.5 + 3.0 * fp.two_phase.viscosity_blue * u.dt / (u.dx * u.dx);
+    t.wall_phase = std::cos(fp.two_phase.contact_angle * deg);
+    t.geometric = fp.two_phase.wetting == "geometric";
+  }
+  t.solid_phase.assign(1, 0.0);
+  for (const auto& sp : fp.solids)
+    t.solid_phase.push_back(!t.on ? 1.0 : std::cos((sp.contact_angle < 0 ? fp.two_phase.contact_angle : sp.contact_angle) * deg));
+  if (!fp.solids.empty()) t.solids = std::make_shared<const std::vector<std::uint8_t>>(solid_map(cfg, fp.solids));
+  const config::DomainParams dom = cfg.domain;
+  const auto regions = fp.initial_phase;
+  t.initial_phase = [dom, regions](long i, long j, long k) {
+    const auto dx = dom.spacing();
+    return painted_phase(regions, {dom.lower[0] + (i + 0.5) * dx[0], dom.lower[1] + (j + 0.5) * dx[1],
+                                   dom.lower[2] + (k + 0.5) * dx[2]});
+  };
+}
 
 // time_step > 0: the step the coupling window asks for (coupler::output_window),
 // taken by adjusting tau at the same viscosity.
@@ -90,6 +139,7 @@ inline Setup make_setup(const config::Config& cfg, const FluidParams& fp, const 
   for (int d = 0; d < 3; ++d) {
     s.force[d] = fp.body_force[d] / s.units.force_density();
   }
+  set_two_phase(s, cfg, fp);
   const Units units = s.units;
   const config::DomainParams dom = cfg.domain;
   s.initial = [&cfg, fp, units, dom](long i, long j, long k, double& rho, double* u) {

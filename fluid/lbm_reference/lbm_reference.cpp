@@ -1,4 +1,5 @@
 #include "fluid/lbm_reference/lbm_reference.hpp"
+#include "fluid/lbm/phase_series.hpp"
 
 #include "fluid/grid/cell_fields.hpp"
 
@@ -43,6 +44,7 @@ LbmReference::LbmReference(const Setup& setup, const Params& p)
         s_.initial(i, j, k, rho, u);
         for (int q = 0; q < Q_; ++q) f_[index(i, j, k) * Q_ + q] = equilibrium(q, rho, u);
       }
+  if (colours()) init_colours();
   log::info("lbm-reference {} {}: {}", s_.d3 ? "D3Q19" : "D2Q9",
             s_.incompressible ? "incompressible" : "standard", s_.units.describe());
 }
@@ -81,11 +83,11 @@ void LbmReference::fluid_velocity(const double* f, const double* F, double& rho,
   for (int d = 0; d < 3; ++d) u[d] = (j[d] + 0.5 * F[d]) / rho_m;
 }
 
-void LbmReference::collide(double* f, const double* F) const {
+void LbmReference::collide(double* f, const double* F, double tau) const {
   double rho, u[3];
   fluid_velocity(f, F, rho, u);
   const double rho_m = s_.incompressible ? 1.0 : rho;
-  const double tau_minus = s_.trt ? 0.5 + s_.magic / (s_.tau - 0.5) : s_.tau;
+  const double tau_minus = s_.trt ? 0.5 + s_.magic / (tau - 0.5) : tau;
   const double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
   const double uF = u[0] * F[0] + u[1] * F[1] + u[2] * F[2];
   double moving = 0.0;
@@ -98,9 +100,9 @@ void LbmReference::collide(double* f, const double* F) const {
     const double plus = 0.5 * (f[q] + f[o]), minus = 0.5 * (f[q] - f[o]);
     const double eq_plus = w_[q] * (rho + rho_m * (4.5 * eu * eu - 1.5 * uu));
     const double eq_minus = w_[q] * rho_m * 3.0 * eu;
-    const double source_plus = (1.0 - 0.5 / s_.tau) * w_[q] * (9.0 * eu * eF - 3.0 * uF);
+    const double source_plus = (1.0 - 0.5 / tau) * w_[q] * (9.0 * eu * eF - 3.0 * uF);
     const double source_minus = (1.0 - 0.5 / tau_minus) * w_[q] * 3.0 * eF;
-    const double even = (plus - eq_plus) / s_.tau - source_plus;
+    const double even = (plus - eq_plus) / tau - source_plus;
     const double odd = (minus - eq_minus) / tau_minus - source_minus;
     f[q] = f[q] - even - odd;
     f[o] = f[o] - even + odd;
@@ -174,6 +176,10 @@ void LbmReference::take_solid_force(std::vector<double>& force) {
 }
 
 void LbmReference::step() {
+  if (colours()) {
+    step_colours();
+    return;
+  }
   const std::vector<double> post = f_;
   std::vector<double> fs(f_.size(), 0.0);
   // Streaming (seed 000 eq. 2.43): pull from the upwind neighbour. A population
@@ -216,7 +222,7 @@ void LbmReference::step() {
     double F[3];
     force_at(c, F);
     if (it == solid_.end() || on_open_face(c))  // open faces keep their closure: fluid
-      collide(&fs[c * Q_], F);
+      collide(&fs[c * Q_], F, s_.tau);
     else
       collide_psm(&fs[c * Q_], F, it->second);
   }
@@ -338,16 +344,39 @@ void LbmReference::regularize(double* f, int axis, int s, double rho, const doub
 }
 
 // The populations, one cell after another, as the checkpoint's grid field.
+// Two fluids: red then blue per cell (the layout of lbm's checkpoint).
 void LbmReference::save(const std::string& dir) {
-  grid::save_cell_fields(comm_, dir + "/lbm.h5", time(), steps_, {n_[0], n_[1], n_[2]}, box_, {{"populations", Q_, f_}});
+  std::vector<double> p = f_;
+  if (colours()) {
+    p.resize(2 * f_.size());
+    for (std::size_t c = 0; c < f_.size() / Q_; ++c)
+      for (int q = 0; q < Q_; ++q) p[2 * c * Q_ + q] = r_[c * Q_ + q], p[(2 * c + 1) * Q_ + q] = b_[c * Q_ + q];
+  }
+  grid::save_cell_fields(comm_, dir + "/lbm.h5", time(), steps_, {n_[0], n_[1], n_[2]}, box_,
+                         {{"populations", colours() ? 2 * Q_ : Q_, p}});
 }
 
 void LbmReference::load(const std::string& dir, long steps, double) {
-  f_ = grid::load_cell_field(dir + "/lbm.h5", "populations", {n_[0], n_[1], n_[2]}, box_, Q_);
+  const auto p = grid::load_cell_field(dir + "/lbm.h5", "populations", {n_[0], n_[1], n_[2]}, box_,
+                                       colours() ? 2 * Q_ : Q_);
   steps_ = steps;
+  if (!colours()) {
+    f_ = p;
+    return;
+  }
+  for (std::size_t c = 0; c < f_.size() / Q_; ++c)
+    for (int q = 0; q < Q_; ++q) {
+      r_[c * Q_ + q] = p[2 * c * Q_ + q], b_[c * Q_ + q] = p[(2 * c + 1) * Q_ + q];
+      if (!solid_id_[c]) f_[c * Q_ + q] = r_[c * Q_ + q] + b_[c * Q_ + q];
+    }
 }
 
 void LbmReference::moments(long c, double& rho, double u[3]) const {
+  if (colours() && solid_id_[c]) {  // an interior solid: at rest, reference density
+    rho = 1.0;
+    u[0] = u[1] = u[2] = 0.0;
+    return;
+  }
   const double* f = &f_[c * Q_];
   rho = 0.0;
   double j[3] = {0, 0, 0};
@@ -385,16 +414,17 @@ std::vector<output::GridField> LbmReference::fields(const config::StringList& na
     out_p_[c] = s_.units.pressure_of(rho);
     out_rho_[c] = rho * s_.units.rho;
   }
+  // Interior solids (1), partially saturated cells (psm), zero elsewhere; the
+  // colour fraction (rho_r - rho_b) / (rho_r + rho_b), 1 for one fluid, 0 in solids.
+  phase_fields(out_phase_, out_solid_);
+  for (const auto& [c, s] : solid_) out_solid_[c] = s.fraction;
   std::vector<output::GridField> f;
   for (const auto& n : names) {
     if (n == "velocity") f.push_back({n, 3, out_u_});
     if (n == "pressure") f.push_back({n, 1, out_p_});
     if (n == "density") f.push_back({n, 1, out_rho_});
-    if (n == "solid_fraction") {  // partially saturated cells (psm); zero elsewhere
-      out_solid_.assign(cells, 0.0);
-      for (const auto& [c, s] : solid_) out_solid_[c] = s.fraction;
-      f.push_back({n, 1, out_solid_});
-    }
+    if (n == "solid_fraction") f.push_back({n, 1, out_solid_});
+    if (n == "phase") f.push_back({n, 1, out_phase_});
   }
   return f;
 }
@@ -419,7 +449,18 @@ Diagnostics LbmReference::diagnostics() {
   }
   d.max_velocity = umax * cu;
   d.max_mach = umax / std::sqrt(lbm::cs2);
+  if (s_.tp.on) {
+    const long cells = n_[0] * n_[1] * n_[2];
+    std::vector<double> rho(cells), u(3 * cells), phase, solid;
+    for (long c = 0; c < cells; ++c) moments(c, rho[c], &u[3 * c]);
+    phase_fields(phase, solid);
+    d.extra = lbm::phase_values(s_.units, s_.cells, rho, u, phase, solid, comm_);
+  }
   return d;
+}
+
+std::vector<output::Series::Column> LbmReference::series_columns() const {
+  return s_.tp.on ? lbm::phase_columns() : std::vector<output::Series::Column>{};
 }
 
 }  // namespace coflow::fluid

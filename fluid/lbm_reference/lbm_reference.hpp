@@ -25,6 +25,7 @@ class LbmReference final : public FluidSolver {
   const coupler::Box& owned() const override { return box_; }
   std::vector<output::GridField> fields(const config::StringList& names) override;
   Diagnostics diagnostics() override;
+  std::vector<output::Series::Column> series_columns() const override;
   void save(const std::string& dir) override;
   void load(const std::string& dir, long steps, double time) override;
   void set_solid(std::span<const long> cells, std::span<const double> fraction,
@@ -42,7 +43,16 @@ class LbmReference final : public FluidSolver {
   // Density and velocity (with half the force, Guo) of one cell's populations.
   void force_at(long c, double F[3]) const;
   void fluid_velocity(const double* f, const double* F, double& rho, double u[3]) const;
-  void collide(double* f, const double* F) const;
+  void collide(double* f, const double* F, double tau) const;
+  // Two fluids or interior solids (two_phase_reference.cpp).
+  bool colours() const { return s_.tp.on || s_.tp.any_solid(); }
+  void init_colours();
+  void step_colours();
+  double phi_at(long i, long j, long k) const;  // colour field, solids' colour, wrapped
+  bool solid_at(long i, long j, long k) const;
+  void colour_gradient(long i, long j, long k, double g[3]) const;
+  void collide_colours(long c, const double g[3], const double F[3]);
+  void phase_fields(std::vector<double>& phase, std::vector<double>& solid) const;
   struct Solid {
     double fraction = 0.0;
     double us[3] = {0, 0, 0};    // lattice units
@@ -66,11 +76,15 @@ class LbmReference final : public FluidSolver {
   std::vector<int> opp_;
   std::vector<double> f_;  // f_[cell * Q + q], post-collision
   long steps_ = 0;
-  std::vector<double> out_u_, out_p_, out_rho_, out_solid_;
+  std::vector<double> out_u_, out_p_, out_rho_, out_solid_, out_phase_;
   std::map<long, Solid> solid_;     // covered cells
   std::vector<long> solid_order_;   // in the order of set_solid
   long solid_steps_ = 0;
   std::vector<double> source_;      // per cell, lattice units (empty: none)
+  // Two fluids / interior solids: red and blue per cell (f_ = r_ + b_), the
+  // colour field of the pulled populations, solid id per cell (0: fluid).
+  std::vector<double> r_, b_, phi_;
+  std::vector<int> solid_id_;
 };
 
 }  // namespace coflow::fluid

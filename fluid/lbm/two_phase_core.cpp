@@ -1,0 +1,306 @@
+#include "fluid/lbm/two_phase_core.hpp"
+
+#include <cmath>
+#include <cstdint>
+
+#include <fmt/format.h>
+
+#include "coflow/session.hpp"
+#include "fluid/grid/ghost_exchange.hpp"
+#include "fluid/lbm/colour_gradient.hpp"
+#include "fluid/lbm/populations.hpp"
+
+namespace coflow::fluid::lbm {
+
+namespace {
+
+using coupler::Box;
+using coupler::Decomposition;
+
+constexpr std::uint8_t kWall = 255;  // a ghost cell beyond a wall face of the box
+
+template <class L, bool Incompressible>
+class TwoPhaseCore final : public LbmCore {
+ public:
+  TwoPhaseCore(const Setup& s, const Decomposition& dec, int rank, MPI_Comm comm)
+      : s_(s), dec_(dec), ghosts_(dec, rank, 1, 1, comm) {
+    colour_ = {s.tp.gamma, s.tp.beta, s.tau, s.tp.on ? s.tp.tau_blue : s.tau, s.trt, s.magic};
+    const grid::Block& b = ghosts_.block();
+    for (int d = 0; d < 3; ++d) {
+      lay_.origin[d] = b.owned.lo[d];
+      lay_.extent[d] = b.extent[d];
+      lay_.ghost[d] = b.ghost[d];
+      lay_.padded[d] = b.padded(d);
+    }
+    cells_ = b.cells();
+    lay_.stride = cells_;
+    for (int q = 0; q < L::Q; ++q) off_[q] = L::e[q][0] + lay_.padded[0] * (L::e[q][1] + lay_.padded[1] * L::e[q][2]);
+    red_.allocate(cells_, cells_);
+    blue_.allocate(cells_, cells_);
+    red_.halo.build(lay_, dec_, rank, comm);
+    blue_.halo.build(lay_, dec_, rank, comm);
+    phi_.assign(static_cast<std::size_t>(cells_), 0.0);
+    mark_solids();
+    if (s.tp.geometric) find_wetted();
+    initialise();
+  }
+
+  void step() override {
+    red_.halo.post(red_.f.data(), cells_);
+    blue_.halo.post(blue_.f.data(), cells_);
+    red_.halo.finish(red_.f.data(), cells_);
+    blue_.halo.finish(blue_.f.data(), cells_);
+    stream();
+    ghosts_.exchange(phi_);
+    max_u2_ = 0.0;
+    for_owned([&](long i, long j, long k, long x) {
+      if (!solid_[x]) collide_cell(i, j, k, x);
+    });
+    red_.swap();
+    blue_.swap();
+  }
+
+  void macroscopic(std::vector<double>& u, std::vector<double>& rho) const override {
+    u.assign(3 * static_cast<std::size_t>(owned_cells()), 0.0);
+    rho.assign(static_cast<std::size_t>(owned_cells()), 1.0);
+    long c = 0;
+    for_owned([&](long, long, long, long x) {
+      if (!solid_[x]) {
+        double r = 0.0, j[3] = {0.0, 0.0, 0.0};
+        for (int q = 0; q < L::Q; ++q) {
+          const double f = red_.f[q * cells_ + x] + blue_.f[q * cells_ + x];
+          r += f;
+          for (int d = 0; d < 3; ++d) j[d] += L::e[q][d] * f;
+        }
+        const double rho_m = Incompressible ? 1.0 : r;
+        for (int d = 0; d < 3; ++d) u[3 * c + d] = (j[d] - 0.5 * s_.force[d]) / rho_m;
+        rho[c] = r;
+      }
+      ++c;
+    });
+  }
+
+  bool phase(std::vector<double>& out) const override {
+    out.assign(static_cast<std::size_t>(owned_cells()), 0.0);
+    long c = 0;
+    for_owned([&](long, long, long, long x) {
+      if (!solid_[x]) {
+        double r = 0.0, b = 0.0;
+        for (int q = 0; q < L::Q; ++q) r += red_.f[q * cells_ + x], b += blue_.f[q * cells_ + x];
+        out[c] = (r - b) / (r + b);
+      }
+      ++c;
+    });
+    return true;
+  }
+  bool solid_mask(std::vector<double>& out) const override {
+    out.assign(static_cast<std::size_t>(owned_cells()), 0.0);
+    long c = 0;
+    for_owned([&](long, long, long, long x) { out[c++] = solid_[x] ? 1.0 : 0.0; });
+    return true;
+  }
+
+  double max_u2() const override { return max_u2_; }
+  int q() const override { return 2 * L::Q; }
+  long first_nonfinite() const override {
+    long c = 0, found = -1;
+    for_owned([&](long, long, long, long x) {
+      for (int q = 0; q < L::Q && found < 0 && !solid_[x]; ++q)
+        if (!std::isfinite(red_.f[q * cells_ + x]) || !std::isfinite(blue_.f[q * cells_ + x])) found = c;
+      ++c;
+    });
+    return found;
+  }
+  // Red then blue, per owned cell.
+  void get_populations(std::vector<double>& out) const override {
+    out.clear();
+    for_owned([&](long, long, long, long x) {
+      for (int q = 0; q < L::Q; ++q) out.push_back(red_.f[q * cells_ + x]);
+      for (int q = 0; q < L::Q; ++q) out.push_back(blue_.f[q * cells_ + x]);
+    });
+  }
+  void set_populations(const std::vector<double>& in) override {
+    std::size_t o = 0;
+    for_owned([&](long, long, long, long x) {
+      for (int q = 0; q < L::Q; ++q) red_.f[q * cells_ + x] = in[o++];
+      for (int q = 0; q < L::Q; ++q) blue_.f[q * cells_ + x] = in[o++];
+    });
+  }
+  void psm(std::span<const long>, std::span<const double>, std::span<const double>, std::span<double>) override {
+    throw coupler::SolverError("lbm: partially saturated cells in a two-phase fluid or one with interior solids "
+                               "are not built yet");
+  }
+  void set_source(std::span<const double> force) override { src_.assign(force.begin(), force.end()); }
+  void take_wall_momentum(double* out) override {
+    for (int k = 0; k < 18; ++k) out[k] = wall_momentum_[k], wall_momentum_[k] = 0.0;
+  }
+
+ private:
+  long owned_cells() const { return lay_.extent[0] * lay_.extent[1] * lay_.extent[2]; }
+  template <class F>
+  void for_owned(F&& f) const {
+    for (long k = 0; k < lay_.extent[2]; ++k)
+      for (long j = 0; j < lay_.extent[1]; ++j)
+        for (long i = 0; i < lay_.extent[0]; ++i) f(i, j, k, lay_.idx(i, j, k));
+  }
+
+  // Solid cells of the block and its ghosts: interior solids from the global
+  // map (periodic images wrapped), the box's walls beyond non-periodic faces;
+  // each takes its fixed colour phi_s = cos(theta) (seed 000, "Molhabilidade").
+  void mark_solids() {
+    solid_.assign(static_cast<std::size_t>(cells_), 0);
+    const auto& n = s_.cells;
+    for (long k = -lay_.ghost[2]; k < lay_.extent[2] + lay_.ghost[2]; ++k)
+      for (long j = -lay_.ghost[1]; j < lay_.extent[1] + lay_.ghost[1]; ++j)
+        for (long i = -lay_.ghost[0]; i < lay_.extent[0] + lay_.ghost[0]; ++i) {
+          long g[3] = {lay_.origin[0] + i, lay_.origin[1] + j, lay_.origin[2] + k};
+          std::uint8_t id = 0;
+          for (int d = 0; d < 3; ++d) {
+            if (g[d] >= 0 && g[d] < n[d]) continue;
+            if (s_.faces[2 * d + (g[d] < 0 ? 0 : 1)].type == FaceType::periodic)
+              g[d] = (g[d] + n[d]) % n[d];
+            else
+              id = kWall;
+          }
+          if (id == 0 && s_.tp.any_solid()) id = (*s_.tp.solids)[static_cast<std::size_t>((g[2] * n[1] + g[1]) * n[0] + g[0])];
+          const long x = lay_.idx(i, j, k);
+          solid_[x] = id;
+          if (id) phi_[x] = id == kWall ? s_.tp.wall_phase : s_.tp.solid_phase.at(id);
+        }
+  }
+
+  // The owned fluid cells next to solids (geometric wetting): the solid's unit
+  // normal into the fluid, n_s = -sum_q w_q e_q s(x + e_q) normalised (s = 1 in
+  // solids), and cos(theta) averaged over the solid neighbours with the same
+  // weights (phi_ holds cos(theta) in solid cells).
+  void find_wetted() {
+    wet_index_.assign(static_cast<std::size_t>(cells_), -1);
+    for_owned([&](long, long, long, long x) {
+      if (solid_[x]) return;
+      Wet w{{0.0, 0.0, 0.0}, 0.0};
+      double weight = 0.0;
+      for (int q = 1; q < L::Q; ++q) {
+        if (!solid_[x + off_[q]]) continue;
+        for (int d = 0; d < 3; ++d) w.ns[d] -= L::w[q] * L::e[q][d];
+        w.cos_theta += L::w[q] * phi_[x + off_[q]];
+        weight += L::w[q];
+      }
+      if (weight == 0.0) return;
+      const double n = std::sqrt(w.ns[0] * w.ns[0] + w.ns[1] * w.ns[1] + w.ns[2] * w.ns[2]);
+      for (int d = 0; d < 3; ++d) w.ns[d] = n > 0.0 ? w.ns[d] / n : 0.0;
+      w.cos_theta /= weight;
+      wet_index_[x] = static_cast<int>(wet_.size());
+      wet_.push_back(w);
+    });
+  }
+
+  // Each colour at the equilibrium of its share of the cell's density.
+  void initialise() {
+    for_owned([&](long i, long j, long k, long x) {
+      if (solid_[x]) return;
+      const long g[3] = {lay_.origin[0] + i, lay_.origin[1] + j, lay_.origin[2] + k};
+      double rho, u[3];
+      s_.initial(g[0], g[1], g[2], rho, u);
+      const double psi = s_.tp.on ? s_.tp.initial_phase(g[0], g[1], g[2]) : 1.0;
+      for (int q = 0; q < L::Q; ++q) {
+        const double feq = equilibrium<L, Incompressible>(q, rho, u) + L::w[q];
+        red_.f[q * cells_ + x] = 0.5 * (1.0 + psi) * feq;
+        blue_.f[q * cells_ + x] = 0.5 * (1.0 - psi) * feq;
+      }
+    });
+  }
+
+  // Pull streaming of both colours into `next` (seed 000 eqs. 2.64-2.65), with
+  // half-way bounce-back from solid cells (eq. 2.44), and the colour field of
+  // the pulled populations.
+  void stream() {
+    for_owned([&](long i, long j, long k, long x) {
+      if (solid_[x]) return;
+      double rr = 0.0, bb = 0.0;
+      for (int q = 0; q < L::Q; ++q) {
+        const long src = x - off_[q];
+        double r, b;
+        if (solid_[src]) {
+          r = red_.f[L::opp[q] * cells_ + x];
+          b = blue_.f[L::opp[q] * cells_ + x];
+          if (solid_[src] == kWall) wall_take(i, j, k, q, r + b);
+        } else {
+          r = red_.f[q * cells_ + src];
+          b = blue_.f[q * cells_ + src];
+        }
+        red_.next[q * cells_ + x] = r;
+        blue_.next[q * cells_ + x] = b;
+        rr += r, bb += b;
+      }
+      phi_[x] = rr - bb;
+    });
+  }
+
+  // Ladd's momentum exchange: population opp(q) of mass f went into the wall
+  // and came back as q; the wall took 2 f e_opp(q). Credited to the face the
+  // link crosses (the first axis out of the box).
+  void wall_take(long i, long j, long k, int q, double f) {
+    const long loc[3] = {lay_.origin[0] + i - L::e[q][0], lay_.origin[1] + j - L::e[q][1],
+                         lay_.origin[2] + k - L::e[q][2]};
+    for (int d = 0; d < 3; ++d) {
+      if (loc[d] >= 0 && loc[d] < s_.cells[d]) continue;
+      const int face = 2 * d + (loc[d] < 0 ? 0 : 1);
+      for (int a = 0; a < 3; ++a) wall_momentum_[3 * face + a] -= 2.0 * f * L::e[q][a];
+      return;
+    }
+  }
+
+  void collide_cell(long i, long j, long k, long x) {
+    double g[3] = {0.0, 0.0, 0.0}, r[L::Q], b[L::Q], F[3];
+    // eq. 2.56; with geometric wetting, next to solids, from the fluid
+    // neighbours alone, then turned to the contact angle.
+    const int wet = wet_index_.empty() ? -1 : wet_index_[x];
+    if (wet < 0) {
+      for (int q = 1; q < L::Q; ++q)
+        for (int d = 0; d < 3; ++d) g[d] += L::e[q][d] * phi_[x + off_[q]];
+    } else {
+      fluid_gradient<L>(phi_.data(), solid_.data(), off_, x, g);
+      wet_gradient(g, wet_[wet].ns, wet_[wet].cos_theta);
+    }
+    const long c = (k * lay_.extent[1] + j) * lay_.extent[0] + i;
+    for (int d = 0; d < 3; ++d) F[d] = s_.force[d] + (src_.empty() ? 0.0 : src_[3 * c + d]);
+    for (int q = 0; q < L::Q; ++q) r[q] = red_.next[q * cells_ + x], b[q] = blue_.next[q * cells_ + x];
+    const double uu = colour_collide<L, Incompressible>(r, b, g, colour_, F);
+    max_u2_ = nan_max(max_u2_, uu);
+    for (int q = 0; q < L::Q; ++q) red_.next[q * cells_ + x] = r[q], blue_.next[q * cells_ + x] = b[q];
+  }
+
+  const Setup& s_;
+  Decomposition dec_;
+  grid::GhostExchange ghosts_;  // of the colour field
+  ColourParams colour_;
+  Layout lay_;
+  long cells_ = 0;  // of the block with its ghosts
+  long off_[L::Q];
+  Populations<L> red_, blue_;
+  std::vector<double> phi_;          // rho_r - rho_b of the pulled populations; solids: their colour
+  std::vector<std::uint8_t> solid_;  // 0 fluid, solid id, or kWall
+  struct Wet {
+    double ns[3];
+    double cos_theta;
+  };
+  std::vector<int> wet_index_;  // geometric wetting: per cell, into wet_ (-1: no solid neighbour)
+  std::vector<Wet> wet_;
+  std::vector<double> src_;
+  double max_u2_ = 0.0;
+  double wall_momentum_[18] = {};
+};
+
+template <class L>
+std::unique_ptr<LbmCore> make(const Setup& s, const Decomposition& d, int rank, MPI_Comm comm) {
+  if (s.incompressible) return std::make_unique<TwoPhaseCore<L, true>>(s, d, rank, comm);
+  return std::make_unique<TwoPhaseCore<L, false>>(s, d, rank, comm);
+}
+
+}  // namespace
+
+std::unique_ptr<LbmCore> make_two_phase_core(const Setup& s, const Decomposition& dec, int rank, MPI_Comm comm) {
+  return s.d3 ? make<D3Q19>(s, dec, rank, comm) : make<D2Q9>(s, dec, rank, comm);
+}
+
+}  // namespace coflow::fluid::lbm

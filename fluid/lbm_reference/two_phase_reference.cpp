@@ -1,0 +1,208 @@
+// lbm-reference: two fluids by the colour-gradient model (seed 000 §2.3.4)
+// and interior solids, written out plainly (the oracle of lbm's
+// two_phase_core.cpp and colour_gradient.hpp).
+#include <algorithm>
+#include <cmath>
+
+#include "fluid/lbm_reference/lbm_reference.hpp"
+
+namespace coflow::fluid {
+
+using lbm::FaceType;
+
+void LbmReference::init_colours() {
+  const long cells = n_[0] * n_[1] * n_[2];
+  r_.assign(cells * Q_, 0.0);
+  b_.assign(cells * Q_, 0.0);
+  phi_.assign(cells, 0.0);
+  solid_id_.assign(cells, 0);
+  for (long k = 0; k < n_[2]; ++k)
+    for (long j = 0; j < n_[1]; ++j)
+      for (long i = 0; i < n_[0]; ++i) {
+        const long c = index(i, j, k);
+        if (s_.tp.any_solid()) solid_id_[c] = (*s_.tp.solids)[c];
+        const double psi = s_.tp.on ? s_.tp.initial_phase(i, j, k) : 1.0;
+        for (int q = 0; q < Q_; ++q) {
+          if (solid_id_[c]) {
+            f_[c * Q_ + q] = w_[q];  // at rest, reference density: what the fields show there
+            continue;
+          }
+          r_[c * Q_ + q] = 0.5 * (1.0 + psi) * f_[c * Q_ + q];
+          b_[c * Q_ + q] = 0.5 * (1.0 - psi) * f_[c * Q_ + q];
+        }
+      }
+}
+
+// The colour field at a cell that may be outside the box: wrapped across
+// periodic faces, the walls' colour beyond the others, a solid's own colour.
+double LbmReference::phi_at(long i, long j, long k) const {
+  long x[3] = {i, j, k};
+  for (int d = 0; d < 3; ++d) {
+    if (x[d] >= 0 && x[d] < n_[d]) continue;
+    if (s_.faces[2 * d + (x[d] < 0 ? 0 : 1)].type != FaceType::periodic) return s_.tp.wall_phase;
+    x[d] = (x[d] + n_[d]) % n_[d];
+  }
+  const long c = index(x[0], x[1], x[2]);
+  return solid_id_[c] ? s_.tp.solid_phase.at(solid_id_[c]) : phi_[c];
+}
+
+void LbmReference::step_colours() {
+  const std::vector<double> post_r = r_, post_b = b_;
+  // Streaming of each colour (eqs. 2.64-2.65) with half-way bounce-back at the
+  // walls and at solid cells; the colour field of what arrived.
+  for (long k = 0; k < n_[2]; ++k)
+    for (long j = 0; j < n_[1]; ++j)
+      for (long i = 0; i < n_[0]; ++i) {
+        const long c = index(i, j, k);
+        if (solid_id_[c]) continue;
+        double red = 0.0, blue = 0.0;
+        for (int q = 0; q < Q_; ++q) {
+          long src[3] = {i - e_[q][0], j - e_[q][1], k - e_[q][2]};
+          bool wall = false;
+          for (int d = 0; d < 3; ++d) {
+            if (src[d] >= 0 && src[d] < n_[d]) continue;
+            if (s_.faces[2 * d + (src[d] < 0 ? 0 : 1)].type == FaceType::periodic)
+              src[d] = (src[d] + n_[d]) % n_[d];
+            else
+              wall = true;
+          }
+          const long s = wall ? -1 : index(src[0], src[1], src[2]);
+          if (wall || solid_id_[s]) {
+            r_[c * Q_ + q] = post_r[c * Q_ + opp_[q]];
+            b_[c * Q_ + q] = post_b[c * Q_ + opp_[q]];
+          } else {
+            r_[c * Q_ + q] = post_r[s * Q_ + q];
+            b_[c * Q_ + q] = post_b[s * Q_ + q];
+          }
+          red += r_[c * Q_ + q];
+          blue += b_[c * Q_ + q];
+        }
+        phi_[c] = red - blue;
+      }
+  for (long k = 0; k < n_[2]; ++k)
+    for (long j = 0; j < n_[1]; ++j)
+      for (long i = 0; i < n_[0]; ++i) {
+        const long c = index(i, j, k);
+        if (solid_id_[c]) continue;
+        double g[3] = {0.0, 0.0, 0.0}, F[3];
+        colour_gradient(i, j, k, g);
+        force_at(c, F);
+        collide_colours(c, g, F);
+      }
+  ++steps_;
+}
+
+// A neighbour of a fluid cell is solid: beyond a wall face or in an interior solid.
+bool LbmReference::solid_at(long i, long j, long k) const {
+  long x[3] = {i, j, k};
+  for (int d = 0; d < 3; ++d) {
+    if (x[d] >= 0 && x[d] < n_[d]) continue;
+    if (s_.faces[2 * d + (x[d] < 0 ? 0 : 1)].type != FaceType::periodic) return true;
+    x[d] = (x[d] + n_[d]) % n_[d];
+  }
+  return solid_id_[index(x[0], x[1], x[2])] != 0;
+}
+
+// The colour gradient of eq. 2.56 at fluid cell (i, j, k). The seed's wetting:
+// solids count with their colour cos(theta). Geometric wetting (Leclaire et al.
+// 2017): next to solids, from the fluid links alone; then it turns, at
+// its magnitude, to n' = -cos(theta) n_s + sin(theta) t (n_s the solids' unit
+// normal into the fluid, t the gradient's unit direction along them).
+void LbmReference::colour_gradient(long i, long j, long k, double g[3]) const {
+  const long c = index(i, j, k);
+  double ns[3] = {0.0, 0.0, 0.0}, cos_theta = 0.0, weight = 0.0;
+  double num[3] = {0.0, 0.0, 0.0}, den[3] = {0.0, 0.0, 0.0};
+  for (int q = 1; q < Q_; ++q) {
+    const long a = i + e_[q][0], b = j + e_[q][1], z = k + e_[q][2];
+    const bool solid = solid_at(a, b, z);
+    for (int d = 0; d < 3; ++d) g[d] += e_[q][d] * phi_at(a, b, z);
+    if (!solid) {
+      for (int d = 0; d < 3; ++d) {
+        num[d] += w_[q] * e_[q][d] * (phi_at(a, b, z) - phi_[c]);
+        den[d] += w_[q] * e_[q][d] * e_[q][d];
+      }
+      continue;
+    }
+    for (int d = 0; d < 3; ++d) ns[d] -= w_[q] * e_[q][d];
+    cos_theta += w_[q] * phi_at(a, b, z);
+    weight += w_[q];
+  }
+  if (!s_.tp.geometric || weight == 0.0) return;
+  // Next to solids: the gradient of the fluid links alone, per axis their
+  // weighted difference over sum w e_d^2, times 2 N (N = 5 D3Q19, 3 D2Q9).
+  const double N = Q_ == 19 ? 5.0 : 3.0;
+  for (int d = 0; d < 3; ++d) g[d] = den[d] > 0.0 ? 2.0 * N * num[d] / den[d] : 0.0;
+  const double n = std::sqrt(ns[0] * ns[0] + ns[1] * ns[1] + ns[2] * ns[2]);
+  const double gn = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+  if (n == 0.0 || gn == 0.0) return;
+  cos_theta /= weight;
+  double t[3], along = 0.0;
+  for (int d = 0; d < 3; ++d) ns[d] /= n, along += g[d] / gn * ns[d];
+  for (int d = 0; d < 3; ++d) t[d] = g[d] / gn - along * ns[d];
+  const double tl = std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+  if (tl < 1e-12) return;
+  const double sin_theta = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
+  for (int d = 0; d < 3; ++d) g[d] = gn * (-cos_theta * ns[d] + sin_theta * t[d] / tl);
+}
+
+// Collision of r + b with the cell's relaxation time, the perturbation
+// (eq. 2.57) and the recolouring (eqs. 2.59-2.63) of cell c.
+void LbmReference::collide_colours(long c, const double g[3], const double F[3]) {
+  double* r = &r_[c * Q_];
+  double* b = &b_[c * Q_];
+  double* f = &f_[c * Q_];
+  double red = 0.0, blue = 0.0;
+  for (int q = 0; q < Q_; ++q) {
+    red += r[q];
+    blue += b[q];
+    f[q] = r[q] + b[q];
+  }
+  const double rho = red + blue, psi = (red - blue) / rho;
+  // Viscosities interpolated harmonically across the interface, nu = (tau - 1/2)/3.
+  const double nu_r = (s_.tau - 0.5) / 3.0, nu_b = ((s_.tp.on ? s_.tp.tau_blue : s_.tau) - 0.5) / 3.0;
+  const double nu = 1.0 / ((1.0 + psi) / (2.0 * nu_r) + (1.0 - psi) / (2.0 * nu_b));
+  const double tau = 0.5 + 3.0 * nu;
+  collide(f, F, tau);
+  // Perturbation: 36 w A |g| [(e.g)^2/|g|^2 - C] on the moving populations,
+  // C = c_s^2 / (1 - w_0) so that it keeps the mass; A = gamma / (32 N tau)
+  // with N = 5 (D3Q19) or 3 (D2Q9) links per axis direction.
+  const double gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2], gn = std::sqrt(gg);
+  const double C = (1.0 / 3.0) / (1.0 - w_[0]), N = Q_ == 19 ? 5.0 : 3.0;
+  const double A = s_.tp.gamma / (32.0 * N * tau);
+  double moving_r = 0.0, moving_b = 0.0;
+  for (int q = 1; q < Q_; ++q) {
+    const double eg = e_[q][0] * g[0] + e_[q][1] * g[1] + e_[q][2] * g[2];
+    const double len = std::sqrt(double(e_[q][0] * e_[q][0] + e_[q][1] * e_[q][1] + e_[q][2] * e_[q][2]));
+    double cos_phi = 0.0;
+    if (gn > 0.0) {
+      f[q] += 36.0 * w_[q] * A * gn * (eg * eg / gg - C);
+      cos_phi = eg / (len * gn);
+    }
+    r[q] = red / rho * f[q] + s_.tp.beta * red * blue / rho * w_[q] * cos_phi;
+    b[q] = f[q] - r[q];
+    moving_r += r[q];
+    moving_b += b[q];
+  }
+  r[0] = red - moving_r;
+  b[0] = blue - moving_b;
+  for (int q = 0; q < Q_; ++q) f[q] = r[q] + b[q];
+}
+
+void LbmReference::phase_fields(std::vector<double>& phase, std::vector<double>& solid) const {
+  const long cells = n_[0] * n_[1] * n_[2];
+  phase.assign(cells, 1.0);
+  solid.assign(cells, 0.0);
+  if (!colours()) return;
+  for (long c = 0; c < cells; ++c) {
+    if (solid_id_[c]) {
+      phase[c] = 0.0;
+      solid[c] = 1.0;
+      continue;
+    }
+    double red = 0.0, blue = 0.0;
+    for (int q = 0; q < Q_; ++q) red += r_[c * Q_ + q], blue += b_[c * Q_ + q];
+    phase[c] = (red - blue) / (red + blue);
+  }
+}
+
+}  // namespace coflow::fluid

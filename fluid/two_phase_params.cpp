@@ -1,0 +1,261 @@
+#include "fluid/two_phase_params.hpp"
+
+#include <hdf5.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace coflow::fluid {
+
+namespace {
+
+Vec3 vec(const config::Numbers& n) { return {n.values.at(0), n.values.at(1), n.values.at(2)}; }
+
+void need3(config::Visitor& v, const char* key, const config::Numbers& n) {
+  if (v.reading() && n.values.size() != 3)
+    v.fail(key, fmt::format("needs 3 numbers [x, y, z] (got {})", n.values.size()));
+}
+
+void check_box(config::Visitor& v, const config::Numbers& lo, const config::Numbers& hi) {
+  if (!v.reading() || lo.values.size() != 3 || hi.values.size() != 3) return;
+  for (int d = 0; d < 3; ++d)
+    if (hi.values[d] <= lo.values[d])
+      v.fail("upper", fmt::format("upper[{}] = {} is not above lower[{}] = {}", d, hi.values[d], d, lo.values[d]));
+}
+
+// Reads an HDF5 image into `out` (or only its shape when out is null).
+std::string read_hdf5(const SolidParams& s, std::vector<std::uint8_t>* out, std::array<long, 3>& shape) {
+  H5E_auto2_t func;
+  void* data;
+  H5Eget_auto2(H5E_DEFAULT, &func, &data);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // report below, not on stderr
+  std::string err;
+  const hid_t f = H5Fopen(s.file.path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t ds = f >= 0 ? H5Dopen2(f, s.dataset.c_str(), H5P_DEFAULT) : -1;
+  if (f < 0) err = fmt::format("cannot open {} as HDF5", s.file.path);
+  else if (ds < 0) err = fmt::format("{} has no dataset '{}'", s.file.path, s.dataset);
+  if (ds >= 0) {
+    const hid_t sp = H5Dget_space(ds);
+    const int rank = H5Sget_simple_extent_ndims(sp);
+    hsize_t dims[3] = {1, 1, 1};
+    if (rank < 2 || rank > 3) {
+      err = fmt::format("dataset '{}' has {} dimensions; a voxel image has 2 or 3 ([nz,] ny, nx)", s.dataset, rank);
+    } else {
+      H5Sget_simple_extent_dims(sp, dims, nullptr);
+      shape = {static_cast<long>(dims[rank - 1]), static_cast<long>(dims[rank - 2]),
+               rank == 3 ? static_cast<long>(dims[0]) : 1L};
+      if (out) {
+        out->resize(static_cast<std::size_t>(shape[0] * shape[1] * shape[2]));
+        if (H5Dread(ds, H5T_NATIVE_UINT8, H5S_ALL, H5S_ALL, H5P_DEFAULT, out->data()) < 0)
+          err = fmt::format("cannot read dataset '{}' of {} as integers", s.dataset, s.file.path);
+      }
+    }
+    H5Sclose(sp);
+    H5Dclose(ds);
+  }
+  if (f >= 0) H5Fclose(f);
+  H5Eset_auto2(H5E_DEFAULT, func, data);
+  return err;
+}
+
+// Reads a voxel image; "" or what is wrong.
+std::string read_voxels(const SolidParams& s, std::vector<std::uint8_t>* out) {
+  if (!std::filesystem::exists(s.file.path)) return fmt::format("no such file: {}", s.file.path);
+  std::array<long, 3> want{}, got{};
+  for (int d = 0; d < 3; ++d) want[d] = std::lround(s.shape.values.at(d));
+  if (!s.dataset.empty()) {
+    if (auto err = read_hdf5(s, out, got); !err.empty()) return err;
+    if (got != want)
+      return fmt::format("dataset '{}' is {} x {} x {} voxels (x, y, z), not the shape {} x {} x {}", s.dataset,
+                         got[0], got[1], got[2], want[0], want[1], want[2]);
+    return "";
+  }
+  const auto bytes = static_cast<long>(std::filesystem::file_size(s.file.path));
+  if (bytes != want[0] * want[1] * want[2])
+    return fmt::format("{} holds {} bytes, but shape {} x {} x {} needs {} (raw: one uint8 per voxel, x fastest)",
+                       s.file.path, bytes, want[0], want[1], want[2], want[0] * want[1] * want[2]);
+  if (out) {
+    out->resize(static_cast<std::size_t>(bytes));
+    std::ifstream in(s.file.path, std::ios::binary);
+    if (!in.read(reinterpret_cast<char*>(out->data()), bytes)) return fmt::format("cannot read {}", s.file.path);
+  }
+  return "";
+}
+
+}  // namespace
+
+void TwoPhaseParams::visit(config::Visitor& v) {
+  v.required("surface_tension", surface_tension, "interfacial tension between the two fluids, N/m",
+             config::non_negative());
+  v("beta", beta,
+    "recolouring strength (Latva-Kokko & Rothman 2005): how sharply the colours separate; the interface is a few "
+    "cells wide at 0.7",
+    config::Rule{"in (0, 1]", [](const config::ValueRef& r) {
+                   const double x = *std::get<double*>(r);
+                   return x > 0.0 && x <= 1.0 ? std::string() : fmt::format("must be in (0, 1] (got {})", x);
+                 }});
+  v("viscosity_blue", viscosity_blue,
+    "kinematic viscosity of the blue fluid, m^2/s (default: fluid.viscosity, that of the red fluid)",
+    config::non_negative());
+  v("contact_angle", contact_angle,
+    "degrees, measured in the red fluid: of the box's walls, and of solids that do not give their own",
+    config::in_range(0.0, 180.0));
+  v("wetting", wetting,
+    "geometric: at fluid cells next to a solid the colour gradient is turned to meet the solid at the contact "
+    "angle (Leclaire et al. 2017, Akai et al. 2018); seed: a solid takes the fixed colour cos(contact_angle) in "
+    "its neighbours' colour gradient (Latva-Kokko & Rothman 2005), which misses the angle by up to 14 degrees "
+    "(docs/validation.md)",
+    config::one_of({"geometric", "seed"}));
+}
+
+bool PhaseRegion::contains(const Vec3& x) const {
+  if (kind == "fill") return true;
+  if (kind == "sphere") {
+    const Vec3 c = vec(centre);
+    return std::hypot(x[0] - c[0], x[1] - c[1], planar ? 0.0 : x[2] - c[2]) <= radius;
+  }
+  for (int d = 0; d < 3; ++d)
+    if (x[d] < lower.values.at(d) || x[d] > upper.values.at(d)) return false;
+  return true;
+}
+
+bool SolidParams::contains(const Vec3& x) const {
+  PhaseRegion r;
+  r.kind = kind, r.centre = centre, r.lower = lower, r.upper = upper, r.radius = radius, r.planar = planar;
+  return r.contains(x);
+}
+
+double painted_phase(const std::vector<PhaseRegion>& regions, const Vec3& x) {
+  double phase = 1.0;  // red where nothing is painted
+  for (const auto& r : regions)
+    if (r.contains(x)) phase = r.phase == "red" ? 1.0 : -1.0;
+  return phase;
+}
+
+void visit_phase_regions(config::Visitor& v, const config::Config& cfg, std::vector<PhaseRegion>& out) {
+  const auto phase = [](config::Visitor& s, PhaseRegion& r) {
+    s.required("phase", r.phase, "the fluid painted: red (that of fluid.viscosity) or blue",
+               config::one_of({"red", "blue"}));
+  };
+  v.choices("phase",
+            "two-phase: the initial fluids, painted in order (the last region that holds a cell's centre wins; red "
+            "where none does)",
+            {{"fill", "the whole domain",
+              [&, phase](config::Visitor& s) { phase(s, out.emplace_back()); }},
+             {"sphere", "a sphere (a disc in 2D: z is ignored)",
+              [&, phase](config::Visitor& s) {
+                auto& r = out.emplace_back();
+                r.kind = "sphere";
+                r.planar = s.reading() && cfg.domain.cells[2] == 1;
+                s.required("centre", r.centre, "[x, y, z], m");
+                s.required("radius", r.radius, "m", config::positive());
+                phase(s, r);
+                need3(s, "centre", r.centre);
+              }},
+             {"box", "an axis-aligned box",
+              [&, phase](config::Visitor& s) {
+                auto& r = out.emplace_back();
+                r.kind = "box";
+                s.required("lower", r.lower, "[x, y, z], m");
+                s.required("upper", r.upper, "[x, y, z], m");
+                phase(s, r);
+                need3(s, "lower", r.lower);
+                need3(s, "upper", r.upper);
+                check_box(s, r.lower, r.upper);
+              }}});
+}
+
+void visit_solids(config::Visitor& v, const config::Config& cfg, std::vector<SolidParams>& out) {
+  const auto angle = [](config::Visitor& s, SolidParams& p) {
+    s("contact_angle", p.contact_angle,
+      "two-phase: degrees, in the red fluid; -1: fluid.two_phase.contact_angle",
+      config::Rule{"in [0, 180] or -1", [](const config::ValueRef& r) {
+                     const double x = *std::get<double*>(r);
+                     return x == -1.0 || (x >= 0.0 && x <= 180.0)
+                                ? std::string()
+                                : fmt::format("must be in [0, 180] degrees, or -1 for fluid.two_phase.contact_angle "
+                                              "(got {})",
+                                              x);
+                   }});
+  };
+  v.choices(
+      "solids",
+      "interior solids of the fluid (half-way bounce-back at the faces of solid cells): a cell is solid when its "
+      "centre is inside one; a later item's contact angle wins where they overlap",
+      {{"voxels", "an image on the fluid grid, one voxel per cell, nonzero = solid",
+        [&, angle](config::Visitor& s) {
+          auto& p = out.emplace_back();
+          p.kind = "voxels";
+          s.required("file", p.file, "raw uint8 (x fastest, no header) or HDF5 (give dataset)");
+          s("dataset", p.dataset, "HDF5: the dataset, integers of shape [nz, ny, nx] (C order: x fastest)");
+          s.required("shape", p.shape, "[nx, ny, nz] voxels: must equal domain.cells");
+          angle(s, p);
+          if (!s.reading()) return;
+          need3(s, "shape", p.shape);
+          if (p.shape.values.size() != 3) return;
+          for (int d = 0; d < 3; ++d)
+            if (std::lround(p.shape.values[d]) != cfg.domain.cells[d]) {
+              s.fail("shape", fmt::format("shape [{}, {}, {}] differs from domain.cells [{}, {}, {}]: the image "
+                                          "maps one voxel to one cell",
+                                          p.shape.values[0], p.shape.values[1], p.shape.values[2],
+                                          cfg.domain.cells[0], cfg.domain.cells[1], cfg.domain.cells[2]));
+              return;
+            }
+          if (auto err = check_voxel_file(p); !err.empty()) s.fail("file", err);
+        }},
+       {"sphere", "a sphere (a disc in 2D: z is ignored)",
+        [&, angle](config::Visitor& s) {
+          auto& p = out.emplace_back();
+          p.kind = "sphere";
+          p.planar = s.reading() && cfg.domain.cells[2] == 1;
+          s.required("centre", p.centre, "[x, y, z], m");
+          s.required("radius", p.radius, "m", config::positive());
+          angle(s, p);
+          need3(s, "centre", p.centre);
+        }},
+       {"box", "an axis-aligned box",
+        [&, angle](config::Visitor& s) {
+          auto& p = out.emplace_back();
+          p.kind = "box";
+          s.required("lower", p.lower, "[x, y, z], m");
+          s.required("upper", p.upper, "[x, y, z], m");
+          angle(s, p);
+          need3(s, "lower", p.lower);
+          need3(s, "upper", p.upper);
+          check_box(s, p.lower, p.upper);
+        }}});
+}
+
+std::string check_voxel_file(const SolidParams& s) { return read_voxels(s, nullptr); }
+
+std::vector<std::uint8_t> solid_map(const config::Config& cfg, const std::vector<SolidParams>& solids) {
+  const auto& d = cfg.domain;
+  const auto h = d.spacing();
+  const long nx = d.cells[0], ny = d.cells[1], nz = d.cells[2];
+  std::vector<std::uint8_t> map(static_cast<std::size_t>(nx * ny * nz), 0);
+  if (solids.size() > 254) throw std::runtime_error("fluid.solids: at most 254 solids");
+  for (std::size_t n = 0; n < solids.size(); ++n) {
+    const auto& s = solids[n];
+    const auto id = static_cast<std::uint8_t>(n + 1);
+    if (s.kind == "voxels") {
+      std::vector<std::uint8_t> img;
+      if (auto err = read_voxels(s, &img); !err.empty()) throw std::runtime_error("fluid.solids: " + err);
+      for (std::size_t c = 0; c < map.size(); ++c)
+        if (img[c] != 0) map[c] = id;
+      continue;
+    }
+    std::size_t c = 0;
+    for (long k = 0; k < nz; ++k)
+      for (long j = 0; j < ny; ++j)
+        for (long i = 0; i < nx; ++i, ++c)
+          if (s.contains({d.lower[0] + (i + 0.5) * h[0], d.lower[1] + (j + 0.5) * h[1], d.lower[2] + (k + 0.5) * h[2]}))
+            map[c] = id;
+  }
+  return map;
+}
+
+}  // namespace coflow::fluid

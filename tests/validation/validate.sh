@@ -37,7 +37,7 @@ sets() {  # "a=1 b=2" -> --set a=1 --set b=2
 check() { "$bin/coflow-check" "$@" || { echo "FAIL: coflow-check $*"; exit 1; }; }
 
 case "$mode" in
-  profile|probes|channel|walls|fluid_walls|decay|mass|ramp|impact|pour|crush|momentum|drag|settling|dpm_settling|granular_gas|two_way|dispersion|grid_turbulence|injection|jet|rotation)
+  profile|probes|channel|walls|fluid_walls|decay|mass|ramp|impact|pour|crush|momentum|drag|settling|dpm_settling|granular_gas|two_way|dispersion|grid_turbulence|injection|jet|rotation|contact_angle|layered|colour_mass|permeability)
     run "$out/run" "$@"
     check "$mode" "$out/run" | tee -a "$metrics" || exit 1 ;;
   compare|layouts)
@@ -68,6 +68,41 @@ case "$mode" in
     done
     awk -v a="${errs[0]}" -v b="${errs[1]}" -v c="${errs[2]}" \
       'BEGIN { printf "order_12=%.4f\norder_23=%.4f\n", log(a/b)/log(2), log(b/c)/log(2) }' | tee -a "$metrics" || exit 1 ;;
+  laplace)
+    # ARGS: override lists, one droplet each (radii); per droplet its
+    # Laplace error and colour drift, then the surface tension of the
+    # least-squares fit of Laplace's law dp = gamma' / R (2D; 2 gamma' / R in
+    # 3D) against the requested one.
+    xs=(); ys=(); worst=0; drift=0
+    for n in $(seq 1 $#); do
+      mapfile -t s < <(sets "${!n}")
+      run "$out/drop$n" "${s[@]}"
+      m=$(check laplace "$out/drop$n") || exit 1
+      echo "$m" | sed "s/^/drop${n}_/" | tee -a "$metrics"
+      xs+=("$(echo "$m" | sed -n 's/^radius=//p')"); ys+=("$(echo "$m" | sed -n 's/^pressure_jump=//p')")
+      e=$(echo "$m" | sed -n 's/^laplace_error=//p'); c=$(echo "$m" | sed -n 's/^colour_mass_drift=//p')
+      worst=$(awk -v a="$worst" -v b="$e" 'BEGIN { print (b > a || b != b) ? b : a }')
+      drift=$(awk -v a="$drift" -v b="$c" 'BEGIN { print (b > a || b != b) ? b : a }')
+    done
+    gamma=$(check laplace "$out/drop1" | sed -n 's/^surface_tension=//p')
+    dim=$(check laplace "$out/drop1" | sed -n 's/^dimensions=//p')
+    printf '%s\n' "${xs[@]}" | paste -d' ' - <(printf '%s\n' "${ys[@]}") |
+      awk -v g="$gamma" -v dim="$dim" -v worst="$worst" -v drift="$drift" '
+        { x = 1 / $1; y = $2; n++; sx += x; sy += y; sxx += x * x; sxy += x * y }
+        END { slope = sxy / sxx; k = (dim == 3 ? 2 : 1); e = slope / k / g - 1
+              printf "surface_tension_fit=%.6e\nsurface_tension_error=%.6e\nlaplace_error_max=%s\ncolour_mass_drift_max=%s\n",
+                     slope / k, (e < 0 ? -e : e), worst, drift }' | tee -a "$metrics" || exit 1 ;;
+  tau_independence)
+    # ARGS: two override lists (two relaxation times); permeability of each
+    # and the relative difference of their K.
+    ks=()
+    for n in 1 2; do
+      mapfile -t s < <(sets "${!n}")
+      run "$out/run$n" "${s[@]}"
+      k=$(check permeability "$out/run$n" | sed -n 's/^K=//p') || exit 1
+      echo "K_$n=$k" | tee -a "$metrics"; ks+=("$k")
+    done
+    awk -v a="${ks[0]}" -v b="${ks[1]}" 'BEGIN { d = a / b - 1; printf "K_difference=%.6e\n", d < 0 ? -d : d }' | tee -a "$metrics" || exit 1 ;;
   formulations)
     run "$out/standard" --set fluid.lbm.formulation=standard "$@"
     run "$out/incompressible" --set fluid.lbm.formulation=incompressible "$@"

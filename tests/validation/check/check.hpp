@@ -131,6 +131,12 @@ int dispersion(const std::string& dir);
 int grid_turbulence(const std::string& dir);
 int injection(const std::string& dir);
 int jet(const std::string& dir);
+// two_phase/checks.cpp
+int laplace(const std::string& dir);
+int contact_angle(const std::string& dir);
+int layered(const std::string& dir);
+int colour_mass(const std::string& dir);
+int permeability(const std::string& dir);
 // compare.cpp
 int compare(const std::string& a, const std::string& b);
 

@@ -40,6 +40,11 @@ int main(int argc, char** argv) {
     if (what == "injection" && argc == 3) return injection(argv[2]);
     if (what == "jet" && argc == 3) return jet(argv[2]);
     if (what == "rotation" && argc == 3) return rotation(argv[2]);
+    if (what == "laplace" && argc == 3) return laplace(argv[2]);
+    if (what == "contact_angle" && argc == 3) return contact_angle(argv[2]);
+    if (what == "layered" && argc == 3) return layered(argv[2]);
+    if (what == "colour_mass" && argc == 3) return colour_mass(argv[2]);
+    if (what == "permeability" && argc == 3) return permeability(argv[2]);
     std::fprintf(stderr, "usage: coflow-check profile|decay|mass RUN_DIR | compare RUN_A RUN_B\n");
     return 2;
   } catch (const std::exception& e) {

@@ -1,0 +1,37 @@
+# Two fluids by the colour-gradient model (seed 000 §2.3.4, lbm and
+# lbm-reference) and interior solids: Laplace's law, contact angles, layered
+# flow and relative permeabilities, colour mass, the voxelised sphere array's
+# permeability, and the crosschecks of lbm against lbm-reference and of 1
+# rank against 4.
+# Included from tests/CMakeLists.txt (validation/tests.cmake).
+# (JSON-style flow maps: the override lists split on spaces.)
+set(drop2d [=[fluid.initial.phase=[{"fill":{"phase":"blue"}},{"sphere":{"centre":[0.048,0.048,0.0005],"phase":"red","radius":]=])
+coflow_validation(two_phase_laplace_2d laplace two_phase_droplet_2d.yaml 1
+  "${drop2d}0.016}}]" "${drop2d}0.020}}]" "${drop2d}0.024}}]")
+foreach(angle 60 90 120)
+  coflow_validation(two_phase_contact_angle_${angle} contact_angle two_phase_contact_angle.yaml 1
+    --set fluid.two_phase.contact_angle=${angle})
+endforeach()
+# Layered flow between plates at viscosity ratios 10 and 1 (Yiotis et al. 2007).
+coflow_validation(two_phase_layered_m10 layered two_phase_layered.yaml 1)
+coflow_validation(two_phase_layered_m1 layered two_phase_layered.yaml 1 --set fluid.two_phase.viscosity_blue=1.0e-5)
+# The voxelised sphere array (Zick & Homsy 1982), and TRT's steady state at
+# two relaxation times (a smaller array, 12 cells across).
+coflow_validation(solids_sphere_array permeability solids_sphere_array.yaml 2)
+set(small_array "domain.cells=[16,16,16] domain.upper=[0.016,0.016,0.016] run.end_time=800 run.output.every=800 run.output.series_every=40 fluid.ranks=1")
+coflow_validation(solids_sphere_array_tau tau_independence solids_sphere_array.yaml 1
+  "${small_array} fluid.lbm.tau=0.6 fluid.solids=[{\"sphere\":{\"centre\":[0.008,0.008,0.008],\"radius\":0.006}}]"
+  "${small_array} fluid.lbm.tau=1.5 fluid.solids=[{\"sphere\":{\"centre\":[0.008,0.008,0.008],\"radius\":0.006}}]")
+# Crosschecks on a 3D case with walls, an interior solid, two viscosities and
+# the geometric wetting: lbm against lbm-reference, 1 rank against 4 (the
+# same bits), and the seed's wetting against lbm-reference too.
+coflow_validation(two_phase_vs_reference compare two_phase_crosscheck_3d.yaml 1
+  "fluid.solver=lbm" "fluid.solver=lbm-reference")
+coflow_validation(two_phase_vs_reference_seed compare two_phase_crosscheck_3d.yaml 1
+  "fluid.solver=lbm fluid.two_phase.wetting=seed fluid.lbm.collision=bgk"
+  "fluid.solver=lbm-reference fluid.two_phase.wetting=seed fluid.lbm.collision=bgk")
+coflow_validation(two_phase_ranks_1_vs_4 compare two_phase_crosscheck_3d.yaml 2
+  "fluid.ranks=1" "fluid.ranks=4 fluid.decomposition=[2,2,1]")
+# Each colour's mass over 10^4 steps (in the 3D crosscheck case).
+coflow_validation(two_phase_colour_mass colour_mass two_phase_crosscheck_3d.yaml 1
+  --set run.end_time=1000.0 --set run.output.every=1000.0)

@@ -77,14 +77,17 @@ void FluidParams::visit(config::Visitor& v, const config::Config& cfg) {
       },
       &two_phase.on);
   visit_solids(v, cfg, solids);
-  if (!v.reading() || !two_phase.on) return;
-  if (two_phase.viscosity_blue == 0.0) two_phase.viscosity_blue = viscosity;
+  if (!v.reading() || (!two_phase.on && solids.empty())) return;
+  if (two_phase.on && two_phase.viscosity_blue == 0.0) two_phase.viscosity_blue = viscosity;
   for (int f = 0; f < 6; ++f) {
     const auto it = boundaries.find(face_names()[f]);
     if (it != boundaries.end() && it->second.type != "wall")
-      v.fail("boundaries", fmt::format("face {}: a two-phase fluid takes walls and periodic faces only (inlets "
-                                       "and outlets that carry a phase are not built yet)",
-                                       face_names()[f]));
+      v.fail("boundaries", fmt::format("face {} is {}: {} takes walls and periodic faces only ({} not built "
+                                       "yet); make it a wall, or periodic",
+                                       face_names()[f], it->second.type,
+                                       two_phase.on ? "a two-phase fluid" : "a fluid with interior solids",
+                                       two_phase.on ? "inlets and outlets that carry a phase are"
+                                                    : "open faces beside interior solids are"));
   }
 }
 

@@ -19,6 +19,9 @@ namespace {
 // bench-lbm gives about 100 million on a 256^3 block of the project's 2-core VM;
 // small blocks, forces and psm cells are slower.
 constexpr double kCellUpdatesPerRankPerSecond = 30e6;
+// The colour-gradient kernel (two fluids or interior solids): 3.3e6 D3Q19 and
+// 7e6 D2Q9 cell updates per second measured on one core (2026-11-24).
+constexpr double kColourCellUpdatesPerRankPerSecond = 4e6;
 // and a coupled window costs a few milliseconds of exchanges, waiting and the
 // immersed side's work (the quickstart: 2280 windows in 10.4 s, of which the
 // fluid's updates are 2.5 s).
@@ -107,13 +110,20 @@ void report_lbm(const config::Config& cfg, config::Report& r) {
                                            config::number(u * L / fp.viscosity), config::number(L)));
   }
   const int Q = lp.lattice == "D2Q9" ? 9 : 19;
-  r.add("fluid", "memory", fmt::format("about {} MiB per rank (two copies of {} populations per cell)",
-                                       config::number(2.0 * Q * 8.0 * block * 1.1 / (1 << 20)), Q));
+  // Two fluids, or interior solids: red and blue populations (two copies
+  // each), the colour field and the solid map; the colour kernel's rate.
+  const bool colours = fp.two_phase.on || !fp.solids.empty();
+  const double copies = colours ? 4.0 : 2.0, rate = colours ? kColourCellUpdatesPerRankPerSecond
+                                                             : kCellUpdatesPerRankPerSecond;
+  r.add("fluid", "memory",
+        fmt::format("about {} MiB per rank ({} copies of {} populations per cell{})",
+                    config::number((copies * Q + (colours ? 1.2 : 0.0)) * 8.0 * block * 1.1 / (1 << 20)),
+                    colours ? "four" : "two", Q, colours ? ": red and blue" : ""));
   const double windows = cfg.components.size() > 1 ? std::ceil(cfg.run.end_time / window - 1e-9) : 0.0;
-  const double hours = (steps * block / kCellUpdatesPerRankPerSecond + windows * kSecondsPerCoupledWindow) / 3600.0;
+  const double hours = (steps * block / rate + windows * kSecondsPerCoupledWindow) / 3600.0;
   r.add("fluid", "wall time",
         fmt::format("about {} (a rough figure: {} cell updates per second per rank{})", config::duration(hours * 3600.0),
-                    config::number(kCellUpdatesPerRankPerSecond),
+                    config::number(rate),
                     windows > 0 ? fmt::format(", {} s per coupled window", kSecondsPerCoupledWindow) : ""));
   if (hours > kLongRunHours)
     r.warn("fluid", fmt::format("the run would take about {} ({} steps of {} cells per rank): check "

@@ -33,9 +33,14 @@ namespace {
 config::Contract contract(const config::Config& cfg, const std::string& variant) {
   namespace f = config::fields;
   config::Contract c;
-  // A two-phase lbm does not yet take partially saturated cells (wetted grains).
-  const YAML::Node tp = cfg.resolved["fluid"]["two_phase"];
-  const bool two_phase = tp.IsDefined() && !tp.IsNull();
+  // A two-phase lbm, or one with interior solids, does not yet take partially
+  // saturated cells (wetted grains).
+  bool two_phase = false;
+  if (cfg.resolved.IsMap() && cfg.resolved["fluid"].IsMap()) {
+    const YAML::Node fluid = cfg.resolved["fluid"];
+    two_phase = (fluid["two_phase"].IsDefined() && fluid["two_phase"].IsMap()) ||
+                (fluid["solids"].IsDefined() && fluid["solids"].IsSequence() && fluid["solids"].size() > 0);
+  }
   if (variant == "lbm" || variant == "lbm-reference")
     c.provides = two_phase ? std::vector<config::Field>{f::velocity, f::pressure}
                            : std::vector<config::Field>{f::velocity, f::pressure, f::solid_force};

@@ -76,8 +76,9 @@ std::string read_voxels(const SolidParams& s, std::vector<std::uint8_t>* out) {
   }
   const auto bytes = static_cast<long>(std::filesystem::file_size(s.file.path));
   if (bytes != want[0] * want[1] * want[2])
-    return fmt::format("{} holds {} bytes, but shape {} x {} x {} needs {} (raw: one uint8 per voxel, x fastest)",
-                       s.file.path, bytes, want[0], want[1], want[2], want[0] * want[1] * want[2]);
+    return fmt::format("the raw image holds {} bytes, but shape {} x {} x {} needs {} (one uint8 per voxel, x "
+                       "fastest; or give dataset for HDF5): {}",
+                       bytes, want[0], want[1], want[2], want[0] * want[1] * want[2], s.file.path);
   if (out) {
     out->resize(static_cast<std::size_t>(bytes));
     std::ifstream in(s.file.path, std::ios::binary);

@@ -65,6 +65,11 @@ struct Copy {
 };
 
 constexpr double bytes_per_update = 304.0;
+// Two colours: 2 x 19 pulled loads and 2 x 19 stores of 8 B, and the colour
+// field written and read once (16 B): the least a fused colour-gradient update
+// moves. lbm's colour kernel today streams in one pass and collides in a
+// second (about twice this).
+constexpr double two_phase_bytes = 624.0;
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -90,7 +95,9 @@ struct Steps {
 // general: TRT with a Guo body force (the general kernel) instead of BGK
 // without force (the lean kernel); packed: populations one after another
 // instead of lbm::spaced_stride apart (fluid.lbm.layout).
-Steps mlups(long n, int steps, bool general, bool packed, Copy& copy) {
+// two_phase: red and blue populations (colour gradient, TRT, a droplet in the
+// box), whose roofline counts two_phase_bytes per update.
+Steps mlups(long n, int steps, bool general, bool packed, Copy& copy, bool two_phase = false) {
   const std::string text = fmt::format(R"(
 run: {{name: bench-lbm, end_time: 1.0}}
 domain: {{lower: [0, 0, 0], upper: [{0}, {0}, {0}], cells: [{1}, {1}, {1}], periodic: [true, true, true]}}
@@ -98,12 +105,18 @@ fluid:
   solver: lbm
   density: 1000.0
   viscosity: 1.0e-6
-  initial: {{field: taylor-green, amplitude: 1.0e-4}}
+  initial: {{field: taylor-green, amplitude: 1.0e-4{5}}}
   body_force: [{2}, 0.0, 0.0]
   lbm: {{lattice: D3Q19, formulation: standard, tau: 0.8, collision: {3}, layout: {4}}}
+{6}
 )",
                                        n * 1e-3, n, general ? 1.0e-3 : 0.0, general ? "trt" : "bgk",
-                                       packed ? "packed" : "auto");
+                                       packed ? "packed" : "auto",
+                                       two_phase ? fmt::format(", phase: [{{fill: {{phase: blue}}}}, {{sphere: "
+                                                               "{{centre: [{0}, {0}, {0}], radius: {1}, phase: red}}}}]",
+                                                               n * 5e-4, n * 2.5e-4)
+                                                 : "",
+                                       two_phase ? "  two_phase: {surface_tension: 1.0e-6}" : "");
   const config::Config cfg = config::parse_config_node(YAML::Load(text), "bench", catalog());
   const fluid::FluidParams params = fluid::read_params(cfg);
   const coupler::Decomposition dec({n, n, n}, 1, {1, 1, 1}, {true, true, true});
@@ -117,7 +130,8 @@ fluid:
     solver->advance(dt);
     const double t = coupler::now() - t0;
     const double after = copy.best(2);
-    out.add(static_cast<double>(n) * n * n / t / 1e6, std::max(before, after) / bytes_per_update / 1e6);
+    out.add(static_cast<double>(n) * n * n / t / 1e6,
+            std::max(before, after) / (two_phase ? two_phase_bytes : bytes_per_update) / 1e6);
     before = after;
   }
   return out;
@@ -189,6 +203,8 @@ int main(int argc, char** argv) {
   std::printf("D3Q19 BGK 128^3 periodic, 1 rank: %s\n", mlups(128, 2 * steps, false, false, copy).describe().c_str());
   std::printf("D3Q19 BGK 256^3 periodic, 1 rank, packed layout: %s\n",
               mlups(256, steps, false, true, copy).describe().c_str());
+  std::printf("D3Q19 TRT two-phase (colour gradient, a droplet) 128^3 periodic, 1 rank, against %.0f B per update: %s\n",
+              two_phase_bytes, mlups(128, 3, false, false, copy, true).describe().c_str());
   const Steps last = mlups(256, steps, false, false, copy);
   std::printf("D3Q19 BGK 256^3 periodic, 1 rank: %s\n", last.describe().c_str());
   std::printf("RESULT mlups=%.2f roofline_mlups=%.2f fraction=%.3f\n", median(last.mlups), median(last.roof),

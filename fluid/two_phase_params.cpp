@@ -9,6 +9,9 @@
 
 #include <fmt/format.h>
 
+#include "coflow/stl.hpp"
+#include "fluid/mesh_voxels.hpp"
+
 namespace coflow::fluid {
 
 namespace {
@@ -208,6 +211,26 @@ void visit_solids(config::Visitor& v, const config::Config& cfg, std::vector<Sol
             }
           if (auto err = check_voxel_file(p); !err.empty()) s.fail("file", err);
         }},
+       {"mesh", "a closed triangle mesh (STL, ASCII or binary): the cells whose centres it holds",
+        [&, angle](config::Visitor& s) {
+          auto& p = out.emplace_back();
+          p.kind = "mesh";
+          s.required("file", p.file, "an STL file, relative to this file");
+          s("scale", p.scale, "factor applied to the file's coordinates (0.001 for a mesh drawn in millimetres)",
+            config::positive());
+          s("translate", p.translate, "shift in m applied after the scale");
+          angle(s, p);
+          if (!s.reading()) return;
+          try {
+            const stl::MeshSummary m = stl::summarize(load_solid_mesh(p));
+            if (!m.closed)
+              s.fail("file", fmt::format("{}: the mesh is open ({} edges of one triangle); a solid needs a closed "
+                                         "surface, whose inside is the solid",
+                                         p.file.path, m.open_edges));
+          } catch (const std::runtime_error& e) {
+            s.fail("file", e.what());
+          }
+        }},
        {"sphere", "a sphere (a disc in 2D: z is ignored)",
         [&, angle](config::Visitor& s) {
           auto& p = out.emplace_back();
@@ -233,6 +256,12 @@ void visit_solids(config::Visitor& v, const config::Config& cfg, std::vector<Sol
 
 std::string check_voxel_file(const SolidParams& s) { return read_voxels(s, nullptr); }
 
+stl::TriangleMesh load_solid_mesh(const SolidParams& s) {
+  stl::TriangleMesh m = stl::read(s.file.path);
+  stl::transform(m, s.scale, stl::V3(s.translate[0], s.translate[1], s.translate[2]));
+  return m;
+}
+
 std::vector<std::uint8_t> solid_map(const config::Config& cfg, const std::vector<SolidParams>& solids) {
   const auto& d = cfg.domain;
   const auto h = d.spacing();
@@ -242,6 +271,12 @@ std::vector<std::uint8_t> solid_map(const config::Config& cfg, const std::vector
   for (std::size_t n = 0; n < solids.size(); ++n) {
     const auto& s = solids[n];
     const auto id = static_cast<std::uint8_t>(n + 1);
+    if (s.kind == "mesh") {
+      const auto inside = mesh_voxels(load_solid_mesh(s), cfg.domain);
+      for (std::size_t c = 0; c < map.size(); ++c)
+        if (inside[c]) map[c] = id;
+      continue;
+    }
     if (s.kind == "voxels") {
       std::vector<std::uint8_t> img;
       if (auto err = read_voxels(s, &img); !err.empty()) throw std::runtime_error("fluid.solids: " + err);

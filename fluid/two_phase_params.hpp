@@ -10,6 +10,7 @@
 
 #include "coflow/config.hpp"
 #include "coflow/run_config.hpp"
+#include "coflow/stl.hpp"
 
 namespace coflow::fluid {
 
@@ -38,10 +39,13 @@ struct PhaseRegion {
   bool contains(const Vec3& x) const;
 };
 
-// One interior solid of fluid.solids: a voxel image, a sphere or a box.
+// One interior solid of fluid.solids: a voxel image, a closed STL mesh, a
+// sphere or a box.
 struct SolidParams {
-  std::string kind = "voxels";  // voxels | sphere | box
-  config::FilePath file;        // voxels: raw uint8 (x fastest) or HDF5
+  std::string kind = "voxels";  // voxels | mesh | sphere | box
+  config::FilePath file;        // voxels: raw uint8 (x fastest) or HDF5; mesh: STL
+  double scale = 1.0;           // mesh: factor on the file's coordinates
+  Vec3 translate{0, 0, 0};      // mesh: shift after the scale, m
   std::string dataset;          // voxels in HDF5: the dataset's name
   config::Numbers shape;        // voxels: [nx, ny, nz], = domain.cells
   config::Numbers centre, lower, upper;
@@ -66,5 +70,8 @@ std::vector<std::uint8_t> solid_map(const config::Config& cfg, const std::vector
 // The number of voxels of a raw or HDF5 image and its shape (x, y, z); an
 // error message instead when it cannot be read or its size is not nx ny nz.
 std::string check_voxel_file(const SolidParams& s);
+
+// The STL of a mesh solid, scaled and translated; throws std::runtime_error.
+stl::TriangleMesh load_solid_mesh(const SolidParams& s);
 
 }  // namespace coflow::fluid

@@ -1,35 +1,23 @@
-// Triangle meshes from STL files (ASCII or binary), for mesh walls. Part of the
-// particles schema library: validation reads the files, without FCL.
+// Triangle meshes of mesh walls (coflow/stl.hpp reads them), and a wall's mesh
+// with its scale and translate. Part of the particles schema library.
 #pragma once
 
 #include <array>
 #include <string>
 #include <vector>
 
+#include "coflow/stl.hpp"
 #include "particles/dem/contact.hpp"
 
 namespace coflow::particles::dem {
 
-struct TriangleMesh {
-  std::vector<V3> vertices;
-  std::vector<std::array<int, 3>> triangles;
-};
-
-// Reads an STL file; throws std::runtime_error naming the file and the problem.
-TriangleMesh read_stl(const std::string& path);
-
-// x -> scale x + shift for every vertex (a mesh in other units or frame).
-void transform(TriangleMesh& m, double scale, const V3& shift);
-
-// What a mesh is: its triangles, bounding box, and whether it is closed (every
-// edge shared by exactly two triangles; an open surface is a one-sided wall).
-struct MeshSummary {
-  std::size_t triangles = 0;
-  V3 lower = V3::Zero(), upper = V3::Zero();
-  bool closed = false;
-  std::size_t open_edges = 0;  // edges of one triangle only
-};
-MeshSummary summarize(const TriangleMesh& m);
+// The mesh reader is the coupler's (coflow/stl.hpp), shared with the fluid's
+// interior solids.
+using stl::MeshSummary;
+using stl::summarize;
+using stl::transform;
+using stl::TriangleMesh;
+inline TriangleMesh read_stl(const std::string& path) { return stl::read(path); }
 
 }  // namespace coflow::particles::dem
 

@@ -137,6 +137,7 @@ int contact_angle(const std::string& dir);
 int layered(const std::string& dir);
 int colour_mass(const std::string& dir);
 int permeability(const std::string& dir);
+int washburn(const std::string& dir);
 // compare.cpp
 int compare(const std::string& a, const std::string& b);
 

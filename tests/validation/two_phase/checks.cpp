@@ -203,6 +203,54 @@ int permeability(const std::string& dir) {
   return 0;
 }
 
+// Capillary filling of a slit between the two plates fluid.solids[0] (below)
+// and [1] (above), red entering at the plates' left end: in each snapshot the
+// meniscus on the gap's centreline (phase = 0 between cell centres), l its
+// distance into the slit; Washburn's law with both fluids' Poiseuille
+// resistance in the slit of length L, X(l) = mu_r l^2 / 2 + mu_b (L l - l^2 / 2)
+// = gamma H cos(theta) t / 6 + const, fitted (least squares) over the
+// snapshots with l in [L/2, 0.9 L], after the entrance transient.
+int washburn(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  const auto& d = cfg.domain;
+  const auto h = d.spacing();
+  const auto& below = fp.solids.at(0);
+  const auto& above = fp.solids.at(1);
+  const double x0 = below.lower.values[0], L = below.upper.values[0] - x0;
+  const double H = above.lower.values[1] - below.upper.values[1];
+  const double yc = below.upper.values[1] + 0.5 * H;
+  const long j0 = std::lround((yc - d.lower[1]) / h[1]) - 1;  // the two rows about the centreline
+  const double mu_r = fp.density * fp.viscosity, mu_b = fp.density * fp.two_phase.viscosity_blue;
+  const double theta = (below.contact_angle < 0 ? fp.two_phase.contact_angle : below.contact_angle) *
+                       std::numbers::pi / 180.0;
+  double n = 0, st = 0, sx = 0, stt = 0, stx = 0;
+  long used = 0;
+  for (const auto& [index, t] : snapshots(dir, "fluid")) {
+    std::vector<std::size_t> dims;
+    const auto phase = output::read_dataset(dir + "/fluid/" + output::snapshot_name(index), "phase", &dims);
+    const long nx = static_cast<long>(dims[2]);
+    const auto centre = [&](long i) { return 0.5 * (phase[j0 * nx + i] + phase[(j0 + 1) * nx + i]); };
+    const long i0 = std::lround((x0 - d.lower[0]) / h[0]), i1 = i0 + std::lround(L / h[0]);
+    double xm = -1.0;
+    for (long i = i0 + 1; i < i1 && xm < 0; ++i)
+      if (centre(i - 1) >= 0.0 && centre(i) < 0.0)
+        xm = d.lower[0] + (i - 0.5 + centre(i - 1) / (centre(i - 1) - centre(i))) * h[0];
+    const double l = xm - x0;
+    if (xm < 0 || l < 0.5 * L || l > 0.9 * L) continue;
+    const double X = mu_r * l * l / 2 + mu_b * (L * l - l * l / 2);
+    n += 1, st += t, sx += X, stt += t * t, stx += t * X;
+    ++used;
+  }
+  if (used < 5) throw std::runtime_error(fmt::format("{}: the meniscus is in [L/2, 0.9 L] in {} snapshots", dir, used));
+  const double slope = (n * stx - st * sx) / (n * stt - st * st);
+  const double washburn = fp.two_phase.surface_tension * H * std::cos(theta) / 6.0;
+  std::printf("snapshots=%ld\nslope=%.6e\nwashburn_slope=%.6e\nwashburn_error=%.6e\n", used, slope, washburn,
+              std::abs(slope / washburn - 1.0));
+  std::printf("colour_mass_drift=%.6e\n", colour_mass_drift(dir));
+  return 0;
+}
+
 // The colour masses alone (any two-phase run).
 int colour_mass(const std::string& dir) {
   std::printf("colour_mass_drift=%.6e\n", colour_mass_drift(dir));

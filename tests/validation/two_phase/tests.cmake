@@ -35,3 +35,5 @@ coflow_validation(two_phase_ranks_1_vs_4 compare two_phase_crosscheck_3d.yaml 2
 # Each colour's mass over 10^4 steps (in the 3D crosscheck case).
 coflow_validation(two_phase_colour_mass colour_mass two_phase_crosscheck_3d.yaml 1
   --set run.end_time=1000.0 --set run.output.every=1000.0)
+# Capillary filling of a slit (Washburn 1921, the displaced fluid's resistance kept).
+coflow_validation(two_phase_washburn washburn two_phase_washburn.yaml 1)

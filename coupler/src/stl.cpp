@@ -1,4 +1,4 @@
-#include "particles/dem/stl.hpp"
+#include "coflow/stl.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -9,9 +9,9 @@
 
 #include <fmt/format.h>
 
-namespace coflow::particles::dem {
+namespace coflow::stl {
 
-TriangleMesh read_stl(const std::string& path) {
+TriangleMesh read(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open the mesh file", path));
   std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -92,4 +92,4 @@ MeshSummary summarize(const TriangleMesh& m) {
   return s;
 }
 
-}  // namespace coflow::particles::dem
+}  // namespace coflow::stl

@@ -23,8 +23,16 @@ void BoundaryParams::visit(config::Visitor& v) {
     "lbm: how a pressure or velocity face sets its populations: regularized (Latt et al. 2008; auto for pressure "
     "faces: no odd-even oscillation) or zou-he (Zou & He 1997; auto for velocity faces)",
     config::one_of({"auto", "regularized", "zou-he"}));
+  v("phase", phase,
+    "two-phase lbm: the fluid that enters through this pressure or velocity face, red or blue (drainage, "
+    "imbibition); omitted: what enters takes the colour of the face's cell, as at an outlet",
+    config::one_of({"", "red", "blue"}));
   if (!v.reading()) return;
   const bool given = v.given("value");
+  if (!phase.empty() && type != "pressure" && type != "velocity")
+    v.fail("phase", fmt::format("a {} boundary lets nothing of a chosen colour in; phase is for pressure and velocity "
+                                "faces",
+                                type));
   if ((type == "wall" || type == "outflow") && closure != "auto")
     v.fail("closure", fmt::format("a {} boundary has no closure to choose", type));
   if (closure == "auto") closure = type == "pressure" ? "regularized" : type == "velocity" ? "zou-he" : "auto";
@@ -77,18 +85,15 @@ void FluidParams::visit(config::Visitor& v, const config::Config& cfg) {
       },
       &two_phase.on);
   visit_solids(v, cfg, solids);
-  if (!v.reading() || (!two_phase.on && solids.empty())) return;
-  if (two_phase.on && two_phase.viscosity_blue == 0.0) two_phase.viscosity_blue = viscosity;
+  if (!v.reading()) return;
   for (int f = 0; f < 6; ++f) {
     const auto it = boundaries.find(face_names()[f]);
-    if (it != boundaries.end() && it->second.type != "wall")
-      v.fail("boundaries", fmt::format("face {} is {}: {} takes walls and periodic faces only ({} not built "
-                                       "yet); make it a wall, or periodic",
-                                       face_names()[f], it->second.type,
-                                       two_phase.on ? "a two-phase fluid" : "a fluid with interior solids",
-                                       two_phase.on ? "inlets and outlets that carry a phase are"
-                                                    : "open faces beside interior solids are"));
+    if (it != boundaries.end() && !it->second.phase.empty() && !two_phase.on)
+      v.fail("boundaries", fmt::format("face {} gives a phase, but the fluid is one: add fluid.two_phase, or "
+                                       "leave phase out",
+                                       face_names()[f]));
   }
+  if (two_phase.on && two_phase.viscosity_blue == 0.0) two_phase.viscosity_blue = viscosity;
 }
 
 void FluidParams::initial_state(const config::Config& cfg, const Vec3& x, Vec3& u, double& p) const {

@@ -20,6 +20,7 @@ struct BoundaryParams {
   config::Numbers value;      // pressure (Pa) or velocity (m/s)
   double ramp = 0.0;          // s: the value rises linearly from zero over this time
   std::string closure = "auto";  // lbm: regularized | zou-he | auto (the type's default)
+  std::string phase;             // two-phase: red | blue enters here; "": the colour of the face's cell
   void visit(config::Visitor& v);
 };
 

@@ -29,6 +29,8 @@ struct Face {
   std::array<double, 3> u_full{0, 0, 0};
   double ramp_steps = 0.0;          // steps of the linear ramp from rest (0: none)
   bool regularized = false;         // pressure/velocity: Latt et al. (2008) instead of Zou-He
+  double phase = 0.0;               // two fluids: the colour fraction (rho_r - rho_b) / rho that enters
+  bool phase_given = false;         // else what enters takes the colour of the face's cell
 };
 
 // Pressure and velocity faces at the step that ends at time (step + 1) dt:
@@ -132,6 +134,8 @@ inline Setup make_setup(const config::Config& cfg, const FluidParams& fp, const 
     }
     face.ramp_steps = b.ramp / s.units.dt;
     face.regularized = b.closure == "regularized";
+    face.phase_given = !b.phase.empty();
+    face.phase = b.phase == "blue" ? -1.0 : 1.0;
     // A 2D run has no z faces: treat them as periodic (one cell, nothing crosses).
     if (cfg.domain.cells[f / 2] == 1) face.type = FaceType::periodic;
   }

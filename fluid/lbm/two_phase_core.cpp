@@ -7,6 +7,7 @@
 
 #include "coflow/session.hpp"
 #include "fluid/grid/ghost_exchange.hpp"
+#include "fluid/lbm/boundaries.hpp"
 #include "fluid/lbm/colour_gradient.hpp"
 #include "fluid/lbm/populations.hpp"
 
@@ -52,6 +53,7 @@ class TwoPhaseCore final : public LbmCore {
     blue_.halo.finish(blue_.f.data(), cells_);
     stream();
     ghosts_.exchange(phi_);
+    fill_open_ghosts();
     max_u2_ = 0.0;
     for_owned([&](long i, long j, long k, long x) {
       if (!solid_[x]) collide_cell(i, j, k, x);
@@ -149,24 +151,42 @@ class TwoPhaseCore final : public LbmCore {
   // each takes its fixed colour phi_s = cos(theta) (seed 000, "Molhabilidade").
   void mark_solids() {
     solid_.assign(static_cast<std::size_t>(cells_), 0);
+    open_.assign(static_cast<std::size_t>(cells_), 0);
     const auto& n = s_.cells;
     for (long k = -lay_.ghost[2]; k < lay_.extent[2] + lay_.ghost[2]; ++k)
       for (long j = -lay_.ghost[1]; j < lay_.extent[1] + lay_.ghost[1]; ++j)
         for (long i = -lay_.ghost[0]; i < lay_.extent[0] + lay_.ghost[0]; ++i) {
-          long g[3] = {lay_.origin[0] + i, lay_.origin[1] + j, lay_.origin[2] + k};
+          long g[3] = {lay_.origin[0] + i, lay_.origin[1] + j, lay_.origin[2] + k}, in[3] = {i, j, k};
           std::uint8_t id = 0;
+          const Face* open = nullptr;
           for (int d = 0; d < 3; ++d) {
             if (g[d] >= 0 && g[d] < n[d]) continue;
-            if (s_.faces[2 * d + (g[d] < 0 ? 0 : 1)].type == FaceType::periodic)
+            const Face& face = s_.faces[2 * d + (g[d] < 0 ? 0 : 1)];
+            if (face.type == FaceType::periodic) {
               g[d] = (g[d] + n[d]) % n[d];
-            else
+            } else if (face.type == FaceType::wall) {
               id = kWall;
+            } else {
+              open = &face;
+              in[d] += g[d] < 0 ? 1 : -1;  // the face's cell
+            }
+          }
+          const long x = lay_.idx(i, j, k);
+          if (id == 0 && open) {  // beyond a pressure, velocity or outflow face
+            open_[x] = 1;
+            open_ghosts_.push_back({x, open->phase_given ? -1 : lay_.idx(in[0], in[1], in[2]), open->phase});
+            continue;
           }
           if (id == 0 && s_.tp.any_solid()) id = (*s_.tp.solids)[static_cast<std::size_t>((g[2] * n[1] + g[1]) * n[0] + g[0])];
-          const long x = lay_.idx(i, j, k);
           solid_[x] = id;
           if (id) phi_[x] = id == kWall ? s_.tp.wall_phase : s_.tp.solid_phase.at(id);
         }
+  }
+
+  // Beyond open faces the colour field is the entering phase where the face
+  // gives one, else the face cell's (no gradient across the face).
+  void fill_open_ghosts() {
+    for (const auto& g : open_ghosts_) phi_[g.x] = g.source >= 0 ? phi_[g.source] : g.phase;
   }
 
   // The owned fluid cells next to solids (geometric wetting): the solid's unit
@@ -216,24 +236,92 @@ class TwoPhaseCore final : public LbmCore {
   void stream() {
     for_owned([&](long i, long j, long k, long x) {
       if (solid_[x]) return;
-      double rr = 0.0, bb = 0.0;
+      bool unknown[L::Q], any = false;
       for (int q = 0; q < L::Q; ++q) {
         const long src = x - off_[q];
-        double r, b;
+        double r = 0.0, b = 0.0;
+        unknown[q] = open_[src] != 0;
+        any = any || unknown[q];
         if (solid_[src]) {
           r = red_.f[L::opp[q] * cells_ + x];
           b = blue_.f[L::opp[q] * cells_ + x];
           if (solid_[src] == kWall) wall_take(i, j, k, q, r + b);
-        } else {
+        } else if (!unknown[q]) {
           r = red_.f[q * cells_ + src];
           b = blue_.f[q * cells_ + src];
         }
         red_.next[q * cells_ + x] = r;
         blue_.next[q * cells_ + x] = b;
-        rr += r, bb += b;
       }
+      if (any) close_cell(i, j, k, x, unknown);
+      double rr = 0.0, bb = 0.0;
+      for (int q = 0; q < L::Q; ++q) rr += red_.next[q * cells_ + x], bb += blue_.next[q * cells_ + x];
       phi_[x] = rr - bb;
     });
+  }
+
+  // The unknown populations of a cell on open faces, as lbm-reference does:
+  // outflow faces first (each colour copied from the next cell in, post-
+  // collision), then the Zou-He or regularized closure of the colours' sum on
+  // pressure and velocity faces, in face order (fluid/lbm/boundaries.hpp).
+  // What the closure sets takes the face's phase where it gives one, else the
+  // colour fraction of the cell's known populations; the populations a
+  // regularized face rebuilds keep their own colour fractions.
+  void close_cell(long i, long j, long k, long x, bool* unknown) {
+    double r[L::Q], b[L::Q], f[L::Q], F[3];
+    for (int q = 0; q < L::Q; ++q) r[q] = red_.next[q * cells_ + x], b[q] = blue_.next[q * cells_ + x];
+    const long loc[3] = {lay_.origin[0] + i, lay_.origin[1] + j, lay_.origin[2] + k};
+    const long c = (k * lay_.extent[1] + j) * lay_.extent[0] + i;
+    for (int d = 0; d < 3; ++d) F[d] = s_.force[d] + (src_.empty() ? 0.0 : src_[3 * c + d]);
+    const auto on = [&](int face) {
+      const int axis = face / 2;
+      return s_.cells[axis] > 1 && loc[axis] == (face % 2 == 0 ? 0 : s_.cells[axis] - 1);
+    };
+    const auto inner = [&](int face) {
+      const int axis = face / 2, s = face % 2 == 0 ? 1 : -1;
+      return x + s * (axis == 0 ? 1 : axis == 1 ? lay_.padded[0] : lay_.padded[0] * lay_.padded[1]);
+    };
+    for (int face = 0; face < 6; ++face) {
+      if (s_.faces[face].type != FaceType::outflow || !on(face)) continue;
+      const int axis = face / 2, s = face % 2 == 0 ? 1 : -1;
+      for (int q = 0; q < L::Q; ++q)
+        if (s * L::e[q][axis] > 0) {
+          r[q] = red_.f[q * cells_ + inner(face)], b[q] = blue_.f[q * cells_ + inner(face)];
+          unknown[q] = false;
+        }
+    }
+    double psi = -1.0, known_r = 0.0, known = 0.0;
+    for (int q = 0; q < L::Q; ++q)
+      if (!unknown[q]) known_r += r[q], known += r[q] + b[q];
+    bool set[L::Q] = {}, rebuilt = false;
+    for (int q = 0; q < L::Q; ++q) f[q] = r[q] + b[q] - L::w[q];
+    for (int face = 0; face < 6; ++face) {
+      const Face& fc = s_.faces[face];
+      if ((fc.type != FaceType::pressure && fc.type != FaceType::velocity) || !on(face)) continue;
+      const int axis = face / 2, s = face % 2 == 0 ? 1 : -1;
+      if (fc.phase_given) psi = 0.5 * (1.0 + fc.phase);
+      if (fc.regularized) {
+        double uin[3], rho_in = 0.0, m[3] = {0.0, 0.0, 0.0};
+        for (int q = 0; q < L::Q; ++q) {
+          const double v = red_.f[q * cells_ + inner(face)] + blue_.f[q * cells_ + inner(face)];
+          rho_in += v;
+          for (int d = 0; d < 3; ++d) m[d] += L::e[q][d] * v;
+        }
+        for (int d = 0; d < 3; ++d) uin[d] = (m[d] - 0.5 * F[d]) / (Incompressible ? 1.0 : rho_in);
+        regularized<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data(), uin);
+        rebuilt = true;
+      } else {
+        zou_he<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data());
+      }
+      for (int q = 0; q < L::Q; ++q) set[q] = set[q] || s * L::e[q][axis] > 0;
+    }
+    if (psi < 0.0) psi = known > 0.0 ? known_r / known : 0.5;
+    for (int q = 0; q < L::Q; ++q) {
+      const double total = f[q] + L::w[q];
+      const double red = set[q] ? psi * total : rebuilt ? total * r[q] / (r[q] + b[q]) : r[q];
+      red_.next[q * cells_ + x] = set[q] || rebuilt ? red : r[q];
+      blue_.next[q * cells_ + x] = set[q] || rebuilt ? total - red : b[q];
+    }
   }
 
   // Ladd's momentum exchange: population opp(q) of mass f went into the wall
@@ -284,6 +372,12 @@ class TwoPhaseCore final : public LbmCore {
     double ns[3];
     double cos_theta;
   };
+  std::vector<std::uint8_t> open_;  // 1: a ghost beyond a pressure, velocity or outflow face
+  struct OpenGhost {
+    long x, source;  // the ghost; the face's cell whose colour it copies (-1: phase)
+    double phase;
+  };
+  std::vector<OpenGhost> open_ghosts_;
   std::vector<int> wet_index_;  // geometric wetting: per cell, into wet_ (-1: no solid neighbour)
   std::vector<Wet> wet_;
   std::vector<double> src_;

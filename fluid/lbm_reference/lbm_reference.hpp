@@ -48,6 +48,8 @@ class LbmReference final : public FluidSolver {
   bool colours() const { return s_.tp.on || s_.tp.any_solid(); }
   void init_colours();
   void step_colours();
+  void close_colours(long i, long j, long k, std::vector<bool>& unknown, const std::vector<double>& post_r,
+                     const std::vector<double>& post_b);
   double phi_at(long i, long j, long k) const;  // colour field, solids' colour, wrapped
   bool solid_at(long i, long j, long k) const;
   void colour_gradient(long i, long j, long k, double g[3]) const;

@@ -37,11 +37,22 @@ void LbmReference::init_colours() {
 // periodic faces, the walls' colour beyond the others, a solid's own colour.
 double LbmReference::phi_at(long i, long j, long k) const {
   long x[3] = {i, j, k};
+  const lbm::Face* open = nullptr;
+  bool wall = false;
   for (int d = 0; d < 3; ++d) {
     if (x[d] >= 0 && x[d] < n_[d]) continue;
-    if (s_.faces[2 * d + (x[d] < 0 ? 0 : 1)].type != FaceType::periodic) return s_.tp.wall_phase;
-    x[d] = (x[d] + n_[d]) % n_[d];
+    const lbm::Face& face = s_.faces[2 * d + (x[d] < 0 ? 0 : 1)];
+    if (face.type == FaceType::periodic) {
+      x[d] = (x[d] + n_[d]) % n_[d];
+    } else if (face.type == FaceType::wall) {
+      wall = true;
+    } else {
+      open = &face;  // beyond an open face: its phase, or the face cell's colour
+      x[d] = std::clamp(x[d], 0L, n_[d] - 1);
+    }
   }
+  if (wall) return s_.tp.wall_phase;
+  if (open && open->phase_given) return open->phase;
   const long c = index(x[0], x[1], x[2]);
   return solid_id_[c] ? s_.tp.solid_phase.at(solid_id_[c]) : phi_[c];
 }
@@ -55,28 +66,36 @@ void LbmReference::step_colours() {
       for (long i = 0; i < n_[0]; ++i) {
         const long c = index(i, j, k);
         if (solid_id_[c]) continue;
-        double red = 0.0, blue = 0.0;
+        std::vector<bool> unknown(Q_, false);
+        bool any = false;
         for (int q = 0; q < Q_; ++q) {
           long src[3] = {i - e_[q][0], j - e_[q][1], k - e_[q][2]};
-          bool wall = false;
+          bool wall = false, open = false;
           for (int d = 0; d < 3; ++d) {
             if (src[d] >= 0 && src[d] < n_[d]) continue;
-            if (s_.faces[2 * d + (src[d] < 0 ? 0 : 1)].type == FaceType::periodic)
+            const FaceType t = s_.faces[2 * d + (src[d] < 0 ? 0 : 1)].type;
+            if (t == FaceType::periodic)
               src[d] = (src[d] + n_[d]) % n_[d];
-            else
+            else if (t == FaceType::wall)
               wall = true;
+            else
+              open = true;
           }
-          const long s = wall ? -1 : index(src[0], src[1], src[2]);
-          if (wall || solid_id_[s]) {
+          const long s = wall || open ? -1 : index(src[0], src[1], src[2]);
+          r_[c * Q_ + q] = b_[c * Q_ + q] = 0.0;  // from beyond an open face: unknown, closed below
+          if (wall || (!open && solid_id_[s])) {
             r_[c * Q_ + q] = post_r[c * Q_ + opp_[q]];
             b_[c * Q_ + q] = post_b[c * Q_ + opp_[q]];
-          } else {
+          } else if (!open) {
             r_[c * Q_ + q] = post_r[s * Q_ + q];
             b_[c * Q_ + q] = post_b[s * Q_ + q];
           }
-          red += r_[c * Q_ + q];
-          blue += b_[c * Q_ + q];
+          unknown[q] = open && !wall;
+          any = any || unknown[q];
         }
+        if (any) close_colours(i, j, k, unknown, post_r, post_b);
+        double red = 0.0, blue = 0.0;
+        for (int q = 0; q < Q_; ++q) red += r_[c * Q_ + q], blue += b_[c * Q_ + q];
         phi_[c] = red - blue;
       }
   for (long k = 0; k < n_[2]; ++k)
@@ -92,15 +111,87 @@ void LbmReference::step_colours() {
   ++steps_;
 }
 
+// The populations of cell (i, j, k) that came from beyond open faces: outflow
+// faces copy each colour from the next cell in (post-collision); then the
+// colours' sum is closed by Zou-He or the regularized closure of each
+// pressure or velocity face, in face order (apply_face's arithmetic, one
+// cell). What a closure sets enters with the face's phase, or with the colour
+// fraction of the cell's known populations; populations a regularized face
+// rebuilds keep their colour fractions.
+void LbmReference::close_colours(long i, long j, long k, std::vector<bool>& unknown, const std::vector<double>& post_r,
+                                 const std::vector<double>& post_b) {
+  const long c = index(i, j, k), x[3] = {i, j, k};
+  double* r = &r_[c * Q_];
+  double* b = &b_[c * Q_];
+  const auto inner = [&](int face) {
+    long in[3] = {i, j, k};
+    in[face / 2] += face % 2 == 0 ? 1 : -1;
+    return index(in[0], in[1], in[2]);
+  };
+  const auto on = [&](int face) { return n_[face / 2] > 1 && x[face / 2] == (face % 2 == 0 ? 0 : n_[face / 2] - 1); };
+  for (int face = 0; face < 6; ++face) {
+    if (s_.faces[face].type != FaceType::outflow || !on(face)) continue;
+    const int s = face % 2 == 0 ? 1 : -1;
+    for (int q = 0; q < Q_; ++q)
+      if (s * e_[q][face / 2] > 0) {
+        r[q] = post_r[inner(face) * Q_ + q], b[q] = post_b[inner(face) * Q_ + q];
+        unknown[q] = false;
+      }
+  }
+  double psi = -1.0, known_r = 0.0, known = 0.0;
+  std::vector<double> f(Q_);
+  std::vector<bool> set(Q_, false);
+  bool rebuilt = false;
+  for (int q = 0; q < Q_; ++q) {
+    f[q] = r[q] + b[q];
+    if (!unknown[q]) known_r += r[q], known += r[q] + b[q];
+  }
+  for (int face = 0; face < 6; ++face) {
+    const lbm::Face& F = s_.faces[face];
+    if ((F.type != FaceType::pressure && F.type != FaceType::velocity) || !on(face)) continue;
+    const int axis = face / 2, s = face % 2 == 0 ? 1 : -1;
+    if (F.phase_given) psi = 0.5 * (1.0 + F.phase);
+    double rho, u[3] = {0, 0, 0};
+    face_state(f.data(), axis, s, F, rho, u);
+    if (F.regularized && F.type == FaceType::pressure) {  // with the next cell in (apply_face)
+      double Fc[3], rho_in = 0.0, m[3] = {0, 0, 0};
+      force_at(c, Fc);
+      for (int q = 0; q < Q_; ++q) {
+        const double g = post_r[inner(face) * Q_ + q] + post_b[inner(face) * Q_ + q];
+        rho_in += g;
+        for (int d = 0; d < 3; ++d) m[d] += e_[q][d] * g;
+      }
+      const double rho_m = s_.incompressible ? 1.0 : rho_in;
+      for (int d = 0; d < 3; ++d) u[d] = 0.5 * (u[d] + (m[d] - 0.5 * Fc[d]) / rho_m);
+    }
+    if (F.regularized)
+      regularize(f.data(), axis, s, rho, u);
+    else
+      zou_he(f.data(), axis, s, rho, u);
+    rebuilt = rebuilt || F.regularized;
+    for (int q = 0; q < Q_; ++q) set[q] = set[q] || s * e_[q][axis] > 0;
+  }
+  if (psi < 0.0) psi = known > 0.0 ? known_r / known : 0.5;
+  for (int q = 0; q < Q_; ++q) {
+    if (!set[q] && !rebuilt) continue;
+    const double red = set[q] ? psi * f[q] : f[q] * r[q] / (r[q] + b[q]);
+    r[q] = red;
+    b[q] = f[q] - red;
+  }
+}
+
 // A neighbour of a fluid cell is solid: beyond a wall face or in an interior solid.
 bool LbmReference::solid_at(long i, long j, long k) const {
   long x[3] = {i, j, k};
+  bool open = false;
   for (int d = 0; d < 3; ++d) {
     if (x[d] >= 0 && x[d] < n_[d]) continue;
-    if (s_.faces[2 * d + (x[d] < 0 ? 0 : 1)].type != FaceType::periodic) return true;
-    x[d] = (x[d] + n_[d]) % n_[d];
+    const FaceType t = s_.faces[2 * d + (x[d] < 0 ? 0 : 1)].type;
+    if (t == FaceType::wall) return true;
+    open = open || t != FaceType::periodic;
+    x[d] = t == FaceType::periodic ? (x[d] + n_[d]) % n_[d] : std::clamp(x[d], 0L, n_[d] - 1);
   }
-  return solid_id_[index(x[0], x[1], x[2])] != 0;
+  return !open && solid_id_[index(x[0], x[1], x[2])] != 0;
 }
 
 // The colour gradient of eq. 2.56 at fluid cell (i, j, k). The seed's wetting:

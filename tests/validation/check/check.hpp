@@ -138,6 +138,7 @@ int layered(const std::string& dir);
 int colour_mass(const std::string& dir);
 int permeability(const std::string& dir);
 int washburn(const std::string& dir);
+int injection_phase(const std::string& dir);
 // compare.cpp
 int compare(const std::string& a, const std::string& b);
 

@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
     if (what == "colour_mass" && argc == 3) return colour_mass(argv[2]);
     if (what == "permeability" && argc == 3) return permeability(argv[2]);
     if (what == "washburn" && argc == 3) return washburn(argv[2]);
+    if (what == "injection_phase" && argc == 3) return injection_phase(argv[2]);
     std::fprintf(stderr, "usage: coflow-check profile|decay|mass RUN_DIR | compare RUN_A RUN_B\n");
     return 2;
   } catch (const std::exception& e) {

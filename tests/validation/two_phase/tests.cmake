@@ -37,3 +37,20 @@ coflow_validation(two_phase_colour_mass colour_mass two_phase_crosscheck_3d.yaml
   --set run.end_time=1000.0 --set run.output.every=1000.0)
 # Capillary filling of a slit (Washburn 1921, the displaced fluid's resistance kept).
 coflow_validation(two_phase_washburn washburn two_phase_washburn.yaml 1)
+# Faces that carry a phase: red injected through a velocity inlet (its mass
+# grows at the inlet's flux), and the crosschecks with a pressure outlet
+# (regularized), an outflow outlet, and the inlet on 4 ranks.
+coflow_validation(two_phase_injection injection_phase two_phase_injection.yaml 1)
+coflow_validation(two_phase_injection_vs_reference compare two_phase_injection.yaml 1
+  "fluid.solver=lbm run.end_time=30.0 run.output.every=30.0"
+  "fluid.solver=lbm-reference run.end_time=30.0 run.output.every=30.0")
+coflow_validation(two_phase_outflow_vs_reference compare two_phase_injection.yaml 1
+  "fluid.solver=lbm run.end_time=30.0 run.output.every=30.0 fluid.boundaries.x+={\"type\":\"outflow\"}"
+  "fluid.solver=lbm-reference run.end_time=30.0 run.output.every=30.0 fluid.boundaries.x+={\"type\":\"outflow\"}")
+coflow_validation(two_phase_injection_ranks_1_vs_4 compare two_phase_injection.yaml 2
+  "fluid.ranks=1 run.end_time=60.0 run.output.every=60.0"
+  "fluid.ranks=4 fluid.decomposition=[2,2,1] run.end_time=60.0 run.output.every=60.0")
+# One fluid with an interior solid and open faces.
+coflow_validation(solids_channel_vs_reference compare solids_channel.yaml 1 "fluid.solver=lbm" "fluid.solver=lbm-reference")
+coflow_validation(solids_channel_ranks_1_vs_4 compare solids_channel.yaml 2
+  "fluid.ranks=1" "fluid.ranks=4 fluid.decomposition=[2,2,1]")

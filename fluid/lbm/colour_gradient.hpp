@@ -88,6 +88,13 @@ inline void wet_gradient(double g[3], const double ns[3], double cos_theta) {
   for (int d = 0; d < 3; ++d) g[d] = gn * (-cos_theta * ns[d] + sin_theta * t[d] / tl);
 }
 
+// 1 / |e_q| (1 or 1/sqrt(2) on these lattices; 0 for the rest population).
+template <class L>
+constexpr double inverse_length(int q) {
+  const int e2 = L::e[q][0] * L::e[q][0] + L::e[q][1] * L::e[q][1] + L::e[q][2] * L::e[q][2];
+  return e2 == 0 ? 0.0 : e2 == 1 ? 1.0 : 0.70710678118654752440;
+}
+
 // The two fluids' parameters, lattice units.
 struct ColourParams {
   double gamma = 0.0;       // surface tension
@@ -124,14 +131,13 @@ inline double colour_collide(double* r, double* b, const double g[3], const Colo
   for (int q = 0; q < L::Q; ++q) f[q] += L::w[q];
   const double gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
   if (gg > 0.0) {
-    const double gn = std::sqrt(gg), A = perturbation_amplitude<L>(p.gamma, tau);
-    const double recolour = p.beta * rho_r * rho_b / rho;
+    const double gn = std::sqrt(gg), inv_gg = 1.0 / gg, A = perturbation_amplitude<L>(p.gamma, tau);
+    const double share = rho_r / rho, recolour = p.beta * rho_r * rho_b / (rho * gn);
     for (int q = 1; q < L::Q; ++q) {
       const double eg = L::e[q][0] * g[0] + L::e[q][1] * g[1] + L::e[q][2] * g[2];
-      const double e2 = L::e[q][0] * L::e[q][0] + L::e[q][1] * L::e[q][1] + L::e[q][2] * L::e[q][2];
-      f[q] += 36.0 * L::w[q] * A * gn * (eg * eg / gg - perturbation_shift<L>());  // eq. 2.57
-      r[q] = rho_r / rho * f[q] + recolour * L::w[q] * eg / (std::sqrt(e2) * gn);    // eqs. 2.59, 2.63
-      b[q] = f[q] - r[q];                                                           // eq. 2.60
+      f[q] += 36.0 * L::w[q] * A * gn * (eg * eg * inv_gg - perturbation_shift<L>());  // eq. 2.57
+      r[q] = share * f[q] + recolour * L::w[q] * eg * inverse_length<L>(q);            // eqs. 2.59, 2.63
+      b[q] = f[q] - r[q];                                                             // eq. 2.60
     }
   } else {
     for (int q = 1; q < L::Q; ++q) {

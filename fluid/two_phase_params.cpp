@@ -90,6 +90,29 @@ std::string read_voxels(const SolidParams& s, std::vector<std::uint8_t>* out) {
   return "";
 }
 
+// The keys of a sphere (centre, radius) or a box (lower, upper); `between`
+// reads what the item adds (phase, contact angle) before the shape's checks.
+template <class Between>
+void visit_sphere(config::Visitor& s, const config::Config& cfg, Shape& r, Between between) {
+  r.kind = "sphere";
+  r.planar = s.reading() && cfg.domain.cells[2] == 1;
+  s.required("centre", r.centre, "[x, y, z], m");
+  s.required("radius", r.radius, "m", config::positive());
+  between();
+  need3(s, "centre", r.centre);
+}
+
+template <class Between>
+void visit_box(config::Visitor& s, Shape& r, Between between) {
+  r.kind = "box";
+  s.required("lower", r.lower, "[x, y, z], m");
+  s.required("upper", r.upper, "[x, y, z], m");
+  between();
+  need3(s, "lower", r.lower);
+  need3(s, "upper", r.upper);
+  check_box(s, r.lower, r.upper);
+}
+
 }  // namespace
 
 void TwoPhaseParams::visit(config::Visitor& v) {
@@ -116,7 +139,7 @@ void TwoPhaseParams::visit(config::Visitor& v) {
     config::one_of({"geometric", "seed"}));
 }
 
-bool PhaseRegion::contains(const Vec3& x) const {
+bool Shape::contains(const Vec3& x) const {
   if (kind == "fill") return true;
   if (kind == "sphere") {
     const Vec3 c = vec(centre);
@@ -125,12 +148,6 @@ bool PhaseRegion::contains(const Vec3& x) const {
   for (int d = 0; d < 3; ++d)
     if (x[d] < lower.values.at(d) || x[d] > upper.values.at(d)) return false;
   return true;
-}
-
-bool SolidParams::contains(const Vec3& x) const {
-  PhaseRegion r;
-  r.kind = kind, r.centre = centre, r.lower = lower, r.upper = upper, r.radius = radius, r.planar = planar;
-  return r.contains(x);
 }
 
 double painted_phase(const std::vector<PhaseRegion>& regions, const Vec3& x) {
@@ -153,23 +170,11 @@ void visit_phase_regions(config::Visitor& v, const config::Config& cfg, std::vec
              {"sphere", "a sphere (a disc in 2D: z is ignored)",
               [&, phase](config::Visitor& s) {
                 auto& r = out.emplace_back();
-                r.kind = "sphere";
-                r.planar = s.reading() && cfg.domain.cells[2] == 1;
-                s.required("centre", r.centre, "[x, y, z], m");
-                s.required("radius", r.radius, "m", config::positive());
-                phase(s, r);
-                need3(s, "centre", r.centre);
+                visit_sphere(s, cfg, r, [&] { phase(s, r); });
               }},
-             {"box", "an axis-aligned box",
-              [&, phase](config::Visitor& s) {
+             {"box", "an axis-aligned box", [&, phase](config::Visitor& s) {
                 auto& r = out.emplace_back();
-                r.kind = "box";
-                s.required("lower", r.lower, "[x, y, z], m");
-                s.required("upper", r.upper, "[x, y, z], m");
-                phase(s, r);
-                need3(s, "lower", r.lower);
-                need3(s, "upper", r.upper);
-                check_box(s, r.lower, r.upper);
+                visit_box(s, r, [&] { phase(s, r); });
               }}});
 }
 
@@ -234,23 +239,11 @@ void visit_solids(config::Visitor& v, const config::Config& cfg, std::vector<Sol
        {"sphere", "a sphere (a disc in 2D: z is ignored)",
         [&, angle](config::Visitor& s) {
           auto& p = out.emplace_back();
-          p.kind = "sphere";
-          p.planar = s.reading() && cfg.domain.cells[2] == 1;
-          s.required("centre", p.centre, "[x, y, z], m");
-          s.required("radius", p.radius, "m", config::positive());
-          angle(s, p);
-          need3(s, "centre", p.centre);
+          visit_sphere(s, cfg, p, [&] { angle(s, p); });
         }},
-       {"box", "an axis-aligned box",
-        [&, angle](config::Visitor& s) {
+       {"box", "an axis-aligned box", [&, angle](config::Visitor& s) {
           auto& p = out.emplace_back();
-          p.kind = "box";
-          s.required("lower", p.lower, "[x, y, z], m");
-          s.required("upper", p.upper, "[x, y, z], m");
-          angle(s, p);
-          need3(s, "lower", p.lower);
-          need3(s, "upper", p.upper);
-          check_box(s, p.lower, p.upper);
+          visit_box(s, p, [&] { angle(s, p); });
         }}});
 }
 

@@ -29,30 +29,31 @@ struct TwoPhaseParams {
   void visit(config::Visitor& v);
 };
 
-// One painted region of fluid.initial.phase: fill (everything), sphere or box.
-struct PhaseRegion {
-  std::string kind = "fill";  // fill | sphere | box
-  std::string phase = "red";  // red | blue
+// A sphere or an axis-aligned box (or, for a painted region, everything).
+struct Shape {
+  std::string kind;  // fill | sphere | box (and the solids' voxels | mesh)
   config::Numbers centre, lower, upper;
   double radius = 0.0;
-  bool planar = false;        // a 2D run: a sphere is a disc (z ignored)
-  bool contains(const Vec3& x) const;
+  bool planar = false;  // a 2D run: a sphere is a disc (z ignored)
+  bool contains(const Vec3& x) const;  // fill, sphere, box
+};
+
+// One painted region of fluid.initial.phase: fill (everything), sphere or box.
+struct PhaseRegion : Shape {
+  std::string phase = "red";  // red | blue
+  PhaseRegion() { kind = "fill"; }
 };
 
 // One interior solid of fluid.solids: a voxel image, a closed STL mesh, a
 // sphere or a box.
-struct SolidParams {
-  std::string kind = "voxels";  // voxels | mesh | sphere | box
+struct SolidParams : Shape {
+  SolidParams() { kind = "voxels"; }
   config::FilePath file;        // voxels: raw uint8 (x fastest) or HDF5; mesh: STL
   double scale = 1.0;           // mesh: factor on the file's coordinates
   Vec3 translate{0, 0, 0};      // mesh: shift after the scale, m
   std::string dataset;          // voxels in HDF5: the dataset's name
   config::Numbers shape;        // voxels: [nx, ny, nz], = domain.cells
-  config::Numbers centre, lower, upper;
-  double radius = 0.0;
-  double contact_angle = -1.0;  // degrees; < 0: fluid.two_phase.contact_angle
-  bool planar = false;
-  bool contains(const Vec3& x) const;  // sphere, box
+  double contact_angle = -1.0;  // degrees; -1: fluid.two_phase.contact_angle
 };
 
 // The phase (+1 red, -1 blue) painted at x: the last region that holds x.

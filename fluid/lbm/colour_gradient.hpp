@@ -69,7 +69,8 @@ inline void fluid_gradient(const double* phi, const Solid* solid, const long* of
   for (int d = 0; d < 3; ++d) g[d] = den[d] > 0.0 ? 2.0 * positive_count<L>() * num[d] / den[d] : 0.0;
 }
 
-// Geometric wetting (Leclaire, Abahri, Belhamadia & Nunez 2017; Akai, Bijeljic
+// Geometric wetting (Leclaire, Parmigiani, Malaspinas, Chopard & Latt 2017,
+// Phys. Rev. E 95 033306, §II.E; Akai, Bijeljic
 // & Blunt 2018): at a fluid cell next to solids the colour gradient g keeps its
 // magnitude and its tangential direction t along the solid, and turns in the
 // plane of (n_s, t) until the red fluid meets the solid at the contact angle:
@@ -106,7 +107,7 @@ struct ColourParams {
 
 // The relaxation time at colour fraction psi = (rho_r - rho_b) / rho: the
 // viscosities interpolated harmonically, 1/nu = (1 + psi)/(2 nu_r) +
-// (1 - psi)/(2 nu_b) (Liu, Valocchi & Kang 2012 use it; it keeps the stress
+// (1 - psi)/(2 nu_b) (Leclaire et al. 2017 eq. 13; it keeps the stress
 // continuous across a layered interface), nu = (tau - 1/2)/3.
 inline double mixed_tau(double psi, double tau_red, double tau_blue) {
   const double nr = tau_red - 0.5, nb = tau_blue - 0.5;

@@ -84,7 +84,7 @@ int laplace(const std::string& dir) {
 
 // A red droplet on the wall y- of a 2D box: the points of the phase = 0
 // contour (linear interpolation between neighbouring cell centres) more than
-// three cells from the wall, a circle fitted to them by least squares (Kasa
+// three cells from the wall, a circle fitted to them by least squares (Kåsa
 // 1976: x^2 + y^2 = 2 a x + 2 b y + c), and the angle at which that circle
 // meets the wall, inside the drop: cos(theta) = (y_wall - b) / R.
 int contact_angle(const std::string& dir) {
@@ -101,7 +101,7 @@ int contact_angle(const std::string& dir) {
       if (i + 1 < s.nx && p * at(i + 1, j) < 0) pts.push_back({i + 0.5 + p / (p - at(i + 1, j)), j + 0.5});
       if (j + 1 < s.ny && p * at(i, j + 1) < 0) pts.push_back({i + 0.5, j + 0.5 + p / (p - at(i, j + 1))});
     }
-  double m[3][4] = {};  // normal equations of the Kasa fit, in cells
+  double m[3][4] = {};  // normal equations of the Kåsa fit, in cells
   long used = 0;
   for (const auto& q : pts) {
     if (q[1] <= 3.0) continue;
@@ -130,7 +130,8 @@ int contact_angle(const std::string& dir) {
 
 // Layered co-current flow between walls at y = 0 and H, driven by a body
 // force G along x: red in the core |y - H/2| < a, blue along the walls
-// (Yiotis, Psihogios, Kainourgiakis, Papaioannou & Stubos 2007). With M =
+// (Yiotis, Psihogios, Kainourgiakis, Papaioannou & Stubos 2007; derived here
+// again from the piecewise Poiseuille profile). With M =
 // mu_red / mu_blue, b = H/2, s = a/b = the red saturation:
 //   blue: u = G (b^2 - y^2) / (2 mu_b);  red: u = G (a^2 - y^2) / (2 mu_r) + G (b^2 - a^2) / (2 mu_b),
 //   kr_blue = 1 - 3 s / 2 + s^3 / 2,  kr_red = s^3 + 3 M s (1 - s^2) / 2,

@@ -179,7 +179,14 @@ std::unique_ptr<coupler::ImpulseSeries> FluidWindows::wall_series(long w0) {
     names.push_back(face_names()[f]);
     slots.push_back(static_cast<std::size_t>(f));
   }
-  return std::make_unique<coupler::ImpulseSeries>(s_, "fluid_walls", std::move(names), std::move(slots), 6, w0);
+  // Interior solids (fluid.solids), one each: solid1 is fluid.solids[0].
+  const std::size_t solids = params.solids.size();
+  for (std::size_t n = 0; n < solids; ++n) {
+    names.push_back(fmt::format("solid{}", n + 1));
+    slots.push_back(6 + n);
+  }
+  return std::make_unique<coupler::ImpulseSeries>(s_, "fluid_walls", std::move(names), std::move(slots), 6 + solids,
+                                                  w0);
 }
 
 void FluidWindows::open_exchanges() {

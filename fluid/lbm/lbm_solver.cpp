@@ -555,10 +555,12 @@ void LbmSolver::set_source(std::span<const double> force_density) {
 std::vector<double> LbmSolver::take_wall_impulse() {
   double m[18];
   core_->take_wall_momentum(m);
+  core_->take_solid_momentum(solid_momentum_);
   const auto& u = s_.units;
   const double unit = u.rho * u.dx * u.dx * u.dx * u.velocity();
-  std::vector<double> out(18);
+  std::vector<double> out(18 + solid_momentum_.size());
   for (int k = 0; k < 18; ++k) out[k] = unit * m[k];
+  for (std::size_t k = 0; k < solid_momentum_.size(); ++k) out[18 + k] = unit * solid_momentum_[k];
   return out;
 }
 

@@ -36,6 +36,9 @@ class LbmCore {
   // The lattice momentum each face's wall took since the last call (3 per
   // face, x- ... z+; this rank's walls), and zero it.
   virtual void take_wall_momentum(double* out) = 0;
+  // The same for each interior solid (3 per solid of fluid.solids, in order);
+  // none without them.
+  virtual void take_solid_momentum(std::vector<double>& out) { out.clear(); }
   // Owned cells' colour fraction (rho_r - rho_b) / (rho_r + rho_b) and solid
   // mask (1 in interior solids); false: one fluid, no solids (all red, fluid).
   virtual bool phase(std::vector<double>& out) const {
@@ -84,6 +87,7 @@ class LbmSolver final : public FluidSolver {
   long steps_ = 0;
   bool mach_warned_ = false;
   std::vector<double> out_u_, out_rho_, out_p_, out_solid_, out_phase_;
+  std::vector<double> solid_momentum_;  // interior solids' momentum of the window (take_wall_impulse)
   // PSM: covered cells, fraction, solid velocity (lattice units), and the fluid's
   // momentum gain summed over the steps since the last take_solid_force().
   std::vector<long> solid_cells_;

@@ -1,5 +1,6 @@
 #include "fluid/lbm/two_phase_core.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -42,6 +43,7 @@ class TwoPhaseCore final : public LbmCore {
     blue_.halo.build(lay_, dec_, rank, comm);
     phi_.assign(static_cast<std::size_t>(cells_), 0.0);
     mark_solids();
+    solid_momentum_.assign(3 * (s.tp.solid_phase.size() - 1), 0.0);
     if (s.tp.geometric) find_wetted();
     initialise();
   }
@@ -133,6 +135,10 @@ class TwoPhaseCore final : public LbmCore {
                                "are not built yet");
   }
   void set_source(std::span<const double> force) override { src_.assign(force.begin(), force.end()); }
+  void take_solid_momentum(std::vector<double>& out) override {
+    out = solid_momentum_;
+    std::fill(solid_momentum_.begin(), solid_momentum_.end(), 0.0);
+  }
   void take_wall_momentum(double* out) override {
     for (int k = 0; k < 18; ++k) out[k] = wall_momentum_[k], wall_momentum_[k] = 0.0;
   }
@@ -245,7 +251,14 @@ class TwoPhaseCore final : public LbmCore {
         if (solid_[src]) {
           r = red_.f[L::opp[q] * cells_ + x];
           b = blue_.f[L::opp[q] * cells_ + x];
-          if (solid_[src] == kWall) wall_take(i, j, k, q, r + b);
+          // Ladd's momentum exchange, relative to the fluid at rest at the
+          // reference density (whose push on a closed solid sums to zero).
+          const double moved = r + b - L::w[q];
+          if (solid_[src] == kWall) {
+            wall_take(i, j, k, q, moved);
+          } else {
+            for (int a = 0; a < 3; ++a) solid_momentum_[3 * (solid_[src] - 1) + a] -= 2.0 * moved * L::e[q][a];
+          }
         } else if (!unknown[q]) {
           r = red_.f[q * cells_ + src];
           b = blue_.f[q * cells_ + src];
@@ -383,6 +396,7 @@ class TwoPhaseCore final : public LbmCore {
   std::vector<double> src_;
   double max_u2_ = 0.0;
   double wall_momentum_[18] = {};
+  std::vector<double> solid_momentum_;  // 3 per interior solid, lattice units
 };
 
 template <class L>

@@ -125,15 +125,20 @@ int channel(const std::string& dir) {
 }
 
 // A body-force-driven flow between walls (periodic elsewhere): between two
-// series rows the fluid's momentum changes by F V dt minus the impulse it gives
-// the walls (series/fluid_walls.csv, Ladd's momentum exchange); the largest
+// series rows the fluid's momentum changes by F V dt (V: the fluid's volume,
+// without interior solids) minus the impulse it gives the walls and the
+// interior solids (series/fluid_walls.csv, Ladd's momentum exchange); the largest
 // residual of any component, relative to F V dt. And the walls' share of the
 // body force at the last row (1 in steady state).
 int fluid_walls(const std::string& dir) {
   const auto cfg = load(dir);
   const auto fp = fluid_params(cfg);
   const auto& d = cfg.domain;
-  const double V = (d.upper[0] - d.lower[0]) * (d.upper[1] - d.lower[1]) * (d.upper[2] - d.lower[2]);
+  double V = (d.upper[0] - d.lower[0]) * (d.upper[1] - d.lower[1]) * (d.upper[2] - d.lower[2]);
+  if (!fp.solids.empty()) {  // the body force acts on the fluid's cells only
+    const auto h = d.spacing();
+    for (double s : output::read_dataset(last_snapshot(dir), "solid_fraction")) V -= s * h[0] * h[1] * h[2];
+  }
   const auto f = read_series(dir + "/series/fluid.csv");
   const auto w = read_series(dir + "/series/fluid_walls.csv");
   if (f.size() != w.size() || f.size() < 2) throw std::runtime_error("fluid.csv and fluid_walls.csv rows differ");

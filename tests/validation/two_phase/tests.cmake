@@ -54,3 +54,7 @@ coflow_validation(two_phase_injection_ranks_1_vs_4 compare two_phase_injection.y
 coflow_validation(solids_channel_vs_reference compare solids_channel.yaml 1 "fluid.solver=lbm" "fluid.solver=lbm-reference")
 coflow_validation(solids_channel_ranks_1_vs_4 compare solids_channel.yaml 2
   "fluid.ranks=1" "fluid.ranks=4 fluid.decomposition=[2,2,1]")
+# The force on an interior solid (series/fluid_walls.csv, solid1): the fluid's
+# momentum balance row to row, and at steady state the sphere carries the body
+# force on the fluid.
+coflow_validation(solids_sphere_array_balance fluid_walls solids_sphere_array.yaml 2 --set run.output.series_every=60.0)

@@ -1,13 +1,12 @@
 #include "fluid/two_phase_params.hpp"
 
+#include <fmt/format.h>
 #include <hdf5.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 #include "coflow/stl.hpp"
 #include "fluid/mesh_voxels.hpp"
@@ -16,7 +15,9 @@ namespace coflow::fluid {
 
 namespace {
 
-Vec3 vec(const config::Numbers& n) { return {n.values.at(0), n.values.at(1), n.values.at(2)}; }
+Vec3 vec(const config::Numbers& n) {
+  return {n.values.at(0), n.values.at(1), n.values.at(2)};
+}
 
 void need3(config::Visitor& v, const char* key, const config::Numbers& n) {
   if (v.reading() && n.values.size() != 3)
@@ -27,7 +28,8 @@ void check_box(config::Visitor& v, const config::Numbers& lo, const config::Numb
   if (!v.reading() || lo.values.size() != 3 || hi.values.size() != 3) return;
   for (int d = 0; d < 3; ++d)
     if (hi.values[d] <= lo.values[d])
-      v.fail("upper", fmt::format("upper[{}] = {} is not above lower[{}] = {}", d, hi.values[d], d, lo.values[d]));
+      v.fail("upper",
+             fmt::format("upper[{}] = {} is not above lower[{}] = {}", d, hi.values[d], d, lo.values[d]));
 }
 
 // Reads an HDF5 image into `out` (or only its shape when out is null).
@@ -39,14 +41,17 @@ std::string read_hdf5(const SolidParams& s, std::vector<std::uint8_t>* out, std:
   std::string err;
   const hid_t f = H5Fopen(s.file.path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   const hid_t ds = f >= 0 ? H5Dopen2(f, s.dataset.c_str(), H5P_DEFAULT) : -1;
-  if (f < 0) err = fmt::format("cannot open {} as HDF5", s.file.path);
-  else if (ds < 0) err = fmt::format("{} has no dataset '{}'", s.file.path, s.dataset);
+  if (f < 0)
+    err = fmt::format("cannot open {} as HDF5", s.file.path);
+  else if (ds < 0)
+    err = fmt::format("{} has no dataset '{}'", s.file.path, s.dataset);
   if (ds >= 0) {
     const hid_t sp = H5Dget_space(ds);
     const int rank = H5Sget_simple_extent_ndims(sp);
     hsize_t dims[3] = {1, 1, 1};
     if (rank < 2 || rank > 3) {
-      err = fmt::format("dataset '{}' has {} dimensions; a voxel image has 2 or 3 ([nz,] ny, nx)", s.dataset, rank);
+      err = fmt::format("dataset '{}' has {} dimensions; a voxel image has 2 or 3 ([nz,] ny, nx)", s.dataset,
+                        rank);
     } else {
       H5Sget_simple_extent_dims(sp, dims, nullptr);
       shape = {static_cast<long>(dims[rank - 1]), static_cast<long>(dims[rank - 2]),
@@ -73,19 +78,21 @@ std::string read_voxels(const SolidParams& s, std::vector<std::uint8_t>* out) {
   if (!s.dataset.empty()) {
     if (auto err = read_hdf5(s, out, got); !err.empty()) return err;
     if (got != want)
-      return fmt::format("dataset '{}' is {} x {} x {} voxels (x, y, z), not the shape {} x {} x {}", s.dataset,
-                         got[0], got[1], got[2], want[0], want[1], want[2]);
+      return fmt::format("dataset '{}' is {} x {} x {} voxels (x, y, z), not the shape {} x {} x {}",
+                         s.dataset, got[0], got[1], got[2], want[0], want[1], want[2]);
     return "";
   }
   const auto bytes = static_cast<long>(std::filesystem::file_size(s.file.path));
   if (bytes != want[0] * want[1] * want[2])
-    return fmt::format("the raw image holds {} bytes, but shape {} x {} x {} needs {} (one uint8 per voxel, x "
-                       "fastest; or give dataset for HDF5): {}",
-                       bytes, want[0], want[1], want[2], want[0] * want[1] * want[2], s.file.path);
+    return fmt::format(
+        "the raw image holds {} bytes, but shape {} x {} x {} needs {} (one uint8 per voxel, x "
+        "fastest; or give dataset for HDF5): {}",
+        bytes, want[0], want[1], want[2], want[0] * want[1] * want[2], s.file.path);
   if (out) {
     out->resize(static_cast<std::size_t>(bytes));
     std::ifstream in(s.file.path, std::ios::binary);
-    if (!in.read(reinterpret_cast<char*>(out->data()), bytes)) return fmt::format("cannot read {}", s.file.path);
+    if (!in.read(reinterpret_cast<char*>(out->data()), bytes))
+      return fmt::format("cannot read {}", s.file.path);
   }
   return "";
 }
@@ -119,7 +126,8 @@ void TwoPhaseParams::visit(config::Visitor& v) {
   v.required("surface_tension", surface_tension, "interfacial tension between the two fluids, N/m",
              config::non_negative());
   v("beta", beta,
-    "recolouring strength (Latva-Kokko & Rothman 2005): how sharply the colours separate; the interface is a few "
+    "recolouring strength (Latva-Kokko & Rothman 2005): how sharply the colours separate; the interface is a "
+    "few "
     "cells wide at 0.7",
     config::Rule{"in (0, 1]", [](const config::ValueRef& r) {
                    const double x = *std::get<double*>(r);
@@ -132,9 +140,12 @@ void TwoPhaseParams::visit(config::Visitor& v) {
     "degrees, measured in the red fluid: of the box's walls, and of solids that do not give their own",
     config::in_range(0.0, 180.0));
   v("wetting", wetting,
-    "geometric: at fluid cells next to a solid the colour gradient is turned to meet the solid at the contact "
-    "angle (Leclaire et al. 2017, Akai et al. 2018); seed: a solid takes the fixed colour cos(contact_angle) in "
-    "its neighbours' colour gradient (Latva-Kokko & Rothman 2005), which misses the angle by up to 14 degrees "
+    "geometric: at fluid cells next to a solid the colour gradient is turned to meet the solid at the "
+    "contact "
+    "angle (Leclaire et al. 2017, Akai et al. 2018); seed: a solid takes the fixed colour cos(contact_angle) "
+    "in "
+    "its neighbours' colour gradient (Latva-Kokko & Rothman 2005), which misses the angle by up to 14 "
+    "degrees "
     "(docs/validation.md)",
     config::one_of({"geometric", "seed"}));
 }
@@ -162,20 +173,20 @@ void visit_phase_regions(config::Visitor& v, const config::Config& cfg, std::vec
     s.required("phase", r.phase, "the fluid painted: red (that of fluid.viscosity) or blue",
                config::one_of({"red", "blue"}));
   };
-  v.choices("phase",
-            "two-phase: the initial fluids, painted in order (the last region that holds a cell's centre wins; red "
-            "where none does)",
-            {{"fill", "the whole domain",
-              [&, phase](config::Visitor& s) { phase(s, out.emplace_back()); }},
-             {"sphere", "a sphere (a disc in 2D: z is ignored)",
-              [&, phase](config::Visitor& s) {
-                auto& r = out.emplace_back();
-                visit_sphere(s, cfg, r, [&] { phase(s, r); });
-              }},
-             {"box", "an axis-aligned box", [&, phase](config::Visitor& s) {
-                auto& r = out.emplace_back();
-                visit_box(s, r, [&] { phase(s, r); });
-              }}});
+  v.choices(
+      "phase",
+      "two-phase: the initial fluids, painted in order (the last region that holds a cell's centre wins; red "
+      "where none does)",
+      {{"fill", "the whole domain", [&, phase](config::Visitor& s) { phase(s, out.emplace_back()); }},
+       {"sphere", "a sphere (a disc in 2D: z is ignored)",
+        [&, phase](config::Visitor& s) {
+          auto& r = out.emplace_back();
+          visit_sphere(s, cfg, r, [&] { phase(s, r); });
+        }},
+       {"box", "an axis-aligned box", [&, phase](config::Visitor& s) {
+          auto& r = out.emplace_back();
+          visit_box(s, r, [&] { phase(s, r); });
+        }}});
 }
 
 void visit_solids(config::Visitor& v, const config::Config& cfg, std::vector<SolidParams>& out) {
@@ -186,14 +197,16 @@ void visit_solids(config::Visitor& v, const config::Config& cfg, std::vector<Sol
                      const double x = *std::get<double*>(r);
                      return x == -1.0 || (x >= 0.0 && x <= 180.0)
                                 ? std::string()
-                                : fmt::format("must be in [0, 180] degrees, or -1 for fluid.two_phase.contact_angle "
-                                              "(got {})",
-                                              x);
+                                : fmt::format(
+                                      "must be in [0, 180] degrees, or -1 for fluid.two_phase.contact_angle "
+                                      "(got {})",
+                                      x);
                    }});
   };
   v.choices(
       "solids",
-      "interior solids of the fluid (half-way bounce-back at the faces of solid cells): a cell is solid when its "
+      "interior solids of the fluid (half-way bounce-back at the faces of solid cells): a cell is solid when "
+      "its "
       "centre is inside one; a later item's contact angle wins where they overlap",
       {{"voxels", "an image on the fluid grid, one voxel per cell, nonzero = solid",
         [&, angle](config::Visitor& s) {
@@ -208,10 +221,11 @@ void visit_solids(config::Visitor& v, const config::Config& cfg, std::vector<Sol
           if (p.shape.values.size() != 3) return;
           for (int d = 0; d < 3; ++d)
             if (std::lround(p.shape.values[d]) != cfg.domain.cells[d]) {
-              s.fail("shape", fmt::format("shape [{}, {}, {}] differs from domain.cells [{}, {}, {}]: the image "
-                                          "maps one voxel to one cell",
-                                          p.shape.values[0], p.shape.values[1], p.shape.values[2],
-                                          cfg.domain.cells[0], cfg.domain.cells[1], cfg.domain.cells[2]));
+              s.fail("shape",
+                     fmt::format("shape [{}, {}, {}] differs from domain.cells [{}, {}, {}]: the image "
+                                 "maps one voxel to one cell",
+                                 p.shape.values[0], p.shape.values[1], p.shape.values[2], cfg.domain.cells[0],
+                                 cfg.domain.cells[1], cfg.domain.cells[2]));
               return;
             }
           if (auto err = check_voxel_file(p); !err.empty()) s.fail("file", err);
@@ -221,7 +235,8 @@ void visit_solids(config::Visitor& v, const config::Config& cfg, std::vector<Sol
           auto& p = out.emplace_back();
           p.kind = "mesh";
           s.required("file", p.file, "an STL file, relative to this file");
-          s("scale", p.scale, "factor applied to the file's coordinates (0.001 for a mesh drawn in millimetres)",
+          s("scale", p.scale,
+            "factor applied to the file's coordinates (0.001 for a mesh drawn in millimetres)",
             config::positive());
           s("translate", p.translate, "shift in m applied after the scale");
           angle(s, p);
@@ -229,9 +244,10 @@ void visit_solids(config::Visitor& v, const config::Config& cfg, std::vector<Sol
           try {
             const stl::MeshSummary m = stl::summarize(load_solid_mesh(p));
             if (!m.closed)
-              s.fail("file", fmt::format("{}: the mesh is open ({} edges of one triangle); a solid needs a closed "
-                                         "surface, whose inside is the solid",
-                                         p.file.path, m.open_edges));
+              s.fail("file",
+                     fmt::format("{}: the mesh is open ({} edges of one triangle); a solid needs a closed "
+                                 "surface, whose inside is the solid",
+                                 p.file.path, m.open_edges));
           } catch (const std::runtime_error& e) {
             s.fail("file", e.what());
           }
@@ -247,7 +263,9 @@ void visit_solids(config::Visitor& v, const config::Config& cfg, std::vector<Sol
         }}});
 }
 
-std::string check_voxel_file(const SolidParams& s) { return read_voxels(s, nullptr); }
+std::string check_voxel_file(const SolidParams& s) {
+  return read_voxels(s, nullptr);
+}
 
 stl::TriangleMesh load_solid_mesh(const SolidParams& s) {
   stl::TriangleMesh m = stl::read(s.file.path);
@@ -281,7 +299,8 @@ std::vector<std::uint8_t> solid_map(const config::Config& cfg, const std::vector
     for (long k = 0; k < nz; ++k)
       for (long j = 0; j < ny; ++j)
         for (long i = 0; i < nx; ++i, ++c)
-          if (s.contains({d.lower[0] + (i + 0.5) * h[0], d.lower[1] + (j + 0.5) * h[1], d.lower[2] + (k + 0.5) * h[2]}))
+          if (s.contains({d.lower[0] + (i + 0.5) * h[0], d.lower[1] + (j + 0.5) * h[1],
+                          d.lower[2] + (k + 0.5) * h[2]}))
             map[c] = id;
   }
   return map;

@@ -20,11 +20,11 @@ using config::Vec3;
 // fluid.density and fluid.viscosity is "red", the other "blue"; both have the
 // same density (the seed's model).
 struct TwoPhaseParams {
-  bool on = false;               // the section is given
-  double surface_tension = 0.0;  // N/m
-  double beta = 0.7;             // recolouring (Latva-Kokko & Rothman 2005)
-  double viscosity_blue = 0.0;   // m^2/s (0: fluid.viscosity)
-  double contact_angle = 90.0;   // degrees, measured in the red fluid, on the box walls
+  bool on = false;                    // the section is given
+  double surface_tension = 0.0;       // N/m
+  double beta = 0.7;                  // recolouring (Latva-Kokko & Rothman 2005)
+  double viscosity_blue = 0.0;        // m^2/s (0: fluid.viscosity)
+  double contact_angle = 90.0;        // degrees, measured in the red fluid, on the box walls
   std::string wetting = "geometric";  // geometric (Leclaire et al. 2017) | seed (solid colour cos(theta))
   void visit(config::Visitor& v);
 };
@@ -34,7 +34,7 @@ struct Shape {
   std::string kind;  // fill | sphere | box (and the solids' voxels | mesh)
   config::Numbers centre, lower, upper;
   double radius = 0.0;
-  bool planar = false;  // a 2D run: a sphere is a disc (z ignored)
+  bool planar = false;                 // a 2D run: a sphere is a disc (z ignored)
   bool contains(const Vec3& x) const;  // fill, sphere, box
 };
 

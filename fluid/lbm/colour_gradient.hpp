@@ -98,8 +98,8 @@ constexpr double inverse_length(int q) {
 
 // The two fluids' parameters, lattice units.
 struct ColourParams {
-  double gamma = 0.0;       // surface tension
-  double beta = 0.7;        // recolouring
+  double gamma = 0.0;  // surface tension
+  double beta = 0.7;   // recolouring
   double tau_red = 0.8, tau_blue = 0.8;
   bool trt = false;
   double magic = 0.1875;
@@ -119,7 +119,8 @@ inline double mixed_tau(double psi, double tau_red, double tau_blue) {
 // populations back into r and b. Returns u^2. Incompressible: the equilibrium
 // of He & Luo (reference density 1 in the velocity terms).
 template <class L, bool Incompressible>
-inline double colour_collide(double* r, double* b, const double g[3], const ColourParams& p, const double* F) {
+inline double colour_collide(double* r, double* b, const double g[3], const ColourParams& p,
+                             const double* F) {
   double rho_r = 0.0, rho_b = 0.0, f[L::Q];
   for (int q = 0; q < L::Q; ++q) {
     rho_r += r[q];
@@ -138,7 +139,7 @@ inline double colour_collide(double* r, double* b, const double g[3], const Colo
       const double eg = L::e[q][0] * g[0] + L::e[q][1] * g[1] + L::e[q][2] * g[2];
       f[q] += 36.0 * L::w[q] * A * gn * (eg * eg * inv_gg - perturbation_shift<L>());  // eq. 2.57
       r[q] = share * f[q] + recolour * L::w[q] * eg * inverse_length<L>(q);            // eqs. 2.59, 2.63
-      b[q] = f[q] - r[q];                                                             // eq. 2.60
+      b[q] = f[q] - r[q];                                                              // eq. 2.60
     }
   } else {
     for (int q = 1; q < L::Q; ++q) {

@@ -15,9 +15,9 @@
 namespace coflow::fluid::lbm {
 
 inline std::vector<output::Series::Column> phase_columns() {
-  return {{"mass_red", "kg"},        {"mass_blue", "kg"},        {"saturation_red", "1"},
-          {"flow_red_x", "m^3/s"},   {"flow_red_y", "m^3/s"},    {"flow_red_z", "m^3/s"},
-          {"flow_blue_x", "m^3/s"},  {"flow_blue_y", "m^3/s"},   {"flow_blue_z", "m^3/s"}};
+  return {{"mass_red", "kg"},       {"mass_blue", "kg"},      {"saturation_red", "1"},
+          {"flow_red_x", "m^3/s"},  {"flow_red_y", "m^3/s"},  {"flow_red_z", "m^3/s"},
+          {"flow_blue_x", "m^3/s"}, {"flow_blue_y", "m^3/s"}, {"flow_blue_z", "m^3/s"}};
 }
 
 // Owned cells, lattice units: density rho, velocity u (3 per cell), colour

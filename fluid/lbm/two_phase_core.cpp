@@ -1,10 +1,10 @@
 #include "fluid/lbm/two_phase_core.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-
-#include <fmt/format.h>
 
 #include "coflow/session.hpp"
 #include "fluid/grid/ghost_exchange.hpp"
@@ -36,7 +36,8 @@ class TwoPhaseCore final : public LbmCore {
     }
     cells_ = b.cells();
     lay_.stride = cells_;
-    for (int q = 0; q < L::Q; ++q) off_[q] = L::e[q][0] + lay_.padded[0] * (L::e[q][1] + lay_.padded[1] * L::e[q][2]);
+    for (int q = 0; q < L::Q; ++q)
+      off_[q] = L::e[q][0] + lay_.padded[0] * (L::e[q][1] + lay_.padded[1] * L::e[q][2]);
     red_.allocate(cells_, cells_);
     blue_.allocate(cells_, cells_);
     red_.halo.build(lay_, dec_, rank, comm);
@@ -130,9 +131,11 @@ class TwoPhaseCore final : public LbmCore {
       for (int q = 0; q < L::Q; ++q) blue_.f[q * cells_ + x] = in[o++];
     });
   }
-  void psm(std::span<const long>, std::span<const double>, std::span<const double>, std::span<double>) override {
-    throw coupler::SolverError("lbm: partially saturated cells in a two-phase fluid or one with interior solids "
-                               "are not built yet");
+  void psm(std::span<const long>, std::span<const double>, std::span<const double>,
+           std::span<double>) override {
+    throw coupler::SolverError(
+        "lbm: partially saturated cells in a two-phase fluid or one with interior solids "
+        "are not built yet");
   }
   void set_source(std::span<const double> force) override { src_.assign(force.begin(), force.end()); }
   void take_solid_momentum(std::vector<double>& out) override {
@@ -183,7 +186,8 @@ class TwoPhaseCore final : public LbmCore {
             open_ghosts_.push_back({x, open->phase_given ? -1 : lay_.idx(in[0], in[1], in[2]), open->phase});
             continue;
           }
-          if (id == 0 && s_.tp.any_solid()) id = (*s_.tp.solids)[static_cast<std::size_t>((g[2] * n[1] + g[1]) * n[0] + g[0])];
+          if (id == 0 && s_.tp.any_solid())
+            id = (*s_.tp.solids)[static_cast<std::size_t>((g[2] * n[1] + g[1]) * n[0] + g[0])];
           solid_[x] = id;
           if (id) phi_[x] = id == kWall ? s_.tp.wall_phase : s_.tp.solid_phase.at(id);
         }
@@ -257,7 +261,8 @@ class TwoPhaseCore final : public LbmCore {
           if (solid_[src] == kWall) {
             wall_take(i, j, k, q, moved);
           } else {
-            for (int a = 0; a < 3; ++a) solid_momentum_[3 * (solid_[src] - 1) + a] -= 2.0 * moved * L::e[q][a];
+            for (int a = 0; a < 3; ++a)
+              solid_momentum_[3 * (solid_[src] - 1) + a] -= 2.0 * moved * L::e[q][a];
           }
         } else if (!unknown[q]) {
           r = red_.f[q * cells_ + src];
@@ -407,7 +412,8 @@ std::unique_ptr<LbmCore> make(const Setup& s, const Decomposition& d, int rank, 
 
 }  // namespace
 
-std::unique_ptr<LbmCore> make_two_phase_core(const Setup& s, const Decomposition& dec, int rank, MPI_Comm comm) {
+std::unique_ptr<LbmCore> make_two_phase_core(const Setup& s, const Decomposition& dec, int rank,
+                                             MPI_Comm comm) {
   return s.d3 ? make<D3Q19>(s, dec, rank, comm) : make<D2Q9>(s, dec, rank, comm);
 }
 

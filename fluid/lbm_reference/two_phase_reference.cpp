@@ -118,8 +118,8 @@ void LbmReference::step_colours() {
 // cell). What a closure sets enters with the face's phase, or with the colour
 // fraction of the cell's known populations; populations a regularized face
 // rebuilds keep their colour fractions.
-void LbmReference::close_colours(long i, long j, long k, std::vector<bool>& unknown, const std::vector<double>& post_r,
-                                 const std::vector<double>& post_b) {
+void LbmReference::close_colours(long i, long j, long k, std::vector<bool>& unknown,
+                                 const std::vector<double>& post_r, const std::vector<double>& post_b) {
   const long c = index(i, j, k), x[3] = {i, j, k};
   double* r = &r_[c * Q_];
   double* b = &b_[c * Q_];
@@ -128,7 +128,9 @@ void LbmReference::close_colours(long i, long j, long k, std::vector<bool>& unkn
     in[face / 2] += face % 2 == 0 ? 1 : -1;
     return index(in[0], in[1], in[2]);
   };
-  const auto on = [&](int face) { return n_[face / 2] > 1 && x[face / 2] == (face % 2 == 0 ? 0 : n_[face / 2] - 1); };
+  const auto on = [&](int face) {
+    return n_[face / 2] > 1 && x[face / 2] == (face % 2 == 0 ? 0 : n_[face / 2] - 1);
+  };
   for (int face = 0; face < 6; ++face) {
     if (s_.faces[face].type != FaceType::outflow || !on(face)) continue;
     const int s = face % 2 == 0 ? 1 : -1;

@@ -4,21 +4,19 @@
 // naming it. STL meshes: a cube on cell faces gives the box's cells exactly, a
 // finely tessellated sphere the sphere's cells but for a few at its surface,
 // and an open mesh is refused.
+#include <fmt/format.h>
 #include <hdf5.h>
 #include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <string>
 #include <vector>
-
-#include <cmath>
-#include <numbers>
-
-#include <fmt/format.h>
-#include <yaml-cpp/yaml.h>
 
 #include "coflow/catalog.hpp"
 #include "coflow/run_config.hpp"
@@ -41,7 +39,8 @@ std::vector<std::uint8_t> pattern() {
 std::vector<std::uint8_t> solids_of(const std::string& solids_yaml) {
   const std::string text = fmt::format(
       "run: {{name: t, end_time: 1.0}}\n"
-      "domain: {{lower: [0, 0, 0], upper: [0.006, 0.005, 0.004], cells: [{}, {}, {}], periodic: [true, true, true]}}\n"
+      "domain: {{lower: [0, 0, 0], upper: [0.006, 0.005, 0.004], cells: [{}, {}, {}], periodic: [true, true, "
+      "true]}}\n"
       "fluid: {{solver: lbm, density: 1000.0, viscosity: 1.0e-6, solids: {}}}\n",
       nx, ny, nz, solids_yaml);
   const config::Config cfg = config::parse_config_node(YAML::Load(text), "t.yaml", coflow::catalog());
@@ -69,9 +68,10 @@ TEST_CASE("solids: raw and HDF5 voxel images, spheres", "[fluid][solids]") {
     H5Sclose(sp);
     H5Fclose(f);
   }
-  const auto from_raw = solids_of(fmt::format("[{{voxels: {{file: {}, shape: [{}, {}, {}]}}}}]", raw, nx, ny, nz));
-  const auto from_h5 =
-      solids_of(fmt::format("[{{voxels: {{file: {}, dataset: rock, shape: [{}, {}, {}]}}}}]", h5, nx, ny, nz));
+  const auto from_raw =
+      solids_of(fmt::format("[{{voxels: {{file: {}, shape: [{}, {}, {}]}}}}]", raw, nx, ny, nz));
+  const auto from_h5 = solids_of(
+      fmt::format("[{{voxels: {{file: {}, dataset: rock, shape: [{}, {}, {}]}}}}]", h5, nx, ny, nz));
   REQUIRE(from_raw.size() == img.size());
   long solid = 0;
   for (std::size_t c = 0; c < img.size(); ++c) {
@@ -84,15 +84,16 @@ TEST_CASE("solids: raw and HDF5 voxel images, spheres", "[fluid][solids]") {
   // A sphere of radius 1.5 mm at a cell corner holds the 8 centres around it
   // (at sqrt(3)/2 mm) and the 24 at sqrt(11)/2 mm = 1.66 mm are outside; the
   // later item wins where they overlap (id 2).
-  const auto sphere = solids_of(fmt::format(
-      "[{{voxels: {{file: {}, shape: [{}, {}, {}]}}}}, {{sphere: {{centre: [0.003, 0.002, 0.002], radius: 0.0015}}}}]",
-      raw, nx, ny, nz));
+  const auto sphere =
+      solids_of(fmt::format("[{{voxels: {{file: {}, shape: [{}, {}, {}]}}}}, {{sphere: {{centre: [0.003, "
+                            "0.002, 0.002], radius: 0.0015}}}}]",
+                            raw, nx, ny, nz));
   long twos = 0;
   for (auto v : sphere) twos += v == 2 ? 1 : 0;
   CHECK(twos == 8);
 
-  CHECK_THROWS_WITH(solids_of(fmt::format("[{{voxels: {{file: {}, dataset: nope, shape: [{}, {}, {}]}}}}]", h5, nx,
-                                          ny, nz)),
+  CHECK_THROWS_WITH(solids_of(fmt::format("[{{voxels: {{file: {}, dataset: nope, shape: [{}, {}, {}]}}}}]",
+                                          h5, nx, ny, nz)),
                     Catch::Contains("no dataset 'nope'"));
   std::filesystem::remove_all(dir);
 }
@@ -116,7 +117,9 @@ std::vector<std::array<std::array<double, 3>, 3>> uv_sphere(std::array<double, 3
     const double th = std::numbers::pi * i / n, ph = std::numbers::pi * j / n;
     const double s = i == 0 || i == n ? 0.0 : std::sin(th);
     return std::array<double, 3>{c[0] + r * s * std::cos(ph), c[1] + r * s * std::sin(ph),
-                                 c[2] + r * (i == 0 ? 1.0 : i == n ? -1.0 : std::cos(th))};
+                                 c[2] + r * (i == 0   ? 1.0
+                                             : i == n ? -1.0
+                                                      : std::cos(th))};
   };
   std::vector<std::array<std::array<double, 3>, 3>> t;
   for (int i = 0; i < n; ++i)
@@ -138,8 +141,11 @@ TEST_CASE("solids: STL meshes voxelised", "[fluid][solids]") {
   // The cube [1, 4] x [2, 4] x [1, 3] mm (cell faces), 12 triangles.
   const double lo[3] = {0.001, 0.002, 0.001}, hi[3] = {0.004, 0.004, 0.003};
   std::vector<std::array<std::array<double, 3>, 3>> t;
-  const auto v = [&](int m) { return std::array<double, 3>{m & 1 ? hi[0] : lo[0], m & 2 ? hi[1] : lo[1], m & 4 ? hi[2] : lo[2]}; };
-  for (const auto& q : std::vector<std::array<int, 4>>{{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}}) {
+  const auto v = [&](int m) {
+    return std::array<double, 3>{m & 1 ? hi[0] : lo[0], m & 2 ? hi[1] : lo[1], m & 4 ? hi[2] : lo[2]};
+  };
+  for (const auto& q : std::vector<std::array<int, 4>>{
+           {0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}}) {
     t.push_back({v(q[0]), v(q[1]), v(q[2])});
     t.push_back({v(q[0]), v(q[2]), v(q[3])});
   }
@@ -152,7 +158,8 @@ TEST_CASE("solids: STL meshes voxelised", "[fluid][solids]") {
   CHECK(n == 3 * 2 * 2);
   t.pop_back();  // one triangle less: open
   write_stl(open, t);
-  CHECK_THROWS_WITH(solids_of(fmt::format("[{{mesh: {{file: {}}}}}]", open)), Catch::Contains("the mesh is open"));
+  CHECK_THROWS_WITH(solids_of(fmt::format("[{{mesh: {{file: {}}}}}]", open)),
+                    Catch::Contains("the mesh is open"));
   // A sphere of radius 2 mm from 8192 triangles, in millimetres (scale
   // 0.001), against the analytic sphere.
   write_stl(ball, uv_sphere({3.0, 2.5, 2.0}, 2.0, 64));

@@ -54,12 +54,14 @@ int laplace(const std::string& dir) {
   const auto& drop = fp.initial_phase.back();
   double red = 0.0;
   for (double p : s.phase) red += 0.5 * (1.0 + p);
-  const double R = d3 ? std::cbrt(3.0 * red / (4.0 * std::numbers::pi)) * dx : std::sqrt(red / std::numbers::pi) * dx;
+  const double R =
+      d3 ? std::cbrt(3.0 * red / (4.0 * std::numbers::pi)) * dx : std::sqrt(red / std::numbers::pi) * dx;
   double pin = 0.0, pout = 0.0, nin = 0.0, nout = 0.0, umax = 0.0;
   for (long k = 0; k < s.nz; ++k)
     for (long j = 0; j < s.ny; ++j)
       for (long i = 0; i < s.nx; ++i) {
-        const double x[3] = {d.lower[0] + (i + 0.5) * dx, d.lower[1] + (j + 0.5) * dx, d.lower[2] + (k + 0.5) * dx};
+        const double x[3] = {d.lower[0] + (i + 0.5) * dx, d.lower[1] + (j + 0.5) * dx,
+                             d.lower[2] + (k + 0.5) * dx};
         double r2 = 0.0;
         for (int a = 0; a < (d3 ? 3 : 2); ++a) {
           const double L = d.upper[a] - d.lower[a];
@@ -77,8 +79,11 @@ int laplace(const std::string& dir) {
   const double gamma = fp.two_phase.surface_tension, dp = pin / nin - pout / nout;
   const double laplace_dp = (d3 ? 2.0 : 1.0) * gamma / R;
   std::printf("surface_tension=%.9e\ndimensions=%d\n", gamma, d3 ? 3 : 2);
-  std::printf("radius=%.9e\npressure_jump=%.9e\nlaplace_error=%.6e\nspurious_capillary=%.6e\ncolour_mass_drift=%.6e\n", R,
-              dp, std::abs(dp / laplace_dp - 1.0), fp.density * fp.viscosity * umax / gamma, colour_mass_drift(dir));
+  std::printf(
+      "radius=%.9e\npressure_jump=%.9e\nlaplace_error=%.6e\nspurious_capillary=%.6e\ncolour_mass_drift=%."
+      "6e\n",
+      R, dp, std::abs(dp / laplace_dp - 1.0), fp.density * fp.viscosity * umax / gamma,
+      colour_mass_drift(dir));
   return 0;
 }
 
@@ -112,7 +117,8 @@ int contact_angle(const std::string& dir) {
     }
     ++used;
   }
-  if (used < 10) throw std::runtime_error(fmt::format("{}: only {} interface points away from the wall", dir, used));
+  if (used < 10)
+    throw std::runtime_error(fmt::format("{}: only {} interface points away from the wall", dir, used));
   for (int a = 0; a < 3; ++a)  // Gauss-Jordan on the 3 x 4 system
     for (int b = 0; b < 3; ++b)
       if (b != a) {
@@ -122,8 +128,8 @@ int contact_angle(const std::string& dir) {
   const double xc = m[0][3] / m[0][0], yc = m[1][3] / m[1][1], c = m[2][3] / m[2][2];
   const double R = std::sqrt(c + xc * xc + yc * yc);
   const double theta = std::acos(std::clamp(-yc / R, -1.0, 1.0)) * 180.0 / std::numbers::pi;
-  std::printf("interface_points=%ld\ndrop_radius=%.6e\ncontact_angle=%.4f\nangle_error=%.4f\n", used, R * dx, theta,
-              std::abs(theta - fp.two_phase.contact_angle));
+  std::printf("interface_points=%ld\ndrop_radius=%.6e\ncontact_angle=%.4f\nangle_error=%.4f\n", used, R * dx,
+              theta, std::abs(theta - fp.two_phase.contact_angle));
   std::printf("colour_mass_drift=%.6e\n", colour_mass_drift(dir));
   return 0;
 }
@@ -142,7 +148,8 @@ int layered(const std::string& dir) {
   const auto& d = cfg.domain;
   const auto h = d.spacing();
   const double G = fp.body_force[0], H = d.upper[1] - d.lower[1], b = 0.5 * H, dz = d.upper[2] - d.lower[2];
-  const double mu_r = fp.density * fp.viscosity, mu_b = fp.density * fp.two_phase.viscosity_blue, M = mu_r / mu_b;
+  const double mu_r = fp.density * fp.viscosity, mu_b = fp.density * fp.two_phase.viscosity_blue,
+               M = mu_r / mu_b;
   const auto last = read_series(dir + "/series/fluid.csv").back();
   const double sat = last.at(10), a = sat * b;
   const auto snap = read_last(dir);
@@ -157,9 +164,11 @@ int layered(const std::string& dir) {
       ref2 += ua * ua;
     }
   }
-  const double kr_b = 1.0 - 1.5 * sat + 0.5 * sat * sat * sat, kr_r = sat * sat * sat + 1.5 * M * sat * (1.0 - sat * sat);
+  const double kr_b = 1.0 - 1.5 * sat + 0.5 * sat * sat * sat,
+               kr_r = sat * sat * sat + 1.5 * M * sat * (1.0 - sat * sat);
   const double q_r = G * H * H * H * dz / (12 * mu_r), q_b = G * H * H * H * dz / (12 * mu_b);
-  std::printf("saturation_red=%.6f\nviscosity_ratio=%.4f\nprofile_l2_error=%.6e\n", sat, M, std::sqrt(err2 / ref2));
+  std::printf("saturation_red=%.6f\nviscosity_ratio=%.4f\nprofile_l2_error=%.6e\n", sat, M,
+              std::sqrt(err2 / ref2));
   std::printf("kr_red=%.6f\nkr_red_analytic=%.6f\nkr_red_error=%.6e\n", last.at(11) / q_r, kr_r,
               std::abs(last.at(11) / q_r / kr_r - 1.0));
   std::printf("kr_blue=%.6f\nkr_blue_analytic=%.6f\nkr_blue_error=%.6e\n", last.at(14) / q_b, kr_b,
@@ -223,8 +232,8 @@ int washburn(const std::string& dir) {
   const double yc = below.upper.values[1] + 0.5 * H;
   const long j0 = std::lround((yc - d.lower[1]) / h[1]) - 1;  // the two rows about the centreline
   const double mu_r = fp.density * fp.viscosity, mu_b = fp.density * fp.two_phase.viscosity_blue;
-  const double theta = (below.contact_angle < 0 ? fp.two_phase.contact_angle : below.contact_angle) *
-                       std::numbers::pi / 180.0;
+  const double theta =
+      (below.contact_angle < 0 ? fp.two_phase.contact_angle : below.contact_angle) * std::numbers::pi / 180.0;
   double n = 0, st = 0, sx = 0, stt = 0, stx = 0;
   long used = 0;
   for (const auto& [index, t] : snapshots(dir, "fluid")) {
@@ -243,7 +252,8 @@ int washburn(const std::string& dir) {
     n += 1, st += t, sx += X, stt += t * t, stx += t * X;
     ++used;
   }
-  if (used < 5) throw std::runtime_error(fmt::format("{}: the meniscus is in [L/2, 0.9 L] in {} snapshots", dir, used));
+  if (used < 5)
+    throw std::runtime_error(fmt::format("{}: the meniscus is in [L/2, 0.9 L] in {} snapshots", dir, used));
   const double slope = (n * stx - st * sx) / (n * stt - st * st);
   const double washburn = fp.two_phase.surface_tension * H * std::cos(theta) / 6.0;
   std::printf("snapshots=%ld\nslope=%.6e\nwashburn_slope=%.6e\nwashburn_error=%.6e\n", used, slope, washburn,

@@ -86,6 +86,7 @@ void FluidParams::visit(config::Visitor& v, const config::Config& cfg) {
       &two_phase.on);
   visit_solids(v, cfg, solids);
   if (!v.reading()) return;
+  check_solids(v, cfg);
   for (int f = 0; f < 6; ++f) {
     const auto it = boundaries.find(face_names()[f]);
     if (it != boundaries.end() && !it->second.phase.empty() && !two_phase.on)
@@ -94,6 +95,45 @@ void FluidParams::visit(config::Visitor& v, const config::Config& cfg) {
                                        face_names()[f]));
   }
   if (two_phase.on && two_phase.viscosity_blue == 0.0) two_phase.viscosity_blue = viscosity;
+}
+
+// What fluid.solids needs of the rest: at most 254 solids; a contact angle
+// only for two fluids; fluid in the first two layers of every open face (its
+// closure reads the cell next in).
+void FluidParams::check_solids(config::Visitor& v, const config::Config& cfg) const {
+  if (solids.empty()) return;
+  if (solids.size() > 254)
+    v.fail("solids", fmt::format("{} solids; at most 254 (merge voxel images into one)", solids.size()));
+  for (std::size_t n = 0; n < solids.size(); ++n)
+    if (solids[n].contact_angle != -1.0 && !two_phase.on)
+      v.fail("solids", fmt::format("solids[{}] gives a contact angle, but the fluid is one: add fluid.two_phase, "
+                                   "or leave contact_angle out",
+                                   n));
+  std::vector<int> open;
+  for (int f = 0; f < 6; ++f) {
+    const std::string t = boundary(f, cfg).type;
+    if ((t == "pressure" || t == "velocity" || t == "outflow") && cfg.domain.cells[f / 2] > 1) open.push_back(f);
+  }
+  if (open.empty() || solids.size() > 254) return;
+  std::vector<std::uint8_t> map;
+  try {
+    map = solid_map(cfg, solids);
+  } catch (const std::runtime_error&) {
+    return;  // the item's own check has said what is wrong
+  }
+  const auto& n = cfg.domain.cells;
+  for (int f : open)
+    for (long k = 0; k < n[2]; ++k)
+      for (long j = 0; j < n[1]; ++j)
+        for (long i = 0; i < n[0]; ++i) {
+          const long at[3] = {i, j, k}, a = f / 2, layer = f % 2 == 0 ? at[a] : n[a] - 1 - at[a];
+          if (layer > 1 || !map[static_cast<std::size_t>((k * n[1] + j) * n[0] + i)]) continue;
+          v.fail("solids", fmt::format("a solid reaches cell ({}, {}, {}), within two cells of the open face {}: "
+                                       "its closure needs fluid there; move the solid inwards or lengthen the "
+                                       "domain",
+                                       i, j, k, face_names()[f]));
+          return;
+        }
 }
 
 void FluidParams::initial_state(const config::Config& cfg, const Vec3& x, Vec3& u, double& p) const {

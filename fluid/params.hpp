@@ -43,6 +43,7 @@ struct FluidParams {
   std::vector<PhaseRegion> initial_phase;  // two-phase: painted regions
   std::vector<SolidParams> solids;         // interior solids
   void visit(config::Visitor& v, const config::Config& cfg);
+  void check_solids(config::Visitor& v, const config::Config& cfg) const;
   // Initial velocity (m/s) and pressure (Pa) at a point.
   void initial_state(const config::Config& cfg, const Vec3& x, Vec3& u, double& p) const;
   // The boundary of a face (a wall when not given); periodic faces have type "periodic".

@@ -49,7 +49,13 @@ std::string read_hdf5(const SolidParams& s, std::vector<std::uint8_t>* out, std:
     const hid_t sp = H5Dget_space(ds);
     const int rank = H5Sget_simple_extent_ndims(sp);
     hsize_t dims[3] = {1, 1, 1};
-    if (rank < 2 || rank > 3) {
+    const hid_t type = H5Dget_type(ds);
+    const bool integers = H5Tget_class(type) == H5T_INTEGER;
+    H5Tclose(type);
+    if (!integers) {
+      err = fmt::format("dataset '{}' is not of integers: a voxel image is labels (0 fluid, nonzero solid)",
+                        s.dataset);
+    } else if (rank < 2 || rank > 3) {
       err = fmt::format("dataset '{}' has {} dimensions; a voxel image has 2 or 3 ([nz,] ny, nx)", s.dataset,
                         rank);
     } else {
@@ -73,6 +79,7 @@ std::string read_hdf5(const SolidParams& s, std::vector<std::uint8_t>* out, std:
 // Reads a voxel image; "" or what is wrong.
 std::string read_voxels(const SolidParams& s, std::vector<std::uint8_t>* out) {
   if (!std::filesystem::exists(s.file.path)) return fmt::format("no such file: {}", s.file.path);
+  if (!std::filesystem::is_regular_file(s.file.path)) return fmt::format("not a file: {}", s.file.path);
   std::array<long, 3> want{}, got{};
   for (int d = 0; d < 3; ++d) want[d] = std::lround(s.shape.values.at(d));
   if (!s.dataset.empty()) {

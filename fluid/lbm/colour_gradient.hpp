@@ -79,7 +79,8 @@ inline void fluid_gradient(const double* phi, const Solid* solid, const long* of
 // along n_s alone has no tangential direction and is left as it is.
 inline void wet_gradient(double g[3], const double ns[3], double cos_theta) {
   const double gn = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-  if (gn == 0.0) return;
+  // No gradient, or solids on opposite sides (a one-cell gap: no normal).
+  if (gn == 0.0 || (ns[0] == 0.0 && ns[1] == 0.0 && ns[2] == 0.0)) return;
   const double c = (g[0] * ns[0] + g[1] * ns[1] + g[2] * ns[2]) / gn;
   double t[3];
   for (int d = 0; d < 3; ++d) t[d] = g[d] / gn - c * ns[d];

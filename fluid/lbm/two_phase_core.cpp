@@ -343,14 +343,15 @@ class TwoPhaseCore final : public LbmCore {
   }
 
   // Ladd's momentum exchange: population opp(q) of mass f went into the wall
-  // and came back as q; the wall took 2 f e_opp(q). Credited to the face the
-  // link crosses (the first axis out of the box).
+  // and came back as q; the wall took 2 f e_opp(q). Credited to the first wall
+  // face the link crosses (a diagonal link also crosses periodic or open faces).
   void wall_take(long i, long j, long k, int q, double f) {
     const long loc[3] = {lay_.origin[0] + i - L::e[q][0], lay_.origin[1] + j - L::e[q][1],
                          lay_.origin[2] + k - L::e[q][2]};
     for (int d = 0; d < 3; ++d) {
       if (loc[d] >= 0 && loc[d] < s_.cells[d]) continue;
       const int face = 2 * d + (loc[d] < 0 ? 0 : 1);
+      if (s_.faces[face].type != FaceType::wall) continue;  // a periodic or open axis: the wall is another
       for (int a = 0; a < 3; ++a) wall_momentum_[3 * face + a] -= 2.0 * f * L::e[q][a];
       return;
     }

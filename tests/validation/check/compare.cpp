@@ -60,6 +60,13 @@ int compare(const std::string& a, const std::string& b) {
   const auto [pdiff, pscale] = largest_difference(pa, pb, "fluid pressure");
   std::printf("max_velocity=%.6e\nmax_difference=%.6e\npressure_difference=%.6e\n", scale, scale > 0 ? diff / scale : diff,
               pscale > 0 ? pdiff / pscale : pdiff);
+  // Two fluids: the colour field (between -1 and 1) where the snapshots hold it.
+  const auto& fields = load(a).run.output.fields;
+  if (std::find(fields.begin(), fields.end(), "phase") != fields.end()) {
+    const auto [phdiff, phscale] = largest_difference(output::read_dataset(last_snapshot(a), "phase"),
+                                                      output::read_dataset(last_snapshot(b), "phase"), "phase");
+    std::printf("phase_difference=%.6e\n", phdiff);
+  }
   // Coupled runs: the particles too.
   if (std::ifstream(a + "/particles/index.csv")) return compare_particles(a, b);
   return 0;

@@ -103,6 +103,18 @@ void report_lbm(const config::Config& cfg, config::Report& r) {
                                           config::number(steps), config::number(cfg.run.end_time)));
   const double u = velocity_scale(fp, cfg);
   report_mach(r, u, units, tau, dx);
+  if (fp.two_phase.on) {
+    const double nu_b = fp.two_phase.viscosity_blue > 0.0 ? fp.two_phase.viscosity_blue : fp.viscosity;
+    const double tau_b = 0.5 + 3.0 * nu_b * units.dt / (dx * dx);
+    const double gamma = fp.two_phase.surface_tension * units.dt * units.dt / (units.rho * dx * dx * dx);
+    r.add("fluid", "two fluids",
+          fmt::format("tau red {}, blue {}; surface tension {} in lattice units", config::number(tau),
+                      config::number(tau_b), config::number(gamma)));
+    if (tau_b < 0.51)
+      r.warn("fluid", fmt::format("the blue fluid's tau is {} (fluid.two_phase.viscosity_blue {} m^2/s): below "
+                                  "0.51 the collision is close to unstable; raise fluid.lbm.tau or the viscosity",
+                                  config::number(tau_b), config::number(nu_b)));
+  }
   if (u > 0.0) {
     double L = 1e300;
     for (int a = 0; a < (d.two_dimensional() ? 2 : 3); ++a) L = std::min(L, d.upper[a] - d.lower[a]);

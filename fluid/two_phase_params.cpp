@@ -106,6 +106,19 @@ std::string read_voxels(const SolidParams& s, std::vector<std::uint8_t>* out) {
 
 // The keys of a sphere (centre, radius) or a box (lower, upper); `between`
 // reads what the item adds (phase, contact angle) before the shape's checks.
+// A shape whose bounding box [lo, hi] misses the domain covers no cell.
+void check_overlap(config::Visitor& s, const config::Config& cfg, const char* key, const Vec3& lo, const Vec3& hi) {
+  const auto& d = cfg.domain;
+  for (int a = 0; a < 3; ++a)
+    if (hi[a] < d.lower[a] || lo[a] > d.upper[a]) {
+      s.fail(key, fmt::format("it lies outside the domain along {} ([{}, {}] m against the domain's [{}, {}] m): "
+                              "check its coordinates{}",
+                              "xyz"[a], lo[a], hi[a], d.lower[a], d.upper[a],
+                              std::string(key) == "file" ? ", scale and translate" : ""));
+      return;
+    }
+}
+
 template <class Between>
 void visit_sphere(config::Visitor& s, const config::Config& cfg, Shape& r, Between between) {
   r.kind = "sphere";
@@ -114,10 +127,14 @@ void visit_sphere(config::Visitor& s, const config::Config& cfg, Shape& r, Betwe
   s.required("radius", r.radius, "m", config::positive());
   between();
   need3(s, "centre", r.centre);
+  if (!s.reading() || r.centre.values.size() != 3) return;
+  const Vec3 c = vec(r.centre);
+  check_overlap(s, cfg, "centre", {c[0] - r.radius, c[1] - r.radius, r.planar ? cfg.domain.lower[2] : c[2] - r.radius},
+                {c[0] + r.radius, c[1] + r.radius, r.planar ? cfg.domain.upper[2] : c[2] + r.radius});
 }
 
 template <class Between>
-void visit_box(config::Visitor& s, Shape& r, Between between) {
+void visit_box(config::Visitor& s, const config::Config& cfg, Shape& r, Between between) {
   r.kind = "box";
   s.required("lower", r.lower, "[x, y, z], m");
   s.required("upper", r.upper, "[x, y, z], m");
@@ -125,6 +142,8 @@ void visit_box(config::Visitor& s, Shape& r, Between between) {
   need3(s, "lower", r.lower);
   need3(s, "upper", r.upper);
   check_box(s, r.lower, r.upper);
+  if (s.reading() && r.lower.values.size() == 3 && r.upper.values.size() == 3)
+    check_overlap(s, cfg, "lower", vec(r.lower), vec(r.upper));
 }
 
 }  // namespace
@@ -192,7 +211,7 @@ void visit_phase_regions(config::Visitor& v, const config::Config& cfg, std::vec
         }},
        {"box", "an axis-aligned box", [&, phase](config::Visitor& s) {
           auto& r = out.emplace_back();
-          visit_box(s, r, [&] { phase(s, r); });
+          visit_box(s, cfg, r, [&] { phase(s, r); });
         }}});
 }
 
@@ -255,6 +274,7 @@ void visit_solids(config::Visitor& v, const config::Config& cfg, std::vector<Sol
                      fmt::format("{}: the mesh is open ({} edges of one triangle); a solid needs a closed "
                                  "surface, whose inside is the solid",
                                  p.file.path, m.open_edges));
+            check_overlap(s, cfg, "file", {m.lower[0], m.lower[1], m.lower[2]}, {m.upper[0], m.upper[1], m.upper[2]});
           } catch (const std::runtime_error& e) {
             s.fail("file", e.what());
           }
@@ -266,7 +286,7 @@ void visit_solids(config::Visitor& v, const config::Config& cfg, std::vector<Sol
         }},
        {"box", "an axis-aligned box", [&, angle](config::Visitor& s) {
           auto& p = out.emplace_back();
-          visit_box(s, p, [&] { angle(s, p); });
+          visit_box(s, cfg, p, [&] { angle(s, p); });
         }}});
 }
 

@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "coflow/decomposition.hpp"
+
 #include "fluid/analytic/params.hpp"
 #include "fluid/lbm/params.hpp"
 #include "fluid/params.hpp"
@@ -96,6 +98,37 @@ void resolve(config::Config& cfg, const std::string& variant) {
 
 }  // namespace
 
+// An outflow face, and a regularized pressure face, read the next cell in,
+// but the halo carries only the populations that stream inwards: lbm's block
+// at such a face must be two cells thick or more along the face's axis.
+static void check_open_face_blocks(config::Visitor& v, const config::Config& cfg, const config::ComponentInfo& info,
+                            const FluidParams& p) {
+  if (!v.reading() || info.variant.rfind("lbm", 0) != 0 || info.ranks < 2) return;
+  const auto& d = cfg.domain;
+  std::array<int, 3> dims{0, 0, 0};
+  if (!info.decomposition.is_auto) dims = info.decomposition.value;
+  coupler::Decomposition dec;
+  try {
+    dec = coupler::Decomposition({d.cells[0], d.cells[1], d.cells[2]}, info.ranks, dims, d.periodic);
+  } catch (const std::invalid_argument&) {
+    return;  // reported at fluid.ranks already
+  }
+  for (int f = 0; f < 6; ++f) {
+    const BoundaryParams b = p.boundary(f, cfg);
+    const int a = f / 2;
+    if ((b.type != "outflow" && !(b.type == "pressure" && b.closure == "regularized")) || d.cells[a] == 1) continue;
+    for (int r = 0; r < info.ranks; ++r) {
+      const auto& blk = dec.block(r);
+      if ((f % 2 == 0 ? blk.lo[a] != 0 : blk.hi[a] != d.cells[a]) || blk.hi[a] - blk.lo[a] >= 2) continue;
+      v.fail("ranks", fmt::format("the {} blocks leave the one at face {} ({} face) one cell thick along {}, but "
+                                  "the face reads the next cell in; use fewer blocks along {} (fluid.decomposition) "
+                                  "or fewer ranks",
+                                  info.ranks, face_names()[f], b.type, "xyz"[a], "xyz"[a]));
+      return;
+    }
+  }
+}
+
 config::ComponentSchema schema() {
   config::ComponentSchema s = component_schema("fluid", "solver", variant_schemas(),
                                                 "the fluid component (omit the section, or solver: none, for no fluid)");
@@ -115,6 +148,7 @@ config::ComponentSchema schema() {
       if (p.two_phase.on) v.fail("two_phase", fmt::format("solver {} has one fluid; two_phase needs solver: lbm", info.variant));
       if (!p.solids.empty()) v.fail("solids", fmt::format("solver {} takes no interior solids; use solver: lbm", info.variant));
     }
+    check_open_face_blocks(v, cfg, info, p);
     visit_variant_sections(v, cfg, info);
   };
   return s;

@@ -50,6 +50,14 @@ class LbmReference final : public FluidSolver {
   void step_colours();
   void close_colours(long i, long j, long k, std::vector<bool>& unknown, const std::vector<double>& post_r,
                      const std::vector<double>& post_b);
+  // A cell index beyond the box: wrapped across periodic faces, clamped onto
+  // the face cell across open ones; whether it lies beyond a wall (which wins)
+  // and the last open face crossed.
+  struct Beyond {
+    bool wall = false;
+    const lbm::Face* open = nullptr;
+  };
+  Beyond beyond(long x[3]) const;
   double phi_at(long i, long j, long k) const;  // colour field, solids' colour, wrapped
   bool solid_at(long i, long j, long k) const;
   void colour_gradient(long i, long j, long k, double g[3]) const;

@@ -35,24 +35,28 @@ void LbmReference::init_colours() {
 
 // The colour field at a cell that may be outside the box: wrapped across
 // periodic faces, the walls' colour beyond the others, a solid's own colour.
-double LbmReference::phi_at(long i, long j, long k) const {
-  long x[3] = {i, j, k};
-  const lbm::Face* open = nullptr;
-  bool wall = false;
+LbmReference::Beyond LbmReference::beyond(long x[3]) const {
+  Beyond b;
   for (int d = 0; d < 3; ++d) {
     if (x[d] >= 0 && x[d] < n_[d]) continue;
     const lbm::Face& face = s_.faces[2 * d + (x[d] < 0 ? 0 : 1)];
     if (face.type == FaceType::periodic) {
       x[d] = (x[d] + n_[d]) % n_[d];
     } else if (face.type == FaceType::wall) {
-      wall = true;
+      b.wall = true;
     } else {
-      open = &face;  // beyond an open face: its phase, or the face cell's colour
+      b.open = &face;
       x[d] = std::clamp(x[d], 0L, n_[d] - 1);
     }
   }
-  if (wall) return s_.tp.wall_phase;
-  if (open && open->phase_given) return open->phase;
+  return b;
+}
+
+double LbmReference::phi_at(long i, long j, long k) const {
+  long x[3] = {i, j, k};
+  const Beyond b = beyond(x);
+  if (b.wall) return s_.tp.wall_phase;
+  if (b.open && b.open->phase_given) return b.open->phase;  // else the face cell's colour
   const long c = index(x[0], x[1], x[2]);
   return solid_id_[c] ? s_.tp.solid_phase.at(solid_id_[c]) : phi_[c];
 }
@@ -70,17 +74,8 @@ void LbmReference::step_colours() {
         bool any = false;
         for (int q = 0; q < Q_; ++q) {
           long src[3] = {i - e_[q][0], j - e_[q][1], k - e_[q][2]};
-          bool wall = false, open = false;
-          for (int d = 0; d < 3; ++d) {
-            if (src[d] >= 0 && src[d] < n_[d]) continue;
-            const FaceType t = s_.faces[2 * d + (src[d] < 0 ? 0 : 1)].type;
-            if (t == FaceType::periodic)
-              src[d] = (src[d] + n_[d]) % n_[d];
-            else if (t == FaceType::wall)
-              wall = true;
-            else
-              open = true;
-          }
+          const Beyond at = beyond(src);
+          const bool wall = at.wall, open = at.open != nullptr;
           const long s = wall || open ? -1 : index(src[0], src[1], src[2]);
           r_[c * Q_ + q] = b_[c * Q_ + q] = 0.0;  // from beyond an open face: unknown, closed below
           if (wall || (!open && solid_id_[s])) {
@@ -185,15 +180,8 @@ void LbmReference::close_colours(long i, long j, long k, std::vector<bool>& unkn
 // A neighbour of a fluid cell is solid: beyond a wall face or in an interior solid.
 bool LbmReference::solid_at(long i, long j, long k) const {
   long x[3] = {i, j, k};
-  bool open = false;
-  for (int d = 0; d < 3; ++d) {
-    if (x[d] >= 0 && x[d] < n_[d]) continue;
-    const FaceType t = s_.faces[2 * d + (x[d] < 0 ? 0 : 1)].type;
-    if (t == FaceType::wall) return true;
-    open = open || t != FaceType::periodic;
-    x[d] = t == FaceType::periodic ? (x[d] + n_[d]) % n_[d] : std::clamp(x[d], 0L, n_[d] - 1);
-  }
-  return !open && solid_id_[index(x[0], x[1], x[2])] != 0;
+  const Beyond b = beyond(x);
+  return b.wall || (!b.open && solid_id_[index(x[0], x[1], x[2])] != 0);
 }
 
 // The colour gradient of eq. 2.56 at fluid cell (i, j, k). The seed's wetting:

@@ -25,6 +25,13 @@ Snapshot read_last(const std::string& dir) {
   return s;
 }
 
+// The slope of the least-squares line through the points (t, y).
+struct LineFit {
+  double n = 0, st = 0, sy = 0, stt = 0, sty = 0;
+  void add(double t, double y) { n += 1, st += t, sy += y, stt += t * t, sty += t * y; }
+  double slope() const { return (n * sty - st * sy) / (n * stt - st * st); }
+};
+
 // The largest relative change of each colour's mass over the series' rows.
 double colour_mass_drift(const std::string& dir) {
   const auto rows = read_series(dir + "/series/fluid.csv");
@@ -234,7 +241,7 @@ int washburn(const std::string& dir) {
   const double mu_r = fp.density * fp.viscosity, mu_b = fp.density * fp.two_phase.viscosity_blue;
   const double theta =
       (below.contact_angle < 0 ? fp.two_phase.contact_angle : below.contact_angle) * std::numbers::pi / 180.0;
-  double n = 0, st = 0, sx = 0, stt = 0, stx = 0;
+  LineFit fit;
   long used = 0;
   for (const auto& [index, t] : snapshots(dir, "fluid")) {
     std::vector<std::size_t> dims;
@@ -249,12 +256,12 @@ int washburn(const std::string& dir) {
     const double l = xm - x0;
     if (xm < 0 || l < 0.5 * L || l > 0.9 * L) continue;
     const double X = mu_r * l * l / 2 + mu_b * (L * l - l * l / 2);
-    n += 1, st += t, sx += X, stt += t * t, stx += t * X;
+    fit.add(t, X);
     ++used;
   }
   if (used < 5)
     throw std::runtime_error(fmt::format("{}: the meniscus is in [L/2, 0.9 L] in {} snapshots", dir, used));
-  const double slope = (n * stx - st * sx) / (n * stt - st * st);
+  const double slope = fit.slope();
   const double washburn = fp.two_phase.surface_tension * H * std::cos(theta) / 6.0;
   std::printf("snapshots=%ld\nslope=%.6e\nwashburn_slope=%.6e\nwashburn_error=%.6e\n", used, slope, washburn,
               std::abs(slope / washburn - 1.0));
@@ -272,12 +279,9 @@ int injection_phase(const std::string& dir) {
   const double U = fp.boundary(0, cfg).value.values.at(0);
   const double A = (d.upper[1] - d.lower[1]) * (d.upper[2] - d.lower[2]);
   const auto rows = read_series(dir + "/series/fluid.csv");
-  double n = 0, st = 0, sm = 0, stt = 0, stm = 0;
-  for (std::size_t r = rows.size() / 5; r < rows.size(); ++r) {
-    const double t = rows[r].at(0), m = rows[r].at(8);
-    n += 1, st += t, sm += m, stt += t * t, stm += t * m;
-  }
-  const double rate = (n * stm - st * sm) / (n * stt - st * st), expected = fp.density * U * A;
+  LineFit fit;
+  for (std::size_t r = rows.size() / 5; r < rows.size(); ++r) fit.add(rows[r].at(0), rows[r].at(8));
+  const double rate = fit.slope(), expected = fp.density * U * A;
   std::printf("red_mass_rate=%.9e\ninlet_flux=%.9e\nred_rate_error=%.6e\n", rate, expected,
               std::abs(rate / expected - 1.0));
   return 0;

@@ -133,7 +133,7 @@ class FluidWindows final : public coupler::WindowParts {
   std::unique_ptr<coupler::ImpulseSeries> walls_;  // the fluid's force on its wall faces
   std::unique_ptr<coupler::FieldExchange> solid_in_, force_out_, flow_out_, source_in_;
   std::vector<long> solid_cells_;
-  std::vector<double> solid_values_, fraction_, velocity_, force_;
+  std::vector<double> solid_values_, fraction_, velocity_, wetting_, force_;
   std::vector<coupler::Index3> force_cells_;
   std::vector<double> flow_local_, source_local_, source_owned_;
 };
@@ -197,7 +197,7 @@ void FluidWindows::open_exchanges() {
                                            tag);
   };
   if (psm_) {
-    solid_in_ = open(FieldExchange::Role::receiver, {"solid", 4, coupler::Transfer::consistent, 0},
+    solid_in_ = open(FieldExchange::Role::receiver, {"solid", 5, coupler::Transfer::consistent, 0},
                      protocol::kTagSolid);
     force_out_ = open(FieldExchange::Role::sender, {"solid_force", 3, coupler::Transfer::consistent, 0},
                       protocol::kTagSolidForce);
@@ -218,11 +218,13 @@ void FluidWindows::receive_solids() {
   const std::size_t n = solid_cells_.size();
   fraction_.resize(n);
   velocity_.resize(3 * n);
+  wetting_.resize(n);
   for (std::size_t c = 0; c < n; ++c) {
-    fraction_[c] = solid_values_[4 * c];
-    for (int d = 0; d < 3; ++d) velocity_[3 * c + d] = solid_values_[4 * c + 1 + d];
+    fraction_[c] = solid_values_[5 * c];
+    for (int d = 0; d < 3; ++d) velocity_[3 * c + d] = solid_values_[5 * c + 1 + d];
+    wetting_[c] = solid_values_[5 * c + 4];
   }
-  solver_->set_solid(solid_cells_, fraction_, velocity_);
+  solver_->set_solid(solid_cells_, fraction_, velocity_, wetting_);
 }
 
 void FluidWindows::send_solid_force() {

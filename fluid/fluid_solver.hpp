@@ -62,11 +62,12 @@ class FluidSolver {
   // run continues bit for bit.
   // Partially saturated cells (immersed method psm, Noble & Torczynski 1998):
   // the owned cells covered by solids (index (k ny + j) nx + i in the owned
-  // block), their solid fraction and solid velocity (m/s, 3 per cell). They hold
-  // until the next call. A solver without PSM throws.
+  // block), their solid fraction, solid velocity (m/s, 3 per cell) and
+  // wetting (cos of the red fluid's contact angle on the grains; used by a
+  // two-phase fluid). They hold until the next call. A solver without PSM throws.
   virtual void set_solid(std::span<const long> cells, std::span<const double> fraction,
-                         std::span<const double> velocity) {
-    (void)cells, (void)fraction, (void)velocity;
+                         std::span<const double> velocity, std::span<const double> wetting) {
+    (void)cells, (void)fraction, (void)velocity, (void)wetting;
     throw std::runtime_error("this fluid solver does not support partially saturated cells (immersed.method psm)");
   }
   // The force (N, 3 per cell of the last set_solid) that the fluid exerted on

@@ -30,22 +30,16 @@ const std::vector<VariantSchema>& variant_schemas() {
 
 namespace {
 
-// lbm takes the solids of psm and returns the force on them; analytic is a
+// lbm takes the solids of psm and returns the force on them (and, with two
+// fluids, their wetting); analytic is a
 // prescribed flow (with turbulence) that nothing feeds back into.
 config::Contract contract(const config::Config& cfg, const std::string& variant) {
   namespace f = config::fields;
   config::Contract c;
-  // A two-phase lbm, or one with interior solids, does not yet take partially
-  // saturated cells (wetted grains).
-  bool two_phase = false;
-  if (cfg.resolved.IsMap() && cfg.resolved["fluid"].IsMap()) {
-    const YAML::Node fluid = cfg.resolved["fluid"];
-    two_phase = (fluid["two_phase"].IsDefined() && fluid["two_phase"].IsMap()) ||
-                (fluid["solids"].IsDefined() && fluid["solids"].IsSequence() && fluid["solids"].size() > 0);
-  }
-  if (variant == "lbm" || variant == "lbm-reference")
-    c.provides = two_phase ? std::vector<config::Field>{f::velocity, f::pressure}
-                           : std::vector<config::Field>{f::velocity, f::pressure, f::solid_force};
+  if (variant == "lbm" || variant == "lbm-reference") c.provides = {f::velocity, f::pressure, f::solid_force};
+  // Two fluids wet the grains of psm (each species its contact angle).
+  if ((variant == "lbm" || variant == "lbm-reference") && config::resolved_node(cfg, "fluid.two_phase").IsMap())
+    c.provides.push_back(f::grain_wetting);
   if (variant == "analytic") c.provides = {f::velocity, f::pressure, f::k, f::epsilon};
   return c;
 }

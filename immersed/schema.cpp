@@ -31,10 +31,7 @@ config::Contract contract(const config::Config&, const std::string& variant) {
   const std::string key = "immersed.method";
   if (variant == "psm") {
     c.provides = {f::solid_fraction, f::hydrodynamic_load};
-    c.needs = {{f::solid_force, key, "",
-                "and lbm provides it only without fluid.two_phase and fluid.solids (partially saturated cells "
-                "beside those are not built yet)"},
-               {f::particle_state, key}};
+    c.needs = {{f::solid_force, key}, {f::particle_state, key}};
   }
   if (variant == "point") {
     c.provides = {f::fluid_at_particle, f::momentum_source};

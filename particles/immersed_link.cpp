@@ -15,6 +15,7 @@ namespace coflow::particles {
 
 ImmersedLink::ImmersedLink(coupler::Session& s, ParticleSolver& solver, const ParticleParams& params)
     : s_(s), solver_(solver) {
+  for (const auto& sp : params.species) contact_angle_.push_back(sp.second.contact_angle);
   const auto& cfg = s.config();
   point_ = cfg.component("immersed").variant == "point";
   lagged_ = !point_ && cfg.coupling.scheme == config::Scheme::parallel_explicit;
@@ -61,6 +62,7 @@ void ImmersedLink::send_states() {
     }
     rec.radius = p.radius[i];
     rec.mass = p.mass[i];
+    rec.contact_angle = contact_angle_.at(static_cast<std::size_t>(p.species[i]));
     sent_ids_[i] = p.id[i];
     std::memcpy(records_.data() + i * sizeof rec, &rec, sizeof rec);
   }

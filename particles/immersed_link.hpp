@@ -43,6 +43,7 @@ class ImmersedLink {
 
   coupler::Session& s_;
   ParticleSolver& solver_;
+  std::vector<double> contact_angle_;  // per species, degrees (-1: the fluid's)
   bool point_ = false, lagged_ = false;
   std::unique_ptr<coupler::PointExchange> to_immersed_, impulse_out_;
   std::vector<std::byte> records_, loads_, fluid_bytes_, impulse_records_;

@@ -58,6 +58,17 @@ void SpeciesParams::visit(Visitor& v) {
   v.required("diameter", diameter, "diameter in m: fixed, uniform or log-normal", config::positive());
   v("fixed", fixed, "hold these particles in place (they feel forces but keep their initial position and velocity), e.g. a fixed "
     "sphere array");
+  v("contact_angle", contact_angle,
+    "two-phase fluid with immersed.method psm: the red fluid's contact angle on these grains, degrees; -1: "
+    "fluid.two_phase.contact_angle",
+    config::Rule{"in [0, 180] or -1", [](const config::ValueRef& r) {
+                   const double x = *std::get<double*>(r);
+                   return x == -1.0 || (x >= 0.0 && x <= 180.0)
+                              ? std::string()
+                              : fmt::format("must be in [0, 180] degrees, or -1 for fluid.two_phase.contact_angle "
+                                            "(got {})",
+                                            x);
+                 }});
 }
 
 void BondParams::visit(Visitor& v) {

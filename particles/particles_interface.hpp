@@ -22,6 +22,7 @@ struct SpeciesParams {
   double density = 2650.0;
   config::Distribution diameter{config::Distribution::Kind::fixed, 1e-3, 0.0};
   bool fixed = false;  // held in place (obstacles, a sphere array): forces act on it but it does not move
+  double contact_angle = -1.0;  // two-phase psm: degrees, in the red fluid; -1: fluid.two_phase.contact_angle
   void visit(config::Visitor& v);
 };
 

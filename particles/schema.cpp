@@ -43,6 +43,14 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
   if (variant == "dem" || variant == "dem-reference") {
     c.provides = {f::particle_state};
     c.needs = {{f::hydrodynamic_load, key, "immersed"}};
+    // A species' contact angle: grains wetted by two fluids.
+    const YAML::Node species = config::resolved_node(cfg, "particles.species");
+    for (const auto& sp : species.IsMap() ? species : YAML::Node()) {
+      const std::string angle = config::resolved_text(cfg, {"particles", "species", sp.first.Scalar(), "contact_angle"});
+      if (!angle.empty() && angle != "-1")
+        c.needs.push_back({f::grain_wetting, "particles.species." + sp.first.Scalar() + ".contact_angle", "",
+                           "add fluid.two_phase (with fluid.solver lbm or lbm-reference), or leave contact_angle out"});
+    }
   }
   if (point_particles(variant)) {
     c.provides = {f::particle_state, f::impulse};

@@ -89,8 +89,9 @@ void check_needs(Reader& r, const Config& cfg, const Catalog& catalog, const std
            fmt::format("{} needs {}, which no other component of this run provides ({}); {}{}", me.label(),
                        fmt::join(missing, " and "),
                        others.empty() ? "it runs alone" : fmt::format("the run has {}", fmt::join(others, ", ")),
-                       fix.empty() ? "no variant provides it" : fmt::format("use {}", fmt::join(fix, "; ")),
-                       otherwise.empty() ? "" : ", " + otherwise));
+                       fix.empty() ? (otherwise.empty() ? "no variant provides it" : otherwise)
+                                   : fmt::format("use {}", fmt::join(fix, "; ")),
+                       fix.empty() || otherwise.empty() ? "" : ", " + otherwise));
   }
 }
 

@@ -69,6 +69,24 @@ inline void fluid_gradient(const double* phi, const Solid* solid, const long* of
   for (int d = 0; d < 3; ++d) g[d] = den[d] > 0.0 ? 2.0 * positive_count<L>() * num[d] / den[d] : 0.0;
 }
 
+// The same next to grains (partially saturated cells): each neighbour counts
+// by its fluid share 1 - eps (eps = 1 in solid cells), so that a cell half
+// covered by a grain weighs half in the one-sided gradient.
+template <class L, class Eps>
+inline void shared_gradient(const double* phi, Eps&& eps_at, const long* off, long x, double g[3]) {
+  double num[3] = {0.0, 0.0, 0.0}, den[3] = {0.0, 0.0, 0.0};
+  for (int q = 1; q < L::Q; ++q) {
+    const double share = 1.0 - eps_at(x + off[q]);
+    if (share <= 0.0) continue;
+    const double dphi = phi[x + off[q]] - phi[x];
+    for (int d = 0; d < 3; ++d) {
+      num[d] += share * L::w[q] * L::e[q][d] * dphi;
+      den[d] += share * L::w[q] * L::e[q][d] * L::e[q][d];
+    }
+  }
+  for (int d = 0; d < 3; ++d) g[d] = den[d] > 0.0 ? 2.0 * positive_count<L>() * num[d] / den[d] : 0.0;
+}
+
 // Geometric wetting (Leclaire, Parmigiani, Malaspinas, Chopard & Latt 2017,
 // Phys. Rev. E 95 033306, §II.E; Akai, Bijeljic
 // & Blunt 2018): at a fluid cell next to solids the colour gradient g keeps its

@@ -533,7 +533,8 @@ std::string LbmSolver::source_diagnosis() const {
 }
 
 void LbmSolver::set_solid(std::span<const long> cells, std::span<const double> fraction,
-                          std::span<const double> velocity) {
+                          std::span<const double> velocity, std::span<const double> wetting) {
+  core_->set_psm(cells, fraction, wetting);
   solid_cells_.assign(cells.begin(), cells.end());
   solid_fraction_.assign(fraction.begin(), fraction.end());
   solid_us_.resize(velocity.size());

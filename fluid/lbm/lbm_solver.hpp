@@ -30,6 +30,13 @@ class LbmCore {
   // sum_q B Omega^s_q e_q to `gain` (3 per cell).
   virtual void psm(std::span<const long> cells, std::span<const double> fraction, std::span<const double> us,
                    std::span<double> gain) = 0;
+  // The partially saturated cells of the next steps, before them, for a core
+  // whose step needs them (the two-phase core colours them by their grains'
+  // wetting, cos(theta) per cell).
+  virtual void set_psm(std::span<const long> cells, std::span<const double> fraction,
+                       std::span<const double> wetting) {
+    (void)cells, (void)fraction, (void)wetting;
+  }
   // Per-cell force density added to the body force (lattice units, 3 per owned
   // cell; empty: none). Rows holding a source take the per-cell path.
   virtual void set_source(std::span<const double> force) = 0;
@@ -66,8 +73,8 @@ class LbmSolver final : public FluidSolver {
   std::vector<output::Series::Column> series_columns() const override;
   void save(const std::string& dir) override;
   void load(const std::string& dir, long steps, double time) override;
-  void set_solid(std::span<const long> cells, std::span<const double> fraction,
-                 std::span<const double> velocity) override;
+  void set_solid(std::span<const long> cells, std::span<const double> fraction, std::span<const double> velocity,
+                 std::span<const double> wetting) override;
   void take_solid_force(std::vector<double>& force) override;
   void set_source(std::span<const double> force_density) override;
   std::vector<double> take_wall_impulse() override;

@@ -10,6 +10,7 @@
 #pragma once
 
 #include "fluid/lbm/collision.hpp"
+#include "fluid/lbm/colour_gradient.hpp"
 
 namespace coflow::fluid::lbm {
 
@@ -48,6 +49,43 @@ inline void psm_collide(const double* f, const double* F, double omega, double t
     for (int d = 0; d < 3; ++d) g[d] += B * omega_s * L::e[q][d];
   }
   for (int d = 0; d < 3; ++d) gain[d] += g[d];
+}
+
+// A partially saturated cell in two fluids (coflow's extension of eq. 2.66;
+// the seed couples moving grains with one fluid only). r, b: the cell's
+// streamed red and blue populations (whole, colour_gradient.hpp); g: its
+// colour gradient; eps, us as above. The fluid share is the colour collision
+// (perturbation and recolouring included), the solid share Noble &
+// Torczynski's, split between the colours by the cell's red fraction
+// psi = rho_r / rho:
+//   r_q <- (1 - B) r*_q + B [r_opp(q) + psi (feq_q(rho, u_s) - feq_opp(q)(rho, u))]
+// (blue with 1 - psi), r* the colour collision's result. The solid share sums
+// to the cell's own colour mass (the two equilibria have the same density), so
+// each colour keeps its mass; the sum of the colours is eq. 2.66 with the
+// colour collision as the fluid's. Returns u^2 of the fluid share.
+template <class L, bool Incompressible>
+inline double psm_colour_collide(double* r, double* b, const double g[3], const ColourParams& p, const double* F,
+                                 double eps, const double* us, double* gain) {
+  double r0[L::Q], b0[L::Q], rho_r = 0.0, rho_b = 0.0, j[3] = {0.0, 0.0, 0.0};
+  for (int q = 0; q < L::Q; ++q) {
+    r0[q] = r[q], b0[q] = b[q];
+    rho_r += r[q], rho_b += b[q];
+    for (int d = 0; d < 3; ++d) j[d] += L::e[q][d] * (r[q] + b[q]);
+  }
+  const double rho = rho_r + rho_b, rho_m = Incompressible ? 1.0 : rho, psi = rho_r / rho;
+  const double u[3] = {(j[0] + 0.5 * F[0]) / rho_m, (j[1] + 0.5 * F[1]) / rho_m, (j[2] + 0.5 * F[2]) / rho_m};
+  const double tau = mixed_tau((rho_r - rho_b) / rho, p.tau_red, p.tau_blue);
+  const double B = eps * (tau - 0.5) / ((1.0 - eps) + (tau - 0.5));  // eq. 2.67
+  const double uu = colour_collide<L, Incompressible>(r, b, g, p, F);
+  for (int q = 0; q < L::Q; ++q) {
+    const int o = L::opp[q];
+    const double swap = equilibrium<L, Incompressible>(q, rho, us) - equilibrium<L, Incompressible>(o, rho, u);
+    const double omega_s = r0[o] + b0[o] - r0[q] - b0[q] + swap;  // eq. 2.68, Noble & Torczynski's form
+    r[q] = (1.0 - B) * r[q] + B * (r0[o] + psi * swap);
+    b[q] = (1.0 - B) * b[q] + B * (b0[o] + (1.0 - psi) * swap);
+    for (int d = 0; d < 3; ++d) gain[d] += B * omega_s * L::e[q][d];
+  }
+  return uu;
 }
 
 }  // namespace coflow::fluid::lbm

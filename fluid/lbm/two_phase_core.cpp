@@ -11,6 +11,7 @@
 #include "fluid/lbm/boundaries.hpp"
 #include "fluid/lbm/colour_gradient.hpp"
 #include "fluid/lbm/populations.hpp"
+#include "fluid/lbm/psm_kernel.hpp"
 
 namespace coflow::fluid::lbm {
 
@@ -46,6 +47,11 @@ class TwoPhaseCore final : public LbmCore {
     mark_solids();
     solid_momentum_.assign(3 * (s.tp.solid_phase.size() - 1), 0.0);
     if (s.tp.geometric) find_wetted();
+    if (s.tp.geometric) {
+      eps_.assign(static_cast<std::size_t>(cells_), 0.0);
+      grain_cos_.assign(static_cast<std::size_t>(cells_), 0.0);
+      grain_wet_index_.assign(static_cast<std::size_t>(cells_), -1);
+    }
     initialise();
   }
 
@@ -55,6 +61,7 @@ class TwoPhaseCore final : public LbmCore {
     red_.halo.finish(red_.f.data(), cells_);
     blue_.halo.finish(blue_.f.data(), cells_);
     stream();
+    colour_grains();
     ghosts_.exchange(phi_);
     fill_open_ghosts();
     max_u2_ = 0.0;
@@ -131,11 +138,43 @@ class TwoPhaseCore final : public LbmCore {
       for (int q = 0; q < L::Q; ++q) blue_.f[q * cells_ + x] = in[o++];
     });
   }
-  void psm(std::span<const long>, std::span<const double>, std::span<const double>,
-           std::span<double>) override {
-    throw coupler::SolverError(
-        "lbm: partially saturated cells in a two-phase fluid or one with interior solids "
-        "are not built yet");
+  // The grains' cells of the next steps: fluid cells (not in interior solids,
+  // not on open faces, which keep their closure as in one fluid) with their
+  // solid fraction and wetting.
+  void set_psm(std::span<const long> cells, std::span<const double> fraction,
+               std::span<const double> wetting) override {
+    grains_.clear();
+    for (std::size_t n = 0; n < cells.size(); ++n) {
+      const long x = block_index(cells[n]);
+      bool open = false;
+      for (int q = 1; q < L::Q; ++q) open = open || open_[x + off_[q]];
+      if (!solid_[x] && !open) grains_.push_back({x, fraction[n], wetting[n]});
+    }
+    if (s_.tp.geometric) find_grain_wetted();
+  }
+  // Partially saturated cells (psm_kernel.hpp, psm_colour_collide) on the cells
+  // of the step just taken: the same streamed populations pulled again from
+  // the previous arrays (their ghosts still hold the halo), the colour
+  // gradient of the step, collided again.
+  void psm(std::span<const long> cells, std::span<const double> fraction, std::span<const double> us,
+           std::span<double> gain) override {
+    for (std::size_t n = 0; n < cells.size(); ++n) {
+      const long c = cells[n], x = block_index(c);
+      bool open = false;
+      for (int q = 1; q < L::Q; ++q) open = open || open_[x + off_[q]];
+      if (solid_[x] || open) continue;
+      double r[L::Q], b[L::Q], g[3], F[3];
+      for (int q = 0; q < L::Q; ++q) {
+        const long src = x - off_[q];
+        const bool back = solid_[src] != 0;
+        r[q] = back ? red_.next[L::opp[q] * cells_ + x] : red_.next[q * cells_ + src];
+        b[q] = back ? blue_.next[L::opp[q] * cells_ + x] : blue_.next[q * cells_ + src];
+      }
+      gradient(x, g);
+      force(c, F);
+      psm_colour_collide<L, Incompressible>(r, b, g, colour_, F, fraction[n], &us[3 * n], &gain[3 * n]);
+      for (int q = 0; q < L::Q; ++q) red_.f[q * cells_ + x] = r[q], blue_.f[q * cells_ + x] = b[q];
+    }
   }
   void set_source(std::span<const double> force) override { src_.assign(force.begin(), force.end()); }
   void take_solid_momentum(std::vector<double>& out) override {
@@ -148,6 +187,15 @@ class TwoPhaseCore final : public LbmCore {
 
  private:
   long owned_cells() const { return lay_.extent[0] * lay_.extent[1] * lay_.extent[2]; }
+  // An owned cell's index (k ny + j) nx + i in the block with its ghosts.
+  long block_index(long c) const {
+    const long nx = lay_.extent[0], ny = lay_.extent[1];
+    return lay_.idx(c % nx, (c / nx) % ny, c / (nx * ny));
+  }
+  // The body force and the momentum source of owned cell c.
+  void force(long c, double F[3]) const {
+    for (int d = 0; d < 3; ++d) F[d] = s_.force[d] + (src_.empty() ? 0.0 : src_[3 * c + d]);
+  }
   template <class F>
   void for_owned(F&& f) const {
     for (long k = 0; k < lay_.extent[2]; ++k)
@@ -224,6 +272,41 @@ class TwoPhaseCore final : public LbmCore {
     });
   }
 
+  // Geometric wetting of grains: the grains' fraction and cos(theta) over the
+  // block and its ghosts, then the cells (not wholly covered) that hold or
+  // touch a grain, with the solids' unit normal n_s = -sum_q w_q e_q eps(x +
+  // e_q) normalised (eps = 1 in solid cells) and cos(theta) averaged with the
+  // weights w_q eps (solid cells: their colour, which is cos(theta)).
+  void find_grain_wetted() {
+    std::fill(eps_.begin(), eps_.end(), 0.0);
+    std::fill(grain_cos_.begin(), grain_cos_.end(), 0.0);
+    for (const Grain& m : grains_) eps_[m.x] = m.eps, grain_cos_[m.x] = m.wetting;
+    ghosts_.exchange(eps_);
+    ghosts_.exchange(grain_cos_);
+    std::fill(grain_wet_index_.begin(), grain_wet_index_.end(), -1);
+    grain_wet_.clear();
+    for_owned([&](long, long, long, long x) {
+      if (solid_[x] || eps_[x] >= 1.0) return;
+      bool grain = eps_[x] > 0.0;
+      Wet w{{0.0, 0.0, 0.0}, 0.0};
+      double weight = 0.0;
+      for (int q = 1; q < L::Q; ++q) {
+        const long n = x + off_[q];
+        const double e = solid_[n] ? 1.0 : eps_[n];
+        grain = grain || (!solid_[n] && eps_[n] > 0.0);
+        for (int d = 0; d < 3; ++d) w.ns[d] -= L::w[q] * e * L::e[q][d];
+        w.cos_theta += L::w[q] * e * (solid_[n] ? phi_[n] : grain_cos_[n]);
+        weight += L::w[q] * e;
+      }
+      if (!grain) return;
+      const double len = std::sqrt(w.ns[0] * w.ns[0] + w.ns[1] * w.ns[1] + w.ns[2] * w.ns[2]);
+      for (int d = 0; d < 3; ++d) w.ns[d] = len > 0.0 ? w.ns[d] / len : 0.0;
+      w.cos_theta = weight > 0.0 ? w.cos_theta / weight : 0.0;
+      grain_wet_index_[x] = static_cast<int>(grain_wet_.size());
+      grain_wet_.push_back(w);
+    });
+  }
+
   // Each colour at the equilibrium of its share of the cell's density.
   void initialise() {
     for_owned([&](long i, long j, long k, long x) {
@@ -289,8 +372,7 @@ class TwoPhaseCore final : public LbmCore {
     double r[L::Q], b[L::Q], f[L::Q], F[3];
     for (int q = 0; q < L::Q; ++q) r[q] = red_.next[q * cells_ + x], b[q] = blue_.next[q * cells_ + x];
     const long loc[3] = {lay_.origin[0] + i, lay_.origin[1] + j, lay_.origin[2] + k};
-    const long c = (k * lay_.extent[1] + j) * lay_.extent[0] + i;
-    for (int d = 0; d < 3; ++d) F[d] = s_.force[d] + (src_.empty() ? 0.0 : src_[3 * c + d]);
+    force((k * lay_.extent[1] + j) * lay_.extent[0] + i, F);
     const auto on = [&](int face) {
       const int axis = face / 2;
       return s_.cells[axis] > 1 && loc[axis] == (face % 2 == 0 ? 0 : s_.cells[axis] - 1);
@@ -357,10 +439,17 @@ class TwoPhaseCore final : public LbmCore {
     }
   }
 
-  void collide_cell(long i, long j, long k, long x) {
-    double g[3] = {0.0, 0.0, 0.0}, r[L::Q], b[L::Q], F[3];
-    // eq. 2.56; with geometric wetting, next to solids, from the fluid
-    // neighbours alone, then turned to the contact angle.
+  // The colour gradient of eq. 2.56 at fluid cell x; with geometric wetting,
+  // next to solids, from the fluid neighbours alone, then turned to the
+  // contact angle.
+  void gradient(long x, double g[3]) const {
+    g[0] = g[1] = g[2] = 0.0;
+    const int grain = grain_wet_.empty() ? -1 : grain_wet_index_[x];
+    if (grain >= 0) {
+      shared_gradient<L>(phi_.data(), [&](long n) { return solid_[n] ? 1.0 : eps_[n]; }, off_, x, g);
+      wet_gradient(g, grain_wet_[grain].ns, grain_wet_[grain].cos_theta);
+      return;
+    }
     const int wet = wet_index_.empty() ? -1 : wet_index_[x];
     if (wet < 0) {
       for (int q = 1; q < L::Q; ++q)
@@ -369,8 +458,25 @@ class TwoPhaseCore final : public LbmCore {
       fluid_gradient<L>(phi_.data(), solid_.data(), off_, x, g);
       wet_gradient(g, wet_[wet].ns, wet_[wet].cos_theta);
     }
-    const long c = (k * lay_.extent[1] + j) * lay_.extent[0] + i;
-    for (int d = 0; d < 3; ++d) F[d] = s_.force[d] + (src_.empty() ? 0.0 : src_[3 * c + d]);
+  }
+
+  // The seed's wetting (geometric wetting turns the gradient instead): grains
+  // colour the cells they cover ("Molhabilidade", by solid fraction): phi <- (1 - eps) phi + eps rho cos(theta), so that a
+  // wholly covered cell is a solid of colour cos(theta) to its neighbours'
+  // colour gradient while a cut cell keeps its fluid's share.
+  void colour_grains() {
+    if (s_.tp.geometric) return;
+    for (const Grain& m : grains_) {
+      double rho = 0.0;
+      for (int q = 0; q < L::Q; ++q) rho += red_.next[q * cells_ + m.x] + blue_.next[q * cells_ + m.x];
+      phi_[m.x] = (1.0 - m.eps) * phi_[m.x] + m.eps * rho * m.wetting;
+    }
+  }
+
+  void collide_cell(long i, long j, long k, long x) {
+    double g[3], r[L::Q], b[L::Q], F[3];
+    gradient(x, g);
+    force((k * lay_.extent[1] + j) * lay_.extent[0] + i, F);
     for (int q = 0; q < L::Q; ++q) r[q] = red_.next[q * cells_ + x], b[q] = blue_.next[q * cells_ + x];
     const double uu = colour_collide<L, Incompressible>(r, b, g, colour_, F);
     max_u2_ = nan_max(max_u2_, uu);
@@ -400,6 +506,14 @@ class TwoPhaseCore final : public LbmCore {
   std::vector<int> wet_index_;  // geometric wetting: per cell, into wet_ (-1: no solid neighbour)
   std::vector<Wet> wet_;
   std::vector<double> src_;
+  struct Grain {  // a partially saturated cell
+    long x;
+    double eps, wetting;  // solid fraction, cos(theta)
+  };
+  std::vector<Grain> grains_;
+  std::vector<double> eps_, grain_cos_;  // geometric wetting: per cell of the block and ghosts
+  std::vector<int> grain_wet_index_;     // per cell, into grain_wet_ (-1: no grain in or next to it)
+  std::vector<Wet> grain_wet_;
   double max_u2_ = 0.0;
   double wall_momentum_[18] = {};
   std::vector<double> solid_momentum_;  // 3 per interior solid, lattice units

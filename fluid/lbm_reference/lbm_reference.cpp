@@ -149,12 +149,20 @@ bool LbmReference::on_open_face(long c) const {
 }
 
 void LbmReference::set_solid(std::span<const long> cells, std::span<const double> fraction,
-                             std::span<const double> velocity) {
+                             std::span<const double> velocity, std::span<const double> wetting) {
   solid_.clear();
   solid_order_.assign(cells.begin(), cells.end());
+  if (colours()) {  // the grains' cells for geometric wetting: not in solids, not on open faces
+    grain_eps_.assign(static_cast<std::size_t>(n_[0] * n_[1] * n_[2]), 0.0);
+    grain_cos_.assign(grain_eps_.size(), 0.0);
+    for (std::size_t n = 0; n < cells.size(); ++n)
+      if (!solid_id_[cells[n]] && !on_open_face(cells[n]))
+        grain_eps_[cells[n]] = fraction[n], grain_cos_[cells[n]] = wetting[n];
+  }
   for (std::size_t n = 0; n < cells.size(); ++n) {
     Solid& s = solid_[cells[n]];
     s.fraction = fraction[n];
+    s.wetting = wetting[n];
     for (int d = 0; d < 3; ++d) s.us[d] = velocity[3 * n + d] / s_.units.velocity();
   }
   solid_steps_ = 0;

@@ -28,8 +28,8 @@ class LbmReference final : public FluidSolver {
   std::vector<output::Series::Column> series_columns() const override;
   void save(const std::string& dir) override;
   void load(const std::string& dir, long steps, double time) override;
-  void set_solid(std::span<const long> cells, std::span<const double> fraction,
-                 std::span<const double> velocity) override;
+  void set_solid(std::span<const long> cells, std::span<const double> fraction, std::span<const double> velocity,
+                 std::span<const double> wetting) override;
   void take_solid_force(std::vector<double>& force) override;
   void set_source(std::span<const double> force_density) override;
 
@@ -61,15 +61,22 @@ class LbmReference final : public FluidSolver {
   double phi_at(long i, long j, long k) const;  // colour field, solids' colour, wrapped
   bool solid_at(long i, long j, long k) const;
   void colour_gradient(long i, long j, long k, double g[3]) const;
+  bool grain_gradient(long i, long j, long k, double g[3]) const;
+  double eps_at(long i, long j, long k) const;
+  void turn(double g[3], double ns[3], double cos_theta) const;
   void collide_colours(long c, const double g[3], const double F[3]);
+  double colour_tau(double psi) const;
   void phase_fields(std::vector<double>& phase, std::vector<double>& solid) const;
   struct Solid {
     double fraction = 0.0;
     double us[3] = {0, 0, 0};    // lattice units
+    double wetting = 0.0;        // cos(theta) of the grains (two fluids)
     double gain[3] = {0, 0, 0};  // fluid momentum gained, lattice units, summed over steps
   };
   // Noble & Torczynski partially saturated cell (seed 000 eqs 2.66-2.68).
   void collide_psm(double* f, const double* F, Solid& s) const;
+  void collide_grain(long c, const std::vector<double>& r0, const std::vector<double>& b0, const double F[3],
+                     Solid& s);
   bool on_open_face(long cell) const;
   void apply_face(int face, std::vector<double>& fs, const std::vector<double>& post);
   void face_state(const double* f, int axis, int s, const lbm::Face& F, double& rho, double u[3]) const;
@@ -95,6 +102,7 @@ class LbmReference final : public FluidSolver {
   // colour field of the pulled populations, solid id per cell (0: fluid).
   std::vector<double> r_, b_, phi_;
   std::vector<int> solid_id_;
+  std::vector<double> grain_eps_, grain_cos_;  // per cell: psm fraction and cos(theta) (0: none)
 };
 
 }  // namespace coflow::fluid

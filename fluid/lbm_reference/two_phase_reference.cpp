@@ -93,6 +93,14 @@ void LbmReference::step_colours() {
         for (int q = 0; q < Q_; ++q) red += r_[c * Q_ + q], blue += b_[c * Q_ + q];
         phi_[c] = red - blue;
       }
+  // The seed's wetting: grains colour the cells they cover, by solid fraction,
+  // phi <- (1 - eps) phi + eps rho cos(theta). Open faces keep their fluid.
+  for (const auto& [c, grain] : solid_) {
+    if (s_.tp.geometric || solid_id_[c] || on_open_face(c)) continue;
+    double rho = 0.0;
+    for (int q = 0; q < Q_; ++q) rho += r_[c * Q_ + q] + b_[c * Q_ + q];
+    phi_[c] = (1.0 - grain.fraction) * phi_[c] + grain.fraction * rho * grain.wetting;
+  }
   for (long k = 0; k < n_[2]; ++k)
     for (long j = 0; j < n_[1]; ++j)
       for (long i = 0; i < n_[0]; ++i) {
@@ -101,8 +109,13 @@ void LbmReference::step_colours() {
         double g[3] = {0.0, 0.0, 0.0}, F[3];
         colour_gradient(i, j, k, g);
         force_at(c, F);
+        const std::vector<double> r0(r_.begin() + c * Q_, r_.begin() + (c + 1) * Q_);
+        const std::vector<double> b0(b_.begin() + c * Q_, b_.begin() + (c + 1) * Q_);
         collide_colours(c, g, F);
+        const auto grain = solid_.find(c);
+        if (grain != solid_.end() && !on_open_face(c)) collide_grain(c, r0, b0, F, grain->second);
       }
+  if (!solid_.empty()) ++solid_steps_;
   ++steps_;
 }
 
@@ -191,6 +204,7 @@ bool LbmReference::solid_at(long i, long j, long k) const {
 // normal into the fluid, t the gradient's unit direction along them).
 void LbmReference::colour_gradient(long i, long j, long k, double g[3]) const {
   const long c = index(i, j, k);
+  if (grain_gradient(i, j, k, g)) return;
   double ns[3] = {0.0, 0.0, 0.0}, cos_theta = 0.0, weight = 0.0;
   double num[3] = {0.0, 0.0, 0.0}, den[3] = {0.0, 0.0, 0.0};
   for (int q = 1; q < Q_; ++q) {
@@ -213,10 +227,63 @@ void LbmReference::colour_gradient(long i, long j, long k, double g[3]) const {
   // weighted difference over sum w e_d^2, times 2 N (N = 5 D3Q19, 3 D2Q9).
   const double N = Q_ == 19 ? 5.0 : 3.0;
   for (int d = 0; d < 3; ++d) g[d] = den[d] > 0.0 ? 2.0 * N * num[d] / den[d] : 0.0;
+  turn(g, ns, cos_theta / weight);
+}
+
+// Grains' fraction at a cell that may be outside the box: 1 beyond walls and
+// in solids, 0 beyond open faces.
+double LbmReference::eps_at(long i, long j, long k) const {
+  long x[3] = {i, j, k};
+  const Beyond b = beyond(x);
+  if (b.wall) return 1.0;
+  if (b.open) return 0.0;
+  const long c = index(x[0], x[1], x[2]);
+  return solid_id_[c] ? 1.0 : grain_eps_[c];
+}
+
+// Geometric wetting next to grains (partially saturated cells), at a cell not
+// wholly covered that holds or touches one: each neighbour's link weighs by
+// its fluid share 1 - eps in the one-sided gradient; the solids' normal is
+// -sum_q w_q e_q eps, cos(theta) their eps-weighted mean. False elsewhere.
+bool LbmReference::grain_gradient(long i, long j, long k, double g[3]) const {
+  const long c = index(i, j, k);
+  if (!s_.tp.geometric || grain_eps_.empty() || grain_eps_[c] >= 1.0) return false;
+  bool grain = grain_eps_[c] > 0.0;
+  double ns[3] = {0.0, 0.0, 0.0}, cos_theta = 0.0, weight = 0.0;
+  double num[3] = {0.0, 0.0, 0.0}, den[3] = {0.0, 0.0, 0.0};
+  for (int q = 1; q < Q_; ++q) {
+    const long a = i + e_[q][0], b = j + e_[q][1], z = k + e_[q][2];
+    long x[3] = {a, b, z};
+    const Beyond at = beyond(x);
+    const bool solid = solid_at(a, b, z);
+    const double eps = eps_at(a, b, z);
+    grain = grain || (!solid && eps > 0.0);
+    for (int d = 0; d < 3; ++d) ns[d] -= w_[q] * eps * e_[q][d];
+    const double cos_n = solid ? phi_at(a, b, z) : at.open ? 0.0 : grain_cos_[index(x[0], x[1], x[2])];
+    cos_theta += w_[q] * eps * cos_n;
+    weight += w_[q] * eps;
+    const double share = 1.0 - eps;
+    if (share <= 0.0) continue;
+    for (int d = 0; d < 3; ++d) {
+      num[d] += share * w_[q] * e_[q][d] * (phi_at(a, b, z) - phi_[c]);
+      den[d] += share * w_[q] * e_[q][d] * e_[q][d];
+    }
+  }
+  if (!grain) return false;
+  const double N = Q_ == 19 ? 5.0 : 3.0;
+  for (int d = 0; d < 3; ++d) g[d] = den[d] > 0.0 ? 2.0 * N * num[d] / den[d] : 0.0;
+  turn(g, ns, weight > 0.0 ? cos_theta / weight : 0.0);
+  return true;
+}
+
+// The gradient g turned, at its magnitude, to n' = -cos(theta) n_s +
+// sin(theta) t (n_s the solids' unit normal into the fluid from ns, t the
+// gradient's unit direction along them); left as it is without a normal or a
+// direction along the solid.
+void LbmReference::turn(double g[3], double ns[3], double cos_theta) const {
   const double n = std::sqrt(ns[0] * ns[0] + ns[1] * ns[1] + ns[2] * ns[2]);
   const double gn = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
   if (n == 0.0 || gn == 0.0) return;
-  cos_theta /= weight;
   double t[3], along = 0.0;
   for (int d = 0; d < 3; ++d) ns[d] /= n, along += g[d] / gn * ns[d];
   for (int d = 0; d < 3; ++d) t[d] = g[d] / gn - along * ns[d];
@@ -228,6 +295,39 @@ void LbmReference::colour_gradient(long i, long j, long k, double g[3]) const {
 
 // Collision of r + b with the cell's relaxation time, the perturbation
 // (eq. 2.57) and the recolouring (eqs. 2.59-2.63) of cell c.
+// The relaxation time at colour fraction psi = (rho_r - rho_b) / rho: the
+// viscosities interpolated harmonically across the interface, nu = (tau - 1/2)/3.
+double LbmReference::colour_tau(double psi) const {
+  const double nu_r = (s_.tau - 0.5) / 3.0, nu_b = ((s_.tp.on ? s_.tp.tau_blue : s_.tau) - 0.5) / 3.0;
+  const double nu = 1.0 / ((1.0 + psi) / (2.0 * nu_r) + (1.0 - psi) / (2.0 * nu_b));
+  return 0.5 + 3.0 * nu;
+}
+
+// A partially saturated cell in two fluids: the colour collision's result
+// (in r_, b_) takes the share 1 - B; the share B is Noble & Torczynski's
+// solid collision of the streamed populations (r0 + b0, eqs. 2.66-2.68), split
+// between the colours by the cell's red fraction, so that each colour keeps
+// its mass.
+void LbmReference::collide_grain(long c, const std::vector<double>& r0, const std::vector<double>& b0,
+                                 const double F[3], Solid& s) {
+  std::vector<double> f0(Q_);
+  double red = 0.0, blue = 0.0, rho, u[3];
+  for (int q = 0; q < Q_; ++q) f0[q] = r0[q] + b0[q], red += r0[q], blue += b0[q];
+  fluid_velocity(f0.data(), F, rho, u);
+  const double psi = red / rho, tau = colour_tau((red - blue) / rho);
+  const double B = s.fraction * (tau - 0.5) / ((1.0 - s.fraction) + (tau - 0.5));  // eq. 2.67
+  for (int q = 0; q < Q_; ++q) {
+    const int o = opp_[q];
+    const double swap = equilibrium(q, rho, s.us) - equilibrium(o, rho, u);
+    const double omega_s = f0[o] - f0[q] + swap;  // eq. 2.68
+    const long x = c * Q_ + q;
+    r_[x] = (1.0 - B) * r_[x] + B * (r0[o] + psi * swap);
+    b_[x] = (1.0 - B) * b_[x] + B * (b0[o] + (1.0 - psi) * swap);
+    f_[x] = r_[x] + b_[x];
+    for (int d = 0; d < 3; ++d) s.gain[d] += B * omega_s * e_[q][d];
+  }
+}
+
 void LbmReference::collide_colours(long c, const double g[3], const double F[3]) {
   double* r = &r_[c * Q_];
   double* b = &b_[c * Q_];
@@ -238,11 +338,7 @@ void LbmReference::collide_colours(long c, const double g[3], const double F[3])
     blue += b[q];
     f[q] = r[q] + b[q];
   }
-  const double rho = red + blue, psi = (red - blue) / rho;
-  // Viscosities interpolated harmonically across the interface, nu = (tau - 1/2)/3.
-  const double nu_r = (s_.tau - 0.5) / 3.0, nu_b = ((s_.tp.on ? s_.tp.tau_blue : s_.tau) - 0.5) / 3.0;
-  const double nu = 1.0 / ((1.0 + psi) / (2.0 * nu_r) + (1.0 - psi) / (2.0 * nu_b));
-  const double tau = 0.5 + 3.0 * nu;
+  const double rho = red + blue, tau = colour_tau((red - blue) / rho);
   collide(f, F, tau);
   // Perturbation: 36 w A |g| [(e.g)^2/|g|^2 - C] on the moving populations,
   // C = c_s^2 / (1 - w_0) so that it keeps the mass; A = gamma / (32 N tau)

@@ -65,6 +65,7 @@ struct Cell {
   Index3 global{};     // wrapped global cell
   double fraction = 0.0;
   V weighted_velocity{0, 0, 0};  // sum of fraction x solid velocity
+  double weighted_wetting = 0.0;  // sum of fraction x cos(contact angle)
   std::vector<Share> shares;
 };
 
@@ -73,8 +74,8 @@ struct Cell {
 namespace {
 
 // One window of psm: 1. the particle states arrive; 2. the coverage of the
-// owned cells; 3. the covered cells go to the fluid, fraction (clamped at 1)
-// and velocity; 4. the force on the solid in each of them comes back after the
+// owned cells; 3. the covered cells go to the fluid, fraction (clamped at 1),
+// velocity and wetting (cos of the contact angle); 4. the force on the solid in each of them comes back after the
 // fluid step; 5. each particle gets its shares, with buoyancy, and they go back.
 class PsmWindows final : public coupler::WindowParts {
  public:
@@ -105,11 +106,12 @@ class PsmWindows final : public coupler::WindowParts {
   std::vector<long> slot_of_;
   std::vector<Cell> cells_;
   std::vector<Index3> send_cells_;
-  std::vector<double> send_values_, got_values_;
+  std::vector<double> send_values_, got_values_, slot_force_;
   std::vector<long> got_cells_;
   std::vector<protocol::ParticleLoad> loads_;
   std::vector<std::pair<Index3, double>> touched_;
   double solid_volume_ = 0.0;
+  double default_angle_ = 90.0;  // fluid.two_phase.contact_angle, for species without their own
   double total_[7] = {};
   ImmersedSeries series_;
 };
@@ -126,12 +128,14 @@ PsmWindows::PsmWindows(coupler::Session& s, const PsmParams& p, int ghost)
               protocol::kTagParticles, ghost),
       to_fluid_(s.partner("fluid"), coupler::FieldExchange::Role::sender, s.decomposition(), s.rank(),
                 s.decomposition_of("fluid", s.partner_ranks("fluid")),
-                coupler::FieldSpec{"solid", 4, coupler::Transfer::consistent, 0}, protocol::kTagSolid),
+                coupler::FieldSpec{"solid", 5, coupler::Transfer::consistent, 0}, protocol::kTagSolid),
       from_fluid_(s.partner("fluid"), coupler::FieldExchange::Role::receiver, s.decomposition(), s.rank(),
                   s.decomposition_of("fluid", s.partner_ranks("fluid")),
                   coupler::FieldSpec{"solid_force", 3, coupler::Transfer::consistent, 0}, protocol::kTagSolidForce),
       slot_of_(static_cast<std::size_t>(owned_.volume()), -1),
       series_(s) {
+  const std::string angle = config::resolved_text(s.config(), {"fluid", "two_phase", "contact_angle"});
+  if (!angle.empty()) default_angle_ = std::stod(angle);
   log::info("psm: {} octree levels, ghost layer {} cells, buoyancy {}", p_.refinement, ghost,
             p_.buoyancy ? "on" : "off");
 }
@@ -154,6 +158,7 @@ void PsmWindows::step(long) {
     send_cells_.push_back(c.global);
     send_values_.push_back(std::min(1.0, c.fraction));
     for (int d = 0; d < 3; ++d) send_values_.push_back(c.weighted_velocity[d] / c.fraction);
+    send_values_.push_back(c.weighted_wetting / c.fraction);
   }
   to_fluid_.flush();
   to_fluid_.send_sparse(send_cells_, send_values_);
@@ -210,7 +215,7 @@ void PsmWindows::add_cell(std::size_t p, const Index3& cell, double f) {
   const long local = ((g[2] - owned_.lo[2]) * ny + (g[1] - owned_.lo[1])) * nx + (g[0] - owned_.lo[0]);
   if (slot_of_[local] < 0) {
     slot_of_[local] = static_cast<long>(cells_.size());
-    cells_.push_back(Cell{local, g, 0.0, {0, 0, 0}, {}});
+    cells_.push_back(Cell{local, g, 0.0, {0, 0, 0}, 0.0, {}});
   }
   Cell& c = cells_[slot_of_[local]];
   const V lever{centre[0] - r.x[0], centre[1] - r.x[1], centre[2] - r.x[2]};
@@ -219,6 +224,8 @@ void PsmWindows::add_cell(std::size_t p, const Index3& cell, double f) {
              r.v[2] + r.w[0] * lever[1] - r.w[1] * lever[0]};
   c.fraction += f;
   for (int d = 0; d < 3; ++d) c.weighted_velocity[d] += f * us[d];
+  const double angle = r.contact_angle < 0.0 ? default_angle_ : r.contact_angle;
+  c.weighted_wetting += f * std::cos(angle * std::numbers::pi / 180.0);
   c.shares.push_back({p, f, lever});
   solid_volume_ += f * h * h * h;
 }
@@ -227,13 +234,20 @@ void PsmWindows::add_cell(std::size_t p, const Index3& cell, double f) {
 // the torque of those shares about its centre (seed 000 eqs 2.70-2.71).
 void PsmWindows::share_forces() {
   loads_.assign(rec_.size(), protocol::ParticleLoad{});
+  // In the order of the covered cells, not of their arrival, so that the sums
+  // do not depend on the fluid's decomposition (1 fluid rank = N, bit for bit).
+  slot_force_.assign(3 * cells_.size(), 0.0);
   for (std::size_t m = 0; m < got_cells_.size(); ++m) {
     const long slot = slot_of_[got_cells_[m]];
     if (slot < 0) throw std::runtime_error("psm: the fluid returned a force for a cell that holds no solid");
+    for (int d = 0; d < 3; ++d) slot_force_[3 * slot + d] = got_values_[3 * m + d];
+  }
+  for (std::size_t slot = 0; slot < cells_.size(); ++slot) {
     const Cell& c = cells_[slot];
     for (const Share& sh : c.shares) {
       const double part = sh.fraction / c.fraction;
-      const V f{part * got_values_[3 * m], part * got_values_[3 * m + 1], part * got_values_[3 * m + 2]};
+      const double* got = &slot_force_[3 * slot];
+      const V f{part * got[0], part * got[1], part * got[2]};
       auto& l = loads_[sh.record];
       for (int d = 0; d < 3; ++d) l.force[d] += f[d];
       l.torque[0] += sh.lever[1] * f[2] - sh.lever[2] * f[1];

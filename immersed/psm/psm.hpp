@@ -6,7 +6,10 @@
 //      for cells wholly inside or outside a sphere, adaptive octree sub-division
 //      of the others), the cell's total fraction (clamped at 1) and its solid
 //      velocity v + omega x (x_cell - x_p), fraction-weighted over the particles,
-//   3. sends those cells to the fluid, which collides them with eq. 2.66,
+//   3. sends those cells to the fluid, which collides them with eq. 2.66, with
+//      the fraction-weighted cos(contact angle) of the particles' species (a
+//      two-phase fluid colours the cells with it; -1 in a species: the
+//      fluid.two_phase.contact_angle),
 //   4. receives the force the fluid exerted on the solid in each of them, and
 //   5. returns to each particle its share (by fraction) of the force in the cells
 //      it covers, and the torque of those shares about its centre (eqs 2.70-2.71).

@@ -49,6 +49,9 @@ inline const Field particle_state{"particle_state", Location::point, "m, m/s, ra
 inline const Field hydrodynamic_load{"hydrodynamic_load", Location::point, "N, N m"};
 inline const Field fluid_at_particle{"fluid_at_particle", Location::point, "m/s, 1/s, m^2/s^2, m^2/s^3, kg/m^3, Pa s"};
 inline const Field impulse{"impulse", Location::point, "N s"};
+// cos(contact angle) of the grains in partially saturated cells: a two-phase
+// fluid takes it.
+inline const Field grain_wetting{"grain_wetting", Location::cell, "1"};
 }  // namespace fields
 
 // A field a variant needs. `key` is the configuration key that makes it need

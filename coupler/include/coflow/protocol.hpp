@@ -14,6 +14,7 @@ struct ParticleRecord {
   double x[3], v[3], w[3];  // position, velocity, angular velocity
   double radius;
   double mass;
+  double contact_angle;  // degrees, of the red fluid on the particle's species (-1: the fluid's own)
 };
 // immersed -> particles: the hydrodynamic load on each record (N, N m); the
 // copies of a particle held by several immersed ranks are summed.

@@ -139,6 +139,8 @@ int colour_mass(const std::string& dir);
 int permeability(const std::string& dir);
 int washburn(const std::string& dir);
 int injection_phase(const std::string& dir);
+int grain_interface(const std::string& dir);
+int bridge(const std::string& dir);
 // compare.cpp
 int compare(const std::string& a, const std::string& b);
 

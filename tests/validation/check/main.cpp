@@ -47,6 +47,8 @@ int main(int argc, char** argv) {
     if (what == "permeability" && argc == 3) return permeability(argv[2]);
     if (what == "washburn" && argc == 3) return washburn(argv[2]);
     if (what == "injection_phase" && argc == 3) return injection_phase(argv[2]);
+    if (what == "grain_interface" && argc == 3) return grain_interface(argv[2]);
+    if (what == "bridge" && argc == 3) return bridge(argv[2]);
     std::fprintf(stderr, "usage: coflow-check profile|decay|mass RUN_DIR | compare RUN_A RUN_B\n");
     return 2;
   } catch (const std::exception& e) {

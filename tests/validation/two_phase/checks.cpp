@@ -288,6 +288,84 @@ int injection_phase(const std::string& dir) {
 }
 
 // The colour masses alone (any two-phase run).
+// A grain (the one particle, free) at the top of a red layer in a periodic
+// box (configs/validation/two_phase_grain_interface.yaml): the red-to-blue
+// crossing of the phase upwards, in each column more than two radii from the
+// grain's axis, averaged; its height over the grain's centre (the last
+// particle snapshot),
+// in cells, against a cos(theta) (a flat interface meets a sphere at theta
+// there: the red fluid below it climbs a grain it wets).
+int grain_interface(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto& d = cfg.domain;
+  const double dx = d.spacing()[0];
+  const YAML::Node part = cfg.resolved["particles"];
+  const YAML::Node grain = part["initial"][0]["single"];
+  const YAML::Node species = part["species"][grain["species"].as<std::string>()];
+  const double a = 0.5 * species["diameter"].as<double>() / dx;
+  double theta = species["contact_angle"].as<double>();
+  if (theta < 0.0) theta = cfg.resolved["fluid"]["two_phase"]["contact_angle"].as<double>();
+  // The grain's centre in the last particle snapshot (a free grain moves).
+  std::ifstream index(dir + "/particles/index.csv");
+  std::string line, last;
+  std::getline(index, line);
+  while (std::getline(index, line))
+    if (!line.empty()) last = line;
+  if (last.empty()) throw std::runtime_error(dir + ": no particle snapshot");
+  const auto centre = output::read_dataset(
+      dir + "/particles/" + output::snapshot_name(std::stol(last.substr(0, last.find(',')))), "position");
+  double c[3];
+  for (int k = 0; k < 3; ++k) c[k] = (centre.at(k) - d.lower[k]) / dx - 0.5;  // in cell-centre units
+  const auto s = read_last(dir);
+  double sum = 0.0;
+  long columns = 0;
+  for (long j = 0; j < s.ny; ++j)
+    for (long i = 0; i < s.nx; ++i) {
+      double dxy[2] = {std::abs(i - c[0]), std::abs(j - c[1])};
+      dxy[0] = std::min(dxy[0], s.nx - dxy[0]), dxy[1] = std::min(dxy[1], s.ny - dxy[1]);
+      if (std::hypot(dxy[0], dxy[1]) <= 2.0 * a) continue;
+      for (long k = 0; k + 1 < s.nz; ++k) {
+        const double p = s.phase[(k * s.ny + j) * s.nx + i], q = s.phase[((k + 1) * s.ny + j) * s.nx + i];
+        if (p > 0.0 && q <= 0.0) sum += k + p / (p - q), ++columns;
+      }
+    }
+  if (columns == 0) throw std::runtime_error(dir + ": no red-to-blue crossing away from the grain");
+  const double offset = sum / columns - c[2], expected = a * std::cos(theta * std::numbers::pi / 180.0);
+  std::printf("columns=%ld\ncontact_angle=%.4f\nheight_offset=%.6f\nexpected_offset=%.6f\noffset_error=%.6f\n",
+              columns, theta, offset, expected, std::abs(offset - expected));
+  std::printf("colour_mass_drift=%.6e\n", colour_mass_drift(dir));
+  return 0;
+}
+
+// A capillary bridge between a fixed grain (the first particle) and a
+// sphere touching it on its -x side: the grain's force along x in
+// series/immersed.csv, averaged over the last quarter of the run, against
+// the small-bridge limit -2 pi R gamma cos(theta) (the bridge pulls the
+// spheres together; Willett et al. 2000 eq. 11 at zero separation).
+int bridge(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  const YAML::Node part = cfg.resolved["particles"];
+  const YAML::Node grain = part["initial"][0]["single"];
+  const YAML::Node species = part["species"][grain["species"].as<std::string>()];
+  const double R = 0.5 * species["diameter"].as<double>();
+  double theta = species["contact_angle"].as<double>();
+  if (theta < 0.0) theta = fp.two_phase.contact_angle;
+  const auto rows = read_series(dir + "/series/immersed.csv");
+  const double t_end = rows.back().at(0);
+  double sum = 0.0, lo = 1e300, hi = -1e300;
+  long n = 0;
+  for (const auto& r : rows)
+    if (r.at(0) >= 0.75 * t_end) sum += r.at(1), lo = std::min(lo, r.at(1)), hi = std::max(hi, r.at(1)), ++n;
+  if (n == 0) throw std::runtime_error(dir + ": no rows in the last quarter");
+  const double F = sum / n, expected = -2.0 * std::numbers::pi * R * fp.two_phase.surface_tension *
+                                           std::cos(theta * std::numbers::pi / 180.0);
+  std::printf("bridge_force=%.6e\nexpected_force=%.6e\nbridge_error=%.6e\nforce_spread=%.6e\n", F, expected,
+              std::abs(F / expected - 1.0), (hi - lo) / std::abs(expected));
+  std::printf("colour_mass_drift=%.6e\n", colour_mass_drift(dir));
+  return 0;
+}
+
 int colour_mass(const std::string& dir) {
   std::printf("colour_mass_drift=%.6e\n", colour_mass_drift(dir));
   return 0;

@@ -71,3 +71,20 @@ coflow_validation(two_phase_laplace_3d laplace two_phase_droplet_2d.yaml 2
 # state the walls carry the body force.
 coflow_validation(two_phase_layered_walls fluid_walls two_phase_layered.yaml 1 --set fluid.two_phase.viscosity_blue=1.0e-5
   --set run.output.series_every=150.0)
+# Wetted grains (partially saturated cells in two fluids): lbm against
+# lbm-reference with geometric and the seed's wetting, 1 fluid rank against 4
+# (the same bits), a free grain at a flat interface at 60, 90 and 120
+# degrees (at 90 nothing moves: 500 steps), and the capillary bridge between two touching spheres.
+coflow_validation(two_phase_grains_vs_reference compare two_phase_grains_crosscheck.yaml 1
+  "fluid.solver=lbm" "fluid.solver=lbm-reference")
+coflow_validation(two_phase_grains_vs_reference_seed compare two_phase_grains_crosscheck.yaml 1
+  "fluid.solver=lbm fluid.two_phase.wetting=seed fluid.lbm.collision=bgk"
+  "fluid.solver=lbm-reference fluid.two_phase.wetting=seed fluid.lbm.collision=bgk")
+coflow_validation(two_phase_grains_ranks_1_vs_4 compare two_phase_grains_crosscheck.yaml 2
+  "fluid.ranks=1" "fluid.ranks=4 fluid.decomposition=[2,2,1]")
+coflow_validation(two_phase_grain_interface_60 grain_interface two_phase_grain_interface.yaml 1)
+coflow_validation(two_phase_grain_interface_90 grain_interface two_phase_grain_interface.yaml 1
+  --set particles.species.grain.contact_angle=90 --set run.end_time=83.333)
+coflow_validation(two_phase_grain_interface_120 grain_interface two_phase_grain_interface.yaml 1
+  --set particles.species.grain.contact_angle=120)
+coflow_validation(two_phase_capillary_bridge bridge two_phase_capillary_bridge.yaml 1)

@@ -47,7 +47,7 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
     const YAML::Node species = config::resolved_node(cfg, "particles.species");
     for (const auto& sp : species.IsMap() ? species : YAML::Node()) {
       const std::string angle = config::resolved_text(cfg, {"particles", "species", sp.first.Scalar(), "contact_angle"});
-      if (!angle.empty() && angle != "-1")
+      if (!angle.empty() && std::stod(angle) != -1.0)
         c.needs.push_back({f::grain_wetting, "particles.species." + sp.first.Scalar() + ".contact_angle", "",
                            "add fluid.two_phase (with fluid.solver lbm or lbm-reference), or leave contact_angle out"});
     }

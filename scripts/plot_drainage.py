@@ -1,8 +1,10 @@
 """Drainage of a bed: the pressure drop across the box against the bed's red
-(wetting) saturation, and the phase field at four times.
+(wetting) saturation, and the phase field at four times (in 3D on the
+mid-plane z).
 
 Usage: plot_drainage.py RUN_DIR X_FROM X_TO OUT_PNG
-  RUN_DIR   a finished run of configs/cases/drainage_static_bed.yaml
+  RUN_DIR   a finished run of configs/drainage.yaml or
+            configs/cases/drainage_static_bed.yaml
   X_FROM, X_TO   the bed's extent along x, m (its saturation is taken there)
 """
 import csv
@@ -20,23 +22,23 @@ rows = list(csv.reader(open(run + "/fluid/index.csv")))[1:]
 times, sat, dp, frames = [], [], [], []
 for r in rows:
     h = h5py.File(f"{run}/fluid/step_{int(r[0]):06d}.h5", "r")
-    phase = h["phase"][0]
-    solid = h["solid_fraction"][0]
-    p = h["pressure"][0]
-    nx = phase.shape[1]
-    i0, i1 = int(round(x0 / 1e-3)), int(round(x1 / 1e-3))  # dx = 1 mm in the case
-    fluid = solid[:, i0:i1] < 0.5
-    red = 0.5 * (1.0 + phase[:, i0:i1])
+    phase = h["phase"][:]  # (z, y, x)
+    solid = h["solid_fraction"][:]
+    p = h["pressure"][:]
+    i0, i1 = int(round(x0 / 1e-3)), int(round(x1 / 1e-3))  # dx = 1 mm in the cases
+    share = 1.0 - solid[:, :, i0:i1]  # the fluid's share of each cell (grains: partially saturated)
+    red = 0.5 * (1.0 + phase[:, :, i0:i1])
     times.append(float(r[1]))
-    sat.append(red[fluid].mean())
-    dp.append(p[:, 0].mean() - p[:, -1].mean())
-    frames.append((float(r[1]), phase, solid))
+    sat.append((red * share).sum() / share.sum())
+    dp.append(p[:, :, 0].mean() - p[:, :, -1].mean())
+    mid = phase.shape[0] // 2
+    frames.append((float(r[1]), phase[mid], solid[mid]))
 fig, ax = plt.subplots(1, 2, figsize=(11, 4), gridspec_kw={"width_ratios": [1, 1.6]})
 ax[0].plot(sat, 1e3 * np.array(dp), "o-", ms=3)
 ax[0].set_xlabel("red (wetting) saturation of the bed")
 ax[0].set_ylabel("pressure drop across the box (mPa)")
 ax[0].set_xlim(0, 1.02)
-ax[0].set_title("drainage, inlet pressure ramped 0 to 2 mPa", fontsize=9)
+ax[0].set_title("drainage, inlet pressure ramped", fontsize=9)
 picks = [frames[k] for k in np.linspace(len(frames) // 4, len(frames) - 1, 4).astype(int)]
 strip = np.concatenate([np.where(s > 0.5, np.nan, ph) for _, ph, s in picks], axis=0)
 im = ax[1].imshow(strip, origin="lower", cmap="coolwarm", vmin=-1, vmax=1, aspect="equal")

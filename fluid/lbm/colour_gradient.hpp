@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "fluid/lbm/collision.hpp"
 #include "fluid/lbm/lattice.hpp"
@@ -133,47 +134,107 @@ inline double mixed_tau(double psi, double tau_red, double tau_blue) {
   return 0.5 + 1.0 / ((1.0 + psi) / (2.0 * nr) + (1.0 - psi) / (2.0 * nb));
 }
 
-// One cell: red r and blue b pulled (pre-collision); g the colour gradient of
-// eq. 2.56; F the force density. Writes the post-collision, recoloured
-// populations back into r and b. Returns u^2. Incompressible: the equilibrium
-// of He & Luo (reference density 1 in the velocity terms).
-template <class L, bool Incompressible>
-inline double colour_collide(double* r, double* b, const double g[3], const ColourParams& p,
-                             const double* F) {
-  double rho_r = 0.0, rho_b = 0.0, f[L::Q];
-  for (int q = 0; q < L::Q; ++q) {
-    rho_r += r[q];
-    rho_b += b[q];
-    f[q] = r[q] + b[q] - L::w[q];  // zero-centred for lbm::collide
+// A value of one cell (double) or of four (Vec4) with every lane x.
+template <class T>
+[[gnu::always_inline]] inline T splat(double x) {
+  if constexpr (std::is_same_v<T, double>)
+    return x;
+  else
+    return T{x, x, x, x};
+}
+[[gnu::always_inline]] inline double vsqrt(double x) { return std::sqrt(x); }
+[[gnu::always_inline]] inline Vec4 vsqrt(Vec4 x) {
+#if defined(__AVX__)
+  return _mm256_sqrt_pd(x);
+#else
+  return Vec4{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])};
+#endif
+}
+
+// The TRT (BGK: omega_minus = omega) collision with Guo forcing of zero-centred
+// populations f, per lane with its own relaxation rates: collide()'s
+// arithmetic on T. Returns u^2.
+template <class L, bool Incompressible, class T>
+[[gnu::always_inline]] inline T collide_lanes(T* f, T omega, T omega_minus, const double* F) {
+  T rho = f[0], jx = splat<T>(0.0), jy = jx, jz = jx;  // rho: the deviation rho - 1
+#pragma GCC unroll 32
+  for (int q = 1; q < L::Q; ++q) {
+    rho += f[q];
+    jx += L::e[q][0] * f[q];
+    jy += L::e[q][1] * f[q];
+    jz += L::e[q][2] * f[q];
   }
-  const double rho = rho_r + rho_b;
-  const double tau = mixed_tau((rho_r - rho_b) / rho, p.tau_red, p.tau_blue);
-  const double uu = collide<L, Incompressible>(f, collision_params(tau, p.trt, p.magic), F);
+  const T rho_m = Incompressible ? splat<T>(1.0) : 1.0 + rho;
+  const T inv = Incompressible ? splat<T>(1.0) : 1.0 / rho_m;
+  const T ux = (jx + 0.5 * F[0]) * inv, uy = (jy + 0.5 * F[1]) * inv, uz = (jz + 0.5 * F[2]) * inv;
+  const T uu = ux * ux + uy * uy + uz * uz, uF = ux * F[0] + uy * F[1] + uz * F[2];
+  const T e0 = rho - 1.5 * rho_m * uu, c45 = 4.5 * rho_m, c3 = 3.0 * rho_m;
+  const T force_plus = 1.0 - 0.5 * omega, force_minus = 1.0 - 0.5 * omega_minus;
+  T moving = splat<T>(0.0);
+#pragma GCC unroll 32
+  for (int q = 1; q < L::Q; ++q) {
+    const int o = L::opp[q];
+    if (o < q) continue;
+    const T eu = L::e[q][0] * ux + L::e[q][1] * uy + L::e[q][2] * uz;
+    const double eF = L::e[q][0] * F[0] + L::e[q][1] * F[1] + L::e[q][2] * F[2], w = L::w[q];
+    const T plus = 0.5 * (f[q] + f[o]), minus = 0.5 * (f[q] - f[o]);
+    const T s_plus = (force_plus * w) * (9.0 * eF * eu - 3.0 * uF), s_minus = force_minus * (w * 3.0 * eF);
+    const T even = omega * (plus - w * (e0 + c45 * eu * eu)) - s_plus;
+    const T odd = omega_minus * (minus - w * c3 * eu) - s_minus;
+    f[q] = f[q] - even - odd;
+    f[o] = f[o] - even + odd;
+    moving += f[q] + f[o];
+  }
+  f[0] = rho - moving;
+  return uu;
+}
+
+// One cell (T = double) or four (T = Vec4, the lanes independent, the same
+// arithmetic, so that a cell gets the same bits either way): red r and blue b
+// pulled (pre-collision); g the colour gradient of eq. 2.56; F the force
+// density. Writes the post-collision, recoloured populations back into r and
+// b. Returns u^2. Incompressible: the equilibrium of He & Luo (reference
+// density 1 in the velocity terms).
+template <class L, bool Incompressible, class T>
+[[gnu::always_inline]] inline T colour_collide_lanes(T* r, T* b, const T g[3], const ColourParams& p,
+                                                     const double* F) {
+  T rho_r = r[0], rho_b = b[0], f[L::Q];
+#pragma GCC unroll 32
+  for (int q = 1; q < L::Q; ++q) rho_r += r[q], rho_b += b[q];
+#pragma GCC unroll 32
+  for (int q = 0; q < L::Q; ++q) f[q] = r[q] + b[q] - L::w[q];  // zero-centred
+  const T rho = rho_r + rho_b, inv_rho = 1.0 / rho, psi = (rho_r - rho_b) * inv_rho;
+  // mixed_tau: the viscosities interpolated harmonically.
+  const double hr = 0.5 / (p.tau_red - 0.5), hb = 0.5 / (p.tau_blue - 0.5);
+  const T tau = 0.5 + 1.0 / ((1.0 + psi) * hr + (1.0 - psi) * hb), omega = 1.0 / tau;
+  const T omega_minus = p.trt ? 1.0 / (0.5 + p.magic / (tau - 0.5)) : omega;
+  const T uu = collide_lanes<L, Incompressible>(f, omega, omega_minus, F);
+#pragma GCC unroll 32
   for (int q = 0; q < L::Q; ++q) f[q] += L::w[q];
-  const double gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
-  if (gg > 0.0) {
-    const double gn = std::sqrt(gg), inv_gg = 1.0 / gg, A = perturbation_amplitude<L>(p.gamma, tau);
-    const double share = rho_r / rho, recolour = p.beta * rho_r * rho_b / (rho * gn);
-    for (int q = 1; q < L::Q; ++q) {
-      const double eg = L::e[q][0] * g[0] + L::e[q][1] * g[1] + L::e[q][2] * g[2];
-      f[q] += 36.0 * L::w[q] * A * gn * (eg * eg * inv_gg - perturbation_shift<L>());  // eq. 2.57
-      r[q] = share * f[q] + recolour * L::w[q] * eg * inverse_length<L>(q);            // eqs. 2.59, 2.63
-      b[q] = f[q] - r[q];                                                              // eq. 2.60
-    }
-  } else {
-    for (int q = 1; q < L::Q; ++q) {
-      r[q] = rho_r / rho * f[q];
-      b[q] = f[q] - r[q];
-    }
+  const T zero = splat<T>(0.0), gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+  const auto some = gg > zero;  // lanes with a gradient; the others are only split
+  const T gn = vsqrt(gg), inv_gg = some ? 1.0 / gg : zero;
+  const T A = p.gamma / (32.0 * positive_count<L>()) * omega;  // perturbation_amplitude
+  const T share = rho_r * inv_rho, recolour = some ? p.beta * rho_r * rho_b * inv_rho / gn : zero;
+  T sr = zero, sb = zero;
+#pragma GCC unroll 32
+  for (int q = 1; q < L::Q; ++q) {
+    const T eg = L::e[q][0] * g[0] + L::e[q][1] * g[1] + L::e[q][2] * g[2];
+    f[q] += (36.0 * L::w[q]) * A * gn * (eg * eg * inv_gg - perturbation_shift<L>());  // eq. 2.57
+    r[q] = share * f[q] + recolour * (L::w[q] * inverse_length<L>(q)) * eg;            // eqs. 2.59, 2.63
+    b[q] = f[q] - r[q];                                                                // eq. 2.60
+    sr += r[q], sb += b[q];
   }
   // The rest populations take what the moving ones leave of each colour, so
-  // that each colour's mass is kept to round-off (the perturbation and the
-  // recolouring conserve it exactly in exact arithmetic).
-  double sr = 0.0, sb = 0.0;
-  for (int q = 1; q < L::Q; ++q) sr += r[q], sb += b[q];
+  // that each colour's mass is kept to round-off.
   r[0] = rho_r - sr;
   b[0] = rho_b - sb;
   return uu;
+}
+
+template <class L, bool Incompressible>
+inline double colour_collide(double* r, double* b, const double g[3], const ColourParams& p, const double* F) {
+  return colour_collide_lanes<L, Incompressible, double>(r, b, g, p, F);
 }
 
 }  // namespace coflow::fluid::lbm

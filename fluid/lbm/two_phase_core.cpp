@@ -47,6 +47,7 @@ class TwoPhaseCore final : public LbmCore {
     mark_solids();
     solid_momentum_.assign(3 * (s.tp.solid_phase.size() - 1), 0.0);
     if (s.tp.geometric) find_wetted();
+    find_plain();
     if (s.tp.geometric) {
       eps_.assign(static_cast<std::size_t>(cells_), 0.0);
       grain_cos_.assign(static_cast<std::size_t>(cells_), 0.0);
@@ -65,9 +66,10 @@ class TwoPhaseCore final : public LbmCore {
     ghosts_.exchange(phi_);
     fill_open_ghosts();
     max_u2_ = 0.0;
-    for_owned([&](long i, long j, long k, long x) {
-      if (!solid_[x]) collide_cell(i, j, k, x);
-    });
+    for_rows([&](long x) { return plain(x); }, [&](long x) { collide4(x); },
+             [&](long i, long j, long k, long x) {
+               if (!solid_[x]) collide_cell(i, j, k, x);
+             });
     red_.swap();
     blue_.swap();
   }
@@ -285,6 +287,7 @@ class TwoPhaseCore final : public LbmCore {
     ghosts_.exchange(grain_cos_);
     std::fill(grain_wet_index_.begin(), grain_wet_index_.end(), -1);
     grain_wet_.clear();
+    special_ = static_special_;
     for_owned([&](long, long, long, long x) {
       if (solid_[x] || eps_[x] >= 1.0) return;
       bool grain = eps_[x] > 0.0;
@@ -304,7 +307,25 @@ class TwoPhaseCore final : public LbmCore {
       w.cos_theta = weight > 0.0 ? w.cos_theta / weight : 0.0;
       grain_wet_index_[x] = static_cast<int>(grain_wet_.size());
       grain_wet_.push_back(w);
+      special_[x] = 1;
     });
+  }
+
+  // Cells the four-cell passes take: fluid cells all of whose neighbours are
+  // fluid (pulled without bounce-back or closure), and fluid cells without
+  // wetting (the plain colour gradient). Grains add their cells in
+  // find_grain_wetted().
+  void find_plain() {
+    plain_pull_.assign(static_cast<std::size_t>(cells_), 0);
+    static_special_.assign(static_cast<std::size_t>(cells_), 1);
+    for_owned([&](long, long, long, long x) {
+      if (solid_[x]) return;
+      bool all_fluid = true;
+      for (int q = 1; q < L::Q; ++q) all_fluid = all_fluid && !solid_[x + off_[q]] && !open_[x + off_[q]];
+      plain_pull_[x] = all_fluid ? 1 : 0;
+      static_special_[x] = !wet_index_.empty() && wet_index_[x] >= 0 ? 1 : 0;
+    });
+    special_ = static_special_;
   }
 
   // Each colour at the equilibrium of its share of the cell's density.
@@ -327,8 +348,83 @@ class TwoPhaseCore final : public LbmCore {
   // half-way bounce-back from solid cells (eq. 2.44), and the colour field of
   // the pulled populations.
   void stream() {
-    for_owned([&](long i, long j, long k, long x) {
-      if (solid_[x]) return;
+    for_rows([&](long x) { return plain(x); }, [&](long x) { colour4(x); },
+             [&](long i, long j, long k, long x) {
+               if (!solid_[x]) stream_cell(i, j, k, x);
+             });
+  }
+
+  // Rows of owned cells, four at a time along x: `four` where `plain` holds for
+  // all four, else (and for the row's last cells) `one` per cell. A cell's
+  // arithmetic is the same either way (the lanes are independent), so that
+  // the results do not depend on where a block starts.
+  template <class Plain, class Four, class One>
+  void for_rows(Plain&& plain, Four&& four, One&& one) {
+    const long nx = lay_.extent[0];
+    for (long k = 0; k < lay_.extent[2]; ++k)
+      for (long j = 0; j < lay_.extent[1]; ++j) {
+        long i = 0;
+        for (; i + 4 <= nx; i += 4) {
+          const long x = lay_.idx(i, j, k);
+          if (plain(x) && plain(x + 1) && plain(x + 2) && plain(x + 3)) {
+            four(x);
+            continue;
+          }
+          for (long m = 0; m < 4; ++m) one(i + m, j, k, x + m);
+        }
+        for (; i < nx; ++i) one(i, j, k, lay_.idx(i, j, k));
+      }
+  }
+
+  // A cell the four-cell passes take: a fluid cell whose neighbours are all
+  // fluid (pulled without bounce-back or closure), without wetting or grains
+  // (the plain colour gradient), in a fluid without a momentum source.
+  bool plain(long x) const { return plain_pull_[x] && !special_[x] && src_.empty(); }
+
+  // Four plain cells: the colour field of their pulled populations (stream_cell's
+  // sum); collide4 pulls them again, so nothing is stored in between.
+  void colour4(long x) {
+    Vec4 rr = splat<Vec4>(0.0), bb = rr;
+#pragma GCC unroll 32
+    for (int q = 0; q < L::Q; ++q) {
+      rr += detail::get(&red_.f[q * cells_ + x - off_[q]]);
+      bb += detail::get(&blue_.f[q * cells_ + x - off_[q]]);
+      __builtin_prefetch(&red_.f[q * cells_ + x - off_[q] + prefetch_ahead], 0, 0);
+      __builtin_prefetch(&blue_.f[q * cells_ + x - off_[q] + prefetch_ahead], 0, 0);
+    }
+    detail::put<false>(&phi_[x], rr - bb);
+  }
+
+  // Four plain cells pulled and collided (collide_cell's arithmetic on four
+  // lanes), into `next`.
+  void collide4(long x) {
+    Vec4 r[L::Q], b[L::Q], g[3];
+    g[0] = g[1] = g[2] = splat<Vec4>(0.0);
+#pragma GCC unroll 32
+    for (int q = 1; q < L::Q; ++q) {
+      const Vec4 ph = detail::get(&phi_[x + off_[q]]);
+      for (int d = 0; d < 3; ++d) g[d] += L::e[q][d] * ph;
+    }
+    const double F[3] = {s_.force[0] + 0.0, s_.force[1] + 0.0, s_.force[2] + 0.0};  // as force() without a source
+#pragma GCC unroll 32
+    for (int q = 0; q < L::Q; ++q) {
+      r[q] = detail::get(&red_.f[q * cells_ + x - off_[q]]);
+      b[q] = detail::get(&blue_.f[q * cells_ + x - off_[q]]);
+      __builtin_prefetch(&red_.f[q * cells_ + x - off_[q] + prefetch_ahead], 0, 0);
+      __builtin_prefetch(&blue_.f[q * cells_ + x - off_[q] + prefetch_ahead], 0, 0);
+    }
+    const Vec4 uu = colour_collide_lanes<L, Incompressible, Vec4>(r, b, g, colour_, F);
+    for (int m = 0; m < 4; ++m) max_u2_ = nan_max(max_u2_, uu[m]);
+#pragma GCC unroll 32
+    for (int q = 0; q < L::Q; ++q) {
+      detail::put<false>(&red_.next[q * cells_ + x], r[q]);
+      detail::put<false>(&blue_.next[q * cells_ + x], b[q]);
+    }
+  }
+
+  // Pull streaming of one fluid cell (see stream()).
+  void stream_cell(long i, long j, long k, long x) {
+    {
       bool unknown[L::Q], any = false;
       for (int q = 0; q < L::Q; ++q) {
         const long src = x - off_[q];
@@ -358,7 +454,7 @@ class TwoPhaseCore final : public LbmCore {
       double rr = 0.0, bb = 0.0;
       for (int q = 0; q < L::Q; ++q) rr += red_.next[q * cells_ + x], bb += blue_.next[q * cells_ + x];
       phi_[x] = rr - bb;
-    });
+    }
   }
 
   // The unknown populations of a cell on open faces, as lbm-reference does:
@@ -506,6 +602,9 @@ class TwoPhaseCore final : public LbmCore {
   std::vector<int> wet_index_;  // geometric wetting: per cell, into wet_ (-1: no solid neighbour)
   std::vector<Wet> wet_;
   std::vector<double> src_;
+  std::vector<std::uint8_t> plain_pull_;      // 1: a fluid cell whose neighbours are all fluid
+  std::vector<std::uint8_t> static_special_;  // 1: a solid, or a fluid cell with wetting (walls, solids)
+  std::vector<std::uint8_t> special_;         // the same, and the cells grains wet
   struct Grain {  // a partially saturated cell
     long x;
     double eps, wetting;  // solid fraction, cos(theta)

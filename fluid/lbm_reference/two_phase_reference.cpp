@@ -293,8 +293,6 @@ void LbmReference::turn(double g[3], double ns[3], double cos_theta) const {
   for (int d = 0; d < 3; ++d) g[d] = gn * (-cos_theta * ns[d] + sin_theta * t[d] / tl);
 }
 
-// Collision of r + b with the cell's relaxation time, the perturbation
-// (eq. 2.57) and the recolouring (eqs. 2.59-2.63) of cell c.
 // The relaxation time at colour fraction psi = (rho_r - rho_b) / rho: the
 // viscosities interpolated harmonically across the interface, nu = (tau - 1/2)/3.
 double LbmReference::colour_tau(double psi) const {
@@ -328,6 +326,8 @@ void LbmReference::collide_grain(long c, const std::vector<double>& r0, const st
   }
 }
 
+// Collision of r + b with the cell's relaxation time, the perturbation
+// (eq. 2.57) and the recolouring (eqs. 2.59-2.63) of cell c.
 void LbmReference::collide_colours(long c, const double g[3], const double F[3]) {
   double* r = &r_[c * Q_];
   double* b = &b_[c * Q_];

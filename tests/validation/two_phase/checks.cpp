@@ -287,7 +287,6 @@ int injection_phase(const std::string& dir) {
   return 0;
 }
 
-// The colour masses alone (any two-phase run).
 // A grain (the one particle, free) at the top of a red layer in a periodic
 // box (configs/validation/two_phase_grain_interface.yaml): the red-to-blue
 // crossing of the phase upwards, in each column more than two radii from the
@@ -366,6 +365,7 @@ int bridge(const std::string& dir) {
   return 0;
 }
 
+// The colour masses alone (any two-phase run).
 int colour_mass(const std::string& dir) {
   std::printf("colour_mass_drift=%.6e\n", colour_mass_drift(dir));
   return 0;

@@ -88,3 +88,11 @@ coflow_validation(two_phase_grain_interface_90 grain_interface two_phase_grain_i
 coflow_validation(two_phase_grain_interface_120 grain_interface two_phase_grain_interface.yaml 1
   --set particles.species.grain.contact_angle=120)
 coflow_validation(two_phase_capillary_bridge bridge two_phase_capillary_bridge.yaml 1)
+# The seed's wetting of grains across ranks, and psm grains in one fluid
+# beside interior solids (the same core, red alone).
+coflow_validation(two_phase_grains_ranks_1_vs_4_seed compare two_phase_grains_crosscheck.yaml 2
+  "fluid.ranks=1 fluid.two_phase.wetting=seed" "fluid.ranks=4 fluid.decomposition=[2,2,1] fluid.two_phase.wetting=seed")
+coflow_validation(solids_grains_vs_reference compare solids_grains_crosscheck.yaml 1
+  "fluid.solver=lbm" "fluid.solver=lbm-reference")
+coflow_validation(solids_grains_ranks_1_vs_4 compare solids_grains_crosscheck.yaml 2
+  "fluid.ranks=1" "fluid.ranks=4 fluid.decomposition=[2,2,1]")

@@ -67,8 +67,9 @@ struct Copy {
 constexpr double bytes_per_update = 304.0;
 // Two colours: 2 x 19 pulled loads and 2 x 19 stores of 8 B, and the colour
 // field written and read once (16 B): the least a fused colour-gradient update
-// moves. lbm's colour kernel today streams in one pass and collides in a
-// second (about twice this).
+// moves. lbm's colour kernel takes the colour field from the pulled
+// populations in one pass and pulls them again to collide in a second
+// (another 304 B loaded, and 304 B of write-allocate: about twice this).
 constexpr double two_phase_bytes = 624.0;
 
 double median(std::vector<double> v) {

@@ -52,6 +52,7 @@ class TwoPhaseCore final : public LbmCore {
       eps_.assign(static_cast<std::size_t>(cells_), 0.0);
       grain_cos_.assign(static_cast<std::size_t>(cells_), 0.0);
       grain_wet_index_.assign(static_cast<std::size_t>(cells_), -1);
+      find_owned();
     }
     initialise();
   }
@@ -145,6 +146,7 @@ class TwoPhaseCore final : public LbmCore {
   // solid fraction and wetting.
   void set_psm(std::span<const long> cells, std::span<const double> fraction,
                std::span<const double> wetting) override {
+    for (const Grain& m : grains_) special_[m.x] = static_special_[m.x];
     grains_.clear();
     for (std::size_t n = 0; n < cells.size(); ++n) {
       const long x = block_index(cells[n]);
@@ -153,6 +155,10 @@ class TwoPhaseCore final : public LbmCore {
       if (!solid_[x] && !open) grains_.push_back({x, fraction[n], wetting[n]});
     }
     if (s_.tp.geometric) find_grain_wetted();
+    // The seed's wetting reads the pulled populations of grain cells from
+    // `next` (colour_grains): they take the one-cell passes, which store them.
+    if (!s_.tp.geometric)
+      for (const Grain& m : grains_) special_[m.x] = 1;
   }
   // Partially saturated cells (psm_kernel.hpp, psm_colour_collide) on the cells
   // of the step just taken: the same streamed populations pulled again from
@@ -280,35 +286,64 @@ class TwoPhaseCore final : public LbmCore {
   // e_q) normalised (eps = 1 in solid cells) and cos(theta) averaged with the
   // weights w_q eps (solid cells: their colour, which is cos(theta)).
   void find_grain_wetted() {
-    std::fill(eps_.begin(), eps_.end(), 0.0);
-    std::fill(grain_cos_.begin(), grain_cos_.end(), 0.0);
-    for (const Grain& m : grains_) eps_[m.x] = m.eps, grain_cos_[m.x] = m.wetting;
+    for (const long x : grain_set_) eps_[x] = 0.0, grain_cos_[x] = 0.0;
+    for (const long x : grain_touched_) grain_wet_index_[x] = -1, special_[x] = static_special_[x];
+    grain_set_.clear();
+    grain_wet_.clear();
+    for (const Grain& m : grains_) eps_[m.x] = m.eps, grain_cos_[m.x] = m.wetting, grain_set_.push_back(m.x);
     ghosts_.exchange(eps_);
     ghosts_.exchange(grain_cos_);
-    std::fill(grain_wet_index_.begin(), grain_wet_index_.end(), -1);
-    grain_wet_.clear();
-    special_ = static_special_;
-    for_owned([&](long, long, long, long x) {
-      if (solid_[x] || eps_[x] >= 1.0) return;
-      bool grain = eps_[x] > 0.0;
-      Wet w{{0.0, 0.0, 0.0}, 0.0};
-      double weight = 0.0;
-      for (int q = 1; q < L::Q; ++q) {
+    // The owned cells in or next to a grain cell (owned, or a ghost from
+    // another rank), each once.
+    grain_touched_.clear();
+    const auto around = [&](long x) {
+      for (int q = 0; q < L::Q; ++q) {
         const long n = x + off_[q];
-        const double e = solid_[n] ? 1.0 : eps_[n];
-        grain = grain || (!solid_[n] && eps_[n] > 0.0);
-        for (int d = 0; d < 3; ++d) w.ns[d] -= L::w[q] * e * L::e[q][d];
-        w.cos_theta += L::w[q] * e * (solid_[n] ? phi_[n] : grain_cos_[n]);
-        weight += L::w[q] * e;
+        if (owned_[n] && !touched_[n]) touched_[n] = 1, grain_touched_.push_back(n);
       }
-      if (!grain) return;
-      const double len = std::sqrt(w.ns[0] * w.ns[0] + w.ns[1] * w.ns[1] + w.ns[2] * w.ns[2]);
-      for (int d = 0; d < 3; ++d) w.ns[d] = len > 0.0 ? w.ns[d] / len : 0.0;
-      w.cos_theta = weight > 0.0 ? w.cos_theta / weight : 0.0;
-      grain_wet_index_[x] = static_cast<int>(grain_wet_.size());
-      grain_wet_.push_back(w);
-      special_[x] = 1;
-    });
+    };
+    for (const Grain& m : grains_) around(m.x);
+    for (const long x : ghost_cells_)
+      if (eps_[x] > 0.0) around(x);
+    for (const long x : grain_touched_) {
+      touched_[x] = 0;
+      wet_by_grain(x);
+    }
+  }
+
+  // One owned cell of find_grain_wetted(): its normal and angle where it is
+  // not wholly covered and holds or touches a grain.
+  void wet_by_grain(long x) {
+    if (solid_[x] || eps_[x] >= 1.0) return;
+    bool grain = eps_[x] > 0.0;
+    Wet w{{0.0, 0.0, 0.0}, 0.0};
+    double weight = 0.0;
+    for (int q = 1; q < L::Q; ++q) {
+      const long n = x + off_[q];
+      const double e = solid_[n] ? 1.0 : eps_[n];
+      grain = grain || (!solid_[n] && eps_[n] > 0.0);
+      for (int d = 0; d < 3; ++d) w.ns[d] -= L::w[q] * e * L::e[q][d];
+      w.cos_theta += L::w[q] * e * (solid_[n] ? phi_[n] : grain_cos_[n]);
+      weight += L::w[q] * e;
+    }
+    if (!grain) return;
+    const double len = std::sqrt(w.ns[0] * w.ns[0] + w.ns[1] * w.ns[1] + w.ns[2] * w.ns[2]);
+    for (int d = 0; d < 3; ++d) w.ns[d] = len > 0.0 ? w.ns[d] / len : 0.0;
+    w.cos_theta = weight > 0.0 ? w.cos_theta / weight : 0.0;
+    grain_wet_index_[x] = static_cast<int>(grain_wet_.size());
+    grain_wet_.push_back(w);
+    special_[x] = 1;
+  }
+
+  // Owned cells (1) of the block with its ghosts, and the ghost cells' list.
+  void find_owned() {
+    owned_.assign(static_cast<std::size_t>(cells_), 0);
+    touched_.assign(static_cast<std::size_t>(cells_), 0);
+    for_owned([&](long, long, long, long x) { owned_[x] = 1; });
+    for (long k = -lay_.ghost[2]; k < lay_.extent[2] + lay_.ghost[2]; ++k)
+      for (long j = -lay_.ghost[1]; j < lay_.extent[1] + lay_.ghost[1]; ++j)
+        for (long i = -lay_.ghost[0]; i < lay_.extent[0] + lay_.ghost[0]; ++i)
+          if (!owned_[lay_.idx(i, j, k)]) ghost_cells_.push_back(lay_.idx(i, j, k));
   }
 
   // Cells the four-cell passes take: fluid cells all of whose neighbours are
@@ -612,6 +647,9 @@ class TwoPhaseCore final : public LbmCore {
   std::vector<Grain> grains_;
   std::vector<double> eps_, grain_cos_;  // geometric wetting: per cell of the block and ghosts
   std::vector<int> grain_wet_index_;     // per cell, into grain_wet_ (-1: no grain in or next to it)
+  std::vector<long> grain_set_, grain_touched_;  // cells whose eps_ was set; owned cells looked at
+  std::vector<std::uint8_t> owned_, touched_;    // per cell: owned; in grain_touched_ (while building it)
+  std::vector<long> ghost_cells_;
   std::vector<Wet> grain_wet_;
   double max_u2_ = 0.0;
   double wall_momentum_[18] = {};

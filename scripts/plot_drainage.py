@@ -5,7 +5,8 @@ mid-plane z).
 Usage: plot_drainage.py RUN_DIR X_FROM X_TO OUT_PNG
   RUN_DIR   a finished run of configs/drainage.yaml or
             configs/cases/drainage_static_bed.yaml
-  X_FROM, X_TO   the bed's extent along x, m (its saturation is taken there)
+  X_FROM, X_TO   the bed's extent along x, m (its saturation is taken there);
+                 "grains grains": the extent of the DEM grains at each time
 """
 import csv
 import sys
@@ -17,7 +18,19 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-run, x0, x1, out = sys.argv[1], float(sys.argv[2]), float(sys.argv[3]), sys.argv[4]
+run, out = sys.argv[1], sys.argv[4]
+by_grains = sys.argv[2] == "grains"
+
+
+def bed_extent(index):
+    """The bed's extent along x, m: given, or that of the grains in particle snapshot `index`."""
+    if not by_grains:
+        return float(sys.argv[2]), float(sys.argv[3])
+    h = h5py.File(f"{run}/particles/step_{index:06d}.h5", "r")
+    x, r = h["position"][:, 0], h["radius"][:]
+    return (x - r).min(), (x + r).max()
+
+
 rows = list(csv.reader(open(run + "/fluid/index.csv")))[1:]
 times, sat, dp, frames = [], [], [], []
 for r in rows:
@@ -25,6 +38,7 @@ for r in rows:
     phase = h["phase"][:]  # (z, y, x)
     solid = h["solid_fraction"][:]
     p = h["pressure"][:]
+    x0, x1 = bed_extent(int(r[0]))
     i0, i1 = int(round(x0 / 1e-3)), int(round(x1 / 1e-3))  # dx = 1 mm in the cases
     share = 1.0 - solid[:, :, i0:i1]  # the fluid's share of each cell (grains: partially saturated)
     red = 0.5 * (1.0 + phase[:, :, i0:i1])

@@ -63,9 +63,10 @@ coflow_validation(solids_channel_ranks_1_vs_4 compare solids_channel.yaml 2
 # momentum balance row to row, and at steady state the sphere carries the body
 # force on the fluid.
 coflow_validation(solids_sphere_array_balance fluid_walls solids_sphere_array.yaml 2 --set run.output.series_every=60.0)
-# Laplace in 3D (D3Q19), one droplet of 12 cells in a 40-cell box on 2 ranks.
+# Laplace in 3D (D3Q19), one droplet of 18 cells in a 56-cell box on 2 ranks
+# (the issue's 2 % needs R = 18: 5.7 % at 10 cells, 2.6 % at 14).
 coflow_validation(two_phase_laplace_3d laplace two_phase_droplet_2d.yaml 2
-  [=[fluid.lbm.lattice=D3Q19 fluid.ranks=2 domain.cells=[40,40,40] domain.upper=[0.04,0.04,0.04] run.end_time=200.0 run.output.every=200.0 run.output.series_every=20.0 fluid.initial.phase=[{"fill":{"phase":"blue"}},{"sphere":{"centre":[0.02,0.02,0.02],"phase":"red","radius":0.012}}]]=])
+  [=[fluid.lbm.lattice=D3Q19 fluid.ranks=2 domain.cells=[56,56,56] domain.upper=[0.056,0.056,0.056] run.end_time=300.0 run.output.every=300.0 run.output.series_every=30.0 fluid.initial.phase=[{"fill":{"phase":"blue"}},{"sphere":{"centre":[0.028,0.028,0.028],"phase":"red","radius":0.018}}]]=])
 # The fluid's force on the walls of the layered flow (two fluids; diagonal
 # links at the periodic x faces): momentum balance row to row, and at steady
 # state the walls carry the body force.

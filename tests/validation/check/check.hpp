@@ -35,14 +35,14 @@ inline fluid::FluidParams fluid_params(const config::Config& cfg) {
   return p;
 }
 
-inline std::string last_snapshot(const std::string& dir) {
-  std::ifstream in(dir + "/fluid/index.csv");
+inline std::string last_snapshot(const std::string& dir, const std::string& component = "fluid") {
+  std::ifstream in(dir + "/" + component + "/index.csv");
   std::string line, last;
   std::getline(in, line);
   while (std::getline(in, line))
     if (!line.empty()) last = line;
-  if (last.empty()) throw std::runtime_error(dir + ": no fluid snapshot");
-  return dir + "/fluid/" + output::snapshot_name(std::stol(last.substr(0, last.find(','))));
+  if (last.empty()) throw std::runtime_error(dir + ": no " + component + " snapshot");
+  return dir + "/" + component + "/" + output::snapshot_name(std::stol(last.substr(0, last.find(','))));
 }
 
 inline std::vector<std::vector<double>> read_series(const std::string& path) {

@@ -305,14 +305,7 @@ int grain_interface(const std::string& dir) {
   double theta = species["contact_angle"].as<double>();
   if (theta < 0.0) theta = cfg.resolved["fluid"]["two_phase"]["contact_angle"].as<double>();
   // The grain's centre in the last particle snapshot (a free grain moves).
-  std::ifstream index(dir + "/particles/index.csv");
-  std::string line, last;
-  std::getline(index, line);
-  while (std::getline(index, line))
-    if (!line.empty()) last = line;
-  if (last.empty()) throw std::runtime_error(dir + ": no particle snapshot");
-  const auto centre = output::read_dataset(
-      dir + "/particles/" + output::snapshot_name(std::stol(last.substr(0, last.find(',')))), "position");
+  const auto centre = output::read_dataset(last_snapshot(dir, "particles"), "position");
   double c[3];
   for (int k = 0; k < 3; ++k) c[k] = (centre.at(k) - d.lower[k]) / dx - 0.5;  // in cell-centre units
   const auto s = read_last(dir);

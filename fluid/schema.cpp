@@ -30,16 +30,13 @@ const std::vector<VariantSchema>& variant_schemas() {
 
 namespace {
 
-// lbm takes the solids of psm and returns the force on them (and, with two
-// fluids, their wetting); analytic is a
+// lbm takes the solids of psm and returns the force on them (with two fluids
+// it also takes their wetting: immersed's contract); analytic is a
 // prescribed flow (with turbulence) that nothing feeds back into.
-config::Contract contract(const config::Config& cfg, const std::string& variant) {
+config::Contract contract(const config::Config&, const std::string& variant) {
   namespace f = config::fields;
   config::Contract c;
   if (variant == "lbm" || variant == "lbm-reference") c.provides = {f::velocity, f::pressure, f::solid_force};
-  // Two fluids wet the grains of psm (each species its contact angle).
-  if ((variant == "lbm" || variant == "lbm-reference") && config::resolved_node(cfg, "fluid.two_phase").IsMap())
-    c.provides.push_back(f::grain_wetting);
   if (variant == "analytic") c.provides = {f::velocity, f::pressure, f::k, f::epsilon};
   return c;
 }

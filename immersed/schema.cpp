@@ -25,13 +25,17 @@ namespace {
 // scheme. point: the fluid at the particles out, their impulses back into the
 // fluid as a momentum source, serial-explicit only (the impulse of a window
 // enters the same window's fluid step).
-config::Contract contract(const config::Config&, const std::string& variant) {
+config::Contract contract(const config::Config& cfg, const std::string& variant) {
   namespace f = config::fields;
   config::Contract c;
   const std::string key = "immersed.method";
   if (variant == "psm") {
     c.provides = {f::solid_fraction, f::hydrodynamic_load};
     c.needs = {{f::solid_force, key}, {f::particle_state, key}};
+    // The grains' wetting (a contact angle per species) goes to a two-fluid lbm.
+    const std::string solver = config::resolved_text(cfg, {"fluid", "solver"});
+    if ((solver == "lbm" || solver == "lbm-reference") && config::resolved_node(cfg, "fluid.two_phase").IsMap())
+      c.provides.push_back(f::grain_wetting);
   }
   if (variant == "point") {
     c.provides = {f::fluid_at_particle, f::momentum_source};

@@ -43,14 +43,6 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
   if (variant == "dem" || variant == "dem-reference") {
     c.provides = {f::particle_state};
     c.needs = {{f::hydrodynamic_load, key, "immersed"}};
-    // A species' contact angle: grains wetted by two fluids.
-    const YAML::Node species = config::resolved_node(cfg, "particles.species");
-    for (const auto& sp : species.IsMap() ? species : YAML::Node()) {
-      const std::string angle = config::resolved_text(cfg, {"particles", "species", sp.first.Scalar(), "contact_angle"});
-      if (!angle.empty() && std::stod(angle) != -1.0)
-        c.needs.push_back({f::grain_wetting, "particles.species." + sp.first.Scalar() + ".contact_angle", "",
-                           "add fluid.two_phase (with fluid.solver lbm or lbm-reference), or leave contact_angle out"});
-    }
   }
   if (point_particles(variant)) {
     c.provides = {f::particle_state, f::impulse};
@@ -59,6 +51,18 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
     if (config::resolved_text(cfg, {"particles", "dispersion", "model"}) == "langevin")
       for (const auto& field : {f::k, f::epsilon})
         c.needs.push_back({field, "particles.dispersion.model", "", "or dispersion.model: none"});
+  }
+  // A species' contact angle: grains wetted by two fluids (dem through psm;
+  // point particles are not wetted, so nothing provides it to dpm).
+  if (variant == "dem" || variant == "dem-reference" || point_particles(variant)) {
+    const YAML::Node species = config::resolved_node(cfg, "particles.species");
+    for (const auto& sp : species.IsMap() ? species : YAML::Node()) {
+      const std::string angle = config::resolved_text(cfg, {"particles", "species", sp.first.Scalar(), "contact_angle"});
+      if (!angle.empty() && std::stod(angle) != -1.0)
+        c.needs.push_back({f::grain_wetting, "particles.species." + sp.first.Scalar() + ".contact_angle", "",
+                           "a contact angle needs resolved grains (particles.solver dem, immersed.method psm) in two fluids "
+                           "(fluid.two_phase, fluid.solver lbm or lbm-reference): add those, or leave contact_angle out"});
+    }
   }
   return c;
 }

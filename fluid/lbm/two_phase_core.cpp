@@ -48,6 +48,7 @@ class TwoPhaseCore final : public LbmCore {
     solid_momentum_.assign(3 * (s.tp.solid_phase.size() - 1), 0.0);
     if (s.tp.geometric) find_wetted();
     find_plain();
+    grain_.assign(static_cast<std::size_t>(cells_), 0);
     if (s.tp.geometric) {
       eps_.assign(static_cast<std::size_t>(cells_), 0.0);
       grain_cos_.assign(static_cast<std::size_t>(cells_), 0.0);
@@ -69,7 +70,7 @@ class TwoPhaseCore final : public LbmCore {
     max_u2_ = 0.0;
     for_rows([&](long x) { return plain(x); }, [&](long x) { collide4(x); },
              [&](long i, long j, long k, long x) {
-               if (!solid_[x]) collide_cell(i, j, k, x);
+               if (!solid_[x] && !grain_[x]) collide_cell(i, j, k, x);
              });
     red_.swap();
     blue_.swap();
@@ -146,7 +147,7 @@ class TwoPhaseCore final : public LbmCore {
   // solid fraction and wetting.
   void set_psm(std::span<const long> cells, std::span<const double> fraction,
                std::span<const double> wetting) override {
-    for (const Grain& m : grains_) special_[m.x] = static_special_[m.x];
+    for (const Grain& m : grains_) special_[m.x] = static_special_[m.x], grain_[m.x] = 0;
     grains_.clear();
     for (std::size_t n = 0; n < cells.size(); ++n) {
       const long x = block_index(cells[n]);
@@ -155,15 +156,15 @@ class TwoPhaseCore final : public LbmCore {
       if (!solid_[x] && !open) grains_.push_back({x, fraction[n], wetting[n]});
     }
     if (s_.tp.geometric) find_grain_wetted();
-    // The seed's wetting reads the pulled populations of grain cells from
-    // `next` (colour_grains): they take the one-cell passes, which store them.
-    if (!s_.tp.geometric)
-      for (const Grain& m : grains_) special_[m.x] = 1;
+    // Grain cells take the one-cell passes: the streaming stores their pulled
+    // populations (the seed's wetting reads them in colour_grains), and the
+    // collision leaves them to psm(), which collides them once.
+    for (const Grain& m : grains_) special_[m.x] = 1, grain_[m.x] = 1;
   }
   // Partially saturated cells (psm_kernel.hpp, psm_colour_collide) on the cells
   // of the step just taken: the same streamed populations pulled again from
   // the previous arrays (their ghosts still hold the halo), the colour
-  // gradient of the step, collided again.
+  // gradient of the step, and collided (the step left them to this).
   void psm(std::span<const long> cells, std::span<const double> fraction, std::span<const double> us,
            std::span<double> gain) override {
     for (std::size_t n = 0; n < cells.size(); ++n) {
@@ -180,7 +181,9 @@ class TwoPhaseCore final : public LbmCore {
       }
       gradient(x, g);
       force(c, F);
-      psm_colour_collide<L, Incompressible>(r, b, g, colour_, F, fraction[n], &us[3 * n], &gain[3 * n]);
+      const double uu =
+          psm_colour_collide<L, Incompressible>(r, b, g, colour_, F, fraction[n], &us[3 * n], &gain[3 * n]);
+      max_u2_ = nan_max(max_u2_, uu);
       for (int q = 0; q < L::Q; ++q) red_.f[q * cells_ + x] = r[q], blue_.f[q * cells_ + x] = b[q];
     }
   }
@@ -645,6 +648,7 @@ class TwoPhaseCore final : public LbmCore {
     double eps, wetting;  // solid fraction, cos(theta)
   };
   std::vector<Grain> grains_;
+  std::vector<std::uint8_t> grain_;  // per cell: 1 in grains_ (collided by psm() only)
   std::vector<double> eps_, grain_cos_;  // geometric wetting: per cell of the block and ghosts
   std::vector<int> grain_wet_index_;     // per cell, into grain_wet_ (-1: no grain in or next to it)
   std::vector<long> grain_set_, grain_touched_;  // cells whose eps_ was set; owned cells looked at

@@ -333,7 +333,7 @@ int grain_interface(const std::string& dir) {
 // sphere touching it on its -x side: the grain's force along x in
 // series/immersed.csv, averaged over the last quarter of the run, against
 // the small-bridge limit -2 pi R gamma cos(theta) (the bridge pulls the
-// spheres together; Willett et al. 2000 eq. 11 at zero separation).
+// spheres together; the limit of a shrinking bridge, Willett et al. 2000).
 int bridge(const std::string& dir) {
   const auto cfg = load(dir);
   const auto fp = fluid_params(cfg);

@@ -45,9 +45,10 @@ constexpr double perturbation_shift() {
 // gamma = 32 N A tau: A = gamma / (160 tau) on D3Q19 (the seed's eq. 2.58
 // writes 172), gamma / (96 tau) on D2Q9. The Laplace tests check it
 // (docs/validation.md).
-template <class L>
-inline double perturbation_amplitude(double gamma, double tau) {
-  return gamma / (32.0 * positive_count<L>() * tau);
+// Written with omega = 1 / tau, per cell (T = double) or per lane (Vec4).
+template <class L, class T>
+inline T perturbation_amplitude(double gamma, T omega) {
+  return gamma / (32.0 * positive_count<L>()) * omega;
 }
 
 // The colour gradient at a fluid cell x next to solids, from its fluid
@@ -129,9 +130,11 @@ struct ColourParams {
 // viscosities interpolated harmonically, 1/nu = (1 + psi)/(2 nu_r) +
 // (1 - psi)/(2 nu_b) (Leclaire et al. 2017 eq. 13; it keeps the stress
 // continuous across a layered interface), nu = (tau - 1/2)/3.
-inline double mixed_tau(double psi, double tau_red, double tau_blue) {
-  const double nr = tau_red - 0.5, nb = tau_blue - 0.5;
-  return 0.5 + 1.0 / ((1.0 + psi) / (2.0 * nr) + (1.0 - psi) / (2.0 * nb));
+// Per cell (T = double) or per lane (Vec4).
+template <class T>
+inline T mixed_tau(T psi, double tau_red, double tau_blue) {
+  const double hr = 0.5 / (tau_red - 0.5), hb = 0.5 / (tau_blue - 0.5);
+  return 0.5 + 1.0 / ((1.0 + psi) * hr + (1.0 - psi) * hb);
 }
 
 // A value of one cell (double) or of four (Vec4) with every lane x.
@@ -204,9 +207,7 @@ template <class L, bool Incompressible, class T>
 #pragma GCC unroll 32
   for (int q = 0; q < L::Q; ++q) f[q] = r[q] + b[q] - L::w[q];  // zero-centred
   const T rho = rho_r + rho_b, inv_rho = 1.0 / rho, psi = (rho_r - rho_b) * inv_rho;
-  // mixed_tau: the viscosities interpolated harmonically.
-  const double hr = 0.5 / (p.tau_red - 0.5), hb = 0.5 / (p.tau_blue - 0.5);
-  const T tau = 0.5 + 1.0 / ((1.0 + psi) * hr + (1.0 - psi) * hb), omega = 1.0 / tau;
+  const T tau = mixed_tau(psi, p.tau_red, p.tau_blue), omega = 1.0 / tau;
   const T omega_minus = p.trt ? 1.0 / (0.5 + p.magic / (tau - 0.5)) : omega;
   const T uu = collide_lanes<L, Incompressible>(f, omega, omega_minus, F);
 #pragma GCC unroll 32
@@ -214,7 +215,7 @@ template <class L, bool Incompressible, class T>
   const T zero = splat<T>(0.0), gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
   const auto some = gg > zero;  // lanes with a gradient; the others are only split
   const T gn = vsqrt(gg), inv_gg = some ? 1.0 / gg : zero;
-  const T A = p.gamma / (32.0 * positive_count<L>()) * omega;  // perturbation_amplitude
+  const T A = perturbation_amplitude<L>(p.gamma, omega);
   const T share = rho_r * inv_rho, recolour = some ? p.beta * rho_r * rho_b * inv_rho / gn : zero;
   T sr = zero, sb = zero;
 #pragma GCC unroll 32

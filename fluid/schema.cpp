@@ -7,6 +7,7 @@
 #include "coflow/decomposition.hpp"
 
 #include "fluid/analytic/params.hpp"
+#include "fluid/fv/params.hpp"
 #include "fluid/lbm/params.hpp"
 #include "fluid/params.hpp"
 
@@ -24,6 +25,10 @@ const std::vector<VariantSchema>& variant_schemas() {
           "analytic",
           "prescribed fields (quiescent, uniform, poiseuille, taylor-green, grid-turbulence), exact at any time",
           "analytic"),
+      variant_schema<fv::FvParams>(
+          "fv", "finite volumes on a staggered grid, projection, IMEX SBDF2/CNAB2 with a CFL step, hypre multigrid, "
+                "MPI (seed 003 §4.1)",
+          "fv"),
   };
   return v;
 }
@@ -38,6 +43,7 @@ config::Contract contract(const config::Config&, const std::string& variant) {
   config::Contract c;
   if (variant == "lbm" || variant == "lbm-reference") c.provides = {f::velocity, f::pressure, f::solid_force};
   if (variant == "analytic") c.provides = {f::velocity, f::pressure, f::k, f::epsilon};
+  if (variant == "fv" || variant == "fv-reference") c.provides = {f::velocity, f::pressure};
   return c;
 }
 
@@ -46,6 +52,7 @@ std::vector<std::string> writes(const std::string& variant) {
   if (variant == "lbm" || variant == "lbm-reference")
     return {"velocity", "pressure", "density", "solid_fraction", "phase"};
   if (variant == "analytic") return {"velocity", "pressure", "density", "vorticity", "k", "epsilon"};
+  if (variant == "fv" || variant == "fv-reference") return {"velocity", "pressure", "density", "divergence"};
   return {};  // external: its own business
 }
 
@@ -120,6 +127,38 @@ static void check_open_face_blocks(config::Visitor& v, const config::Config& cfg
   }
 }
 
+// fv's ghost layers are two cells wide (the upwind-biased face value reads
+// two cells upstream), and an open face or a wall reads the second cell in:
+// every block must be two cells thick along every axis of more than one cell.
+// fv-reference is serial.
+static void check_fv_blocks(config::Visitor& v, const config::Config& cfg, const config::ComponentInfo& info) {
+  if (!v.reading() || info.variant.rfind("fv", 0) != 0) return;
+  if (info.variant == "fv-reference" && info.ranks != 1) {
+    v.fail("ranks", fmt::format("fv-reference is serial (the oracle): set fluid.ranks: 1 (got {}), or use solver: "
+                                "fv",
+                                info.ranks));
+    return;
+  }
+  const auto& d = cfg.domain;
+  std::array<int, 3> dims{0, 0, 0};
+  if (!info.decomposition.is_auto) dims = info.decomposition.value;
+  coupler::Decomposition dec;
+  try {
+    dec = coupler::Decomposition({d.cells[0], d.cells[1], d.cells[2]}, info.ranks, dims, d.periodic);
+  } catch (const std::invalid_argument&) {
+    return;  // reported at fluid.ranks already
+  }
+  for (int r = 0; r < info.ranks; ++r)
+    for (int a = 0; a < 3; ++a)
+      if (d.cells[a] > 1 && dec.block(r).extent(a) < 2) {
+        v.fail("ranks", fmt::format("the {} blocks leave one {} cell thick along {}; fv needs two (its ghost "
+                                    "layers are two wide): use fewer blocks along {} (fluid.decomposition) or fewer "
+                                    "ranks",
+                                    info.ranks, dec.block(r).extent(a), "xyz"[a], "xyz"[a]));
+        return;
+      }
+}
+
 config::ComponentSchema schema() {
   config::ComponentSchema s = component_schema("fluid", "solver", variant_schemas(),
                                                 "the fluid component (omit the section, or solver: none, for no fluid)");
@@ -140,6 +179,7 @@ config::ComponentSchema schema() {
       if (!p.solids.empty()) v.fail("solids", fmt::format("solver {} takes no interior solids; use solver: lbm", info.variant));
     }
     check_open_face_blocks(v, cfg, info, p);
+    check_fv_blocks(v, cfg, info);
     visit_variant_sections(v, cfg, info);
   };
   return s;

@@ -1,5 +1,6 @@
 // The fluid solvers by name; their schemas are in fluid/schema.cpp.
 #include "fluid/analytic/analytic_fluid.hpp"
+#include "fluid/fv/fv_solver.hpp"
 #include "fluid/lbm/lbm_solver.hpp"
 #include "fluid/lbm_reference/lbm_reference.hpp"
 #include "fluid/schema.hpp"
@@ -10,6 +11,7 @@ void register_fluid_variants(Registry<FluidSolver>& r) {
   r.add<LbmSolver>("lbm");
   r.add<LbmReference>("lbm-reference");
   r.add<AnalyticFluid>("analytic");
+  r.add<FvSolver>("fv");
 }
 
 Registry<FluidSolver>& registry() {

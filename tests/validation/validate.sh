@@ -10,6 +10,10 @@
 #                       run B the spaced one (lbm)
 #   order               ARGS: three override lists (coarse, medium, fine);
 #                       prints l2 errors and the observed orders of convergence
+#   order_tg            as order, for the Taylor-Green vortex (coflow-check tg_error)
+#   order_time          ARGS: four override lists (step dt, dt/2, dt/4, dt/8 on one
+#                       grid); the differences of successive runs' last snapshots
+#                       (coflow-check compare) and the observed orders in time
 #   damping             ARGS: local damping values; runs the impact per value and
 #                       checks that the restitution decreases
 #   formulations        runs CONFIG with fluid.lbm.formulation standard and
@@ -37,7 +41,7 @@ sets() {  # "a=1 b=2" -> --set a=1 --set b=2
 check() { "$bin/coflow-check" "$@" || { echo "FAIL: coflow-check $*"; exit 1; }; }
 
 case "$mode" in
-  profile|probes|channel|walls|fluid_walls|decay|mass|ramp|impact|pour|crush|momentum|drag|settling|dpm_settling|granular_gas|two_way|dispersion|grid_turbulence|injection|jet|rotation|contact_angle|layered|colour_mass|permeability|washburn|injection_phase|grain_interface|bridge)
+  profile|probes|channel|walls|fluid_walls|decay|mass|ramp|impact|pour|crush|momentum|drag|settling|dpm_settling|granular_gas|two_way|dispersion|grid_turbulence|injection|jet|rotation|contact_angle|layered|colour_mass|permeability|washburn|injection_phase|grain_interface|bridge|cavity|tg_error|divergence)
     run "$out/run" "$@"
     check "$mode" "$out/run" | tee -a "$metrics" || exit 1 ;;
   compare|layouts)
@@ -58,15 +62,30 @@ case "$mode" in
         echo "${f#events/}: $((lines - 1)) events, identical"
       fi
     done ;;
-  order)
+  order|order_tg)
+    # order: steady profiles (coflow-check profile); order_tg: the Taylor-Green
+    # vortex at the end (coflow-check tg_error).
+    what=profile; [ "$mode" = order_tg ] && what=tg_error
     errs=()
     for n in 1 2 3; do
       mapfile -t s < <(sets "${!n}")
       run "$out/res$n" "${s[@]}"
-      e=$(check profile "$out/res$n" | sed -n 's/^l2_error=//p') || exit 1
+      e=$(check "$what" "$out/res$n" | sed -n 's/^l2_error=//p') || exit 1
       echo "l2_error_$n=$e" | tee -a "$metrics"; errs+=("$e")
     done
     awk -v a="${errs[0]}" -v b="${errs[1]}" -v c="${errs[2]}" \
+      'BEGIN { printf "order_12=%.4f\norder_23=%.4f\n", log(a/b)/log(2), log(b/c)/log(2) }' | tee -a "$metrics" || exit 1 ;;
+  order_time)
+    for n in 1 2 3 4; do
+      mapfile -t s < <(sets "${!n}")
+      run "$out/dt$n" "${s[@]}"
+    done
+    diffs=()
+    for n in 1 2 3; do
+      e=$(check compare "$out/dt$n" "$out/dt$((n + 1))" | sed -n 's/^max_difference=//p') || exit 1
+      echo "difference_$n=$e" | tee -a "$metrics"; diffs+=("$e")
+    done
+    awk -v a="${diffs[0]}" -v b="${diffs[1]}" -v c="${diffs[2]}" \
       'BEGIN { printf "order_12=%.4f\norder_23=%.4f\n", log(a/b)/log(2), log(b/c)/log(2) }' | tee -a "$metrics" || exit 1 ;;
   laplace)
     # ARGS: override lists, one droplet each (radii); per droplet its

@@ -131,6 +131,10 @@ int dispersion(const std::string& dir);
 int grid_turbulence(const std::string& dir);
 int injection(const std::string& dir);
 int jet(const std::string& dir);
+// fv/checks.cpp
+int cavity(const std::string& dir);
+int tg_error(const std::string& dir);
+int divergence(const std::string& dir);
 // two_phase/checks.cpp
 int laplace(const std::string& dir);
 int contact_angle(const std::string& dir);

@@ -49,6 +49,9 @@ int main(int argc, char** argv) {
     if (what == "injection_phase" && argc == 3) return injection_phase(argv[2]);
     if (what == "grain_interface" && argc == 3) return grain_interface(argv[2]);
     if (what == "bridge" && argc == 3) return bridge(argv[2]);
+    if (what == "cavity" && argc == 3) return cavity(argv[2]);
+    if (what == "tg_error" && argc == 3) return tg_error(argv[2]);
+    if (what == "divergence" && argc == 3) return divergence(argv[2]);
     std::fprintf(stderr, "usage: coflow-check profile|decay|mass RUN_DIR | compare RUN_A RUN_B\n");
     return 2;
   } catch (const std::exception& e) {

@@ -43,10 +43,13 @@ int profile(const std::string& dir) {
   const long nz = dims[0], ny = dims[1], nx = dims[2];
 
   const auto b_xm = fp.boundary(0, cfg), b_xp = fp.boundary(1, cfg), b_yp = fp.boundary(3, cfg);
-  // Pressure-driven: Zou-He values act at the centres of the boundary cells.
+  // Pressure-driven: lbm's values act at the centres of the boundary cells,
+  // fv's on the domain's faces. Walls: lbm's half a cell beyond the centres,
+  // fv's on the faces too (the same place).
+  const bool fv = cfg.component("fluid").variant.rfind("fv", 0) == 0;
   double G = fp.body_force[0];
   if (b_xm.type == "pressure" && b_xp.type == "pressure")
-    G = (b_xm.value.values[0] - b_xp.value.values[0]) / ((nx - 1) * h[0]);
+    G = (b_xm.value.values[0] - b_xp.value.values[0]) / ((fv ? nx : nx - 1) * h[0]);
   const bool couette = b_yp.type == "velocity";
   const bool duct_flow = !d.periodic[2] && nz > 1;
   double err2 = 0.0, ref2 = 0.0;
@@ -56,8 +59,8 @@ int profile(const std::string& dir) {
         const double y = (j + 0.5) * h[1], z = (k + 0.5) * h[2];
         const double H = ny * h[1], W = nz * h[2];
         double ua;
-        if (couette)
-          ua = b_yp.value.values[0] * y / ((ny - 0.5) * h[1]);
+        if (couette)  // lbm's moving wall is its last cells' centres (Zou-He velocity face)
+          ua = b_yp.value.values[0] * y / ((fv ? ny : ny - 0.5) * h[1]);
         else if (duct_flow)
           ua = duct(y - H / 2, z - W / 2, H / 2, W / 2, G, mu);
         else

@@ -1,0 +1,133 @@
+// fv: the ghost layers beyond the domain's faces, per face kind. The ghosts of
+// a block's sides inside the domain (and periodic images) come from the ghost
+// exchange; then each axis's domain faces fill their ghosts over the whole
+// padded extent of the other axes, x first, so that edge and corner ghosts
+// are right too.
+#include <cmath>
+
+#include "fluid/fv/fv_solver.hpp"
+
+namespace coflow::fluid {
+
+namespace {
+
+// f(index(m)) for every line along axis a of the padded block; index(m) is the
+// cell at m along a on that line (owned-relative, ghosts negative or >= n).
+template <class F>
+void for_lines(const grid::Block& b, int a, F&& f) {
+  const int o1 = (a + 1) % 3, o2 = (a + 2) % 3;
+  for (long s = -b.ghost[o2]; s < b.extent[o2] + b.ghost[o2]; ++s)
+    for (long r = -b.ghost[o1]; r < b.extent[o1] + b.ghost[o1]; ++r)
+      f([&](long m) {
+        long at[3];
+        at[a] = m;
+        at[o1] = r;
+        at[o2] = s;
+        return static_cast<std::size_t>(b.idx(at[0], at[1], at[2]));
+      });
+}
+
+double ramped(double value, double ramp, double t) { return ramp > 0 ? value * std::min(1.0, t / ramp) : value; }
+
+}  // namespace
+
+Vec3 FvSolver::Face::velocity_at(double t) const {
+  return {ramped(velocity[0], ramp, t), ramped(velocity[1], ramp, t), ramped(velocity[2], ramp, t)};
+}
+double FvSolver::Face::pressure_at(double t) const { return ramped(pressure, ramp, t); }
+
+bool FvSolver::is_boundary_face(int c, long i) const {
+  if (periodic_[c]) return false;
+  const long g = blk_.owned.lo[c] + i;
+  return g == 0 || g == cells_[c];
+}
+
+bool FvSolver::is_dirichlet_face(int c, long i) const {
+  if (!is_boundary_face(c, i)) return false;
+  return faces_[2 * c + (blk_.owned.lo[c] + i == 0 ? 0 : 1)].kind == Face::dirichlet;
+}
+
+// Component c's ghosts beyond face `side` of axis a. Wall and velocity faces
+// (dirichlet): the normal component is the face's value on the face and odd
+// about it; a tangential one takes the parabola through the wall's value and
+// the first two cells (fv::wall_ghost). Pressure and outflow faces (open): zero normal gradient; the
+// normal component on the face is the solver's (extrapolated, then projected).
+void FvSolver::fill_face_ghosts(Field& u, int c, int a, int side, const Face& f, double t) const {
+  const long n = blk_.extent[a];
+  const Vec3 U = f.velocity_at(t);
+  const Field& top = top_[static_cast<std::size_t>(a)];
+  for_lines(blk_, a, [&](auto at) {
+    if (f.kind == Face::dirichlet) {
+      const double v = U[c];
+      if (side == 0 && c == a) {
+        u[at(0)] = v;
+        u[at(-1)] = 2 * v - u[at(1)];
+        u[at(-2)] = 2 * v - u[at(2)];
+      } else if (side == 0) {
+        u[at(-1)] = fv::wall_ghost(v, u[at(0)], u[at(1)]);
+        u[at(-2)] = fv::wall_ghost2(v, u[at(0)], u[at(1)]);
+      } else if (c == a) {
+        u[at(n)] = v;
+        u[at(n + 1)] = 2 * v - u[at(n - 1)];
+      } else {
+        u[at(n)] = fv::wall_ghost(v, u[at(n - 1)], u[at(n - 2)]);
+        u[at(n + 1)] = fv::wall_ghost2(v, u[at(n - 1)], u[at(n - 2)]);
+      }
+    } else if (side == 0) {
+      u[at(-1)] = u[at(-2)] = u[at(0)];
+    } else if (c == a) {
+      u[at(n)] = top[at(n - 1)];
+      u[at(n + 1)] = u[at(n)];
+    } else {
+      u[at(n)] = u[at(n + 1)] = u[at(n - 1)];
+    }
+  });
+}
+
+void FvSolver::fill_ghosts(Faces& u, double t) {
+  for (int c = 0; c < dims_; ++c) {
+    ex_.exchange(u[static_cast<std::size_t>(c)]);
+    if (faces_[static_cast<std::size_t>(2 * c + 1)].kind == Face::open) ex_.exchange(top_[static_cast<std::size_t>(c)]);
+  }
+  for (int a = 0; a < dims_; ++a)
+    for (int side = 0; side < 2; ++side) {
+      const Face& f = faces_[static_cast<std::size_t>(2 * a + side)];
+      if (!f.here || f.kind == Face::periodic) continue;
+      for (int c = 0; c < dims_; ++c) fill_face_ghosts(u[static_cast<std::size_t>(c)], c, a, side, f, t);
+    }
+}
+
+// Pressure (or its increment from t0 to t): the face's value on an open face
+// (a ghost at 2 p_b - p), zero normal gradient at the others.
+void FvSolver::fill_pressure_ghosts(Field& p, double t, bool increment, double t0) {
+  ex_.exchange(p);
+  for (int a = 0; a < dims_; ++a)
+    for (int side = 0; side < 2; ++side) {
+      const Face& f = faces_[static_cast<std::size_t>(2 * a + side)];
+      if (!f.here || f.kind == Face::periodic) continue;
+      const double pb = f.kind == Face::open ? (increment ? f.pressure_at(t) - f.pressure_at(t0) : f.pressure_at(t)) : 0;
+      const double odd = f.kind == Face::open ? -1.0 : 1.0, base = f.kind == Face::open ? 2 * pb : 0.0;
+      const long n = blk_.extent[a];
+      for_lines(blk_, a, [&](auto at) {
+        for (long g = 1; g <= 2; ++g) {
+          const long ghost = side == 0 ? -g : n - 1 + g, mirror = side == 0 ? g - 1 : n - g;
+          p[at(ghost)] = base + odd * p[at(mirror)];
+        }
+      });
+    }
+}
+
+// The normal velocity through an open face before the projection: that of the
+// first face inside (zero gradient); the upper one goes to top_.
+void FvSolver::extrapolate_open_faces(Faces& u) {
+  for (int a = 0; a < dims_; ++a) {
+    const auto A = static_cast<std::size_t>(a);
+    const long n = blk_.extent[a];
+    if (faces_[2 * A].here && faces_[2 * A].kind == Face::open)
+      for_lines(blk_, a, [&](auto at) { u[A][at(0)] = u[A][at(1)]; });
+    if (faces_[2 * A + 1].here && faces_[2 * A + 1].kind == Face::open)
+      for_lines(blk_, a, [&](auto at) { top_[A][at(n - 1)] = u[A][at(n - 1)]; });
+  }
+}
+
+}  // namespace coflow::fluid

@@ -1,0 +1,178 @@
+#include "fluid/fv/fv_solver.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "coflow/log.hpp"
+#include "fluid/grid/cell_fields.hpp"
+
+namespace coflow::fluid {
+
+namespace {
+
+constexpr int kGhost = 2;  // the upwind-biased face value reads two cells upstream
+
+fv::StructSystem::Options solver_options(const fv::FvParams& p, const std::string& name) {
+  return {p.multigrid, p.tolerance, p.max_iterations, name};
+}
+
+}  // namespace
+
+FvSolver::FvSolver(const Setup& s, const Params& p)
+    : cfg_(s.cfg), fluid_(s.params), p_(p), comm_(s.comm), rank_(s.rank),
+      ex_(s.decomposition, s.rank, kGhost, 1, s.comm), blk_(ex_.block()) {
+  const auto& d = cfg_.domain;
+  const auto h = d.spacing();
+  dims_ = d.cells[2] == 1 ? 2 : 3;
+  for (int a = 0; a < 3; ++a) {
+    cells_[a] = d.cells[a];
+    periodic_[static_cast<std::size_t>(a)] = d.periodic[a] || d.cells[a] == 1;
+    h_[a] = h[a];
+  }
+  nu_ = fluid_.viscosity;
+  rho_ = fluid_.density;
+  for (int f = 0; f < 6; ++f) {
+    const int a = f / 2;
+    Face& face = faces_[static_cast<std::size_t>(f)];
+    face.here = f % 2 == 0 ? blk_.owned.lo[a] == 0 : blk_.owned.hi[a] == cells_[a];
+    if (periodic_[static_cast<std::size_t>(a)]) continue;
+    const BoundaryParams b = fluid_.boundary(f, cfg_);
+    face.ramp = b.ramp;
+    if (b.type == "wall" || b.type == "velocity") {
+      face.kind = Face::dirichlet;
+      if (b.type == "velocity") face.velocity = {b.value.values[0], b.value.values[1], b.value.values[2]};
+    } else {
+      face.kind = Face::open;
+      has_open_ = true;
+      if (b.type == "pressure") face.pressure = b.value.values[0];
+    }
+  }
+  const std::size_t padded = ex_.field_size(), owned = static_cast<std::size_t>(blk_.owned_cells());
+  for (auto* f : {&u_, &u_old_, &ustar_, &adv_, &adv_old_, &source_, &top_})
+    for (auto& c : *f) c.assign(padded, 0.0);
+  p_field_.assign(padded, 0.0);
+  phi_.assign(padded, 0.0);
+  rhs_.assign(owned, 0.0);
+  x_.assign(owned, 0.0);
+  const std::array<bool, 3> per{periodic_[0], periodic_[1], periodic_[2]};
+  poisson_ = std::make_unique<fv::StructSystem>(comm_, blk_.owned, cells_, per, solver_options(p_, "pressure Poisson solve"));
+  for (int c = 0; c < dims_; ++c)
+    viscous_[static_cast<std::size_t>(c)] = std::make_unique<fv::StructSystem>(
+        comm_, blk_.owned, cells_, per, solver_options(p_, fmt::format("viscous solve of u_{}", "xyz"[c])));
+  set_poisson();
+  initialise();
+}
+
+FvSolver::~FvSolver() = default;
+
+// The initial state (fluid.initial) sampled at the faces and centres; the
+// boundary faces take their values; the initial field is not projected (a
+// divergence-free one stays so; the first step projects any other).
+void FvSolver::initialise() {
+  const auto& d = cfg_.domain;
+  for_padded([&](const long* at, long n) {
+    for (int c = 0; c < dims_; ++c) {
+      Vec3 x, u;
+      double p;
+      for (int a = 0; a < 3; ++a) x[a] = d.lower[a] + (blk_.owned.lo[a] + at[a] + (a == c ? 0.0 : 0.5)) * h_[a];
+      fluid_.initial_state(cfg_, x, u, p);
+      u_[static_cast<std::size_t>(c)][n] = u[c];
+    }
+    Vec3 x, u;
+    double p;
+    for (int a = 0; a < 3; ++a) x[a] = d.lower[a] + (blk_.owned.lo[a] + at[a] + 0.5) * h_[a];
+    fluid_.initial_state(cfg_, x, u, p);
+    p_field_[n] = p;
+  });
+  for (int c = 0; c < dims_; ++c) {
+    const auto C = static_cast<std::size_t>(c);
+    const long n_c = blk_.extent[c];
+    for_owned([&](const long* at, long n, long) {
+      if (at[c] == n_c - 1) top_[C][n] = u_[C][n + stride(c)];
+    });
+  }
+  fill_ghosts(u_, 0.0);
+  fill_pressure_ghosts(p_field_, 0.0, false, 0.0);
+}
+
+long FvSolver::stride(int d) const {
+  return d == 0 ? 1 : d == 1 ? blk_.padded(0) : blk_.padded(0) * blk_.padded(1);
+}
+
+void FvSolver::set_owned(Field& f, const std::vector<double>& v) const {
+  for_owned([&](const long*, long n, long o) { f[static_cast<std::size_t>(n)] = v[static_cast<std::size_t>(o)]; });
+}
+
+std::vector<double> FvSolver::owned_of(const Field& f) const {
+  std::vector<double> v(static_cast<std::size_t>(blk_.owned_cells()));
+  for_owned([&](const long*, long n, long o) { v[static_cast<std::size_t>(o)] = f[static_cast<std::size_t>(n)]; });
+  return v;
+}
+
+// The largest |u_c| on this rank's faces, boundary faces included, reduced.
+double FvSolver::stable_step() const {
+  double umax[4] = {0, 0, 0, 0};  // and 1 where a value is not finite
+  for (int c = 0; c < dims_; ++c) {
+    const auto& q = u_[static_cast<std::size_t>(c)];
+    for_owned([&](const long*, long n, long) {
+      const double a = std::abs(q[n]), b = std::abs(q[n + stride(c)]);
+      if (!(a <= std::numeric_limits<double>::max() && b <= std::numeric_limits<double>::max())) umax[3] = 1;
+      umax[c] = std::max({umax[c], a, b});
+    });
+  }
+  MPI_Allreduce(MPI_IN_PLACE, umax, 4, MPI_DOUBLE, MPI_MAX, comm_);
+  if (umax[3] > 0)
+    throw std::runtime_error(fmt::format("fv: the velocity is not finite at t = {:.6g} s (step {}); lower "
+                                         "fluid.fv.cfl or fluid.fv.max_step",
+                                         time_, steps_));
+  double limit = fv::cfl_step(p_.cfl, umax, h_, dims_);
+  if (p_.max_step > 0) limit = std::min(limit, p_.max_step);
+  return limit;
+}
+
+void FvSolver::step(double dt) {
+  const double omega = dt_prev_ > 0 ? dt / dt_prev_ : 1.0;
+  const fv::Imex s = steps_ == 0 ? fv::Imex::first()
+                     : p_.time == "cnab2" ? fv::Imex::cnab2(omega)
+                                          : fv::Imex::sbdf2(omega);
+  momentum(s, dt);
+  project(s, dt, steps_ > 0);
+  std::swap(u_old_, u_);
+  std::swap(u_, ustar_);
+  std::swap(adv_old_, adv_);
+  dt_prev_ = dt;
+  time_ += dt;
+  ++steps_;
+  ++window_steps_;
+  last_dt_ = dt;
+}
+
+// The window in equal steps: planned at its start (the CFL step, at most twice
+// the last, the window split evenly) and planned again for the rest only when
+// the flow outgrows the step. Equal steps keep the implicit matrices (they
+// depend on dt) and their multigrid hierarchies from one step to the next.
+void FvSolver::advance(double window) {
+  const double end = time_ + window;
+  window_steps_ = 0;
+  poisson_iterations_ = viscous_iterations_ = 0;
+  long left = 0;
+  double dt = 0.0;
+  while (end - time_ > 1e-12 * window) {
+    const double limit = stable_step();
+    if (left == 0 || dt > limit) {
+      dt = fv::next_step(limit, dt_prev_, end - time_);
+      left = std::max(1L, std::lround((end - time_) / dt));
+    }
+    step(dt);
+    if (--left == 0) break;
+  }
+  time_ = end;
+  max_divergence_ = max_divergence(u_);
+}
+
+}  // namespace coflow::fluid

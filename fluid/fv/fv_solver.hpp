@@ -1,0 +1,146 @@
+// fv: incompressible Navier-Stokes by finite volumes on a staggered (MAC)
+// grid (seed 003 §4.1): velocity components on the faces of the fluid grid's
+// cells, pressure at their centres; advection explicit (central or bounded
+// upwind-biased, divergent or non-divergent form), diffusion implicit (IMEX
+// SBDF2 or CNAB2 with a variable step from the CFL condition, seed 003 eqs.
+// 4.1-4.2); an incremental pressure-correction projection (Chorin 1968). The
+// linear systems go to hypre's Struct multigrid-preconditioned conjugate
+// gradients on the fluid's blocks (MPI).
+//
+// Storage: on the blocks of fluid/grid with two ghost layers; u_c at index
+// (i, j, k) is the velocity through the lower c-face of cell (i, j, k). A
+// rank at the upper end of a non-periodic axis c keeps the domain's boundary
+// face in its first ghost layer.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "fluid/fluid_solver.hpp"
+#include "fluid/fv/params.hpp"
+#include "fluid/fv/scheme.hpp"
+#include "fluid/fv/struct_system.hpp"
+#include "fluid/grid/ghost_exchange.hpp"
+
+namespace coflow::fluid {
+
+class FvSolver final : public FluidSolver {
+ public:
+  using Params = fv::FvParams;
+  FvSolver(const Setup& setup, const Params& params);
+  ~FvSolver() override;
+
+  double time_step() const override { return 0.0; }  // variable: any window, in CFL-limited steps
+  void advance(double dt) override;
+  double time() const override { return time_; }
+  long steps() const override { return steps_; }
+  const coupler::Box& owned() const override { return blk_.owned; }
+  std::vector<output::GridField> fields(const config::StringList& names) override;
+  Diagnostics diagnostics() override;
+  std::vector<output::Series::Column> series_columns() const override;
+  void set_source(std::span<const double> force_density) override;
+  void save(const std::string& dir) override;
+  void load(const std::string& dir, long steps, double time) override;
+
+ private:
+  // A face of the box: how the velocity and pressure behave there.
+  struct Face {
+    enum Kind { periodic, dirichlet, open } kind = periodic;  // dirichlet: wall, velocity; open: pressure, outflow
+    Vec3 velocity{0, 0, 0};
+    double pressure = 0.0;
+    double ramp = 0.0;
+    bool here = false;  // this rank's block touches it
+    Vec3 velocity_at(double t) const;
+    double pressure_at(double t) const;
+  };
+  using Field = std::vector<double>;  // over the padded block
+  using Faces = std::array<Field, 3>;
+
+  // What lies beyond one side of an unknown face along an axis.
+  enum class Neighbour { inside, wall_normal, wall_tangential, open };
+
+  void initialise();
+  void step(double dt);
+  double stable_step() const;  // collective; throws on a value that is not finite
+  // Ghosts (boundaries.cpp).
+  void fill_ghosts(Faces& u, double t);
+  void fill_face_ghosts(Field& u, int c, int a, int side, const Face& f, double t) const;
+  void fill_pressure_ghosts(Field& p, double t, bool increment, double t0);
+  void extrapolate_open_faces(Faces& u);
+  bool is_boundary_face(int c, long i) const;  // a domain face of axis c: not an unknown
+  bool is_dirichlet_face(int c, long i) const;
+  // Momentum (momentum.cpp).
+  void advection(const Faces& u, Faces& out) const;
+  double advection_at(const Faces& u, int c, long n) const;
+  double laplacian_at(const Field& u, long n) const;
+  Neighbour neighbour_kind(int c, const long* at, int d, int side) const;
+  double viscous_rhs(int c, const long* at, long n, const fv::Imex& s, double dt) const;
+  void momentum(const fv::Imex& s, double dt);
+  void set_viscous(int c, double diag, double nu_theta);
+  // Projection (projection.cpp).
+  double divergence_at(const Faces& u, long n) const;
+  void set_poisson();
+  void poisson_rhs(double factor, double t0, double t1, bool incremental);
+  void project(const fv::Imex& s, double dt, bool incremental);
+  double max_divergence(const Faces& u) const;  // collective
+
+  long stride(int d) const;
+  // f(at, n, o) over the owned cells: owned-relative coordinates, padded and owned index.
+  template <class F>
+  void for_owned(F&& f) const {
+    long o = 0, at[3];
+    for (at[2] = 0; at[2] < blk_.extent[2]; ++at[2])
+      for (at[1] = 0; at[1] < blk_.extent[1]; ++at[1])
+        for (at[0] = 0; at[0] < blk_.extent[0]; ++at[0], ++o)
+          f(static_cast<const long*>(at), blk_.idx(at[0], at[1], at[2]), o);
+  }
+  template <class F>
+  void for_padded(F&& f) const {
+    long at[3];
+    for (at[2] = -blk_.ghost[2]; at[2] < blk_.extent[2] + blk_.ghost[2]; ++at[2])
+      for (at[1] = -blk_.ghost[1]; at[1] < blk_.extent[1] + blk_.ghost[1]; ++at[1])
+        for (at[0] = -blk_.ghost[0]; at[0] < blk_.extent[0] + blk_.ghost[0]; ++at[0])
+          f(static_cast<const long*>(at), blk_.idx(at[0], at[1], at[2]));
+  }
+  std::vector<double> owned_of(const Field& f) const;
+  void set_owned(Field& f, const std::vector<double>& v) const;
+
+  const config::Config& cfg_;
+  FluidParams fluid_;
+  Params p_;
+  MPI_Comm comm_;
+  int rank_ = 0;
+  grid::GhostExchange ex_;
+  grid::Block blk_;
+  coupler::Index3 cells_;
+  std::array<bool, 3> periodic_{};
+  int dims_ = 3;
+  double h_[3] = {1, 1, 1};
+  double nu_ = 0, rho_ = 1;
+  std::array<Face, 6> faces_;
+  bool has_open_ = false;
+
+  Faces u_, u_old_, ustar_, adv_, adv_old_, source_;
+  // The velocity through an open upper face of axis c, kept at the owned cell
+  // below it (index n - 1 along c) so that the ghost exchange carries it to
+  // the blocks beside; fill_ghosts copies it to the boundary face (index n).
+  Faces top_;
+  Field p_field_, phi_;
+  std::vector<double> rhs_, x_;
+  std::unique_ptr<fv::StructSystem> poisson_;
+  std::array<std::unique_ptr<fv::StructSystem>, 3> viscous_;
+  std::array<double, 3> viscous_key_{0, 0, 0}, viscous_theta_{0, 0, 0};  // a0/dt and theta nu of the matrices set
+  bool have_source_ = false;
+
+  double time_ = 0.0, dt_prev_ = 0.0;
+  long steps_ = 0;
+  // Of the last window: steps, the last step, the largest Poisson iterations
+  // and the largest divergence after projection.
+  long window_steps_ = 0;
+  int poisson_iterations_ = 0, viscous_iterations_ = 0;
+  double last_dt_ = 0.0, max_divergence_ = 0.0;
+  std::vector<double> out_u_, out_p_, out_rho_, out_div_;
+};
+
+}  // namespace coflow::fluid

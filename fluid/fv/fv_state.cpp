@@ -1,0 +1,140 @@
+// fv: what the solver shows and keeps: snapshot fields, diagnostics, the
+// momentum source it takes, checkpoint and restart.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "fluid/fv/fv_solver.hpp"
+#include "fluid/grid/cell_fields.hpp"
+
+namespace coflow::fluid {
+
+std::vector<output::GridField> FvSolver::fields(const config::StringList& names) {
+  const std::size_t N = static_cast<std::size_t>(blk_.owned_cells());
+  out_u_.assign(3 * N, 0.0);
+  out_p_ = owned_of(p_field_);
+  out_rho_.assign(N, rho_);
+  out_div_.assign(N, 0.0);
+  for_owned([&](const long*, long n, long o) {
+    const auto O = static_cast<std::size_t>(o);
+    for (int c = 0; c < dims_; ++c) {
+      const auto& q = u_[static_cast<std::size_t>(c)];
+      out_u_[3 * O + static_cast<std::size_t>(c)] = 0.5 * (q[n] + q[n + stride(c)]);  // the cell's centre
+    }
+    out_div_[O] = divergence_at(u_, n);
+  });
+  std::vector<output::GridField> f;
+  for (const auto& n : names) {
+    if (n == "velocity") f.push_back({n, 3, out_u_});
+    if (n == "pressure") f.push_back({n, 1, out_p_});
+    if (n == "density") f.push_back({n, 1, out_rho_});
+    if (n == "divergence") f.push_back({n, 1, out_div_});
+  }
+  return f;
+}
+
+// Mass, momentum and kinetic energy of the cells (velocity at their centres).
+Diagnostics FvSolver::diagnostics() {
+  fields({});
+  const double vol = h_[0] * h_[1] * h_[2], m = rho_ * vol;
+  double sums[5] = {0, 0, 0, 0, 0}, umax = 0.0;
+  for (std::size_t o = 0; o < out_rho_.size(); ++o) {
+    double u2 = 0.0;
+    for (int c = 0; c < 3; ++c) {
+      const double u = out_u_[3 * o + static_cast<std::size_t>(c)];
+      sums[1 + c] += m * u;
+      u2 += u * u;
+    }
+    sums[0] += m;
+    sums[4] += 0.5 * m * u2;
+    umax = std::max(umax, std::sqrt(u2));
+  }
+  MPI_Allreduce(MPI_IN_PLACE, sums, 5, MPI_DOUBLE, MPI_SUM, comm_);
+  MPI_Allreduce(MPI_IN_PLACE, &umax, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  Diagnostics d{sums[0], {sums[1], sums[2], sums[3]}, sums[4], umax, 0.0, {}};
+  d.extra = {static_cast<double>(window_steps_), last_dt_, static_cast<double>(poisson_iterations_),
+             static_cast<double>(viscous_iterations_), max_divergence_};
+  return d;
+}
+
+std::vector<output::Series::Column> FvSolver::series_columns() const {
+  return {{"steps", "1"},
+          {"dt", "s"},
+          {"poisson_iterations", "1"},
+          {"viscous_iterations", "1"},
+          {"max_divergence", "1/s"}};
+}
+
+// The point particles' momentum source at the cells (N/m^3), taken at the
+// faces as the mean of the two cells beside (seed 003 eq. 3.43).
+void FvSolver::set_source(std::span<const double> force_density) {
+  for (int c = 0; c < dims_; ++c) {
+    auto& s = source_[static_cast<std::size_t>(c)];
+    for_owned([&](const long*, long n, long o) { s[n] = force_density[3 * static_cast<std::size_t>(o) + c]; });
+    ex_.exchange(s);
+  }
+  have_source_ = true;
+}
+
+namespace {
+
+std::vector<double> interleave(const std::array<std::vector<double>, 3>& parts) {
+  std::vector<double> v(3 * parts[0].size());
+  for (std::size_t o = 0; o < parts[0].size(); ++o)
+    for (std::size_t c = 0; c < 3; ++c) v[3 * o + c] = parts[c][o];
+  return v;
+}
+
+}  // namespace
+
+// The state: face velocities of this step and the last, the upper open
+// faces, the last advection term, the pressure and its last increment (the
+// Poisson solve's first guess); the clock (steps, time, last
+// step) as exact hexadecimal numbers.
+void FvSolver::save(const std::string& dir) {
+  auto faces = [&](const Faces& f) { return interleave({owned_of(f[0]), owned_of(f[1]), owned_of(f[2])}); };
+  const auto u = faces(u_), top = faces(top_), old = faces(u_old_), adv = faces(adv_old_), p = owned_of(p_field_),
+             phi = owned_of(phi_);
+  grid::save_cell_fields(comm_, dir + "/fv.h5", time_, steps_, cells_, blk_.owned,
+                         {{"velocity_faces", 3, u},
+                          {"velocity_upper", 3, top},
+                          {"velocity_previous", 3, old},
+                          {"advection_previous", 3, adv},
+                          {"pressure", 1, p},
+                          {"pressure_increment", 1, phi}});
+  if (rank_ != 0) return;
+  std::ofstream clock(dir + "/fv_clock.txt");
+  clock << fmt::format("{} {:a} {:a}\n", steps_, time_, dt_prev_);
+  if (!clock) throw std::runtime_error(fmt::format("fv: cannot write {}/fv_clock.txt", dir));
+}
+
+void FvSolver::load(const std::string& dir, long, double) {
+  const std::string path = dir + "/fv.h5";
+  auto faces = [&](const std::string& name, Faces& f) {
+    const auto v = grid::load_cell_field(path, name, cells_, blk_.owned, 3);
+    for (std::size_t c = 0; c < 3; ++c)
+      for_owned([&](const long*, long n, long o) { f[c][n] = v[3 * static_cast<std::size_t>(o) + c]; });
+  };
+  faces("velocity_faces", u_);
+  faces("velocity_upper", top_);
+  faces("velocity_previous", u_old_);
+  faces("advection_previous", adv_old_);
+  set_owned(p_field_, grid::load_cell_field(path, "pressure", cells_, blk_.owned, 1));
+  set_owned(phi_, grid::load_cell_field(path, "pressure_increment", cells_, blk_.owned, 1));  // the next first guess
+  std::ifstream clock(dir + "/fv_clock.txt");
+  std::string t, dt;
+  if (!(clock >> steps_ >> t >> dt))
+    throw std::runtime_error(fmt::format("fv: {}/fv_clock.txt is missing or unreadable: restart from a checkpoint "
+                                         "written by the fv solver",
+                                         dir));
+  time_ = std::strtod(t.c_str(), nullptr);
+  dt_prev_ = std::strtod(dt.c_str(), nullptr);
+  viscous_key_ = {0, 0, 0};
+  fill_ghosts(u_, time_);
+  fill_pressure_ghosts(p_field_, time_, false, time_);
+}
+
+}  // namespace coflow::fluid

@@ -1,0 +1,167 @@
+// fv: the momentum step to the provisional velocity u* (advection explicit,
+// diffusion implicit, the pressure of the last step; seed 003 eqs. 4.3-4.5),
+// one implicit system per component.
+#include <cmath>
+
+#include "fluid/fv/fv_solver.hpp"
+
+namespace coflow::fluid {
+
+// -div(u u_c) (divergent form) or -(u . grad) u_c = -div(u u_c) + u_c div(u)
+// (non-divergent) at the face of u_c at padded index n: the fluxes through the
+// faces of the control volume around it, each the advecting velocity (the
+// mean of the two faces beside) times the carried value (fv::face_value).
+double FvSolver::advection_at(const Faces& u, int c, long n) const {
+  const bool upwind = p_.advection == "upwind";
+  const Field& q = u[static_cast<std::size_t>(c)];
+  const long sc = stride(c);
+  double flux = 0.0, div = 0.0;
+  for (int d = 0; d < dims_; ++d) {
+    const long s = stride(d);
+    const Field& v = u[static_cast<std::size_t>(d)];
+    const double up = d == c ? 0.5 * (q[n] + q[n + s]) : 0.5 * (v[n + s - sc] + v[n + s]);
+    const double um = d == c ? 0.5 * (q[n - s] + q[n]) : 0.5 * (v[n - sc] + v[n]);
+    const double fp = up * fv::face_value(upwind, q[n - s], q[n], q[n + s], q[n + 2 * s], up);
+    const double fm = um * fv::face_value(upwind, q[n - 2 * s], q[n - s], q[n], q[n + s], um);
+    flux += (fp - fm) / h_[d];
+    div += (up - um) / h_[d];
+  }
+  return p_.form == "divergent" ? -flux : -(flux - q[n] * div);
+}
+
+void FvSolver::advection(const Faces& u, Faces& out) const {
+  for (int c = 0; c < dims_; ++c) {
+    auto& o = out[static_cast<std::size_t>(c)];
+    for_owned([&](const long* at, long n, long) {
+      o[n] = is_boundary_face(c, at[c]) ? 0.0 : advection_at(u, c, n);
+    });
+  }
+}
+
+double FvSolver::laplacian_at(const Field& u, long n) const {
+  double l = 0.0;
+  for (int d = 0; d < dims_; ++d) {
+    const long s = stride(d);
+    l += (u[n + s] - 2 * u[n] + u[n - s]) / (h_[d] * h_[d]);
+  }
+  return l;
+}
+
+// The implicit system of component c: (a0/dt) u - theta nu lap(u) = rhs, with
+// the faces' conditions folded in (they also add to the right-hand side:
+// viscous_rhs). A domain face of axis c is not an unknown: its row is 1.
+void FvSolver::set_viscous(int c, double diag_scale, double nu_theta) {
+  const std::size_t N = static_cast<std::size_t>(blk_.owned_cells());
+  std::vector<double> diag(N, 0.0);
+  std::array<std::vector<double>, 3> lo, hi;
+  for (auto& v : lo) v.assign(N, 0.0);
+  for (auto& v : hi) v.assign(N, 0.0);
+  for_owned([&](const long* at, long, long o) {
+    const auto O = static_cast<std::size_t>(o);
+    if (is_boundary_face(c, at[c])) {
+      diag[O] = 1.0;
+      return;
+    }
+    double scale = 1.0;
+    diag[O] = diag_scale;
+    for (int d = 0; d < dims_; ++d) {
+      const double k = nu_theta / (h_[d] * h_[d]);
+      for (int side = 0; side < 2; ++side) {
+        auto& coupling = side == 0 ? lo[static_cast<std::size_t>(d)] : hi[static_cast<std::size_t>(d)];
+        auto& opposite = side == 0 ? hi[static_cast<std::size_t>(d)] : lo[static_cast<std::size_t>(d)];
+        switch (neighbour_kind(c, at, d, side)) {
+          case Neighbour::inside:
+            diag[O] += k;
+            coupling[O] -= k;
+            break;
+          case Neighbour::wall_tangential:  // ghost = (8U - 6 u0 + u1) / 3
+            diag[O] += 3 * k;
+            opposite[O] -= k / 3;
+            scale *= fv::wall_row_scale;
+            break;
+          case Neighbour::wall_normal:  // the face's value, known
+            diag[O] += k;
+            break;
+          case Neighbour::open:  // zero gradient
+            break;
+        }
+      }
+    }
+    diag[O] *= scale;
+    for (int d = 0; d < dims_; ++d) {
+      lo[static_cast<std::size_t>(d)][O] *= scale;
+      hi[static_cast<std::size_t>(d)][O] *= scale;
+    }
+  });
+  viscous_[static_cast<std::size_t>(c)]->set(diag, {lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]});
+}
+
+// What lies beyond the side of the unknown u_c at `at` along d: another
+// unknown (inside the domain or across a periodic face), a wall's or velocity
+// face's value (on the face for d == c, a ghost for d != c), or an open face.
+FvSolver::Neighbour FvSolver::neighbour_kind(int c, const long* at, int d, int side) const {
+  if (periodic_[d]) return Neighbour::inside;
+  const long g = blk_.owned.lo[d] + at[d];
+  const bool beyond = d == c ? (side == 0 ? g - 1 == 0 : g + 1 == cells_[d])
+                             : (side == 0 ? g == 0 : g + 1 == cells_[d]);
+  if (!beyond) return Neighbour::inside;
+  if (faces_[static_cast<std::size_t>(2 * d + side)].kind == Face::open) return Neighbour::open;
+  return d == c ? Neighbour::wall_normal : Neighbour::wall_tangential;
+}
+
+// The right-hand side of component c's row at `at`: the history, the
+// extrapolated advection, the explicit part of the diffusion, the pressure
+// gradient of the last step, the body force and the sources, and the faces'
+// values of the new time.
+double FvSolver::viscous_rhs(int c, const long* at, long n, const fv::Imex& s, double dt) const {
+  const auto C = static_cast<std::size_t>(c);
+  const double t1 = time_ + dt;
+  if (is_boundary_face(c, at[c])) {
+    const long g = blk_.owned.lo[c] + at[c];
+    const Face& f = faces_[static_cast<std::size_t>(2 * c + (g == 0 ? 0 : 1))];
+    return f.kind == Face::dirichlet ? f.velocity_at(t1)[c] : u_[C][n];
+  }
+  const double nu = nu_;
+  double r = (s.a1 * u_[C][n] - s.a2 * u_old_[C][n]) / dt + s.b0 * adv_[C][n] + s.b1 * adv_old_[C][n];
+  if (s.theta < 1) r += (1 - s.theta) * nu * laplacian_at(u_[C], n);
+  if (steps_ > 0) r -= (p_field_[n] - p_field_[n - stride(c)]) / (rho_ * h_[c]);  // the first step: projection
+  r += fluid_.body_force[c] / rho_;
+  if (have_source_) r += 0.5 * (source_[C][n] + source_[C][n - stride(c)]) / rho_;
+  double scale = 1.0;
+  for (int d = 0; d < dims_; ++d) {
+    const double k = s.theta * nu / (h_[d] * h_[d]);
+    for (int side = 0; side < 2; ++side) {
+      const Neighbour kind = neighbour_kind(c, at, d, side);
+      if (kind == Neighbour::inside || kind == Neighbour::open) continue;
+      const double U = faces_[static_cast<std::size_t>(2 * d + side)].velocity_at(t1)[c];
+      if (kind == Neighbour::wall_normal) r += k * U;
+      if (kind == Neighbour::wall_tangential) {
+        r += 8.0 / 3.0 * k * U;
+        scale *= fv::wall_row_scale;
+      }
+    }
+  }
+  return r * scale;
+}
+
+void FvSolver::momentum(const fv::Imex& s, double dt) {
+  advection(u_, adv_);
+  const double diag = s.a0 / dt, nu_theta = s.theta * nu_;
+  for (int c = 0; c < dims_; ++c) {
+    const auto C = static_cast<std::size_t>(c);
+    if (viscous_key_[C] != diag || viscous_theta_[C] != nu_theta) {
+      set_viscous(c, diag, nu_theta);
+      viscous_key_[C] = diag;
+      viscous_theta_[C] = nu_theta;
+    }
+    for_owned([&](const long* at, long n, long o) {
+      rhs_[static_cast<std::size_t>(o)] = viscous_rhs(c, at, n, s, dt);
+      x_[static_cast<std::size_t>(o)] = u_[C][n];
+    });
+    viscous_[C]->solve(rhs_, x_);
+    viscous_iterations_ = std::max(viscous_iterations_, viscous_[C]->last_iterations());
+    set_owned(ustar_[C], x_);
+  }
+}
+
+}  // namespace coflow::fluid

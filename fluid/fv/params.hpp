@@ -1,0 +1,59 @@
+// fluid.fv: parameters shared by the fv and fv-reference variants (seed 003
+// §4.1: finite volumes on a staggered grid, Chorin's projection, IMEX steps).
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "coflow/config.hpp"
+#include "coflow/run_config.hpp"
+
+namespace coflow::fluid::fv {
+
+struct FvParams {
+  std::string advection = "upwind";
+  std::string form = "divergent";
+  std::string time = "sbdf2";
+  double cfl = 0.5;
+  double max_step = 0.0;
+  double tolerance = 1e-10;
+  int max_iterations = 200;
+  std::string multigrid = "pfmg";
+  void visit(config::Visitor& v) {
+    v("advection", advection,
+      "central (second order) or upwind (second-order upwind-biased, bounded by van Leer's limiter: no new "
+      "extrema)",
+      config::one_of({"central", "upwind"}));
+    v("form", form, "advection term: divergent div(u u) or non-divergent (u . grad) u (seed 003 §4.1)",
+      config::one_of({"divergent", "non-divergent"}));
+    v("time", time,
+      "IMEX scheme, advection explicit and diffusion implicit, with a variable step: sbdf2 (Ascher, Ruuth & "
+      "Wetton 1995; Wang & Ruuth 2008) or cnab2 (Crank-Nicolson / Adams-Bashforth); the first step by the "
+      "first-order member (IMEX Euler)",
+      config::one_of({"sbdf2", "cnab2"}));
+    v("cfl", cfl,
+      "Courant number C of the variable step (seed 003 eq. 4.1): dt = C / sum_d(max|u_d| / dx_d)",
+      config::greater(0.0));
+    v("max_step", max_step, "s: the largest step (0: no limit but the coupling window)", config::at_least(0.0));
+    v("tolerance", tolerance,
+      "relative residual (2-norm) at which the pressure Poisson and the implicit viscous solves stop",
+      config::greater(0.0));
+    v("max_iterations", max_iterations, "iterations of one linear solve before the run stops with a message",
+      config::greater(0.0));
+    v("multigrid", multigrid,
+      "fv: the preconditioner of the conjugate gradients, a hypre Struct multigrid: pfmg (semicoarsening, "
+      "Ashby & Falgout 1996) or smg (Schaffer 1998; more robust on stretched cells, slower)",
+      config::one_of({"pfmg", "smg"}));
+  }
+  void check(config::Visitor& v, const config::Config& cfg) const {
+    const auto& d = cfg.domain;
+    if (d.cells[0] == 1 || d.cells[1] == 1)
+      v.fail("", "the fv fluid is 2D in x-y or 3D: domain.cells[0] and [1] must be more than 1");
+    if (cfl > 1.0)
+      v.fail("cfl", fmt::format("{} > 1: the explicit advection is unstable beyond C = 1; use 0.2 to 0.8", cfl));
+  }
+};
+
+}  // namespace coflow::fluid::fv

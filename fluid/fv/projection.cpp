@@ -1,0 +1,114 @@
+// fv: the projection (Chorin 1968, incremental pressure correction): the
+// pressure increment phi solves -lap(phi) = -(rho a0 / dt) div(u*) with zero
+// normal gradient at walls and velocity faces and the face's pressure change
+// at open faces; u = u* - dt / (rho a0) grad(phi), p += phi. The first step
+// has no pressure to increment: its momentum step leaves the pressure out and
+// phi is the pressure itself (the open faces' values on them), so that the
+// initial pressure need not match the faces.
+#include <cmath>
+
+#include "fluid/fv/fv_solver.hpp"
+
+namespace coflow::fluid {
+
+double FvSolver::divergence_at(const Faces& u, long n) const {
+  double div = 0.0;
+  for (int c = 0; c < dims_; ++c) {
+    const auto& q = u[static_cast<std::size_t>(c)];
+    div += (q[n + stride(c)] - q[n]) / h_[c];
+  }
+  return div;
+}
+
+void FvSolver::set_poisson() {
+  const std::size_t N = static_cast<std::size_t>(blk_.owned_cells());
+  std::vector<double> diag(N, 0.0);
+  std::array<std::vector<double>, 3> lo, hi;
+  for (auto& v : lo) v.assign(N, 0.0);
+  for (auto& v : hi) v.assign(N, 0.0);
+  for_owned([&](const long* at, long, long o) {
+    const auto O = static_cast<std::size_t>(o);
+    for (int d = 0; d < dims_; ++d) {
+      const double k = 1.0 / (h_[d] * h_[d]);
+      for (int side = 0; side < 2; ++side) {
+        auto& coupling = side == 0 ? lo[static_cast<std::size_t>(d)] : hi[static_cast<std::size_t>(d)];
+        const long g = blk_.owned.lo[d] + at[d];
+        const bool beyond = !periodic_[d] && (side == 0 ? g == 0 : g + 1 == cells_[d]);
+        if (!beyond) {
+          diag[O] += k;
+          coupling[O] -= k;
+        } else if (faces_[static_cast<std::size_t>(2 * d + side)].kind == Face::open) {
+          diag[O] += 2 * k;  // ghost 2 dp_b - phi
+        }
+      }
+    }
+  });
+  poisson_->set(diag, {lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]});
+}
+
+// The right-hand side of the Poisson rows, with the open faces' pressure
+// change from t0 to t1.
+void FvSolver::poisson_rhs(double factor, double t0, double t1, bool incremental) {
+  double sum = 0.0;
+  for_owned([&](const long* at, long n, long o) {
+    double r = -factor * divergence_at(ustar_, n);
+    for (int d = 0; d < dims_; ++d)
+      for (int side = 0; side < 2; ++side) {
+        const Face& f = faces_[static_cast<std::size_t>(2 * d + side)];
+        const long g = blk_.owned.lo[d] + at[d];
+        if (f.kind == Face::open && (side == 0 ? g == 0 : g + 1 == cells_[d]))
+          r += 2 * (f.pressure_at(t1) - (incremental ? f.pressure_at(t0) : 0.0)) / (h_[d] * h_[d]);
+      }
+    rhs_[static_cast<std::size_t>(o)] = r;
+    x_[static_cast<std::size_t>(o)] = incremental ? phi_[n] : p_field_[n];  // a close first guess
+    sum += r;
+  });
+  if (has_open_) return;
+  // Walls all round (or periodic): phi is fixed up to a constant, and the
+  // right-hand side must sum to zero; take out its round-off.
+  MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_DOUBLE, MPI_SUM, comm_);
+  const double mean = sum / static_cast<double>(cells_[0] * cells_[1] * cells_[2]);
+  for (auto& r : rhs_) r -= mean;
+}
+
+void FvSolver::project(const fv::Imex& s, double dt, bool incremental) {
+  const double t0 = time_, t1 = time_ + dt, factor = rho_ * s.a0 / dt;
+  extrapolate_open_faces(ustar_);
+  fill_ghosts(ustar_, t1);
+  poisson_rhs(factor, t0, t1, incremental);
+  poisson_->solve(rhs_, x_);
+  poisson_iterations_ = std::max(poisson_iterations_, poisson_->last_iterations());
+  if (!has_open_) {  // the constant of phi: mean zero
+    double sum = 0.0;
+    for (double v : x_) sum += v;
+    MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_DOUBLE, MPI_SUM, comm_);
+    const double mean = sum / static_cast<double>(cells_[0] * cells_[1] * cells_[2]);
+    for (auto& v : x_) v -= mean;
+  }
+  set_owned(phi_, x_);
+  if (incremental)
+    fill_pressure_ghosts(phi_, t1, true, t0);
+  else
+    fill_pressure_ghosts(phi_, t1, false, t1);
+  for (int c = 0; c < dims_; ++c) {
+    const auto C = static_cast<std::size_t>(c);
+    const long sc = stride(c), n_c = blk_.extent[c];
+    for_owned([&](const long* at, long n, long) {
+      if (!is_dirichlet_face(c, at[c])) ustar_[C][n] -= (phi_[n] - phi_[n - sc]) / (factor * h_[c]);
+      const bool top = at[c] == n_c - 1 && faces_[2 * C + 1].here && faces_[2 * C + 1].kind == Face::open;
+      if (top) top_[C][n] -= (phi_[n + sc] - phi_[n]) / (factor * h_[c]);
+    });
+  }
+  for_owned([&](const long*, long n, long) { p_field_[n] = incremental ? p_field_[n] + phi_[n] : phi_[n]; });
+  fill_pressure_ghosts(p_field_, t1, false, t1);
+  fill_ghosts(ustar_, t1);
+}
+
+double FvSolver::max_divergence(const Faces& u) const {
+  double worst = 0.0;
+  for_owned([&](const long*, long n, long) { worst = std::max(worst, std::abs(divergence_at(u, n))); });
+  MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  return worst;
+}
+
+}  // namespace coflow::fluid

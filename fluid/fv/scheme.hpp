@@ -1,0 +1,76 @@
+// The pointwise pieces of the fv discretisation that fv and fv-reference
+// share: the face value of the advection schemes, the IMEX coefficients with
+// a variable step, the step from the CFL condition. The loops, ghosts and
+// solvers around them are each variant's own.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace coflow::fluid::fv {
+
+// The value a control-volume face carries, from the four values around it
+// along the flux (a b | c d, the face between b and c) and the advecting
+// velocity U. central: (b + c) / 2. upwind: the upwind value plus half the
+// limited difference (van Leer 1974: psi(r) = (r + |r|) / (1 + |r|)), second
+// order where the field is smooth and bounded by b and c (no new extrema).
+inline double face_value(bool upwind, double a, double b, double c, double d, double U) {
+  if (!upwind) return 0.5 * (b + c);
+  const double up = U >= 0 ? b : c, down = U >= 0 ? c : b, far = U >= 0 ? a : d;
+  const double jump = down - up, back = up - far;
+  if (jump * back <= 0.0) return up;  // an extremum (or flat): first order there
+  const double r = back / jump;
+  return up + 0.5 * jump * (2.0 * r / (1.0 + r));  // van Leer with r > 0
+}
+
+// A tangential velocity's ghosts beyond a wall (or velocity face) of value U,
+// the parabola through U on the face, u0 and u1 at the first two cell centres
+// (h/2 and 3h/2 in), read at -h/2 and -3h/2: second order at the wall and exact
+// for a parabolic profile (plane Poiseuille and Couette flow are exact to the
+// solver's tolerance). The implicit rows next to a wall scale by 3/4 so that
+// the matrix stays symmetric (fv::wall_row_scale).
+inline double wall_ghost(double U, double u0, double u1) { return (8 * U - 6 * u0 + u1) / 3; }
+inline double wall_ghost2(double U, double u0, double u1) { return 8 * U - 9 * u0 + 2 * u1; }
+inline constexpr double wall_row_scale = 0.75;
+
+// One IMEX step (u' = N(u) + L u, N explicit, L implicit) with the step dt
+// and the previous one dt_prev (omega = dt / dt_prev):
+//   (a0 u^{n+1} - a1 u^n + a2 u^{n-1}) / dt = b0 N^n + b1 N^{n-1}
+//                                             + theta L u^{n+1} + (1 - theta) L u^n.
+// sbdf2: the variable-step SBDF2 of Wang & Ruuth 2008 (BDF2 with omega, N
+// extrapolated linearly; Ascher, Ruuth & Wetton 1995 for the constant step). cnab2: Crank-Nicolson on L, Adams-Bashforth 2 on
+// N. first: IMEX Euler (the first step of both).
+struct Imex {
+  double a0 = 1, a1 = 1, a2 = 0, b0 = 1, b1 = 0, theta = 1;
+  static Imex first() { return {}; }
+  static Imex sbdf2(double omega) {
+    return {(1 + 2 * omega) / (1 + omega), 1 + omega, omega * omega / (1 + omega), 1 + omega, -omega, 1.0};
+  }
+  static Imex cnab2(double omega) { return {1, 1, 0, 1 + 0.5 * omega, -0.5 * omega, 0.5}; }
+};
+
+// The step of the CFL condition (seed 003 eq. 4.1) with the advective limit
+// read as 1 / sum_d(max|u_d| / dx_d): eq. 4.2 prints the sum of dx_d / max|u_d|,
+// which exceeds the one-axis limit dx / max|u| as soon as two components move;
+// the reciprocal sum is the bound of the explicit scheme in several dimensions.
+// Infinite for a fluid at rest.
+inline double cfl_step(double cfl, const double umax[3], const double h[3], int dims) {
+  double rate = 0.0;
+  for (int d = 0; d < dims; ++d) rate += umax[d] / h[d];
+  return rate > 0 ? cfl / rate : std::numeric_limits<double>::infinity();
+}
+
+// The next step towards `remaining` (s) from the limit `limit` and the last
+// step: at most twice the last (variable-step SBDF2 is zero-stable for
+// omega < 1 + sqrt 2), and the rest of the window split evenly, so that no
+// step is a sliver.
+inline double next_step(double limit, double last, double remaining) {
+  double dt = limit;
+  if (last > 0) dt = std::min(dt, 2.0 * last);
+  if (!(dt < remaining)) return remaining;
+  const double n = std::ceil(remaining / dt * (1 - 1e-12));
+  return remaining / n;
+}
+
+}  // namespace coflow::fluid::fv

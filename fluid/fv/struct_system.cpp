@@ -1,0 +1,143 @@
+#include "fluid/fv/struct_system.hpp"
+
+#include <HYPRE_struct_ls.h>
+
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+
+namespace coflow::fluid::fv {
+
+struct StructSystem::Hypre {
+  HYPRE_StructGrid grid = nullptr;
+  HYPRE_StructStencil stencil = nullptr;
+  HYPRE_StructMatrix A = nullptr;
+  HYPRE_StructVector b = nullptr, x = nullptr;
+  HYPRE_StructSolver pcg = nullptr, precond = nullptr;
+  MPI_Comm comm;
+  HYPRE_Int lo[3], hi[3];
+  bool ready = false;  // the solver is set up for the matrix
+};
+
+StructSystem::StructSystem(MPI_Comm comm, const coupler::Box& owned, const coupler::Index3& cells,
+                           const std::array<bool, 3>& periodic, Options opt)
+    : h_(new Hypre), opt_(std::move(opt)), dims_(cells[2] == 1 ? 2 : 3) {
+  h_->comm = comm;
+  HYPRE_Int period[3] = {0, 0, 0};
+  for (int d = 0; d < 3; ++d) {
+    h_->lo[d] = static_cast<HYPRE_Int>(owned.lo[d]);
+    h_->hi[d] = static_cast<HYPRE_Int>(owned.hi[d] - 1);
+    if (periodic[d] && d < dims_) period[d] = static_cast<HYPRE_Int>(cells[d]);
+  }
+  HYPRE_StructGridCreate(comm, dims_, &h_->grid);
+  HYPRE_StructGridSetExtents(h_->grid, h_->lo, h_->hi);
+  HYPRE_StructGridSetPeriodic(h_->grid, period);
+  HYPRE_StructGridAssemble(h_->grid);
+  // Entries: the centre, then lower and upper along each axis.
+  HYPRE_StructStencilCreate(dims_, 1 + 2 * dims_, &h_->stencil);
+  HYPRE_Int zero[3] = {0, 0, 0};
+  HYPRE_StructStencilSetElement(h_->stencil, 0, zero);
+  for (int d = 0; d < dims_; ++d)
+    for (int s = 0; s < 2; ++s) {
+      HYPRE_Int off[3] = {0, 0, 0};
+      off[d] = s == 0 ? -1 : 1;
+      HYPRE_StructStencilSetElement(h_->stencil, 1 + 2 * d + s, off);
+    }
+  HYPRE_StructMatrixCreate(comm, h_->grid, h_->stencil, &h_->A);
+  HYPRE_StructMatrixInitialize(h_->A);
+  HYPRE_StructVectorCreate(comm, h_->grid, &h_->b);
+  HYPRE_StructVectorCreate(comm, h_->grid, &h_->x);
+  HYPRE_StructVectorInitialize(h_->b);
+  HYPRE_StructVectorInitialize(h_->x);
+}
+
+StructSystem::~StructSystem() {
+  free_solver();
+  HYPRE_StructVectorDestroy(h_->x);
+  HYPRE_StructVectorDestroy(h_->b);
+  HYPRE_StructMatrixDestroy(h_->A);
+  HYPRE_StructStencilDestroy(h_->stencil);
+  HYPRE_StructGridDestroy(h_->grid);
+  delete h_;
+}
+
+void StructSystem::free_solver() {
+  if (!h_->ready) return;
+  HYPRE_StructPCGDestroy(h_->pcg);
+  if (opt_.multigrid == "smg")
+    HYPRE_StructSMGDestroy(h_->precond);
+  else
+    HYPRE_StructPFMGDestroy(h_->precond);
+  h_->ready = false;
+}
+
+void StructSystem::set(std::span<const double> diag, const Couplings& lower, const Couplings& upper) {
+  const int entries = 1 + 2 * dims_;
+  std::vector<double> values(diag.size() * static_cast<std::size_t>(entries));
+  for (std::size_t c = 0; c < diag.size(); ++c) {
+    values[c * entries] = diag[c];
+    for (int d = 0; d < dims_; ++d) {
+      values[c * entries + 1 + 2 * d] = lower[d][c];
+      values[c * entries + 2 + 2 * d] = upper[d][c];
+    }
+  }
+  std::vector<HYPRE_Int> index(static_cast<std::size_t>(entries));
+  for (int e = 0; e < entries; ++e) index[static_cast<std::size_t>(e)] = e;
+  HYPRE_StructMatrixSetBoxValues(h_->A, h_->lo, h_->hi, entries, index.data(), values.data());
+  HYPRE_StructMatrixAssemble(h_->A);
+  free_solver();
+}
+
+// Conjugate gradients (2-norm of the residual relative to the right-hand side)
+// preconditioned by one multigrid V-cycle from a zero guess: PFMG with
+// weighted Jacobi, one sweep down and one up (symmetric, as PCG needs), or SMG.
+void StructSystem::make_solver() {
+  HYPRE_StructPCGCreate(h_->comm, &h_->pcg);
+  HYPRE_StructPCGSetTol(h_->pcg, opt_.tolerance);
+  HYPRE_StructPCGSetMaxIter(h_->pcg, opt_.max_iterations);
+  HYPRE_StructPCGSetTwoNorm(h_->pcg, 1);
+  HYPRE_StructPCGSetRelChange(h_->pcg, 0);
+  if (opt_.multigrid == "smg") {
+    HYPRE_StructSMGCreate(h_->comm, &h_->precond);
+    HYPRE_StructSMGSetMaxIter(h_->precond, 1);
+    HYPRE_StructSMGSetTol(h_->precond, 0.0);
+    HYPRE_StructSMGSetZeroGuess(h_->precond);
+    HYPRE_StructSMGSetNumPreRelax(h_->precond, 1);
+    HYPRE_StructSMGSetNumPostRelax(h_->precond, 1);
+    HYPRE_StructPCGSetPrecond(h_->pcg, HYPRE_StructSMGSolve, HYPRE_StructSMGSetup, h_->precond);
+  } else {
+    HYPRE_StructPFMGCreate(h_->comm, &h_->precond);
+    HYPRE_StructPFMGSetMaxIter(h_->precond, 1);
+    HYPRE_StructPFMGSetTol(h_->precond, 0.0);
+    HYPRE_StructPFMGSetZeroGuess(h_->precond);
+    HYPRE_StructPFMGSetRelaxType(h_->precond, 1);  // weighted Jacobi (red-black Gauss-Seidel stalls PCG on thin periodic grids)
+    HYPRE_StructPFMGSetNumPreRelax(h_->precond, 1);
+    HYPRE_StructPFMGSetNumPostRelax(h_->precond, 1);
+    HYPRE_StructPCGSetPrecond(h_->pcg, HYPRE_StructPFMGSolve, HYPRE_StructPFMGSetup, h_->precond);
+  }
+  HYPRE_StructPCGSetup(h_->pcg, h_->A, h_->b, h_->x);
+  h_->ready = true;
+}
+
+void StructSystem::solve(std::span<const double> b, std::span<double> x) {
+  HYPRE_StructVectorSetBoxValues(h_->b, h_->lo, h_->hi, const_cast<double*>(b.data()));
+  HYPRE_StructVectorSetBoxValues(h_->x, h_->lo, h_->hi, x.data());
+  HYPRE_StructVectorAssemble(h_->b);
+  HYPRE_StructVectorAssemble(h_->x);
+  if (!h_->ready) make_solver();
+  HYPRE_StructPCGSolve(h_->pcg, h_->A, h_->b, h_->x);
+  HYPRE_Int it = 0;
+  HYPRE_StructPCGGetNumIterations(h_->pcg, &it);
+  HYPRE_StructPCGGetFinalRelativeResidualNorm(h_->pcg, &residual_);
+  iterations_ = static_cast<int>(it);
+  HYPRE_ClearAllErrors();  // non-convergence is judged below, by the residual
+  HYPRE_StructVectorGetBoxValues(h_->x, h_->lo, h_->hi, x.data());
+  if (!(residual_ <= opt_.tolerance) && it >= opt_.max_iterations)
+    throw std::runtime_error(fmt::format(
+        "fv: the {} did not converge: relative residual {:.3g} after {} iterations (tolerance {:.3g}); raise "
+        "fluid.fv.max_iterations or fluid.fv.tolerance, or lower fluid.fv.cfl if the flow is blowing up",
+        opt_.name, residual_, it, opt_.tolerance));
+}
+
+}  // namespace coflow::fluid::fv

@@ -1,0 +1,55 @@
+// A symmetric positive (semi-)definite 5-point (2D) or 7-point (3D) system on
+// the fluid grid's cells, distributed as the fluid's blocks, solved by
+// hypre's Struct conjugate gradients preconditioned by one multigrid V-cycle
+// (PFMG or SMG). fv's pressure Poisson and implicit viscous solves are such
+// systems; hypre is Debian's libhypre-dev.
+#pragma once
+
+#include <mpi.h>
+
+#include <array>
+#include <span>
+#include <string>
+
+#include "coflow/decomposition.hpp"
+
+namespace coflow::fluid::fv {
+
+class StructSystem {
+ public:
+  struct Options {
+    std::string multigrid = "pfmg";  // pfmg | smg
+    double tolerance = 1e-10;        // relative residual, 2-norm
+    int max_iterations = 200;
+    std::string name = "system";     // for messages
+  };
+  // The owned box of this rank in a grid of `cells` (one cell along z: 2D).
+  StructSystem(MPI_Comm comm, const coupler::Box& owned, const coupler::Index3& cells,
+               const std::array<bool, 3>& periodic, Options opt);
+  ~StructSystem();
+  StructSystem(const StructSystem&) = delete;
+  StructSystem& operator=(const StructSystem&) = delete;
+
+  // The matrix, per owned cell (x fastest): its diagonal and its coupling to
+  // the cells one below and one above along x, y, z (zero across a wall). The
+  // caller keeps it symmetric: a cell's upper coupling is the next one's lower.
+  using Couplings = std::array<std::span<const double>, 3>;
+  void set(std::span<const double> diag, const Couplings& lower, const Couplings& upper);
+  // Solve A x = b, x holding the initial guess (owned cells, x fastest).
+  // Throws when the tolerance is not reached within max_iterations.
+  void solve(std::span<const double> b, std::span<double> x);
+  int last_iterations() const { return iterations_; }
+  double last_residual() const { return residual_; }
+
+ private:
+  void make_solver();
+  void free_solver();
+  struct Hypre;
+  Hypre* h_ = nullptr;
+  Options opt_;
+  int dims_ = 3;
+  int iterations_ = 0;
+  double residual_ = 0.0;
+};
+
+}  // namespace coflow::fluid::fv

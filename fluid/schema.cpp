@@ -29,6 +29,10 @@ const std::vector<VariantSchema>& variant_schemas() {
           "fv", "finite volumes on a staggered grid, projection, IMEX SBDF2/CNAB2 with a CFL step, hypre multigrid, "
                 "MPI (seed 003 §4.1)",
           "fv"),
+      variant_schema<fv::FvParams>(
+          "fv-reference", "plain serial finite volumes (the oracle for fv): same discretisation, simple loops, "
+                          "unpreconditioned conjugate gradients",
+          "fv"),
   };
   return v;
 }
@@ -151,10 +155,10 @@ static void check_fv_blocks(config::Visitor& v, const config::Config& cfg, const
   for (int r = 0; r < info.ranks; ++r)
     for (int a = 0; a < 3; ++a)
       if (d.cells[a] > 1 && dec.block(r).extent(a) < 2) {
-        v.fail("ranks", fmt::format("the {} blocks leave one {} cell thick along {}; fv needs two (its ghost "
+        v.fail("ranks", fmt::format("{} blocks make block {} one cell thick along {}; fv needs two (its ghost "
                                     "layers are two wide): use fewer blocks along {} (fluid.decomposition) or fewer "
                                     "ranks",
-                                    info.ranks, dec.block(r).extent(a), "xyz"[a], "xyz"[a]));
+                                    info.ranks, r, "xyz"[a], "xyz"[a]));
         return;
       }
 }

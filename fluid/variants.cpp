@@ -1,6 +1,7 @@
 // The fluid solvers by name; their schemas are in fluid/schema.cpp.
 #include "fluid/analytic/analytic_fluid.hpp"
 #include "fluid/fv/fv_solver.hpp"
+#include "fluid/fv_reference/fv_reference.hpp"
 #include "fluid/lbm/lbm_solver.hpp"
 #include "fluid/lbm_reference/lbm_reference.hpp"
 #include "fluid/schema.hpp"
@@ -12,6 +13,7 @@ void register_fluid_variants(Registry<FluidSolver>& r) {
   r.add<LbmReference>("lbm-reference");
   r.add<AnalyticFluid>("analytic");
   r.add<FvSolver>("fv");
+  r.add<FvReference>("fv-reference");
 }
 
 Registry<FluidSolver>& registry() {

@@ -121,7 +121,7 @@ class FvSolver final : public FluidSolver {
   std::array<Face, 6> faces_;
   bool has_open_ = false;
 
-  Faces u_, u_old_, ustar_, adv_, adv_old_, source_;
+  Faces u_, u_old_, ustar_, adv_, adv_old_, source_, source_old_;  // source: at the cells, the last step's too
   // The velocity through an open upper face of axis c, kept at the owned cell
   // below it (index n - 1 along c) so that the ghost exchange carries it to
   // the blocks beside; fill_ghosts copies it to the boundary face (index n).
@@ -140,6 +140,7 @@ class FvSolver final : public FluidSolver {
   long window_steps_ = 0;
   int poisson_iterations_ = 0, viscous_iterations_ = 0;
   double last_dt_ = 0.0, max_divergence_ = 0.0;
+  double step_seconds_ = 0.0, poisson_seconds_ = 0.0, viscous_seconds_ = 0.0;  // wall time, this rank
   std::vector<double> out_u_, out_p_, out_rho_, out_div_;
 };
 

@@ -91,20 +91,22 @@ std::vector<double> interleave(const std::array<std::vector<double>, 3>& parts) 
 }  // namespace
 
 // The state: face velocities of this step and the last, the upper open
-// faces, the last advection term, the pressure and its last increment (the
-// Poisson solve's first guess); the clock (steps, time, last
+// faces, the last advection term, the last step's momentum source (at the
+// cells), the pressure and its last increment (the Poisson solve's first
+// guess); the clock (steps, time, last
 // step) as exact hexadecimal numbers.
 void FvSolver::save(const std::string& dir) {
   auto faces = [&](const Faces& f) { return interleave({owned_of(f[0]), owned_of(f[1]), owned_of(f[2])}); };
   const auto u = faces(u_), top = faces(top_), old = faces(u_old_), adv = faces(adv_old_), p = owned_of(p_field_),
-             phi = owned_of(phi_);
+             phi = owned_of(phi_), src = faces(source_old_);
   grid::save_cell_fields(comm_, dir + "/fv.h5", time_, steps_, cells_, blk_.owned,
                          {{"velocity_faces", 3, u},
                           {"velocity_upper", 3, top},
                           {"velocity_previous", 3, old},
                           {"advection_previous", 3, adv},
                           {"pressure", 1, p},
-                          {"pressure_increment", 1, phi}});
+                          {"pressure_increment", 1, phi},
+                          {"source_previous", 3, src}});
   if (rank_ != 0) return;
   std::ofstream clock(dir + "/fv_clock.txt");
   clock << fmt::format("{} {:a} {:a}\n", steps_, time_, dt_prev_);
@@ -122,6 +124,8 @@ void FvSolver::load(const std::string& dir, long, double) {
   faces("velocity_upper", top_);
   faces("velocity_previous", u_old_);
   faces("advection_previous", adv_old_);
+  faces("source_previous", source_old_);
+  for (auto& f : source_old_) ex_.exchange(f);
   set_owned(p_field_, grid::load_cell_field(path, "pressure", cells_, blk_.owned, 1));
   set_owned(phi_, grid::load_cell_field(path, "pressure_increment", cells_, blk_.owned, 1));  // the next first guess
   std::ifstream clock(dir + "/fv_clock.txt");

@@ -76,7 +76,9 @@ void FvSolver::project(const fv::Imex& s, double dt, bool incremental) {
   extrapolate_open_faces(ustar_);
   fill_ghosts(ustar_, t1);
   poisson_rhs(factor, t0, t1, incremental);
+  const double start = MPI_Wtime();
   poisson_->solve(rhs_, x_);
+  poisson_seconds_ += MPI_Wtime() - start;
   poisson_iterations_ = std::max(poisson_iterations_, poisson_->last_iterations());
   if (!has_open_) {  // the constant of phi: mean zero
     double sum = 0.0;

@@ -62,10 +62,18 @@ StructSystem::~StructSystem() {
   delete h_;
 }
 
+void StructSystem::use_diagonal(bool on) {
+  if (on == diagonal_) return;
+  free_solver();
+  diagonal_ = on;
+}
+
 void StructSystem::free_solver() {
   if (!h_->ready) return;
   HYPRE_StructPCGDestroy(h_->pcg);
-  if (opt_.multigrid == "smg")
+  if (diagonal_)
+    ;  // no preconditioner object
+  else if (opt_.multigrid == "smg")
     HYPRE_StructSMGDestroy(h_->precond);
   else
     HYPRE_StructPFMGDestroy(h_->precond);
@@ -98,7 +106,9 @@ void StructSystem::make_solver() {
   HYPRE_StructPCGSetMaxIter(h_->pcg, opt_.max_iterations);
   HYPRE_StructPCGSetTwoNorm(h_->pcg, 1);
   HYPRE_StructPCGSetRelChange(h_->pcg, 0);
-  if (opt_.multigrid == "smg") {
+  if (diagonal_) {
+    HYPRE_StructPCGSetPrecond(h_->pcg, HYPRE_StructDiagScale, HYPRE_StructDiagScaleSetup, nullptr);
+  } else if (opt_.multigrid == "smg") {
     HYPRE_StructSMGCreate(h_->comm, &h_->precond);
     HYPRE_StructSMGSetMaxIter(h_->precond, 1);
     HYPRE_StructSMGSetTol(h_->precond, 0.0);

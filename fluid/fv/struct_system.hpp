@@ -38,6 +38,10 @@ class StructSystem {
   // Solve A x = b, x holding the initial guess (owned cells, x fastest).
   // Throws when the tolerance is not reached within max_iterations.
   void solve(std::span<const double> b, std::span<double> x);
+  // Precondition by the diagonal alone (Jacobi) instead of the multigrid: for
+  // a system dominated by its diagonal (a viscous solve with a short step),
+  // where a V-cycle costs more than the iterations it saves.
+  void use_diagonal(bool on);
   int last_iterations() const { return iterations_; }
   double last_residual() const { return residual_; }
 
@@ -48,6 +52,7 @@ class StructSystem {
   Hypre* h_ = nullptr;
   Options opt_;
   int dims_ = 3;
+  bool diagonal_ = false;
   int iterations_ = 0;
   double residual_ = 0.0;
 };

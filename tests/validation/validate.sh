@@ -4,7 +4,8 @@
 # MODE:
 #   profile|decay|mass|ramp|...  run CONFIG once (ARGS: --set overrides), then coflow-check MODE
 #   compare             ARGS: "A overrides" "B overrides" (each a space-separated list
-#                       of key=value); runs both and compares the last snapshots
+#                       of key=value; a first item config=FILE runs FILE, a file
+#                       beside CONFIG, instead); runs both and compares the last snapshots
 #                       and the event logs (events/*.csv) when the runs write them
 #   layouts             as compare; run A must log the packed population layout and
 #                       run B the spaced one (lbm)
@@ -28,10 +29,11 @@ here=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$out"
 metrics="$out/metrics.txt"; : >"$metrics"
 
-run() {  # run DIR [--set ...]
-  local dir=$1; shift
+run() {  # run DIR [--set ...]; a first argument config=FILE (from an override list) runs FILE instead
+  local dir=$1 file=$cfg; shift
+  if [ "${1:-}" = --set ] && [[ "${2:-}" == config=* ]]; then file=$(dirname "$cfg")/${2#config=}; shift 2; fi
   rm -rf "$dir"
-  if ! "$bin/coflow" run "$cfg" --set run.output.dir="$dir" "$@" >"$dir.log" 2>&1; then
+  if ! "$bin/coflow" run "$file" --set run.output.dir="$dir" "$@" >"$dir.log" 2>&1; then
     tail -n 20 "$dir.log"; echo "FAIL: run failed ($dir)"; exit 1
   fi
 }

@@ -33,3 +33,26 @@ foreach(dec "2,2,1" "4,1,1" "1,2,2")
 endforeach()
 coflow_validation(fv_ranks_1_vs_2_taylor_green compare fv_taylor_green.yaml 2
   "fluid.ranks=1" "fluid.ranks=2")
+# fv against fv-reference (plain loops, unpreconditioned CG): every face kind
+# with upwind advection and SBDF2, then central non-divergent advection with
+# CNAB2; the periodic Taylor-Green vortex with the solves at 1e-13.
+coflow_validation(fv_vs_reference compare fv_all_boundaries_3d.yaml 1
+  "fluid.solver=fv" "fluid.solver=fv-reference")
+coflow_validation(fv_vs_reference_cnab2_central compare fv_all_boundaries_3d.yaml 1
+  "fluid.solver=fv fluid.fv.time=cnab2 fluid.fv.advection=central fluid.fv.form=non-divergent"
+  "fluid.solver=fv-reference fluid.fv.time=cnab2 fluid.fv.advection=central fluid.fv.form=non-divergent")
+set(fv_tg_sets "fluid.ranks=1 fluid.fv.tolerance=1e-13 fluid.fv.advection=upwind run.end_time=50.0 run.output.every=50.0")
+coflow_validation(fv_vs_reference_taylor_green compare fv_taylor_green.yaml 1
+  "fluid.solver=fv ${fv_tg_sets}" "fluid.solver=fv-reference ${fv_tg_sets}")
+# Two-way momentum exchange with point particles (seed 003 §5.1) on fv: the
+# velocities against eqs 5.2-5.3, fluid + particle momentum kept (eq. 5.6)
+# with SBDF2 (the source enters as an exact impulse) and CNAB2; at Re_p 0.004
+# against the closed form of eqs 5.4-5.5; and the same case on fv against lbm.
+coflow_validation(dpm_two_way_fv two_way dpm_two_way_fv.yaml 3)
+coflow_validation(dpm_two_way_fv_cnab2 two_way dpm_two_way_fv.yaml 3 --set fluid.fv.time=cnab2)
+set(fv_stokes_start "particles.initial=[{lattice: {species: droplet, spacing: 0.1, region: {lower: [0.0, 0.0, 0.0], upper: [1.0, 1.0, 1.0]}, velocity: [0.001, 0.0, 0.0]}}]")
+coflow_validation(dpm_two_way_fv_stokes two_way dpm_two_way_fv.yaml 3 --set "${fv_stokes_start}")
+coflow_validation(dpm_two_way_fv_vs_lbm compare dpm_two_way.yaml 3 "config=dpm_two_way.yaml" "config=dpm_two_way_fv.yaml")
+# The lid-driven cavity at 128^2 against Ghia, Ghia & Shin 1982 (Tables I, II).
+coflow_validation(fv_cavity_re100 cavity fv_cavity_re100.yaml 2)
+coflow_validation(fv_cavity_re1000 cavity fv_cavity_re1000.yaml 2)

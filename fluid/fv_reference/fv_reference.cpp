@@ -1,0 +1,548 @@
+#include "fluid/fv_reference/fv_reference.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "fluid/grid/cell_fields.hpp"
+
+namespace coflow::fluid {
+
+FvReference::FvReference(const Setup& s, const Params& p) : comm_(s.comm), cfg_(s.cfg), fluid_(s.params), opt_(p) {
+  if (s.decomposition.ranks() != 1) throw std::runtime_error("fv-reference is serial: set fluid.ranks: 1");
+  const auto& d = cfg_.domain;
+  const auto h = d.spacing();
+  dims_ = d.cells[2] == 1 ? 2 : 3;
+  for (int a = 0; a < 3; ++a) {
+    n_[a] = d.cells[a];
+    g_[a] = n_[a] > 1 ? 2 : 0;
+    m_[a] = n_[a] + 2 * g_[a];
+    h_[a] = h[a];
+  }
+  box_ = s.decomposition.block(0);
+  nu_ = fluid_.viscosity;
+  rho_ = fluid_.density;
+  for (int f = 0; f < 6; ++f) {
+    const BoundaryParams b = fluid_.boundary(f, cfg_);
+    Side& side = sides_[f];
+    if (b.type == "periodic" || n_[f / 2] == 1) continue;
+    side.ramp = b.ramp;
+    side.kind = (b.type == "wall" || b.type == "velocity") ? Kind::wall : Kind::open;
+    if (b.type == "velocity") side.velocity = {b.value.values[0], b.value.values[1], b.value.values[2]};
+    if (b.type == "pressure") side.pressure = b.value.values[0];
+    has_open_ = has_open_ || side.kind == Kind::open;
+  }
+  const std::size_t size = static_cast<std::size_t>(m_[0] * m_[1] * m_[2]);
+  for (auto* f : {&u_, &u_old_, &adv_, &adv_old_, &source_, &source_old_})
+    for (auto& c : *f) c.assign(size, 0.0);
+  p_.assign(size, 0.0);
+  phi_.assign(size, 0.0);
+  // The initial state at the faces (velocity) and centres (pressure), ghosts included.
+  for (long k = -g_[2]; k < n_[2] + g_[2]; ++k)
+    for (long j = -g_[1]; j < n_[1] + g_[1]; ++j)
+      for (long i = -g_[0]; i < n_[0] + g_[0]; ++i) {
+        const long x[3] = {i, j, k};
+        Vec3 u, pos;
+        double pr;
+        for (int c = 0; c < dims_; ++c) {
+          for (int a = 0; a < 3; ++a) pos[a] = d.lower[a] + (x[a] + (a == c ? 0.0 : 0.5)) * h_[a];
+          fluid_.initial_state(cfg_, pos, u, pr);
+          u_[static_cast<std::size_t>(c)][static_cast<std::size_t>(at(x))] = u[c];
+        }
+        for (int a = 0; a < 3; ++a) pos[a] = d.lower[a] + (x[a] + 0.5) * h_[a];
+        fluid_.initial_state(cfg_, pos, u, pr);
+        p_[static_cast<std::size_t>(at(x))] = pr;
+      }
+  velocity_ghosts(u_, 0.0, true, false);
+}
+
+template <class F>
+void FvReference::each_cell(F&& f) const {
+  for (long k = 0; k < n_[2]; ++k)
+    for (long j = 0; j < n_[1]; ++j)
+      for (long i = 0; i < n_[0]; ++i) {
+        const long x[3] = {i, j, k};
+        f(x, static_cast<std::size_t>(at(x)));
+      }
+}
+
+Vec3 FvReference::side_velocity(int face, double t) const {
+  const Side& s = sides_[face];
+  const double r = s.ramp > 0 ? std::min(1.0, t / s.ramp) : 1.0;
+  return s.ramp > 0 ? Vec3{s.velocity[0] * r, s.velocity[1] * r, s.velocity[2] * r} : s.velocity;
+}
+
+double FvReference::side_pressure(int face, double t) const {
+  const Side& s = sides_[face];
+  return s.ramp > 0 ? s.pressure * std::min(1.0, t / s.ramp) : s.pressure;
+}
+
+// Faces on the domain's boundary along a non-periodic axis are not unknowns.
+bool FvReference::unknown(int c, long i) const { return sides_[2 * c].kind == Kind::periodic || (i > 0 && i < n_[c]); }
+
+// The velocity's ghosts, axis after axis over the whole padded extent of the
+// others: periodic copies, or the face's condition (fv's boundaries.cpp has
+// the same rules: the normal component on a wall is its value and odd about
+// it; a tangential one takes the parabola through the wall and two cells; an
+// open face has zero gradient).
+void FvReference::velocity_ghosts(Faces& u, double t, bool keep_open, bool zero) const {
+  for (int a = 0; a < dims_; ++a) {
+    const long n = n_[a], s = step_of(a);
+    for (long k = -g_[2]; k < n_[2] + g_[2]; ++k)
+      for (long j = -g_[1]; j < n_[1] + g_[1]; ++j)
+        for (long i = -g_[0]; i < n_[0] + g_[0]; ++i) {
+          const long x[3] = {i, j, k};
+          if (x[a] != 0) continue;  // one line along a per start
+          const long o = at(x);     // index 0 along a on this line
+          auto q = [&](Field& f, long m) -> double& { return f[static_cast<std::size_t>(o + m * s)]; };
+          for (int c = 0; c < dims_; ++c) {
+            Field& f = u[static_cast<std::size_t>(c)];
+            if (sides_[2 * a].kind == Kind::periodic) {
+              q(f, -1) = q(f, n - 1), q(f, -2) = q(f, n - 2), q(f, n) = q(f, 0), q(f, n + 1) = q(f, 1);
+              continue;
+            }
+            for (int side = 0; side < 2; ++side) {
+              const Side& sd = sides_[2 * a + side];
+              const double v = zero ? 0.0 : side_velocity(2 * a + side, t)[c];
+              const long b = side == 0 ? 0 : n - 1, dir = side == 0 ? -1 : 1;  // last cell, outwards
+              if (sd.kind == Kind::wall && c == a) {
+                const long face = side == 0 ? 0 : n;
+                q(f, face) = v;
+                q(f, face + dir) = 2 * v - q(f, face - dir);
+                if (side == 0) q(f, -2) = 2 * v - q(f, 2);
+              } else if (sd.kind == Kind::wall) {
+                q(f, b + dir) = fv::wall_ghost(v, q(f, b), q(f, b - dir));
+                q(f, b + 2 * dir) = fv::wall_ghost2(v, q(f, b), q(f, b - dir));
+              } else if (c == a) {
+                const long face = side == 0 ? 0 : n;
+                if (!keep_open) q(f, face) = q(f, face - dir);
+                q(f, face + dir) = q(f, face);
+                if (side == 0) q(f, -2) = q(f, 0);
+              } else {
+                q(f, b + dir) = q(f, b + 2 * dir) = q(f, b);
+              }
+            }
+          }
+        }
+  }
+}
+
+// -div(u u_c), or -(u . grad) u_c, at the face of u_c with index n: for each
+// axis d the two faces of the control volume around it, each carrying the
+// mean of the two advecting faces beside it times fv::face_value.
+double FvReference::advection_at(const Faces& u, int c, long n) const {
+  const Field& q = u[static_cast<std::size_t>(c)];
+  const bool upwind = opt_.advection == "upwind";
+  auto Q = [&](long m) { return q[static_cast<std::size_t>(m)]; };
+  double flux = 0.0, div = 0.0;
+  for (int d = 0; d < dims_; ++d) {
+    const long s = step_of(d), sc = step_of(c);
+    const Field& v = u[static_cast<std::size_t>(d)];
+    auto V = [&](long m) { return v[static_cast<std::size_t>(m)]; };
+    double up, um;
+    if (d == c) {
+      up = 0.5 * (Q(n) + Q(n + s));
+      um = 0.5 * (Q(n - s) + Q(n));
+    } else {
+      up = 0.5 * (V(n + s - sc) + V(n + s));
+      um = 0.5 * (V(n - sc) + V(n));
+    }
+    const double fp = up * fv::face_value(upwind, Q(n - s), Q(n), Q(n + s), Q(n + 2 * s), up);
+    const double fm = um * fv::face_value(upwind, Q(n - 2 * s), Q(n - s), Q(n), Q(n + s), um);
+    flux += (fp - fm) / h_[d];
+    div += (up - um) / h_[d];
+  }
+  return opt_.form == "divergent" ? -flux : -(flux - Q(n) * div);
+}
+
+double FvReference::laplacian_at(const Field& q, long n) const {
+  double l = 0.0;
+  for (int d = 0; d < dims_; ++d) {
+    const long s = step_of(d);
+    l += (q[static_cast<std::size_t>(n + s)] - 2 * q[static_cast<std::size_t>(n)] + q[static_cast<std::size_t>(n - s)]) /
+         (h_[d] * h_[d]);
+  }
+  return l;
+}
+
+// The weight of a row next to walls along axes other than c: 3/4 per wall, so
+// that the operator with the wall closure is symmetric (fv::wall_row_scale).
+double FvReference::wall_weight(int c, const long x[3]) const {
+  double w = 1.0;
+  for (int d = 0; d < dims_; ++d) {
+    if (d == c) continue;
+    if (x[d] == 0 && sides_[2 * d].kind == Kind::wall) w *= fv::wall_row_scale;
+    if (x[d] == n_[d] - 1 && sides_[2 * d + 1].kind == Kind::wall) w *= fv::wall_row_scale;
+  }
+  return w;
+}
+
+template <class Apply>
+void FvReference::conjugate_gradients(Apply&& apply, const std::vector<long>& rows, Field& x, const Field& b,
+                                      const char* what) const {
+  Field r(x.size(), 0.0), d(x.size(), 0.0), Ad(x.size(), 0.0);
+  apply(x, Ad);
+  double rr = 0.0, bb = 0.0;
+  for (long i : rows) {
+    const auto I = static_cast<std::size_t>(i);
+    r[I] = b[I] - Ad[I];
+    d[I] = r[I];
+    rr += r[I] * r[I];
+    bb += b[I] * b[I];
+  }
+  const double stop = opt_.tolerance * opt_.tolerance * bb;
+  const long limit = 20 * static_cast<long>(rows.size()) + 100;
+  for (long it = 0; rr > stop; ++it) {
+    if (it == limit)
+      throw std::runtime_error(fmt::format("fv-reference: the {} did not converge in {} iterations", what, limit));
+    apply(d, Ad);
+    double dAd = 0.0;
+    for (long i : rows) dAd += d[static_cast<std::size_t>(i)] * Ad[static_cast<std::size_t>(i)];
+    const double alpha = rr / dAd;
+    double rr_new = 0.0;
+    for (long i : rows) {
+      const auto I = static_cast<std::size_t>(i);
+      x[I] += alpha * d[I];
+      r[I] -= alpha * Ad[I];
+      rr_new += r[I] * r[I];
+    }
+    for (long i : rows) d[static_cast<std::size_t>(i)] = r[static_cast<std::size_t>(i)] + rr_new / rr * d[static_cast<std::size_t>(i)];
+    rr = rr_new;
+  }
+}
+
+void FvReference::pressure_ghosts(Field& p, const double open_value[6]) const {
+  for (int a = 0; a < dims_; ++a) {
+    const long n = n_[a], s = step_of(a);
+    for (long k = -g_[2]; k < n_[2] + g_[2]; ++k)
+      for (long j = -g_[1]; j < n_[1] + g_[1]; ++j)
+        for (long i = -g_[0]; i < n_[0] + g_[0]; ++i) {
+          const long x[3] = {i, j, k};
+          if (x[a] != 0) continue;
+          const long o = at(x);
+          auto q = [&](long m) -> double& { return p[static_cast<std::size_t>(o + m * s)]; };
+          if (sides_[2 * a].kind == Kind::periodic) {
+            q(-1) = q(n - 1), q(-2) = q(n - 2), q(n) = q(0), q(n + 1) = q(1);
+            continue;
+          }
+          for (int side = 0; side < 2; ++side) {
+            const bool open = sides_[2 * a + side].kind == Kind::open;
+            for (long g = 1; g <= 2; ++g) {
+              const long ghost = side == 0 ? -g : n - 1 + g, mirror = side == 0 ? g - 1 : n - g;
+              q(ghost) = open ? 2 * open_value[2 * a + side] - q(mirror) : q(mirror);
+            }
+          }
+        }
+  }
+}
+
+double FvReference::divergence_at(const Faces& u, long n) const {
+  double div = 0.0;
+  for (int c = 0; c < dims_; ++c) {
+    const Field& q = u[static_cast<std::size_t>(c)];
+    div += (q[static_cast<std::size_t>(n + step_of(c))] - q[static_cast<std::size_t>(n)]) / h_[c];
+  }
+  return div;
+}
+
+// u* to the advection's, diffusion's and old pressure's provisional velocity,
+// each component's implicit system solved by conjugate gradients.
+void FvReference::momentum(const fv::Imex& s, double dt, bool with_pressure) {
+  const double t1 = time_ + dt;
+  for (int c = 0; c < dims_; ++c)
+    each_cell([&](const long* x, std::size_t n) {
+      adv_[static_cast<std::size_t>(c)][n] = unknown(c, x[c]) ? advection_at(u_, c, static_cast<long>(n)) : 0.0;
+    });
+  Faces star = u_;
+  for (int c = 0; c < dims_; ++c) {
+    const auto C = static_cast<std::size_t>(c);
+    const long sc = step_of(c);
+    std::vector<long> rows;
+    Field rhs(u_[C].size(), 0.0), weight(u_[C].size(), 0.0);
+    each_cell([&](const long* x, std::size_t n) {
+      if (!unknown(c, x[c])) return;
+      const long N = static_cast<long>(n);
+      rows.push_back(N);
+      weight[n] = wall_weight(c, x);
+      double r = (s.a1 * u_[C][n] - s.a2 * u_old_[C][n]) / dt + s.b0 * adv_[C][n] + s.b1 * adv_old_[C][n];
+      if (s.theta < 1) r += (1 - s.theta) * nu_ * laplacian_at(u_[C], N);
+      if (with_pressure) r -= (p_[n] - p_[static_cast<std::size_t>(N - sc)]) / (rho_ * h_[c]);
+      r += fluid_.body_force[c] / rho_;
+      const auto [w_now, w_last] = fv::source_weights(s, dt, dt_prev_);  // the source's impulse, exactly
+      const auto below = static_cast<std::size_t>(N - sc);
+      r += (w_now * (source_[C][n] + source_[C][below]) + w_last * (source_old_[C][n] + source_old_[C][below])) /
+           (2 * rho_);
+      rhs[n] = weight[n] * r;
+    });
+    // A x = weight (a0/dt x - theta nu lap x); the faces' values make it affine:
+    // A(x) = A_lin(x) + A(0), so A_lin x = rhs - A(0).
+    auto apply = [&](const Field& xf, Field& y, bool zero) {
+      Faces X;
+      for (auto& f : X) f.assign(xf.size(), 0.0);
+      for (long i : rows) X[C][static_cast<std::size_t>(i)] = xf[static_cast<std::size_t>(i)];
+      velocity_ghosts(X, t1, false, zero);
+      for (long i : rows) {
+        const auto I = static_cast<std::size_t>(i);
+        y[I] = weight[I] * (s.a0 / dt * X[C][I] - s.theta * nu_ * laplacian_at(X[C], i));
+      }
+    };
+    Field zero(rhs.size(), 0.0), affine(rhs.size(), 0.0);
+    apply(zero, affine, false);
+    for (long i : rows) rhs[static_cast<std::size_t>(i)] -= affine[static_cast<std::size_t>(i)];
+    Field x = u_[C];
+    conjugate_gradients([&](const Field& a, Field& y) { apply(a, y, true); }, rows, x, rhs, "viscous solve");
+    for (long i : rows) star[C][static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(i)];
+  }
+  velocity_ghosts(star, t1, false, false);  // walls' values, open faces extrapolated
+  u_old_.swap(u_);
+  u_.swap(star);  // u_ holds u* until the projection
+}
+
+// u = u* - dt / (rho a0) grad(phi) on the unknown faces and the open ones.
+void FvReference::correct(Faces& u, double factor) const {
+  for (int c = 0; c < dims_; ++c) {
+    Field& q = u[static_cast<std::size_t>(c)];
+    const long sc = step_of(c);
+    each_cell([&](const long* x, std::size_t n) {
+      const long N = static_cast<long>(n);
+      auto phi = [&](long m) { return phi_[static_cast<std::size_t>(m)]; };
+      if (unknown(c, x[c]) || (x[c] == 0 && sides_[2 * c].kind == Kind::open))
+        q[n] -= (phi(N) - phi(N - sc)) / (factor * h_[c]);
+      if (x[c] == n_[c] - 1 && sides_[2 * c + 1].kind == Kind::open)
+        q[static_cast<std::size_t>(N + sc)] -= (phi(N + sc) - phi(N)) / (factor * h_[c]);
+    });
+  }
+}
+
+// The projection of fv (projection.cpp), with the Poisson operator applied
+// cell by cell: -lap(phi) = -(rho a0 / dt) div(u*), phi on an open face its
+// pressure change (the pressure itself on the first step).
+void FvReference::project(const fv::Imex& s, double dt, bool incremental) {
+  const double t0 = time_, t1 = time_ + dt, factor = rho_ * s.a0 / dt;
+  double change[6] = {0, 0, 0, 0, 0, 0}, none[6] = {0, 0, 0, 0, 0, 0};
+  for (int f = 0; f < 6; ++f)
+    if (sides_[f].kind == Kind::open) change[f] = side_pressure(f, t1) - (incremental ? side_pressure(f, t0) : 0.0);
+  std::vector<long> rows;
+  Field rhs(p_.size(), 0.0);
+  double sum = 0.0;
+  each_cell([&](const long*, std::size_t n) {
+    rows.push_back(static_cast<long>(n));
+    rhs[n] = -factor * divergence_at(u_, static_cast<long>(n));
+  });
+  // The affine part (open faces' change), moved to the right-hand side.
+  Field zero(p_.size(), 0.0);
+  pressure_ghosts(zero, change);
+  for (long i : rows) {
+    rhs[static_cast<std::size_t>(i)] += laplacian_at(zero, i);
+    sum += rhs[static_cast<std::size_t>(i)];
+  }
+  if (!has_open_)
+    for (long i : rows) rhs[static_cast<std::size_t>(i)] -= sum / static_cast<double>(rows.size());
+  Field x = incremental ? phi_ : p_;
+  auto apply = [&](const Field& a, Field& y) {
+    Field q = a;
+    pressure_ghosts(q, none);
+    for (long i : rows) y[static_cast<std::size_t>(i)] = -laplacian_at(q, i);
+  };
+  conjugate_gradients(apply, rows, x, rhs, "pressure Poisson solve");
+  if (!has_open_) {
+    double mean = 0.0;
+    for (long i : rows) mean += x[static_cast<std::size_t>(i)];
+    mean /= static_cast<double>(rows.size());
+    for (long i : rows) x[static_cast<std::size_t>(i)] -= mean;
+  }
+  phi_ = x;
+  pressure_ghosts(phi_, change);
+  correct(u_, factor);
+  for (long i : rows) {
+    const auto I = static_cast<std::size_t>(i);
+    p_[I] = incremental ? p_[I] + phi_[I] : phi_[I];
+  }
+  double face_p[6];
+  for (int f = 0; f < 6; ++f) face_p[f] = side_pressure(f, t1);
+  pressure_ghosts(p_, face_p);
+  velocity_ghosts(u_, t1, true, false);
+}
+
+void FvReference::advance(double window) {
+  const double end = time_ + window;
+  window_steps_ = 0;
+  poisson_iterations_ = 0;
+  long left = 0;
+  double dt = 0.0;
+  while (end - time_ > 1e-12 * window) {
+    double umax[3] = {0, 0, 0};
+    for (int c = 0; c < dims_; ++c)
+      each_cell([&](const long*, std::size_t n) {
+        const auto& q = u_[static_cast<std::size_t>(c)];
+        umax[c] = std::max({umax[c], std::abs(q[n]), std::abs(q[n + static_cast<std::size_t>(step_of(c))])});
+      });
+    if (!std::isfinite(umax[0] + umax[1] + umax[2]))
+      throw std::runtime_error(fmt::format("fv-reference: the velocity is not finite at t = {:.6g} s", time_));
+    double limit = fv::cfl_step(opt_.cfl, umax, h_, dims_);
+    if (opt_.max_step > 0) limit = std::min(limit, opt_.max_step);
+    if (left == 0 || dt > limit) {
+      dt = fv::next_step(limit, dt_prev_, end - time_);
+      left = std::max(1L, std::lround((end - time_) / dt));
+    }
+    const double omega = dt_prev_ > 0 ? dt / dt_prev_ : 1.0;
+    const fv::Imex s = steps_ == 0 ? fv::Imex::first()
+                       : opt_.time == "cnab2" ? fv::Imex::cnab2(omega)
+                                            : fv::Imex::sbdf2(omega);
+    momentum(s, dt, steps_ > 0);
+    project(s, dt, steps_ > 0);
+    adv_old_.swap(adv_);
+    source_old_ = source_;
+    dt_prev_ = last_dt_ = dt;
+    time_ += dt;
+    ++steps_;
+    ++window_steps_;
+    if (--left == 0) break;
+  }
+  time_ = end;
+}
+
+std::vector<output::GridField> FvReference::fields(const config::StringList& names) {
+  const std::size_t N = static_cast<std::size_t>(n_[0] * n_[1] * n_[2]);
+  out_u_.assign(3 * N, 0.0);
+  out_p_.assign(N, 0.0);
+  out_rho_.assign(N, rho_);
+  out_div_.assign(N, 0.0);
+  std::size_t o = 0;
+  each_cell([&](const long*, std::size_t n) {
+    for (int c = 0; c < dims_; ++c) {
+      const Field& q = u_[static_cast<std::size_t>(c)];
+      out_u_[3 * o + static_cast<std::size_t>(c)] = 0.5 * (q[n] + q[n + static_cast<std::size_t>(step_of(c))]);
+    }
+    out_p_[o] = p_[n];
+    out_div_[o] = divergence_at(u_, static_cast<long>(n));
+    ++o;
+  });
+  std::vector<output::GridField> f;
+  for (const auto& name : names) {
+    if (name == "velocity") f.push_back({name, 3, out_u_});
+    if (name == "pressure") f.push_back({name, 1, out_p_});
+    if (name == "density") f.push_back({name, 1, out_rho_});
+    if (name == "divergence") f.push_back({name, 1, out_div_});
+  }
+  return f;
+}
+
+Diagnostics FvReference::diagnostics() {
+  fields({});
+  const double m = rho_ * h_[0] * h_[1] * h_[2];
+  Diagnostics d;
+  double div = 0.0;
+  for (std::size_t o = 0; o < out_rho_.size(); ++o) {
+    double u2 = 0.0;
+    for (int c = 0; c < 3; ++c) {
+      const double u = out_u_[3 * o + static_cast<std::size_t>(c)];
+      d.momentum[c] += m * u;
+      u2 += u * u;
+    }
+    d.mass += m;
+    d.kinetic_energy += 0.5 * m * u2;
+    d.max_velocity = std::max(d.max_velocity, std::sqrt(u2));
+    div = std::max(div, std::abs(out_div_[o]));
+  }
+  d.extra = {static_cast<double>(window_steps_), last_dt_, 0.0, 0.0, div};
+  return d;
+}
+
+std::vector<output::Series::Column> FvReference::series_columns() const {
+  return {{"steps", "1"},
+          {"dt", "s"},
+          {"poisson_iterations", "1"},
+          {"viscous_iterations", "1"},
+          {"max_divergence", "1/s"}};
+}
+
+void FvReference::set_source(std::span<const double> force_density) {
+  std::size_t o = 0;
+  each_cell([&](const long*, std::size_t n) {
+    for (std::size_t c = 0; c < 3; ++c) source_[c][n] = force_density[3 * o + c];
+    ++o;
+  });
+  wrap_cells(source_);
+}
+
+// The ghost below the first cell along each periodic axis (a face of the first
+// cells reads the cell below).
+void FvReference::wrap_cells(Faces& f) const {
+  for (int a = 0; a < dims_; ++a)
+    if (sides_[2 * a].kind == Kind::periodic)
+      each_cell([&](const long* x, std::size_t n) {
+        if (x[a] != n_[a] - 1) return;
+        for (auto& c : f) c[n - static_cast<std::size_t>(step_of(a) * n_[a])] = c[n];
+      });
+}
+
+// fv's checkpoint format (fv_state.cpp), so that either variant restarts the other's.
+void FvReference::save(const std::string& dir) {
+  const std::size_t N = static_cast<std::size_t>(n_[0] * n_[1] * n_[2]);
+  std::vector<double> u(3 * N), top(3 * N, 0.0), old(3 * N), adv(3 * N), src(3 * N), p(N), phi(N);
+  std::size_t o = 0;
+  each_cell([&](const long* x, std::size_t n) {
+    for (std::size_t c = 0; c < 3; ++c) {
+      u[3 * o + c] = u_[c][n];
+      old[3 * o + c] = u_old_[c][n];
+      adv[3 * o + c] = adv_old_[c][n];
+      src[3 * o + c] = source_old_[c][n];
+      const int C = static_cast<int>(c);
+      if (C < dims_ && x[C] == n_[C] - 1 && sides_[2 * C + 1].kind == Kind::open)
+        top[3 * o + c] = u_[c][n + static_cast<std::size_t>(step_of(C))];
+    }
+    p[o] = p_[n];
+    phi[o] = phi_[n];
+    ++o;
+  });
+  grid::save_cell_fields(comm_, dir + "/fv.h5", time_, steps_, {n_[0], n_[1], n_[2]}, box_,
+                         {{"velocity_faces", 3, u}, {"velocity_upper", 3, top}, {"velocity_previous", 3, old},
+                          {"advection_previous", 3, adv}, {"pressure", 1, p}, {"pressure_increment", 1, phi},
+                          {"source_previous", 3, src}});
+  std::ofstream clock(dir + "/fv_clock.txt");
+  clock << fmt::format("{} {:a} {:a}\n", steps_, time_, dt_prev_);
+  if (!clock) throw std::runtime_error(fmt::format("fv-reference: cannot write {}/fv_clock.txt", dir));
+}
+
+void FvReference::load(const std::string& dir, long, double) {
+  const std::string path = dir + "/fv.h5";
+  const coupler::Index3 cells{n_[0], n_[1], n_[2]};
+  const auto u = grid::load_cell_field(path, "velocity_faces", cells, box_, 3);
+  const auto top = grid::load_cell_field(path, "velocity_upper", cells, box_, 3);
+  const auto old = grid::load_cell_field(path, "velocity_previous", cells, box_, 3);
+  const auto adv = grid::load_cell_field(path, "advection_previous", cells, box_, 3);
+  const auto p = grid::load_cell_field(path, "pressure", cells, box_, 1);
+  const auto phi = grid::load_cell_field(path, "pressure_increment", cells, box_, 1);
+  const auto src = grid::load_cell_field(path, "source_previous", cells, box_, 3);
+  std::size_t o = 0;
+  each_cell([&](const long* x, std::size_t n) {
+    for (std::size_t c = 0; c < 3; ++c) {
+      u_[c][n] = u[3 * o + c];
+      u_old_[c][n] = old[3 * o + c];
+      adv_old_[c][n] = adv[3 * o + c];
+      source_old_[c][n] = src[3 * o + c];
+      const int C = static_cast<int>(c);
+      if (C < dims_ && x[C] == n_[C] - 1 && sides_[2 * C + 1].kind == Kind::open)
+        u_[c][n + static_cast<std::size_t>(step_of(C))] = top[3 * o + c];
+    }
+    p_[n] = p[o];
+    phi_[n] = phi[o];
+    ++o;
+  });
+  wrap_cells(source_old_);
+  std::ifstream clock(dir + "/fv_clock.txt");
+  std::string t, dt;
+  if (!(clock >> steps_ >> t >> dt))
+    throw std::runtime_error(fmt::format("fv-reference: {}/fv_clock.txt is missing or unreadable", dir));
+  time_ = std::strtod(t.c_str(), nullptr);
+  dt_prev_ = std::strtod(dt.c_str(), nullptr);
+  velocity_ghosts(u_, time_, true, false);
+  double face_p[6];
+  for (int f = 0; f < 6; ++f) face_p[f] = side_pressure(f, time_);
+  pressure_ghosts(p_, face_p);
+}
+
+}  // namespace coflow::fluid

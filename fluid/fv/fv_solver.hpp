@@ -43,6 +43,16 @@ class FvSolver final : public FluidSolver {
   void save(const std::string& dir) override;
   void load(const std::string& dir, long steps, double time) override;
 
+  // The work done so far on this rank (bench-fv): wall seconds in the steps and
+  // in the pressure Poisson and viscous solves, Poisson solves and iterations.
+  struct Work {
+    long steps = 0, poisson_solves = 0, poisson_iterations = 0;
+    double step_s = 0, poisson_s = 0, viscous_s = 0;
+  };
+  Work work() const {
+    return {steps_, poisson_solves_, poisson_iteration_sum_, step_seconds_, poisson_seconds_, viscous_seconds_};
+  }
+
  private:
   // A face of the box: how the velocity and pressure behave there.
   struct Face {
@@ -141,6 +151,7 @@ class FvSolver final : public FluidSolver {
   int poisson_iterations_ = 0, viscous_iterations_ = 0;
   double last_dt_ = 0.0, max_divergence_ = 0.0;
   double step_seconds_ = 0.0, poisson_seconds_ = 0.0, viscous_seconds_ = 0.0;  // wall time, this rank
+  long poisson_solves_ = 0, poisson_iteration_sum_ = 0;
   std::vector<double> out_u_, out_p_, out_rho_, out_div_;
 };
 

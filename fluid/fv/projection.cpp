@@ -79,6 +79,8 @@ void FvSolver::project(const fv::Imex& s, double dt, bool incremental) {
   const double start = MPI_Wtime();
   poisson_->solve(rhs_, x_);
   poisson_seconds_ += MPI_Wtime() - start;
+  ++poisson_solves_;
+  poisson_iteration_sum_ += poisson_->last_iterations();
   poisson_iterations_ = std::max(poisson_iterations_, poisson_->last_iterations());
   if (!has_open_) {  // the constant of phi: mean zero
     double sum = 0.0;

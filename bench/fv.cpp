@@ -1,0 +1,209 @@
+// Benchmark: the finite-volume fluid (fv), 1 rank, lid-driven cavity at
+// Re = 1000 (U = 1 m/s, L = 1 m, nu = 1e-3 m^2/s) from rest.
+//
+//   build/bin/bench-fv [steps] [--quick]
+//
+// (a) 2D at 128^2, 256^2 and 512^2: time per step and per cell, the pressure
+//     Poisson's iterations and time per solve (relative tolerance 1e-10): the
+//     iterations stay flat and the time per cell of a solve stays flat (O(N)).
+// (b) 3D at 128^3 (--quick: 64^3).
+// Each case runs through OpenFOAM's icoFoam (Debian package openfoam,
+// `icoFoam` on PATH) on the same grid with the same step (Courant 0.5 at the
+// lid) and the same tolerance (p: GAMG, U: symmetric Gauss-Seidel, both to a
+// residual of 1e-10; PISO with 2 correctors; Euler in time, Gauss linear in
+// space), in the same run. Both start from rest; the first `steps` steps warm
+// up, the next `steps` are timed.
+//
+// Last line: RESULT fv_s_per_step=... icofoam_s_per_step=... ratio=... (512^2).
+#include <mpi.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include "coflow/catalog.hpp"
+#include "coflow/log.hpp"
+#include "fluid/fv/fv_solver.hpp"
+
+using namespace coflow;
+
+namespace {
+
+struct Result {
+  double s_per_step = 0.0, poisson_iterations = 0.0, poisson_s = 0.0, viscous_share = 0.0, poisson_share = 0.0;
+  long cells = 0;
+};
+
+std::string cavity_yaml(int n, int dims, double dt) {
+  const double dz = dims == 2 ? 1.0 / n : 1.0;
+  return fmt::format(R"(
+run: {{name: bench-fv, end_time: 1.0}}
+domain: {{lower: [0, 0, 0], upper: [1, 1, {dz:.9g}], cells: [{n}, {n}, {nz}], periodic: [false, false, false]}}
+fluid:
+  solver: fv
+  density: 1.0
+  viscosity: 1.0e-3
+  boundaries:
+    y+: {{type: velocity, value: [1.0, 0.0, 0.0]}}
+  fv: {{advection: central, time: sbdf2, cfl: 1.0, max_step: {dt:.17g}, tolerance: 1.0e-10}}
+)",
+                     fmt::arg("dz", dz), fmt::arg("n", n), fmt::arg("nz", dims == 2 ? 1 : n), fmt::arg("dt", dt));
+}
+
+Result run_fv(int n, int dims, double dt, long steps) {
+  const config::Config cfg = config::parse_config_node(YAML::Load(cavity_yaml(n, dims, dt)), "bench-fv", catalog());
+  fluid::FluidParams fp;
+  config::Reader r(cfg.resolved["fluid"], "bench-fv", "fluid");
+  fp.visit(r, cfg);
+  fluid::fv::FvParams p;
+  config::Reader rp(cfg.resolved["fluid"]["fv"], "bench-fv", "fluid.fv");
+  p.visit(rp);
+  const auto& c = cfg.domain.cells;
+  fluid::FvSolver fv({cfg, fp, coupler::Decomposition({c[0], c[1], c[2]}, 1), 0, MPI_COMM_WORLD}, p);
+  fv.advance(steps * dt);  // warm-up: the vortex forms
+  const auto w0 = fv.work();
+  fv.advance(steps * dt);
+  const auto w1 = fv.work();
+  Result res;
+  const double s = w1.step_s - w0.step_s;
+  const long k = w1.steps - w0.steps, solves = w1.poisson_solves - w0.poisson_solves;
+  res.cells = long(c[0]) * c[1] * c[2];
+  res.s_per_step = s / double(k);
+  res.poisson_iterations = double(w1.poisson_iterations - w0.poisson_iterations) / double(solves);
+  res.poisson_s = (w1.poisson_s - w0.poisson_s) / double(solves);
+  res.poisson_share = (w1.poisson_s - w0.poisson_s) / s;
+  res.viscous_share = (w1.viscous_s - w0.viscous_s) / s;
+  return res;
+}
+
+void write(const std::filesystem::path& p, const std::string& text) {
+  std::filesystem::create_directories(p.parent_path());
+  std::ofstream(p) << text;
+}
+
+// The OpenFOAM case: the cavity as one block, the lid `movingWall`.
+void write_openfoam_case(const std::filesystem::path& dir, int n, int dims, double dt, long steps) {
+  const std::string head = "FoamFile { version 2.0; format ascii; class dictionary; object x; }\n";
+  const double dz = dims == 2 ? 1.0 / n : 1.0;
+  write(dir / "system/blockMeshDict",
+        head + fmt::format(R"(convertToMeters 1;
+vertices ((0 0 0) (1 0 0) (1 1 0) (0 1 0) (0 0 {dz:.9g}) (1 0 {dz:.9g}) (1 1 {dz:.9g}) (0 1 {dz:.9g}));
+blocks (hex (0 1 2 3 4 5 6 7) ({n} {n} {nz}) simpleGrading (1 1 1));
+boundary (
+  movingWall {{ type wall; faces ((3 7 6 2)); }}
+  fixedWalls {{ type wall; faces ((0 4 7 3) (2 6 5 1) (1 5 4 0)); }}
+  frontAndBack {{ type {fb}; faces ((0 3 2 1) (4 5 6 7)); }}
+);
+)",
+                           fmt::arg("dz", dz), fmt::arg("n", n), fmt::arg("nz", dims == 2 ? 1 : n),
+                           fmt::arg("fb", dims == 2 ? "empty" : "wall")));
+  const std::string fb = dims == 2 ? "empty" : "noSlip";
+  const std::string fbp = dims == 2 ? "empty" : "zeroGradient";
+  write(dir / "0/U", "FoamFile { version 2.0; format ascii; class volVectorField; object U; }\n"
+                     "dimensions [0 1 -1 0 0 0 0]; internalField uniform (0 0 0);\n"
+                     "boundaryField { movingWall { type fixedValue; value uniform (1 0 0); } fixedWalls { type "
+                     "noSlip; } frontAndBack { type " + fb + "; } }\n");
+  write(dir / "0/p", "FoamFile { version 2.0; format ascii; class volScalarField; object p; }\n"
+                     "dimensions [0 2 -2 0 0 0 0]; internalField uniform 0;\n"
+                     "boundaryField { movingWall { type zeroGradient; } fixedWalls { type zeroGradient; } "
+                     "frontAndBack { type " + fbp + "; } }\n");
+  write(dir / "constant/transportProperties", head + "nu 0.001;\n");
+  write(dir / "system/controlDict",
+        head + fmt::format("application icoFoam; startFrom startTime; startTime 0; stopAt endTime; endTime "
+                           "{:.17g}; deltaT {:.17g}; writeControl timeStep; writeInterval 100000000; "
+                           "purgeWrite 0; writeFormat binary; runTimeModifiable false;\n",
+                           2 * steps * dt, dt));
+  write(dir / "system/fvSchemes",
+        head + "ddtSchemes { default Euler; } gradSchemes { default Gauss linear; } divSchemes { default none; "
+               "div(phi,U) Gauss linear; } laplacianSchemes { default Gauss linear corrected; } "
+               "interpolationSchemes { default linear; } snGradSchemes { default corrected; }\n");
+  write(dir / "system/fvSolution",
+        head + "solvers { p { solver GAMG; smoother GaussSeidel; tolerance 1e-10; relTol 0; } pFinal { $p; } "
+               "U { solver smoothSolver; smoother symGaussSeidel; tolerance 1e-10; relTol 0; } }\n"
+               "PISO { nCorrectors 2; nNonOrthogonalCorrectors 0; pRefCell 0; pRefValue 0; }\n");
+}
+
+// icoFoam's seconds per step over the timed steps (ExecutionTime after step
+// `steps` and after step 2 steps); 0 and a note when it is not there or fails.
+double run_icofoam(int n, int dims, double dt, long steps, std::string& note) {
+  if (std::system("command -v icoFoam >/dev/null 2>&1") != 0) {
+    note = "icoFoam not found (Debian package openfoam; scripts/setup installs it)";
+    return 0.0;
+  }
+  const auto dir = std::filesystem::temp_directory_path() / fmt::format("coflow-bench-fv-{}-{}", ::getpid(), n);
+  write_openfoam_case(dir, n, dims, dt, steps);
+  // Debian's OpenFOAM finds its etc/ through WM_PROJECT_DIR.
+  const std::string cmd = fmt::format(
+      "cd '{}' && export WM_PROJECT_DIR=${{WM_PROJECT_DIR:-/usr/share/openfoam}} OMP_NUM_THREADS=1 && "
+      "blockMesh > blockMesh.log 2>&1 && icoFoam > icoFoam.log 2>&1",
+      dir.string());
+  const int rc = std::system(cmd.c_str());
+  std::ifstream in(dir / "icoFoam.log");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!std::getenv("COFLOW_BENCH_KEEP")) std::filesystem::remove_all(dir);
+  const std::regex exec(R"(ExecutionTime = ([0-9.eE+-]+) s)");
+  std::vector<double> times;
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), exec); it != std::sregex_iterator(); ++it)
+    times.push_back(std::stod((*it)[1]));
+  if (rc != 0 || long(times.size()) < 2 * steps) {
+    note = fmt::format("icoFoam failed (exit {}); its log ends: {}", rc,
+                       text.substr(text.size() > 400 ? text.size() - 400 : 0));
+    return 0.0;
+  }
+  return (times[std::size_t(2 * steps - 1)] - times[std::size_t(steps - 1)]) / double(steps);
+}
+
+void report(const char* name, int n, int dims, long steps, Result& fv, double& foam) {
+  const double dt = 0.5 / n;  // Courant 0.5 at the lid
+  fv = run_fv(n, dims, dt, steps);
+  std::string note;
+  foam = run_icofoam(n, dims, dt, steps, note);
+  std::printf("%s %d^%d: fv %.4f s/step (%.1f ns per cell), Poisson %.1f iterations, %.4f s per solve "
+              "(%.1f ns per cell), %.0f %% of the step (viscous %.0f %%)",
+              name, n, dims, fv.s_per_step, 1e9 * fv.s_per_step / double(fv.cells), fv.poisson_iterations,
+              fv.poisson_s, 1e9 * fv.poisson_s / double(fv.cells), 100 * fv.poisson_share, 100 * fv.viscous_share);
+  if (foam > 0)
+    std::printf("; icoFoam %.4f s/step: fv %.2fx faster\n", foam, foam / fv.s_per_step);
+  else
+    std::printf("; %s\n", note.c_str());
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  log::init("bench", 1);  // rank 1: warnings only
+  long steps = 20;
+  bool quick = false;
+  for (int a = 1; a < argc; ++a) {
+    if (std::string(argv[a]) == "--quick")
+      quick = true;
+    else
+      steps = std::atol(argv[a]);
+  }
+  std::printf("bench-fv: 1 rank, lid-driven cavity Re 1000, %ld warm-up + %ld timed steps per case\n", steps, steps);
+  Result fv;
+  double foam = 0.0, fv512 = 0.0, foam512 = 0.0;
+  for (int n : {128, 256, 512}) {
+    if (quick && n > 256) break;
+    report("(a) 2D", n, 2, steps, fv, foam);
+    fv512 = fv.s_per_step;
+    foam512 = foam;
+  }
+  report("(b) 3D", quick ? 64 : 128, 3, std::max(2L, steps / 5), fv, foam);
+  std::printf("RESULT fv_s_per_step=%.4g icofoam_s_per_step=%.4g ratio=%.3f\n", fv512, foam512,
+              foam512 > 0 ? foam512 / fv512 : std::nan(""));
+  MPI_Finalize();
+  return 0;
+}

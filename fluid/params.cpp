@@ -9,9 +9,11 @@ namespace coflow::fluid {
 
 void BoundaryParams::visit(config::Visitor& v) {
   v.required("type", type,
-             "wall (lbm: half-way bounce-back, the wall half a cell beyond the centres of the face's cells), "
-             "pressure or velocity (lbm: imposed at the centres of the face's cells), or outflow (zero gradient)",
-             config::one_of({"wall", "pressure", "velocity", "outflow"}));
+             "wall (lbm: half-way bounce-back, the wall half a cell beyond the centres of the face's cells; fv: on "
+             "the face), pressure or velocity (lbm: imposed at the centres of the face's cells; fv: on the face), "
+             "outflow (zero gradient; fv: at the reference pressure), or symmetry (fv: no flow through the face, "
+             "no shear on it)",
+             config::one_of({"wall", "pressure", "velocity", "outflow", "symmetry"}));
   v("value", value,
     "pressure in Pa, relative to the reference pressure (type pressure), or velocity [u, v, w] in m/s (type "
     "velocity)");
@@ -33,16 +35,17 @@ void BoundaryParams::visit(config::Visitor& v) {
     v.fail("phase", fmt::format("a {} boundary lets nothing of a chosen colour in; phase is for pressure and velocity "
                                 "faces",
                                 type));
-  if ((type == "wall" || type == "outflow") && closure != "auto")
+  const bool valueless = type == "wall" || type == "outflow" || type == "symmetry";
+  if (valueless && closure != "auto")
     v.fail("closure", fmt::format("a {} boundary has no closure to choose", type));
   if (closure == "auto") closure = type == "pressure" ? "regularized" : type == "velocity" ? "zou-he" : "auto";
   if (type == "pressure" && (!given || value.values.size() != 1))
     v.fail(given ? "value" : "", "a pressure boundary needs one number, e.g. value: 0.0 (Pa)");
   if (type == "velocity" && (!given || value.values.size() != 3))
     v.fail(given ? "value" : "", "a velocity boundary needs three numbers, e.g. value: [0.1, 0, 0] (m/s)");
-  if ((type == "wall" || type == "outflow") && ramp > 0.0)
+  if (valueless && ramp > 0.0)
     v.fail("ramp", fmt::format("a {} boundary has no value to ramp", type));
-  if ((type == "wall" || type == "outflow") && given)
+  if (valueless && given)
     v.fail("value", fmt::format("a {} boundary takes no value; for a moving wall use type: velocity", type));
 }
 
@@ -152,7 +155,7 @@ void FluidParams::initial_state(const config::Config& cfg, const Vec3& x, Vec3& 
 
 BoundaryParams FluidParams::boundary(int face, const config::Config& cfg) const {
   const int axis = face / 2;
-  if (cfg.domain.periodic[axis]) return BoundaryParams{"periodic", {}};
+  if (cfg.domain.periodic[axis]) return BoundaryParams{"periodic", {}, 0.0, "auto", ""};
   auto it = boundaries.find(face_names()[face]);
   return it == boundaries.end() ? BoundaryParams{} : it->second;
 }

@@ -44,7 +44,7 @@ bool FvSolver::is_boundary_face(int c, long i) const {
 
 bool FvSolver::is_dirichlet_face(int c, long i) const {
   if (!is_boundary_face(c, i)) return false;
-  return faces_[2 * c + (blk_.owned.lo[c] + i == 0 ? 0 : 1)].kind == Face::dirichlet;
+  return faces_[2 * c + (blk_.owned.lo[c] + i == 0 ? 0 : 1)].kind != Face::open;
 }
 
 // Component c's ghosts beyond face `side` of axis a. Wall and velocity faces
@@ -52,12 +52,22 @@ bool FvSolver::is_dirichlet_face(int c, long i) const {
 // about it; a tangential one takes the parabola through the wall's value and
 // the first two cells (fv::wall_ghost). Pressure and outflow faces (open): zero normal gradient; the
 // normal component on the face is the solver's (extrapolated, then projected).
+// Symmetry faces: the normal component zero on the face and odd about it, the
+// tangential ones even (mirrored).
 void FvSolver::fill_face_ghosts(Field& u, int c, int a, int side, const Face& f, double t) const {
   const long n = blk_.extent[a];
   const Vec3 U = f.velocity_at(t);
   const Field& top = top_[static_cast<std::size_t>(a)];
   for_lines(blk_, a, [&](auto at) {
-    if (f.kind == Face::dirichlet) {
+    if (f.kind == Face::symmetry && c != a) {  // mirror: no shear
+      if (side == 0) {
+        u[at(-1)] = u[at(0)];
+        u[at(-2)] = u[at(1)];
+      } else {
+        u[at(n)] = u[at(n - 1)];
+        u[at(n + 1)] = u[at(n - 2)];
+      }
+    } else if (f.kind != Face::open) {  // a wall's or velocity face's value (a symmetry face's normal: 0)
       const double v = U[c];
       if (side == 0 && c == a) {
         u[at(0)] = v;

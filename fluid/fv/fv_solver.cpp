@@ -43,7 +43,9 @@ FvSolver::FvSolver(const Setup& s, const Params& p)
     if (periodic_[static_cast<std::size_t>(a)]) continue;
     const BoundaryParams b = fluid_.boundary(f, cfg_);
     face.ramp = b.ramp;
-    if (b.type == "wall" || b.type == "velocity") {
+    if (b.type == "symmetry") {
+      face.kind = Face::symmetry;
+    } else if (b.type == "wall" || b.type == "velocity") {
       face.kind = Face::dirichlet;
       if (b.type == "velocity") face.velocity = {b.value.values[0], b.value.values[1], b.value.values[2]};
     } else {

@@ -56,7 +56,8 @@ class FvSolver final : public FluidSolver {
  private:
   // A face of the box: how the velocity and pressure behave there.
   struct Face {
-    enum Kind { periodic, dirichlet, open } kind = periodic;  // dirichlet: wall, velocity; open: pressure, outflow
+    // dirichlet: wall, velocity; open: pressure, outflow; symmetry: no flow through, no shear.
+    enum Kind { periodic, dirichlet, open, symmetry } kind = periodic;
     Vec3 velocity{0, 0, 0};
     double pressure = 0.0;
     double ramp = 0.0;

@@ -98,15 +98,18 @@ void FvSolver::set_viscous(int c, double diag_scale, double nu_theta) {
 
 // What lies beyond the side of the unknown u_c at `at` along d: another
 // unknown (inside the domain or across a periodic face), a wall's or velocity
-// face's value (on the face for d == c, a ghost for d != c), or an open face.
+// face's value (on the face for d == c, a ghost for d != c; a symmetry face's
+// normal component is 0), or no gradient (an open face; a symmetry face for
+// the tangential components).
 FvSolver::Neighbour FvSolver::neighbour_kind(int c, const long* at, int d, int side) const {
   if (periodic_[d]) return Neighbour::inside;
   const long g = blk_.owned.lo[d] + at[d];
   const bool beyond = d == c ? (side == 0 ? g - 1 == 0 : g + 1 == cells_[d])
                              : (side == 0 ? g == 0 : g + 1 == cells_[d]);
   if (!beyond) return Neighbour::inside;
-  if (faces_[static_cast<std::size_t>(2 * d + side)].kind == Face::open) return Neighbour::open;
-  return d == c ? Neighbour::wall_normal : Neighbour::wall_tangential;
+  const Face::Kind kind = faces_[static_cast<std::size_t>(2 * d + side)].kind;
+  if (d == c) return kind == Face::open ? Neighbour::open : Neighbour::wall_normal;
+  return kind == Face::dirichlet ? Neighbour::wall_tangential : Neighbour::open;  // open, symmetry: no gradient
 }
 
 // The right-hand side of component c's row at `at`: the history, the
@@ -119,7 +122,7 @@ double FvSolver::viscous_rhs(int c, const long* at, long n, const fv::Imex& s, d
   if (is_boundary_face(c, at[c])) {
     const long g = blk_.owned.lo[c] + at[c];
     const Face& f = faces_[static_cast<std::size_t>(2 * c + (g == 0 ? 0 : 1))];
-    return f.kind == Face::dirichlet ? f.velocity_at(t1)[c] : u_[C][n];
+    return f.kind == Face::open ? u_[C][n] : f.velocity_at(t1)[c];  // symmetry: 0
   }
   const double nu = nu_;
   double r = (s.a1 * u_[C][n] - s.a2 * u_old_[C][n]) / dt + s.b0 * adv_[C][n] + s.b1 * adv_old_[C][n];

@@ -29,7 +29,9 @@ FvReference::FvReference(const Setup& s, const Params& p) : comm_(s.comm), cfg_(
     Side& side = sides_[f];
     if (b.type == "periodic" || n_[f / 2] == 1) continue;
     side.ramp = b.ramp;
-    side.kind = (b.type == "wall" || b.type == "velocity") ? Kind::wall : Kind::open;
+    side.kind = b.type == "symmetry"                          ? Kind::symmetry
+                : (b.type == "wall" || b.type == "velocity") ? Kind::wall
+                                                             : Kind::open;
     if (b.type == "velocity") side.velocity = {b.value.values[0], b.value.values[1], b.value.values[2]};
     if (b.type == "pressure") side.pressure = b.value.values[0];
     has_open_ = has_open_ || side.kind == Kind::open;
@@ -107,7 +109,10 @@ void FvReference::velocity_ghosts(Faces& u, double t, bool keep_open, bool zero)
               const Side& sd = sides_[2 * a + side];
               const double v = zero ? 0.0 : side_velocity(2 * a + side, t)[c];
               const long b = side == 0 ? 0 : n - 1, dir = side == 0 ? -1 : 1;  // last cell, outwards
-              if (sd.kind == Kind::wall && c == a) {
+              if (sd.kind == Kind::symmetry && c != a) {  // mirrored: no shear
+                q(f, b + dir) = q(f, b);
+                q(f, b + 2 * dir) = q(f, b - dir);
+              } else if (sd.kind != Kind::open && c == a) {  // the face's value (symmetry: 0), odd about it
                 const long face = side == 0 ? 0 : n;
                 q(f, face) = v;
                 q(f, face + dir) = 2 * v - q(f, face - dir);

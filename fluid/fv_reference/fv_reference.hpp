@@ -34,7 +34,7 @@ class FvReference final : public FluidSolver {
  private:
   using Field = std::vector<double>;  // cells with two ghost layers on each axis of more than one cell
   using Faces = std::array<Field, 3>;
-  enum class Kind { periodic, wall, open };  // wall: wall or velocity face; open: pressure or outflow
+  enum class Kind { periodic, wall, open, symmetry };  // wall: wall or velocity face; open: pressure or outflow
   struct Side {
     Kind kind = Kind::periodic;
     Vec3 velocity{0, 0, 0};

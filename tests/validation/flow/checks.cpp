@@ -63,6 +63,8 @@ int profile(const std::string& dir) {
           ua = b_yp.value.values[0] * y / ((fv ? ny : ny - 0.5) * h[1]);
         else if (duct_flow)
           ua = duct(y - H / 2, z - W / 2, H / 2, W / 2, G, mu);
+        else if (b_yp.type == "symmetry")  // the lower half of a channel 2H high
+          ua = G * y * (2 * H - y) / (2 * mu);
         else
           ua = G * y * (H - y) / (2 * mu);
         const double un = u[((k * ny + j) * nx + i) * 3];

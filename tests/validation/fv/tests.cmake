@@ -56,3 +56,14 @@ coflow_validation(dpm_two_way_fv_vs_lbm compare dpm_two_way.yaml 3 "config=dpm_t
 # The lid-driven cavity at 128^2 against Ghia, Ghia & Shin 1982 (Tables I, II).
 coflow_validation(fv_cavity_re100 cavity fv_cavity_re100.yaml 2)
 coflow_validation(fv_cavity_re1000 cavity fv_cavity_re1000.yaml 2)
+# Symmetry faces: the lower half of a force-driven channel (wall at y-,
+# symmetry at y+) against the full channel's parabola, exact to round-off
+# after 12000 s (30 decay times of its slowest mode); fv against fv-reference
+# and 1 rank against 4 with symmetry faces at z- and z+.
+coflow_validation(fv_half_channel_symmetry profile fv_poiseuille_force.yaml 1
+  --set fluid.boundaries.y+.type=symmetry --set run.end_time=12000.0 --set run.output.every=12000.0)
+set(fv_sym_sets "domain.periodic=[false,false,false] fluid.boundaries.z-.type=symmetry fluid.boundaries.z+.type=symmetry fluid.body_force=[1.0e-3,0.0,0.0]")
+coflow_validation(fv_vs_reference_symmetry compare fv_all_boundaries_3d.yaml 1
+  "fluid.solver=fv ${fv_sym_sets}" "fluid.solver=fv-reference ${fv_sym_sets}")
+coflow_validation(fv_ranks_1_vs_4_symmetry compare fv_all_boundaries_3d.yaml 4
+  "fluid.ranks=1 ${fv_sym_sets}" "fluid.ranks=4 fluid.decomposition=[1,2,2] ${fv_sym_sets}")

@@ -15,7 +15,9 @@
 // up, the next `steps` are timed.
 //
 // Last line: RESULT fv_s_per_step=... icofoam_s_per_step=... ratio=... (512^2).
+#include <fmt/format.h>
 #include <mpi.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
@@ -27,10 +29,6 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
-#include <fmt/format.h>
-
 #include "coflow/catalog.hpp"
 #include "coflow/log.hpp"
 #include "fluid/fv/fv_solver.hpp"
@@ -40,7 +38,8 @@ using namespace coflow;
 namespace {
 
 struct Result {
-  double s_per_step = 0.0, poisson_iterations = 0.0, poisson_s = 0.0, viscous_share = 0.0, poisson_share = 0.0;
+  double s_per_step = 0.0, poisson_iterations = 0.0, poisson_s = 0.0, viscous_share = 0.0,
+         poisson_share = 0.0;
   long cells = 0;
 };
 
@@ -57,11 +56,13 @@ fluid:
     y+: {{type: velocity, value: [1.0, 0.0, 0.0]}}
   fv: {{advection: central, time: sbdf2, cfl: 1.0, max_step: {dt:.17g}, tolerance: 1.0e-10}}
 )",
-                     fmt::arg("dz", dz), fmt::arg("n", n), fmt::arg("nz", dims == 2 ? 1 : n), fmt::arg("dt", dt));
+                     fmt::arg("dz", dz), fmt::arg("n", n), fmt::arg("nz", dims == 2 ? 1 : n),
+                     fmt::arg("dt", dt));
 }
 
 Result run_fv(int n, int dims, double dt, long steps) {
-  const config::Config cfg = config::parse_config_node(YAML::Load(cavity_yaml(n, dims, dt)), "bench-fv", catalog());
+  const config::Config cfg =
+      config::parse_config_node(YAML::Load(cavity_yaml(n, dims, dt)), "bench-fv", catalog());
   fluid::FluidParams fp;
   config::Reader r(cfg.resolved["fluid"], "bench-fv", "fluid");
   fp.visit(r, cfg);
@@ -109,14 +110,18 @@ boundary (
                            fmt::arg("fb", dims == 2 ? "empty" : "wall")));
   const std::string fb = dims == 2 ? "empty" : "noSlip";
   const std::string fbp = dims == 2 ? "empty" : "zeroGradient";
-  write(dir / "0/U", "FoamFile { version 2.0; format ascii; class volVectorField; object U; }\n"
-                     "dimensions [0 1 -1 0 0 0 0]; internalField uniform (0 0 0);\n"
-                     "boundaryField { movingWall { type fixedValue; value uniform (1 0 0); } fixedWalls { type "
-                     "noSlip; } frontAndBack { type " + fb + "; } }\n");
-  write(dir / "0/p", "FoamFile { version 2.0; format ascii; class volScalarField; object p; }\n"
-                     "dimensions [0 2 -2 0 0 0 0]; internalField uniform 0;\n"
-                     "boundaryField { movingWall { type zeroGradient; } fixedWalls { type zeroGradient; } "
-                     "frontAndBack { type " + fbp + "; } }\n");
+  write(dir / "0/U",
+        "FoamFile { version 2.0; format ascii; class volVectorField; object U; }\n"
+        "dimensions [0 1 -1 0 0 0 0]; internalField uniform (0 0 0);\n"
+        "boundaryField { movingWall { type fixedValue; value uniform (1 0 0); } fixedWalls { type "
+        "noSlip; } frontAndBack { type " +
+            fb + "; } }\n");
+  write(dir / "0/p",
+        "FoamFile { version 2.0; format ascii; class volScalarField; object p; }\n"
+        "dimensions [0 2 -2 0 0 0 0]; internalField uniform 0;\n"
+        "boundaryField { movingWall { type zeroGradient; } fixedWalls { type zeroGradient; } "
+        "frontAndBack { type " +
+            fbp + "; } }\n");
   write(dir / "constant/transportProperties", head + "nu 0.001;\n");
   write(dir / "system/controlDict",
         head + fmt::format("application icoFoam; startFrom startTime; startTime 0; stopAt endTime; endTime "
@@ -124,13 +129,15 @@ boundary (
                            "purgeWrite 0; writeFormat binary; runTimeModifiable false;\n",
                            2 * steps * dt, dt));
   write(dir / "system/fvSchemes",
-        head + "ddtSchemes { default Euler; } gradSchemes { default Gauss linear; } divSchemes { default none; "
-               "div(phi,U) Gauss linear; } laplacianSchemes { default Gauss linear corrected; } "
-               "interpolationSchemes { default linear; } snGradSchemes { default corrected; }\n");
+        head +
+            "ddtSchemes { default Euler; } gradSchemes { default Gauss linear; } divSchemes { default none; "
+            "div(phi,U) Gauss linear; } laplacianSchemes { default Gauss linear corrected; } "
+            "interpolationSchemes { default linear; } snGradSchemes { default corrected; }\n");
   write(dir / "system/fvSolution",
-        head + "solvers { p { solver GAMG; smoother GaussSeidel; tolerance 1e-10; relTol 0; } pFinal { $p; } "
-               "U { solver smoothSolver; smoother symGaussSeidel; tolerance 1e-10; relTol 0; } }\n"
-               "PISO { nCorrectors 2; nNonOrthogonalCorrectors 0; pRefCell 0; pRefValue 0; }\n");
+        head +
+            "solvers { p { solver GAMG; smoother GaussSeidel; tolerance 1e-10; relTol 0; } pFinal { $p; } "
+            "U { solver smoothSolver; smoother symGaussSeidel; tolerance 1e-10; relTol 0; } }\n"
+            "PISO { nCorrectors 2; nNonOrthogonalCorrectors 0; pRefCell 0; pRefValue 0; }\n");
 }
 
 // icoFoam's seconds per step over the timed steps (ExecutionTime after step
@@ -140,7 +147,8 @@ double run_icofoam(int n, int dims, double dt, long steps, std::string& note) {
     note = "icoFoam not found (Debian package openfoam; scripts/setup installs it)";
     return 0.0;
   }
-  const auto dir = std::filesystem::temp_directory_path() / fmt::format("coflow-bench-fv-{}-{}", ::getpid(), n);
+  const auto dir =
+      std::filesystem::temp_directory_path() / fmt::format("coflow-bench-fv-{}-{}", ::getpid(), n);
   write_openfoam_case(dir, n, dims, dt, steps);
   // Debian's OpenFOAM finds its etc/ through WM_PROJECT_DIR.
   const std::string cmd = fmt::format(
@@ -168,10 +176,11 @@ void report(const char* name, int n, int dims, long steps, Result& fv, double& f
   fv = run_fv(n, dims, dt, steps);
   std::string note;
   foam = run_icofoam(n, dims, dt, steps, note);
-  std::printf("%s %d^%d: fv %.4f s/step (%.1f ns per cell), Poisson %.1f iterations, %.4f s per solve "
-              "(%.1f ns per cell), %.0f %% of the step (viscous %.0f %%)",
-              name, n, dims, fv.s_per_step, 1e9 * fv.s_per_step / double(fv.cells), fv.poisson_iterations,
-              fv.poisson_s, 1e9 * fv.poisson_s / double(fv.cells), 100 * fv.poisson_share, 100 * fv.viscous_share);
+  std::printf(
+      "%s %d^%d: fv %.4f s/step (%.1f ns per cell), Poisson %.1f iterations, %.4f s per solve "
+      "(%.1f ns per cell), %.0f %% of the step (viscous %.0f %%)",
+      name, n, dims, fv.s_per_step, 1e9 * fv.s_per_step / double(fv.cells), fv.poisson_iterations,
+      fv.poisson_s, 1e9 * fv.poisson_s / double(fv.cells), 100 * fv.poisson_share, 100 * fv.viscous_share);
   if (foam > 0)
     std::printf("; icoFoam %.4f s/step: fv %.2fx faster\n", foam, foam / fv.s_per_step);
   else
@@ -192,7 +201,8 @@ int main(int argc, char** argv) {
     else
       steps = std::atol(argv[a]);
   }
-  std::printf("bench-fv: 1 rank, lid-driven cavity Re 1000, %ld warm-up + %ld timed steps per case\n", steps, steps);
+  std::printf("bench-fv: 1 rank, lid-driven cavity Re 1000, %ld warm-up + %ld timed steps per case\n", steps,
+              steps);
   Result fv;
   double foam = 0.0, fv512 = 0.0, foam512 = 0.0;
   for (int n : {128, 256, 512}) {

@@ -100,6 +100,20 @@ void resolve(config::Config& cfg, const std::string& variant) {
 
 }  // namespace
 
+// The fluid's blocks as the run will cut them; false when fluid.ranks or
+// fluid.decomposition cannot be cut (reported there).
+static bool fluid_blocks(const config::Config& cfg, const config::ComponentInfo& info, coupler::Decomposition& dec) {
+  const auto& d = cfg.domain;
+  std::array<int, 3> dims{0, 0, 0};
+  if (!info.decomposition.is_auto) dims = info.decomposition.value;
+  try {
+    dec = coupler::Decomposition({d.cells[0], d.cells[1], d.cells[2]}, info.ranks, dims, d.periodic);
+  } catch (const std::invalid_argument&) {
+    return false;
+  }
+  return true;
+}
+
 // An outflow face, and a regularized pressure face, read the next cell in,
 // but the halo carries only the populations that stream inwards: lbm's block
 // at such a face must be two cells thick or more along the face's axis.
@@ -107,14 +121,8 @@ static void check_open_face_blocks(config::Visitor& v, const config::Config& cfg
                             const FluidParams& p) {
   if (!v.reading() || info.variant.rfind("lbm", 0) != 0 || info.ranks < 2) return;
   const auto& d = cfg.domain;
-  std::array<int, 3> dims{0, 0, 0};
-  if (!info.decomposition.is_auto) dims = info.decomposition.value;
   coupler::Decomposition dec;
-  try {
-    dec = coupler::Decomposition({d.cells[0], d.cells[1], d.cells[2]}, info.ranks, dims, d.periodic);
-  } catch (const std::invalid_argument&) {
-    return;  // reported at fluid.ranks already
-  }
+  if (!fluid_blocks(cfg, info, dec)) return;  // reported at fluid.ranks already
   for (int f = 0; f < 6; ++f) {
     const BoundaryParams b = p.boundary(f, cfg);
     const int a = f / 2;
@@ -144,14 +152,8 @@ static void check_fv_blocks(config::Visitor& v, const config::Config& cfg, const
     return;
   }
   const auto& d = cfg.domain;
-  std::array<int, 3> dims{0, 0, 0};
-  if (!info.decomposition.is_auto) dims = info.decomposition.value;
   coupler::Decomposition dec;
-  try {
-    dec = coupler::Decomposition({d.cells[0], d.cells[1], d.cells[2]}, info.ranks, dims, d.periodic);
-  } catch (const std::invalid_argument&) {
-    return;  // reported at fluid.ranks already
-  }
+  if (!fluid_blocks(cfg, info, dec)) return;  // reported at fluid.ranks already
   for (int r = 0; r < info.ranks; ++r)
     for (int a = 0; a < 3; ++a)
       if (d.cells[a] > 1 && dec.block(r).extent(a) < 2) {

@@ -27,14 +27,18 @@ void for_lines(const grid::Block& b, int a, F&& f) {
       });
 }
 
-double ramped(double value, double ramp, double t) { return ramp > 0 ? value * std::min(1.0, t / ramp) : value; }
+double ramped(double value, double ramp, double t) {
+  return ramp > 0 ? value * std::min(1.0, t / ramp) : value;
+}
 
 }  // namespace
 
 Vec3 FvSolver::Face::velocity_at(double t) const {
   return {ramped(velocity[0], ramp, t), ramped(velocity[1], ramp, t), ramped(velocity[2], ramp, t)};
 }
-double FvSolver::Face::pressure_at(double t) const { return ramped(pressure, ramp, t); }
+double FvSolver::Face::pressure_at(double t) const {
+  return ramped(pressure, ramp, t);
+}
 
 bool FvSolver::is_boundary_face(int c, long i) const {
   if (periodic_[c]) return false;
@@ -97,7 +101,8 @@ void FvSolver::fill_face_ghosts(Field& u, int c, int a, int side, const Face& f,
 void FvSolver::fill_ghosts(Faces& u, double t) {
   for (int c = 0; c < dims_; ++c) {
     ex_.exchange(u[static_cast<std::size_t>(c)]);
-    if (faces_[static_cast<std::size_t>(2 * c + 1)].kind == Face::open) ex_.exchange(top_[static_cast<std::size_t>(c)]);
+    if (faces_[static_cast<std::size_t>(2 * c + 1)].kind == Face::open)
+      ex_.exchange(top_[static_cast<std::size_t>(c)]);
   }
   for (int a = 0; a < dims_; ++a)
     for (int side = 0; side < 2; ++side) {
@@ -115,7 +120,8 @@ void FvSolver::fill_pressure_ghosts(Field& p, double t, bool increment, double t
     for (int side = 0; side < 2; ++side) {
       const Face& f = faces_[static_cast<std::size_t>(2 * a + side)];
       if (!f.here || f.kind == Face::periodic) continue;
-      const double pb = f.kind == Face::open ? (increment ? f.pressure_at(t) - f.pressure_at(t0) : f.pressure_at(t)) : 0;
+      const double pb =
+          f.kind == Face::open ? (increment ? f.pressure_at(t) - f.pressure_at(t0) : f.pressure_at(t)) : 0;
       const double odd = f.kind == Face::open ? -1.0 : 1.0, base = f.kind == Face::open ? 2 * pb : 0.0;
       const long n = blk_.extent[a];
       for_lines(blk_, a, [&](auto at) {

@@ -1,12 +1,12 @@
 #include "fluid/fv/fv_solver.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 #include "coflow/log.hpp"
 #include "fluid/grid/cell_fields.hpp"
@@ -24,8 +24,13 @@ fv::StructSystem::Options solver_options(const fv::FvParams& p, const std::strin
 }  // namespace
 
 FvSolver::FvSolver(const Setup& s, const Params& p)
-    : cfg_(s.cfg), fluid_(s.params), p_(p), comm_(s.comm), rank_(s.rank),
-      ex_(s.decomposition, s.rank, kGhost, 1, s.comm), blk_(ex_.block()) {
+    : cfg_(s.cfg),
+      fluid_(s.params),
+      p_(p),
+      comm_(s.comm),
+      rank_(s.rank),
+      ex_(s.decomposition, s.rank, kGhost, 1, s.comm),
+      blk_(ex_.block()) {
   const auto& d = cfg_.domain;
   const auto h = d.spacing();
   dims_ = d.cells[2] == 1 ? 2 : 3;
@@ -62,7 +67,8 @@ FvSolver::FvSolver(const Setup& s, const Params& p)
   rhs_.assign(owned, 0.0);
   x_.assign(owned, 0.0);
   const std::array<bool, 3> per{periodic_[0], periodic_[1], periodic_[2]};
-  poisson_ = std::make_unique<fv::StructSystem>(comm_, blk_.owned, cells_, per, solver_options(p_, "pressure Poisson solve"));
+  poisson_ = std::make_unique<fv::StructSystem>(comm_, blk_.owned, cells_, per,
+                                                solver_options(p_, "pressure Poisson solve"));
   for (int c = 0; c < dims_; ++c)
     viscous_[static_cast<std::size_t>(c)] = std::make_unique<fv::StructSystem>(
         comm_, blk_.owned, cells_, per, solver_options(p_, fmt::format("viscous solve of u_{}", "xyz"[c])));
@@ -74,8 +80,9 @@ FvSolver::FvSolver(const Setup& s, const Params& p)
 // viscous solves in the steps (bench-fv reports the same).
 FvSolver::~FvSolver() {
   if (rank_ != 0 || steps_ == 0 || step_seconds_ <= 0) return;
-  log::info("fv: {} steps in {:.3f} s: pressure Poisson {:.1f} %, viscous solves {:.1f} %, the rest {:.1f} %", steps_,
-            step_seconds_, 100 * poisson_seconds_ / step_seconds_, 100 * viscous_seconds_ / step_seconds_,
+  log::info("fv: {} steps in {:.3f} s: pressure Poisson {:.1f} %, viscous solves {:.1f} %, the rest {:.1f} %",
+            steps_, step_seconds_, 100 * poisson_seconds_ / step_seconds_,
+            100 * viscous_seconds_ / step_seconds_,
             100 * (step_seconds_ - poisson_seconds_ - viscous_seconds_) / step_seconds_);
 }
 
@@ -88,7 +95,8 @@ void FvSolver::initialise() {
     for (int c = 0; c < dims_; ++c) {
       Vec3 x, u;
       double p;
-      for (int a = 0; a < 3; ++a) x[a] = d.lower[a] + (blk_.owned.lo[a] + at[a] + (a == c ? 0.0 : 0.5)) * h_[a];
+      for (int a = 0; a < 3; ++a)
+        x[a] = d.lower[a] + (blk_.owned.lo[a] + at[a] + (a == c ? 0.0 : 0.5)) * h_[a];
       fluid_.initial_state(cfg_, x, u, p);
       u_[static_cast<std::size_t>(c)][n] = u[c];
     }
@@ -114,12 +122,14 @@ long FvSolver::stride(int d) const {
 }
 
 void FvSolver::set_owned(Field& f, const std::vector<double>& v) const {
-  for_owned([&](const long*, long n, long o) { f[static_cast<std::size_t>(n)] = v[static_cast<std::size_t>(o)]; });
+  for_owned(
+      [&](const long*, long n, long o) { f[static_cast<std::size_t>(n)] = v[static_cast<std::size_t>(o)]; });
 }
 
 std::vector<double> FvSolver::owned_of(const Field& f) const {
   std::vector<double> v(static_cast<std::size_t>(blk_.owned_cells()));
-  for_owned([&](const long*, long n, long o) { v[static_cast<std::size_t>(o)] = f[static_cast<std::size_t>(n)]; });
+  for_owned(
+      [&](const long*, long n, long o) { v[static_cast<std::size_t>(o)] = f[static_cast<std::size_t>(n)]; });
   return v;
 }
 
@@ -136,9 +146,10 @@ double FvSolver::stable_step() const {
   }
   MPI_Allreduce(MPI_IN_PLACE, umax, 4, MPI_DOUBLE, MPI_MAX, comm_);
   if (umax[3] > 0)
-    throw std::runtime_error(fmt::format("fv: the velocity is not finite at t = {:.6g} s (step {}); lower "
-                                         "fluid.fv.cfl or fluid.fv.max_step",
-                                         time_, steps_));
+    throw std::runtime_error(
+        fmt::format("fv: the velocity is not finite at t = {:.6g} s (step {}); lower "
+                    "fluid.fv.cfl or fluid.fv.max_step",
+                    time_, steps_));
   double limit = fv::cfl_step(p_.cfl, umax, h_, dims_);
   if (p_.max_step > 0) limit = std::min(limit, p_.max_step);
   return limit;
@@ -147,7 +158,7 @@ double FvSolver::stable_step() const {
 void FvSolver::step(double dt) {
   const double start = MPI_Wtime();
   const double omega = dt_prev_ > 0 ? dt / dt_prev_ : 1.0;
-  const fv::Imex s = steps_ == 0 ? fv::Imex::first()
+  const fv::Imex s = steps_ == 0          ? fv::Imex::first()
                      : p_.time == "cnab2" ? fv::Imex::cnab2(omega)
                                           : fv::Imex::sbdf2(omega);
   momentum(s, dt);

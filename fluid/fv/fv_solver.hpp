@@ -38,7 +38,9 @@ class FvSolver final : public FluidSolver {
   const coupler::Box& owned() const override { return blk_.owned; }
   std::vector<output::GridField> fields(const config::StringList& names) override;
   Diagnostics diagnostics() override;
-  std::vector<output::Series::Column> series_columns() const override;
+  std::vector<output::Series::Column> series_columns() const override { return columns(); }
+  // The columns fv adds to series/fluid.csv (fv-reference adds the same).
+  static std::vector<output::Series::Column> columns();
   void set_source(std::span<const double> force_density) override;
   void save(const std::string& dir) override;
   void load(const std::string& dir, long steps, double time) override;
@@ -50,7 +52,8 @@ class FvSolver final : public FluidSolver {
     double step_s = 0, poisson_s = 0, viscous_s = 0;
   };
   Work work() const {
-    return {steps_, poisson_solves_, poisson_iteration_sum_, step_seconds_, poisson_seconds_, viscous_seconds_};
+    return {steps_,        poisson_solves_,  poisson_iteration_sum_,
+            step_seconds_, poisson_seconds_, viscous_seconds_};
   }
 
  private:
@@ -132,7 +135,8 @@ class FvSolver final : public FluidSolver {
   std::array<Face, 6> faces_;
   bool has_open_ = false;
 
-  Faces u_, u_old_, ustar_, adv_, adv_old_, source_, source_old_;  // source: at the cells, the last step's too
+  Faces u_, u_old_, ustar_, adv_, adv_old_, source_,
+      source_old_;  // source: at the cells, the last step's too
   // The velocity through an open upper face of axis c, kept at the owned cell
   // below it (index n - 1 along c) so that the ghost exchange carries it to
   // the blocks beside; fill_ghosts copies it to the boundary face (index n).
@@ -141,7 +145,8 @@ class FvSolver final : public FluidSolver {
   std::vector<double> rhs_, x_;
   std::unique_ptr<fv::StructSystem> poisson_;
   std::array<std::unique_ptr<fv::StructSystem>, 3> viscous_;
-  std::array<double, 3> viscous_key_{0, 0, 0}, viscous_theta_{0, 0, 0};  // a0/dt and theta nu of the matrices set
+  std::array<double, 3> viscous_key_{0, 0, 0},
+      viscous_theta_{0, 0, 0};  // a0/dt and theta nu of the matrices set
   bool have_source_ = false;
 
   double time_ = 0.0, dt_prev_ = 0.0;

@@ -1,11 +1,11 @@
 // fv: what the solver shows and keeps: snapshot fields, diagnostics, the
 // momentum source it takes, checkpoint and restart.
+#include <fmt/format.h>
+
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 #include "fluid/fv/fv_solver.hpp"
 #include "fluid/grid/cell_fields.hpp"
@@ -60,7 +60,8 @@ Diagnostics FvSolver::diagnostics() {
   return d;
 }
 
-std::vector<output::Series::Column> FvSolver::series_columns() const {
+// Also fv-reference's (which does not count its iterations: zero there).
+std::vector<output::Series::Column> FvSolver::columns() {
   return {{"steps", "1"},
           {"dt", "s"},
           {"poisson_iterations", "1"},
@@ -73,7 +74,8 @@ std::vector<output::Series::Column> FvSolver::series_columns() const {
 void FvSolver::set_source(std::span<const double> force_density) {
   for (int c = 0; c < dims_; ++c) {
     auto& s = source_[static_cast<std::size_t>(c)];
-    for_owned([&](const long*, long n, long o) { s[n] = force_density[3 * static_cast<std::size_t>(o) + c]; });
+    for_owned(
+        [&](const long*, long n, long o) { s[n] = force_density[3 * static_cast<std::size_t>(o) + c]; });
     ex_.exchange(s);
   }
   have_source_ = true;
@@ -97,8 +99,8 @@ std::vector<double> interleave(const std::array<std::vector<double>, 3>& parts) 
 // step) as exact hexadecimal numbers.
 void FvSolver::save(const std::string& dir) {
   auto faces = [&](const Faces& f) { return interleave({owned_of(f[0]), owned_of(f[1]), owned_of(f[2])}); };
-  const auto u = faces(u_), top = faces(top_), old = faces(u_old_), adv = faces(adv_old_), p = owned_of(p_field_),
-             phi = owned_of(phi_), src = faces(source_old_);
+  const auto u = faces(u_), top = faces(top_), old = faces(u_old_), adv = faces(adv_old_),
+             p = owned_of(p_field_), phi = owned_of(phi_), src = faces(source_old_);
   grid::save_cell_fields(comm_, dir + "/fv.h5", time_, steps_, cells_, blk_.owned,
                          {{"velocity_faces", 3, u},
                           {"velocity_upper", 3, top},
@@ -127,13 +129,15 @@ void FvSolver::load(const std::string& dir, long, double) {
   faces("source_previous", source_old_);
   for (auto& f : source_old_) ex_.exchange(f);
   set_owned(p_field_, grid::load_cell_field(path, "pressure", cells_, blk_.owned, 1));
-  set_owned(phi_, grid::load_cell_field(path, "pressure_increment", cells_, blk_.owned, 1));  // the next first guess
+  set_owned(phi_, grid::load_cell_field(path, "pressure_increment", cells_, blk_.owned,
+                                        1));  // the next first guess
   std::ifstream clock(dir + "/fv_clock.txt");
   std::string t, dt;
   if (!(clock >> steps_ >> t >> dt))
-    throw std::runtime_error(fmt::format("fv: {}/fv_clock.txt is missing or unreadable: restart from a checkpoint "
-                                         "written by the fv solver",
-                                         dir));
+    throw std::runtime_error(
+        fmt::format("fv: {}/fv_clock.txt is missing or unreadable: restart from a checkpoint "
+                    "written by the fv solver",
+                    dir));
   time_ = std::strtod(t.c_str(), nullptr);
   dt_prev_ = std::strtod(dt.c_str(), nullptr);
   viscous_key_ = {0, 0, 0};

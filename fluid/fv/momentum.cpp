@@ -51,11 +51,10 @@ double FvSolver::laplacian_at(const Field& u, long n) const {
 // the faces' conditions folded in (they also add to the right-hand side:
 // viscous_rhs). A domain face of axis c is not an unknown: its row is 1.
 void FvSolver::set_viscous(int c, double diag_scale, double nu_theta) {
-  const std::size_t N = static_cast<std::size_t>(blk_.owned_cells());
-  std::vector<double> diag(N, 0.0);
-  std::array<std::vector<double>, 3> lo, hi;
-  for (auto& v : lo) v.assign(N, 0.0);
-  for (auto& v : hi) v.assign(N, 0.0);
+  fv::StructSystem::Rows m(static_cast<std::size_t>(blk_.owned_cells()));
+  auto& diag = m.diag;
+  auto& lo = m.lower;
+  auto& hi = m.upper;
   for_owned([&](const long* at, long, long o) {
     const auto O = static_cast<std::size_t>(o);
     if (is_boundary_face(c, at[c])) {
@@ -93,7 +92,7 @@ void FvSolver::set_viscous(int c, double diag_scale, double nu_theta) {
       hi[static_cast<std::size_t>(d)][O] *= scale;
     }
   });
-  viscous_[static_cast<std::size_t>(c)]->set(diag, {lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]});
+  viscous_[static_cast<std::size_t>(c)]->set(m);
 }
 
 // What lies beyond the side of the unknown u_c at `at` along d: another
@@ -104,12 +103,13 @@ void FvSolver::set_viscous(int c, double diag_scale, double nu_theta) {
 FvSolver::Neighbour FvSolver::neighbour_kind(int c, const long* at, int d, int side) const {
   if (periodic_[d]) return Neighbour::inside;
   const long g = blk_.owned.lo[d] + at[d];
-  const bool beyond = d == c ? (side == 0 ? g - 1 == 0 : g + 1 == cells_[d])
-                             : (side == 0 ? g == 0 : g + 1 == cells_[d]);
+  const bool beyond =
+      d == c ? (side == 0 ? g - 1 == 0 : g + 1 == cells_[d]) : (side == 0 ? g == 0 : g + 1 == cells_[d]);
   if (!beyond) return Neighbour::inside;
   const Face::Kind kind = faces_[static_cast<std::size_t>(2 * d + side)].kind;
   if (d == c) return kind == Face::open ? Neighbour::open : Neighbour::wall_normal;
-  return kind == Face::dirichlet ? Neighbour::wall_tangential : Neighbour::open;  // open, symmetry: no gradient
+  return kind == Face::dirichlet ? Neighbour::wall_tangential
+                                 : Neighbour::open;  // open, symmetry: no gradient
 }
 
 // The right-hand side of component c's row at `at`: the history, the
@@ -127,12 +127,14 @@ double FvSolver::viscous_rhs(int c, const long* at, long n, const fv::Imex& s, d
   const double nu = nu_;
   double r = (s.a1 * u_[C][n] - s.a2 * u_old_[C][n]) / dt + s.b0 * adv_[C][n] + s.b1 * adv_old_[C][n];
   if (s.theta < 1) r += (1 - s.theta) * nu * laplacian_at(u_[C], n);
-  if (steps_ > 0) r -= (p_field_[n] - p_field_[n - stride(c)]) / (rho_ * h_[c]);  // the first step: projection
+  if (steps_ > 0)
+    r -= (p_field_[n] - p_field_[n - stride(c)]) / (rho_ * h_[c]);  // the first step: projection
   r += fluid_.body_force[c] / rho_;
   if (have_source_) {  // the source as an exact impulse (fv::source_weights)
     const auto [w_now, w_last] = fv::source_weights(s, dt, dt_prev_);
     r += (w_now * (source_[C][n] + source_[C][n - stride(c)]) +
-          w_last * (source_old_[C][n] + source_old_[C][n - stride(c)])) / (2 * rho_);
+          w_last * (source_old_[C][n] + source_old_[C][n - stride(c)])) /
+         (2 * rho_);
   }
   double scale = 1.0;
   for (int d = 0; d < dims_; ++d) {

@@ -2,10 +2,10 @@
 // §4.1: finite volumes on a staggered grid, Chorin's projection, IMEX steps).
 #pragma once
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <string>
-
-#include <fmt/format.h>
 
 #include "coflow/config.hpp"
 #include "coflow/run_config.hpp"
@@ -33,10 +33,10 @@ struct FvParams {
       "Wetton 1995; Wang & Ruuth 2008) or cnab2 (Crank-Nicolson / Adams-Bashforth); the first step by the "
       "first-order member (IMEX Euler)",
       config::one_of({"sbdf2", "cnab2"}));
-    v("cfl", cfl,
-      "Courant number C of the variable step (seed 003 eq. 4.1): dt = C / sum_d(max|u_d| / dx_d)",
+    v("cfl", cfl, "Courant number C of the variable step (seed 003 eq. 4.1): dt = C / sum_d(max|u_d| / dx_d)",
       config::greater(0.0));
-    v("max_step", max_step, "s: the largest step (0: no limit but the coupling window)", config::at_least(0.0));
+    v("max_step", max_step, "s: the largest step (0: no limit but the coupling window)",
+      config::at_least(0.0));
     v("tolerance", tolerance,
       "relative residual (2-norm) at which the pressure Poisson and the implicit viscous solves stop",
       config::greater(0.0));
@@ -52,7 +52,8 @@ struct FvParams {
     if (d.cells[0] == 1 || d.cells[1] == 1)
       v.fail("", "the fv fluid is 2D in x-y or 3D: domain.cells[0] and [1] must be more than 1");
     if (cfl > 1.0)
-      v.fail("cfl", fmt::format("{} > 1: the explicit advection is unstable beyond C = 1; use 0.2 to 0.8", cfl));
+      v.fail("cfl",
+             fmt::format("{} > 1: the explicit advection is unstable beyond C = 1; use 0.2 to 0.8", cfl));
   }
 };
 

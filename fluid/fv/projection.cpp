@@ -21,29 +21,26 @@ double FvSolver::divergence_at(const Faces& u, long n) const {
 }
 
 void FvSolver::set_poisson() {
-  const std::size_t N = static_cast<std::size_t>(blk_.owned_cells());
-  std::vector<double> diag(N, 0.0);
-  std::array<std::vector<double>, 3> lo, hi;
-  for (auto& v : lo) v.assign(N, 0.0);
-  for (auto& v : hi) v.assign(N, 0.0);
+  fv::StructSystem::Rows m(static_cast<std::size_t>(blk_.owned_cells()));
   for_owned([&](const long* at, long, long o) {
     const auto O = static_cast<std::size_t>(o);
     for (int d = 0; d < dims_; ++d) {
       const double k = 1.0 / (h_[d] * h_[d]);
       for (int side = 0; side < 2; ++side) {
-        auto& coupling = side == 0 ? lo[static_cast<std::size_t>(d)] : hi[static_cast<std::size_t>(d)];
+        auto& coupling =
+            side == 0 ? m.lower[static_cast<std::size_t>(d)] : m.upper[static_cast<std::size_t>(d)];
         const long g = blk_.owned.lo[d] + at[d];
         const bool beyond = !periodic_[d] && (side == 0 ? g == 0 : g + 1 == cells_[d]);
         if (!beyond) {
-          diag[O] += k;
+          m.diag[O] += k;
           coupling[O] -= k;
         } else if (faces_[static_cast<std::size_t>(2 * d + side)].kind == Face::open) {
-          diag[O] += 2 * k;  // ghost 2 dp_b - phi
+          m.diag[O] += 2 * k;  // ghost 2 dp_b - phi
         }
       }
     }
   });
-  poisson_->set(diag, {lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]});
+  poisson_->set(m);
 }
 
 // The right-hand side of the Poisson rows, with the open faces' pressure

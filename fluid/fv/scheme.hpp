@@ -31,8 +31,12 @@ inline double face_value(bool upwind, double a, double b, double c, double d, do
 // for a parabolic profile (plane Poiseuille and Couette flow are exact to the
 // solver's tolerance). The implicit rows next to a wall scale by 3/4 so that
 // the matrix stays symmetric (fv::wall_row_scale).
-inline double wall_ghost(double U, double u0, double u1) { return (8 * U - 6 * u0 + u1) / 3; }
-inline double wall_ghost2(double U, double u0, double u1) { return 8 * U - 9 * u0 + 2 * u1; }
+inline double wall_ghost(double U, double u0, double u1) {
+  return (8 * U - 6 * u0 + u1) / 3;
+}
+inline double wall_ghost2(double U, double u0, double u1) {
+  return 8 * U - 9 * u0 + 2 * u1;
+}
 inline constexpr double wall_row_scale = 0.75;
 
 // One IMEX step (u' = N(u) + L u, N explicit, L implicit) with the step dt
@@ -40,8 +44,8 @@ inline constexpr double wall_row_scale = 0.75;
 //   (a0 u^{n+1} - a1 u^n + a2 u^{n-1}) / dt = b0 N^n + b1 N^{n-1}
 //                                             + theta L u^{n+1} + (1 - theta) L u^n.
 // sbdf2: the variable-step SBDF2 of Wang & Ruuth 2008 (BDF2 with omega, N
-// extrapolated linearly; Ascher, Ruuth & Wetton 1995 for the constant step). cnab2: Crank-Nicolson on L, Adams-Bashforth 2 on
-// N. first: IMEX Euler (the first step of both).
+// extrapolated linearly; Ascher, Ruuth & Wetton 1995 for the constant step). cnab2: Crank-Nicolson on L,
+// Adams-Bashforth 2 on N. first: IMEX Euler (the first step of both).
 struct Imex {
   double a0 = 1, a1 = 1, a2 = 0, b0 = 1, b1 = 0, theta = 1;
   static Imex first() { return {}; }

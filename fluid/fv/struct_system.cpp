@@ -1,11 +1,10 @@
 #include "fluid/fv/struct_system.hpp"
 
 #include <HYPRE_struct_ls.h>
+#include <fmt/format.h>
 
 #include <stdexcept>
 #include <vector>
-
-#include <fmt/format.h>
 
 namespace coflow::fluid::fv {
 
@@ -121,7 +120,8 @@ void StructSystem::make_solver() {
     HYPRE_StructPFMGSetMaxIter(h_->precond, 1);
     HYPRE_StructPFMGSetTol(h_->precond, 0.0);
     HYPRE_StructPFMGSetZeroGuess(h_->precond);
-    HYPRE_StructPFMGSetRelaxType(h_->precond, 1);  // weighted Jacobi (red-black Gauss-Seidel stalls PCG on thin periodic grids)
+    HYPRE_StructPFMGSetRelaxType(
+        h_->precond, 1);  // weighted Jacobi (red-black Gauss-Seidel stalls PCG on thin periodic grids)
     HYPRE_StructPFMGSetNumPreRelax(h_->precond, 1);
     HYPRE_StructPFMGSetNumPostRelax(h_->precond, 1);
     HYPRE_StructPCGSetPrecond(h_->pcg, HYPRE_StructPFMGSolve, HYPRE_StructPFMGSetup, h_->precond);

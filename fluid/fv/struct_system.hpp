@@ -10,6 +10,7 @@
 #include <array>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "coflow/decomposition.hpp"
 
@@ -21,7 +22,7 @@ class StructSystem {
     std::string multigrid = "pfmg";  // pfmg | smg
     double tolerance = 1e-10;        // relative residual, 2-norm
     int max_iterations = 200;
-    std::string name = "system";     // for messages
+    std::string name = "system";  // for messages
   };
   // The owned box of this rank in a grid of `cells` (one cell along z: 2D).
   StructSystem(MPI_Comm comm, const coupler::Box& owned, const coupler::Index3& cells,
@@ -43,6 +44,20 @@ class StructSystem {
   // where a V-cycle costs more than the iterations it saves.
   void use_diagonal(bool on);
   int last_iterations() const { return iterations_; }
+
+  // A matrix being assembled: per owned cell its diagonal and its couplings
+  // below and above along each axis (zero until set); set() hands it over.
+  struct Rows {
+    explicit Rows(std::size_t cells) : diag(cells, 0.0) {
+      for (auto& v : lower) v.assign(cells, 0.0);
+      for (auto& v : upper) v.assign(cells, 0.0);
+    }
+    std::vector<double> diag;
+    std::array<std::vector<double>, 3> lower, upper;
+  };
+  void set(const Rows& r) {
+    set(r.diag, {r.lower[0], r.lower[1], r.lower[2]}, {r.upper[0], r.upper[1], r.upper[2]});
+  }
   double last_residual() const { return residual_; }
 
  private:

@@ -1,16 +1,18 @@
 #include "fluid/fv_reference/fv_reference.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <fstream>
 #include <stdexcept>
 
-#include <fmt/format.h>
-
+#include "fluid/fv/fv_solver.hpp"
 #include "fluid/grid/cell_fields.hpp"
 
 namespace coflow::fluid {
 
-FvReference::FvReference(const Setup& s, const Params& p) : comm_(s.comm), cfg_(s.cfg), fluid_(s.params), opt_(p) {
+FvReference::FvReference(const Setup& s, const Params& p)
+    : comm_(s.comm), cfg_(s.cfg), fluid_(s.params), opt_(p) {
   if (s.decomposition.ranks() != 1) throw std::runtime_error("fv-reference is serial: set fluid.ranks: 1");
   const auto& d = cfg_.domain;
   const auto h = d.spacing();
@@ -29,7 +31,7 @@ FvReference::FvReference(const Setup& s, const Params& p) : comm_(s.comm), cfg_(
     Side& side = sides_[f];
     if (b.type == "periodic" || n_[f / 2] == 1) continue;
     side.ramp = b.ramp;
-    side.kind = b.type == "symmetry"                          ? Kind::symmetry
+    side.kind = b.type == "symmetry"                         ? Kind::symmetry
                 : (b.type == "wall" || b.type == "velocity") ? Kind::wall
                                                              : Kind::open;
     if (b.type == "velocity") side.velocity = {b.value.values[0], b.value.values[1], b.value.values[2]};
@@ -60,6 +62,17 @@ FvReference::FvReference(const Setup& s, const Params& p) : comm_(s.comm), cfg_(
   velocity_ghosts(u_, 0.0, true, false);
 }
 
+// f(o) for each line along axis a of the padded grid, o its cell at index 0 along a.
+template <class F>
+void FvReference::for_lines(int a, F&& f) const {
+  for (long k = -g_[2]; k < n_[2] + g_[2]; ++k)
+    for (long j = -g_[1]; j < n_[1] + g_[1]; ++j)
+      for (long i = -g_[0]; i < n_[0] + g_[0]; ++i) {
+        const long x[3] = {i, j, k};
+        if (x[a] == 0) f(at(x));
+      }
+}
+
 template <class F>
 void FvReference::each_cell(F&& f) const {
   for (long k = 0; k < n_[2]; ++k)
@@ -82,7 +95,9 @@ double FvReference::side_pressure(int face, double t) const {
 }
 
 // Faces on the domain's boundary along a non-periodic axis are not unknowns.
-bool FvReference::unknown(int c, long i) const { return sides_[2 * c].kind == Kind::periodic || (i > 0 && i < n_[c]); }
+bool FvReference::unknown(int c, long i) const {
+  return sides_[2 * c].kind == Kind::periodic || (i > 0 && i < n_[c]);
+}
 
 // The velocity's ghosts, axis after axis over the whole padded extent of the
 // others: periodic copies, or the face's condition (fv's boundaries.cpp has
@@ -92,45 +107,40 @@ bool FvReference::unknown(int c, long i) const { return sides_[2 * c].kind == Ki
 void FvReference::velocity_ghosts(Faces& u, double t, bool keep_open, bool zero) const {
   for (int a = 0; a < dims_; ++a) {
     const long n = n_[a], s = step_of(a);
-    for (long k = -g_[2]; k < n_[2] + g_[2]; ++k)
-      for (long j = -g_[1]; j < n_[1] + g_[1]; ++j)
-        for (long i = -g_[0]; i < n_[0] + g_[0]; ++i) {
-          const long x[3] = {i, j, k};
-          if (x[a] != 0) continue;  // one line along a per start
-          const long o = at(x);     // index 0 along a on this line
-          auto q = [&](Field& f, long m) -> double& { return f[static_cast<std::size_t>(o + m * s)]; };
-          for (int c = 0; c < dims_; ++c) {
-            Field& f = u[static_cast<std::size_t>(c)];
-            if (sides_[2 * a].kind == Kind::periodic) {
-              q(f, -1) = q(f, n - 1), q(f, -2) = q(f, n - 2), q(f, n) = q(f, 0), q(f, n + 1) = q(f, 1);
-              continue;
-            }
-            for (int side = 0; side < 2; ++side) {
-              const Side& sd = sides_[2 * a + side];
-              const double v = zero ? 0.0 : side_velocity(2 * a + side, t)[c];
-              const long b = side == 0 ? 0 : n - 1, dir = side == 0 ? -1 : 1;  // last cell, outwards
-              if (sd.kind == Kind::symmetry && c != a) {  // mirrored: no shear
-                q(f, b + dir) = q(f, b);
-                q(f, b + 2 * dir) = q(f, b - dir);
-              } else if (sd.kind != Kind::open && c == a) {  // the face's value (symmetry: 0), odd about it
-                const long face = side == 0 ? 0 : n;
-                q(f, face) = v;
-                q(f, face + dir) = 2 * v - q(f, face - dir);
-                if (side == 0) q(f, -2) = 2 * v - q(f, 2);
-              } else if (sd.kind == Kind::wall) {
-                q(f, b + dir) = fv::wall_ghost(v, q(f, b), q(f, b - dir));
-                q(f, b + 2 * dir) = fv::wall_ghost2(v, q(f, b), q(f, b - dir));
-              } else if (c == a) {
-                const long face = side == 0 ? 0 : n;
-                if (!keep_open) q(f, face) = q(f, face - dir);
-                q(f, face + dir) = q(f, face);
-                if (side == 0) q(f, -2) = q(f, 0);
-              } else {
-                q(f, b + dir) = q(f, b + 2 * dir) = q(f, b);
-              }
-            }
+    for_lines(a, [&](long o) {  // o: index 0 along a on the line
+      auto q = [&](Field& f, long m) -> double& { return f[static_cast<std::size_t>(o + m * s)]; };
+      for (int c = 0; c < dims_; ++c) {
+        Field& f = u[static_cast<std::size_t>(c)];
+        if (sides_[2 * a].kind == Kind::periodic) {
+          q(f, -1) = q(f, n - 1), q(f, -2) = q(f, n - 2), q(f, n) = q(f, 0), q(f, n + 1) = q(f, 1);
+          continue;
+        }
+        for (int side = 0; side < 2; ++side) {
+          const Side& sd = sides_[2 * a + side];
+          const double v = zero ? 0.0 : side_velocity(2 * a + side, t)[c];
+          const long b = side == 0 ? 0 : n - 1, dir = side == 0 ? -1 : 1;  // last cell, outwards
+          if (sd.kind == Kind::symmetry && c != a) {                       // mirrored: no shear
+            q(f, b + dir) = q(f, b);
+            q(f, b + 2 * dir) = q(f, b - dir);
+          } else if (sd.kind != Kind::open && c == a) {  // the face's value (symmetry: 0), odd about it
+            const long face = side == 0 ? 0 : n;
+            q(f, face) = v;
+            q(f, face + dir) = 2 * v - q(f, face - dir);
+            if (side == 0) q(f, -2) = 2 * v - q(f, 2);
+          } else if (sd.kind == Kind::wall) {
+            q(f, b + dir) = fv::wall_ghost(v, q(f, b), q(f, b - dir));
+            q(f, b + 2 * dir) = fv::wall_ghost2(v, q(f, b), q(f, b - dir));
+          } else if (c == a) {
+            const long face = side == 0 ? 0 : n;
+            if (!keep_open) q(f, face) = q(f, face - dir);
+            q(f, face + dir) = q(f, face);
+            if (side == 0) q(f, -2) = q(f, 0);
+          } else {
+            q(f, b + dir) = q(f, b + 2 * dir) = q(f, b);
           }
         }
+      }
+    });
   }
 }
 
@@ -166,7 +176,8 @@ double FvReference::laplacian_at(const Field& q, long n) const {
   double l = 0.0;
   for (int d = 0; d < dims_; ++d) {
     const long s = step_of(d);
-    l += (q[static_cast<std::size_t>(n + s)] - 2 * q[static_cast<std::size_t>(n)] + q[static_cast<std::size_t>(n - s)]) /
+    l += (q[static_cast<std::size_t>(n + s)] - 2 * q[static_cast<std::size_t>(n)] +
+          q[static_cast<std::size_t>(n - s)]) /
          (h_[d] * h_[d]);
   }
   return l;
@@ -201,7 +212,8 @@ void FvReference::conjugate_gradients(Apply&& apply, const std::vector<long>& ro
   const long limit = 20 * static_cast<long>(rows.size()) + 100;
   for (long it = 0; rr > stop; ++it) {
     if (it == limit)
-      throw std::runtime_error(fmt::format("fv-reference: the {} did not converge in {} iterations", what, limit));
+      throw std::runtime_error(
+          fmt::format("fv-reference: the {} did not converge in {} iterations", what, limit));
     apply(d, Ad);
     double dAd = 0.0;
     for (long i : rows) dAd += d[static_cast<std::size_t>(i)] * Ad[static_cast<std::size_t>(i)];
@@ -213,7 +225,9 @@ void FvReference::conjugate_gradients(Apply&& apply, const std::vector<long>& ro
       r[I] -= alpha * Ad[I];
       rr_new += r[I] * r[I];
     }
-    for (long i : rows) d[static_cast<std::size_t>(i)] = r[static_cast<std::size_t>(i)] + rr_new / rr * d[static_cast<std::size_t>(i)];
+    for (long i : rows)
+      d[static_cast<std::size_t>(i)] =
+          r[static_cast<std::size_t>(i)] + rr_new / rr * d[static_cast<std::size_t>(i)];
     rr = rr_new;
   }
 }
@@ -221,25 +235,20 @@ void FvReference::conjugate_gradients(Apply&& apply, const std::vector<long>& ro
 void FvReference::pressure_ghosts(Field& p, const double open_value[6]) const {
   for (int a = 0; a < dims_; ++a) {
     const long n = n_[a], s = step_of(a);
-    for (long k = -g_[2]; k < n_[2] + g_[2]; ++k)
-      for (long j = -g_[1]; j < n_[1] + g_[1]; ++j)
-        for (long i = -g_[0]; i < n_[0] + g_[0]; ++i) {
-          const long x[3] = {i, j, k};
-          if (x[a] != 0) continue;
-          const long o = at(x);
-          auto q = [&](long m) -> double& { return p[static_cast<std::size_t>(o + m * s)]; };
-          if (sides_[2 * a].kind == Kind::periodic) {
-            q(-1) = q(n - 1), q(-2) = q(n - 2), q(n) = q(0), q(n + 1) = q(1);
-            continue;
-          }
-          for (int side = 0; side < 2; ++side) {
-            const bool open = sides_[2 * a + side].kind == Kind::open;
-            for (long g = 1; g <= 2; ++g) {
-              const long ghost = side == 0 ? -g : n - 1 + g, mirror = side == 0 ? g - 1 : n - g;
-              q(ghost) = open ? 2 * open_value[2 * a + side] - q(mirror) : q(mirror);
-            }
-          }
+    for_lines(a, [&](long o) {
+      auto q = [&](long m) -> double& { return p[static_cast<std::size_t>(o + m * s)]; };
+      if (sides_[2 * a].kind == Kind::periodic) {
+        q(-1) = q(n - 1), q(-2) = q(n - 2), q(n) = q(0), q(n + 1) = q(1);
+        return;
+      }
+      for (int side = 0; side < 2; ++side) {
+        const bool open = sides_[2 * a + side].kind == Kind::open;
+        for (long g = 1; g <= 2; ++g) {
+          const long ghost = side == 0 ? -g : n - 1 + g, mirror = side == 0 ? g - 1 : n - g;
+          q(ghost) = open ? 2 * open_value[2 * a + side] - q(mirror) : q(mirror);
         }
+      }
+    });
   }
 }
 
@@ -258,7 +267,8 @@ void FvReference::momentum(const fv::Imex& s, double dt, bool with_pressure) {
   const double t1 = time_ + dt;
   for (int c = 0; c < dims_; ++c)
     each_cell([&](const long* x, std::size_t n) {
-      adv_[static_cast<std::size_t>(c)][n] = unknown(c, x[c]) ? advection_at(u_, c, static_cast<long>(n)) : 0.0;
+      adv_[static_cast<std::size_t>(c)][n] =
+          unknown(c, x[c]) ? advection_at(u_, c, static_cast<long>(n)) : 0.0;
     });
   Faces star = u_;
   for (int c = 0; c < dims_; ++c) {
@@ -277,7 +287,8 @@ void FvReference::momentum(const fv::Imex& s, double dt, bool with_pressure) {
       r += fluid_.body_force[c] / rho_;
       const auto [w_now, w_last] = fv::source_weights(s, dt, dt_prev_);  // the source's impulse, exactly
       const auto below = static_cast<std::size_t>(N - sc);
-      r += (w_now * (source_[C][n] + source_[C][below]) + w_last * (source_old_[C][n] + source_old_[C][below])) /
+      r += (w_now * (source_[C][n] + source_[C][below]) +
+            w_last * (source_old_[C][n] + source_old_[C][below])) /
            (2 * rho_);
       rhs[n] = weight[n] * r;
     });
@@ -328,7 +339,8 @@ void FvReference::project(const fv::Imex& s, double dt, bool incremental) {
   const double t0 = time_, t1 = time_ + dt, factor = rho_ * s.a0 / dt;
   double change[6] = {0, 0, 0, 0, 0, 0}, none[6] = {0, 0, 0, 0, 0, 0};
   for (int f = 0; f < 6; ++f)
-    if (sides_[f].kind == Kind::open) change[f] = side_pressure(f, t1) - (incremental ? side_pressure(f, t0) : 0.0);
+    if (sides_[f].kind == Kind::open)
+      change[f] = side_pressure(f, t1) - (incremental ? side_pressure(f, t0) : 0.0);
   std::vector<long> rows;
   Field rhs(p_.size(), 0.0);
   double sum = 0.0;
@@ -385,7 +397,8 @@ void FvReference::advance(double window) {
         umax[c] = std::max({umax[c], std::abs(q[n]), std::abs(q[n + static_cast<std::size_t>(step_of(c))])});
       });
     if (!std::isfinite(umax[0] + umax[1] + umax[2]))
-      throw std::runtime_error(fmt::format("fv-reference: the velocity is not finite at t = {:.6g} s", time_));
+      throw std::runtime_error(
+          fmt::format("fv-reference: the velocity is not finite at t = {:.6g} s", time_));
     double limit = fv::cfl_step(opt_.cfl, umax, h_, dims_);
     if (opt_.max_step > 0) limit = std::min(limit, opt_.max_step);
     if (left == 0 || dt > limit) {
@@ -393,9 +406,9 @@ void FvReference::advance(double window) {
       left = std::max(1L, std::lround((end - time_) / dt));
     }
     const double omega = dt_prev_ > 0 ? dt / dt_prev_ : 1.0;
-    const fv::Imex s = steps_ == 0 ? fv::Imex::first()
+    const fv::Imex s = steps_ == 0            ? fv::Imex::first()
                        : opt_.time == "cnab2" ? fv::Imex::cnab2(omega)
-                                            : fv::Imex::sbdf2(omega);
+                                              : fv::Imex::sbdf2(omega);
     momentum(s, dt, steps_ > 0);
     project(s, dt, steps_ > 0);
     adv_old_.swap(adv_);
@@ -419,7 +432,8 @@ std::vector<output::GridField> FvReference::fields(const config::StringList& nam
   each_cell([&](const long*, std::size_t n) {
     for (int c = 0; c < dims_; ++c) {
       const Field& q = u_[static_cast<std::size_t>(c)];
-      out_u_[3 * o + static_cast<std::size_t>(c)] = 0.5 * (q[n] + q[n + static_cast<std::size_t>(step_of(c))]);
+      out_u_[3 * o + static_cast<std::size_t>(c)] =
+          0.5 * (q[n] + q[n + static_cast<std::size_t>(step_of(c))]);
     }
     out_p_[o] = p_[n];
     out_div_[o] = divergence_at(u_, static_cast<long>(n));
@@ -457,11 +471,7 @@ Diagnostics FvReference::diagnostics() {
 }
 
 std::vector<output::Series::Column> FvReference::series_columns() const {
-  return {{"steps", "1"},
-          {"dt", "s"},
-          {"poisson_iterations", "1"},
-          {"viscous_iterations", "1"},
-          {"max_divergence", "1/s"}};
+  return FvSolver::columns();
 }
 
 void FvReference::set_source(std::span<const double> force_density) {
@@ -504,8 +514,12 @@ void FvReference::save(const std::string& dir) {
     ++o;
   });
   grid::save_cell_fields(comm_, dir + "/fv.h5", time_, steps_, {n_[0], n_[1], n_[2]}, box_,
-                         {{"velocity_faces", 3, u}, {"velocity_upper", 3, top}, {"velocity_previous", 3, old},
-                          {"advection_previous", 3, adv}, {"pressure", 1, p}, {"pressure_increment", 1, phi},
+                         {{"velocity_faces", 3, u},
+                          {"velocity_upper", 3, top},
+                          {"velocity_previous", 3, old},
+                          {"advection_previous", 3, adv},
+                          {"pressure", 1, p},
+                          {"pressure_increment", 1, phi},
                           {"source_previous", 3, src}});
   std::ofstream clock(dir + "/fv_clock.txt");
   clock << fmt::format("{} {:a} {:a}\n", steps_, time_, dt_prev_);

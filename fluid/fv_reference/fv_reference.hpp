@@ -34,7 +34,12 @@ class FvReference final : public FluidSolver {
  private:
   using Field = std::vector<double>;  // cells with two ghost layers on each axis of more than one cell
   using Faces = std::array<Field, 3>;
-  enum class Kind { periodic, wall, open, symmetry };  // wall: wall or velocity face; open: pressure or outflow
+  enum class Kind {
+    periodic,
+    wall,
+    open,
+    symmetry
+  };  // wall: wall or velocity face; open: pressure or outflow
   struct Side {
     Kind kind = Kind::periodic;
     Vec3 velocity{0, 0, 0};
@@ -46,6 +51,8 @@ class FvReference final : public FluidSolver {
   long step_of(int d) const { return d == 0 ? 1 : d == 1 ? m_[0] : m_[0] * m_[1]; }
   template <class F>
   void each_cell(F&& f) const;  // f(x, n) over the cells
+  template <class F>
+  void for_lines(int a, F&& f) const;
   Vec3 side_velocity(int face, double t) const;
   double side_pressure(int face, double t) const;
   bool unknown(int c, long i) const;  // the face of u_c at index i along c is solved for

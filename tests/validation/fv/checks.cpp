@@ -94,14 +94,17 @@ int tg_error(const std::string& dir) {
   std::vector<std::size_t> dims;
   const auto u = output::read_dataset(snap, "velocity", &dims);
   const long ny = static_cast<long>(dims[1]), nx = static_cast<long>(dims[2]);
-  const double kx = 2 * std::numbers::pi / (d.upper[0] - d.lower[0]), ky = 2 * std::numbers::pi / (d.upper[1] - d.lower[1]);
+  const double kx = 2 * std::numbers::pi / (d.upper[0] - d.lower[0]),
+               ky = 2 * std::numbers::pi / (d.upper[1] - d.lower[1]);
   const double decay = std::exp(-fp.viscosity * (kx * kx + ky * ky) * t), U = fp.initial_amplitude;
   double e2 = 0.0, r2 = 0.0;
   for (long j = 0; j < ny; ++j)
     for (long i = 0; i < nx; ++i) {
       const double X = kx * (i + 0.5) * h[0], Y = ky * (j + 0.5) * h[1];
-      const double ua = U * std::sin(X) * std::cos(Y) * decay, va = -U * (kx / ky) * std::cos(X) * std::sin(Y) * decay;
-      const double un = u[static_cast<std::size_t>((j * nx + i) * 3)], vn = u[static_cast<std::size_t>((j * nx + i) * 3 + 1)];
+      const double ua = U * std::sin(X) * std::cos(Y) * decay,
+                   va = -U * (kx / ky) * std::cos(X) * std::sin(Y) * decay;
+      const double un = u[static_cast<std::size_t>((j * nx + i) * 3)],
+                   vn = u[static_cast<std::size_t>((j * nx + i) * 3 + 1)];
       e2 += (un - ua) * (un - ua) + (vn - va) * (vn - va);
       r2 += ua * ua + va * va;
     }

@@ -29,8 +29,15 @@ void BoundaryParams::visit(config::Visitor& v) {
     "two-phase lbm: the fluid that enters through this pressure or velocity face, red or blue (drainage, "
     "imbibition); omitted: what enters takes the colour of the face's cell, as at an outlet",
     config::one_of({"", "red", "blue"}));
+  v("profile", profile,
+    "velocity faces: uniform, or parabolic (fv): the value at the face's centre, falling as 4 s (1 - s) to zero "
+    "at the faces across each of its other axes that is not periodic (a channel's or, as a product, a duct's "
+    "inlet)",
+    config::one_of({"uniform", "parabolic"}));
   if (!v.reading()) return;
   const bool given = v.given("value");
+  if (profile != "uniform" && type != "velocity")
+    v.fail("profile", fmt::format("a {} boundary has no velocity profile; profile is for velocity faces", type));
   if (!phase.empty() && type != "pressure" && type != "velocity")
     v.fail("phase", fmt::format("a {} boundary lets nothing of a chosen colour in; phase is for pressure and velocity "
                                 "faces",
@@ -153,9 +160,17 @@ void FluidParams::initial_state(const config::Config& cfg, const Vec3& x, Vec3& 
   p += 0.25 * density * U * U * (std::cos(2 * X) + (kx * kx) / (ky * ky) * std::cos(2 * Y));
 }
 
+double BoundaryParams::profile_factor(int face, const double s[3], const config::Config& cfg) const {
+  if (profile != "parabolic") return 1.0;
+  double f = 1.0;
+  for (int a = 0; a < 3; ++a)
+    if (a != face / 2 && !cfg.domain.periodic[a] && cfg.domain.cells[a] > 1) f *= 4 * s[a] * (1 - s[a]);
+  return f;
+}
+
 BoundaryParams FluidParams::boundary(int face, const config::Config& cfg) const {
   const int axis = face / 2;
-  if (cfg.domain.periodic[axis]) return BoundaryParams{"periodic", {}, 0.0, "auto", ""};
+  if (cfg.domain.periodic[axis]) return BoundaryParams{"periodic", {}, 0.0, "auto", "", "uniform"};
   auto it = boundaries.find(face_names()[face]);
   return it == boundaries.end() ? BoundaryParams{} : it->second;
 }

@@ -16,12 +16,17 @@ using config::Vec3;
 
 // One face of the box: x-, x+, y-, y+, z-, z+.
 struct BoundaryParams {
-  std::string type = "wall";  // wall | pressure | velocity | outflow
+  std::string type = "wall";  // wall | pressure | velocity | outflow | symmetry
   config::Numbers value;      // pressure (Pa) or velocity (m/s)
   double ramp = 0.0;          // s: the value rises linearly from zero over this time
   std::string closure = "auto";  // lbm: regularized | zou-he | auto (the type's default)
   std::string phase;             // two-phase: red | blue enters here; "": the colour of the face's cell
+  std::string profile = "uniform";  // velocity faces: uniform | parabolic
   void visit(config::Visitor& v);
+  // The profile's factor at a point of the face: 1 (uniform), or the product
+  // over the face's other axes that end in faces (not periodic, more than one
+  // cell) of 4 s (1 - s), s the point's fraction of the box along that axis.
+  double profile_factor(int face, const double s[3], const config::Config& cfg) const;
 };
 
 inline const std::vector<std::string>& face_names() {

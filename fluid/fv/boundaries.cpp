@@ -11,20 +11,26 @@ namespace coflow::fluid {
 
 namespace {
 
-// f(index(m)) for every line along axis a of the padded block; index(m) is the
-// cell at m along a on that line (owned-relative, ghosts negative or >= n).
+// f(index, line) for every line along axis a of the padded block; index(m)
+// is the cell at m along a on that line (owned-relative, ghosts negative or
+// >= n), line its owned-relative coordinates (0 along a).
 template <class F>
 void for_lines(const grid::Block& b, int a, F&& f) {
   const int o1 = (a + 1) % 3, o2 = (a + 2) % 3;
   for (long s = -b.ghost[o2]; s < b.extent[o2] + b.ghost[o2]; ++s)
-    for (long r = -b.ghost[o1]; r < b.extent[o1] + b.ghost[o1]; ++r)
-      f([&](long m) {
-        long at[3];
-        at[a] = m;
-        at[o1] = r;
-        at[o2] = s;
-        return static_cast<std::size_t>(b.idx(at[0], at[1], at[2]));
-      });
+    for (long r = -b.ghost[o1]; r < b.extent[o1] + b.ghost[o1]; ++r) {
+      long line[3];
+      line[a] = 0;
+      line[o1] = r;
+      line[o2] = s;
+      f(
+          [&](long m) {
+            long at[3] = {line[0], line[1], line[2]};
+            at[a] = m;
+            return static_cast<std::size_t>(b.idx(at[0], at[1], at[2]));
+          },
+          static_cast<const long*>(line));
+    }
 }
 
 double ramped(double value, double ramp, double t) {
@@ -38,6 +44,21 @@ Vec3 FvSolver::Face::velocity_at(double t) const {
 }
 double FvSolver::Face::pressure_at(double t) const {
   return ramped(pressure, ramp, t);
+}
+
+// The factor of a parabolic velocity face at component c's place `x`
+// (owned-relative; u_c sits on a c-face, the others at centres): 4 s (1 - s)
+// across each shaped axis (BoundaryParams::profile_factor).
+double FvSolver::profile(int face, int c, const long* x) const {
+  const Face& f = faces_[static_cast<std::size_t>(face)];
+  double factor = 1.0;
+  for (int e = 0; e < 3; ++e) {
+    if (!f.shaped[static_cast<std::size_t>(e)]) continue;
+    const double s = (static_cast<double>(blk_.owned.lo[e] + x[e]) + (e == c ? 0.0 : 0.5)) /
+                     static_cast<double>(cells_[e]);
+    factor *= 4 * s * (1 - s);
+  }
+  return factor;
 }
 
 bool FvSolver::is_boundary_face(int c, long i) const {
@@ -62,7 +83,7 @@ void FvSolver::fill_face_ghosts(Field& u, int c, int a, int side, const Face& f,
   const long n = blk_.extent[a];
   const Vec3 U = f.velocity_at(t);
   const Field& top = top_[static_cast<std::size_t>(a)];
-  for_lines(blk_, a, [&](auto at) {
+  for_lines(blk_, a, [&](auto at, const long* line) {
     if (f.kind == Face::symmetry && c != a) {  // mirror: no shear
       if (side == 0) {
         u[at(-1)] = u[at(0)];
@@ -72,7 +93,7 @@ void FvSolver::fill_face_ghosts(Field& u, int c, int a, int side, const Face& f,
         u[at(n + 1)] = u[at(n - 2)];
       }
     } else if (f.kind != Face::open) {  // a wall's or velocity face's value (a symmetry face's normal: 0)
-      const double v = U[c];
+      const double v = U[c] * profile(2 * a + side, c, line);
       if (side == 0 && c == a) {
         u[at(0)] = v;
         u[at(-1)] = 2 * v - u[at(1)];
@@ -124,7 +145,7 @@ void FvSolver::fill_pressure_ghosts(Field& p, double t, bool increment, double t
           f.kind == Face::open ? (increment ? f.pressure_at(t) - f.pressure_at(t0) : f.pressure_at(t)) : 0;
       const double odd = f.kind == Face::open ? -1.0 : 1.0, base = f.kind == Face::open ? 2 * pb : 0.0;
       const long n = blk_.extent[a];
-      for_lines(blk_, a, [&](auto at) {
+      for_lines(blk_, a, [&](auto at, const long*) {
         for (long g = 1; g <= 2; ++g) {
           const long ghost = side == 0 ? -g : n - 1 + g, mirror = side == 0 ? g - 1 : n - g;
           p[at(ghost)] = base + odd * p[at(mirror)];
@@ -140,9 +161,9 @@ void FvSolver::extrapolate_open_faces(Faces& u) {
     const auto A = static_cast<std::size_t>(a);
     const long n = blk_.extent[a];
     if (faces_[2 * A].here && faces_[2 * A].kind == Face::open)
-      for_lines(blk_, a, [&](auto at) { u[A][at(0)] = u[A][at(1)]; });
+      for_lines(blk_, a, [&](auto at, const long*) { u[A][at(0)] = u[A][at(1)]; });
     if (faces_[2 * A + 1].here && faces_[2 * A + 1].kind == Face::open)
-      for_lines(blk_, a, [&](auto at) { top_[A][at(n - 1)] = u[A][at(n - 1)]; });
+      for_lines(blk_, a, [&](auto at, const long*) { top_[A][at(n - 1)] = u[A][at(n - 1)]; });
   }
 }
 

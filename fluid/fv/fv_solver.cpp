@@ -53,6 +53,9 @@ FvSolver::FvSolver(const Setup& s, const Params& p)
     } else if (b.type == "wall" || b.type == "velocity") {
       face.kind = Face::dirichlet;
       if (b.type == "velocity") face.velocity = {b.value.values[0], b.value.values[1], b.value.values[2]};
+      for (int e = 0; e < 3; ++e)
+        face.shaped[static_cast<std::size_t>(e)] =
+            b.profile == "parabolic" && e != a && !periodic_[static_cast<std::size_t>(e)];
     } else {
       face.kind = Face::open;
       has_open_ = true;

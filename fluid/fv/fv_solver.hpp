@@ -64,7 +64,8 @@ class FvSolver final : public FluidSolver {
     Vec3 velocity{0, 0, 0};
     double pressure = 0.0;
     double ramp = 0.0;
-    bool here = false;  // this rank's block touches it
+    bool here = false;             // this rank's block touches it
+    std::array<bool, 3> shaped{};  // a parabolic velocity face: the axes its profile spans
     Vec3 velocity_at(double t) const;
     double pressure_at(double t) const;
   };
@@ -84,6 +85,7 @@ class FvSolver final : public FluidSolver {
   void extrapolate_open_faces(Faces& u);
   bool is_boundary_face(int c, long i) const;  // a domain face of axis c: not an unknown
   bool is_dirichlet_face(int c, long i) const;
+  double profile(int face, int c, const long* x) const;
   // Momentum (momentum.cpp).
   void advection(const Faces& u, Faces& out) const;
   double advection_at(const Faces& u, int c, long n) const;

@@ -122,7 +122,7 @@ double FvSolver::viscous_rhs(int c, const long* at, long n, const fv::Imex& s, d
   if (is_boundary_face(c, at[c])) {
     const long g = blk_.owned.lo[c] + at[c];
     const Face& f = faces_[static_cast<std::size_t>(2 * c + (g == 0 ? 0 : 1))];
-    return f.kind == Face::open ? u_[C][n] : f.velocity_at(t1)[c];  // symmetry: 0
+    return f.kind == Face::open ? u_[C][n] : f.velocity_at(t1)[c] * profile(2 * c + (g == 0 ? 0 : 1), c, at);
   }
   const double nu = nu_;
   double r = (s.a1 * u_[C][n] - s.a2 * u_old_[C][n]) / dt + s.b0 * adv_[C][n] + s.b1 * adv_old_[C][n];
@@ -142,7 +142,8 @@ double FvSolver::viscous_rhs(int c, const long* at, long n, const fv::Imex& s, d
     for (int side = 0; side < 2; ++side) {
       const Neighbour kind = neighbour_kind(c, at, d, side);
       if (kind == Neighbour::inside || kind == Neighbour::open) continue;
-      const double U = faces_[static_cast<std::size_t>(2 * d + side)].velocity_at(t1)[c];
+      const double U =
+          faces_[static_cast<std::size_t>(2 * d + side)].velocity_at(t1)[c] * profile(2 * d + side, c, at);
       if (kind == Neighbour::wall_normal) r += k * U;
       if (kind == Neighbour::wall_tangential) {
         r += 8.0 / 3.0 * k * U;

@@ -35,6 +35,8 @@ FvReference::FvReference(const Setup& s, const Params& p)
                 : (b.type == "wall" || b.type == "velocity") ? Kind::wall
                                                              : Kind::open;
     if (b.type == "velocity") side.velocity = {b.value.values[0], b.value.values[1], b.value.values[2]};
+    for (int e = 0; e < 3; ++e)
+      side.shaped[e] = b.profile == "parabolic" && e != f / 2 && !d.periodic[e] && n_[e] > 1;
     if (b.type == "pressure") side.pressure = b.value.values[0];
     has_open_ = has_open_ || side.kind == Kind::open;
   }
@@ -62,14 +64,14 @@ FvReference::FvReference(const Setup& s, const Params& p)
   velocity_ghosts(u_, 0.0, true, false);
 }
 
-// f(o) for each line along axis a of the padded grid, o its cell at index 0 along a.
+// f(o, x) for each line along axis a of the padded grid, o (x) its cell at index 0 along a.
 template <class F>
 void FvReference::for_lines(int a, F&& f) const {
   for (long k = -g_[2]; k < n_[2] + g_[2]; ++k)
     for (long j = -g_[1]; j < n_[1] + g_[1]; ++j)
       for (long i = -g_[0]; i < n_[0] + g_[0]; ++i) {
         const long x[3] = {i, j, k};
-        if (x[a] == 0) f(at(x));
+        if (x[a] == 0) f(at(x), static_cast<const long*>(x));
       }
 }
 
@@ -94,6 +96,18 @@ double FvReference::side_pressure(int face, double t) const {
   return s.ramp > 0 ? s.pressure * std::min(1.0, t / s.ramp) : s.pressure;
 }
 
+// A parabolic velocity face's factor at u_c's place x (a c-face; the other
+// components at centres): 4 s (1 - s) across each axis the profile spans.
+double FvReference::profile(int face, int c, const long* x) const {
+  double factor = 1.0;
+  for (int e = 0; e < 3; ++e) {
+    if (!sides_[face].shaped[e]) continue;
+    const double s = (static_cast<double>(x[e]) + (e == c ? 0.0 : 0.5)) / static_cast<double>(n_[e]);
+    factor *= 4 * s * (1 - s);
+  }
+  return factor;
+}
+
 // Faces on the domain's boundary along a non-periodic axis are not unknowns.
 bool FvReference::unknown(int c, long i) const {
   return sides_[2 * c].kind == Kind::periodic || (i > 0 && i < n_[c]);
@@ -107,7 +121,7 @@ bool FvReference::unknown(int c, long i) const {
 void FvReference::velocity_ghosts(Faces& u, double t, bool keep_open, bool zero) const {
   for (int a = 0; a < dims_; ++a) {
     const long n = n_[a], s = step_of(a);
-    for_lines(a, [&](long o) {  // o: index 0 along a on the line
+    for_lines(a, [&](long o, const long* x) {  // o, x: index 0 along a on the line
       auto q = [&](Field& f, long m) -> double& { return f[static_cast<std::size_t>(o + m * s)]; };
       for (int c = 0; c < dims_; ++c) {
         Field& f = u[static_cast<std::size_t>(c)];
@@ -117,7 +131,7 @@ void FvReference::velocity_ghosts(Faces& u, double t, bool keep_open, bool zero)
         }
         for (int side = 0; side < 2; ++side) {
           const Side& sd = sides_[2 * a + side];
-          const double v = zero ? 0.0 : side_velocity(2 * a + side, t)[c];
+          const double v = zero ? 0.0 : side_velocity(2 * a + side, t)[c] * profile(2 * a + side, c, x);
           const long b = side == 0 ? 0 : n - 1, dir = side == 0 ? -1 : 1;  // last cell, outwards
           if (sd.kind == Kind::symmetry && c != a) {                       // mirrored: no shear
             q(f, b + dir) = q(f, b);
@@ -235,7 +249,7 @@ void FvReference::conjugate_gradients(Apply&& apply, const std::vector<long>& ro
 void FvReference::pressure_ghosts(Field& p, const double open_value[6]) const {
   for (int a = 0; a < dims_; ++a) {
     const long n = n_[a], s = step_of(a);
-    for_lines(a, [&](long o) {
+    for_lines(a, [&](long o, const long*) {
       auto q = [&](long m) -> double& { return p[static_cast<std::size_t>(o + m * s)]; };
       if (sides_[2 * a].kind == Kind::periodic) {
         q(-1) = q(n - 1), q(-2) = q(n - 2), q(n) = q(0), q(n + 1) = q(1);

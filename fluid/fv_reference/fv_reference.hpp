@@ -44,6 +44,7 @@ class FvReference final : public FluidSolver {
     Kind kind = Kind::periodic;
     Vec3 velocity{0, 0, 0};
     double pressure = 0.0, ramp = 0.0;
+    bool shaped[3] = {false, false, false};  // a parabolic velocity face: the axes its profile spans
   };
 
   long at(long i, long j, long k) const { return ((k + g_[2]) * m_[1] + (j + g_[1])) * m_[0] + (i + g_[0]); }
@@ -55,7 +56,8 @@ class FvReference final : public FluidSolver {
   void for_lines(int a, F&& f) const;
   Vec3 side_velocity(int face, double t) const;
   double side_pressure(int face, double t) const;
-  bool unknown(int c, long i) const;  // the face of u_c at index i along c is solved for
+  bool unknown(int c, long i) const;
+  double profile(int face, int c, const long* x) const;  // the face of u_c at index i along c is solved for
 
   // Ghosts of the velocity at time t. keep_open: the normal velocity on an
   // open face stays (else it becomes the first face inside's); zero: the faces'

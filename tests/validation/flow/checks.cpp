@@ -59,7 +59,9 @@ int profile(const std::string& dir) {
         const double y = (j + 0.5) * h[1], z = (k + 0.5) * h[2];
         const double H = ny * h[1], W = nz * h[2];
         double ua;
-        if (couette)  // lbm's moving wall is its last cells' centres (Zou-He velocity face)
+        if (b_xm.type == "velocity" && b_xm.profile == "parabolic")  // a parabolic inlet: the channel's profile
+          ua = 4 * b_xm.value.values[0] * (y / H) * (1 - y / H);
+        else if (couette)  // lbm's moving wall is its last cells' centres (Zou-He velocity face)
           ua = b_yp.value.values[0] * y / ((fv ? ny : ny - 0.5) * h[1]);
         else if (duct_flow)
           ua = duct(y - H / 2, z - W / 2, H / 2, W / 2, G, mu);

@@ -67,3 +67,12 @@ coflow_validation(fv_vs_reference_symmetry compare fv_all_boundaries_3d.yaml 1
   "fluid.solver=fv ${fv_sym_sets}" "fluid.solver=fv-reference ${fv_sym_sets}")
 coflow_validation(fv_ranks_1_vs_4_symmetry compare fv_all_boundaries_3d.yaml 4
   "fluid.ranks=1 ${fv_sym_sets}" "fluid.ranks=4 fluid.decomposition=[1,2,2] ${fv_sym_sets}")
+# A parabolic velocity inlet and an outflow face: plane Poiseuille flow from
+# the inlet on; fv against fv-reference and 1 rank against 2 (the inlet's
+# profile cut between blocks) at 400 s, still developing.
+coflow_validation(fv_channel_inlet profile fv_channel_inlet.yaml 1)
+set(fv_inlet_sets "run.end_time=400.0 run.output.every=400.0")
+coflow_validation(fv_vs_reference_inlet compare fv_channel_inlet.yaml 1
+  "fluid.solver=fv ${fv_inlet_sets}" "fluid.solver=fv-reference ${fv_inlet_sets}")
+coflow_validation(fv_ranks_1_vs_2_inlet compare fv_channel_inlet.yaml 2
+  "fluid.ranks=1 ${fv_inlet_sets}" "fluid.ranks=2 fluid.decomposition=[1,2,1] ${fv_inlet_sets}")

@@ -75,9 +75,13 @@ void visit_variant_sections(config::Visitor& v, const config::Config& cfg, const
       v.section(e.params_section, fmt::format("parameters of solver {}", e.name),
                 [&](config::Visitor& sub) { chosen->visit(sub, v.reading() ? &cfg : nullptr); });
     } else if (v.given(e.params_section)) {
+      // Said once per section (lbm and lbm-reference share one), and its keys
+      // are not reported again as unknown.
+      done.push_back(e.params_section);
       v.fail(e.params_section, fmt::format("only used with solver: {} (this run uses solver: {}); "
                                            "remove the section or change the solver",
                                            e.name, info.variant));
+      v.section(e.params_section, "", [](config::Visitor& sub) { sub.accept_other_keys(); });
     }
   }
 }

@@ -171,7 +171,7 @@ void FvSolver::step(double dt) {
   std::swap(adv_old_, adv_);
   if (have_source_) source_old_ = source_;
   dt_prev_ = dt;
-  time_ += dt;
+  time_ = next_time_;
   ++steps_;
   ++window_steps_;
   last_dt_ = dt;
@@ -194,10 +194,10 @@ void FvSolver::advance(double window) {
       dt = fv::next_step(limit, dt_prev_, end - time_);
       left = std::max(1L, std::lround((end - time_) / dt));
     }
+    next_time_ = left == 1 ? end : time_ + dt;  // the window's last step lands on its end exactly
     step(dt);
     if (--left == 0) break;
   }
-  time_ = end;
   max_divergence_ = max_divergence(u_);
 }
 

@@ -152,6 +152,7 @@ class FvSolver final : public FluidSolver {
   bool have_source_ = false;
 
   double time_ = 0.0, dt_prev_ = 0.0;
+  double next_time_ = 0.0;  // the time the step under way reaches
   long steps_ = 0;
   // Of the last window: steps, the last step, the largest Poisson iterations
   // and the largest divergence after projection.

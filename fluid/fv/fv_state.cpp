@@ -109,10 +109,14 @@ void FvSolver::save(const std::string& dir) {
                           {"pressure", 1, p},
                           {"pressure_increment", 1, phi},
                           {"source_previous", 3, src}});
-  if (rank_ != 0) return;
-  std::ofstream clock(dir + "/fv_clock.txt");
-  clock << fmt::format("{} {:a} {:a}\n", steps_, time_, dt_prev_);
-  if (!clock) throw std::runtime_error(fmt::format("fv: cannot write {}/fv_clock.txt", dir));
+  int written = 1;  // rank 0 writes the clock; every rank learns whether it could
+  if (rank_ == 0) {
+    std::ofstream clock(dir + "/fv_clock.txt");
+    clock << fmt::format("{} {:a} {:a}\n", steps_, time_, dt_prev_);
+    written = clock ? 1 : 0;
+  }
+  MPI_Bcast(&written, 1, MPI_INT, 0, comm_);
+  if (!written) throw std::runtime_error(fmt::format("fv: cannot write {}/fv_clock.txt", dir));
 }
 
 void FvSolver::load(const std::string& dir, long, double) {

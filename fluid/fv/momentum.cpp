@@ -118,7 +118,7 @@ FvSolver::Neighbour FvSolver::neighbour_kind(int c, const long* at, int d, int s
 // values of the new time.
 double FvSolver::viscous_rhs(int c, const long* at, long n, const fv::Imex& s, double dt) const {
   const auto C = static_cast<std::size_t>(c);
-  const double t1 = time_ + dt;
+  const double t1 = next_time_;
   if (is_boundary_face(c, at[c])) {
     const long g = blk_.owned.lo[c] + at[c];
     const Face& f = faces_[static_cast<std::size_t>(2 * c + (g == 0 ? 0 : 1))];

@@ -222,6 +222,10 @@ void FvReference::conjugate_gradients(Apply&& apply, const std::vector<long>& ro
     rr += r[I] * r[I];
     bb += b[I] * b[I];
   }
+  if (bb == 0.0) {  // as hypre: the solution of A x = 0 is 0
+    for (long i : rows) x[static_cast<std::size_t>(i)] = 0.0;
+    return;
+  }
   const double stop = opt_.tolerance * opt_.tolerance * bb;
   const long limit = 20 * static_cast<long>(rows.size()) + 100;
   for (long it = 0; rr > stop; ++it) {
@@ -278,7 +282,7 @@ double FvReference::divergence_at(const Faces& u, long n) const {
 // u* to the advection's, diffusion's and old pressure's provisional velocity,
 // each component's implicit system solved by conjugate gradients.
 void FvReference::momentum(const fv::Imex& s, double dt, bool with_pressure) {
-  const double t1 = time_ + dt;
+  const double t1 = next_time_;
   for (int c = 0; c < dims_; ++c)
     each_cell([&](const long* x, std::size_t n) {
       adv_[static_cast<std::size_t>(c)][n] =
@@ -350,7 +354,7 @@ void FvReference::correct(Faces& u, double factor) const {
 // cell by cell: -lap(phi) = -(rho a0 / dt) div(u*), phi on an open face its
 // pressure change (the pressure itself on the first step).
 void FvReference::project(const fv::Imex& s, double dt, bool incremental) {
-  const double t0 = time_, t1 = time_ + dt, factor = rho_ * s.a0 / dt;
+  const double t0 = time_, t1 = next_time_, factor = rho_ * s.a0 / dt;
   double change[6] = {0, 0, 0, 0, 0, 0}, none[6] = {0, 0, 0, 0, 0, 0};
   for (int f = 0; f < 6; ++f)
     if (sides_[f].kind == Kind::open)
@@ -423,17 +427,17 @@ void FvReference::advance(double window) {
     const fv::Imex s = steps_ == 0            ? fv::Imex::first()
                        : opt_.time == "cnab2" ? fv::Imex::cnab2(omega)
                                               : fv::Imex::sbdf2(omega);
+    next_time_ = left == 1 ? end : time_ + dt;  // the window's last step lands on its end exactly
     momentum(s, dt, steps_ > 0);
     project(s, dt, steps_ > 0);
     adv_old_.swap(adv_);
     source_old_ = source_;
     dt_prev_ = last_dt_ = dt;
-    time_ += dt;
+    time_ = next_time_;
     ++steps_;
     ++window_steps_;
     if (--left == 0) break;
   }
-  time_ = end;
 }
 
 std::vector<output::GridField> FvReference::fields(const config::StringList& names) {

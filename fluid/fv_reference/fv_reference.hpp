@@ -56,8 +56,8 @@ class FvReference final : public FluidSolver {
   void for_lines(int a, F&& f) const;
   Vec3 side_velocity(int face, double t) const;
   double side_pressure(int face, double t) const;
-  bool unknown(int c, long i) const;
-  double profile(int face, int c, const long* x) const;  // the face of u_c at index i along c is solved for
+  bool unknown(int c, long i) const;  // the face of u_c at index i along c is solved for
+  double profile(int face, int c, const long* x) const;
 
   // Ghosts of the velocity at time t. keep_open: the normal velocity on an
   // open face stays (else it becomes the first face inside's); zero: the faces'
@@ -91,7 +91,7 @@ class FvReference final : public FluidSolver {
   bool has_open_ = false;
   Faces u_, u_old_, adv_, adv_old_, source_, source_old_;  // source: at the cells, the last step's too
   Field p_, phi_;
-  double time_ = 0.0, dt_prev_ = 0.0, last_dt_ = 0.0;
+  double time_ = 0.0, dt_prev_ = 0.0, last_dt_ = 0.0, next_time_ = 0.0;
   long steps_ = 0, window_steps_ = 0;
   int poisson_iterations_ = 0;
   std::vector<double> out_u_, out_p_, out_rho_, out_div_;

@@ -155,16 +155,51 @@ void FvSolver::fill_pressure_ghosts(Field& p, double t, bool increment, double t
 }
 
 // The normal velocity through an open face before the projection: that of the
-// first face inside (zero gradient); the upper one goes to top_.
-void FvSolver::extrapolate_open_faces(Faces& u) {
+// first face inside (zero gradient) at a pressure face; at an outflow face the
+// convective condition du/dt + U du/dn = 0 (Orlanski 1976's radiation
+// condition with the phase speed U set to the face's mean outward velocity),
+// upwind from the first face inside. The upper face's
+// value goes to top_.
+void FvSolver::extrapolate_open_faces(Faces& u, double dt) {
   for (int a = 0; a < dims_; ++a) {
     const auto A = static_cast<std::size_t>(a);
     const long n = blk_.extent[a];
-    if (faces_[2 * A].here && faces_[2 * A].kind == Face::open)
-      for_lines(blk_, a, [&](auto at, const long*) { u[A][at(0)] = u[A][at(1)]; });
-    if (faces_[2 * A + 1].here && faces_[2 * A + 1].kind == Face::open)
-      for_lines(blk_, a, [&](auto at, const long*) { top_[A][at(n - 1)] = u[A][at(n - 1)]; });
+    const double k = dt / h_[a];
+    for (int side = 0; side < 2; ++side) {
+      const Face& f = faces_[2 * A + static_cast<std::size_t>(side)];
+      if (f.kind != Face::open) continue;
+      const double U = f.convective ? outflow_speed(2 * a + side) : 0.0;  // collective
+      if (!f.here) continue;
+      if (side == 0 && !f.convective)
+        for_lines(blk_, a, [&](auto at, const long*) { u[A][at(0)] = u[A][at(1)]; });
+      else if (side == 0)
+        for_lines(blk_, a, [&](auto at, const long*) {
+          u[A][at(0)] = u_[A][at(0)] - k * U * (u_[A][at(0)] - u_[A][at(1)]);
+        });
+      else if (!f.convective)
+        for_lines(blk_, a, [&](auto at, const long*) { top_[A][at(n - 1)] = u[A][at(n - 1)]; });
+      else
+        for_lines(blk_, a, [&](auto at, const long*) {
+          top_[A][at(n - 1)] -= k * U * (top_[A][at(n - 1)] - u_[A][at(n - 1)]);
+        });
+    }
   }
+}
+
+// The mean outward normal velocity of the last step on an outflow face (0 if
+// the mean flows in); collective.
+double FvSolver::outflow_speed(int face) const {
+  const int a = face / 2, side = face % 2;
+  const auto A = static_cast<std::size_t>(a);
+  double sum = 0.0;
+  if (faces_[static_cast<std::size_t>(face)].here)
+    for_owned([&](const long* at, long n, long) {
+      if (side == 0 && at[a] == 0) sum -= u_[A][static_cast<std::size_t>(n)];
+      if (side == 1 && at[a] == blk_.extent[a] - 1) sum += top_[A][static_cast<std::size_t>(n)];
+    });
+  MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_DOUBLE, MPI_SUM, comm_);
+  const double area = static_cast<double>(cells_[0] * cells_[1] * cells_[2] / cells_[a]);
+  return std::max(0.0, sum / area);
 }
 
 }  // namespace coflow::fluid

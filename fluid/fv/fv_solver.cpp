@@ -58,6 +58,7 @@ FvSolver::FvSolver(const Setup& s, const Params& p)
             b.profile == "parabolic" && e != a && !periodic_[static_cast<std::size_t>(e)];
     } else {
       face.kind = Face::open;
+      face.convective = b.type == "outflow";
       has_open_ = true;
       if (b.type == "pressure") face.pressure = b.value.values[0];
     }

@@ -65,6 +65,7 @@ class FvSolver final : public FluidSolver {
     double pressure = 0.0;
     double ramp = 0.0;
     bool here = false;             // this rank's block touches it
+    bool convective = false;       // an outflow face: du/dt + U du/dn = 0
     std::array<bool, 3> shaped{};  // a parabolic velocity face: the axes its profile spans
     Vec3 velocity_at(double t) const;
     double pressure_at(double t) const;
@@ -82,7 +83,8 @@ class FvSolver final : public FluidSolver {
   void fill_ghosts(Faces& u, double t);
   void fill_face_ghosts(Field& u, int c, int a, int side, const Face& f, double t) const;
   void fill_pressure_ghosts(Field& p, double t, bool increment, double t0);
-  void extrapolate_open_faces(Faces& u);
+  void extrapolate_open_faces(Faces& u, double dt);
+  double outflow_speed(int face) const;
   bool is_boundary_face(int c, long i) const;  // a domain face of axis c: not an unknown
   bool is_dirichlet_face(int c, long i) const;
   double profile(int face, int c, const long* x) const;

@@ -70,7 +70,7 @@ void FvSolver::poisson_rhs(double factor, double t0, double t1, bool incremental
 
 void FvSolver::project(const fv::Imex& s, double dt, bool incremental) {
   const double t0 = time_, t1 = next_time_, factor = rho_ * s.a0 / dt;
-  extrapolate_open_faces(ustar_);
+  extrapolate_open_faces(ustar_, dt);
   fill_ghosts(ustar_, t1);
   poisson_rhs(factor, t0, t1, incremental);
   const double start = MPI_Wtime();

@@ -38,6 +38,7 @@ FvReference::FvReference(const Setup& s, const Params& p)
     for (int e = 0; e < 3; ++e)
       side.shaped[e] = b.profile == "parabolic" && e != f / 2 && !d.periodic[e] && n_[e] > 1;
     if (b.type == "pressure") side.pressure = b.value.values[0];
+    side.pressure_face = b.type == "pressure";
     has_open_ = has_open_ || side.kind == Kind::open;
   }
   const std::size_t size = static_cast<std::size_t>(m_[0] * m_[1] * m_[2]);
@@ -330,8 +331,38 @@ void FvReference::momentum(const fv::Imex& s, double dt, bool with_pressure) {
     for (long i : rows) star[C][static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(i)];
   }
   velocity_ghosts(star, t1, false, false);  // walls' values, open faces extrapolated
+  if (convect_outflow(star, dt)) velocity_ghosts(star, t1, true, false);
   u_old_.swap(u_);
   u_.swap(star);  // u_ holds u* until the projection
+}
+
+// An outflow face's normal velocity before the projection: du/dt + U du/dn = 0
+// with U the face's mean outward velocity of the last step (fv's
+// boundaries.cpp), upwind from the first face inside. False: no outflow face.
+bool FvReference::convect_outflow(Faces& star, double dt) const {
+  bool any = false;
+  for (int face = 0; face < 6; ++face) {
+    const int a = face / 2, side = face % 2;
+    if (a >= dims_ || sides_[face].kind != Kind::open || sides_[face].pressure_face) continue;
+    any = true;
+    const auto A = static_cast<std::size_t>(a);
+    const long s = step_of(a), b = side == 0 ? 0 : n_[a];  // the boundary face's index along a
+    const long in = side == 0 ? 1 : -1;                    // towards the first face inside
+    double sum = 0.0;
+    each_cell([&](const long* x, std::size_t n) {
+      if (x[a] != 0) return;
+      const double v = u_[A][n + static_cast<std::size_t>(b * s)];
+      sum += side == 0 ? -v : v;
+    });
+    const double U = std::max(0.0, sum / static_cast<double>(n_[0] * n_[1] * n_[2] / n_[a]));
+    each_cell([&](const long* x, std::size_t n) {
+      if (x[a] != 0) return;
+      const auto face_at = n + static_cast<std::size_t>(b * s),
+                 inside = face_at + static_cast<std::size_t>(in * s);
+      star[A][face_at] = u_[A][face_at] - dt / h_[a] * U * (u_[A][face_at] - u_[A][inside]);
+    });
+  }
+  return any;
 }
 
 // u = u* - dt / (rho a0) grad(phi) on the unknown faces and the open ones.

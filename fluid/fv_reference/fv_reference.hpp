@@ -45,6 +45,7 @@ class FvReference final : public FluidSolver {
     Vec3 velocity{0, 0, 0};
     double pressure = 0.0, ramp = 0.0;
     bool shaped[3] = {false, false, false};  // a parabolic velocity face: the axes its profile spans
+    bool pressure_face = false;              // open: a pressure face (else an outflow face)
   };
 
   long at(long i, long j, long k) const { return ((k + g_[2]) * m_[1] + (j + g_[1])) * m_[0] + (i + g_[0]); }
@@ -68,6 +69,7 @@ class FvReference final : public FluidSolver {
   void pressure_ghosts(Field& p, const double open_value[6]) const;
   double divergence_at(const Faces& u, long n) const;
   void correct(Faces& u, double factor) const;
+  bool convect_outflow(Faces& star, double dt) const;
   double advection_at(const Faces& u, int c, long n) const;
   double laplacian_at(const Field& q, long n) const;
   void momentum(const fv::Imex& s, double dt, bool with_pressure);

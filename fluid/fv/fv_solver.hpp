@@ -39,6 +39,7 @@ class FvSolver final : public FluidSolver {
   std::vector<output::GridField> fields(const config::StringList& names) override;
   Diagnostics diagnostics() override;
   std::vector<output::Series::Column> series_columns() const override { return columns(); }
+  static Diagnostics cell_diagnostics(const std::vector<double>& centre_velocity, double cell_mass);
   // The columns fv adds to series/fluid.csv (fv-reference adds the same).
   static std::vector<output::Series::Column> columns();
   void set_source(std::span<const double> force_density) override;

@@ -36,25 +36,32 @@ std::vector<output::GridField> FvSolver::fields(const config::StringList& names)
   return f;
 }
 
-// Mass, momentum and kinetic energy of the cells (velocity at their centres).
+// Mass, momentum and kinetic energy of this rank's cells from their centre
+// velocities (3 per cell), cells of mass m; fv-reference's too.
+Diagnostics FvSolver::cell_diagnostics(const std::vector<double>& u, double m) {
+  Diagnostics d;
+  for (std::size_t o = 0; 3 * o < u.size(); ++o) {
+    double u2 = 0.0;
+    for (std::size_t c = 0; c < 3; ++c) {
+      d.momentum[c] += m * u[3 * o + c];
+      u2 += u[3 * o + c] * u[3 * o + c];
+    }
+    d.mass += m;
+    d.kinetic_energy += 0.5 * m * u2;
+    d.max_velocity = std::max(d.max_velocity, std::sqrt(u2));
+  }
+  return d;
+}
+
 Diagnostics FvSolver::diagnostics() {
   fields({});
-  const double vol = h_[0] * h_[1] * h_[2], m = rho_ * vol;
-  double sums[5] = {0, 0, 0, 0, 0}, umax = 0.0;
-  for (std::size_t o = 0; o < out_rho_.size(); ++o) {
-    double u2 = 0.0;
-    for (int c = 0; c < 3; ++c) {
-      const double u = out_u_[3 * o + static_cast<std::size_t>(c)];
-      sums[1 + c] += m * u;
-      u2 += u * u;
-    }
-    sums[0] += m;
-    sums[4] += 0.5 * m * u2;
-    umax = std::max(umax, std::sqrt(u2));
-  }
+  Diagnostics d = cell_diagnostics(out_u_, rho_ * h_[0] * h_[1] * h_[2]);
+  double sums[5] = {d.mass, d.momentum[0], d.momentum[1], d.momentum[2], d.kinetic_energy};
   MPI_Allreduce(MPI_IN_PLACE, sums, 5, MPI_DOUBLE, MPI_SUM, comm_);
-  MPI_Allreduce(MPI_IN_PLACE, &umax, 1, MPI_DOUBLE, MPI_MAX, comm_);
-  Diagnostics d{sums[0], {sums[1], sums[2], sums[3]}, sums[4], umax, 0.0, {}};
+  MPI_Allreduce(MPI_IN_PLACE, &d.max_velocity, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  d.mass = sums[0];
+  d.momentum = {sums[1], sums[2], sums[3]};
+  d.kinetic_energy = sums[4];
   d.extra = {static_cast<double>(window_steps_), last_dt_, static_cast<double>(poisson_iterations_),
              static_cast<double>(viscous_iterations_), max_divergence_};
   return d;

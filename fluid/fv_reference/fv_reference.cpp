@@ -500,21 +500,9 @@ std::vector<output::GridField> FvReference::fields(const config::StringList& nam
 
 Diagnostics FvReference::diagnostics() {
   fields({});
-  const double m = rho_ * h_[0] * h_[1] * h_[2];
-  Diagnostics d;
+  Diagnostics d = FvSolver::cell_diagnostics(out_u_, rho_ * h_[0] * h_[1] * h_[2]);
   double div = 0.0;
-  for (std::size_t o = 0; o < out_rho_.size(); ++o) {
-    double u2 = 0.0;
-    for (int c = 0; c < 3; ++c) {
-      const double u = out_u_[3 * o + static_cast<std::size_t>(c)];
-      d.momentum[c] += m * u;
-      u2 += u * u;
-    }
-    d.mass += m;
-    d.kinetic_energy += 0.5 * m * u2;
-    d.max_velocity = std::max(d.max_velocity, std::sqrt(u2));
-    div = std::max(div, std::abs(out_div_[o]));
-  }
+  for (double v : out_div_) div = std::max(div, std::abs(v));
   d.extra = {static_cast<double>(window_steps_), last_dt_, 0.0, 0.0, div};
   return d;
 }

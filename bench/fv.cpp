@@ -31,6 +31,7 @@
 
 #include "coflow/catalog.hpp"
 #include "coflow/log.hpp"
+#include "fluid/driver.hpp"
 #include "fluid/fv/fv_solver.hpp"
 
 using namespace coflow;
@@ -63,14 +64,11 @@ fluid:
 Result run_fv(int n, int dims, double dt, long steps) {
   const config::Config cfg =
       config::parse_config_node(YAML::Load(cavity_yaml(n, dims, dt)), "bench-fv", catalog());
-  fluid::FluidParams fp;
-  config::Reader r(cfg.resolved["fluid"], "bench-fv", "fluid");
-  fp.visit(r, cfg);
-  fluid::fv::FvParams p;
-  config::Reader rp(cfg.resolved["fluid"]["fv"], "bench-fv", "fluid.fv");
-  p.visit(rp);
+  const fluid::FluidParams fp = fluid::read_params(cfg);
   const auto& c = cfg.domain.cells;
-  fluid::FvSolver fv({cfg, fp, coupler::Decomposition({c[0], c[1], c[2]}, 1), 0, MPI_COMM_WORLD}, p);
+  const auto solver =
+      fluid::make_solver({cfg, fp, coupler::Decomposition({c[0], c[1], c[2]}, 1), 0, MPI_COMM_WORLD});
+  auto& fv = dynamic_cast<fluid::FvSolver&>(*solver);
   fv.advance(steps * dt);  // warm-up: the vortex forms
   const auto w0 = fv.work();
   fv.advance(steps * dt);

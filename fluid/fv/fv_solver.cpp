@@ -170,7 +170,10 @@ void FvSolver::step(double dt) {
   std::swap(u_old_, u_);
   std::swap(u_, ustar_);
   std::swap(adv_old_, adv_);
-  if (have_source_) source_old_ = source_;
+  if (source_fresh_) {  // the last step's source: a copy only when set_source gave a new one
+    source_old_ = source_;
+    source_fresh_ = false;
+  }
   dt_prev_ = dt;
   time_ = next_time_;
   ++steps_;

@@ -39,6 +39,11 @@ class FvSolver final : public FluidSolver {
   std::vector<output::GridField> fields(const config::StringList& names) override;
   Diagnostics diagnostics() override;
   std::vector<output::Series::Column> series_columns() const override { return columns(); }
+  static std::vector<output::GridField> named_fields(const config::StringList& names,
+                                                     const std::vector<double>& u,
+                                                     const std::vector<double>& p,
+                                                     const std::vector<double>& rho,
+                                                     const std::vector<double>& div);
   static Diagnostics cell_diagnostics(const std::vector<double>& centre_velocity, double cell_mass);
   // The columns fv adds to series/fluid.csv (fv-reference adds the same).
   static std::vector<output::Series::Column> columns();
@@ -152,7 +157,7 @@ class FvSolver final : public FluidSolver {
   std::array<std::unique_ptr<fv::StructSystem>, 3> viscous_;
   std::array<double, 3> viscous_key_{0, 0, 0},
       viscous_theta_{0, 0, 0};  // a0/dt and theta nu of the matrices set
-  bool have_source_ = false;
+  bool have_source_ = false, source_fresh_ = false;  // fresh: set since the last step
 
   double time_ = 0.0, dt_prev_ = 0.0;
   double next_time_ = 0.0;  // the time the step under way reaches

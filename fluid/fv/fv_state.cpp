@@ -26,12 +26,22 @@ std::vector<output::GridField> FvSolver::fields(const config::StringList& names)
     }
     out_div_[O] = divergence_at(u_, n);
   });
+  return named_fields(names, out_u_, out_p_, out_rho_, out_div_);
+}
+
+// The snapshot fields by name from their arrays over the owned cells (also
+// fv-reference's).
+std::vector<output::GridField> FvSolver::named_fields(const config::StringList& names,
+                                                      const std::vector<double>& u,
+                                                      const std::vector<double>& p,
+                                                      const std::vector<double>& rho,
+                                                      const std::vector<double>& div) {
   std::vector<output::GridField> f;
   for (const auto& n : names) {
-    if (n == "velocity") f.push_back({n, 3, out_u_});
-    if (n == "pressure") f.push_back({n, 1, out_p_});
-    if (n == "density") f.push_back({n, 1, out_rho_});
-    if (n == "divergence") f.push_back({n, 1, out_div_});
+    if (n == "velocity") f.push_back({n, 3, u});
+    if (n == "pressure") f.push_back({n, 1, p});
+    if (n == "density") f.push_back({n, 1, rho});
+    if (n == "divergence") f.push_back({n, 1, div});
   }
   return f;
 }
@@ -85,7 +95,7 @@ void FvSolver::set_source(std::span<const double> force_density) {
         [&](const long*, long n, long o) { s[n] = force_density[3 * static_cast<std::size_t>(o) + c]; });
     ex_.exchange(s);
   }
-  have_source_ = true;
+  have_source_ = source_fresh_ = true;
 }
 
 namespace {

@@ -488,14 +488,7 @@ std::vector<output::GridField> FvReference::fields(const config::StringList& nam
     out_div_[o] = divergence_at(u_, static_cast<long>(n));
     ++o;
   });
-  std::vector<output::GridField> f;
-  for (const auto& name : names) {
-    if (name == "velocity") f.push_back({name, 3, out_u_});
-    if (name == "pressure") f.push_back({name, 1, out_p_});
-    if (name == "density") f.push_back({name, 1, out_rho_});
-    if (name == "divergence") f.push_back({name, 1, out_div_});
-  }
-  return f;
+  return FvSolver::named_fields(names, out_u_, out_p_, out_rho_, out_div_);
 }
 
 Diagnostics FvReference::diagnostics() {

@@ -94,6 +94,14 @@ void FluidParams::visit(config::Visitor& v, const config::Config& cfg) {
         if (!s.reading() || two_phase.on) two_phase.visit(s);
       },
       &two_phase.on);
+  v.section(
+      "turbulence",
+      "fv: the Reynolds-averaged closure, k-epsilon with the two-layer wall model (seed 003 §3.1.1); omit for "
+      "laminar flow",
+      [&](config::Visitor& s) {
+        if (!s.reading() || turbulence.on) turbulence.visit(s);
+      },
+      &turbulence.on);
   visit_solids(v, cfg, solids);
   if (!v.reading()) return;
   check_solids(v, cfg);

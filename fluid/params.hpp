@@ -8,6 +8,7 @@
 
 #include "coflow/config.hpp"
 #include "coflow/run_config.hpp"
+#include "fluid/turbulence_params.hpp"
 #include "fluid/two_phase_params.hpp"
 
 namespace coflow::fluid {
@@ -45,6 +46,7 @@ struct FluidParams {
   std::string initial_field = "uniform";  // uniform | taylor-green
   double initial_amplitude = 0.0;          // taylor-green: U0, m/s
   TwoPhaseParams two_phase;                // two_phase.on: the section is given
+  TurbulenceParams turbulence;             // turbulence.on: the section is given (fv)
   std::vector<PhaseRegion> initial_phase;  // two-phase: painted regions
   std::vector<SolidParams> solids;         // interior solids
   void visit(config::Visitor& v, const config::Config& cfg);

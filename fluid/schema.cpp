@@ -39,15 +39,21 @@ const std::vector<VariantSchema>& variant_schemas() {
 
 namespace {
 
+// fluid.turbulence is given (the resolved file names its model).
+bool turbulent(const config::Config& cfg) {
+  return !config::resolved_text(cfg, {"fluid", "turbulence", "model"}).empty();
+}
+
 // lbm takes the solids of psm and returns the force on them (with two fluids
 // it also takes their wetting: immersed's contract); analytic is a
 // prescribed flow (with turbulence) that nothing feeds back into.
-config::Contract contract(const config::Config&, const std::string& variant) {
+config::Contract contract(const config::Config& cfg, const std::string& variant) {
   namespace f = config::fields;
   config::Contract c;
   if (variant == "lbm" || variant == "lbm-reference") c.provides = {f::velocity, f::pressure, f::solid_force};
   if (variant == "analytic") c.provides = {f::velocity, f::pressure, f::k, f::epsilon};
   if (variant == "fv" || variant == "fv-reference") c.provides = {f::velocity, f::pressure};
+  if (variant == "fv" && turbulent(cfg)) c.provides = {f::velocity, f::pressure, f::k, f::epsilon};
   return c;
 }
 
@@ -56,7 +62,8 @@ std::vector<std::string> writes(const std::string& variant) {
   if (variant == "lbm" || variant == "lbm-reference")
     return {"velocity", "pressure", "density", "solid_fraction", "phase"};
   if (variant == "analytic") return {"velocity", "pressure", "density", "vorticity", "k", "epsilon"};
-  if (variant == "fv" || variant == "fv-reference") return {"velocity", "pressure", "density", "divergence"};
+  if (variant == "fv") return {"velocity", "pressure", "density", "divergence", "k", "epsilon", "nu_t", "y_plus"};
+  if (variant == "fv-reference") return {"velocity", "pressure", "density", "divergence"};
   return {};  // external: its own business
 }
 
@@ -169,6 +176,34 @@ static void check_fv_blocks(config::Visitor& v, const config::Config& cfg, const
       }
 }
 
+// k-epsilon runs on fv (not yet on its serial oracle); without a wall model
+// the box has no walls; fluid entering through a velocity face brings its k
+// and epsilon.
+static void check_turbulence(config::Visitor& v, const config::Config& cfg, const config::ComponentInfo& info,
+                             const FluidParams& p) {
+  if (!v.reading() || !p.turbulence.on) return;
+  if (info.variant != "fv") {
+    v.fail("turbulence", fmt::format("solver {} has no turbulence model; k-epsilon runs on solver: fv (fv-reference "
+                                     "has none yet)",
+                                     info.variant));
+    return;
+  }
+  for (int f = 0; f < 6; ++f) {
+    if (cfg.domain.cells[f / 2] == 1) continue;
+    const BoundaryParams b = p.boundary(f, cfg);
+    if (b.type == "wall" && p.turbulence.wall == "none")
+      v.fail("turbulence.wall", fmt::format("face {} is a wall, and the standard k-epsilon model needs a wall "
+                                            "treatment there: use wall: two-layer (with the first cells at y+ of "
+                                            "about 1)",
+                                            face_names()[f]));
+    if (b.type == "velocity" && b.value.values.size() == 3 && b.value.values[static_cast<std::size_t>(f / 2)] != 0 &&
+        !p.turbulence.inlet_given)
+      v.fail("turbulence", fmt::format("face {} is a velocity face: give the k and epsilon of what enters there, "
+                                       "turbulence.inlet: {{k: ..., epsilon: ...}}",
+                                       face_names()[f]));
+  }
+}
+
 config::ComponentSchema schema() {
   config::ComponentSchema s = component_schema("fluid", "solver", variant_schemas(),
                                                 "the fluid component (omit the section, or solver: none, for no fluid)");
@@ -200,6 +235,7 @@ config::ComponentSchema schema() {
     }
     check_open_face_blocks(v, cfg, info, p);
     check_fv_blocks(v, cfg, info);
+    check_turbulence(v, cfg, info, p);
     visit_variant_sections(v, cfg, info);
   };
   return s;

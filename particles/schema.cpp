@@ -50,7 +50,7 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
     c.schemes = {config::Scheme::serial_explicit};
     if (config::resolved_text(cfg, {"particles", "dispersion", "model"}) == "langevin")
       for (const auto& field : {f::k, f::epsilon})
-        c.needs.push_back({field, "particles.dispersion.model", "", "or dispersion.model: none"});
+        c.needs.push_back({field, "particles.dispersion.model", "", "or fluid.solver: fv with fluid.turbulence (k-epsilon), or dispersion.model: none"});
   }
   // A species' contact angle: grains wetted by two fluids (dem through psm;
   // point particles are not wetted, so nothing provides it to dpm).

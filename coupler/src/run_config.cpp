@@ -59,7 +59,7 @@ void OutputParams::visit(Visitor& v) {
   v("every", every, "simulated seconds between snapshots; 0 writes none", non_negative());
   v("fields", fields, "fluid fields written in snapshots",
     each_one_of({"velocity", "pressure", "density", "solid_fraction", "vorticity", "k", "epsilon",
-                 "momentum_source", "phase"}));
+                 "nu_t", "y_plus", "divergence", "momentum_source", "phase"}));
   v("series_every", series_every, "simulated seconds between rows of series/*.csv (auto: = every)",
     positive());
   v("collision_events", collision_events,

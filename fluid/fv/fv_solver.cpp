@@ -53,6 +53,7 @@ FvSolver::FvSolver(const Setup& s, const Params& p)
     } else if (b.type == "wall" || b.type == "velocity") {
       face.kind = Face::dirichlet;
       if (b.type == "velocity") face.velocity = {b.value.values[0], b.value.values[1], b.value.values[2]};
+      face.wall = face.velocity[a] == 0.0;
       for (int e = 0; e < 3; ++e)
         face.shaped[static_cast<std::size_t>(e)] =
             b.profile == "parabolic" && e != a && !periodic_[static_cast<std::size_t>(e)];
@@ -78,6 +79,7 @@ FvSolver::FvSolver(const Setup& s, const Params& p)
         comm_, blk_.owned, cells_, per, solver_options(p_, fmt::format("viscous solve of u_{}", "xyz"[c])));
   set_poisson();
   initialise();
+  init_turbulence();
 }
 
 // Where the time went, for the log: the share of the pressure Poisson and
@@ -138,7 +140,7 @@ std::vector<double> FvSolver::owned_of(const Field& f) const {
 }
 
 // The largest |u_c| on this rank's faces, boundary faces included, reduced.
-double FvSolver::stable_step() const {
+double FvSolver::stable_step() {
   double umax[4] = {0, 0, 0, 0};  // and 1 where a value is not finite
   for (int c = 0; c < dims_; ++c) {
     const auto& q = u_[static_cast<std::size_t>(c)];
@@ -154,6 +156,7 @@ double FvSolver::stable_step() const {
         fmt::format("fv: the velocity is not finite at t = {:.6g} s (step {}); lower "
                     "fluid.fv.cfl or fluid.fv.max_step",
                     time_, steps_));
+  velocity_scale_ = std::max({umax[0], umax[1], umax[2]});
   double limit = fv::cfl_step(p_.cfl, umax, h_, dims_);
   if (p_.max_step > 0) limit = std::min(limit, p_.max_step);
   return limit;
@@ -170,6 +173,7 @@ void FvSolver::step(double dt) {
   std::swap(u_old_, u_);
   std::swap(u_, ustar_);
   std::swap(adv_old_, adv_);
+  if (turbulent_) turbulence_step(dt);
   if (source_fresh_) {  // the last step's source: a copy only when set_source gave a new one
     source_old_ = source_;
     source_fresh_ = false;

@@ -21,6 +21,7 @@
 #include "fluid/fv/params.hpp"
 #include "fluid/fv/scheme.hpp"
 #include "fluid/fv/struct_system.hpp"
+#include "fluid/turbulence_params.hpp"
 #include "fluid/grid/ghost_exchange.hpp"
 
 namespace coflow::fluid {
@@ -38,7 +39,7 @@ class FvSolver final : public FluidSolver {
   const coupler::Box& owned() const override { return blk_.owned; }
   std::vector<output::GridField> fields(const config::StringList& names) override;
   Diagnostics diagnostics() override;
-  std::vector<output::Series::Column> series_columns() const override { return columns(); }
+  std::vector<output::Series::Column> series_columns() const override;
   static std::vector<output::GridField> named_fields(const config::StringList& names,
                                                      const std::vector<double>& u,
                                                      const std::vector<double>& p,
@@ -72,6 +73,7 @@ class FvSolver final : public FluidSolver {
     double ramp = 0.0;
     bool here = false;             // this rank's block touches it
     bool convective = false;       // an outflow face: du/dt + U du/dn = 0
+    bool wall = false;             // a dirichlet face with no normal velocity (a wall, moving or not)
     std::array<bool, 3> shaped{};  // a parabolic velocity face: the axes its profile spans
     Vec3 velocity_at(double t) const;
     double pressure_at(double t) const;
@@ -84,7 +86,7 @@ class FvSolver final : public FluidSolver {
 
   void initialise();
   void step(double dt);
-  double stable_step() const;  // collective; throws on a value that is not finite
+  double stable_step();  // collective; sets velocity_scale_; throws on a value that is not finite
   // Ghosts (boundaries.cpp).
   void fill_ghosts(Faces& u, double t);
   void fill_face_ghosts(Field& u, int c, int a, int side, const Face& f, double t) const;
@@ -97,17 +99,32 @@ class FvSolver final : public FluidSolver {
   // Momentum (momentum.cpp).
   void advection(const Faces& u, Faces& out) const;
   double advection_at(const Faces& u, int c, long n) const;
-  double laplacian_at(const Field& u, long n) const;
   Neighbour neighbour_kind(int c, const long* at, int d, int side) const;
   double viscous_rhs(int c, const long* at, long n, const fv::Imex& s, double dt) const;
   void momentum(const fv::Imex& s, double dt);
-  void set_viscous(int c, double diag, double nu_theta);
+  void set_viscous(int c, double diag, double theta);
+  double wall_scale(int c, long n, int d, int side) const;
   // Projection (projection.cpp).
   double divergence_at(const Faces& u, long n) const;
   void set_poisson();
   void poisson_rhs(double factor, double t0, double t1, bool incremental);
   void project(const fv::Imex& s, double dt, bool incremental);
   double max_divergence(const Faces& u) const;  // collective
+
+  // Turbulence, k-epsilon with the two-layer wall model (turbulence/*.cpp).
+  void init_turbulence();
+  void turbulence_step(double dt);
+  double strain_rate2_at(long n) const;  // S^2 = 2 S_ij S_ij at a cell (seed 003 eqs. 3.15-3.16)
+  void advect_scalar(Field& q, double inlet, double wall_sign, double dt);
+  void solve_scalar(fv::StructSystem& sys, Field& q, const Field& sink, const Field& source, double sigma,
+                    double inlet, bool wall_zero, const Field* fixed, double dt);
+  void fill_scalar_ghosts(Field& q, double inlet, double wall_sign, bool extrapolate);
+  void update_eddy_viscosity();
+  double nu_face(int c, long n, int d, int side) const;  // nu + nu_t on a side of u_c's control volume
+  double diffusion_at(const Field& u, int c, long n) const;
+  void add_stress_transpose(const Faces& u, Faces& out) const;
+  std::vector<double> y_plus() const;
+  void add_turbulence_diagnostics(Diagnostics& d);
 
   long stride(int d) const;
   // f(at, n, o) over the owned cells: owned-relative coordinates, padded and owned index.
@@ -144,6 +161,7 @@ class FvSolver final : public FluidSolver {
   double nu_ = 0, rho_ = 1;
   std::array<Face, 6> faces_;
   bool has_open_ = false;
+  double velocity_scale_ = 0.0;  // the largest |u_c| at the last step's start
 
   Faces u_, u_old_, ustar_, adv_, adv_old_, source_,
       source_old_;  // source: at the cells, the last step's too
@@ -169,7 +187,17 @@ class FvSolver final : public FluidSolver {
   double last_dt_ = 0.0, max_divergence_ = 0.0;
   double step_seconds_ = 0.0, poisson_seconds_ = 0.0, viscous_seconds_ = 0.0;  // wall time, this rank
   long poisson_solves_ = 0, poisson_iteration_sum_ = 0;
-  std::vector<double> out_u_, out_p_, out_rho_, out_div_;
+  std::vector<double> out_u_, out_p_, out_rho_, out_div_, out_k_, out_eps_, out_nut_, out_yplus_;
+
+  // fluid.turbulence: k, epsilon and nu_t at the cells (padded), each cell's
+  // distance to the nearest wall (infinite without walls), the implicit
+  // systems of k and epsilon.
+  bool turbulent_ = false;
+  TurbulenceParams turb_;
+  Field k_, eps_, nut_, wall_y_;
+  std::unique_ptr<fv::StructSystem> k_system_, eps_system_;
+  int turbulence_iterations_ = 0;
+  double min_k_ = 0.0;
 };
 
 }  // namespace coflow::fluid

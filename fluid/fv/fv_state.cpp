@@ -26,7 +26,20 @@ std::vector<output::GridField> FvSolver::fields(const config::StringList& names)
     }
     out_div_[O] = divergence_at(u_, n);
   });
-  return named_fields(names, out_u_, out_p_, out_rho_, out_div_);
+  auto f = named_fields(names, out_u_, out_p_, out_rho_, out_div_);
+  // The turbulence fields (zero for laminar flow), kept until the next call.
+  const std::vector<double> none(N, 0.0);
+  out_k_ = turbulent_ ? owned_of(k_) : none;
+  out_eps_ = turbulent_ ? owned_of(eps_) : none;
+  out_nut_ = turbulent_ ? owned_of(nut_) : none;
+  out_yplus_ = y_plus();
+  for (const auto& name : names) {
+    if (name == "k") f.push_back({name, 1, out_k_});
+    if (name == "epsilon") f.push_back({name, 1, out_eps_});
+    if (name == "nu_t") f.push_back({name, 1, out_nut_});
+    if (name == "y_plus") f.push_back({name, 1, out_yplus_});
+  }
+  return f;
 }
 
 // The snapshot fields by name from their arrays over the owned cells (also
@@ -74,7 +87,39 @@ Diagnostics FvSolver::diagnostics() {
   d.kinetic_energy = sums[4];
   d.extra = {static_cast<double>(window_steps_), last_dt_, static_cast<double>(poisson_iterations_),
              static_cast<double>(viscous_iterations_), max_divergence_};
+  if (turbulent_) add_turbulence_diagnostics(d);
   return d;
+}
+
+// The means of k and epsilon over the cells, the largest nu_t and the largest
+// y+ of the cells next to walls, the largest iterations of the k and epsilon
+// solves in the window.
+void FvSolver::add_turbulence_diagnostics(Diagnostics& d) {
+  double sums[2] = {0, 0}, most[2] = {0, 0};
+  const auto yp = y_plus();
+  for_owned([&](const long*, long n, long o) {
+    sums[0] += k_[n];
+    sums[1] += eps_[n];
+    most[0] = std::max(most[0], nut_[n]);
+    most[1] = std::max(most[1], yp[static_cast<std::size_t>(o)]);
+  });
+  MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, comm_);
+  MPI_Allreduce(MPI_IN_PLACE, most, 2, MPI_DOUBLE, MPI_MAX, comm_);
+  const double cells = static_cast<double>(cells_[0] * cells_[1] * cells_[2]);
+  d.extra.insert(d.extra.end(), {sums[0] / cells, sums[1] / cells, most[0], most[1],
+                                 static_cast<double>(turbulence_iterations_)});
+  turbulence_iterations_ = 0;
+}
+
+std::vector<output::Series::Column> FvSolver::series_columns() const {
+  auto c = columns();
+  if (turbulent_)
+    c.insert(c.end(), {{"k_mean", "m^2/s^2"},
+                       {"epsilon_mean", "m^2/s^3"},
+                       {"nu_t_max", "m^2/s"},
+                       {"y_plus_max", "1"},
+                       {"turbulence_iterations", "1"}});
+  return c;
 }
 
 // Also fv-reference's (which does not count its iterations: zero there).
@@ -126,6 +171,9 @@ void FvSolver::save(const std::string& dir) {
                           {"pressure", 1, p},
                           {"pressure_increment", 1, phi},
                           {"source_previous", 3, src}});
+  if (turbulent_)
+    grid::save_cell_fields(comm_, dir + "/fv_turbulence.h5", time_, steps_, cells_, blk_.owned,
+                           {{"k", 1, owned_of(k_)}, {"epsilon", 1, owned_of(eps_)}});
   int written = 1;  // rank 0 writes the clock; every rank learns whether it could
   if (rank_ == 0) {
     std::ofstream clock(dir + "/fv_clock.txt");
@@ -164,6 +212,14 @@ void FvSolver::load(const std::string& dir, long, double) {
   viscous_key_ = {0, 0, 0};
   fill_ghosts(u_, time_);
   fill_pressure_ghosts(p_field_, time_, false, time_);
+  if (turbulent_) {
+    const std::string tpath = dir + "/fv_turbulence.h5";
+    set_owned(k_, grid::load_cell_field(tpath, "k", cells_, blk_.owned, 1));
+    set_owned(eps_, grid::load_cell_field(tpath, "epsilon", cells_, blk_.owned, 1));
+    fill_scalar_ghosts(k_, turb_.inlet_k, 0.0, true);
+    fill_scalar_ghosts(eps_, turb_.inlet_epsilon, 1.0, true);
+    update_eddy_viscosity();
+  }
 }
 
 }  // namespace coflow::fluid

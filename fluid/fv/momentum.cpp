@@ -38,24 +38,15 @@ void FvSolver::advection(const Faces& u, Faces& out) const {
   }
 }
 
-double FvSolver::laplacian_at(const Field& u, long n) const {
-  double l = 0.0;
-  for (int d = 0; d < dims_; ++d) {
-    const long s = stride(d);
-    l += (u[n + s] - 2 * u[n] + u[n - s]) / (h_[d] * h_[d]);
-  }
-  return l;
-}
-
 // The implicit system of component c: (a0/dt) u - theta nu lap(u) = rhs, with
 // the faces' conditions folded in (they also add to the right-hand side:
 // viscous_rhs). A domain face of axis c is not an unknown: its row is 1.
-void FvSolver::set_viscous(int c, double diag_scale, double nu_theta) {
+void FvSolver::set_viscous(int c, double diag_scale, double theta) {
   fv::StructSystem::Rows m(static_cast<std::size_t>(blk_.owned_cells()));
   auto& diag = m.diag;
   auto& lo = m.lower;
   auto& hi = m.upper;
-  for_owned([&](const long* at, long, long o) {
+  for_owned([&](const long* at, long n, long o) {
     const auto O = static_cast<std::size_t>(o);
     if (is_boundary_face(c, at[c])) {
       diag[O] = 1.0;
@@ -64,8 +55,8 @@ void FvSolver::set_viscous(int c, double diag_scale, double nu_theta) {
     double scale = 1.0;
     diag[O] = diag_scale;
     for (int d = 0; d < dims_; ++d) {
-      const double k = nu_theta / (h_[d] * h_[d]);
       for (int side = 0; side < 2; ++side) {
+        const double k = theta * nu_face(c, n, d, side) / (h_[d] * h_[d]);
         auto& coupling = side == 0 ? lo[static_cast<std::size_t>(d)] : hi[static_cast<std::size_t>(d)];
         auto& opposite = side == 0 ? hi[static_cast<std::size_t>(d)] : lo[static_cast<std::size_t>(d)];
         switch (neighbour_kind(c, at, d, side)) {
@@ -76,7 +67,7 @@ void FvSolver::set_viscous(int c, double diag_scale, double nu_theta) {
           case Neighbour::wall_tangential:  // ghost = (8U - 6 u0 + u1) / 3
             diag[O] += 3 * k;
             opposite[O] -= k / 3;
-            scale *= fv::wall_row_scale;
+            scale *= wall_scale(c, n, d, side);
             break;
           case Neighbour::wall_normal:  // the face's value, known
             diag[O] += k;
@@ -124,9 +115,8 @@ double FvSolver::viscous_rhs(int c, const long* at, long n, const fv::Imex& s, d
     const Face& f = faces_[static_cast<std::size_t>(2 * c + (g == 0 ? 0 : 1))];
     return f.kind == Face::open ? u_[C][n] : f.velocity_at(t1)[c] * profile(2 * c + (g == 0 ? 0 : 1), c, at);
   }
-  const double nu = nu_;
   double r = (s.a1 * u_[C][n] - s.a2 * u_old_[C][n]) / dt + s.b0 * adv_[C][n] + s.b1 * adv_old_[C][n];
-  if (s.theta < 1) r += (1 - s.theta) * nu * laplacian_at(u_[C], n);
+  if (s.theta < 1) r += (1 - s.theta) * diffusion_at(u_[C], c, n);
   if (steps_ > 0)
     r -= (p_field_[n] - p_field_[n - stride(c)]) / (rho_ * h_[c]);  // the first step: projection
   r += fluid_.body_force[c] / rho_;
@@ -138,34 +128,52 @@ double FvSolver::viscous_rhs(int c, const long* at, long n, const fv::Imex& s, d
   }
   double scale = 1.0;
   for (int d = 0; d < dims_; ++d) {
-    const double k = s.theta * nu / (h_[d] * h_[d]);
     for (int side = 0; side < 2; ++side) {
       const Neighbour kind = neighbour_kind(c, at, d, side);
       if (kind == Neighbour::inside || kind == Neighbour::open) continue;
+      const double k = s.theta * nu_face(c, n, d, side) / (h_[d] * h_[d]);
       const double U =
           faces_[static_cast<std::size_t>(2 * d + side)].velocity_at(t1)[c] * profile(2 * d + side, c, at);
       if (kind == Neighbour::wall_normal) r += k * U;
       if (kind == Neighbour::wall_tangential) {
         r += 8.0 / 3.0 * k * U;
-        scale *= fv::wall_row_scale;
+        scale *= wall_scale(c, n, d, side);
       }
     }
   }
   return r * scale;
 }
 
+// The row scale of u_c's row at a wall (or velocity face) beyond side `side`
+// along d that keeps the matrix symmetric: the wall's closure couples the row
+// to the next unknown in by k_w / 3 besides that unknown's own k_in, and the
+// row scaled by k_in / (k_in + k_w / 3) couples to it by k_in as its row does
+// (3/4 for a uniform viscosity: fv::wall_row_scale).
+double FvSolver::wall_scale(int c, long n, int d, int side) const {
+  if (!turbulent_) return fv::wall_row_scale;
+  const double k_w = nu_face(c, n, d, side), k_in = nu_face(c, n, d, 1 - side);
+  return k_in / (k_in + k_w / 3);
+}
+
 void FvSolver::momentum(const fv::Imex& s, double dt) {
   advection(u_, adv_);
+  if (turbulent_) add_stress_transpose(u_, adv_);
   const double diag = s.a0 / dt, nu_theta = s.theta * nu_;
+  double nu_max = nu_;  // the largest nu + nu_t: with turbulence the matrices change every step
+  if (turbulent_) {
+    for_owned([&](const long*, long n, long) { nu_max = std::max(nu_max, nu_ + nut_[n]); });
+    MPI_Allreduce(MPI_IN_PLACE, &nu_max, 1, MPI_DOUBLE, MPI_MAX, comm_);
+    viscous_key_ = {0, 0, 0};
+  }
   for (int c = 0; c < dims_; ++c) {
     const auto C = static_cast<std::size_t>(c);
     if (viscous_key_[C] != diag || viscous_theta_[C] != nu_theta) {
       const double start = MPI_Wtime();
       // Diagonal dominance: the off-diagonal sum over the diagonal's mass part.
       double off = 0.0;
-      for (int d = 0; d < dims_; ++d) off += 4 * nu_theta / (diag * h_[d] * h_[d]);
+      for (int d = 0; d < dims_; ++d) off += 4 * s.theta * nu_max / (diag * h_[d] * h_[d]);
       viscous_[C]->use_diagonal(off < 4.0);
-      set_viscous(c, diag, nu_theta);
+      set_viscous(c, diag, s.theta);
       viscous_seconds_ += MPI_Wtime() - start;
       viscous_key_[C] = diag;
       viscous_theta_[C] = nu_theta;

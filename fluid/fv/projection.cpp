@@ -73,6 +73,13 @@ void FvSolver::project(const fv::Imex& s, double dt, bool incremental) {
   extrapolate_open_faces(ustar_, dt);
   fill_ghosts(ustar_, t1);
   poisson_rhs(factor, t0, t1, incremental);
+  // The residual need not fall below a divergence of 1e-6 tolerance U / h per
+  // cell (U the largest velocity): a flow already without divergence (a
+  // fully developed one) gives a right-hand side of round-off size.
+  double hmin = h_[0];
+  for (int d = 1; d < dims_; ++d) hmin = std::min(hmin, h_[d]);
+  const double cells = static_cast<double>(cells_[0] * cells_[1] * cells_[2]);
+  poisson_->set_absolute_floor(1e-6 * p_.tolerance * factor * velocity_scale_ / hmin * std::sqrt(cells));
   const double start = MPI_Wtime();
   poisson_->solve(rhs_, x_);
   poisson_seconds_ += MPI_Wtime() - start;

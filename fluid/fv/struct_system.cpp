@@ -105,6 +105,7 @@ void StructSystem::make_solver() {
   HYPRE_StructPCGSetMaxIter(h_->pcg, opt_.max_iterations);
   HYPRE_StructPCGSetTwoNorm(h_->pcg, 1);
   HYPRE_StructPCGSetRelChange(h_->pcg, 0);
+  HYPRE_StructPCGSetAbsoluteTol(h_->pcg, floor_);
   if (diagonal_) {
     HYPRE_StructPCGSetPrecond(h_->pcg, HYPRE_StructDiagScale, HYPRE_StructDiagScaleSetup, nullptr);
   } else if (opt_.multigrid == "smg") {
@@ -128,6 +129,12 @@ void StructSystem::make_solver() {
   }
   HYPRE_StructPCGSetup(h_->pcg, h_->A, h_->b, h_->x);
   h_->ready = true;
+}
+
+void StructSystem::set_absolute_floor(double floor) {
+  if (floor == floor_) return;
+  floor_ = floor;
+  if (h_->ready) HYPRE_StructPCGSetAbsoluteTol(h_->pcg, floor_);
 }
 
 void StructSystem::solve(std::span<const double> b, std::span<double> x) {

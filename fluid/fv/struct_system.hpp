@@ -44,6 +44,10 @@ class StructSystem {
   // where a V-cycle costs more than the iterations it saves.
   void use_diagonal(bool on);
   int last_iterations() const { return iterations_; }
+  // Also stop when the residual's 2-norm is below `floor` (0: no floor): a
+  // right-hand side of round-off size cannot be reduced by the relative
+  // tolerance.
+  void set_absolute_floor(double floor);
 
   // A matrix being assembled: per owned cell its diagonal and its couplings
   // below and above along each axis (zero until set); set() hands it over.
@@ -70,6 +74,7 @@ class StructSystem {
   bool diagonal_ = false;
   int iterations_ = 0;
   double residual_ = 0.0;
+  double floor_ = 0.0;
 };
 
 }  // namespace coflow::fluid::fv

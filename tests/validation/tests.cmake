@@ -3,7 +3,7 @@
 # --- validation: a config from configs/validation + coflow-check + references.csv ---
 add_executable(coflow-check validation/check/main.cpp validation/check/compare.cpp validation/flow/checks.cpp
   validation/granular/checks.cpp validation/point_particles/checks.cpp validation/resolved_particles/checks.cpp
-  validation/two_phase/checks.cpp validation/fv/checks.cpp)
+  validation/two_phase/checks.cpp validation/fv/checks.cpp validation/fv/turbulence_checks.cpp)
 target_link_libraries(coflow-check PRIVATE coflow_fluid coflow_immersed coflow_particles coflow_catalog coflow_warnings)
 set(validate ${CMAKE_CURRENT_SOURCE_DIR}/validation/validate.sh)
 set(vcfg ${PROJECT_SOURCE_DIR}/configs/validation)

@@ -135,6 +135,10 @@ int jet(const std::string& dir);
 int cavity(const std::string& dir);
 int tg_error(const std::string& dir);
 int divergence(const std::string& dir);
+// fv/turbulence_checks.cpp
+int ke_decay(const std::string& dir);
+int ke_grid(const std::string& dir);
+int ke_channel(const std::string& dir);
 // two_phase/checks.cpp
 int laplace(const std::string& dir);
 int contact_angle(const std::string& dir);

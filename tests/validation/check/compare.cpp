@@ -67,6 +67,13 @@ int compare(const std::string& a, const std::string& b) {
                                                       output::read_dataset(last_snapshot(b), "phase"), "phase");
     std::printf("phase_difference=%.6e\n", phdiff);
   }
+  // Turbulence: k and epsilon relative to their largest values.
+  for (const char* name : {"k", "epsilon"})
+    if (std::find(fields.begin(), fields.end(), name) != fields.end()) {
+      const auto [d, m] = largest_difference(output::read_dataset(last_snapshot(a), name),
+                                             output::read_dataset(last_snapshot(b), name), name);
+      std::printf("%s_difference=%.6e\n", name, m > 0 ? d / m : d);
+    }
   // Coupled runs: the particles too.
   if (std::ifstream(a + "/particles/index.csv")) return compare_particles(a, b);
   return 0;

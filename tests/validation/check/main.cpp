@@ -52,6 +52,9 @@ int main(int argc, char** argv) {
     if (what == "cavity" && argc == 3) return cavity(argv[2]);
     if (what == "tg_error" && argc == 3) return tg_error(argv[2]);
     if (what == "divergence" && argc == 3) return divergence(argv[2]);
+    if (what == "ke_decay" && argc == 3) return ke_decay(argv[2]);
+    if (what == "ke_grid" && argc == 3) return ke_grid(argv[2]);
+    if (what == "ke_channel" && argc == 3) return ke_channel(argv[2]);
     std::fprintf(stderr, "usage: coflow-check profile|decay|mass RUN_DIR | compare RUN_A RUN_B\n");
     return 2;
   } catch (const std::exception& e) {

@@ -76,3 +76,17 @@ coflow_validation(fv_vs_reference_inlet compare fv_channel_inlet.yaml 1
   "fluid.solver=fv ${fv_inlet_sets}" "fluid.solver=fv-reference ${fv_inlet_sets}")
 coflow_validation(fv_ranks_1_vs_2_inlet compare fv_channel_inlet.yaml 2
   "fluid.ranks=1 ${fv_inlet_sets}" "fluid.ranks=2 fluid.decomposition=[1,2,1] ${fv_inlet_sets}")
+# k-epsilon with the two-layer wall model (issue 22): decaying homogeneous
+# turbulence against the model's exact solution (and with C_e2 changed), the
+# decay behind a grid (seed 003 §5.4's carrier flow) against the model's exact
+# decay from the inlet, the channel at Re_tau 392 against Moser, Kim & Mansour's
+# DNS and Dean's skin friction; 1 rank against 2 (the grid flow cut along x,
+# the channel across the walls' layers).
+coflow_validation(fv_ke_decay ke_decay fv_ke_decay.yaml 1)
+coflow_validation(fv_ke_decay_ce2_1_8 ke_decay fv_ke_decay.yaml 1 --set fluid.turbulence.constants.C_epsilon2=1.8)
+coflow_validation(fv_ke_grid_turbulence ke_grid fv_ke_grid_turbulence.yaml 1)
+coflow_validation(fv_ke_channel ke_channel fv_ke_channel.yaml 1)
+coflow_validation(fv_ke_ranks_1_vs_2_grid compare fv_ke_grid_turbulence.yaml 2
+  "fluid.ranks=1 run.end_time=0.5 run.output.every=0.5" "fluid.ranks=2 fluid.decomposition=[2,1,1] run.end_time=0.5 run.output.every=0.5")
+coflow_validation(fv_ke_ranks_1_vs_2_channel compare fv_ke_channel.yaml 2
+  "fluid.ranks=1 run.end_time=8.0 run.output.every=8.0" "fluid.ranks=2 fluid.decomposition=[1,2,1] run.end_time=8.0 run.output.every=8.0")

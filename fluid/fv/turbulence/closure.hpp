@@ -1,0 +1,49 @@
+// The pointwise closure of the k-epsilon model with the two-layer wall
+// treatment (seed 003 eqs. 3.17-3.25): the eddy viscosity from k, epsilon and
+// the wall distance, and epsilon in the one-equation layer near a wall.
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+#include "fluid/turbulence_params.hpp"
+
+namespace coflow::fluid::fv {
+
+struct Closure {
+  TurbulenceConstants c;
+  double nu = 1e-6;         // molecular kinematic viscosity, m^2/s
+  bool two_layer = true;
+
+  // Re_y = y sqrt(k) / nu (eq. 3.20); infinite without walls.
+  double re_y(double y, double k) const { return y * std::sqrt(k) / nu; }
+  // lambda_epsilon (eqs. 3.24-3.25): 0 at a wall, 1 far from it.
+  double blend(double rey) const {
+    const double A = 0.2 * c.Re_y_star / std::atanh(0.98);
+    return 0.5 * (1.0 + std::tanh((rey - c.Re_y_star) / A));
+  }
+  // Wolfshtein's length scales (eqs. 3.19, 3.22).
+  double l_mu(double y, double rey) const { return y * c.C_l() * (1.0 - std::exp(-rey / c.A_mu)); }
+  double l_epsilon(double y, double rey) const {
+    return y * c.C_l() * (1.0 - std::exp(-rey / c.A_epsilon()));
+  }
+  // A cell of the one-equation layer: its epsilon is eq. 3.18's, not the
+  // transport equation's.
+  bool one_equation(double y, double k) const { return two_layer && re_y(y, k) < c.Re_y_star; }
+  // epsilon = k^3/2 / l_epsilon (eq. 3.18); near the wall 2 nu k / y^2 (A_epsilon = 2 C_l).
+  double epsilon_near_wall(double y, double k) const {
+    const double rey = re_y(y, k);
+    const double l = l_epsilon(y, rey);
+    return l > 0 ? k * std::sqrt(k) / l : 2.0 * nu * k / (y * y);
+  }
+  // nu_t: C_mu k^2 / epsilon (eq. 3.17) blended with C_mu l_mu sqrt(k) (eq.
+  // 3.21) by lambda_epsilon (eq. 3.23).
+  double nu_t(double y, double k, double eps) const {
+    const double standard = c.C_mu * k * k / eps;
+    if (!two_layer || !(y < std::numeric_limits<double>::infinity())) return standard;
+    const double rey = re_y(y, k), lambda = blend(rey);
+    return lambda * standard + (1.0 - lambda) * c.C_mu * l_mu(y, rey) * std::sqrt(k);
+  }
+};
+
+}  // namespace coflow::fluid::fv

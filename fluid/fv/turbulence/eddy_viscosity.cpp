@@ -1,0 +1,94 @@
+// fv: what the eddy viscosity does to the momentum equation (seed 003 eq.
+// 3.12): div((nu + nu_t)(grad u + grad u^T)) is split into the
+// variable-coefficient Laplacian div((nu + nu_t) grad u_c), implicit, and
+// the rest, d/dx_d (nu_t d u_d / dx_c), explicit (with constant nu the rest
+// is nu d(div u)/dx_c = 0). The isotropic part 2/3 k of the Reynolds stress is
+// in the pressure (the modified pressure p* of eq. 3.11).
+#include <cmath>
+
+#include "fluid/fv/fv_solver.hpp"
+
+namespace coflow::fluid {
+
+// nu + nu_t on side `side` along d of u_c's control volume (u_c at index n,
+// the lower c-face of cell n): along c the cell below (n - s_c) or the cell
+// n itself; along another axis the edge between the four cells around it.
+double FvSolver::nu_face(int c, long n, int d, int side) const {
+  if (!turbulent_) return nu_;
+  const long sc = stride(c);
+  if (d == c) return nu_ + nut_[side == 0 ? n - sc : n];
+  const long e = side == 0 ? -stride(d) : stride(d);
+  return nu_ + 0.25 * (nut_[n] + nut_[n - sc] + nut_[n + e] + nut_[n + e - sc]);
+}
+
+// div((nu + nu_t) grad u_c) at u_c's face n, from the ghosts (explicit).
+double FvSolver::diffusion_at(const Field& u, int c, long n) const {
+  double l = 0.0;
+  for (int d = 0; d < dims_; ++d) {
+    const long s = stride(d);
+    l += (nu_face(c, n, d, 1) * (u[n + s] - u[n]) - nu_face(c, n, d, 0) * (u[n] - u[n - s])) / (h_[d] * h_[d]);
+  }
+  return l;
+}
+
+// out_c += d/dx_d (nu_t d u_d / dx_c) at the unknown faces: the fluxes through
+// the control volume's sides, nu_t d u_d / dx_c at a cell (d = c) or an edge.
+void FvSolver::add_stress_transpose(const Faces& u, Faces& out) const {
+  for (int c = 0; c < dims_; ++c) {
+    auto& o = out[static_cast<std::size_t>(c)];
+    const long sc = stride(c);
+    for_owned([&](const long* at, long n, long) {
+      if (is_boundary_face(c, at[c])) return;
+      double r = 0.0;
+      for (int d = 0; d < dims_; ++d) {
+        const Field& v = u[static_cast<std::size_t>(d)];
+        const long sd = stride(d);
+        if (d == c) {
+          const double up = nut_[n] * (v[n + sc] - v[n]) / h_[c];
+          const double dn = nut_[n - sc] * (v[n] - v[n - sc]) / h_[c];
+          r += (up - dn) / h_[c];
+          continue;
+        }
+        const double nu_up = 0.25 * (nut_[n] + nut_[n - sc] + nut_[n + sd] + nut_[n + sd - sc]);
+        const double nu_dn = 0.25 * (nut_[n] + nut_[n - sc] + nut_[n - sd] + nut_[n - sd - sc]);
+        const double up = nu_up * (v[n + sd] - v[n + sd - sc]) / h_[c];
+        const double dn = nu_dn * (v[n] - v[n - sc]) / h_[c];
+        r += (up - dn) / h_[d];
+      }
+      o[n] += r;
+    });
+  }
+}
+
+// y+ = y u_tau / nu (seed 003 eqs. 3.26-3.27) at the centres of the cells next
+// to a wall, u_tau from the wall's shear (the slope at the wall of the
+// parabola through the wall's velocity and the first two cells); zero in the
+// other cells.
+std::vector<double> FvSolver::y_plus() const {
+  std::vector<double> out(static_cast<std::size_t>(blk_.owned_cells()), 0.0);
+  if (!turbulent_) return out;
+  for (int f = 0; f < 2 * dims_; ++f) {
+    const Face& face = faces_[static_cast<std::size_t>(f)];
+    if (!face.wall || !face.here) continue;
+    const int a = f / 2, side = f % 2;
+    const long in = side == 0 ? stride(a) : -stride(a);
+    for_owned([&](const long* at, long n, long o) {
+      if (at[a] != (side == 0 ? 0 : blk_.extent[a] - 1)) return;
+      double shear2 = 0.0;
+      for (int c = 0; c < dims_; ++c) {
+        if (c == a) continue;
+        const Field& q = u_[static_cast<std::size_t>(c)];
+        const long sc = stride(c);
+        const double u0 = 0.5 * (q[n] + q[n + sc]), u1 = 0.5 * (q[n + in] + q[n + in + sc]);
+        const double U = face.velocity[c];
+        const double slope = (9 * (u0 - U) - (u1 - U)) / (3 * h_[a]);
+        shear2 += slope * slope;
+      }
+      const double utau = std::sqrt(nu_ * std::sqrt(shear2));
+      out[static_cast<std::size_t>(o)] = 0.5 * h_[a] * utau / nu_;
+    });
+  }
+  return out;
+}
+
+}  // namespace coflow::fluid

@@ -1,0 +1,273 @@
+// fv: the transport of k and epsilon (seed 003 eqs. 3.13-3.14) at the cell
+// centres, after each step's projection, with the new velocity:
+//
+//   1. advection, explicit, non-divergent form, the bounded upwind-biased face
+//      value (fv::face_value, van Leer's limiter), in sub-steps of Courant
+//      number at most 1/2;
+//   2. diffusion (nu + nu_t / sigma) implicit, the destruction terms
+//      linearised about the old values and implicit (epsilon/k k, C_e2
+//      epsilon/k epsilon; Patankar 1980), the production explicit;
+//   3. in the two-layer model's one-equation layer (Re_y < Re_y*) epsilon
+//      is eq. 3.18's, held in the implicit system as a fixed value.
+//
+// Positivity by construction: each advection sub-step is a convex
+// combination of non-negative values (the limited scheme is TVD for Courant
+// numbers up to 1/2, the ghosts are non-negative); the implicit matrix is an
+// M-matrix (positive diagonal, non-positive couplings, diagonally dominant)
+// and its right-hand side is non-negative (old value, production >= 0), so
+// the new k and epsilon are positive. The run stops if one is not (it would be
+// a bug, not a clip).
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "fluid/fv/fv_solver.hpp"
+#include "fluid/fv/turbulence/closure.hpp"
+
+namespace coflow::fluid {
+
+void FvSolver::init_turbulence() {
+  turbulent_ = fluid_.turbulence.on;
+  if (!turbulent_) return;
+  turb_ = fluid_.turbulence;
+  const std::size_t padded = ex_.field_size();
+  k_.assign(padded, turb_.initial_k);
+  eps_.assign(padded, turb_.initial_epsilon);
+  nut_.assign(padded, 0.0);
+  wall_y_.assign(padded, std::numeric_limits<double>::infinity());
+  for_padded([&](const long* at, long n) {
+    for (int f = 0; f < 6; ++f) {
+      const int a = f / 2;
+      if (!faces_[static_cast<std::size_t>(f)].wall || a >= dims_) continue;
+      const double g = static_cast<double>(blk_.owned.lo[a] + at[a]) + 0.5;
+      const double y = (f % 2 == 0 ? g : static_cast<double>(cells_[a]) - g) * h_[a];
+      wall_y_[n] = std::min(wall_y_[n], y);
+    }
+  });
+  const std::array<bool, 3> per{periodic_[0], periodic_[1], periodic_[2]};
+  k_system_ = std::make_unique<fv::StructSystem>(comm_, blk_.owned, cells_, per,
+                                                 fv::StructSystem::Options{p_.multigrid, p_.tolerance,
+                                                                           p_.max_iterations, "k solve"});
+  eps_system_ = std::make_unique<fv::StructSystem>(comm_, blk_.owned, cells_, per,
+                                                   fv::StructSystem::Options{p_.multigrid, p_.tolerance,
+                                                                             p_.max_iterations, "epsilon solve"});
+  fv::Closure cl{turb_.constants, nu_, turb_.wall == "two-layer"};
+  for_padded([&](const long*, long n) {
+    if (cl.one_equation(wall_y_[n], k_[n])) eps_[n] = cl.epsilon_near_wall(wall_y_[n], k_[n]);
+  });
+  fill_scalar_ghosts(k_, turb_.inlet_k, 0.0, true);
+  fill_scalar_ghosts(eps_, turb_.inlet_epsilon, 1.0, true);
+  update_eddy_viscosity();
+}
+
+// Ghosts of a cell scalar: the neighbours' by exchange; beyond a wall
+// wall_sign times the mirrored cell (0: the value 0; -1: odd about the wall),
+// beyond a symmetry face the mirrored cell. Beyond an inlet (a velocity face
+// with flow through it) and an open face: with `extrapolate` (k, epsilon: the
+// advection's upwind-biased face value reads them) the line through the
+// inlet's value and the cell inside, or through the last two cells, never
+// below zero; without it the inlet's value, or the mirrored cell.
+void FvSolver::fill_scalar_ghosts(Field& q, double inlet, double wall_sign, bool extrapolate) {
+  ex_.exchange(q);
+  for (int a = 0; a < dims_; ++a)
+    for (int side = 0; side < 2; ++side) {
+      const Face& f = faces_[static_cast<std::size_t>(2 * a + side)];
+      if (!f.here || f.kind == Face::periodic) continue;
+      const long n = blk_.extent[a];
+      const bool in = f.kind == Face::dirichlet && !f.wall, open = f.kind == Face::open;
+      const int o1 = (a + 1) % 3, o2 = (a + 2) % 3;
+      for (long s = -blk_.ghost[o2]; s < blk_.extent[o2] + blk_.ghost[o2]; ++s)
+        for (long r = -blk_.ghost[o1]; r < blk_.extent[o1] + blk_.ghost[o1]; ++r) {
+          auto at = [&](long m) {
+            long x[3];
+            x[a] = side == 0 ? m : n - 1 - m;  // m: 0 the first cell in, -1 and -2 the ghosts
+            x[o1] = r;
+            x[o2] = s;
+            return blk_.idx(x[0], x[1], x[2]);
+          };
+          const double q0 = q[at(0)], q1 = q[at(1)];
+          double g1 = q0, g2 = q1;  // mirrored
+          if (f.wall) g1 = wall_sign * q0, g2 = wall_sign * q1;
+          if (in) g1 = g2 = inlet;
+          if (extrapolate && in) g1 = std::max(0.0, 2 * inlet - q0), g2 = std::max(0.0, 2 * inlet - q1);
+          if (extrapolate && open) g1 = std::max(0.0, 2 * q0 - q1), g2 = std::max(0.0, 3 * q0 - 2 * q1);
+          q[at(-1)] = g1;
+          q[at(-2)] = g2;
+        }
+    }
+}
+
+// nu_t at the cells (eqs. 3.17, 3.21-3.25), with its ghosts: odd about a wall
+// (zero on it), the inlet's beyond an inlet, mirrored beyond open faces.
+void FvSolver::update_eddy_viscosity() {
+  const fv::Closure cl{turb_.constants, nu_, turb_.wall == "two-layer"};
+  for_owned([&](const long*, long n, long) { nut_[n] = cl.nu_t(wall_y_[n], k_[n], eps_[n]); });
+  const double inlet = turb_.inlet_given ? cl.nu_t(std::numeric_limits<double>::infinity(), turb_.inlet_k,
+                                                   turb_.inlet_epsilon)
+                                         : 0.0;
+  fill_scalar_ghosts(nut_, inlet, -1.0, false);
+}
+
+// The strain rate S^2 = 2 S_ij S_ij (eqs. 3.15-3.16) at the cell n: the
+// normal rates from the cell's faces, the shear rates from the centre values
+// of the cells beside (a wall's ghosts carry its parabola: the wall's shear).
+double FvSolver::strain_rate2_at(long n) const {
+  double g[3][3] = {};  // g[c][d] = d u_c / d x_d
+  for (int c = 0; c < dims_; ++c) {
+    const Field& q = u_[static_cast<std::size_t>(c)];
+    const long sc = stride(c);
+    for (int d = 0; d < dims_; ++d) {
+      const long sd = stride(d);
+      g[c][d] = d == c ? (q[n + sc] - q[n]) / h_[c]
+                       : 0.25 * ((q[n + sd] + q[n + sd + sc]) - (q[n - sd] + q[n - sd + sc])) / h_[d];
+    }
+  }
+  double s2 = 0.0;
+  for (int c = 0; c < dims_; ++c) {
+    s2 += 2.0 * g[c][c] * g[c][c];
+    for (int d = c + 1; d < dims_; ++d) s2 += (g[c][d] + g[d][c]) * (g[c][d] + g[d][c]);
+  }
+  return s2;
+}
+
+// q <- q - dt (u . grad) q in sub-steps of Courant number <= 1/2 (non-divergent
+// form: the face fluxes minus q times the cell's discrete divergence).
+void FvSolver::advect_scalar(Field& q, double inlet, double wall_sign, double dt) {
+  double rate = 0.0;
+  for (int d = 0; d < dims_; ++d) {
+    double m = 0.0;
+    for_owned([&](const long*, long n, long) {
+      m = std::max({m, std::abs(u_[static_cast<std::size_t>(d)][n]),
+                    std::abs(u_[static_cast<std::size_t>(d)][n + stride(d)])});
+    });
+    rate += m / h_[d];
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &rate, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  const int sub = std::max(1, static_cast<int>(std::ceil(2.0 * rate * dt * (1 - 1e-12))));
+  const double h = dt / sub;
+  bool inlet_side[6];
+  for (int f = 0; f < 6; ++f) {
+    const Face& face = faces_[static_cast<std::size_t>(f)];
+    inlet_side[f] = face.here && face.kind == Face::dirichlet && !face.wall;
+  }
+  Field next = q;
+  for (int step = 0; step < sub; ++step) {
+    for_owned([&](const long* at, long n, long) {
+      double r = 0.0;
+      for (int d = 0; d < dims_; ++d) {
+        const long s = stride(d);
+        const Field& v = u_[static_cast<std::size_t>(d)];
+        const double up = v[n + s], um = v[n];
+        double qp = fv::face_value(true, q[n - s], q[n], q[n + s], q[n + 2 * s], up);
+        double qm = fv::face_value(true, q[n - 2 * s], q[n - s], q[n], q[n + s], um);
+        if (inlet_side[2 * d + 1] && at[d] == blk_.extent[d] - 1) qp = inlet;  // the inlet's value on its face
+        if (inlet_side[2 * d] && at[d] == 0) qm = inlet;
+        r -= (up * qp - um * qm - q[n] * (up - um)) / h_[d];
+      }
+      next[n] = q[n] + h * r;
+    });
+    std::swap(q, next);
+    fill_scalar_ghosts(q, inlet, wall_sign, true);
+  }
+}
+
+// Solve (1/dt + sink) q' - div((nu + nu_t / sigma) grad q') = q / dt + source
+// for q' at the cells (q: after advection). Beyond a wall q' = 0 (wall_zero:
+// k) or no flux (epsilon), beyond an inlet q' = inlet, no flux beyond open
+// and symmetry faces. Cells where `fixed` is set keep their value: their rows
+// are the identity and their neighbours take them to the right-hand side (the
+// matrix stays symmetric).
+void FvSolver::solve_scalar(fv::StructSystem& sys, Field& q, const Field& sink, const Field& source,
+                            double sigma, double inlet, bool wall_zero, const Field* fixed, double dt) {
+  fv::StructSystem::Rows m(static_cast<std::size_t>(blk_.owned_cells()));
+  for_owned([&](const long* at, long n, long o) {
+    const auto O = static_cast<std::size_t>(o);
+    x_[O] = q[n];
+    if (fixed && (*fixed)[n] > 0) {
+      m.diag[O] = 1.0;
+      rhs_[O] = q[n];
+      return;
+    }
+    double diag = 1.0 / dt + sink[n], r = q[n] / dt + source[n];
+    for (int d = 0; d < dims_; ++d)
+      for (int side = 0; side < 2; ++side) {
+        const long nb = n + (side == 0 ? -stride(d) : stride(d));
+        const double D = (nu_ + 0.5 * (nut_[n] + nut_[nb]) / sigma) / (h_[d] * h_[d]);
+        const long g = blk_.owned.lo[d] + at[d];
+        const bool edge = !periodic_[d] && (side == 0 ? g == 0 : g + 1 == cells_[d]);
+        if (edge) {
+          const Face& f = faces_[static_cast<std::size_t>(2 * d + side)];
+          if (f.wall && wall_zero) diag += 2 * nu_ / (h_[d] * h_[d]);  // nu_t = 0 on the wall
+          if (f.kind == Face::dirichlet && !f.wall) diag += 2 * D, r += 2 * D * inlet;
+          continue;
+        }
+        diag += D;
+        if (fixed && (*fixed)[nb] > 0)
+          r += D * q[nb];
+        else
+          (side == 0 ? m.lower : m.upper)[static_cast<std::size_t>(d)][O] = -D;
+      }
+    m.diag[O] = diag;
+    rhs_[O] = r;
+  });
+  // Jacobi when the diagonal dominates (a short step), a multigrid V-cycle else.
+  double dominance = 0.0;
+  for (std::size_t o = 0; o < m.diag.size(); ++o) {
+    double off = 0.0;
+    for (int d = 0; d < dims_; ++d) off += -m.lower[static_cast<std::size_t>(d)][o] - m.upper[static_cast<std::size_t>(d)][o];
+    dominance = std::max(dominance, off / m.diag[o]);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &dominance, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  sys.use_diagonal(dominance < 0.5);
+  sys.set(m);
+  sys.solve(rhs_, x_);
+  turbulence_iterations_ = std::max(turbulence_iterations_, sys.last_iterations());
+  set_owned(q, x_);
+}
+
+// One step of k and epsilon with the new velocity (see the top of the file).
+void FvSolver::turbulence_step(double dt) {
+  const fv::Closure cl{turb_.constants, nu_, turb_.wall == "two-layer"};
+  const auto& c = turb_.constants;
+  const std::size_t padded = k_.size();
+  Field production(padded, 0.0), sink_k(padded, 0.0), sink_e(padded, 0.0), source_e(padded, 0.0);
+  for_owned([&](const long*, long n, long) {
+    const double P = nut_[n] * strain_rate2_at(n), rate = eps_[n] / k_[n];
+    production[n] = P;
+    sink_k[n] = rate;
+    sink_e[n] = c.C_epsilon2 * rate;
+    source_e[n] = c.C_epsilon1 * rate * P;
+  });
+  advect_scalar(k_, turb_.inlet_k, 0.0, dt);
+  advect_scalar(eps_, turb_.inlet_epsilon, 1.0, dt);
+  solve_scalar(*k_system_, k_, sink_k, production, c.sigma_k, turb_.inlet_k, true, nullptr, dt);
+  fill_scalar_ghosts(k_, turb_.inlet_k, 0.0, true);
+  Field fixed;
+  if (cl.two_layer) {
+    fixed.assign(padded, 0.0);
+    for_padded([&](const long*, long n) {
+      if (!cl.one_equation(wall_y_[n], k_[n])) return;
+      fixed[n] = 1.0;
+      eps_[n] = cl.epsilon_near_wall(wall_y_[n], k_[n]);
+    });
+  }
+  solve_scalar(*eps_system_, eps_, sink_e, source_e, c.sigma_epsilon, turb_.inlet_epsilon, false,
+               cl.two_layer ? &fixed : nullptr, dt);
+  fill_scalar_ghosts(eps_, turb_.inlet_epsilon, 1.0, true);
+  double low[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  for_owned([&](const long*, long n, long) {
+    low[0] = std::min(low[0], k_[n]);
+    low[1] = std::min(low[1], eps_[n]);
+  });
+  MPI_Allreduce(MPI_IN_PLACE, low, 2, MPI_DOUBLE, MPI_MIN, comm_);
+  if (!(low[0] > 0 && low[1] > 0))
+    throw std::runtime_error(fmt::format("fv: k-epsilon lost positivity at t = {:.6g} s (min k {:.3g}, min epsilon "
+                                         "{:.3g}); this is a bug: please report it with the configuration",
+                                         next_time_, low[0], low[1]));
+  min_k_ = low[0];
+  update_eddy_viscosity();
+}
+
+}  // namespace coflow::fluid

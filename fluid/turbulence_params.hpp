@@ -1,0 +1,71 @@
+// fluid.turbulence: the URANS closure of the fv fluid (seed 003 §3.1.1): the
+// standard k-epsilon model (eqs. 3.13-3.17, Launder & Sharma 1974 constants)
+// with the two-layer near-wall model (eqs. 3.18-3.25). Part of the fluid
+// schema library; the model itself is fluid/fv/turbulence/.
+#pragma once
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <string>
+
+#include "coflow/config.hpp"
+
+namespace coflow::fluid {
+
+struct TurbulenceConstants {
+  double sigma_k = 1.0, sigma_epsilon = 1.3, C_epsilon1 = 1.44, C_epsilon2 = 1.92, C_mu = 0.09;
+  // The two-layer model (eqs. 3.19-3.25): C_l = kappa C_mu^-3/4 with kappa
+  // 0.4187, A_mu = 70, A_epsilon = 2 C_l, Re_y* = 200.
+  double kappa = 0.4187, A_mu = 70.0, Re_y_star = 200.0;
+  double C_l() const { return kappa * std::pow(C_mu, -0.75); }
+  double A_epsilon() const { return 2.0 * C_l(); }
+  void visit(config::Visitor& v) {
+    v("sigma_k", sigma_k, "turbulent Prandtl number of k (eq. 3.13)", config::greater(0.0));
+    v("sigma_epsilon", sigma_epsilon, "turbulent Prandtl number of epsilon (eq. 3.14)", config::greater(0.0));
+    v("C_epsilon1", C_epsilon1, "production coefficient of epsilon (eq. 3.14)", config::greater(0.0));
+    v("C_epsilon2", C_epsilon2,
+      "destruction coefficient of epsilon (eq. 3.14); decaying turbulence falls as t^(-1/(C_epsilon2 - 1))",
+      config::greater(1.0));
+    v("C_mu", C_mu, "eddy-viscosity coefficient (eq. 3.17)", config::greater(0.0));
+    v("kappa", kappa, "two-layer: C_l = kappa C_mu^(-3/4) (eqs. 3.19, 3.22)", config::greater(0.0));
+    v("A_mu", A_mu, "two-layer: damping Reynolds number of l_mu (eq. 3.22)", config::greater(0.0));
+    v("Re_y_star", Re_y_star,
+      "two-layer: the wall-distance Reynolds number that parts the one-equation layer from the k-epsilon region "
+      "(eqs. 3.20, 3.24)",
+      config::greater(0.0));
+  }
+};
+
+struct TurbulenceParams {
+  bool on = false;  // the section is given
+  std::string model = "k-epsilon";
+  std::string wall = "two-layer";
+  TurbulenceConstants constants;
+  double initial_k = 0.0, initial_epsilon = 0.0;  // m^2/s^2, m^2/s^3
+  double inlet_k = 0.0, inlet_epsilon = 0.0;      // at velocity faces
+  bool inlet_given = false;
+  void visit(config::Visitor& v) {
+    v("model", model, "the closure: k-epsilon (standard, eqs. 3.13-3.17)", config::one_of({"k-epsilon"}));
+    v("wall", wall,
+      "near-wall treatment: two-layer (Wolfshtein's one-equation layer blended by Re_y, eqs. 3.18-3.25; the "
+      "first cells at y+ of about 1) or none (a box without walls)",
+      config::one_of({"two-layer", "none"}));
+    v.section("constants", "model constants (Launder & Sharma 1974; seed 003 §3.1.1)",
+              [&](config::Visitor& s) { constants.visit(s); });
+    v.section("initial", "uniform initial turbulence", [&](config::Visitor& s) {
+      s.required("k", initial_k, "turbulence kinetic energy, m^2/s^2", config::greater(0.0));
+      s.required("epsilon", initial_epsilon, "its dissipation rate, m^2/s^3", config::greater(0.0));
+    });
+    v.section(
+        "inlet", "k and epsilon of the fluid entering through velocity faces (Dirichlet)",
+        [&](config::Visitor& s) {
+          if (s.reading() && !inlet_given) return;
+          s.required("k", inlet_k, "m^2/s^2", config::greater(0.0));
+          s.required("epsilon", inlet_epsilon, "m^2/s^3", config::greater(0.0));
+        },
+        &inlet_given);
+  }
+};
+
+}  // namespace coflow::fluid

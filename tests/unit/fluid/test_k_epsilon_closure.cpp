@@ -1,0 +1,53 @@
+// The two-layer k-epsilon closure (seed 003 eqs. 3.17-3.25) against its
+// limits: the blending width of eq. 3.25, the viscous sublayer's epsilon, and
+// the log layer, where the one-equation layer must give Prandtl's mixing
+// length nu_t = kappa u_tau y and epsilon = u_tau^3 / (kappa y) for the
+// equilibrium k = u_tau^2 / sqrt(C_mu) (Pope 2000 §7.3, §10.4).
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+
+#include "fluid/fv/turbulence/closure.hpp"
+
+using coflow::fluid::fv::Closure;
+
+TEST_CASE("two-layer blending: one half at Re_y*, 0.01 and 0.99 at 0.8 and 1.2 Re_y* (eq. 3.25)", "[fv][turbulence]") {
+  const Closure cl{{}, 1e-5, true};
+  const double star = cl.c.Re_y_star;
+  CHECK(cl.blend(star) == Approx(0.5).epsilon(1e-14));
+  CHECK(cl.blend(1.2 * star) == Approx(0.99).epsilon(1e-12));
+  CHECK(cl.blend(0.8 * star) == Approx(0.01).epsilon(1e-10));
+}
+
+TEST_CASE("two-layer: epsilon tends to 2 nu k / y^2 at the wall (A_epsilon = 2 C_l)", "[fv][turbulence]") {
+  const Closure cl{{}, 1e-5, true};
+  const double k = 1e-4;
+  for (double y : {1e-6, 1e-7}) {
+    const double limit = 2 * cl.nu * k / (y * y);
+    CHECK(cl.epsilon_near_wall(y, k) == Approx(limit).epsilon(2e-3 * y / 1e-6));
+  }
+}
+
+TEST_CASE("two-layer: the log layer's mixing length and dissipation", "[fv][turbulence]") {
+  const Closure cl{{}, 1e-6, true};
+  const double utau = 0.05, k = utau * utau / std::sqrt(cl.c.C_mu);
+  const double y = 0.05;  // y+ = 2500: Re_y far above A_mu and A_epsilon
+  const double rey = cl.re_y(y, k);
+  REQUIRE(rey > 50 * cl.c.A_mu);  // exp(-Re_y / A_mu) < 1e-28
+  CHECK(cl.c.C_mu * cl.l_mu(y, rey) * std::sqrt(k) == Approx(cl.c.kappa * utau * y).epsilon(1e-12));
+  CHECK(cl.epsilon_near_wall(y, k) == Approx(utau * utau * utau / (cl.c.kappa * y)).epsilon(1e-12));
+  // And k-epsilon's own nu_t there agrees: C_mu k^2 / epsilon = kappa u_tau y.
+  const double eps = utau * utau * utau / (cl.c.kappa * y);
+  CHECK(cl.nu_t(std::numeric_limits<double>::infinity(), k, eps) == Approx(cl.c.kappa * utau * y).epsilon(1e-12));
+  // Far beyond Re_y* the blend is the standard model's.
+  CHECK(cl.nu_t(y, k, eps) == Approx(cl.c.C_mu * k * k / eps).epsilon(1e-12));
+}
+
+TEST_CASE("without walls, or without the wall model, nu_t = C_mu k^2 / epsilon (eq. 3.17)", "[fv][turbulence]") {
+  const Closure walls{{}, 1e-5, true}, plain{{}, 1e-5, false};
+  CHECK(walls.nu_t(std::numeric_limits<double>::infinity(), 2.0, 3.0) == Approx(0.09 * 4.0 / 3.0));
+  CHECK(plain.nu_t(1e-4, 2.0, 3.0) == Approx(0.09 * 4.0 / 3.0));
+  CHECK_FALSE(plain.one_equation(1e-6, 1e-8));
+  CHECK(walls.one_equation(1e-6, 1e-8));
+}

@@ -63,27 +63,7 @@ FvReference::FvReference(const Setup& s, const Params& p)
         p_[static_cast<std::size_t>(at(x))] = pr;
       }
   velocity_ghosts(u_, 0.0, true, false);
-}
-
-// f(o, x) for each line along axis a of the padded grid, o (x) its cell at index 0 along a.
-template <class F>
-void FvReference::for_lines(int a, F&& f) const {
-  for (long k = -g_[2]; k < n_[2] + g_[2]; ++k)
-    for (long j = -g_[1]; j < n_[1] + g_[1]; ++j)
-      for (long i = -g_[0]; i < n_[0] + g_[0]; ++i) {
-        const long x[3] = {i, j, k};
-        if (x[a] == 0) f(at(x), static_cast<const long*>(x));
-      }
-}
-
-template <class F>
-void FvReference::each_cell(F&& f) const {
-  for (long k = 0; k < n_[2]; ++k)
-    for (long j = 0; j < n_[1]; ++j)
-      for (long i = 0; i < n_[0]; ++i) {
-        const long x[3] = {i, j, k};
-        f(x, static_cast<std::size_t>(at(x)));
-      }
+  turbulence_init();
 }
 
 Vec3 FvReference::side_velocity(int face, double t) const {
@@ -198,57 +178,21 @@ double FvReference::laplacian_at(const Field& q, long n) const {
   return l;
 }
 
-// The weight of a row next to walls along axes other than c: 3/4 per wall, so
-// that the operator with the wall closure is symmetric (fv::wall_row_scale).
-double FvReference::wall_weight(int c, const long x[3]) const {
+// The weight of a row next to walls along axes other than c that makes the
+// operator with the wall closure symmetric: per wall k_in / (k_in + k_w / 3),
+// k_w and k_in the diffusivities of the wall's side and the other side (3/4
+// for a uniform viscosity, fv::wall_row_scale).
+double FvReference::wall_weight(int c, const long x[3], long n) const {
   double w = 1.0;
   for (int d = 0; d < dims_; ++d) {
     if (d == c) continue;
-    if (x[d] == 0 && sides_[2 * d].kind == Kind::wall) w *= fv::wall_row_scale;
-    if (x[d] == n_[d] - 1 && sides_[2 * d + 1].kind == Kind::wall) w *= fv::wall_row_scale;
+    for (int side = 0; side < 2; ++side) {
+      if (x[d] != (side == 0 ? 0 : n_[d] - 1) || sides_[2 * d + side].kind != Kind::wall) continue;
+      const double k_w = nu_at(c, n, d, side), k_in = nu_at(c, n, d, 1 - side);
+      w *= turbulent_ ? k_in / (k_in + k_w / 3) : fv::wall_row_scale;
+    }
   }
   return w;
-}
-
-template <class Apply>
-void FvReference::conjugate_gradients(Apply&& apply, const std::vector<long>& rows, Field& x, const Field& b,
-                                      const char* what) const {
-  Field r(x.size(), 0.0), d(x.size(), 0.0), Ad(x.size(), 0.0);
-  apply(x, Ad);
-  double rr = 0.0, bb = 0.0;
-  for (long i : rows) {
-    const auto I = static_cast<std::size_t>(i);
-    r[I] = b[I] - Ad[I];
-    d[I] = r[I];
-    rr += r[I] * r[I];
-    bb += b[I] * b[I];
-  }
-  if (bb == 0.0) {  // as hypre: the solution of A x = 0 is 0
-    for (long i : rows) x[static_cast<std::size_t>(i)] = 0.0;
-    return;
-  }
-  const double stop = opt_.tolerance * opt_.tolerance * bb;
-  const long limit = 20 * static_cast<long>(rows.size()) + 100;
-  for (long it = 0; rr > stop; ++it) {
-    if (it == limit)
-      throw std::runtime_error(
-          fmt::format("fv-reference: the {} did not converge in {} iterations", what, limit));
-    apply(d, Ad);
-    double dAd = 0.0;
-    for (long i : rows) dAd += d[static_cast<std::size_t>(i)] * Ad[static_cast<std::size_t>(i)];
-    const double alpha = rr / dAd;
-    double rr_new = 0.0;
-    for (long i : rows) {
-      const auto I = static_cast<std::size_t>(i);
-      x[I] += alpha * d[I];
-      r[I] -= alpha * Ad[I];
-      rr_new += r[I] * r[I];
-    }
-    for (long i : rows)
-      d[static_cast<std::size_t>(i)] =
-          r[static_cast<std::size_t>(i)] + rr_new / rr * d[static_cast<std::size_t>(i)];
-    rr = rr_new;
-  }
 }
 
 void FvReference::pressure_ghosts(Field& p, const double open_value[6]) const {
@@ -287,7 +231,9 @@ void FvReference::momentum(const fv::Imex& s, double dt, bool with_pressure) {
   for (int c = 0; c < dims_; ++c)
     each_cell([&](const long* x, std::size_t n) {
       adv_[static_cast<std::size_t>(c)][n] =
-          unknown(c, x[c]) ? advection_at(u_, c, static_cast<long>(n)) : 0.0;
+          unknown(c, x[c]) ? advection_at(u_, c, static_cast<long>(n)) +
+                                 (turbulent_ ? stress_transpose_at(u_, c, static_cast<long>(n)) : 0.0)
+                           : 0.0;
     });
   Faces star = u_;
   for (int c = 0; c < dims_; ++c) {
@@ -299,9 +245,9 @@ void FvReference::momentum(const fv::Imex& s, double dt, bool with_pressure) {
       if (!unknown(c, x[c])) return;
       const long N = static_cast<long>(n);
       rows.push_back(N);
-      weight[n] = wall_weight(c, x);
+      weight[n] = wall_weight(c, x, N);
       double r = (s.a1 * u_[C][n] - s.a2 * u_old_[C][n]) / dt + s.b0 * adv_[C][n] + s.b1 * adv_old_[C][n];
-      if (s.theta < 1) r += (1 - s.theta) * nu_ * laplacian_at(u_[C], N);
+      if (s.theta < 1) r += (1 - s.theta) * viscous_at(u_[C], c, N);
       if (with_pressure) r -= (p_[n] - p_[static_cast<std::size_t>(N - sc)]) / (rho_ * h_[c]);
       r += fluid_.body_force[c] / rho_;
       const auto [w_now, w_last] = fv::source_weights(s, dt, dt_prev_);  // the source's impulse, exactly
@@ -320,7 +266,7 @@ void FvReference::momentum(const fv::Imex& s, double dt, bool with_pressure) {
       velocity_ghosts(X, t1, false, zero);
       for (long i : rows) {
         const auto I = static_cast<std::size_t>(i);
-        y[I] = weight[I] * (s.a0 / dt * X[C][I] - s.theta * nu_ * laplacian_at(X[C], i));
+        y[I] = weight[I] * (s.a0 / dt * X[C][I] - s.theta * viscous_at(X[C], c, i));
       }
     };
     Field zero(rhs.size(), 0.0), affine(rhs.size(), 0.0);
@@ -412,7 +358,11 @@ void FvReference::project(const fv::Imex& s, double dt, bool incremental) {
     pressure_ghosts(q, none);
     for (long i : rows) y[static_cast<std::size_t>(i)] = -laplacian_at(q, i);
   };
-  conjugate_gradients(apply, rows, x, rhs, "pressure Poisson solve");
+  double hmin = h_[0];  // fv's floor: a divergence of 1e-6 tolerance U / h per cell
+  for (int d = 1; d < dims_; ++d) hmin = std::min(hmin, h_[d]);
+  const double floor = 1e-6 * opt_.tolerance * factor * velocity_scale_ / hmin *
+                       std::sqrt(static_cast<double>(rows.size()));
+  conjugate_gradients(apply, rows, x, rhs, "pressure Poisson solve", floor);
   if (!has_open_) {
     double mean = 0.0;
     for (long i : rows) mean += x[static_cast<std::size_t>(i)];
@@ -448,6 +398,7 @@ void FvReference::advance(double window) {
     if (!std::isfinite(umax[0] + umax[1] + umax[2]))
       throw std::runtime_error(
           fmt::format("fv-reference: the velocity is not finite at t = {:.6g} s", time_));
+    velocity_scale_ = std::max({umax[0], umax[1], umax[2]});
     double limit = fv::cfl_step(opt_.cfl, umax, h_, dims_);
     if (opt_.max_step > 0) limit = std::min(limit, opt_.max_step);
     if (left == 0 || dt > limit) {
@@ -461,6 +412,7 @@ void FvReference::advance(double window) {
     next_time_ = left == 1 ? end : time_ + dt;  // the window's last step lands on its end exactly
     momentum(s, dt, steps_ > 0);
     project(s, dt, steps_ > 0);
+    if (turbulent_) turbulence_step(dt);
     adv_old_.swap(adv_);
     source_old_ = source_;
     dt_prev_ = last_dt_ = dt;
@@ -488,7 +440,21 @@ std::vector<output::GridField> FvReference::fields(const config::StringList& nam
     out_div_[o] = divergence_at(u_, static_cast<long>(n));
     ++o;
   });
-  return FvSolver::named_fields(names, out_u_, out_p_, out_rho_, out_div_);
+  auto f = FvSolver::named_fields(names, out_u_, out_p_, out_rho_, out_div_);
+  out_k_.assign(N, 0.0), out_eps_.assign(N, 0.0), out_nut_.assign(N, 0.0);
+  o = 0;
+  each_cell([&](const long*, std::size_t n) {
+    if (turbulent_) out_k_[o] = k_[n], out_eps_[o] = eps_[n], out_nut_[o] = nut_[n];
+    ++o;
+  });
+  out_yplus_ = y_plus();
+  for (const auto& name : names) {
+    if (name == "k") f.push_back({name, 1, out_k_});
+    if (name == "epsilon") f.push_back({name, 1, out_eps_});
+    if (name == "nu_t") f.push_back({name, 1, out_nut_});
+    if (name == "y_plus") f.push_back({name, 1, out_yplus_});
+  }
+  return f;
 }
 
 Diagnostics FvReference::diagnostics() {
@@ -497,11 +463,28 @@ Diagnostics FvReference::diagnostics() {
   double div = 0.0;
   for (double v : out_div_) div = std::max(div, std::abs(v));
   d.extra = {static_cast<double>(window_steps_), last_dt_, 0.0, 0.0, div};
+  if (turbulent_) {  // fv's turbulence columns (the iterations not counted: 0)
+    double km = 0, em = 0, nut = 0, yp = 0;
+    for (std::size_t o = 0; o < out_k_.size(); ++o) {
+      km += out_k_[o] / static_cast<double>(out_k_.size());
+      em += out_eps_[o] / static_cast<double>(out_k_.size());
+      nut = std::max(nut, out_nut_[o]);
+      yp = std::max(yp, out_yplus_[o]);
+    }
+    d.extra.insert(d.extra.end(), {km, em, nut, yp, 0.0});
+  }
   return d;
 }
 
 std::vector<output::Series::Column> FvReference::series_columns() const {
-  return FvSolver::columns();
+  auto c = FvSolver::columns();
+  if (turbulent_)
+    c.insert(c.end(), {{"k_mean", "m^2/s^2"},
+                       {"epsilon_mean", "m^2/s^3"},
+                       {"nu_t_max", "m^2/s"},
+                       {"y_plus_max", "1"},
+                       {"turbulence_iterations", "1"}});
+  return c;
 }
 
 void FvReference::set_source(std::span<const double> force_density) {
@@ -551,6 +534,13 @@ void FvReference::save(const std::string& dir) {
                           {"pressure", 1, p},
                           {"pressure_increment", 1, phi},
                           {"source_previous", 3, src}});
+  if (turbulent_) {
+    std::vector<double> k(N), e(N);
+    o = 0;
+    each_cell([&](const long*, std::size_t n) { k[o] = k_[n], e[o] = eps_[n], ++o; });
+    grid::save_cell_fields(comm_, dir + "/fv_turbulence.h5", time_, steps_, {n_[0], n_[1], n_[2]}, box_,
+                           {{"k", 1, k}, {"epsilon", 1, e}});
+  }
   std::ofstream clock(dir + "/fv_clock.txt");
   clock << fmt::format("{} {:a} {:a}\n", steps_, time_, dt_prev_);
   if (!clock) throw std::runtime_error(fmt::format("fv-reference: cannot write {}/fv_clock.txt", dir));
@@ -592,6 +582,15 @@ void FvReference::load(const std::string& dir, long, double) {
   double face_p[6];
   for (int f = 0; f < 6; ++f) face_p[f] = side_pressure(f, time_);
   pressure_ghosts(p_, face_p);
+  if (turbulent_) {
+    const auto k = grid::load_cell_field(dir + "/fv_turbulence.h5", "k", cells, box_, 1);
+    const auto e = grid::load_cell_field(dir + "/fv_turbulence.h5", "epsilon", cells, box_, 1);
+    o = 0;
+    each_cell([&](const long*, std::size_t n) { k_[n] = k[o], eps_[n] = e[o], ++o; });
+    scalar_ghosts(k_, turb_.inlet_k, 0.0, true);
+    scalar_ghosts(eps_, turb_.inlet_epsilon, 1.0, true);
+    eddy_viscosity();
+  }
 }
 
 }  // namespace coflow::fluid

@@ -5,12 +5,16 @@
 // gradients on operators applied cell by cell (no matrix, no multigrid).
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <stdexcept>
+#include <fmt/format.h>
 #include <vector>
 
 #include "fluid/fluid_solver.hpp"
 #include "fluid/fv/params.hpp"
 #include "fluid/fv/scheme.hpp"
+#include "fluid/turbulence_params.hpp"
 
 namespace coflow::fluid {
 
@@ -74,12 +78,26 @@ class FvReference final : public FluidSolver {
   double laplacian_at(const Field& q, long n) const;
   void momentum(const fv::Imex& s, double dt, bool with_pressure);
   void project(const fv::Imex& s, double dt, bool incremental);
-  double wall_weight(int c, const long x[3]) const;
+  double wall_weight(int c, const long x[3], long n) const;
   void wrap_cells(Faces& f) const;
+  // k-epsilon (k_epsilon_reference.cpp): fv's turbulence/ written plainly.
+  bool is_inlet(int face) const;  // a velocity face with flow through it (else a wall)
+  void turbulence_init();
+  void turbulence_step(double dt);
+  void scalar_ghosts(Field& q, double inlet, double wall_sign, bool extrapolate) const;
+  void eddy_viscosity();
+  double nu_at(int c, long n, int d, int side) const;  // nu + nu_t on a side of u_c's control volume
+  double viscous_at(const Field& q, int c, long n) const;  // div((nu + nu_t) grad u_c)
+  double stress_transpose_at(const Faces& u, int c, long n) const;
+  double strain_rate2_at(long n) const;
+  void advect_scalar(Field& q, double inlet, double wall_sign, double dt) const;
+  void solve_scalar(Field& q, const Field& sink, const Field& source, double sigma, double inlet, bool wall_zero,
+                    const std::vector<char>* fixed, double dt, const char* what) const;
+  std::vector<double> y_plus() const;
   // Conjugate gradients for A x = b over the listed indices; A applied by `apply`.
   template <class Apply>
   void conjugate_gradients(Apply&& apply, const std::vector<long>& rows, Field& x, const Field& b,
-                           const char* what) const;
+                           const char* what, double floor = 0.0) const;
 
   MPI_Comm comm_;
   const config::Config& cfg_;
@@ -94,9 +112,77 @@ class FvReference final : public FluidSolver {
   Faces u_, u_old_, adv_, adv_old_, source_, source_old_;  // source: at the cells, the last step's too
   Field p_, phi_;
   double time_ = 0.0, dt_prev_ = 0.0, last_dt_ = 0.0, next_time_ = 0.0;
+  double velocity_scale_ = 0.0;  // the largest |u_c| at the step's start
   long steps_ = 0, window_steps_ = 0;
   int poisson_iterations_ = 0;
-  std::vector<double> out_u_, out_p_, out_rho_, out_div_;
+  std::vector<double> out_u_, out_p_, out_rho_, out_div_, out_k_, out_eps_, out_nut_, out_yplus_;
+  bool turbulent_ = false;
+  TurbulenceParams turb_;
+  Field k_, eps_, nut_, wall_y_;  // cells, padded; wall_y_: distance to the nearest wall
 };
+
+// The loops and the solver shared by fv_reference.cpp and k_epsilon_reference.cpp.
+
+// f(o, x) for each line along axis a of the padded grid, o (x) its cell at index 0 along a.
+template <class F>
+void FvReference::for_lines(int a, F&& f) const {
+  for (long k = -g_[2]; k < n_[2] + g_[2]; ++k)
+    for (long j = -g_[1]; j < n_[1] + g_[1]; ++j)
+      for (long i = -g_[0]; i < n_[0] + g_[0]; ++i) {
+        const long x[3] = {i, j, k};
+        if (x[a] == 0) f(at(x), static_cast<const long*>(x));
+      }
+}
+
+template <class F>
+void FvReference::each_cell(F&& f) const {
+  for (long k = 0; k < n_[2]; ++k)
+    for (long j = 0; j < n_[1]; ++j)
+      for (long i = 0; i < n_[0]; ++i) {
+        const long x[3] = {i, j, k};
+        f(x, static_cast<std::size_t>(at(x)));
+      }
+}
+
+template <class Apply>
+void FvReference::conjugate_gradients(Apply&& apply, const std::vector<long>& rows, Field& x, const Field& b,
+                                      const char* what, double floor) const {
+  Field r(x.size(), 0.0), d(x.size(), 0.0), Ad(x.size(), 0.0);
+  apply(x, Ad);
+  double rr = 0.0, bb = 0.0;
+  for (long i : rows) {
+    const auto I = static_cast<std::size_t>(i);
+    r[I] = b[I] - Ad[I];
+    d[I] = r[I];
+    rr += r[I] * r[I];
+    bb += b[I] * b[I];
+  }
+  if (bb == 0.0) {  // as hypre: the solution of A x = 0 is 0
+    for (long i : rows) x[static_cast<std::size_t>(i)] = 0.0;
+    return;
+  }
+  const double stop = std::max(opt_.tolerance * opt_.tolerance * bb, floor * floor);
+  const long limit = 20 * static_cast<long>(rows.size()) + 100;
+  for (long it = 0; rr > stop; ++it) {
+    if (it == limit)
+      throw std::runtime_error(
+          fmt::format("fv-reference: the {} did not converge in {} iterations", what, limit));
+    apply(d, Ad);
+    double dAd = 0.0;
+    for (long i : rows) dAd += d[static_cast<std::size_t>(i)] * Ad[static_cast<std::size_t>(i)];
+    const double alpha = rr / dAd;
+    double rr_new = 0.0;
+    for (long i : rows) {
+      const auto I = static_cast<std::size_t>(i);
+      x[I] += alpha * d[I];
+      r[I] -= alpha * Ad[I];
+      rr_new += r[I] * r[I];
+    }
+    for (long i : rows)
+      d[static_cast<std::size_t>(i)] =
+          r[static_cast<std::size_t>(i)] + rr_new / rr * d[static_cast<std::size_t>(i)];
+    rr = rr_new;
+  }
+}
 
 }  // namespace coflow::fluid

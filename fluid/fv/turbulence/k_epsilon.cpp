@@ -135,16 +135,14 @@ double FvSolver::strain_rate2_at(long n) const {
 // q <- q - dt (u . grad) q in sub-steps of Courant number <= 1/2 (non-divergent
 // form: the face fluxes minus q times the cell's discrete divergence).
 void FvSolver::advect_scalar(Field& q, double inlet, double wall_sign, double dt) {
-  double rate = 0.0;
-  for (int d = 0; d < dims_; ++d) {
-    double m = 0.0;
+  double umax[3] = {0, 0, 0}, rate = 0.0;
+  for (int d = 0; d < dims_; ++d)
     for_owned([&](const long*, long n, long) {
-      m = std::max({m, std::abs(u_[static_cast<std::size_t>(d)][n]),
-                    std::abs(u_[static_cast<std::size_t>(d)][n + stride(d)])});
+      umax[d] = std::max({umax[d], std::abs(u_[static_cast<std::size_t>(d)][n]),
+                          std::abs(u_[static_cast<std::size_t>(d)][n + stride(d)])});
     });
-    rate += m / h_[d];
-  }
-  MPI_Allreduce(MPI_IN_PLACE, &rate, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  MPI_Allreduce(MPI_IN_PLACE, umax, 3, MPI_DOUBLE, MPI_MAX, comm_);
+  for (int d = 0; d < dims_; ++d) rate += umax[d] / h_[d];
   const int sub = std::max(1, static_cast<int>(std::ceil(2.0 * rate * dt * (1 - 1e-12))));
   const double h = dt / sub;
   bool inlet_side[6];

@@ -90,3 +90,13 @@ coflow_validation(fv_ke_ranks_1_vs_2_grid compare fv_ke_grid_turbulence.yaml 2
   "fluid.ranks=1 run.end_time=0.5 run.output.every=0.5" "fluid.ranks=2 fluid.decomposition=[2,1,1] run.end_time=0.5 run.output.every=0.5")
 coflow_validation(fv_ke_ranks_1_vs_2_channel compare fv_ke_channel.yaml 2
   "fluid.ranks=1 run.end_time=8.0 run.output.every=8.0" "fluid.ranks=2 fluid.decomposition=[1,2,1] run.end_time=8.0 run.output.every=8.0")
+# fv against fv-reference with k-epsilon: every face kind in 3D, and the
+# channel with the two-layer model (100 cells, while it develops); 1 rank
+# against 4 in 3D.
+coflow_validation(fv_ke_vs_reference compare fv_ke_all_boundaries_3d.yaml 1
+  "fluid.solver=fv" "fluid.solver=fv-reference")
+set(fv_ke_ch_sets "domain.cells=[4,100,1] run.end_time=4.0 run.output.every=4.0 fluid.fv.tolerance=1e-13")
+coflow_validation(fv_ke_vs_reference_channel compare fv_ke_channel.yaml 1
+  "fluid.solver=fv ${fv_ke_ch_sets}" "fluid.solver=fv-reference ${fv_ke_ch_sets}")
+coflow_validation(fv_ke_ranks_1_vs_4 compare fv_ke_all_boundaries_3d.yaml 4
+  "fluid.ranks=1" "fluid.ranks=4 fluid.decomposition=[2,2,1]")

@@ -95,6 +95,7 @@ void ParticleWindows::output(long w) {
                           st.kinetic_energy, double(st.collisions), double(st.wall_collisions),
                           double(st.broken_bonds), st.rotational_energy};
     if (s_.rank() == 0) series_.row(row);
+    solver_->write_statistics(s_.output_dir() + "/series");
     walls_->row(w * s_.window());
     s_.set_final("particles.count", double(st.count));
     s_.set_final("particles.kinetic_energy", st.kinetic_energy);

@@ -118,6 +118,21 @@ void DispersionParams::visit(Visitor& v) {
     "fluctuation correlated over T_L = C_T k / epsilon", config::one_of({"none", "langevin"}));
   v("C_T", C_T, "coefficient of the Lagrangian integral time T_L = C_T k / epsilon (Sommerfeld 2001: 0.22; 0.26 fits "
     "grid turbulence best, docs/validation.md)", config::positive());
+  v.section(
+      "msd",
+      "dpm: the mean-square lateral displacement of each species after its particles cross a plane (seed 003 eq. "
+      "5.24; Snyder & Lumley 1971 reset at x/M = 68.4), into series/dispersion.csv: t (s since each particle's "
+      "crossing), msd_<species> (m^2, the mean over the particles and the two lateral axes), n_<species>",
+      [&](Visitor& s) {
+        if (s.reading() && !msd) return;
+        s.required("axis", msd_axis, "the axis the plane is normal to: 0, 1 or 2 (x, y, z)", config::in_range(0, 2));
+        s.required("plane", msd_plane, "m: the plane's position along the axis, crossed in the positive direction");
+        s.required("interval", msd_interval, "s: between the rows of series/dispersion.csv", config::positive());
+        s.required("samples", msd_samples, "rows after the crossing's (t = 0)", config::greater(0));
+      },
+      &msd);
+  if (v.reading() && msd && model != "langevin")
+    v.fail("msd", "the displacement statistics are of dispersed particles: set model: langevin");
 }
 
 void WallParams::visit(Visitor& v) {

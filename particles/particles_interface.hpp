@@ -77,6 +77,12 @@ struct CollisionParams {
 struct DispersionParams {
   std::string model = "none";  // none | langevin
   double C_T = 0.22;           // eq. 3.38
+  // msd: the mean-square lateral displacement after each particle crosses a
+  // plane (seed 003 eq. 5.24) into series/dispersion.csv (dpm).
+  bool msd = false;
+  int msd_axis = 0;
+  double msd_plane = 0.0, msd_interval = 0.0;
+  int msd_samples = 0;
   void visit(config::Visitor& v);
 };
 
@@ -245,6 +251,9 @@ class ParticleSolver {
   // Checkpoint and restart (collective): particles and contact histories.
   virtual void save(const std::string& dir) = 0;
   virtual void load(const std::string& dir, long steps, double time) = 0;
+  // Statistics files of the variant's own into `series_dir` (collective; at
+  // every series row). dpm: dispersion.csv (particles.dispersion.msd).
+  virtual void write_statistics(const std::string& series_dir) { (void)series_dir; }
 };
 
 }  // namespace coflow::particles

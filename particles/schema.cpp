@@ -99,6 +99,8 @@ config::ComponentSchema schema() {
     p.point_particles = point_particles(info.variant);
     p.visit(v, cfg);
     if (v.reading()) p.check_geometry(v, cfg, info);
+    if (v.reading() && info.variant == "dpm-reference" && p.dispersion.msd)
+      v.fail("dispersion", "dispersion.msd (series/dispersion.csv) is written by dpm; use particles.solver: dpm");
   };
   return s;
 }

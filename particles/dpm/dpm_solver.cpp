@@ -12,6 +12,8 @@
 #include "particles/dem/initial.hpp"
 #include "particles/dpm/state.hpp"
 #include "coflow/gather.hpp"
+#include <fstream>
+#include <sstream>
 
 namespace coflow::particles {
 
@@ -36,6 +38,8 @@ DpmSolver::DpmSolver(const Setup& setup, const Params&)
   store_.add("fluid", 1, store::migrates, fluid_);
   store_.add("fluctuation", 3, store::migrates, uprime_);
   store_.add("turbulent", 1, store::migrates, turbulent_);
+  store_.add("msd_track", dpm::Msd::kTrack, store::migrates, msd_track_);
+  msd_ = dpm::Msd(setup.params.dispersion, static_cast<int>(setup.params.species.size()));
   s_ = dpm::make_setup(setup.params, setup.cfg);
   domain_ = store::Domain(setup.decomposition, s_.lower.data(), s_.upper.data(), s_.periodic, comm_);
   wall_impulse_.reset(s_.meshes.size());
@@ -69,6 +73,7 @@ void DpmSolver::set_derived() {
   impulse_.assign(3 * n, 0.0);
   uprime_.assign(3 * n, 0.0);
   turbulent_.assign(n, 0);
+  msd_track_.assign(dpm::Msd::kTrack * n, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
     D_[i] = 2.0 * p_.radius[i];
     rho_p_[i] = params_.species.at(p_.species[i]).second.density;
@@ -341,11 +346,13 @@ void DpmSolver::commit_states(double h) {
   bool all_inside = true;
   for (std::size_t i = 0; i < n; ++i) {
     V3 x = hit_[i] < 0.0 ? moved_[i].x : V3(at(p_.x, i) + u_[i] * hit_[i] + moved_[i].v * (h - hit_[i]));
+    const V3 unwrapped = x;
     if (!dpm::apply_faces(x, s_)) {
       inside[i] = 0;
       all_inside = false;
       continue;
     }
+    if (msd_.on()) msd_.step(&msd_track_[dpm::Msd::kTrack * i], p_.species[i], at(p_.x, i), unwrapped, time_, h);
     put(p_.x, i, x);
     put(p_.v, i, moved_[i].v);
     put(p_.w, i, moved_[i].w);
@@ -517,6 +524,7 @@ ParticleStats DpmSolver::stats() {
 
 void DpmSolver::save(const std::string& dir) {
   dem::save_state(comm_, dir, time_, steps_, p_, {});
+  if (msd_.on()) save_msd(dir);
   std::vector<double> mine;
   for (std::size_t i = 0; i < p_.size(); ++i)
     if (turbulent_[i]) mine.insert(mine.end(), {double(p_.id[i]), uprime_[3 * i], uprime_[3 * i + 1], uprime_[3 * i + 2]});
@@ -526,6 +534,58 @@ void DpmSolver::save(const std::string& dir) {
   for (std::size_t k = 0; k + 4 <= all.size(); k += 4)
     up[static_cast<std::int64_t>(all[k])] = {V3(all[k + 1], all[k + 2], all[k + 3]), true};
   dpm::save_extra(dir, time_, next_id_, inlets_, up);
+}
+
+void DpmSolver::write_statistics(const std::string& series_dir) {
+  std::vector<std::string> names;
+  for (const auto& sp : params_.species) names.push_back(sp.first);
+  msd_.write(comm_, series_dir + "/dispersion.csv", names);
+}
+
+// The displacement statistics of a checkpoint, dpm_msd.csv: the sums of all
+// ranks, then each tracked particle's track by id (17 digits).
+void DpmSolver::save_msd(const std::string& dir) const {
+  const std::vector<double> totals = msd_.totals(comm_);
+  std::vector<double> mine;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    if (msd_track_[dpm::Msd::kTrack * i] == 0) continue;
+    mine.push_back(static_cast<double>(p_.id[i]));
+    for (int k = 0; k < dpm::Msd::kTrack; ++k) mine.push_back(msd_track_[dpm::Msd::kTrack * i + static_cast<std::size_t>(k)]);
+  }
+  const std::vector<double> all = coupler::gather_to_root<double>(comm_, mine, MPI_DOUBLE);
+  if (rank_ != 0) return;
+  std::ofstream out(dir + "/dpm_msd.csv");
+  out << "totals";
+  for (double v : totals) out << fmt::format(",{:.17g}", v);
+  out << "\n";
+  for (std::size_t q = 0; q + 1 + dpm::Msd::kTrack <= all.size(); q += 1 + dpm::Msd::kTrack) {
+    out << "track," << static_cast<std::int64_t>(all[q]);
+    for (int k = 0; k < dpm::Msd::kTrack; ++k) out << fmt::format(",{:.17g}", all[q + 1 + static_cast<std::size_t>(k)]);
+    out << "\n";
+  }
+  if (!out) throw std::runtime_error("cannot write " + dir + "/dpm_msd.csv");
+}
+
+void DpmSolver::load_msd(const std::string& dir) {
+  std::ifstream in(dir + "/dpm_msd.csv");
+  if (!in) throw std::runtime_error(dir + "/dpm_msd.csv is missing: the checkpoint was written without "
+                                    "particles.dispersion.msd");
+  std::map<std::int64_t, std::vector<double>> tracks;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::stringstream ss(line);
+    std::string kind, field;
+    std::getline(ss, kind, ',');
+    std::vector<double> v;
+    while (std::getline(ss, field, ',')) v.push_back(std::stod(field));
+    if (kind == "totals" && rank_ == 0) msd_.set_totals(v);
+    if (kind == "track" && v.size() == 1 + dpm::Msd::kTrack)
+      tracks[static_cast<std::int64_t>(v[0])] = std::vector<double>(v.begin() + 1, v.end());
+  }
+  for (std::size_t i = 0; i < p_.size(); ++i)
+    if (const auto it = tracks.find(p_.id[i]); it != tracks.end())
+      for (int k = 0; k < dpm::Msd::kTrack; ++k)
+        msd_track_[dpm::Msd::kTrack * i + static_cast<std::size_t>(k)] = it->second[static_cast<std::size_t>(k)];
 }
 
 void DpmSolver::load(const std::string& dir, long steps, double time) {
@@ -542,6 +602,7 @@ void DpmSolver::load(const std::string& dir, long steps, double time) {
       put(uprime_, i, it->second.u);
       turbulent_[i] = it->second.started ? 1 : 0;
     }
+  if (msd_.on()) load_msd(dir);
   steps_ = steps;
 }
 

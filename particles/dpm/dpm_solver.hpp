@@ -13,6 +13,7 @@
 
 #include "particles/dem/dem_common.hpp"
 #include "particles/dpm/injection.hpp"
+#include "particles/dpm/msd.hpp"
 #include "particles/dpm/range_warnings.hpp"
 #include "particles/dpm/setup.hpp"
 #include "particles/particles_interface.hpp"
@@ -64,6 +65,7 @@ class DpmSolver final : public ParticleSolver {
   std::vector<double> take_wall_impulse() override { return wall_impulse_.take(); }
   void save(const std::string& dir) override;
   void load(const std::string& dir, long steps, double time) override;
+  void write_statistics(const std::string& series_dir) override;
 
   void step(double h);
   // Collision candidates by cell lists (default) or by all pairs (for the
@@ -84,6 +86,8 @@ class DpmSolver final : public ParticleSolver {
   void keep_owned();  // every rank holds all: keep this rank's
   void add_ghosts(double h);
   void share_events();
+  void save_msd(const std::string& dir) const;
+  void load_msd(const std::string& dir);
 
   MPI_Comm comm_;
   store::Domain domain_;
@@ -96,7 +100,9 @@ class DpmSolver final : public ParticleSolver {
   std::vector<dpm::FluidSample> fluid_;
   std::vector<double> uprime_;
   std::vector<char> turbulent_;
+  std::vector<double> msd_track_;  // dpm::Msd::kTrack per particle
   store::ParticleStore store_{p_};
+  dpm::Msd msd_;
   std::vector<dpm::FluidSample> seen_;
   dpm::DpmSetup s_;
   std::vector<dpm::Inlet> inlets_;

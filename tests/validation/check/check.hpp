@@ -129,6 +129,7 @@ int granular_gas(const std::string& dir);
 int two_way(const std::string& dir);
 int dispersion(const std::string& dir);
 int grid_turbulence(const std::string& dir);
+int grid_turbulence_fv(const std::string& dir);
 int injection(const std::string& dir);
 int jet(const std::string& dir);
 // fv/checks.cpp

@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
     if (what == "two_way" && argc == 3) return two_way(argv[2]);
     if (what == "dispersion" && argc == 3) return dispersion(argv[2]);
     if (what == "grid_turbulence" && argc == 3) return grid_turbulence(argv[2]);
+    if (what == "grid_turbulence_fv" && argc == 3) return grid_turbulence_fv(argv[2]);
     if (what == "injection" && argc == 3) return injection(argv[2]);
     if (what == "jet" && argc == 3) return jet(argv[2]);
     if (what == "rotation" && argc == 3) return rotation(argv[2]);

@@ -14,7 +14,13 @@
 // space), in the same run. Both start from rest; the first `steps` steps warm
 // up, the next `steps` are timed.
 //
-// Last line: RESULT fv_s_per_step=... icofoam_s_per_step=... ratio=... (512^2).
+// (c) k-epsilon: a 2D channel from an inlet at 256 x 64 and 512 x 128 (--quick:
+//     the first): fv's k-epsilon step against its laminar step (the model's
+//     cost) and against OpenFOAM's pimpleFoam with kEpsilon (same grid, step
+//     and tolerances; OpenFOAM's walls take wall functions).
+//
+// Last line: RESULT fv_s_per_step=... icofoam_s_per_step=... ratio=... (512^2)
+// k_epsilon_cost=... k_epsilon_vs_pimplefoam=... (the largest channel).
 #include <fmt/format.h>
 #include <mpi.h>
 #include <unistd.h>
@@ -61,9 +67,8 @@ fluid:
                      fmt::arg("dt", dt));
 }
 
-Result run_fv(int n, int dims, double dt, long steps) {
-  const config::Config cfg =
-      config::parse_config_node(YAML::Load(cavity_yaml(n, dims, dt)), "bench-fv", catalog());
+Result run_fv_yaml(const std::string& yaml, double dt, long steps) {
+  const config::Config cfg = config::parse_config_node(YAML::Load(yaml), "bench-fv", catalog());
   const fluid::FluidParams fp = fluid::read_params(cfg);
   const auto& c = cfg.domain.cells;
   const auto solver =
@@ -83,6 +88,32 @@ Result run_fv(int n, int dims, double dt, long steps) {
   res.poisson_share = (w1.poisson_s - w0.poisson_s) / s;
   res.viscous_share = (w1.viscous_s - w0.viscous_s) / s;
   return res;
+}
+
+Result run_fv(int n, int dims, double dt, long steps) { return run_fv_yaml(cavity_yaml(n, dims, dt), dt, steps); }
+
+// (c) A 2D channel 8 x 2 (half height 1) from a uniform inlet (U = 1 m/s,
+// nu = 1e-4 m^2/s: Re_b = 20000; k 3.75e-3, epsilon 2.69e-4) to a pressure
+// face, walls at y- and y+; laminar or with k-epsilon (two-layer).
+std::string channel_yaml(int nx, int ny, double dt, bool turbulent) {
+  std::string y = fmt::format(R"(
+run: {{name: bench-fv-channel, end_time: 1.0}}
+domain: {{lower: [0, 0, 0], upper: [8, 2, {dz:.9g}], cells: [{nx}, {ny}, 1], periodic: [false, false, false]}}
+fluid:
+  solver: fv
+  density: 1.0
+  viscosity: 1.0e-4
+  initial: {{velocity: [1.0, 0.0, 0.0]}}
+  boundaries:
+    x-: {{type: velocity, value: [1.0, 0.0, 0.0]}}
+    x+: {{type: pressure, value: 0.0}}
+  fv: {{advection: upwind, time: sbdf2, cfl: 1.0, max_step: {dt:.17g}, tolerance: 1.0e-10}}
+)",
+                              fmt::arg("dz", 8.0 / nx), fmt::arg("nx", nx), fmt::arg("ny", ny), fmt::arg("dt", dt));
+  if (turbulent)
+    y += "  turbulence: {model: k-epsilon, wall: two-layer, initial: {k: 3.75e-3, epsilon: 2.69e-4}, "
+         "inlet: {k: 3.75e-3, epsilon: 2.69e-4}}\n";
+  return y;
 }
 
 void write(const std::filesystem::path& p, const std::string& text) {
@@ -138,23 +169,82 @@ boundary (
             "PISO { nCorrectors 2; nNonOrthogonalCorrectors 0; pRefCell 0; pRefValue 0; }\n");
 }
 
+// The channel of (c) for pimpleFoam with OpenFOAM's kEpsilon (standard wall
+// functions at the walls: OpenFOAM has no two-layer model), limitedLinear
+// advection, PISO-mode PIMPLE (1 outer, 2 pressure correctors), every
+// solve to 1e-10.
+void write_pimple_case(const std::filesystem::path& dir, int nx, int ny, double dt, long steps) {
+  const std::string head = "FoamFile { version 2.0; format ascii; class dictionary; object x; }\n";
+  auto field = [](const char* cls, const char* name) {
+    return fmt::format("FoamFile {{ version 2.0; format ascii; class {}; object {}; }}\n", cls, name);
+  };
+  const double dz = 8.0 / nx;
+  write(dir / "system/blockMeshDict",
+        head + fmt::format("convertToMeters 1;\nvertices ((0 0 0) (8 0 0) (8 2 0) (0 2 0) (0 0 {dz}) (8 0 {dz}) (8 2 "
+                           "{dz}) (0 2 {dz}));\nblocks (hex (0 1 2 3 4 5 6 7) ({nx} {ny} 1) simpleGrading (1 1 1));\n"
+                           "boundary ( inlet {{ type patch; faces ((0 4 7 3)); }} outlet {{ type patch; faces ((1 2 6 "
+                           "5)); }} walls {{ type wall; faces ((0 1 5 4) (3 7 6 2)); }} frontAndBack {{ type empty; "
+                           "faces ((0 3 2 1) (4 5 6 7)); }} );\n",
+                           fmt::arg("dz", dz), fmt::arg("nx", nx), fmt::arg("ny", ny)));
+  auto scalar = [&](const char* name, const char* dims, const std::string& value, const char* wall) {
+    write(dir / "0" / name,
+          field("volScalarField", name) +
+              fmt::format("dimensions {}; internalField uniform {};\nboundaryField {{ inlet {{ type {}; value uniform "
+                          "{}; }} outlet {{ type {}; value uniform {}; }} walls {{ type {}; value uniform {}; }} "
+                          "frontAndBack {{ type empty; }} }}\n",
+                          dims, value, std::string(name) == "nut" ? "calculated" : "fixedValue", value,
+                          std::string(name) == "nut" ? "calculated" : "zeroGradient", value, wall, value));
+  };
+  write(dir / "0/U", field("volVectorField", "U") +
+                         "dimensions [0 1 -1 0 0 0 0]; internalField uniform (1 0 0);\nboundaryField { inlet { type "
+                         "fixedValue; value uniform (1 0 0); } outlet { type zeroGradient; } walls { type noSlip; } "
+                         "frontAndBack { type empty; } }\n");
+  write(dir / "0/p", field("volScalarField", "p") +
+                         "dimensions [0 2 -2 0 0 0 0]; internalField uniform 0;\nboundaryField { inlet { type "
+                         "zeroGradient; } outlet { type fixedValue; value uniform 0; } walls { type zeroGradient; } "
+                         "frontAndBack { type empty; } }\n");
+  scalar("k", "[0 2 -2 0 0 0 0]", "3.75e-3", "kqRWallFunction");
+  scalar("epsilon", "[0 2 -3 0 0 0 0]", "2.69e-4", "epsilonWallFunction");
+  scalar("nut", "[0 2 -1 0 0 0 0]", "0", "nutkWallFunction");
+  write(dir / "constant/transportProperties", head + "transportModel Newtonian; nu 1e-4;\n");
+  write(dir / "constant/turbulenceProperties",
+        head + "simulationType RAS; RAS { RASModel kEpsilon; turbulence on; printCoeffs off; }\n");
+  write(dir / "system/controlDict",
+        head + fmt::format("application pimpleFoam; startFrom startTime; startTime 0; stopAt endTime; endTime "
+                           "{:.17g}; deltaT {:.17g}; writeControl timeStep; writeInterval 100000000; "
+                           "purgeWrite 0; writeFormat binary; runTimeModifiable false;\n",
+                           2 * steps * dt, dt));
+  write(dir / "system/fvSchemes",
+        head + "ddtSchemes { default Euler; } gradSchemes { default Gauss linear; } divSchemes { default none; "
+               "div(phi,U) Gauss limitedLinearV 1; div(phi,k) Gauss limitedLinear 1; div(phi,epsilon) Gauss "
+               "limitedLinear 1; div((nuEff*dev2(T(grad(U))))) Gauss linear; } laplacianSchemes { default Gauss "
+               "linear corrected; } interpolationSchemes { default linear; } snGradSchemes { default corrected; } "
+               "wallDist { method meshWave; }\n");
+  write(dir / "system/fvSolution",
+        head + "solvers { p { solver GAMG; smoother GaussSeidel; tolerance 1e-10; relTol 0; } pFinal { $p; } "
+               "\"(U|k|epsilon)\" { solver smoothSolver; smoother symGaussSeidel; tolerance 1e-10; relTol 0; } "
+               "\"(U|k|epsilon)Final\" { $U; } }\nPIMPLE { nOuterCorrectors 1; nCorrectors 2; "
+               "nNonOrthogonalCorrectors 0; pRefCell 0; pRefValue 0; }\n");
+}
+
 // icoFoam's seconds per step over the timed steps (ExecutionTime after step
 // `steps` and after step 2 steps); 0 and a note when it is not there or fails.
-double run_icofoam(int n, int dims, double dt, long steps, std::string& note) {
-  if (std::system("command -v icoFoam >/dev/null 2>&1") != 0) {
-    note = "icoFoam not found (Debian package openfoam; scripts/setup installs it)";
+template <class Writer>
+double run_openfoam(const std::string& app, const std::string& tag, Writer&& write_case, long steps,
+                    std::string& note) {
+  if (std::system(fmt::format("command -v {} >/dev/null 2>&1", app).c_str()) != 0) {
+    note = app + " not found (Debian package openfoam; scripts/setup installs it)";
     return 0.0;
   }
-  const auto dir =
-      std::filesystem::temp_directory_path() / fmt::format("coflow-bench-fv-{}-{}", ::getpid(), n);
-  write_openfoam_case(dir, n, dims, dt, steps);
+  const auto dir = std::filesystem::temp_directory_path() / fmt::format("coflow-bench-fv-{}-{}", ::getpid(), tag);
+  write_case(dir);
   // Debian's OpenFOAM finds its etc/ through WM_PROJECT_DIR.
   const std::string cmd = fmt::format(
       "cd '{}' && export WM_PROJECT_DIR=${{WM_PROJECT_DIR:-/usr/share/openfoam}} OMP_NUM_THREADS=1 && "
-      "blockMesh > blockMesh.log 2>&1 && icoFoam > icoFoam.log 2>&1",
-      dir.string());
+      "blockMesh > blockMesh.log 2>&1 && {} > solver.log 2>&1",
+      dir.string(), app);
   const int rc = std::system(cmd.c_str());
-  std::ifstream in(dir / "icoFoam.log");
+  std::ifstream in(dir / "solver.log");
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (!std::getenv("COFLOW_BENCH_KEEP")) std::filesystem::remove_all(dir);
   const std::regex exec(R"(ExecutionTime = ([0-9.eE+-]+) s)");
@@ -162,7 +252,7 @@ double run_icofoam(int n, int dims, double dt, long steps, std::string& note) {
   for (auto it = std::sregex_iterator(text.begin(), text.end(), exec); it != std::sregex_iterator(); ++it)
     times.push_back(std::stod((*it)[1]));
   if (rc != 0 || long(times.size()) < 2 * steps) {
-    note = fmt::format("icoFoam failed (exit {}); its log ends: {}", rc,
+    note = fmt::format("{} failed (exit {}); its log ends: {}", app, rc,
                        text.substr(text.size() > 400 ? text.size() - 400 : 0));
     return 0.0;
   }
@@ -173,7 +263,9 @@ void report(const char* name, int n, int dims, long steps, Result& fv, double& f
   const double dt = 0.5 / n;  // Courant 0.5 at the lid
   fv = run_fv(n, dims, dt, steps);
   std::string note;
-  foam = run_icofoam(n, dims, dt, steps, note);
+  foam = run_openfoam(
+      "icoFoam", std::to_string(n), [&](const auto& dir) { write_openfoam_case(dir, n, dims, dt, steps); }, steps,
+      note);
   std::printf(
       "%s %d^%d: fv %.4f s/step (%.1f ns per cell), Poisson %.1f iterations, %.4f s per solve "
       "(%.1f ns per cell), %.0f %% of the step (viscous %.0f %%)",
@@ -181,6 +273,27 @@ void report(const char* name, int n, int dims, long steps, Result& fv, double& f
       fv.poisson_s, 1e9 * fv.poisson_s / double(fv.cells), 100 * fv.poisson_share, 100 * fv.viscous_share);
   if (foam > 0)
     std::printf("; icoFoam %.4f s/step: fv %.2fx faster\n", foam, foam / fv.s_per_step);
+  else
+    std::printf("; %s\n", note.c_str());
+  std::fflush(stdout);
+}
+
+// (c): fv with k-epsilon against fv laminar (the cost of the model) and
+// against pimpleFoam with kEpsilon, same grid, step and tolerances.
+void report_channel(int nx, int ny, long steps, double& ratio_laminar, double& ratio_foam) {
+  const double dt = 0.4 * 8.0 / nx;  // Courant about 0.5 at the channel's core
+  const Result lam = run_fv_yaml(channel_yaml(nx, ny, dt, false), dt, steps);
+  const Result ke = run_fv_yaml(channel_yaml(nx, ny, dt, true), dt, steps);
+  std::string note;
+  const double foam = run_openfoam(
+      "pimpleFoam", fmt::format("ke{}", nx), [&](const auto& dir) { write_pimple_case(dir, nx, ny, dt, steps); },
+      steps, note);
+  ratio_laminar = ke.s_per_step / lam.s_per_step;
+  ratio_foam = foam > 0 ? foam / ke.s_per_step : std::nan("");
+  std::printf("(c) channel %dx%d: fv laminar %.4f s/step, fv k-epsilon %.4f s/step (%.2fx the laminar step)", nx, ny,
+              lam.s_per_step, ke.s_per_step, ratio_laminar);
+  if (foam > 0)
+    std::printf("; pimpleFoam kEpsilon %.4f s/step: fv %.2fx faster\n", foam, ratio_foam);
   else
     std::printf("; %s\n", note.c_str());
   std::fflush(stdout);
@@ -210,8 +323,14 @@ int main(int argc, char** argv) {
     foam512 = foam;
   }
   report("(b) 3D", quick ? 64 : 128, 3, std::max(2L, steps / 5), fv, foam);
-  std::printf("RESULT fv_s_per_step=%.4g icofoam_s_per_step=%.4g ratio=%.3f\n", fv512, foam512,
-              foam512 > 0 ? foam512 / fv512 : std::nan(""));
+  double ke_cost = 0.0, ke_vs_foam = 0.0;
+  for (int nx : {256, 512}) {
+    if (quick && nx > 256) break;
+    report_channel(nx, nx / 4, steps, ke_cost, ke_vs_foam);
+  }
+  std::printf("RESULT fv_s_per_step=%.4g icofoam_s_per_step=%.4g ratio=%.3f k_epsilon_cost=%.3f "
+              "k_epsilon_vs_pimplefoam=%.3f\n",
+              fv512, foam512, foam512 > 0 ? foam512 / fv512 : std::nan(""), ke_cost, ke_vs_foam);
   MPI_Finalize();
   return 0;
 }

@@ -90,6 +90,9 @@ FvSolver::~FvSolver() {
             steps_, step_seconds_, 100 * poisson_seconds_ / step_seconds_,
             100 * viscous_seconds_ / step_seconds_,
             100 * (step_seconds_ - poisson_seconds_ - viscous_seconds_) / step_seconds_);
+  if (turbulent_)
+    log::info("fv: k-epsilon {:.1f} % of the steps (its k and epsilon solves {:.1f} %)",
+              100 * turbulence_seconds_ / step_seconds_, 100 * scalar_solve_seconds_ / step_seconds_);
 }
 
 // The initial state (fluid.initial) sampled at the faces and centres; the

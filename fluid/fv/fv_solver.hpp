@@ -198,6 +198,8 @@ class FvSolver final : public FluidSolver {
   std::unique_ptr<fv::StructSystem> k_system_, eps_system_;
   int turbulence_iterations_ = 0;
   double min_k_ = 0.0;
+  double turbulence_seconds_ = 0.0, scalar_solve_seconds_ = 0.0;  // wall time, this rank
+  std::array<Field, 6> scratch_;  // the turbulence step's work fields
 };
 
 }  // namespace coflow::fluid

@@ -41,7 +41,11 @@ struct Closure {
   double nu_t(double y, double k, double eps) const {
     const double standard = c.C_mu * k * k / eps;
     if (!two_layer || !(y < std::numeric_limits<double>::infinity())) return standard;
-    const double rey = re_y(y, k), lambda = blend(rey);
+    const double rey = re_y(y, k);
+    // tanh is exactly 1 in double beyond 20 widths: the standard model alone
+    // (the same number, without the exponentials).
+    if ((rey - c.Re_y_star) * std::atanh(0.98) > 20 * 0.2 * c.Re_y_star) return standard;
+    const double lambda = blend(rey);
     return lambda * standard + (1.0 - lambda) * c.C_mu * l_mu(y, rey) * std::sqrt(k);
   }
 };

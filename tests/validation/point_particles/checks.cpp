@@ -564,8 +564,9 @@ int grid_turbulence_fv(const std::string& dir) {
     kinds.push_back({sp.first.as<std::string>(), sp.second["diameter"].as<double>(), sp.second["density"].as<double>()});
   const std::size_t K = kinds.size();
   std::vector<double> final_msd(K, 0.0);
+  std::vector<std::vector<double>> refs(K);
   for (std::size_t q = 0; q < K; ++q) {
-    std::vector<double> ref;
+    std::vector<double>& ref = refs[q];
     double tc = 0.0;
     model_msd(m, kinds[q], dtau, ntau, ref, tc);
     const double started = rows.at(0).at(1 + K + q);
@@ -581,6 +582,15 @@ int grid_turbulence_fv(const std::string& dir) {
     std::printf("%s: %.0f particles crossed; model crossing at t = %.4f s; %d rows compared\n", kinds[q].name.c_str(),
                 started, tc, used);
     std::printf("model_error_%s=%.4e\n", kinds[q].name.c_str(), used > 0 ? worst : 1.0);
+  }
+  std::ofstream csv(dir + "/msd_model.csv");  // for scripts/plot_dispersion.py
+  csv << "t";
+  for (const auto& kd : kinds) csv << ",model_" << kd.name;
+  csv << "\n";
+  for (int k = 0; k <= ntau; ++k) {
+    csv << k * dtau;
+    for (std::size_t q = 0; q < K; ++q) csv << "," << refs[q][static_cast<std::size_t>(k)];
+    csv << "\n";
   }
   if (K == 4) {
     const bool ordered = final_msd[0] > final_msd[1] && final_msd[1] > final_msd[2] && final_msd[1] > final_msd[3];

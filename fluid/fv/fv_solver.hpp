@@ -199,7 +199,8 @@ class FvSolver final : public FluidSolver {
   int turbulence_iterations_ = 0;
   double min_k_ = 0.0;
   double turbulence_seconds_ = 0.0, scalar_solve_seconds_ = 0.0;  // wall time, this rank
-  std::array<Field, 6> scratch_;  // the turbulence step's work fields
+  std::array<Field, 7> scratch_;  // the turbulence step's work fields
+  fv::StructSystem::Rows rows_;   // a matrix being assembled (momentum, k, epsilon)
 };
 
 }  // namespace coflow::fluid

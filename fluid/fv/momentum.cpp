@@ -42,7 +42,8 @@ void FvSolver::advection(const Faces& u, Faces& out) const {
 // the faces' conditions folded in (they also add to the right-hand side:
 // viscous_rhs). A domain face of axis c is not an unknown: its row is 1.
 void FvSolver::set_viscous(int c, double diag_scale, double theta) {
-  fv::StructSystem::Rows m(static_cast<std::size_t>(blk_.owned_cells()));
+  fv::StructSystem::Rows& m = rows_;
+  m.reset(static_cast<std::size_t>(blk_.owned_cells()));
   auto& diag = m.diag;
   auto& lo = m.lower;
   auto& hi = m.upper;

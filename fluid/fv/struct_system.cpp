@@ -81,7 +81,8 @@ void StructSystem::free_solver() {
 
 void StructSystem::set(std::span<const double> diag, const Couplings& lower, const Couplings& upper) {
   const int entries = 1 + 2 * dims_;
-  std::vector<double> values(diag.size() * static_cast<std::size_t>(entries));
+  std::vector<double>& values = values_;
+  values.resize(diag.size() * static_cast<std::size_t>(entries));
   for (std::size_t c = 0; c < diag.size(); ++c) {
     values[c * entries] = diag[c];
     for (int d = 0; d < dims_; ++d) {

@@ -52,7 +52,10 @@ class StructSystem {
   // A matrix being assembled: per owned cell its diagonal and its couplings
   // below and above along each axis (zero until set); set() hands it over.
   struct Rows {
-    explicit Rows(std::size_t cells) : diag(cells, 0.0) {
+    explicit Rows(std::size_t cells = 0) { reset(cells); }
+    // All entries zero again, the storage kept (a matrix rebuilt every step).
+    void reset(std::size_t cells) {
+      diag.assign(cells, 0.0);
       for (auto& v : lower) v.assign(cells, 0.0);
       for (auto& v : upper) v.assign(cells, 0.0);
     }
@@ -75,6 +78,7 @@ class StructSystem {
   int iterations_ = 0;
   double residual_ = 0.0;
   double floor_ = 0.0;
+  std::vector<double> values_;  // set()'s staging of the entries
 };
 
 }  // namespace coflow::fluid::fv

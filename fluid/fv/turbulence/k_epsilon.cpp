@@ -151,22 +151,24 @@ void FvSolver::advect_scalar(Field& q, double inlet, double wall_sign, double dt
     inlet_side[f] = face.here && face.kind == Face::dirichlet && !face.wall;
   }
   Field& next = scratch_[5];
+  Field& face = scratch_[6];  // the carried value on the lower face of each cell (and the last upper ones)
   next = q;
+  face.resize(q.size());
   for (int step = 0; step < sub; ++step) {
-    for_owned([&](const long* at, long n, long) {
-      double r = 0.0;
-      for (int d = 0; d < dims_; ++d) {
-        const long s = stride(d);
-        const Field& v = u_[static_cast<std::size_t>(d)];
-        const double up = v[n + s], um = v[n];
-        double qp = fv::face_value(true, q[n - s], q[n], q[n + s], q[n + 2 * s], up);
-        double qm = fv::face_value(true, q[n - 2 * s], q[n - s], q[n], q[n + s], um);
-        if (inlet_side[2 * d + 1] && at[d] == blk_.extent[d] - 1) qp = inlet;  // the inlet's value on its face
-        if (inlet_side[2 * d] && at[d] == 0) qm = inlet;
-        r -= (up * qp - um * qm - q[n] * (up - um)) / h_[d];
-      }
-      next[n] = q[n] + h * r;
-    });
+    for_owned([&](const long*, long n, long) { next[n] = 0.0; });
+    for (int d = 0; d < dims_; ++d) {
+      const long s = stride(d), last = blk_.extent[d] - 1;
+      const Field& v = u_[static_cast<std::size_t>(d)];
+      auto value = [&](long m) { return fv::face_value(true, q[m - 2 * s], q[m - s], q[m], q[m + s], v[m]); };
+      for_owned([&](const long* at, long n, long) {
+        face[n] = inlet_side[2 * d] && at[d] == 0 ? inlet : value(n);  // the inlet's value on its face
+        if (at[d] == last) face[n + s] = inlet_side[2 * d + 1] ? inlet : value(n + s);
+      });
+      for_owned([&](const long*, long n, long) {
+        next[n] -= (v[n + s] * face[n + s] - v[n] * face[n] - q[n] * (v[n + s] - v[n])) / h_[d];
+      });
+    }
+    for_owned([&](const long*, long n, long) { next[n] = q[n] + h * next[n]; });
     std::swap(q, next);
     fill_scalar_ghosts(q, inlet, wall_sign, true);
   }
@@ -180,7 +182,8 @@ void FvSolver::advect_scalar(Field& q, double inlet, double wall_sign, double dt
 // matrix stays symmetric).
 void FvSolver::solve_scalar(fv::StructSystem& sys, Field& q, const Field& sink, const Field& source,
                             double sigma, double inlet, bool wall_zero, const Field* fixed, double dt) {
-  fv::StructSystem::Rows m(static_cast<std::size_t>(blk_.owned_cells()));
+  fv::StructSystem::Rows& m = rows_;
+  m.reset(static_cast<std::size_t>(blk_.owned_cells()));
   for_owned([&](const long* at, long n, long o) {
     const auto O = static_cast<std::size_t>(o);
     x_[O] = q[n];

@@ -77,11 +77,18 @@ void FluidParams::visit(config::Visitor& v, const config::Config& cfg) {
       },
       face_names());
   v.section("initial", "initial state", [&](config::Visitor& s) {
-    s("field", initial_field, "uniform (velocity, pressure) or a taylor-green vortex in x-y added to them",
-      config::one_of({"uniform", "taylor-green"}));
+    s("field", initial_field,
+      "uniform (velocity, pressure), or added to them in x-y: a taylor-green vortex (periodic in the box) or a "
+      "vortex: a shielded (Gaussian) vortex, u_theta = amplitude (r / radius) exp((1 - r^2 / radius^2) / 2), its "
+      "peak at r = radius, no net circulation (a disturbance to carry through open faces)",
+      config::one_of({"uniform", "taylor-green", "vortex"}));
+    s("center", initial_center, "vortex: [x, y] of its centre, m");
+    s("radius", initial_radius, "vortex: radius of its peak swirl, m", config::at_least(0.0));
+    if (s.reading() && initial_field == "vortex" && (initial_center.values.size() < 2 || !(initial_radius > 0)))
+      s.fail("field", "a vortex needs center: [x, y] and radius > 0");
     s("velocity", initial_velocity, "initial velocity, m/s");
     s("pressure", initial_pressure, "initial pressure, Pa");
-    s("amplitude", initial_amplitude, "taylor-green: velocity amplitude U0, m/s");
+    s("amplitude", initial_amplitude, "taylor-green: velocity amplitude U0; vortex: peak swirl, m/s");
     visit_phase_regions(s, cfg, initial_phase);
     if (s.reading() && !initial_phase.empty() && !v.given("two_phase"))
       s.fail("phase", "painting phases needs a two-phase fluid: add fluid.two_phase (surface_tension, ...)");
@@ -157,6 +164,14 @@ void FluidParams::check_solids(config::Visitor& v, const config::Config& cfg) co
 void FluidParams::initial_state(const config::Config& cfg, const Vec3& x, Vec3& u, double& p) const {
   u = initial_velocity;
   p = initial_pressure;
+  if (initial_field == "vortex") {  // the pressure follows from the first projection
+    const double dx = x[0] - initial_center.values.at(0), dy = x[1] - initial_center.values.at(1);
+    const double r2 = (dx * dx + dy * dy) / (initial_radius * initial_radius);
+    const double swirl = initial_amplitude * std::exp(0.5 * (1 - r2)) / initial_radius;  // u_theta / r
+    u[0] -= swirl * dy;
+    u[1] += swirl * dx;
+    return;
+  }
   if (initial_field != "taylor-green") return;
   // u = U0 (sin kx x cos ky y, -(kx/ky) cos kx x sin ky y), periodic in the box.
   const auto& d = cfg.domain;

@@ -44,7 +44,9 @@ struct FluidParams {
   Vec3 initial_velocity{0, 0, 0};
   double initial_pressure = 0.0;
   std::string initial_field = "uniform";  // uniform | taylor-green
-  double initial_amplitude = 0.0;          // taylor-green: U0, m/s
+  double initial_amplitude = 0.0;          // taylor-green: U0; vortex: peak swirl, m/s
+  config::Numbers initial_center;          // vortex: [x, y], m
+  double initial_radius = 0.0;             // vortex: m
   TwoPhaseParams two_phase;                // two_phase.on: the section is given
   TurbulenceParams turbulence;             // turbulence.on: the section is given (fv)
   std::vector<PhaseRegion> initial_phase;  // two-phase: painted regions

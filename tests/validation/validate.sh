@@ -9,6 +9,8 @@
 #                       and the event logs (events/*.csv) when the runs write them
 #   layouts             as compare; run A must log the packed population layout and
 #                       run B the spaced one (lbm)
+#   reflection          ARGS: three override lists (open face, long box, other open
+#                       face); coflow-check outflow_reflection of runs 1 and 3 against 2
 #   order               ARGS: three override lists (coarse, medium, fine);
 #                       prints l2 errors and the observed orders of convergence
 #   order_tg            as order, for the Taylor-Green vortex (coflow-check tg_error)
@@ -64,6 +66,17 @@ case "$mode" in
         echo "${f#events/}: $((lines - 1)) events, identical"
       fi
     done ;;
+  reflection)
+    # ARGS: three override lists: A (the box with its open face), B (a longer
+    # box, the reference), C (A with another open face). coflow-check
+    # outflow_reflection for A and C against B.
+    for n in 1 2 3; do
+      mapfile -t s < <(sets "${!n}")
+      run "$out/run$n" "${s[@]}"
+    done
+    check outflow_reflection "$out/run1" "$out/run2" | tee -a "$metrics" || exit 1
+    check outflow_reflection "$out/run3" "$out/run2" | sed 's/^/other_/' | tee -a "$metrics" || exit 1
+    awk -F= '/^reflection=/ { a = $2 } /^other_reflection=/ { b = $2 } END { printf "reflection_ratio=%.4f\n", b / a }' "$metrics" | tee -a "$metrics" || exit 1 ;;
   order|order_tg)
     # order: steady profiles (coflow-check profile); order_tg: the Taylor-Green
     # vortex at the end (coflow-check tg_error).

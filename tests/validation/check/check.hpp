@@ -136,6 +136,7 @@ int jet(const std::string& dir);
 int cavity(const std::string& dir);
 int tg_error(const std::string& dir);
 int divergence(const std::string& dir);
+int outflow_reflection(const std::string& a, const std::string& b);
 // fv/turbulence_checks.cpp
 int ke_decay(const std::string& dir);
 int ke_grid(const std::string& dir);

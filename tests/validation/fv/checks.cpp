@@ -124,4 +124,38 @@ int divergence(const std::string& dir) {
   return 0;
 }
 
+// A disturbance carried out through an open face: run A in the box, run B in
+// a box longer downstream on the same grid (the reference, its face far
+// away), snapshots at the same times. Prints the largest |u_A - u_B| over the
+// upstream 80 % of A's cells at any snapshot (what the face sends back
+// upstream) and over all of A's cells at the last (what stays after the
+// disturbance left), relative to the initial vortex's peak swirl.
+int outflow_reflection(const std::string& a, const std::string& b) {
+  const auto cfg = load(a);
+  const double swirl = fluid_params(cfg).initial_amplitude;
+  const auto sa = snapshots(a, "fluid"), sb = snapshots(b, "fluid");
+  if (sa.size() != sb.size()) throw std::runtime_error("the two runs wrote different numbers of snapshots");
+  double reflection = 0.0, residual = 0.0;
+  for (std::size_t i = 0; i < sa.size(); ++i) {
+    std::vector<std::size_t> da, db;
+    const auto ua = output::read_dataset(a + "/fluid/" + output::snapshot_name(sa[i].first), "velocity", &da);
+    const auto ub = output::read_dataset(b + "/fluid/" + output::snapshot_name(sb[i].first), "velocity", &db);
+    if (std::abs(sa[i].second - sb[i].second) > 1e-9 * std::max(1.0, sa[i].second))
+      throw std::runtime_error("the snapshots' times differ");
+    const long ny = static_cast<long>(da[1]), nxa = static_cast<long>(da[2]), nxb = static_cast<long>(db[2]);
+    const long upstream = nxa * 4 / 5;
+    for (long j = 0; j < ny; ++j)
+      for (long x = 0; x < nxa; ++x)
+        for (long c = 0; c < 3; ++c) {
+          const double d = std::abs(ua[static_cast<std::size_t>((j * nxa + x) * 3 + c)] -
+                                    ub[static_cast<std::size_t>((j * nxb + x) * 3 + c)]) / swirl;
+          if (!(d == d)) throw std::runtime_error("a velocity is not a number");
+          if (x < upstream) reflection = std::max(reflection, d);
+          if (i + 1 == sa.size()) residual = std::max(residual, d);
+        }
+  }
+  std::printf("reflection=%.4e\nresidual=%.4e\n", reflection, residual);
+  return 0;
+}
+
 }  // namespace coflow::check

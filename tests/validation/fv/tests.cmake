@@ -100,3 +100,8 @@ coflow_validation(fv_ke_vs_reference_channel compare fv_ke_channel.yaml 1
   "fluid.solver=fv ${fv_ke_ch_sets}" "fluid.solver=fv-reference ${fv_ke_ch_sets}")
 coflow_validation(fv_ke_ranks_1_vs_4 compare fv_ke_all_boundaries_3d.yaml 4
   "fluid.ranks=1" "fluid.ranks=4 fluid.decomposition=[2,2,1]")
+# The convective outflow face lets a vortex leave: against the same flow in a
+# box twice as long (issue 21), and a pressure face (zero gradient) for scale.
+coflow_validation(fv_outflow_vortex reflection fv_outflow_vortex.yaml 1 "fluid.boundaries.x+.type=outflow"
+  "domain.upper=[2.0,1.0,0.015625] domain.cells=[128,64,1]"
+  "fluid.boundaries.x+.type=pressure fluid.boundaries.x+.value=0.0")

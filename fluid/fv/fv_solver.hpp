@@ -40,11 +40,11 @@ class FvSolver final : public FluidSolver {
   std::vector<output::GridField> fields(const config::StringList& names) override;
   Diagnostics diagnostics() override;
   std::vector<output::Series::Column> series_columns() const override;
-  static std::vector<output::GridField> named_fields(const config::StringList& names,
-                                                     const std::vector<double>& u,
-                                                     const std::vector<double>& p,
-                                                     const std::vector<double>& rho,
-                                                     const std::vector<double>& div);
+  // The arrays over the owned cells that named_fields hands out by name.
+  struct Arrays {
+    std::span<const double> u, p, rho, div, k, eps, nut, y_plus;
+  };
+  static std::vector<output::GridField> named_fields(const config::StringList& names, const Arrays& a);
   static Diagnostics cell_diagnostics(const std::vector<double>& centre_velocity, double cell_mass);
   // The columns fv adds to series/fluid.csv (fv-reference adds the same).
   static std::vector<output::Series::Column> columns();

@@ -26,35 +26,28 @@ std::vector<output::GridField> FvSolver::fields(const config::StringList& names)
     }
     out_div_[O] = divergence_at(u_, n);
   });
-  auto f = named_fields(names, out_u_, out_p_, out_rho_, out_div_);
   // The turbulence fields (zero for laminar flow), kept until the next call.
   const std::vector<double> none(N, 0.0);
   out_k_ = turbulent_ ? owned_of(k_) : none;
   out_eps_ = turbulent_ ? owned_of(eps_) : none;
   out_nut_ = turbulent_ ? owned_of(nut_) : none;
   out_yplus_ = y_plus();
-  for (const auto& name : names) {
-    if (name == "k") f.push_back({name, 1, out_k_});
-    if (name == "epsilon") f.push_back({name, 1, out_eps_});
-    if (name == "nu_t") f.push_back({name, 1, out_nut_});
-    if (name == "y_plus") f.push_back({name, 1, out_yplus_});
-  }
-  return f;
+  return named_fields(names, {out_u_, out_p_, out_rho_, out_div_, out_k_, out_eps_, out_nut_, out_yplus_});
 }
 
 // The snapshot fields by name from their arrays over the owned cells (also
 // fv-reference's).
-std::vector<output::GridField> FvSolver::named_fields(const config::StringList& names,
-                                                      const std::vector<double>& u,
-                                                      const std::vector<double>& p,
-                                                      const std::vector<double>& rho,
-                                                      const std::vector<double>& div) {
+std::vector<output::GridField> FvSolver::named_fields(const config::StringList& names, const Arrays& a) {
   std::vector<output::GridField> f;
   for (const auto& n : names) {
-    if (n == "velocity") f.push_back({n, 3, u});
-    if (n == "pressure") f.push_back({n, 1, p});
-    if (n == "density") f.push_back({n, 1, rho});
-    if (n == "divergence") f.push_back({n, 1, div});
+    if (n == "velocity") f.push_back({n, 3, a.u});
+    if (n == "pressure") f.push_back({n, 1, a.p});
+    if (n == "density") f.push_back({n, 1, a.rho});
+    if (n == "divergence") f.push_back({n, 1, a.div});
+    if (n == "k") f.push_back({n, 1, a.k});
+    if (n == "epsilon") f.push_back({n, 1, a.eps});
+    if (n == "nu_t") f.push_back({n, 1, a.nut});
+    if (n == "y_plus") f.push_back({n, 1, a.y_plus});
   }
   return f;
 }

@@ -75,6 +75,7 @@ class StructSystem {
   Options opt_;
   int dims_ = 3;
   bool diagonal_ = false;
+  bool red_black_ = true;  // PFMG smooths by red-black Gauss-Seidel (else weighted Jacobi)
   int iterations_ = 0;
   double residual_ = 0.0;
   double floor_ = 0.0;

@@ -440,7 +440,6 @@ std::vector<output::GridField> FvReference::fields(const config::StringList& nam
     out_div_[o] = divergence_at(u_, static_cast<long>(n));
     ++o;
   });
-  auto f = FvSolver::named_fields(names, out_u_, out_p_, out_rho_, out_div_);
   out_k_.assign(N, 0.0), out_eps_.assign(N, 0.0), out_nut_.assign(N, 0.0);
   o = 0;
   each_cell([&](const long*, std::size_t n) {
@@ -448,13 +447,8 @@ std::vector<output::GridField> FvReference::fields(const config::StringList& nam
     ++o;
   });
   out_yplus_ = y_plus();
-  for (const auto& name : names) {
-    if (name == "k") f.push_back({name, 1, out_k_});
-    if (name == "epsilon") f.push_back({name, 1, out_eps_});
-    if (name == "nu_t") f.push_back({name, 1, out_nut_});
-    if (name == "y_plus") f.push_back({name, 1, out_yplus_});
-  }
-  return f;
+  return FvSolver::named_fields(names,
+                                {out_u_, out_p_, out_rho_, out_div_, out_k_, out_eps_, out_nut_, out_yplus_});
 }
 
 Diagnostics FvReference::diagnostics() {

@@ -227,11 +227,8 @@ void FvReference::turbulence_step(double dt) {
   const auto& c = turb_.constants;
   Field production(k_.size(), 0.0), sink_k(k_.size(), 0.0), sink_e(k_.size(), 0.0), source_e(k_.size(), 0.0);
   each_cell([&](const long*, std::size_t n) {
-    const double P = nut_[n] * strain_rate2_at(static_cast<long>(n)), rate = eps_[n] / k_[n];
-    production[n] = P;
-    sink_k[n] = rate;
-    sink_e[n] = c.C_epsilon2 * rate;
-    source_e[n] = c.C_epsilon1 * rate * P;
+    const fv::Sources q = fv::sources(c, nut_[n], strain_rate2_at(static_cast<long>(n)), k_[n], eps_[n]);
+    production[n] = q.production, sink_k[n] = q.sink_k, sink_e[n] = q.sink_epsilon, source_e[n] = q.source_epsilon;
   });
   advect_scalar(k_, turb_.inlet_k, 0.0, dt);
   advect_scalar(eps_, turb_.inlet_epsilon, 1.0, dt);

@@ -10,6 +10,18 @@
 
 namespace coflow::fluid::fv {
 
+// The source terms of one cell (seed 003 eqs. 3.13-3.14) from the old nu_t,
+// S^2, k and epsilon: production P = nu_t S^2 (explicit), the destruction
+// rates linearised about the old values (implicit: epsilon / k for k, C_e2
+// epsilon / k for epsilon) and epsilon's production C_e1 (epsilon / k) P.
+struct Sources {
+  double production, sink_k, sink_epsilon, source_epsilon;
+};
+inline Sources sources(const TurbulenceConstants& c, double nu_t, double s2, double k, double eps) {
+  const double P = nu_t * s2, rate = eps / k;
+  return {P, rate, c.C_epsilon2 * rate, c.C_epsilon1 * rate * P};
+}
+
 struct Closure {
   TurbulenceConstants c;
   double nu = 1e-6;         // molecular kinematic viscosity, m^2/s

@@ -243,11 +243,8 @@ void FvSolver::turbulence_step(double dt) {
   Field& source_e = scratch_[3];
   for (auto& f : scratch_) f.resize(padded);
   for_owned([&](const long*, long n, long) {
-    const double P = nut_[n] * strain_rate2_at(n), rate = eps_[n] / k_[n];
-    production[n] = P;
-    sink_k[n] = rate;
-    sink_e[n] = c.C_epsilon2 * rate;
-    source_e[n] = c.C_epsilon1 * rate * P;
+    const fv::Sources q = fv::sources(c, nut_[n], strain_rate2_at(n), k_[n], eps_[n]);
+    production[n] = q.production, sink_k[n] = q.sink_k, sink_e[n] = q.sink_epsilon, source_e[n] = q.source_epsilon;
   });
   advect_scalar(k_, turb_.inlet_k, 0.0, dt);
   advect_scalar(eps_, turb_.inlet_epsilon, 1.0, dt);

@@ -194,8 +194,13 @@ static void check_turbulence(config::Visitor& v, const config::Config& cfg, cons
                                             "treatment there: use wall: two-layer (with the first cells at y+ of "
                                             "about 1)",
                                             face_names()[f]));
-    if (b.type == "velocity" && b.value.values.size() == 3 && b.value.values[static_cast<std::size_t>(f / 2)] != 0 &&
-        !p.turbulence.inlet_given)
+    const double normal = b.type == "velocity" && b.value.values.size() == 3 ? b.value.values[static_cast<std::size_t>(f / 2)] : 0.0;
+    if (f % 2 == 0 ? normal < 0 : normal > 0)
+      v.fail("boundaries." + face_names()[f],
+             fmt::format("the velocity face {} lets fluid out, and with fluid.turbulence a velocity face is an inlet "
+                         "(k and epsilon enter there): use an outflow or pressure face where the fluid leaves",
+                         face_names()[f]));
+    if (normal != 0 && !p.turbulence.inlet_given)
       v.fail("turbulence", fmt::format("face {} is a velocity face: give the k and epsilon of what enters there, "
                                        "turbulence.inlet: {{k: ..., epsilon: ...}}",
                                        face_names()[f]));

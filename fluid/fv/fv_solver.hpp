@@ -103,7 +103,6 @@ class FvSolver final : public FluidSolver {
   double viscous_rhs(int c, const long* at, long n, const fv::Imex& s, double dt) const;
   void momentum(const fv::Imex& s, double dt);
   void set_viscous(int c, double diag, double theta);
-  double wall_scale(int c, long n, int d, int side) const;
   // Projection (projection.cpp).
   double divergence_at(const Faces& u, long n) const;
   void set_poisson();

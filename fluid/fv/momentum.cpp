@@ -67,8 +67,9 @@ void FvSolver::set_viscous(int c, double diag_scale, double theta) {
             break;
           case Neighbour::wall_tangential:  // ghost = (8U - 6 u0 + u1) / 3
             diag[O] += 3 * k;
+            if (turbulent_) break;  // u1's part on the right-hand side (viscous_rhs)
             opposite[O] -= k / 3;
-            scale *= wall_scale(c, n, d, side);
+            scale *= fv::wall_row_scale;
             break;
           case Neighbour::wall_normal:  // the face's value, known
             diag[O] += k;
@@ -136,25 +137,28 @@ double FvSolver::viscous_rhs(int c, const long* at, long n, const fv::Imex& s, d
       const double U =
           faces_[static_cast<std::size_t>(2 * d + side)].velocity_at(t1)[c] * profile(2 * d + side, c, at);
       if (kind == Neighbour::wall_normal) r += k * U;
-      if (kind == Neighbour::wall_tangential) {
+      if (kind == Neighbour::wall_tangential && turbulent_) {  // u1 extrapolated to the new time
+        const long in = side == 0 ? stride(d) : -stride(d);
+        r += (8.0 * U + s.b0 * u_[C][n + in] + s.b1 * u_old_[C][n + in]) * k / 3.0;
+      } else if (kind == Neighbour::wall_tangential) {
         r += 8.0 / 3.0 * k * U;
-        scale *= wall_scale(c, n, d, side);
+        scale *= fv::wall_row_scale;
       }
     }
   }
   return r * scale;
 }
 
-// The row scale of u_c's row at a wall (or velocity face) beyond side `side`
-// along d that keeps the matrix symmetric: the wall's closure couples the row
-// to the next unknown in by k_w / 3 besides that unknown's own k_in, and the
-// row scaled by k_in / (k_in + k_w / 3) couples to it by k_in as its row does
-// (3/4 for a uniform viscosity: fv::wall_row_scale).
-double FvSolver::wall_scale(int c, long n, int d, int side) const {
-  if (!turbulent_) return fv::wall_row_scale;
-  const double k_w = nu_face(c, n, d, side), k_in = nu_face(c, n, d, 1 - side);
-  return k_in / (k_in + k_w / 3);
-}
+// A tangential velocity's row next to a wall (or velocity face): the wall
+// closure's ghost (8U - 6 u0 + u1) / 3 couples the row to the next unknown in,
+// u1, by k_w / 3 besides that unknown's own k_in. With a uniform viscosity the
+// row scaled by 3/4 couples to u1 as u1's row couples back (the matrix stays
+// symmetric, the closure implicit: fv::wall_row_scale). With an eddy
+// viscosity no row scale can do that (k_in / (k_in + k_w / 3) changes along
+// the wall and between two walls in a corner), so u1's part goes to the
+// right-hand side, extrapolated to the new time as the advection is (b0 u^n +
+// b1 u^{n-1}): the matrix stays symmetric, the closure second order in time
+// and exact in a steady state.
 
 void FvSolver::momentum(const fv::Imex& s, double dt) {
   advection(u_, adv_);

@@ -179,17 +179,16 @@ double FvReference::laplacian_at(const Field& q, long n) const {
 }
 
 // The weight of a row next to walls along axes other than c that makes the
-// operator with the wall closure symmetric: per wall k_in / (k_in + k_w / 3),
-// k_w and k_in the diffusivities of the wall's side and the other side (3/4
-// for a uniform viscosity, fv::wall_row_scale).
-double FvReference::wall_weight(int c, const long x[3], long n) const {
+// operator with the wall closure symmetric: 3/4 per wall for a uniform
+// viscosity (fv::wall_row_scale); with an eddy viscosity 1, the closure's u1
+// part taken to the right-hand side instead (deferred_wall).
+double FvReference::wall_weight(int c, const long x[3], long) const {
   double w = 1.0;
   for (int d = 0; d < dims_; ++d) {
     if (d == c) continue;
     for (int side = 0; side < 2; ++side) {
       if (x[d] != (side == 0 ? 0 : n_[d] - 1) || sides_[2 * d + side].kind != Kind::wall) continue;
-      const double k_w = nu_at(c, n, d, side), k_in = nu_at(c, n, d, 1 - side);
-      w *= turbulent_ ? k_in / (k_in + k_w / 3) : fv::wall_row_scale;
+      if (!turbulent_) w *= fv::wall_row_scale;  // with nu_t: u1's part lagged (deferred_wall)
     }
   }
   return w;
@@ -224,6 +223,24 @@ double FvReference::divergence_at(const Faces& u, long n) const {
   return div;
 }
 
+// theta k_w u1 / 3 summed over the walls along axes other than c beside u_c's
+// face n (x: its cell), k_w = (nu + nu_t on the wall's side) / h^2, u1 =
+// value(the next face in): the wall closure's part that fv takes to the
+// right-hand side with an eddy viscosity (fv's momentum.cpp).
+template <class Value>
+double FvReference::deferred_wall(int c, const long x[3], long n, double theta, Value&& value) const {
+  double r = 0.0;
+  for (int d = 0; d < dims_; ++d) {
+    if (d == c) continue;
+    for (int side = 0; side < 2; ++side) {
+      if (x[d] != (side == 0 ? 0 : n_[d] - 1) || sides_[2 * d + side].kind != Kind::wall) continue;
+      const long in = side == 0 ? step_of(d) : -step_of(d);
+      r += theta * nu_at(c, n, d, side) / (h_[d] * h_[d]) * value(n + in) / 3.0;
+    }
+  }
+  return r;
+}
+
 // u* to the advection's, diffusion's and old pressure's provisional velocity,
 // each component's implicit system solved by conjugate gradients.
 void FvReference::momentum(const fv::Imex& s, double dt, bool with_pressure) {
@@ -255,6 +272,9 @@ void FvReference::momentum(const fv::Imex& s, double dt, bool with_pressure) {
       r += (w_now * (source_[C][n] + source_[C][below]) +
             w_last * (source_old_[C][n] + source_old_[C][below])) /
            (2 * rho_);
+      if (turbulent_) r += deferred_wall(c, x, N, s.theta, [&](long m) {
+        return s.b0 * u_[C][static_cast<std::size_t>(m)] + s.b1 * u_old_[C][static_cast<std::size_t>(m)];
+      });
       rhs[n] = weight[n] * r;
     });
     // A x = weight (a0/dt x - theta nu lap x); the faces' values make it affine:
@@ -267,6 +287,10 @@ void FvReference::momentum(const fv::Imex& s, double dt, bool with_pressure) {
       for (long i : rows) {
         const auto I = static_cast<std::size_t>(i);
         y[I] = weight[I] * (s.a0 / dt * X[C][I] - s.theta * viscous_at(X[C], c, i));
+        if (turbulent_) {  // the ghosts' u1 part is not the operator's (on the right-hand side)
+          const long xi[3] = {i % m_[0] - g_[0], (i / m_[0]) % m_[1] - g_[1], i / (m_[0] * m_[1]) - g_[2]};
+          y[I] += deferred_wall(c, xi, i, s.theta, [&](long m) { return X[C][static_cast<std::size_t>(m)]; });
+        }
       }
     };
     Field zero(rhs.size(), 0.0), affine(rhs.size(), 0.0);

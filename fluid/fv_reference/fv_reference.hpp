@@ -79,6 +79,8 @@ class FvReference final : public FluidSolver {
   void momentum(const fv::Imex& s, double dt, bool with_pressure);
   void project(const fv::Imex& s, double dt, bool incremental);
   double wall_weight(int c, const long x[3], long n) const;
+  template <class Value>
+  double deferred_wall(int c, const long x[3], long n, double theta, Value&& value) const;
   void wrap_cells(Faces& f) const;
   // k-epsilon (k_epsilon_reference.cpp): fv's turbulence/ written plainly.
   bool is_inlet(int face) const;  // a velocity face with flow through it (else a wall)

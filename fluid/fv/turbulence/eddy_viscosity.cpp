@@ -63,7 +63,7 @@ void FvSolver::add_stress_transpose(const Faces& u, Faces& out) const {
 // y+ = y u_tau / nu (seed 003 eqs. 3.26-3.27) at the centres of the cells next
 // to a wall, u_tau from the wall's shear (the slope at the wall of the
 // parabola through the wall's velocity and the first two cells); zero in the
-// other cells.
+// other cells (a cell in a corner shows its last wall's).
 std::vector<double> FvSolver::y_plus() const {
   std::vector<double> out(static_cast<std::size_t>(blk_.owned_cells()), 0.0);
   if (!turbulent_) return out;
@@ -80,7 +80,7 @@ std::vector<double> FvSolver::y_plus() const {
         const Field& q = u_[static_cast<std::size_t>(c)];
         const long sc = stride(c);
         const double u0 = 0.5 * (q[n] + q[n + sc]), u1 = 0.5 * (q[n + in] + q[n + in + sc]);
-        const double U = face.velocity[c];
+        const double U = face.velocity_at(time_)[c];
         const double slope = (9 * (u0 - U) - (u1 - U)) / (3 * h_[a]);
         shear2 += slope * slope;
       }

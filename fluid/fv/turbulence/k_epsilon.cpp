@@ -15,8 +15,9 @@
 // numbers up to 1/2, the ghosts are non-negative); the implicit matrix is an
 // M-matrix (positive diagonal, non-positive couplings, diagonally dominant)
 // and its right-hand side is non-negative (old value, production >= 0), so
-// the new k and epsilon are positive. The run stops if one is not (it would be
-// a bug, not a clip).
+// the new k and epsilon are positive (to the linear solver's tolerance). The
+// run stops if one is not (it would be a bug, never clipped). Velocity faces
+// are inlets only: one that lets fluid out is refused at validation.
 #include <fmt/format.h>
 
 #include <cmath>

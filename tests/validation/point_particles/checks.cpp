@@ -462,10 +462,11 @@ int grid_turbulence(const std::string& dir) {
     }
   }
   // The model's moments along the mean path.
-  double x0_sum[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-  long n0[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  std::vector<double> x0_sum(kinds.size(), 0.0);
+  std::vector<long> n0(kinds.size(), 0);
   for (const Track& tr : tracks)
-    if (tr.kind >= 0 && tr.kind < 8 && !tr.x.empty()) x0_sum[tr.kind] += tr.x.front(), ++n0[tr.kind];
+    if (tr.kind >= 0 && static_cast<std::size_t>(tr.kind) < kinds.size() && !tr.x.empty())
+      x0_sum[static_cast<std::size_t>(tr.kind)] += tr.x.front(), ++n0[static_cast<std::size_t>(tr.kind)];
   auto model = [&](const MsdKind& kd, std::vector<double>& msd, double& t_cross) {
     const auto q = static_cast<std::size_t>(&kd - kinds.data());
     const MsdModel m{U, g, rho, mu, CT, x0_sum[q] / static_cast<double>(std::max(1L, n0[q])), x_reset,

@@ -47,7 +47,7 @@ class FvSolver final : public FluidSolver {
   static std::vector<output::GridField> named_fields(const config::StringList& names, const Arrays& a);
   static Diagnostics cell_diagnostics(const std::vector<double>& centre_velocity, double cell_mass);
   // The columns fv adds to series/fluid.csv (fv-reference adds the same).
-  static std::vector<output::Series::Column> columns();
+  static std::vector<output::Series::Column> columns(bool turbulent = false);  // with k-epsilon's when turbulent
   void set_source(std::span<const double> force_density) override;
   void save(const std::string& dir) override;
   void load(const std::string& dir, long steps, double time) override;

@@ -104,24 +104,22 @@ void FvSolver::add_turbulence_diagnostics(Diagnostics& d) {
   turbulence_iterations_ = 0;
 }
 
-std::vector<output::Series::Column> FvSolver::series_columns() const {
-  auto c = columns();
-  if (turbulent_)
+std::vector<output::Series::Column> FvSolver::series_columns() const { return columns(turbulent_); }
+
+// Also fv-reference's (which does not count its iterations: zero there).
+std::vector<output::Series::Column> FvSolver::columns(bool turbulent) {
+  std::vector<output::Series::Column> c{{"steps", "1"},
+                                        {"dt", "s"},
+                                        {"poisson_iterations", "1"},
+                                        {"viscous_iterations", "1"},
+                                        {"max_divergence", "1/s"}};
+  if (turbulent)
     c.insert(c.end(), {{"k_mean", "m^2/s^2"},
                        {"epsilon_mean", "m^2/s^3"},
                        {"nu_t_max", "m^2/s"},
                        {"y_plus_max", "1"},
                        {"turbulence_iterations", "1"}});
   return c;
-}
-
-// Also fv-reference's (which does not count its iterations: zero there).
-std::vector<output::Series::Column> FvSolver::columns() {
-  return {{"steps", "1"},
-          {"dt", "s"},
-          {"poisson_iterations", "1"},
-          {"viscous_iterations", "1"},
-          {"max_divergence", "1/s"}};
 }
 
 // The point particles' momentum source at the cells (N/m^3), taken at the

@@ -495,14 +495,7 @@ Diagnostics FvReference::diagnostics() {
 }
 
 std::vector<output::Series::Column> FvReference::series_columns() const {
-  auto c = FvSolver::columns();
-  if (turbulent_)
-    c.insert(c.end(), {{"k_mean", "m^2/s^2"},
-                       {"epsilon_mean", "m^2/s^3"},
-                       {"nu_t_max", "m^2/s"},
-                       {"y_plus_max", "1"},
-                       {"turbulence_iterations", "1"}});
-  return c;
+  return FvSolver::columns(turbulent_);
 }
 
 void FvReference::set_source(std::span<const double> force_density) {

@@ -6,32 +6,11 @@
 #include <cmath>
 
 #include "fluid/fv/fv_solver.hpp"
+#include "fluid/fv/lines.hpp"
 
 namespace coflow::fluid {
 
 namespace {
-
-// f(index, line) for every line along axis a of the padded block; index(m)
-// is the cell at m along a on that line (owned-relative, ghosts negative or
-// >= n), line its owned-relative coordinates (0 along a).
-template <class F>
-void for_lines(const grid::Block& b, int a, F&& f) {
-  const int o1 = (a + 1) % 3, o2 = (a + 2) % 3;
-  for (long s = -b.ghost[o2]; s < b.extent[o2] + b.ghost[o2]; ++s)
-    for (long r = -b.ghost[o1]; r < b.extent[o1] + b.ghost[o1]; ++r) {
-      long line[3];
-      line[a] = 0;
-      line[o1] = r;
-      line[o2] = s;
-      f(
-          [&](long m) {
-            long at[3] = {line[0], line[1], line[2]};
-            at[a] = m;
-            return static_cast<std::size_t>(b.idx(at[0], at[1], at[2]));
-          },
-          static_cast<const long*>(line));
-    }
-}
 
 double ramped(double value, double ramp, double t) {
   return ramp > 0 ? value * std::min(1.0, t / ramp) : value;
@@ -83,7 +62,7 @@ void FvSolver::fill_face_ghosts(Field& u, int c, int a, int side, const Face& f,
   const long n = blk_.extent[a];
   const Vec3 U = f.velocity_at(t);
   const Field& top = top_[static_cast<std::size_t>(a)];
-  for_lines(blk_, a, [&](auto at, const long* line) {
+  fv::for_lines(blk_, a, [&](auto at, const long* line) {
     if (f.kind == Face::symmetry && c != a) {  // mirror: no shear
       if (side == 0) {
         u[at(-1)] = u[at(0)];
@@ -145,7 +124,7 @@ void FvSolver::fill_pressure_ghosts(Field& p, double t, bool increment, double t
           f.kind == Face::open ? (increment ? f.pressure_at(t) - f.pressure_at(t0) : f.pressure_at(t)) : 0;
       const double odd = f.kind == Face::open ? -1.0 : 1.0, base = f.kind == Face::open ? 2 * pb : 0.0;
       const long n = blk_.extent[a];
-      for_lines(blk_, a, [&](auto at, const long*) {
+      fv::for_lines(blk_, a, [&](auto at, const long*) {
         for (long g = 1; g <= 2; ++g) {
           const long ghost = side == 0 ? -g : n - 1 + g, mirror = side == 0 ? g - 1 : n - g;
           p[at(ghost)] = base + odd * p[at(mirror)];
@@ -171,15 +150,15 @@ void FvSolver::extrapolate_open_faces(Faces& u, double dt) {
       const double U = f.convective ? outflow_speed(2 * a + side) : 0.0;  // collective
       if (!f.here) continue;
       if (side == 0 && !f.convective)
-        for_lines(blk_, a, [&](auto at, const long*) { u[A][at(0)] = u[A][at(1)]; });
+        fv::for_lines(blk_, a, [&](auto at, const long*) { u[A][at(0)] = u[A][at(1)]; });
       else if (side == 0)
-        for_lines(blk_, a, [&](auto at, const long*) {
+        fv::for_lines(blk_, a, [&](auto at, const long*) {
           u[A][at(0)] = u_[A][at(0)] - k * U * (u_[A][at(0)] - u_[A][at(1)]);
         });
       else if (!f.convective)
-        for_lines(blk_, a, [&](auto at, const long*) { top_[A][at(n - 1)] = u[A][at(n - 1)]; });
+        fv::for_lines(blk_, a, [&](auto at, const long*) { top_[A][at(n - 1)] = u[A][at(n - 1)]; });
       else
-        for_lines(blk_, a, [&](auto at, const long*) {
+        fv::for_lines(blk_, a, [&](auto at, const long*) {
           top_[A][at(n - 1)] -= k * U * (top_[A][at(n - 1)] - u_[A][at(n - 1)]);
         });
     }

@@ -196,7 +196,6 @@ class FvSolver final : public FluidSolver {
   Field k_, eps_, nut_, wall_y_;
   std::unique_ptr<fv::StructSystem> k_system_, eps_system_;
   int turbulence_iterations_ = 0;
-  double min_k_ = 0.0;
   double turbulence_seconds_ = 0.0, scalar_solve_seconds_ = 0.0;  // wall time, this rank
   std::array<Field, 7> scratch_;  // the turbulence step's work fields
   fv::StructSystem::Rows rows_;   // a matrix being assembled (momentum, k, epsilon)

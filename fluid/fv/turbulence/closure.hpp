@@ -30,8 +30,9 @@ struct Closure {
   // Re_y = y sqrt(k) / nu (eq. 3.20); infinite without walls.
   double re_y(double y, double k) const { return y * std::sqrt(k) / nu; }
   // lambda_epsilon (eqs. 3.24-3.25): 0 at a wall, 1 far from it.
+  static constexpr double kAtanh098 = 2.2975599250672945;  // atanh(0.98)
   double blend(double rey) const {
-    const double A = 0.2 * c.Re_y_star / std::atanh(0.98);
+    const double A = 0.2 * c.Re_y_star / kAtanh098;
     return 0.5 * (1.0 + std::tanh((rey - c.Re_y_star) / A));
   }
   // Wolfshtein's length scales (eqs. 3.19, 3.22).
@@ -56,7 +57,7 @@ struct Closure {
     const double rey = re_y(y, k);
     // tanh is exactly 1 in double beyond 20 widths: the standard model alone
     // (the same number, without the exponentials).
-    if ((rey - c.Re_y_star) * std::atanh(0.98) > 20 * 0.2 * c.Re_y_star) return standard;
+    if ((rey - c.Re_y_star) * kAtanh098 > 20 * 0.2 * c.Re_y_star) return standard;
     const double lambda = blend(rey);
     return lambda * standard + (1.0 - lambda) * c.C_mu * l_mu(y, rey) * std::sqrt(k);
   }

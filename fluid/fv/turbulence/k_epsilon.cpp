@@ -25,6 +25,7 @@
 #include <stdexcept>
 
 #include "fluid/fv/fv_solver.hpp"
+#include "fluid/fv/lines.hpp"
 #include "fluid/fv/turbulence/closure.hpp"
 
 namespace coflow::fluid {
@@ -78,25 +79,17 @@ void FvSolver::fill_scalar_ghosts(Field& q, double inlet, double wall_sign, bool
       if (!f.here || f.kind == Face::periodic) continue;
       const long n = blk_.extent[a];
       const bool in = f.kind == Face::dirichlet && !f.wall, open = f.kind == Face::open;
-      const int o1 = (a + 1) % 3, o2 = (a + 2) % 3;
-      for (long s = -blk_.ghost[o2]; s < blk_.extent[o2] + blk_.ghost[o2]; ++s)
-        for (long r = -blk_.ghost[o1]; r < blk_.extent[o1] + blk_.ghost[o1]; ++r) {
-          auto at = [&](long m) {
-            long x[3];
-            x[a] = side == 0 ? m : n - 1 - m;  // m: 0 the first cell in, -1 and -2 the ghosts
-            x[o1] = r;
-            x[o2] = s;
-            return blk_.idx(x[0], x[1], x[2]);
-          };
-          const double q0 = q[at(0)], q1 = q[at(1)];
-          double g1 = q0, g2 = q1;  // mirrored
-          if (f.wall) g1 = wall_sign * q0, g2 = wall_sign * q1;
-          if (in) g1 = g2 = inlet;
-          if (extrapolate && in) g1 = std::max(0.0, 2 * inlet - q0), g2 = std::max(0.0, 2 * inlet - q1);
-          if (extrapolate && open) g1 = std::max(0.0, 2 * q0 - q1), g2 = std::max(0.0, 3 * q0 - 2 * q1);
-          q[at(-1)] = g1;
-          q[at(-2)] = g2;
-        }
+      fv::for_lines(blk_, a, [&](auto along, const long*) {
+        auto at = [&](long m) { return along(side == 0 ? m : n - 1 - m); };  // m: 0 the first cell in
+        const double q0 = q[at(0)], q1 = q[at(1)];
+        double g1 = q0, g2 = q1;  // mirrored
+        if (f.wall) g1 = wall_sign * q0, g2 = wall_sign * q1;
+        if (in) g1 = g2 = inlet;
+        if (extrapolate && in) g1 = std::max(0.0, 2 * inlet - q0), g2 = std::max(0.0, 2 * inlet - q1);
+        if (extrapolate && open) g1 = std::max(0.0, 2 * q0 - q1), g2 = std::max(0.0, 3 * q0 - 2 * q1);
+        q[at(-1)] = g1;
+        q[at(-2)] = g2;
+      });
     }
 }
 
@@ -273,7 +266,6 @@ void FvSolver::turbulence_step(double dt) {
     throw std::runtime_error(fmt::format("fv: k-epsilon lost positivity at t = {:.6g} s (min k {:.3g}, min epsilon "
                                          "{:.3g}); this is a bug: please report it with the configuration",
                                          next_time_, low[0], low[1]));
-  min_k_ = low[0];
   update_eddy_viscosity();
   turbulence_seconds_ += MPI_Wtime() - start;
 }

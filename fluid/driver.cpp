@@ -14,6 +14,7 @@
 #include "fluid/fluid_solver.hpp"
 #include "fluid/probes.hpp"
 #include "fluid/schema.hpp"
+#include "immersed/ibm/link.hpp"
 
 namespace coflow::fluid {
 
@@ -59,6 +60,7 @@ class FluidWindows final : public coupler::WindowParts {
         probes_(cfg_, s.decomposition(), s.rank(), s.comm()) {
     psm_ = s.has_partner("immersed") && cfg_.component("immersed").variant == "psm";
     point_ = s.has_partner("immersed") && cfg_.component("immersed").variant == "point";
+    ibm_ = s.has_partner("immersed") && cfg_.component("immersed").variant == "ibm";
     if (psm_ || point_) open_exchanges();
   }
 
@@ -94,6 +96,8 @@ class FluidWindows final : public coupler::WindowParts {
       send_flow();
       receive_source();
     }
+    if (ibm_ && ibm::receive_markers(s_.partner("immersed"), markers_))
+      solver_->set_markers(ibm::MarkerSet::unpack(markers_));
   }
   void step(long) override {
     solver_->advance(s_.window());
@@ -102,6 +106,10 @@ class FluidWindows final : public coupler::WindowParts {
   }
   void after_step(long) override {
     if (psm_) send_solid_force();
+    if (ibm_) {
+      const std::vector<double> loads = solver_->take_body_loads();
+      if (s_.rank() == 0) ibm::send_loads(s_.partner("immersed"), loads);
+    }
   }
   void output(long w) override;
   void save(const std::string& dir) override {
@@ -126,7 +134,8 @@ class FluidWindows final : public coupler::WindowParts {
   std::unique_ptr<FluidSolver> solver_;
   long per_window_;
   coupler::Box owned_;
-  bool psm_ = false, point_ = false;
+  bool psm_ = false, point_ = false, ibm_ = false;
+  std::vector<double> markers_;  // ibm: the last marker message
   output::Series series_;
   Probes probes_;
   output::Series probes_series_;

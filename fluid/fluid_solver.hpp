@@ -15,6 +15,7 @@
 #include "coflow/output.hpp"
 #include "coflow/run_config.hpp"
 #include "fluid/params.hpp"
+#include "immersed/ibm/markers.hpp"
 
 namespace coflow::fluid {
 
@@ -81,6 +82,18 @@ class FluidSolver {
     (void)force_density;
     throw std::runtime_error("this fluid solver does not take momentum sources (immersed.method point)");
   }
+
+  // Immersed boundaries (immersed.method ibm, seed 003 §4.2.1): the markers
+  // of the bodies, held until the next call; the solver iterates the
+  // multi-direct forcing in each of its steps. A solver without it throws.
+  virtual void set_markers(ibm::MarkerSet markers) {
+    (void)markers;
+    throw std::runtime_error("this fluid solver does not take immersed boundaries (immersed.method ibm)");
+  }
+  // Per body the force (N) and torque about its reference point (N m) the
+  // fluid exerted on it, the mean over the steps since the last call; then the
+  // most forcing iterations of a step and the largest slip (m/s) they left.
+  virtual std::vector<double> take_body_loads() { return {}; }
 
   // The impulse (N s, 3 per face x- ... z+) this rank's fluid gave the wall
   // faces since the last call, relative to the reference pressure; empty for

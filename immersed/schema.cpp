@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "immersed/ibm/params.hpp"
 #include "immersed/point/params.hpp"
 #include "immersed/psm/params.hpp"
 
@@ -15,6 +16,10 @@ const std::vector<VariantSchema>& variant_schemas() {
           "psm", "partially saturated cells (Noble & Torczynski 1998), resolved spheres on the fluid grid", "psm"),
       variant_schema<PointParams>("point", "point particles: fluid interpolated at the particles, "
                                            "momentum sources spread back conservatively"),
+      variant_schema<IbmParams>("ibm",
+                                "immersed boundaries: bodies as closed triangle meshes, fixed or in prescribed "
+                                "motion, by multi-direct forcing (seed 003 §4.2.1; Wang, Fan & Luo 2008)",
+                                "ibm"),
   };
   return v;
 }
@@ -37,6 +42,7 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
     if ((solver == "lbm" || solver == "lbm-reference") && config::resolved_node(cfg, "fluid.two_phase").IsMap())
       c.provides.push_back(f::grain_wetting);
   }
+  if (variant == "ibm") c.needs = {{f::ibm_forcing, key}};
   if (variant == "point") {
     c.provides = {f::fluid_at_particle, f::momentum_source};
     c.needs = {{f::velocity, key}, {f::particle_state, key}, {f::impulse, key}};
@@ -49,7 +55,7 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
 
 config::ComponentSchema schema() {
   config::ComponentSchema s = component_schema("immersed", "method", variant_schemas(),
-                                                "the coupling between particles and the fluid grid: psm or point");
+                                                "the coupling between particles and the fluid grid (psm, point), or immersed bodies for the fluid (ibm)");
   s.contract = contract;
   s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);

@@ -1,4 +1,5 @@
 // The immersed methods by name; their schemas are in immersed/schema.cpp.
+#include "immersed/ibm/ibm.hpp"
 #include "immersed/point/point.hpp"
 #include "immersed/psm/psm.hpp"
 #include "immersed/schema.hpp"
@@ -8,6 +9,7 @@ namespace coflow::immersed {
 void register_immersed_variants(Registry<ImmersedMethod>& r) {
   r.add<PsmMethod>("psm");
   r.add<PointMethod>("point");
+  r.add<IbmMethod>("ibm");
 }
 
 Registry<ImmersedMethod>& registry() {

@@ -306,8 +306,12 @@ Config parse_config_node(YAML::Node root, const std::string& file, const Catalog
   r.finish();
   if (r.problems().empty() && cfg.components.empty())
     r.fail("", "no component to run: add at least one of the sections fluid, immersed, particles");
-  if (r.problems().empty() && cfg.has("immersed") && (!cfg.has("fluid") || !cfg.has("particles")))
-    r.fail("immersed", "the immersed component couples a fluid and particles: add both sections");
+  // immersed couples particles to a fluid; its method ibm forces the fluid alone.
+  if (r.problems().empty() && cfg.has("immersed") &&
+      (!cfg.has("fluid") || (!cfg.has("particles") && cfg.component("immersed").variant != "ibm")))
+    r.fail("immersed", cfg.has("fluid") ? "the immersed component couples a fluid and particles: add both sections "
+                                          "(or method: ibm, immersed bodies for the fluid alone)"
+                                        : "the immersed component acts on a fluid: add the fluid section");
   if (r.problems().empty()) check_output_fields(r, cfg, catalog);
   if (r.problems().empty()) check_probes(r, cfg, catalog);
   if (r.problems().empty()) check_decompositions(r, cfg);

@@ -23,6 +23,7 @@
 #include "fluid/fv/struct_system.hpp"
 #include "fluid/turbulence_params.hpp"
 #include "fluid/grid/ghost_exchange.hpp"
+#include "immersed/ibm/direct_forcing.hpp"
 
 namespace coflow::fluid {
 
@@ -49,6 +50,8 @@ class FvSolver final : public FluidSolver {
   // The columns fv adds to series/fluid.csv (fv-reference adds the same).
   static std::vector<output::Series::Column> columns(bool turbulent = false);  // with k-epsilon's when turbulent
   void set_source(std::span<const double> force_density) override;
+  void set_markers(ibm::MarkerSet markers) override;
+  std::vector<double> take_body_loads() override;
   void save(const std::string& dir) override;
   void load(const std::string& dir, long steps, double time) override;
 
@@ -56,11 +59,11 @@ class FvSolver final : public FluidSolver {
   // in the pressure Poisson and viscous solves, Poisson solves and iterations.
   struct Work {
     long steps = 0, poisson_solves = 0, poisson_iterations = 0;
-    double step_s = 0, poisson_s = 0, viscous_s = 0;
+    double step_s = 0, poisson_s = 0, viscous_s = 0, ibm_s = 0;
   };
   Work work() const {
     return {steps_,        poisson_solves_,  poisson_iteration_sum_,
-            step_seconds_, poisson_seconds_, viscous_seconds_};
+            step_seconds_, poisson_seconds_, viscous_seconds_, ibm_seconds_};
   }
 
  private:
@@ -109,6 +112,9 @@ class FvSolver final : public FluidSolver {
   void poisson_rhs(double factor, double t0, double t1, bool incremental);
   void project(const fv::Imex& s, double dt, bool incremental);
   double max_divergence(const Faces& u) const;  // collective
+
+  // Immersed boundaries (immersed_boundary.cpp).
+  void force_immersed(const fv::Imex& s, double dt);
 
   // Turbulence, k-epsilon with the two-layer wall model (turbulence/*.cpp).
   void init_turbulence();
@@ -199,6 +205,10 @@ class FvSolver final : public FluidSolver {
   double turbulence_seconds_ = 0.0, scalar_solve_seconds_ = 0.0;  // wall time, this rank
   std::array<Field, 7> scratch_;  // the turbulence step's work fields
   fv::StructSystem::Rows rows_;   // a matrix being assembled (momentum, k, epsilon)
+
+  // immersed.method ibm: the multi-direct forcing, made at the first markers.
+  std::unique_ptr<ibm::DirectForcing> ibm_;
+  double ibm_seconds_ = 0.0;  // wall time, this rank
 };
 
 }  // namespace coflow::fluid

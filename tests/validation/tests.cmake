@@ -3,7 +3,8 @@
 # --- validation: a config from configs/validation + coflow-check + references.csv ---
 add_executable(coflow-check validation/check/main.cpp validation/check/compare.cpp validation/flow/checks.cpp
   validation/granular/checks.cpp validation/point_particles/checks.cpp validation/resolved_particles/checks.cpp
-  validation/two_phase/checks.cpp validation/fv/checks.cpp validation/fv/turbulence_checks.cpp)
+  validation/two_phase/checks.cpp validation/fv/checks.cpp validation/fv/turbulence_checks.cpp
+  validation/immersed_boundary/checks.cpp)
 target_link_libraries(coflow-check PRIVATE coflow_fluid coflow_immersed coflow_particles coflow_catalog coflow_warnings)
 set(validate ${CMAKE_CURRENT_SOURCE_DIR}/validation/validate.sh)
 set(vcfg ${PROJECT_SOURCE_DIR}/configs/validation)
@@ -15,6 +16,6 @@ function(coflow_validation name mode config procs)
   set_tests_properties(validation.${name} PROPERTIES LABELS "validation;mpi" PROCESSORS ${ranks})
 endfunction()
 # One folder per physics, each with its checks (coflow-check modes) and tests.
-foreach(physics flow fv granular point_particles resolved_particles two_phase)
+foreach(physics flow fv granular immersed_boundary point_particles resolved_particles two_phase)
   include(${CMAKE_CURRENT_LIST_DIR}/${physics}/tests.cmake)
 endforeach()

@@ -11,6 +11,9 @@
 #                       run B the spaced one (lbm)
 #   reflection          ARGS: three override lists (open face, long box, other open
 #                       face); coflow-check outflow_reflection of runs 1 and 3 against 2
+#   pair                ARGS: a coflow-check mode, two override lists; runs
+#                       both, then that mode on the two runs (ibm_frames,
+#                       ibm_extrapolated)
 #   order               ARGS: three override lists (coarse, medium, fine);
 #                       prints l2 errors and the observed orders of convergence
 #   order_tg            as order, for the Taylor-Green vortex (coflow-check tg_error)
@@ -45,7 +48,7 @@ sets() {  # "a=1 b=2" -> --set a=1 --set b=2
 check() { "$bin/coflow-check" "$@" || { echo "FAIL: coflow-check $*"; exit 1; }; }
 
 case "$mode" in
-  profile|probes|channel|walls|fluid_walls|decay|mass|ramp|impact|pour|crush|momentum|drag|settling|dpm_settling|granular_gas|two_way|dispersion|grid_turbulence|injection|jet|rotation|contact_angle|layered|colour_mass|permeability|washburn|injection_phase|grain_interface|bridge|cavity|tg_error|divergence|ke_decay|ke_grid|ke_channel|grid_turbulence_fv)
+  profile|probes|channel|walls|fluid_walls|decay|mass|ramp|impact|pour|crush|momentum|drag|settling|dpm_settling|granular_gas|two_way|dispersion|grid_turbulence|injection|jet|rotation|contact_angle|layered|colour_mass|permeability|washburn|injection_phase|grain_interface|bridge|cavity|tg_error|divergence|ke_decay|ke_grid|ke_channel|grid_turbulence_fv|ibm_steady|ibm_shedding)
     run "$out/run" "$@"
     check "$mode" "$out/run" | tee -a "$metrics" || exit 1 ;;
   compare|layouts)
@@ -77,6 +80,15 @@ case "$mode" in
     check outflow_reflection "$out/run1" "$out/run2" | tee -a "$metrics" || exit 1
     check outflow_reflection "$out/run3" "$out/run2" | sed 's/^/other_/' | tee -a "$metrics" || exit 1
     awk -F= '/^reflection=/ { a = $2 } /^other_reflection=/ { b = $2 } END { printf "reflection_ratio=%.4f\n", b / a }' "$metrics" | tee -a "$metrics" || exit 1 ;;
+  pair)
+    # ARGS: a coflow-check mode that reads two runs, then two override lists
+    # (each may start with config=FILE); runs both, then that mode.
+    what=$1; shift
+    for n in 1 2; do
+      mapfile -t s < <(sets "${!n}")
+      run "$out/run$n" "${s[@]}"
+    done
+    check "$what" "$out/run1" "$out/run2" | tee -a "$metrics" || exit 1 ;;
   order|order_tg)
     # order: steady profiles (coflow-check profile); order_tg: the Taylor-Green
     # vortex at the end (coflow-check tg_error).

@@ -52,6 +52,9 @@ inline const Field impulse{"impulse", Location::point, "N s"};
 // cos(contact angle) of the grains in partially saturated cells: a two-phase
 // fluid takes it.
 inline const Field grain_wetting{"grain_wetting", Location::cell, "1"};
+// Immersed-boundary markers (immersed.method ibm): a fluid that takes them
+// iterates the multi-direct forcing in its own steps and returns the bodies' loads.
+inline const Field ibm_forcing{"ibm_forcing", Location::point, "m, m/s, m^3; N, N m"};
 }  // namespace fields
 
 // A field a variant needs. `key` is the configuration key that makes it need

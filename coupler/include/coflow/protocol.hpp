@@ -59,5 +59,6 @@ inline constexpr int kTagSolidForce = 1200;  // fluid -> immersed: force on the 
 inline constexpr int kTagFlow = 1300;        // fluid -> immersed: u[3], k, epsilon per cell (point)
 inline constexpr int kTagSource = 1400;      // immersed -> fluid: momentum source, N/m^3 (point)
 inline constexpr int kTagImpulse = 1500;     // particles -> immersed: impulses (point)
+inline constexpr int kTagBodyLoads = 1600;   // fluid -> immersed: loads on the ibm bodies, mdf iterations, slip
 
 }  // namespace coflow::protocol

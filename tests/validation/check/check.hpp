@@ -151,6 +151,11 @@ int washburn(const std::string& dir);
 int injection_phase(const std::string& dir);
 int grain_interface(const std::string& dir);
 int bridge(const std::string& dir);
+// immersed_boundary/checks.cpp
+int ibm_steady(const std::string& dir);
+int ibm_shedding(const std::string& dir);
+int ibm_frames(const std::string& a, const std::string& b);
+int ibm_extrapolated(const std::string& a, const std::string& b);
 // compare.cpp
 int compare(const std::string& a, const std::string& b);
 

@@ -57,6 +57,10 @@ int main(int argc, char** argv) {
     if (what == "ke_decay" && argc == 3) return ke_decay(argv[2]);
     if (what == "ke_grid" && argc == 3) return ke_grid(argv[2]);
     if (what == "ke_channel" && argc == 3) return ke_channel(argv[2]);
+    if (what == "ibm_steady" && argc == 3) return ibm_steady(argv[2]);
+    if (what == "ibm_shedding" && argc == 3) return ibm_shedding(argv[2]);
+    if (what == "ibm_frames" && argc == 4) return ibm_frames(argv[2], argv[3]);
+    if (what == "ibm_extrapolated" && argc == 4) return ibm_extrapolated(argv[2], argv[3]);
     std::fprintf(stderr, "usage: coflow-check profile|decay|mass RUN_DIR | compare RUN_A RUN_B\n");
     return 2;
   } catch (const std::exception& e) {

@@ -1,0 +1,58 @@
+// fv's part of the immersed boundary (immersed.method ibm): the multi-direct
+// forcing of ibm/direct_forcing.hpp on the staggered velocity, between the
+// momentum predictor and the projection (seed 003 eqs. 4.7-4.11: u* from eq.
+// 4.7, then u^{n+1} = u* + f dt / (alpha2 rho), alpha2 the SBDF2 / CNAB2
+// coefficient of u^{n+1}). The projection that follows removes the
+// divergence the forcing made; the slip it leaves is O(dt).
+#include "fluid/fv/fv_solver.hpp"
+#include "immersed/ibm/params.hpp"
+
+namespace coflow::fluid {
+
+void FvSolver::set_markers(ibm::MarkerSet markers) {
+  if (!ibm_) {
+    ibm::DirectForcing::Grid grid;
+    grid.geometry = immersed::grid_geometry(cfg_.domain);
+    grid.periodic = periodic_;
+    for (int c = 0; c < dims_; ++c) {
+      ibm::DirectForcing::Points pts;
+      pts.offset = {0.5, 0.5, 0.5};
+      pts.offset[static_cast<std::size_t>(c)] = 0.0;  // u_c on the lower c-faces
+      // Component c's unknowns on this rank: the owned faces that are not the domain's.
+      pts.index = [this, c](const std::array<long, 3>& g) -> long {
+        long at[3];
+        for (int d = 0; d < 3; ++d) {
+          at[d] = g[static_cast<std::size_t>(d)] - blk_.owned.lo[d];
+          if (at[d] < 0 || at[d] >= blk_.extent[d]) return -1;
+        }
+        if (is_boundary_face(c, at[c])) return -1;
+        return blk_.idx(at[0], at[1], at[2]);
+      };
+      grid.components.push_back(std::move(pts));
+    }
+    ibm_ = std::make_unique<ibm::DirectForcing>(std::move(grid), immersed::read_ibm_params(cfg_).forcing(), comm_);
+  }
+  ibm_->set_markers(std::move(markers));
+}
+
+std::vector<double> FvSolver::take_body_loads() {
+  if (!ibm_) return {};
+  const ibm::DirectForcing::Result worst = ibm_->worst();
+  std::vector<double> out = ibm_->take_loads();
+  out.push_back(worst.iterations);
+  out.push_back(worst.slip);
+  return out;
+}
+
+// After the momentum predictor: u* forced toward the markers' velocities at
+// the new time. The force density is alpha2 rho du / dt (eq. 4.8).
+void FvSolver::force_immersed(const fv::Imex& s, double dt) {
+  if (!ibm_ || ibm_->empty()) return;
+  const double start = MPI_Wtime();
+  std::array<double*, 3> u{nullptr, nullptr, nullptr};
+  for (int c = 0; c < dims_; ++c) u[static_cast<std::size_t>(c)] = ustar_[static_cast<std::size_t>(c)].data();
+  ibm_->apply(u, next_time_, velocity_scale_, s.a0 * rho_ / dt, dt);
+  ibm_seconds_ += MPI_Wtime() - start;
+}
+
+}  // namespace coflow::fluid

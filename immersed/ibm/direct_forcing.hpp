@@ -1,0 +1,103 @@
+// Multi-direct forcing on the fluid's side (seed 003 §4.2.1, eqs. 4.8-4.11;
+// Uhlmann 2005; Wang, Fan & Luo 2008). The immersed component sends the
+// markers (ibm/markers.hpp); the fluid iterates here, inside its step, with no
+// message to the immersed component per iteration:
+//   U_m   = sum_x D_h(x - X_m) u*(x) dx dy dz                     (eq. 4.9)
+//   dU_m  = U_b(X_m) - U_m        (eq. 4.8: F_m = alpha2 rho dU_m / dt)
+//   u*(x) += sum_m D_h(x - X_m) dU_m Delta V_m                    (eqs. 4.10-4.11)
+// until max_m |dU_m| falls below the tolerance (the multi-direct part), or
+// the same equations for all markers at once by conjugate gradients. The
+// velocity lives on `components` grids of points (a staggered grid: one per
+// component, each offset by half a cell off its own axis). A rank sums its own
+// points; the markers' interpolated velocities are summed over the ranks (one
+// reduction of 3 doubles per marker per iteration), so every rank computes the
+// same dU_m and spreads it into its own points.
+#pragma once
+
+#include <mpi.h>
+
+#include <array>
+#include <functional>
+#include <vector>
+
+#include "immersed/ibm/kernels.hpp"
+#include "immersed/ibm/markers.hpp"
+
+namespace coflow::ibm {
+
+struct ForcingParams {
+  Kernel kernel = Kernel::hat;
+  int max_iterations = 20;
+  double tolerance = 1e-4;  // of the velocity scale
+  bool conjugate_gradients = false;  // else the seed's repeated direct forcing
+};
+
+class DirectForcing {
+ public:
+  // A component's points: offset (in cells, per axis) of point (0, 0, 0) from
+  // the grid's lower corner, and where a point's value is stored on this rank
+  // (-1: not this rank's, or not an unknown, e.g. a boundary face).
+  struct Points {
+    std::array<double, 3> offset{0.5, 0.5, 0.5};
+    std::function<long(const std::array<long, 3>& global)> index;
+  };
+  struct Grid {
+    GridGeometry geometry;
+    std::array<bool, 3> periodic{false, false, false};
+    std::vector<Points> components;  // dims of them
+  };
+  struct Result {
+    int iterations = 0;
+    double slip = 0.0;  // m/s: the largest |U_b - U_m| after the iterations
+  };
+
+  DirectForcing(Grid grid, ForcingParams params, MPI_Comm comm);
+
+  // New markers (each window when a body moves, once when none does).
+  void set_markers(MarkerSet markers);
+  bool empty() const { return set_.markers.empty(); }
+  // Forces u (one array per component) toward the markers' velocities at time
+  // t (the markers moved on linearly from their set's time). `scale` is the
+  // flow's velocity scale for the tolerance; the load on the bodies is
+  // accumulated as -factor sum_m dU_m Delta V_m over `dt` (factor: the
+  // fluid's alpha2 rho / dt, so that factor dU is the force density of eq. 4.8).
+  Result apply(const std::array<double*, 3>& u, double t, double scale, double factor, double dt);
+  // Per body: force (N) and torque about its centre (N m) on the body, the
+  // mean over the steps since the last call; then the sums restart.
+  std::vector<double> take_loads();
+  // The most iterations and the largest slip since the last take_loads.
+  Result worst() const { return worst_; }
+
+ private:
+  struct Entry {
+    long index;
+    double weight;
+  };
+  void place(double t);
+  void build_stencils();
+  Result iterate_mdf(const std::array<double*, 3>& u, double scale, std::vector<double>& total);
+  Result solve_cg(const std::array<double*, 3>& u, double scale, std::vector<double>& total);
+  double slip(const std::vector<double>& at, std::vector<double>& b) const;
+  void apply_operator(const std::vector<double>& x, std::vector<double>& q);
+  void interpolate(const std::array<double*, 3>& u, std::vector<double>& out) const;
+  void spread(const std::array<double*, 3>& u, const std::vector<double>& du) const;
+  void add_loads(const std::vector<double>& total, double factor, double dt);
+
+  Grid grid_;
+  ForcingParams p_;
+  MPI_Comm comm_;
+  int dims_;
+  MarkerSet set_;
+  std::vector<Vec> x_;       // the markers' positions at the last place()
+  double placed_at_ = -1.0;  // the time of x_ (-1: none)
+  bool moving_ = false;
+  // Per component, per marker: its entries on this rank (CSR).
+  std::vector<std::vector<std::size_t>> start_;
+  std::vector<std::vector<Entry>> entries_;
+  std::array<std::vector<double>, 3> scratch_;  // zeroed copies of the grid's points (cg)
+  std::vector<double> loads_;  // per body 6: force and torque times dt
+  double load_time_ = 0.0;
+  Result worst_;
+};
+
+}  // namespace coflow::ibm

@@ -1,0 +1,173 @@
+#include "immersed/ibm/ibm.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+#include <fmt/format.h>
+
+#include "coflow/log.hpp"
+#include "coflow/output.hpp"
+#include "coflow/session.hpp"
+#include "coflow/trace.hpp"
+#include "coflow/window_loop.hpp"
+#include "immersed/ibm/link.hpp"
+#include "immersed/ibm/markers.hpp"
+
+namespace coflow::immersed {
+
+namespace {
+
+using V3 = Eigen::Vector3d;
+
+V3 vec(const Vec3& v) { return {v[0], v[1], v[2]}; }
+
+// A body: its surface points relative to its reference point at t = 0, and
+// its motion (params.hpp).
+struct Body {
+  std::string name;
+  std::vector<ibm::SurfacePoint> points;  // x relative to the centre at t = 0
+  V3 centre0 = V3::Zero();
+  BodyMotion motion;
+  double volume = 0.0;  // m^3 (in 2D: of the slab)
+
+  V3 centre(double t) const {
+    const double w = 2 * std::numbers::pi * motion.frequency;
+    return centre0 + vec(motion.velocity) * t + vec(motion.amplitude) * std::sin(w * t);
+  }
+  V3 centre_velocity(double t) const {
+    const double w = 2 * std::numbers::pi * motion.frequency;
+    return vec(motion.velocity) + vec(motion.amplitude) * w * std::cos(w * t);
+  }
+  Eigen::Matrix3d rotation(double t) const {
+    const V3 om = vec(motion.angular_velocity);
+    const double angle = om.norm() * t;
+    if (angle == 0.0) return Eigen::Matrix3d::Identity();
+    return Eigen::AngleAxisd(angle, om.normalized()).toRotationMatrix();
+  }
+};
+
+Body make_body(const BodyParams& p, const ibm::GridGeometry& g, double spacing, double retraction) {
+  const stl::TriangleMesh mesh = load_body_mesh(p);
+  Body b;
+  b.name = p.name;
+  b.motion = p.motion;
+  const ibm::MeshVolume mv = ibm::mesh_volume(mesh);
+  b.centre0 = p.motion.centre_given ? vec(p.motion.centre) : V3(mv.centroid[0], mv.centroid[1], mv.centroid[2]);
+  b.volume = std::abs(mv.volume);
+  if (g.dims == 2) {
+    const stl::MeshSummary m = stl::summarize(mesh);
+    b.volume *= g.h[2] / (m.upper[2] - m.lower[2]);
+    b.centre0[2] = g.lower[2] + 0.5 * g.h[2];
+  }
+  b.points = ibm::sample_surface(mesh, g, spacing);
+  const double inward = retraction * g.shell();
+  for (auto& pt : b.points)
+    for (int d = 0; d < 3; ++d) pt.x[d] -= b.centre0[d] + inward * pt.normal[d];
+  return b;
+}
+
+class IbmWindows final : public coupler::WindowParts {
+ public:
+  IbmWindows(coupler::Session& s, const IbmParams& p);
+  void before_step(long w) override;
+  void step(long) override {}
+  void after_step(long w) override;
+  void output(long w) override;
+  void save(const std::string&) override {}  // the state is the time: nothing to keep
+
+ private:
+  ibm::MarkerSet markers(double t) const;
+
+  coupler::Session& s_;
+  ibm::GridGeometry grid_;
+  double rho_ = 1.0;
+  std::vector<Body> bodies_;
+  bool moving_ = false, sent_ = false;
+  std::vector<double> loads_;  // per body 6, then iterations and slip
+  output::Series series_;
+};
+
+IbmWindows::IbmWindows(coupler::Session& s, const IbmParams& p)
+    : s_(s), grid_(grid_geometry(s.config().domain)), rho_(s.config().resolved["fluid"]["density"].as<double>()) {
+  std::vector<output::Series::Column> columns{{"time", "s"}};
+  std::size_t markers = 0;
+  for (const auto& bp : p.bodies) {
+    bodies_.push_back(make_body(bp, grid_, p.spacing, p.retraction));
+    moving_ = moving_ || bp.motion.moves();
+    markers += bodies_.back().points.size();
+    for (const char* c : {"_fx", "_fy", "_fz"}) columns.push_back({bp.name + c, "N"});
+    for (const char* c : {"_tx", "_ty", "_tz"}) columns.push_back({bp.name + c, "N m"});
+    log::info("ibm: body {}: {} markers, volume {:.6g} m^3, reference point ({:.6g}, {:.6g}, {:.6g}) m{}", bp.name,
+              bodies_.back().points.size(), bodies_.back().volume, bodies_.back().centre0[0],
+              bodies_.back().centre0[1], bodies_.back().centre0[2], bp.motion.moves() ? ", moving" : ", fixed");
+  }
+  log::info("ibm: {} markers, kernel {}, at most {} forcing iterations to a slip of {:.3g} of the flow's speed",
+            markers, p.kernel, p.max_iterations, p.tolerance);
+  columns.push_back({"mdf_iterations", "1"});
+  columns.push_back({"slip", "m/s"});
+  loads_.assign(6 * bodies_.size() + 2, 0.0);
+  if (s.rank() == 0)
+    series_ = output::Series(s.output_dir() + "/series/immersed.csv", columns, s.restart_window() > 0);
+}
+
+ibm::MarkerSet IbmWindows::markers(double t) const {
+  ibm::MarkerSet set;
+  set.time = t;
+  const double ratio = grid_.shell() / grid_.cell_volume();
+  for (std::size_t n = 0; n < bodies_.size(); ++n) {
+    const Body& b = bodies_[n];
+    const V3 c = b.centre(t), vc = b.centre_velocity(t), om = vec(b.motion.angular_velocity);
+    const Eigen::Matrix3d R = b.rotation(t);
+    set.bodies.push_back({{c[0], c[1], c[2]}, {vc[0], vc[1], vc[2]}});
+    for (const auto& p : b.points) {
+      const V3 r = R * V3(p.x[0], p.x[1], p.x[2]), x = c + r, u = vc + om.cross(r);
+      set.markers.push_back({{x[0], x[1], x[2]}, {u[0], u[1], u[2]}, p.area * ratio, static_cast<int>(n)});
+    }
+  }
+  return set;
+}
+
+void IbmWindows::before_step(long w) {
+  const bool due = !sent_ || moving_;
+  const std::vector<double> packed = due && s_.rank() == 0 ? markers((w - 1) * s_.window()).pack() : std::vector<double>{};
+  ibm::send_markers(s_.partner("fluid"), s_.rank(), due ? packed : std::vector<double>{});
+  sent_ = true;
+}
+
+// The fluid's loads (the forcing's reaction), plus the rate of change of the
+// momentum of the fluid the body holds: rho V a of its reference point (the
+// rigid fluid inside moves with the body; Uhlmann 2005).
+void IbmWindows::after_step(long w) {
+  if (s_.rank() != 0) return;
+  ibm::receive_loads(s_.partner("fluid"), loads_);
+  const double t0 = (w - 1) * s_.window(), t1 = w * s_.window();
+  for (std::size_t n = 0; n < bodies_.size(); ++n) {
+    const V3 a = (bodies_[n].centre_velocity(t1) - bodies_[n].centre_velocity(t0)) / s_.window();
+    for (int d = 0; d < 3; ++d) loads_[6 * n + static_cast<std::size_t>(d)] += rho_ * bodies_[n].volume * a[d];
+  }
+  coupler::trace().steps = static_cast<std::uint64_t>(w);
+}
+
+void IbmWindows::output(long w) {
+  if (w == 0 || s_.rank() != 0 || !s_.series_due(w)) return;
+  std::vector<double> row{w * s_.window()};
+  row.insert(row.end(), loads_.begin(), loads_.end());
+  series_.row(row);
+  for (std::size_t n = 0; n < bodies_.size(); ++n)
+    for (int d = 0; d < 3; ++d)
+      s_.set_final(fmt::format("immersed.{}_f{}", bodies_[n].name, "xyz"[d]), loads_[6 * n + static_cast<std::size_t>(d)]);
+}
+
+}  // namespace
+
+void IbmMethod::run(coupler::Session& s) {
+  if (!s.has_partner("fluid"))
+    throw std::runtime_error("immersed.method ibm forces a fluid: the fluid section must be present");
+  s.negotiate_window(0.0);
+  IbmWindows windows(s, p_);
+  coupler::run_windows(s, windows);
+}
+
+}  // namespace coflow::immersed

@@ -1,0 +1,74 @@
+// The markers of the immersed boundary (seed 003 §4.2.1): points on a body's
+// surface, each with the volume Delta V_Gamma it stands for (eq. 4.10), and
+// what the immersed component sends the fluid so that the fluid can iterate
+// the multi-direct forcing on its own (ARCHITECTURE.md, Wave 2).
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "coflow/stl.hpp"
+
+namespace coflow::ibm {
+
+using Vec = std::array<double, 3>;
+
+// The fluid grid as the markers see it: lower corner, cells, spacing, and
+// whether it is 2D (one cell along z: the markers stand for the slab).
+struct GridGeometry {
+  Vec lower{0, 0, 0};
+  std::array<long, 3> cells{1, 1, 1};
+  Vec h{1, 1, 1};
+  int dims = 3;
+  double cell_volume() const { return h[0] * h[1] * h[2]; }
+  // The thickness of a marker's shell, Delta V_Gamma = area x this: the
+  // spacing (its geometric mean, in the plane in 2D).
+  double shell() const { return dims == 2 ? std::sqrt(h[0] * h[1]) : std::cbrt(h[0] * h[1] * h[2]); }
+};
+
+// A piece of surface: its area-weighted centroid, its area and its mean
+// outward normal (unit; the triangles' winding gives outward).
+struct SurfacePoint {
+  Vec x{0, 0, 0};
+  double area = 0.0;
+  Vec normal{0, 0, 0};
+};
+
+// Markers about `spacing` cells apart whatever the mesh's own triangles: the
+// triangles are split until their edges are below a fifth of the spacing,
+// the pieces gathered into boxes of `spacing` cells aligned with the grid,
+// and each box's pieces become one point at their area-weighted centroid
+// holding their total area. The areas sum to the mesh's area exactly.
+std::vector<SurfacePoint> sample_surface(const stl::TriangleMesh& mesh, const GridGeometry& g, double spacing);
+
+// The volume and centroid of a closed mesh (divergence theorem; outward
+// normals give a positive volume).
+struct MeshVolume {
+  double volume = 0.0;
+  Vec centroid{0, 0, 0};
+};
+MeshVolume mesh_volume(const stl::TriangleMesh& mesh);
+
+// What goes to the fluid: per marker its position and velocity at the
+// window's start, Delta V_Gamma over the cell volume, its body; per body the
+// reference point of its torque and that point's velocity. Within a window
+// the fluid moves both linearly (exact for a translation).
+struct Marker {
+  Vec x{0, 0, 0}, u{0, 0, 0};
+  double volume_ratio = 0.0;  // Delta V_Gamma / (dx dy dz)
+  int body = 0;
+};
+struct BodyFrame {
+  Vec centre{0, 0, 0}, velocity{0, 0, 0};
+};
+struct MarkerSet {
+  double time = 0.0;  // s: the time of the positions
+  std::vector<BodyFrame> bodies;
+  std::vector<Marker> markers;
+  // Flat doubles for the message (pack) and back (unpack).
+  std::vector<double> pack() const;
+  static MarkerSet unpack(const std::vector<double>& flat);
+};
+
+}  // namespace coflow::ibm

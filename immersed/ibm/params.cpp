@@ -1,0 +1,163 @@
+#include "immersed/ibm/params.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace coflow::immersed {
+
+bool BodyMotion::moves() const {
+  for (int d = 0; d < 3; ++d)
+    if (velocity[d] != 0.0 || angular_velocity[d] != 0.0 || (amplitude[d] != 0.0 && frequency != 0.0)) return true;
+  return false;
+}
+
+void BodyParams::visit(config::Visitor& v) {
+  v.required("name", name, "the body's name: its columns in series/immersed.csv are <name>_fx ... <name>_tz");
+  v.required("mesh", mesh,
+             "a closed triangle mesh (STL, ASCII or binary), relative to this file; in a 2D fluid a prism along z "
+             "(its length does not matter)");
+  v("scale", scale, "factor applied to the file's coordinates (0.001 for a mesh drawn in millimetres)",
+    config::positive());
+  v("translate", translate, "shift in m applied after the scale");
+  v.section("motion", "prescribed motion (none given: the body is fixed)", [&](config::Visitor& s) {
+    s("centre", motion.centre,
+      "m: the reference point at t = 0: rotations turn about it, torques are taken about it (default: the "
+      "mesh's centroid)");
+    if (s.reading()) motion.centre_given = s.given("centre");
+    s("velocity", motion.velocity, "m/s: a constant translation of the whole body");
+    s("angular_velocity", motion.angular_velocity, "rad/s: a constant rotation about the reference point");
+    s("amplitude", motion.amplitude,
+      "m: a periodic oscillation, displacement amplitude sin(2 pi frequency t), added to the translation");
+    s("frequency", motion.frequency, "Hz: of the oscillation", config::at_least(0.0));
+  });
+}
+
+void IbmParams::visit(config::Visitor& v) {
+  v("kernel", kernel,
+    "interpolation and spreading kernel (seed 003 eqs. 4.9-4.10): hat (the seed's, a linear hat of 2 cells), "
+    "roma3 (Roma, Peskin & Berger 1999, 3 cells) or peskin4 (Peskin 2002, 4 cells)",
+    config::one_of(ibm::kernel_names()));
+  v("spacing", spacing,
+    "cells between markers: the surface is sampled in boxes of this many cells, one marker per box, whatever "
+    "the mesh's own triangle sizes",
+    config::greater(0.0));
+  v("retraction", retraction,
+    "cells: each marker moved this far into the body along the surface's normal, against the kernel's "
+    "thickening of the surface (Breugem 2012 calibrated 0.3 for the 3-point kernel); 0: on the surface",
+    config::in_range(0.0, 1.0));
+  v("iteration", iteration,
+    "mdf: the seed's multi-direct forcing, direct forcing repeated on the forced velocity (Wang, Fan & Luo 2008; "
+    "a Richardson iteration, slow on fine marker sets); cg: the same forcing equations for all markers at once "
+    "by conjugate gradients (the same work per iteration, far fewer iterations)",
+    config::one_of({"mdf", "cg"}));
+  v("max_iterations", max_iterations, "the most forcing iterations in a step", config::in_range(1, 1000));
+  v("tolerance", tolerance,
+    "multi-direct forcing: iterate until the largest slip |U_b - U| at the markers is below this fraction of "
+    "the flow's largest velocity",
+    config::greater(0.0));
+  v.list("bodies", "the immersed bodies, each a closed triangle mesh", [&](config::Visitor& s) {
+    bodies.emplace_back();
+    bodies.back().visit(s);
+  });
+}
+
+stl::TriangleMesh load_body_mesh(const BodyParams& b) {
+  stl::TriangleMesh m = stl::read(b.mesh.path);
+  stl::transform(m, b.scale, stl::V3(b.translate[0], b.translate[1], b.translate[2]));
+  return m;
+}
+
+ibm::GridGeometry grid_geometry(const config::DomainParams& d) {
+  ibm::GridGeometry g;
+  const Vec3 h = d.spacing();
+  for (int k = 0; k < 3; ++k) {
+    g.lower[k] = d.lower[k];
+    g.cells[k] = d.cells[k];
+    g.h[k] = h[k];
+  }
+  g.dims = d.two_dimensional() ? 2 : 3;
+  return g;
+}
+
+IbmParams read_ibm_params(const config::Config& cfg) {
+  IbmParams p;
+  config::Reader r(cfg.resolved["immersed"]["ibm"], cfg.file, "immersed.ibm");
+  p.visit(r);
+  r.check();
+  return p;
+}
+
+namespace {
+
+// The box a body sweeps until end_time: its mesh's box moved by the
+// translation, grown by the oscillation and, when it turns, by its reach
+// from the centre.
+void swept_box(const BodyParams& b, const stl::MeshSummary& m, const stl::TriangleMesh& mesh, double end_time,
+               stl::V3& lo, stl::V3& hi) {
+  lo = m.lower;
+  hi = m.upper;
+  const auto& mo = b.motion;
+  const stl::V3 c = mo.centre_given ? stl::V3(mo.centre[0], mo.centre[1], mo.centre[2]) : 0.5 * (m.lower + m.upper);
+  const bool turns = mo.angular_velocity[0] != 0 || mo.angular_velocity[1] != 0 || mo.angular_velocity[2] != 0;
+  double reach = 0.0;
+  if (turns)
+    for (const auto& x : mesh.vertices) reach = std::max(reach, (x - c).norm());
+  for (int d = 0; d < 3; ++d) {
+    if (turns) lo[d] = c[d] - reach, hi[d] = c[d] + reach;
+    const double shift = mo.velocity[d] * end_time;
+    lo[d] += std::min(0.0, shift) - std::abs(mo.amplitude[d]);
+    hi[d] += std::max(0.0, shift) + std::abs(mo.amplitude[d]);
+  }
+}
+
+}  // namespace
+
+// The bodies: unique names, closed meshes, inside the domain with the
+// kernel's support off every face that is not periodic, for the whole run.
+void IbmParams::check(config::Visitor& v, const config::Config& cfg) const {
+  const double radius = ibm::kernel_radius(ibm::kernel_from_name(kernel));
+  if (spacing > radius)
+    v.fail("spacing", fmt::format("markers {} cells apart leave gaps between the supports of kernel {} (radius {} "
+                                  "cells): at most {}",
+                                  spacing, kernel, radius, radius));
+  if (bodies.empty()) v.fail("bodies", "no bodies: give at least one {name, mesh}");
+  std::set<std::string> names;
+  const Vec3 h = cfg.domain.spacing();
+  const int dims = cfg.domain.two_dimensional() ? 2 : 3;
+  for (std::size_t n = 0; n < bodies.size(); ++n) {
+    const BodyParams& b = bodies[n];
+    if (!names.insert(b.name).second) v.fail("bodies", fmt::format("bodies[{}]: the name '{}' is taken twice", n, b.name));
+    try {
+      const stl::TriangleMesh mesh = load_body_mesh(b);
+      const stl::MeshSummary m = stl::summarize(mesh);
+      if (!m.closed)
+        v.fail("bodies", fmt::format("bodies[{}] ({}): the mesh {} is open ({} edges of one triangle); a body needs a "
+                                     "closed surface (every edge shared by two triangles), whose inside is the body",
+                                     n, b.name, b.mesh.path, m.open_edges));
+      if (dims == 2 && !(m.upper[2] > m.lower[2]))
+        v.fail("bodies", fmt::format("bodies[{}] ({}): the fluid is 2D and this mesh is flat in z; give a prism "
+                                     "along z (any length)",
+                                     n, b.name));
+      stl::V3 lo, hi;
+      swept_box(b, m, mesh, cfg.run.end_time, lo, hi);
+      for (int d = 0; d < dims; ++d) {
+        if (cfg.domain.periodic[d]) continue;
+        const double margin = (radius + 1.0) * h[d];
+        if (lo[d] < cfg.domain.lower[d] + margin || hi[d] > cfg.domain.upper[d] - margin)
+          v.fail("bodies", fmt::format("bodies[{}] ({}) spans {:.6g} to {:.6g} m along {} until end_time; it must "
+                                       "stay {:.3g} m ({} cells: the kernel's support and one) inside the domain "
+                                       "[{:.6g}, {:.6g}] m: move it (translate, motion) or widen the domain",
+                                       n, b.name, lo[d], hi[d], "xyz"[d], margin, radius + 1.0,
+                                       cfg.domain.lower[d], cfg.domain.upper[d]));
+      }
+    } catch (const std::runtime_error& e) {
+      v.fail("bodies", fmt::format("bodies[{}] ({}): {}", n, b.name, e.what()));
+    }
+  }
+}
+
+}  // namespace coflow::immersed

@@ -1,0 +1,60 @@
+// immersed.ibm: bodies as triangle meshes for the multi-direct-forcing
+// immersed boundary (seed 003 §4.2.1), and how the fluid iterates it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "coflow/config.hpp"
+#include "coflow/run_config.hpp"
+#include "coflow/stl.hpp"
+#include "immersed/ibm/direct_forcing.hpp"
+
+namespace coflow::immersed {
+
+using config::Vec3;
+
+// A body's prescribed motion: its reference point c(t) = centre + velocity t +
+// amplitude sin(2 pi frequency t) and a rotation at angular_velocity about it.
+struct BodyMotion {
+  Vec3 centre{0, 0, 0};
+  bool centre_given = false;  // else the mesh's centroid
+  Vec3 velocity{0, 0, 0};
+  Vec3 angular_velocity{0, 0, 0};
+  Vec3 amplitude{0, 0, 0};
+  double frequency = 0.0;
+  bool moves() const;
+};
+
+struct BodyParams {
+  std::string name;
+  config::FilePath mesh;
+  double scale = 1.0;
+  Vec3 translate{0, 0, 0};
+  BodyMotion motion;
+  void visit(config::Visitor& v);
+};
+
+struct IbmParams {
+  std::string kernel = "hat";
+  double spacing = 1.0;     // cells between markers
+  double retraction = 0.0;  // cells: markers moved into the body along the normal
+  std::string iteration = "cg";
+  int max_iterations = 50;
+  double tolerance = 1e-4;
+  std::vector<BodyParams> bodies;
+  void visit(config::Visitor& v);
+  void check(config::Visitor& v, const config::Config& cfg) const;
+  ibm::ForcingParams forcing() const {
+    return {ibm::kernel_from_name(kernel), max_iterations, tolerance, iteration == "cg"};
+  }
+};
+
+// The mesh of a body, scaled and moved as its keys say.
+stl::TriangleMesh load_body_mesh(const BodyParams& b);
+// The fluid grid as the markers see it.
+ibm::GridGeometry grid_geometry(const config::DomainParams& d);
+// immersed.ibm of a resolved configuration (the fluid reads it too).
+IbmParams read_ibm_params(const config::Config& cfg);
+
+}  // namespace coflow::immersed

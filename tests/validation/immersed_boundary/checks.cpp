@@ -1,0 +1,177 @@
+// Immersed boundaries (immersed.method ibm, issue 23): drag, lift, Strouhal
+// number and recirculation length of a body from series/immersed.csv and the
+// last fluid snapshot, and the slip the forcing left.
+#include "immersed/ibm/params.hpp"
+#include "tests/validation/check/check.hpp"
+
+namespace coflow::check {
+
+namespace {
+
+// The first body: its name, diameter across y and centre (from its mesh, as
+// the run placed it), and the reference speed and dynamic pressure x area.
+struct BodyCase {
+  std::string name;
+  double diameter = 0, centre[3] = {0, 0, 0};
+  double speed = 0, q_area = 0;  // U, 1/2 rho U^2 A (A = D x slab in 2D, pi D^2 / 4 in 3D)
+};
+
+BodyCase body_case(const config::Config& cfg) {
+  const immersed::IbmParams ibm = immersed::read_ibm_params(cfg);
+  const immersed::BodyParams& b = ibm.bodies.at(0);
+  const stl::MeshSummary m = stl::summarize(immersed::load_body_mesh(b));
+  BodyCase c;
+  c.name = b.name;
+  c.diameter = m.upper[1] - m.lower[1];
+  for (int d = 0; d < 3; ++d) c.centre[d] = 0.5 * (m.lower[d] + m.upper[d]);
+  const auto fp = fluid_params(cfg);
+  const auto& v = b.motion.velocity;
+  // A body crossing fluid at rest moves at its velocity; a fixed one sits in the inflow of x-.
+  c.speed = std::hypot(v[0], v[1], v[2]);
+  if (c.speed == 0.0) c.speed = std::abs(fp.boundary(0, cfg).value.values.at(0));
+  const bool two_d = cfg.domain.two_dimensional();
+  const double area = two_d ? c.diameter * (cfg.domain.upper[2] - cfg.domain.lower[2])
+                            : std::numbers::pi * c.diameter * c.diameter / 4;
+  c.q_area = 0.5 * fp.density * c.speed * c.speed * area;
+  return c;
+}
+
+std::vector<double> column(const std::vector<std::vector<double>>& rows, std::size_t k, double from_time) {
+  std::vector<double> out;
+  for (const auto& r : rows)
+    if (r.at(0) >= from_time) out.push_back(r.at(k));
+  return out;
+}
+
+// The recirculation length behind the body, in diameters from its rear
+// surface: where u_x along the wake's centre line (the mean of the two rows
+// of cells beside y = centre) turns from negative to positive.
+double recirculation(const config::Config& cfg, const std::string& dir, const BodyCase& b) {
+  std::vector<std::size_t> dims;
+  const auto u = output::read_dataset(last_snapshot(dir), "velocity", &dims);
+  const long nx = static_cast<long>(dims[2]);
+  const auto h = cfg.domain.spacing();
+  const double s = (b.centre[1] - cfg.domain.lower[1]) / h[1] - 0.5;  // cell-centre coordinate of the line
+  const auto j0 = static_cast<long>(std::floor(s));
+  const double f = s - static_cast<double>(j0);
+  auto ux = [&](long i) {
+    return (1 - f) * u[static_cast<std::size_t>((j0 * nx + i) * 3)] + f * u[static_cast<std::size_t>(((j0 + 1) * nx + i) * 3)];
+  };
+  const double rear = b.centre[0] + 0.5 * b.diameter;
+  for (long i = 0; i + 1 < nx; ++i) {
+    const double x0 = cfg.domain.lower[0] + (i + 0.5) * h[0], x1 = x0 + h[0];
+    if (x0 < b.centre[0]) continue;
+    if (ux(i) < 0 && ux(i + 1) >= 0) {
+      const double xs = x0 + (x1 - x0) * ux(i) / (ux(i) - ux(i + 1));
+      return (xs - rear) / b.diameter;
+    }
+  }
+  return 0.0;  // no reversed flow
+}
+
+}  // namespace
+
+// A steady body: the drag coefficient (the mean of the last quarter of the
+// rows), its drift over that quarter, the recirculation length, the slip.
+struct Steady {
+  double cd = 0, drift = 0, length = 0, slip = 0, iterations = 0, h = 0, reynolds = 0;
+};
+
+Steady steady(const std::string& dir) {
+  const auto cfg = load(dir);
+  const BodyCase b = body_case(cfg);
+  const auto rows = read_series(dir + "/series/immersed.csv");
+  const double end = rows.back().at(0);
+  const auto fx = column(rows, 1, 0.75 * end);
+  if (fx.size() < 2) throw std::runtime_error("too few rows in series/immersed.csv");
+  double mean = 0.0;
+  for (double v : fx) mean += v;
+  mean /= static_cast<double>(fx.size());
+  const LastRow last(dir + "/series/immersed.csv");
+  Steady s;
+  s.cd = mean / b.q_area;
+  s.drift = std::abs(fx.back() - fx.front()) / std::abs(mean);
+  s.length = recirculation(cfg, dir, b);
+  s.slip = last("slip") / b.speed;
+  s.iterations = last("mdf_iterations");
+  s.h = cfg.domain.spacing()[0];
+  s.reynolds = b.speed * b.diameter / fluid_params(cfg).viscosity;
+  return s;
+}
+
+int ibm_steady(const std::string& dir) {
+  const Steady s = steady(dir);
+  std::printf("drag_coefficient=%.6e\ncd_drift=%.6e\nrecirculation_length=%.6e\nslip=%.6e\nmdf_iterations=%g\n", s.cd,
+              s.drift, s.length, s.slip, s.iterations);
+  return 0;
+}
+
+// The steady cylinder at Re 20 on two grids (A coarse, B fine): each run's
+// drag coefficient and recirculation length, their Richardson extrapolation
+// to h -> 0 at first order (the direct forcing's diffuse surface: the error
+// falls as h), and its relative error against Wu & Shu (2009, J. Comput.
+// Phys. 228:1963-1979: Re 20, Cd 2.091, L/D 0.93 from the rear surface).
+int ibm_extrapolated(const std::string& a, const std::string& b) {
+  const Steady c = steady(a), f = steady(b);
+  if (std::abs(f.reynolds - 20) > 1e-6 * 20) throw std::runtime_error("the reference numbers here are for Re 20");
+  const double r = c.h / f.h;
+  if (!(r > 1.05)) throw std::runtime_error("run B must be on the finer grid");
+  const double cd = f.cd + (f.cd - c.cd) / (r - 1), length = f.length + (f.length - c.length) / (r - 1);
+  std::printf("coarse_drag_coefficient=%.6e\nfine_drag_coefficient=%.6e\ncoarse_recirculation_length=%.6e\n"
+              "fine_recirculation_length=%.6e\ndrag_coefficient=%.6e\nrecirculation_length=%.6e\n"
+              "cd_error=%.6e\nfine_cd_error=%.6e\nlength_error=%.6e\nslip=%.6e\ncd_drift=%.6e\n",
+              c.cd, f.cd, c.length, f.length, cd, length, std::abs(cd - 2.091) / 2.091,
+              std::abs(f.cd - 2.091) / 2.091, std::abs(length - 0.93) / 0.93, std::max(c.slip, f.slip),
+              std::max(c.drift, f.drift));
+  return 0;
+}
+
+// A shedding body: over the rows after the first half of the run, the mean
+// drag coefficient, the lift coefficient's amplitude (half its peak to peak
+// over the last whole periods) and the Strouhal number f D / U from the lift's
+// upward zero crossings.
+int ibm_shedding(const std::string& dir) {
+  const auto cfg = load(dir);
+  const BodyCase b = body_case(cfg);
+  const auto rows = read_series(dir + "/series/immersed.csv");
+  const double end = rows.back().at(0);
+  const auto t = column(rows, 0, 0.5 * end), fx = column(rows, 1, 0.5 * end), fy = column(rows, 2, 0.5 * end);
+  std::vector<double> up;  // times of upward zero crossings of the lift
+  for (std::size_t k = 1; k < fy.size(); ++k)
+    if (fy[k - 1] < 0 && fy[k] >= 0) up.push_back(t[k - 1] + (t[k] - t[k - 1]) * fy[k - 1] / (fy[k - 1] - fy[k]));
+  if (up.size() < 3) throw std::runtime_error("fewer than two whole shedding periods in the second half");
+  const double period = (up.back() - up.front()) / static_cast<double>(up.size() - 1);
+  double drag = 0.0, lo = 0.0, hi = 0.0;
+  long n = 0;
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    if (t[k] < up.front() || t[k] > up.back()) continue;
+    drag += fx[k];
+    lo = std::min(lo, fy[k]);
+    hi = std::max(hi, fy[k]);
+    ++n;
+  }
+  std::printf("drag_coefficient=%.6e\nlift_amplitude=%.6e\nstrouhal=%.6e\nperiods=%zu\n", drag / n / b.q_area,
+              0.5 * (hi - lo) / b.q_area, b.diameter / (period * b.speed), up.size() - 1);
+  return 0;
+}
+
+// One body's flow in two frames (fixed in a stream, or crossing fluid at
+// rest): the largest difference of the drag coefficients at the same rows
+// of the run's second half (the first differs by how the frames' boundaries
+// start the flow), relative to the last one of run A.
+int ibm_frames(const std::string& a, const std::string& b) {
+  const BodyCase ca = body_case(load(a)), cb = body_case(load(b));
+  const auto ra = read_series(a + "/series/immersed.csv"), rb = read_series(b + "/series/immersed.csv");
+  if (ra.size() != rb.size()) throw std::runtime_error("the two runs have different rows in series/immersed.csv");
+  // Either way the fluid passes the body along +x: the drag is F_x.
+  auto cd = [](const BodyCase& c, const std::vector<double>& row) { return row.at(1) / c.q_area; };
+  double worst = 0.0;
+  for (std::size_t k = 0; k < ra.size(); ++k)
+    if (ra[k].at(0) >= 0.5 * ra.back().at(0)) worst = std::max(worst, std::abs(cd(ca, ra[k]) - cd(cb, rb[k])));
+  const double last = cd(ca, ra.back());
+  std::printf("drag_coefficient_a=%.6e\ndrag_coefficient_b=%.6e\ncd_difference=%.6e\n", last, cd(cb, rb.back()),
+              worst / std::abs(last));
+  return 0;
+}
+
+}  // namespace coflow::check

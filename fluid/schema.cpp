@@ -54,7 +54,7 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
   if (variant == "analytic") c.provides = {f::velocity, f::pressure, f::k, f::epsilon};
   if (variant == "fv" || variant == "fv-reference") c.provides = {f::velocity, f::pressure};
   if ((variant == "fv" || variant == "fv-reference") && turbulent(cfg)) c.provides = {f::velocity, f::pressure, f::k, f::epsilon};
-  if (variant == "fv") c.provides.push_back(f::ibm_forcing);
+  if (variant == "fv" || variant == "fv-reference") c.provides.push_back(f::ibm_forcing);
   return c;
 }
 

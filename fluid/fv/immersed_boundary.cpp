@@ -11,26 +11,18 @@ namespace coflow::fluid {
 
 void FvSolver::set_markers(ibm::MarkerSet markers) {
   if (!ibm_) {
-    ibm::DirectForcing::Grid grid;
-    grid.geometry = immersed::grid_geometry(cfg_.domain);
-    grid.periodic = periodic_;
-    for (int c = 0; c < dims_; ++c) {
-      ibm::DirectForcing::Points pts;
-      pts.offset = {0.5, 0.5, 0.5};
-      pts.offset[static_cast<std::size_t>(c)] = 0.0;  // u_c on the lower c-faces
-      // Component c's unknowns on this rank: the owned faces that are not the domain's.
-      pts.index = [this, c](const std::array<long, 3>& g) -> long {
-        long at[3];
-        for (int d = 0; d < 3; ++d) {
-          at[d] = g[static_cast<std::size_t>(d)] - blk_.owned.lo[d];
-          if (at[d] < 0 || at[d] >= blk_.extent[d]) return -1;
-        }
-        if (is_boundary_face(c, at[c])) return -1;
-        return blk_.idx(at[0], at[1], at[2]);
-      };
-      grid.components.push_back(std::move(pts));
-    }
-    ibm_ = std::make_unique<ibm::DirectForcing>(std::move(grid), immersed::read_ibm_params(cfg_).forcing(), comm_);
+    // u_c's unknowns on this rank: the owned faces that are not the domain's.
+    auto index = [this](int c, const std::array<long, 3>& g) -> long {
+      long at[3];
+      for (int d = 0; d < 3; ++d) {
+        at[d] = g[static_cast<std::size_t>(d)] - blk_.owned.lo[d];
+        if (at[d] < 0 || at[d] >= blk_.extent[d]) return -1;
+      }
+      return is_boundary_face(c, at[c]) ? -1 : blk_.idx(at[0], at[1], at[2]);
+    };
+    ibm_ = std::make_unique<ibm::DirectForcing>(
+        ibm::DirectForcing::staggered(immersed::grid_geometry(cfg_.domain), periodic_, index),
+        immersed::read_ibm_params(cfg_).forcing(), comm_);
   }
   ibm_->set_markers(std::move(markers));
 }

@@ -300,6 +300,7 @@ void FvReference::momentum(const fv::Imex& s, double dt, bool with_pressure) {
     conjugate_gradients([&](const Field& a, Field& y) { apply(a, y, true); }, rows, x, rhs, "viscous solve");
     for (long i : rows) star[C][static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(i)];
   }
+  force_immersed(star, s, dt);
   velocity_ghosts(star, t1, false, false);  // walls' values, open faces extrapolated
   if (convect_outflow(star, dt)) velocity_ghosts(star, t1, true, false);
   u_old_.swap(u_);

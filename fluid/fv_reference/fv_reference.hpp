@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <memory>
 #include <stdexcept>
 #include <fmt/format.h>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "fluid/fv/params.hpp"
 #include "fluid/fv/scheme.hpp"
 #include "fluid/turbulence_params.hpp"
+#include "immersed/ibm/direct_forcing.hpp"
 
 namespace coflow::fluid {
 
@@ -32,6 +34,8 @@ class FvReference final : public FluidSolver {
   Diagnostics diagnostics() override;
   std::vector<output::Series::Column> series_columns() const override;
   void set_source(std::span<const double> force_density) override;
+  void set_markers(ibm::MarkerSet markers) override;
+  std::vector<double> take_body_loads() override;
   void save(const std::string& dir) override;
   void load(const std::string& dir, long steps, double time) override;
 
@@ -78,6 +82,7 @@ class FvReference final : public FluidSolver {
   double laplacian_at(const Field& q, long n) const;
   void momentum(const fv::Imex& s, double dt, bool with_pressure);
   void project(const fv::Imex& s, double dt, bool incremental);
+  void force_immersed(Faces& star, const fv::Imex& s, double dt);  // immersed_boundary_reference.cpp
   double wall_weight(int c, const long x[3], long n) const;
   template <class Value>
   double deferred_wall(int c, const long x[3], long n, double theta, Value&& value) const;
@@ -117,6 +122,7 @@ class FvReference final : public FluidSolver {
   double velocity_scale_ = 0.0;  // the largest |u_c| at the step's start
   long steps_ = 0, window_steps_ = 0;
   int poisson_iterations_ = 0;
+  std::unique_ptr<ibm::DirectForcing> ibm_;  // immersed.method ibm: made at the first markers
   std::vector<double> out_u_, out_p_, out_rho_, out_div_, out_k_, out_eps_, out_nut_, out_yplus_;
   bool turbulent_ = false;
   TurbulenceParams turb_;

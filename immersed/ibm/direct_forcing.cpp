@@ -8,6 +8,21 @@ namespace coflow::ibm {
 DirectForcing::DirectForcing(Grid grid, ForcingParams params, MPI_Comm comm)
     : grid_(std::move(grid)), p_(params), comm_(comm), dims_(grid_.geometry.dims) {}
 
+DirectForcing::Grid DirectForcing::staggered(const GridGeometry& g, std::array<bool, 3> periodic,
+                                             std::function<long(int c, const std::array<long, 3>& global)> index) {
+  Grid grid;
+  grid.geometry = g;
+  grid.periodic = periodic;
+  for (int c = 0; c < g.dims; ++c) {
+    Points pts;
+    pts.offset = {0.5, 0.5, 0.5};
+    pts.offset[static_cast<std::size_t>(c)] = 0.0;
+    pts.index = [index, c](const std::array<long, 3>& x) { return index(c, x); };
+    grid.components.push_back(std::move(pts));
+  }
+  return grid;
+}
+
 void DirectForcing::set_markers(MarkerSet markers) {
   set_ = std::move(markers);
   moving_ = false;

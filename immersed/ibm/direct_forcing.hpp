@@ -52,6 +52,10 @@ class DirectForcing {
   };
 
   DirectForcing(Grid grid, ForcingParams params, MPI_Comm comm);
+  // A staggered (MAC) grid: u_c on the lower c-faces of the cells; index(c, g)
+  // where the face g of u_c is stored, or -1.
+  static Grid staggered(const GridGeometry& g, std::array<bool, 3> periodic,
+                        std::function<long(int c, const std::array<long, 3>& global)> index);
 
   // New markers (each window when a body moves, once when none does).
   void set_markers(MarkerSet markers);

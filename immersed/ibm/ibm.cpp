@@ -54,7 +54,8 @@ Body make_body(const BodyParams& p, const ibm::GridGeometry& g, double spacing, 
   b.name = p.name;
   b.motion = p.motion;
   const ibm::MeshVolume mv = ibm::mesh_volume(mesh);
-  b.centre0 = p.motion.centre_given ? vec(p.motion.centre) : V3(mv.centroid[0], mv.centroid[1], mv.centroid[2]);
+  const auto& cv = p.motion.centre.values;
+  b.centre0 = cv.size() == 3 ? V3(cv[0], cv[1], cv[2]) : V3(mv.centroid[0], mv.centroid[1], mv.centroid[2]);
   b.volume = std::abs(mv.volume);
   if (g.dims == 2) {
     const stl::MeshSummary m = stl::summarize(mesh);

@@ -25,9 +25,10 @@ void BodyParams::visit(config::Visitor& v) {
   v("translate", translate, "shift in m applied after the scale");
   v.section("motion", "prescribed motion (none given: the body is fixed)", [&](config::Visitor& s) {
     s("centre", motion.centre,
-      "m: the reference point at t = 0: rotations turn about it, torques are taken about it (default: the "
-      "mesh's centroid)");
-    if (s.reading()) motion.centre_given = s.given("centre");
+      "[x, y, z] m: the reference point at t = 0: rotations turn about it, torques are taken about it (none "
+      "given: the mesh's centroid)");
+    if (s.reading() && !motion.centre.values.empty() && motion.centre.values.size() != 3)
+      s.fail("centre", fmt::format("{} numbers; give three, [x, y, z] in m", motion.centre.values.size()));
     s("velocity", motion.velocity, "m/s: a constant translation of the whole body");
     s("angular_velocity", motion.angular_velocity, "rad/s: a constant rotation about the reference point");
     s("amplitude", motion.amplitude,
@@ -101,7 +102,8 @@ void swept_box(const BodyParams& b, const stl::MeshSummary& m, const stl::Triang
   lo = m.lower;
   hi = m.upper;
   const auto& mo = b.motion;
-  const stl::V3 c = mo.centre_given ? stl::V3(mo.centre[0], mo.centre[1], mo.centre[2]) : 0.5 * (m.lower + m.upper);
+  const auto& cv = mo.centre.values;
+  const stl::V3 c = cv.size() == 3 ? stl::V3(cv[0], cv[1], cv[2]) : stl::V3(0.5 * (m.lower + m.upper));
   const bool turns = mo.angular_velocity[0] != 0 || mo.angular_velocity[1] != 0 || mo.angular_velocity[2] != 0;
   double reach = 0.0;
   if (turns)

@@ -17,8 +17,7 @@ using config::Vec3;
 // A body's prescribed motion: its reference point c(t) = centre + velocity t +
 // amplitude sin(2 pi frequency t) and a rotation at angular_velocity about it.
 struct BodyMotion {
-  Vec3 centre{0, 0, 0};
-  bool centre_given = false;  // else the mesh's centroid
+  config::Numbers centre;  // [x, y, z] m, or empty: the mesh's centroid
   Vec3 velocity{0, 0, 0};
   Vec3 angular_velocity{0, 0, 0};
   Vec3 amplitude{0, 0, 0};

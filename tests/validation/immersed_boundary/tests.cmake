@@ -14,3 +14,12 @@ coflow_validation(ibm_ranks_1_vs_2_fixed compare ibm_cylinder_fixed_frame.yaml 2
   "fluid.ranks=1 ${ibm_short}" "fluid.ranks=2 immersed.ranks=2 fluid.decomposition=[2,1,1] ${ibm_short}")
 coflow_validation(ibm_ranks_1_vs_2_moving compare ibm_cylinder_translating.yaml 2
   "fluid.ranks=1 ${ibm_short}" "fluid.ranks=2 immersed.ranks=2 fluid.decomposition=[1,2,1] ${ibm_short}")
+# fv against fv-reference (the plain oracle) with the same forcing: a fixed
+# cylinder and a translating one, the forcing and the linear solves converged
+# far (a forcing stopped at its tolerance may stop an iteration apart), on
+# a grid of 5 cells a diameter (fv-reference is plain and slow).
+set(ibm_tight "run.end_time=2.0 run.output.every=2.0 domain.cells=[160,80,1] immersed.ibm.tolerance=1e-12 immersed.ibm.max_iterations=400 fluid.fv.tolerance=1e-12")
+coflow_validation(ibm_fv_vs_reference_fixed compare ibm_cylinder_fixed_frame.yaml 1
+  "fluid.solver=fv ${ibm_tight}" "fluid.solver=fv-reference ${ibm_tight}")
+coflow_validation(ibm_fv_vs_reference_moving compare ibm_cylinder_translating.yaml 1
+  "fluid.solver=fv ${ibm_tight}" "fluid.solver=fv-reference ${ibm_tight}")

@@ -1,0 +1,42 @@
+// fv-reference's part of the immersed boundary: fv's (fluid/fv/
+// immersed_boundary.cpp) on the serial grid, the same direct forcing
+// (ibm/direct_forcing.hpp) on u* at the end of the momentum step, before its
+// ghosts are filled.
+#include "fluid/fv_reference/fv_reference.hpp"
+#include "immersed/ibm/params.hpp"
+
+namespace coflow::fluid {
+
+void FvReference::set_markers(ibm::MarkerSet markers) {
+  if (!ibm_) {
+    auto index = [this](int c, const std::array<long, 3>& g) -> long {
+      for (int d = 0; d < 3; ++d)
+        if (g[static_cast<std::size_t>(d)] < 0 || g[static_cast<std::size_t>(d)] >= n_[d]) return -1;
+      return unknown(c, g[static_cast<std::size_t>(c)]) ? at(g[0], g[1], g[2]) : -1;
+    };
+    const std::array<bool, 3> periodic{sides_[0].kind == Kind::periodic, sides_[2].kind == Kind::periodic,
+                                       sides_[4].kind == Kind::periodic};
+    ibm_ = std::make_unique<ibm::DirectForcing>(
+        ibm::DirectForcing::staggered(immersed::grid_geometry(cfg_.domain), periodic, index),
+        immersed::read_ibm_params(cfg_).forcing(), comm_);
+  }
+  ibm_->set_markers(std::move(markers));
+}
+
+std::vector<double> FvReference::take_body_loads() {
+  if (!ibm_) return {};
+  const ibm::DirectForcing::Result worst = ibm_->worst();
+  std::vector<double> out = ibm_->take_loads();
+  out.push_back(worst.iterations);
+  out.push_back(worst.slip);
+  return out;
+}
+
+void FvReference::force_immersed(Faces& star, const fv::Imex& s, double dt) {
+  if (!ibm_ || ibm_->empty()) return;
+  std::array<double*, 3> u{nullptr, nullptr, nullptr};
+  for (int c = 0; c < dims_; ++c) u[static_cast<std::size_t>(c)] = star[static_cast<std::size_t>(c)].data();
+  ibm_->apply(u, next_time_, velocity_scale_, s.a0 * rho_ / dt, dt);
+}
+
+}  // namespace coflow::fluid

@@ -20,21 +20,12 @@ void FvSolver::set_markers(ibm::MarkerSet markers) {
       }
       return is_boundary_face(c, at[c]) ? -1 : blk_.idx(at[0], at[1], at[2]);
     };
-    ibm_ = std::make_unique<ibm::DirectForcing>(
-        ibm::DirectForcing::staggered(immersed::grid_geometry(cfg_.domain), periodic_, index),
-        immersed::read_ibm_params(cfg_).forcing(), comm_);
+    ibm_ = immersed::staggered_forcing(cfg_, periodic_, index, comm_);
   }
   ibm_->set_markers(std::move(markers));
 }
 
-std::vector<double> FvSolver::take_body_loads() {
-  if (!ibm_) return {};
-  const ibm::DirectForcing::Result worst = ibm_->worst();
-  std::vector<double> out = ibm_->take_loads();
-  out.push_back(worst.iterations);
-  out.push_back(worst.slip);
-  return out;
-}
+std::vector<double> FvSolver::take_body_loads() { return ibm_ ? ibm_->take_report() : std::vector<double>{}; }
 
 // After the momentum predictor: u* forced toward the markers' velocities at
 // the new time. The force density is alpha2 rho du / dt (eq. 4.8).

@@ -16,20 +16,13 @@ void FvReference::set_markers(ibm::MarkerSet markers) {
     };
     const std::array<bool, 3> periodic{sides_[0].kind == Kind::periodic, sides_[2].kind == Kind::periodic,
                                        sides_[4].kind == Kind::periodic};
-    ibm_ = std::make_unique<ibm::DirectForcing>(
-        ibm::DirectForcing::staggered(immersed::grid_geometry(cfg_.domain), periodic, index),
-        immersed::read_ibm_params(cfg_).forcing(), comm_);
+    ibm_ = immersed::staggered_forcing(cfg_, periodic, index, comm_);
   }
   ibm_->set_markers(std::move(markers));
 }
 
 std::vector<double> FvReference::take_body_loads() {
-  if (!ibm_) return {};
-  const ibm::DirectForcing::Result worst = ibm_->worst();
-  std::vector<double> out = ibm_->take_loads();
-  out.push_back(worst.iterations);
-  out.push_back(worst.slip);
-  return out;
+  return ibm_ ? ibm_->take_report() : std::vector<double>{};
 }
 
 void FvReference::force_immersed(Faces& star, const fv::Imex& s, double dt) {

@@ -245,4 +245,12 @@ std::vector<double> DirectForcing::take_loads() {
   return out;
 }
 
+std::vector<double> DirectForcing::take_report() {
+  const Result w = worst_;
+  std::vector<double> out = take_loads();
+  out.push_back(w.iterations);
+  out.push_back(w.slip);
+  return out;
+}
+
 }  // namespace coflow::ibm

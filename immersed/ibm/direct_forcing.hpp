@@ -69,6 +69,9 @@ class DirectForcing {
   // Per body: force (N) and torque about its centre (N m) on the body, the
   // mean over the steps since the last call; then the sums restart.
   std::vector<double> take_loads();
+  // take_loads() followed by the most iterations and the largest slip (m/s)
+  // since the last call: what the fluid sends back (FluidSolver::take_body_loads).
+  std::vector<double> take_report();
   // The most iterations and the largest slip since the last take_loads.
   Result worst() const { return worst_; }
 

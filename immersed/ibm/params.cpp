@@ -92,6 +92,14 @@ IbmParams read_ibm_params(const config::Config& cfg) {
   return p;
 }
 
+std::unique_ptr<ibm::DirectForcing> staggered_forcing(const config::Config& cfg, std::array<bool, 3> periodic,
+                                                      std::function<long(int, const std::array<long, 3>&)> index,
+                                                      MPI_Comm comm) {
+  return std::make_unique<ibm::DirectForcing>(
+      ibm::DirectForcing::staggered(grid_geometry(cfg.domain), periodic, std::move(index)),
+      read_ibm_params(cfg).forcing(), comm);
+}
+
 namespace {
 
 // The box a body sweeps until end_time: its mesh's box moved by the

@@ -2,6 +2,8 @@
 // immersed boundary (seed 003 §4.2.1), and how the fluid iterates it.
 #pragma once
 
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -55,5 +57,9 @@ stl::TriangleMesh load_body_mesh(const BodyParams& b);
 ibm::GridGeometry grid_geometry(const config::DomainParams& d);
 // immersed.ibm of a resolved configuration (the fluid reads it too).
 IbmParams read_ibm_params(const config::Config& cfg);
+// A fluid's forcing on its staggered grid (fv, fv-reference), as immersed.ibm says.
+std::unique_ptr<ibm::DirectForcing> staggered_forcing(const config::Config& cfg, std::array<bool, 3> periodic,
+                                                      std::function<long(int, const std::array<long, 3>&)> index,
+                                                      MPI_Comm comm);
 
 }  // namespace coflow::immersed

@@ -126,7 +126,7 @@ int ibm_extrapolated(const std::string& a, const std::string& b) {
   return 0;
 }
 
-// A shedding body: over the rows after the first half of the run, the mean
+// A shedding body: over the rows of the run's last third, the mean
 // drag coefficient, the lift coefficient's amplitude (half its peak to peak
 // over the last whole periods) and the Strouhal number f D / U from the lift's
 // upward zero crossings.
@@ -135,11 +135,12 @@ int ibm_shedding(const std::string& dir) {
   const BodyCase b = body_case(cfg);
   const auto rows = read_series(dir + "/series/immersed.csv");
   const double end = rows.back().at(0);
-  const auto t = column(rows, 0, 0.5 * end), fx = column(rows, 1, 0.5 * end), fy = column(rows, 2, 0.5 * end);
+  const double from = 2.0 / 3.0 * end;
+  const auto t = column(rows, 0, from), fx = column(rows, 1, from), fy = column(rows, 2, from);
   std::vector<double> up;  // times of upward zero crossings of the lift
   for (std::size_t k = 1; k < fy.size(); ++k)
     if (fy[k - 1] < 0 && fy[k] >= 0) up.push_back(t[k - 1] + (t[k] - t[k - 1]) * fy[k - 1] / (fy[k - 1] - fy[k]));
-  if (up.size() < 3) throw std::runtime_error("fewer than two whole shedding periods in the second half");
+  if (up.size() < 3) throw std::runtime_error("fewer than two whole shedding periods in the last third");
   const double period = (up.back() - up.front()) / static_cast<double>(up.size() - 1);
   double drag = 0.0, lo = 0.0, hi = 0.0;
   long n = 0;

@@ -55,6 +55,10 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
   if (variant == "fv" || variant == "fv-reference") c.provides = {f::velocity, f::pressure};
   if ((variant == "fv" || variant == "fv-reference") && turbulent(cfg)) c.provides = {f::velocity, f::pressure, f::k, f::epsilon};
   if (variant == "fv" || variant == "fv-reference") c.provides.push_back(f::ibm_forcing);
+  // lbm forces immersed boundaries with one fluid (the two-phase core has no hook).
+  if (variant == "lbm" && !config::resolved_node(cfg, "fluid.two_phase").IsMap() &&
+      !config::resolved_node(cfg, "fluid.solids").IsSequence())
+    c.provides.push_back(f::ibm_forcing);
   return c;
 }
 

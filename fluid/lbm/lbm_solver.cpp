@@ -98,6 +98,10 @@ class Core final : public LbmCore {
   }
 
   void step() override {
+    if (hook_) {
+      hooked_step();
+      return;
+    }
     // 1. Start the halo exchange of the post-collision populations; halos with
     //    this rank itself (a periodic axis not split) are copied at once.
     pop_.halo.post(pop_.f.data(), lay_.stride);
@@ -130,6 +134,55 @@ class Core final : public LbmCore {
     _mm_sfence();  // order the streaming stores before anything reads them
 #endif
     pop_.swap();
+  }
+
+  // The step with immersed boundaries: every ghost first, then the hook (the
+  // forcing reads the streamed populations and sets its cells' forces), then
+  // every row.
+  void hooked_step() {
+    pop_.halo.post(pop_.f.data(), lay_.stride);
+    pop_.halo.finish(pop_.f.data(), lay_.stride);
+    fill_walls(0, 6);
+    hook_();
+    max_u2_ = 0.0;
+    for (long k = 0; k < lay_.extent[2]; ++k)
+      for (long j = 0; j < lay_.extent[1]; ++j) shell_row(0, lay_.extent[0], j, k);
+    pop_.swap();
+  }
+  void set_hook(std::function<void()> hook) override { hook_ = std::move(hook); }
+
+  void streamed_velocity(std::span<const long> cells, std::span<double> u, std::span<double> rho) const override {
+    const long nx = lay_.extent[0], ny = lay_.extent[1];
+    for (std::size_t n = 0; n < cells.size(); ++n) {
+      const long c = cells[n], i = c % nx, j = (c / nx) % ny, k = c / (nx * ny), x = idx(i, j, k);
+      double r = 0, m[3] = {0, 0, 0}, F[3];
+      for (int q = 0; q < L::Q; ++q) {
+        const double f = pop_.f[q * lay_.stride + x - off_[q]];
+        r += f;
+        for (int d = 0; d < 3; ++d) m[d] += L::e[q][d] * f;
+      }
+      for (int d = 0; d < 3; ++d) F[d] = s_.force[d] + (src_.empty() ? 0.0 : src_[3 * c + d]);
+      const double rho_m = Incompressible ? 1.0 : 1.0 + r;
+      for (int d = 0; d < 3; ++d) u[3 * n + d] = (m[d] + 0.5 * F[d]) / rho_m;
+      rho[n] = rho_m;
+    }
+  }
+
+  void set_cell_forces(std::span<const long> cells, std::span<const double> force) override {
+    const long nx = lay_.extent[0];
+    if (extra_.empty()) {
+      extra_.assign(static_cast<std::size_t>(3 * nx * lay_.extent[1] * lay_.extent[2]), 0.0);
+      extra_row_.assign(static_cast<std::size_t>(lay_.extent[1] * lay_.extent[2]), 0);
+    }
+    for (long c : extra_cells_) {
+      for (int d = 0; d < 3; ++d) extra_[static_cast<std::size_t>(3 * c + d)] = 0.0;
+      extra_row_[static_cast<std::size_t>(c / nx)] = 0;
+    }
+    extra_cells_.assign(cells.begin(), cells.end());
+    for (std::size_t n = 0; n < cells.size(); ++n) {
+      for (int d = 0; d < 3; ++d) extra_[static_cast<std::size_t>(3 * cells[n] + d)] = force[3 * n + d];
+      extra_row_[static_cast<std::size_t>(cells[n] / nx)] = 1;
+    }
   }
 
   void macroscopic(std::vector<double>& u, std::vector<double>& rho) const override {
@@ -224,10 +277,11 @@ class Core final : public LbmCore {
         src_row_[c / static_cast<std::size_t>(lay_.extent[0])] = 1;
   }
 
-  // Body force plus the cell's source.
+  // Body force plus the cell's source and its immersed-boundary force.
   void force_at(long i, long j, long k, double F[3]) const {
     const long c = (k * lay_.extent[1] + j) * lay_.extent[0] + i;
-    for (int d = 0; d < 3; ++d) F[d] = s_.force[d] + (src_.empty() ? 0.0 : src_[3 * c + d]);
+    for (int d = 0; d < 3; ++d)
+      F[d] = s_.force[d] + (src_.empty() ? 0.0 : src_[3 * c + d]) + (extra_.empty() ? 0.0 : extra_[3 * c + d]);
   }
 
   // Cells of a row with a momentum source: one at a time, each with its force.
@@ -247,7 +301,8 @@ class Core final : public LbmCore {
   // vectorises over i: each population streams with a constant offset.
   void fast_row(long i0, long i1, long j, long k) {
     if (i1 <= i0) return;
-    if (!src_.empty() && src_row_[k * lay_.extent[1] + j]) {
+    const long row = k * lay_.extent[1] + j;
+    if ((!src_.empty() && src_row_[row]) || (!extra_row_.empty() && extra_row_[row])) {
       source_row(i0, i1, j, k);
       return;
     }
@@ -362,6 +417,11 @@ class Core final : public LbmCore {
   bool lean_ = false;  // BGK without body force: lbm::bgk_line
   std::vector<double> src_;     // per owned cell source (lattice units), empty: none
   std::vector<char> src_row_;   // rows (j, k) holding a source
+  // Immersed boundaries: the hook, the forces of this step's forced cells.
+  std::function<void()> hook_;
+  std::vector<double> extra_;
+  std::vector<char> extra_row_;
+  std::vector<long> extra_cells_;
   double max_u2_ = 0.0;
   double wall_momentum_[18] = {};  // lattice momentum each wall face took since the last take
   bool open_[6], wall_[6];
@@ -378,7 +438,7 @@ std::unique_ptr<LbmCore> make_core(const lbm::Setup& s, const Decomposition& d, 
 }  // namespace
 
 LbmSolver::LbmSolver(const Setup& setup, const Params& p)
-    : s_(lbm::make_setup(setup.cfg, setup.params, p, setup.time_step)), comm_(setup.comm),
+    : s_(lbm::make_setup(setup.cfg, setup.params, p, setup.time_step)), cfg_(&setup.cfg), comm_(setup.comm),
       owned_(setup.decomposition.block(setup.rank)) {
   if (s_.tp.on || s_.tp.any_solid())
     core_ = lbm::make_two_phase_core(s_, setup.decomposition, setup.rank, comm_);

@@ -5,9 +5,13 @@
 #pragma once
 
 #include <memory>
+#include <array>
+#include <functional>
 #include <span>
+#include <stdexcept>
 
 #include "fluid/fluid_solver.hpp"
+#include "immersed/ibm/direct_forcing.hpp"
 #include "fluid/lbm/params.hpp"
 #include "fluid/lbm/setup.hpp"
 
@@ -40,6 +44,20 @@ class LbmCore {
   // Per-cell force density added to the body force (lattice units, 3 per owned
   // cell; empty: none). Rows holding a source take the per-cell path.
   virtual void set_source(std::span<const double> force) = 0;
+  // Immersed boundaries (immersed.method ibm): `hook` runs in every step once
+  // the populations have streamed (halos and walls filled) and before any
+  // cell collides; in it, streamed_velocity gives the listed owned cells'
+  // velocity (j + F/2) / rho_m with the body force and the source, and
+  // set_cell_forces adds a force (lattice units, 3 per cell) to those cells
+  // for this step's collision. A core without them throws.
+  virtual void set_hook(std::function<void()> hook) {
+    (void)hook;
+    throw std::runtime_error("this lattice Boltzmann fluid does not take immersed boundaries (one fluid only)");
+  }
+  virtual void streamed_velocity(std::span<const long> cells, std::span<double> u, std::span<double> rho) const {
+    (void)cells, (void)u, (void)rho;
+  }
+  virtual void set_cell_forces(std::span<const long> cells, std::span<const double> force) { (void)cells, (void)force; }
   // The lattice momentum each face's wall took since the last call (3 per
   // face, x- ... z+; this rank's walls), and zero it.
   virtual void take_wall_momentum(double* out) = 0;
@@ -77,6 +95,8 @@ class LbmSolver final : public FluidSolver {
                  std::span<const double> wetting) override;
   void take_solid_force(std::vector<double>& force) override;
   void set_source(std::span<const double> force_density) override;
+  void set_markers(ibm::MarkerSet markers) override;
+  std::vector<double> take_body_loads() override;
   std::vector<double> take_wall_impulse() override;
   bool keeps_wall_impulse() const override { return true; }
 
@@ -86,8 +106,10 @@ class LbmSolver final : public FluidSolver {
   std::string fastest_cell() const;           // collective
   std::string mach_advice(double mach) const;
   std::string source_diagnosis() const;       // collective
+  void force_immersed();                       // the core's hook (immersed_boundary.cpp)
   std::vector<double> source_si_;  // the point particles' momentum source, N/m^3, 3 per owned cell
   lbm::Setup s_;
+  const config::Config* cfg_ = nullptr;
   MPI_Comm comm_;
   coupler::Box owned_;
   std::unique_ptr<LbmCore> core_;
@@ -100,6 +122,12 @@ class LbmSolver final : public FluidSolver {
   std::vector<long> solid_cells_;
   std::vector<double> solid_fraction_, solid_us_, solid_gain_;
   long solid_steps_ = 0;
+  // immersed.method ibm: the forcing (made at the first markers) on the cell
+  // centres, the velocity at the cells it touches (lattice units, 3 arrays
+  // over the owned cells) and their velocity before it, density and forces.
+  std::unique_ptr<ibm::DirectForcing> ibm_;
+  std::array<std::vector<double>, 3> ibm_u_;
+  std::vector<double> ibm_at_, ibm_rho_, ibm_force_;
 };
 
 }  // namespace coflow::fluid

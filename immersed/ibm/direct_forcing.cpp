@@ -81,6 +81,11 @@ void DirectForcing::build_stencils() {
       start_[c][m + 1] = entries_[c].size();
     }
   }
+  touched_.clear();
+  for (const auto& list : entries_)
+    for (const Entry& e : list) touched_.push_back(e.index);
+  std::sort(touched_.begin(), touched_.end());
+  touched_.erase(std::unique(touched_.begin(), touched_.end()), touched_.end());
 }
 
 void DirectForcing::interpolate(const std::array<double*, 3>& u, std::vector<double>& out) const {

@@ -59,6 +59,10 @@ class DirectForcing {
 
   // New markers (each window when a body moves, once when none does).
   void set_markers(MarkerSet markers);
+  // The markers placed at time t (apply does it too) and the storage indices
+  // their stencils touch on this rank, each once (any component).
+  void prepare(double t) { place(t); }
+  const std::vector<long>& touched() const { return touched_; }
   bool empty() const { return set_.markers.empty(); }
   // Forces u (one array per component) toward the markers' velocities at time
   // t (the markers moved on linearly from their set's time). `scale` is the
@@ -101,6 +105,7 @@ class DirectForcing {
   // Per component, per marker: its entries on this rank (CSR).
   std::vector<std::vector<std::size_t>> start_;
   std::vector<std::vector<Entry>> entries_;
+  std::vector<long> touched_;
   std::array<std::vector<double>, 3> scratch_;  // zeroed copies of the grid's points (cg)
   std::vector<double> loads_;  // per body 6: force and torque times dt
   double load_time_ = 0.0;

@@ -86,7 +86,9 @@ class IbmWindows final : public coupler::WindowParts {
   double rho_ = 1.0;
   std::vector<Body> bodies_;
   bool moving_ = false, sent_ = false;
-  std::vector<double> loads_;  // per body 6, then iterations and slip
+  std::vector<double> loads_;  // per body 6, then iterations and slip: the last window's
+  std::vector<double> row_;    // the same since the last row: time-weighted mean loads, most iterations, slip
+  double row_time_ = 0.0;      // s the row has summed
   output::Series series_;
 };
 
@@ -109,6 +111,7 @@ IbmWindows::IbmWindows(coupler::Session& s, const IbmParams& p)
   columns.push_back({"mdf_iterations", "1"});
   columns.push_back({"slip", "m/s"});
   loads_.assign(6 * bodies_.size() + 2, 0.0);
+  row_.assign(loads_.size(), 0.0);
   if (s.rank() == 0)
     series_ = output::Series(s.output_dir() + "/series/immersed.csv", columns, s.restart_window() > 0);
 }
@@ -148,17 +151,29 @@ void IbmWindows::after_step(long w) {
     const V3 a = (bodies_[n].centre_velocity(t1) - bodies_[n].centre_velocity(t0)) / s_.window();
     for (int d = 0; d < 3; ++d) loads_[6 * n + static_cast<std::size_t>(d)] += rho_ * bodies_[n].volume * a[d];
   }
+  const std::size_t m = 6 * bodies_.size();
+  for (std::size_t k = 0; k < m; ++k) row_[k] += loads_[k] * s_.window();
+  row_[m] = std::max(row_[m], loads_[m]);
+  row_[m + 1] = std::max(row_[m + 1], loads_[m + 1]);
+  row_time_ += s_.window();
   coupler::trace().steps = static_cast<std::uint64_t>(w);
 }
 
+// A row: the loads' mean over the windows since the last row (the most
+// iterations and the largest slip among them).
 void IbmWindows::output(long w) {
   if (w == 0 || s_.rank() != 0 || !s_.series_due(w)) return;
+  const std::size_t m = 6 * bodies_.size();
   std::vector<double> row{w * s_.window()};
-  row.insert(row.end(), loads_.begin(), loads_.end());
+  for (std::size_t k = 0; k < m; ++k) row.push_back(row_[k] / row_time_);
+  row.push_back(row_[m]);
+  row.push_back(row_[m + 1]);
   series_.row(row);
   for (std::size_t n = 0; n < bodies_.size(); ++n)
     for (int d = 0; d < 3; ++d)
-      s_.set_final(fmt::format("immersed.{}_f{}", bodies_[n].name, "xyz"[d]), loads_[6 * n + static_cast<std::size_t>(d)]);
+      s_.set_final(fmt::format("immersed.{}_f{}", bodies_[n].name, "xyz"[d]), row[1 + 6 * n + static_cast<std::size_t>(d)]);
+  std::fill(row_.begin(), row_.end(), 0.0);
+  row_time_ = 0.0;
 }
 
 }  // namespace

@@ -23,3 +23,10 @@ coflow_validation(ibm_fv_vs_reference_fixed compare ibm_cylinder_fixed_frame.yam
   "fluid.solver=fv ${ibm_tight}" "fluid.solver=fv-reference ${ibm_tight}")
 coflow_validation(ibm_fv_vs_reference_moving compare ibm_cylinder_translating.yaml 1
   "fluid.solver=fv ${ibm_tight}" "fluid.solver=fv-reference ${ibm_tight}")
+# The lattice Boltzmann fluid with the same forcing between streaming and
+# collision: the cylinder at Re 20 from 8 and 12 cells a diameter.
+coflow_validation(ibm_cylinder_re20_lbm pair ibm_cylinder_re20_lbm.yaml 1 ibm_extrapolated
+  "domain.cells=[216,240,1] domain.lower=[-15,-15,-0.0625] domain.upper=[12,15,0.0625]" "")
+set(ibm_lbm_short "run.end_time=2.0 run.output.every=2.0 run.output.series_every=1.0 fluid.boundaries.x-.ramp=1.0")
+coflow_validation(ibm_lbm_ranks_1_vs_2 compare ibm_cylinder_re20_lbm.yaml 2
+  "fluid.ranks=1 ${ibm_lbm_short}" "fluid.ranks=2 immersed.ranks=2 fluid.decomposition=[1,2,1] ${ibm_lbm_short}")

@@ -12,11 +12,6 @@
 namespace coflow::fluid {
 
 void LbmSolver::set_markers(ibm::MarkerSet markers) {
-  const double v = s_.units.velocity();
-  for (auto& m : markers.markers)
-    for (double& c : m.u) c /= v;  // lattice units; positions stay in m
-  for (auto& b : markers.bodies)
-    for (double& c : b.velocity) c /= v;
   if (!ibm_) {
     const long nx = owned_.extent(0), ny = owned_.extent(1), nz = owned_.extent(2);
     const config::DomainParams& d = cfg_->domain;
@@ -34,6 +29,7 @@ void LbmSolver::set_markers(ibm::MarkerSet markers) {
       grid.components.push_back(std::move(pts));
     }
     ibm_ = std::make_unique<ibm::DirectForcing>(std::move(grid), immersed::read_ibm_params(*cfg_).forcing(), comm_);
+    ibm_->set_velocity_unit(s_.units.velocity());  // the markers in m/s, the cells in lattice units
     for (auto& a : ibm_u_) a.assign(static_cast<std::size_t>(nx * ny * nz), 0.0);
     core_->set_hook([this] { force_immersed(); });
   }

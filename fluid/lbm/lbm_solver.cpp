@@ -147,6 +147,9 @@ class Core final : public LbmCore {
     max_u2_ = 0.0;
     for (long k = 0; k < lay_.extent[2]; ++k)
       for (long j = 0; j < lay_.extent[1]; ++j) shell_row(0, lay_.extent[0], j, k);
+#if defined(__AVX__)
+    _mm_sfence();  // order the streaming stores before anything reads them
+#endif
     pop_.swap();
   }
   void set_hook(std::function<void()> hook) override { hook_ = std::move(hook); }
@@ -207,9 +210,11 @@ class Core final : public LbmCore {
           // particles gave up in the window: it counts in full, so that fluid +
           // particles balance at the window's end.
           const double rho_m = Incompressible ? 1.0 : 1.0 + r;  // r: sum of the zero-centred populations
-          u[3 * c + 0] = (jx - 0.5 * s_.force[0]) / rho_m;
-          u[3 * c + 1] = (jy - 0.5 * s_.force[1]) / rho_m;
-          u[3 * c + 2] = (jz - 0.5 * s_.force[2]) / rho_m;
+          // An immersed boundary's force is a body force too (Guo): half of it out.
+          const double* e = extra_.empty() ? nullptr : &extra_[static_cast<std::size_t>(3 * c)];
+          u[3 * c + 0] = (jx - 0.5 * (s_.force[0] + (e ? e[0] : 0.0))) / rho_m;
+          u[3 * c + 1] = (jy - 0.5 * (s_.force[1] + (e ? e[1] : 0.0))) / rho_m;
+          u[3 * c + 2] = (jz - 0.5 * (s_.force[2] + (e ? e[2] : 0.0))) / rho_m;
           rho[c] = 1.0 + r;
         }
   }

@@ -117,7 +117,13 @@ DirectForcing::Result DirectForcing::apply(const std::array<double*, 3>& u, doub
   Result r;
   if (set_.markers.empty()) return r;
   place(t);
-  for (const auto& m : set_.markers) scale = std::max(scale, std::sqrt(m.u[0] * m.u[0] + m.u[1] * m.u[1] + m.u[2] * m.u[2]));
+  // The same scale on every rank (their iterations must match): the flow's
+  // and the markers' largest speed; a fluid at rest about a fixed body takes
+  // the tolerance in its own units.
+  for (const auto& m : set_.markers)
+    scale = std::max(scale, std::sqrt(m.u[0] * m.u[0] + m.u[1] * m.u[1] + m.u[2] * m.u[2]) / unit_);
+  MPI_Allreduce(MPI_IN_PLACE, &scale, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  if (!(scale > 0)) scale = 1.0;
   std::vector<double> total(3 * x_.size(), 0.0);
   r = p_.conjugate_gradients ? solve_cg(u, scale, total) : iterate_mdf(u, scale, total);
   add_loads(total, factor, dt);
@@ -133,7 +139,7 @@ double DirectForcing::slip(const std::vector<double>& at, std::vector<double>& b
   for (std::size_t m = 0; m < x_.size(); ++m) {
     double s2 = 0.0;
     for (std::size_t c = 0; c < grid_.components.size(); ++c) {
-      b[3 * m + c] = set_.markers[m].u[c] - at[3 * m + c];
+      b[3 * m + c] = set_.markers[m].u[c] / unit_ - at[3 * m + c];
       s2 += b[3 * m + c] * b[3 * m + c];
     }
     worst = std::max(worst, std::sqrt(s2));

@@ -59,6 +59,9 @@ class DirectForcing {
 
   // New markers (each window when a body moves, once when none does).
   void set_markers(MarkerSet markers);
+  // The grid's velocity unit in m/s (lbm: dx / dt): the markers' velocities
+  // (m/s) are divided by it where they meet the grid's; 1 by default.
+  void set_velocity_unit(double unit) { unit_ = unit; }
   // The markers placed at time t (apply does it too) and the storage indices
   // their stencils touch on this rank, each once (any component).
   void prepare(double t) { place(t); }
@@ -102,6 +105,7 @@ class DirectForcing {
   std::vector<Vec> x_;       // the markers' positions at the last place()
   double placed_at_ = -1.0;  // the time of x_ (-1: none)
   bool moving_ = false;
+  double unit_ = 1.0;
   // Per component, per marker: its entries on this rank (CSR).
   std::vector<std::vector<std::size_t>> start_;
   std::vector<std::vector<Entry>> entries_;

@@ -64,8 +64,10 @@ Body make_body(const BodyParams& p, const ibm::GridGeometry& g, double spacing, 
   }
   b.points = ibm::sample_surface(mesh, g, spacing);
   const double inward = retraction * g.shell();
-  for (auto& pt : b.points)
+  for (auto& pt : b.points) {
     for (int d = 0; d < 3; ++d) pt.x[d] -= b.centre0[d] + inward * pt.normal[d];
+    if (g.dims == 2) pt.x[2] = 0.0;  // in the slab's middle, with the reference point: no arm along z
+  }
   return b;
 }
 
@@ -136,7 +138,7 @@ ibm::MarkerSet IbmWindows::markers(double t) const {
 void IbmWindows::before_step(long w) {
   const bool due = !sent_ || moving_;
   const std::vector<double> packed = due && s_.rank() == 0 ? markers((w - 1) * s_.window()).pack() : std::vector<double>{};
-  ibm::send_markers(s_.partner("fluid"), s_.rank(), due ? packed : std::vector<double>{});
+  ibm::send_markers(s_.partner("fluid"), s_.rank(), due, packed);
   sent_ = true;
 }
 

@@ -8,16 +8,16 @@ namespace coflow::ibm {
 
 using coupler::trace;
 
-void send_markers(MPI_Comm fluid, int rank, const std::vector<double>& packed) {
+void send_markers(MPI_Comm fluid, int rank, bool due, const std::vector<double>& packed) {
   const int root = rank == 0 ? MPI_ROOT : MPI_PROC_NULL;
-  long count = static_cast<long>(packed.size());
+  long count = due && rank == 0 ? static_cast<long>(packed.size()) : 0;
   MPI_Request r;
   {
     coupler::Timer t(trace().exchange_s);
     MPI_Ibcast(&count, 1, MPI_LONG, root, fluid, &r);
   }
   coupler::wait_one(r, "ibm markers to the fluid");
-  if (count == 0) return;
+  if (!due) return;  // every immersed rank knows it (the payload's count matters at the root only)
   {
     coupler::Timer t(trace().exchange_s);
     MPI_Ibcast(const_cast<double*>(packed.data()), static_cast<int>(count), MPI_DOUBLE, root, fluid, &r);

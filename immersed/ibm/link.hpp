@@ -11,8 +11,9 @@
 
 namespace coflow::ibm {
 
-// Immersed side (collective over the immersed ranks; rank 0's `packed` goes).
-void send_markers(MPI_Comm fluid, int rank, const std::vector<double>& packed);
+// Immersed side (collective over the immersed ranks, who all know `due`):
+// rank 0's `packed` goes when due, else an empty message.
+void send_markers(MPI_Comm fluid, int rank, bool due, const std::vector<double>& packed);
 // Fluid side (collective over the fluid ranks): false when no markers came.
 bool receive_markers(MPI_Comm immersed, std::vector<double>& packed);
 // Fluid rank 0 sends, immersed rank 0 receives `values` (its size known).

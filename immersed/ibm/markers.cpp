@@ -21,7 +21,9 @@ using BinKey = std::tuple<long, long, long>;
 // area (times `weight`) at its centroid to the bin holding that centroid.
 void add_triangle(const stl::V3& a, const stl::V3& b, const stl::V3& c, double weight, const GridGeometry& g,
                   double spacing, std::map<BinKey, Bin>& bins) {
-  const double edge = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+  // In 2D only the extent in the plane matters (a prism's length along z does not).
+  auto length = [&](const stl::V3& v) { return g.dims == 2 ? std::hypot(v[0], v[1]) : v.norm(); };
+  const double edge = std::max({length(b - a), length(c - b), length(a - c)});
   const double hmin = g.dims == 2 ? std::min(g.h[0], g.h[1]) : std::min({g.h[0], g.h[1], g.h[2]});
   const long n = std::max(1L, static_cast<long>(std::ceil(edge / (0.2 * spacing * hmin))));
   const stl::V3 e1 = (b - a) / static_cast<double>(n), e2 = (c - a) / static_cast<double>(n);
@@ -43,6 +45,43 @@ void add_triangle(const stl::V3& a, const stl::V3& b, const stl::V3& c, double w
       add(p + (e1 + e2) / 3.0);                             // the piece pointing like the triangle
       if (i + j + 1 < n) add(p + 2.0 * (e1 + e2) / 3.0);  // the one pointing the other way
     }
+}
+
+// A box holding less than half a full box's surface (a corner the surface
+// clips) gives its pieces to the neighbouring box whose centroid is nearest:
+// no marker then stands closer than about half a box to another with a
+// sliver of area, which would make the forcing's system nearly singular.
+void merge_slivers(std::map<BinKey, Bin>& bins, double full, int dims) {
+  std::vector<std::pair<double, BinKey>> small;
+  for (const auto& [key, bin] : bins)
+    if (bin.area < 0.5 * full) small.push_back({bin.area, key});
+  std::sort(small.begin(), small.end());
+  for (const auto& [area, key] : small) {
+    const auto it = bins.find(key);
+    if (it == bins.end() || it->second.area >= 0.5 * full) continue;
+    const Bin& b = it->second;
+    auto centroid = [](const Bin& x, int d) { return x.moment[static_cast<std::size_t>(d)] / x.area; };
+    std::map<BinKey, Bin>::iterator best = bins.end();
+    double best_d2 = 0.0;
+    const auto [i, j, k] = key;
+    for (long dk = (dims == 3 ? -1 : 0); dk <= (dims == 3 ? 1 : 0); ++dk)
+      for (long dj = -1; dj <= 1; ++dj)
+        for (long di = -1; di <= 1; ++di) {
+          if (di == 0 && dj == 0 && dk == 0) continue;
+          const auto n = bins.find({i + di, j + dj, k + dk});
+          if (n == bins.end()) continue;
+          double d2 = 0.0;
+          for (int d = 0; d < 3; ++d) d2 += std::pow(centroid(n->second, d) - centroid(b, d), 2);
+          if (best == bins.end() || d2 < best_d2) best = n, best_d2 = d2;
+        }
+    if (best == bins.end()) continue;  // an isolated sliver: it stays a marker
+    best->second.area += b.area;
+    for (int d = 0; d < 3; ++d) {
+      best->second.moment[static_cast<std::size_t>(d)] += b.moment[static_cast<std::size_t>(d)];
+      best->second.normal[static_cast<std::size_t>(d)] += b.normal[static_cast<std::size_t>(d)];
+    }
+    bins.erase(it);
+  }
 }
 
 }  // namespace
@@ -70,6 +109,11 @@ std::vector<SurfacePoint> sample_surface(const stl::TriangleMesh& mesh, const Gr
     }
     if (weight > 0) add_triangle(a, b, c, weight, g, spacing, bins);
   }
+  // A full box's surface: a plane across it (in 2D a line across the slab).
+  const double full = g.dims == 2 ? spacing * std::sqrt(g.h[0] * g.h[1]) * g.h[2]
+                                  : spacing * spacing * std::cbrt(g.h[0] * g.h[1] * g.h[2]) *
+                                        std::cbrt(g.h[0] * g.h[1] * g.h[2]);
+  merge_slivers(bins, full, g.dims);
   std::vector<SurfacePoint> out;
   out.reserve(bins.size());
   for (const auto& [key, bin] : bins) {

@@ -39,7 +39,9 @@ struct SurfacePoint {
 // triangles are split until their edges are below a fifth of the spacing,
 // the pieces gathered into boxes of `spacing` cells aligned with the grid,
 // and each box's pieces become one point at their area-weighted centroid
-// holding their total area. The areas sum to the mesh's area exactly.
+// holding their total area; a box with less than half a full box's surface
+// gives its pieces to the nearest neighbouring box. The areas sum to the
+// mesh's area exactly.
 std::vector<SurfacePoint> sample_surface(const stl::TriangleMesh& mesh, const GridGeometry& g, double spacing);
 
 // The volume and centroid of a closed mesh (divergence theorem; outward

@@ -111,7 +111,8 @@ void swept_box(const BodyParams& b, const stl::MeshSummary& m, const stl::Triang
   hi = m.upper;
   const auto& mo = b.motion;
   const auto& cv = mo.centre.values;
-  const stl::V3 c = cv.size() == 3 ? stl::V3(cv[0], cv[1], cv[2]) : stl::V3(0.5 * (m.lower + m.upper));
+  const ibm::MeshVolume mv = ibm::mesh_volume(mesh);  // the reference point by default (ibm.cpp)
+  const stl::V3 c = cv.size() == 3 ? stl::V3(cv[0], cv[1], cv[2]) : stl::V3(mv.centroid[0], mv.centroid[1], mv.centroid[2]);
   const bool turns = mo.angular_velocity[0] != 0 || mo.angular_velocity[1] != 0 || mo.angular_velocity[2] != 0;
   double reach = 0.0;
   if (turns)

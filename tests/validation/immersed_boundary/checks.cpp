@@ -8,6 +8,9 @@ namespace coflow::check {
 
 namespace {
 
+// The larger of two values, NaN when either is (std::max drops a NaN second argument).
+double nan_max(double a, double b) { return (a != a || b != b) ? std::nan("") : std::max(a, b); }
+
 // The first body: its name, diameter across y and centre (from its mesh, as
 // the run placed it), and the reference speed and dynamic pressure x area.
 struct BodyCase {
@@ -60,7 +63,7 @@ double recirculation(const config::Config& cfg, const std::string& dir, const Bo
   const double rear = b.centre[0] + 0.5 * b.diameter;
   for (long i = 0; i + 1 < nx; ++i) {
     const double x0 = cfg.domain.lower[0] + (i + 0.5) * h[0], x1 = x0 + h[0];
-    if (x0 < b.centre[0]) continue;
+    if (x0 < rear) continue;  // the wake: from the rear surface on (inside, the forcing's cells)
     if (ux(i) < 0 && ux(i + 1) >= 0) {
       const double xs = x0 + (x1 - x0) * ux(i) / (ux(i) - ux(i + 1));
       return (xs - rear) / b.diameter;
@@ -121,8 +124,8 @@ int ibm_extrapolated(const std::string& a, const std::string& b) {
               "fine_recirculation_length=%.6e\ndrag_coefficient=%.6e\nrecirculation_length=%.6e\n"
               "cd_error=%.6e\nfine_cd_error=%.6e\nlength_error=%.6e\nslip=%.6e\ncd_drift=%.6e\n",
               c.cd, f.cd, c.length, f.length, cd, length, std::abs(cd - 2.091) / 2.091,
-              std::abs(f.cd - 2.091) / 2.091, std::abs(length - 0.93) / 0.93, std::max(c.slip, f.slip),
-              std::max(c.drift, f.drift));
+              std::abs(f.cd - 2.091) / 2.091, std::abs(length - 0.93) / 0.93, nan_max(c.slip, f.slip),
+              nan_max(c.drift, f.drift));
   return 0;
 }
 
@@ -147,8 +150,8 @@ int ibm_shedding(const std::string& dir) {
   for (std::size_t k = 0; k < t.size(); ++k) {
     if (t[k] < up.front() || t[k] > up.back()) continue;
     drag += fx[k];
-    lo = std::min(lo, fy[k]);
-    hi = std::max(hi, fy[k]);
+    lo = -nan_max(-lo, -fy[k]);
+    hi = nan_max(hi, fy[k]);
     ++n;
   }
   std::printf("drag_coefficient=%.6e\nlift_amplitude=%.6e\nstrouhal=%.6e\nperiods=%zu\n", drag / n / b.q_area,
@@ -168,7 +171,7 @@ int ibm_frames(const std::string& a, const std::string& b) {
   auto cd = [](const BodyCase& c, const std::vector<double>& row) { return row.at(1) / c.q_area; };
   double worst = 0.0;
   for (std::size_t k = 0; k < ra.size(); ++k)
-    if (ra[k].at(0) >= 0.5 * ra.back().at(0)) worst = std::max(worst, std::abs(cd(ca, ra[k]) - cd(cb, rb[k])));
+    if (ra[k].at(0) >= 0.5 * ra.back().at(0)) worst = nan_max(worst, std::abs(cd(ca, ra[k]) - cd(cb, rb[k])));
   const double last = cd(ca, ra.back());
   std::printf("drag_coefficient_a=%.6e\ndrag_coefficient_b=%.6e\ncd_difference=%.6e\n", last, cd(cb, rb.back()),
               worst / std::abs(last));

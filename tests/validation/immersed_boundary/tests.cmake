@@ -30,3 +30,5 @@ coflow_validation(ibm_cylinder_re20_lbm pair ibm_cylinder_re20_lbm.yaml 1 ibm_ex
 set(ibm_lbm_short "run.end_time=2.0 run.output.every=2.0 run.output.series_every=1.0 fluid.boundaries.x-.ramp=1.0")
 coflow_validation(ibm_lbm_ranks_1_vs_2 compare ibm_cylinder_re20_lbm.yaml 2
   "fluid.ranks=1 ${ibm_lbm_short}" "fluid.ranks=2 immersed.ranks=2 fluid.decomposition=[1,2,1] ${ibm_lbm_short}")
+coflow_validation(ibm_lbm_ranks_1_vs_2_moving compare ibm_cylinder_translating_lbm.yaml 2
+  "fluid.ranks=1 ${ibm_short}" "fluid.ranks=2 immersed.ranks=2 fluid.decomposition=[1,2,1] ${ibm_short}")

@@ -32,3 +32,9 @@ coflow_validation(ibm_lbm_ranks_1_vs_2 compare ibm_cylinder_re20_lbm.yaml 2
   "fluid.ranks=1 ${ibm_lbm_short}" "fluid.ranks=2 immersed.ranks=2 fluid.decomposition=[1,2,1] ${ibm_lbm_short}")
 coflow_validation(ibm_lbm_ranks_1_vs_2_moving compare ibm_cylinder_translating_lbm.yaml 2
   "fluid.ranks=1 ${ibm_short}" "fluid.ranks=2 immersed.ranks=2 fluid.decomposition=[1,2,1] ${ibm_short}")
+# One fluid rank and one immersed rank that waits asleep for the fluid
+# (coflow/wait.hpp backs off to sleeping; the forcing runs in the fluid):
+# these runs take one core, and ctest may run another test beside them.
+set_tests_properties(validation.ibm_cylinder_re20 validation.ibm_cylinder_re20_lbm validation.ibm_cylinder_frames
+  validation.ibm_cylinder_mdf_slip validation.ibm_fv_vs_reference_fixed validation.ibm_fv_vs_reference_moving
+  PROPERTIES PROCESSORS 1)

@@ -23,6 +23,15 @@ DirectForcing::Grid DirectForcing::staggered(const GridGeometry& g, std::array<b
   return grid;
 }
 
+DirectForcing::Grid DirectForcing::collocated(const GridGeometry& g, std::array<bool, 3> periodic,
+                                              std::function<long(const std::array<long, 3>& global)> index) {
+  Grid grid;
+  grid.geometry = g;
+  grid.periodic = periodic;
+  for (int c = 0; c < g.dims; ++c) grid.components.push_back({{0.5, 0.5, 0.5}, index});
+  return grid;
+}
+
 void DirectForcing::set_markers(MarkerSet markers) {
   set_ = std::move(markers);
   moving_ = false;
@@ -86,6 +95,11 @@ void DirectForcing::build_stencils() {
     for (const Entry& e : list) touched_.push_back(e.index);
   std::sort(touched_.begin(), touched_.end());
   touched_.erase(std::unique(touched_.begin(), touched_.end()), touched_.end());
+  // cg's zeroed copies of the grid reach the highest point touched (sized here, not per iteration).
+  const std::size_t top = touched_.empty() ? 0 : static_cast<std::size_t>(touched_.back()) + 1;
+  if (p_.conjugate_gradients)
+    for (std::size_t c = 0; c < nc; ++c)
+      if (scratch_[c].size() < top) scratch_[c].assign(top, 0.0);
 }
 
 void DirectForcing::interpolate(const std::array<double*, 3>& u, std::vector<double>& out) const {
@@ -211,12 +225,7 @@ DirectForcing::Result DirectForcing::solve_cg(const std::array<double*, 3>& u, d
 // q = I S x on a zeroed copy of the grid's points (the touched ones zeroed again after).
 void DirectForcing::apply_operator(const std::vector<double>& x, std::vector<double>& q) {
   std::array<double*, 3> s{nullptr, nullptr, nullptr};
-  for (std::size_t c = 0; c < grid_.components.size(); ++c) {
-    long top = 0;
-    for (const Entry& e : entries_[c]) top = std::max(top, e.index + 1);
-    if (scratch_[c].size() < static_cast<std::size_t>(top)) scratch_[c].assign(static_cast<std::size_t>(top), 0.0);
-    s[c] = scratch_[c].data();
-  }
+  for (std::size_t c = 0; c < grid_.components.size(); ++c) s[c] = scratch_[c].data();
   spread(s, x);
   interpolate(s, q);
   for (std::size_t c = 0; c < grid_.components.size(); ++c)

@@ -56,6 +56,9 @@ class DirectForcing {
   // where the face g of u_c is stored, or -1.
   static Grid staggered(const GridGeometry& g, std::array<bool, 3> periodic,
                         std::function<long(int c, const std::array<long, 3>& global)> index);
+  // A collocated grid (lbm): every component at the cell centres, stored alike.
+  static Grid collocated(const GridGeometry& g, std::array<bool, 3> periodic,
+                         std::function<long(const std::array<long, 3>& global)> index);
 
   // New markers (each window when a body moves, once when none does).
   void set_markers(MarkerSet markers);
@@ -79,8 +82,6 @@ class DirectForcing {
   // take_loads() followed by the most iterations and the largest slip (m/s)
   // since the last call: what the fluid sends back (FluidSolver::take_body_loads).
   std::vector<double> take_report();
-  // The most iterations and the largest slip since the last take_loads.
-  Result worst() const { return worst_; }
 
  private:
   struct Entry {

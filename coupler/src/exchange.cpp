@@ -220,6 +220,9 @@ void FieldExchange::send_sparse(std::span<const Index3> cells, std::span<const d
   const auto shifts = mine_.image_shifts();
   const Index3 g = mine_.ghost(spec_.ghost);
   for (auto& p : peers_) p.sparse.clear();
+  dst_boxes_.clear();
+  if (!cons)
+    for (const auto& p : peers_) dst_boxes_.push_back(remote_.clip(remote_.block(p.rank).grown(g)));
   auto append = [&](int peer, const Index3& cell, const double* v) {
     auto& buf = peers_[peer].sparse;
     const std::size_t at = buf.size();
@@ -243,13 +246,11 @@ void FieldExchange::send_sparse(std::span<const Index3> cells, std::span<const d
       if (owner >= 0 && peer_of_[owner] >= 0) append(peer_of_[owner], w, v);
     } else {
       if (!owned_.contains(c)) continue;  // consistent: only owned values are sent
-      for (const auto& p : peers_) {
-        const Box dst = remote_.clip(remote_.block(p.rank).grown(g));
+      for (std::size_t i = 0; i < peers_.size(); ++i)
         for (const auto& sh : shifts) {
           const Index3 img{c[0] + sh[0], c[1] + sh[1], c[2] + sh[2]};
-          if (dst.contains(img)) append(peer_of_[p.rank], img, v);
+          if (dst_boxes_[i].contains(img)) append(peer_of_[peers_[i].rank], img, v);
         }
-      }
     }
   }
   sparse_requests_.resize(peers_.size());

@@ -7,6 +7,13 @@ void PsmParams::visit(config::Visitor& v) {
     "octree levels for the cells a sphere surface cuts (3: 8^3 sub-cells, raw sphere volume within 3e-4 at "
     "radius 4 cells; 4: within 7e-5); the cut cells are then scaled so that the total is the sphere's volume",
     config::in_range(0, 8));
+  v("centre_lattice", centre_lattice,
+    "the fractions depend only on a sphere's radius and its centre's offset in its cell: they are computed once "
+    "for centres on a lattice of h/N per axis, kept, and interpolated trilinearly to the actual centre (8: a "
+    "moving sphere costs a few operations per cell, and the interpolation smooths the octree's leaf noise: largest "
+    "cell error against 7 levels 0.020, exact centre 0.030, at radius 4 cells); 0: the octree at the exact "
+    "centre every window",
+    config::in_range(0, 64));
   v("buoyancy", buoyancy,
     "add the buoyancy -rho_f V g to each particle (the fluid carries no hydrostatic pressure gradient)");
 }

@@ -25,37 +25,11 @@ using coupler::Box;
 using coupler::Index3;
 using V = std::array<double, 3>;
 
-double cube_fraction(const V& lo, double h, const V& c, double r, int levels) {
-  // Nearest and farthest points of the cube from the centre.
-  double near2 = 0.0, far2 = 0.0;
-  for (int d = 0; d < 3; ++d) {
-    const double a = lo[d] - c[d], b = lo[d] + h - c[d];
-    const double n = a > 0 ? a : (b < 0 ? b : 0.0);
-    const double f = std::max(std::abs(a), std::abs(b));
-    near2 += n * n;
-    far2 += f * f;
-  }
-  const double r2 = r * r;
-  if (near2 >= r2) return 0.0;
-  if (far2 <= r2) return 1.0;
-  if (levels == 0) {
-    double m2 = 0.0;
-    for (int d = 0; d < 3; ++d) m2 += (lo[d] + 0.5 * h - c[d]) * (lo[d] + 0.5 * h - c[d]);
-    return m2 < r2 ? 1.0 : 0.0;
-  }
-  const double hh = 0.5 * h;
-  double sum = 0.0;
-  for (int k = 0; k < 8; ++k) {
-    const V sub{lo[0] + (k & 1) * hh, lo[1] + ((k >> 1) & 1) * hh, lo[2] + ((k >> 2) & 1) * hh};
-    sum += cube_fraction(sub, hh, c, r, levels - 1);
-  }
-  return 0.125 * sum;
-}
-
 namespace {
 
 struct Share {
   std::size_t record;  // index into the received records
+  std::size_t slot;    // index into the covered cells
   double fraction;     // of the cell, by this particle
   V lever;             // cell centre - particle centre (minimum image)
 };
@@ -66,7 +40,6 @@ struct Cell {
   double fraction = 0.0;
   V weighted_velocity{0, 0, 0};  // sum of fraction x solid velocity
   double weighted_wetting = 0.0;  // sum of fraction x cos(contact angle)
-  std::vector<Share> shares;
 };
 
 }  // namespace
@@ -85,11 +58,14 @@ class PsmWindows final : public coupler::WindowParts {
   void after_step(long w) override;  // 5
   void output(long w) override;
   void save(const std::string&) override {}  // no state of its own: rebuilt every window
-  void finish() override { to_fluid_.flush(); }
+  void finish() override {
+    to_fluid_.flush();
+    if (p_.centre_lattice > 0) log::info("psm: {} fraction stencils computed and kept", fractions_.stencils_computed());
+  }
 
  private:
   void cover(std::size_t p);
-  void add_cell(std::size_t p, const Index3& cell, double f);
+  void add_cell(std::size_t p, const Index3& cell, double f, double wetting);
   void share_forces();
 
   coupler::Session& s_;
@@ -105,10 +81,12 @@ class PsmWindows final : public coupler::WindowParts {
   std::vector<protocol::ParticleRecord> rec_;
   std::vector<long> slot_of_;
   std::vector<Cell> cells_;
+  std::vector<Share> shares_;  // particle by particle, cell by cell
   std::vector<Index3> send_cells_;
   std::vector<double> send_values_, got_values_, slot_force_;
   std::vector<long> got_cells_;
   std::vector<protocol::ParticleLoad> loads_;
+  SphereFractions fractions_;
   std::vector<std::pair<Index3, double>> touched_;
   double solid_volume_ = 0.0;
   double default_angle_ = 90.0;  // fluid.two_phase.contact_angle, for species without their own
@@ -133,11 +111,14 @@ PsmWindows::PsmWindows(coupler::Session& s, const PsmParams& p, int ghost)
                   s.decomposition_of("fluid", s.partner_ranks("fluid")),
                   coupler::FieldSpec{"solid_force", 3, coupler::Transfer::consistent, 0}, protocol::kTagSolidForce),
       slot_of_(static_cast<std::size_t>(owned_.volume()), -1),
+      fractions_(h_, dom_.lower, p.refinement, p.centre_lattice),
       series_(s) {
   const std::string angle = config::resolved_text(s.config(), {"fluid", "two_phase", "contact_angle"});
   if (!angle.empty()) default_angle_ = std::stod(angle);
-  log::info("psm: {} octree levels, ghost layer {} cells, buoyancy {}", p_.refinement, ghost,
-            p_.buoyancy ? "on" : "off");
+  log::info("psm: {} octree levels, {}, ghost layer {} cells, buoyancy {}", p_.refinement,
+            p_.centre_lattice > 0 ? fmt::format("fractions kept for centres on a lattice of h/{}", p_.centre_lattice)
+                                  : std::string("fractions at the exact centres"),
+            ghost, p_.buoyancy ? "on" : "off");
 }
 
 void PsmWindows::before_step(long) {
@@ -150,6 +131,7 @@ void PsmWindows::before_step(long) {
 void PsmWindows::step(long) {
   for (const Cell& c : cells_) slot_of_[c.local] = -1;
   cells_.clear();
+  shares_.clear();
   solid_volume_ = 0.0;
   for (std::size_t p = 0; p < rec_.size(); ++p) cover(p);
   send_cells_.clear();
@@ -167,37 +149,20 @@ void PsmWindows::step(long) {
   from_fluid_.receive_sparse(got_cells_, got_values_);
 }
 
-// Fractions of every cell the sphere touches (owned or not, inside the domain
-// or not), so that every rank holding a copy scales the same way: the cut cells
-// are renormalised so that the sphere's cells add up to its volume exactly;
-// wholly covered cells stay 1.
+// The fractions of every cell the sphere touches (owned or not, inside the
+// domain or not: a pure function of its centre and radius, so that every rank
+// holding a copy has the same ones; fractions.hpp).
 void PsmWindows::cover(std::size_t p) {
   const auto& r = rec_[p];
-  const double h = h_;
-  long lo[3], hi[3];
-  for (int d = 0; d < 3; ++d) {
-    lo[d] = static_cast<long>(std::floor((r.x[d] - r.radius - dom_.lower[d]) / h));
-    hi[d] = static_cast<long>(std::floor((r.x[d] + r.radius - dom_.lower[d]) / h));
-  }
-  touched_.clear();
-  double full = 0.0, cut = 0.0;
-  for (long k = lo[2]; k <= hi[2]; ++k)
-    for (long j = lo[1]; j <= hi[1]; ++j)
-      for (long i = lo[0]; i <= hi[0]; ++i) {
-        const V corner{dom_.lower[0] + i * h, dom_.lower[1] + j * h, dom_.lower[2] + k * h};
-        const double f = cube_fraction(corner, h, {r.x[0], r.x[1], r.x[2]}, r.radius, p_.refinement);
-        if (f <= 0.0) continue;
-        (f >= 1.0 ? full : cut) += f;
-        touched_.push_back({{i, j, k}, f});
-      }
-  const double cells_volume = 4.0 / 3.0 * std::numbers::pi * std::pow(r.radius / h, 3);
-  const double scale = cut > 0.0 ? (cells_volume - full) / cut : 1.0;
-  for (const auto& [cell, raw] : touched_) add_cell(p, cell, raw >= 1.0 ? 1.0 : std::min(1.0, raw * scale));
+  fractions_.cover({r.x[0], r.x[1], r.x[2]}, r.radius, touched_);
+  const double angle = r.contact_angle < 0.0 ? default_angle_ : r.contact_angle;
+  const double wetting = std::cos(angle * std::numbers::pi / 180.0);
+  for (const auto& [cell, f] : touched_) add_cell(p, cell, f, wetting);
 }
 
 // Particle p covers fraction f of the (unwrapped) cell: add it when the
 // wrapped cell is in the domain and owned here.
-void PsmWindows::add_cell(std::size_t p, const Index3& cell, double f) {
+void PsmWindows::add_cell(std::size_t p, const Index3& cell, double f, double wetting) {
   const auto& r = rec_[p];
   const double h = h_;
   Index3 g = cell;
@@ -215,7 +180,7 @@ void PsmWindows::add_cell(std::size_t p, const Index3& cell, double f) {
   const long local = ((g[2] - owned_.lo[2]) * ny + (g[1] - owned_.lo[1])) * nx + (g[0] - owned_.lo[0]);
   if (slot_of_[local] < 0) {
     slot_of_[local] = static_cast<long>(cells_.size());
-    cells_.push_back(Cell{local, g, 0.0, {0, 0, 0}, 0.0, {}});
+    cells_.push_back(Cell{local, g, 0.0, {0, 0, 0}, 0.0});
   }
   Cell& c = cells_[slot_of_[local]];
   const V lever{centre[0] - r.x[0], centre[1] - r.x[1], centre[2] - r.x[2]};
@@ -224,9 +189,8 @@ void PsmWindows::add_cell(std::size_t p, const Index3& cell, double f) {
              r.v[2] + r.w[0] * lever[1] - r.w[1] * lever[0]};
   c.fraction += f;
   for (int d = 0; d < 3; ++d) c.weighted_velocity[d] += f * us[d];
-  const double angle = r.contact_angle < 0.0 ? default_angle_ : r.contact_angle;
-  c.weighted_wetting += f * std::cos(angle * std::numbers::pi / 180.0);
-  c.shares.push_back({p, f, lever});
+  c.weighted_wetting += f * wetting;
+  shares_.push_back({p, static_cast<std::size_t>(slot_of_[local]), f, lever});
   solid_volume_ += f * h * h * h;
 }
 
@@ -234,26 +198,24 @@ void PsmWindows::add_cell(std::size_t p, const Index3& cell, double f) {
 // the torque of those shares about its centre (seed 000 eqs 2.70-2.71).
 void PsmWindows::share_forces() {
   loads_.assign(rec_.size(), protocol::ParticleLoad{});
-  // In the order of the covered cells, not of their arrival, so that the sums
-  // do not depend on the fluid's decomposition (1 fluid rank = N, bit for bit).
+  // In the order of the shares (particle by particle, cell by cell), not of
+  // the cells' arrival, so that the sums do not depend on the fluid's
+  // decomposition (1 fluid rank = N, bit for bit).
   slot_force_.assign(3 * cells_.size(), 0.0);
   for (std::size_t m = 0; m < got_cells_.size(); ++m) {
     const long slot = slot_of_[got_cells_[m]];
     if (slot < 0) throw std::runtime_error("psm: the fluid returned a force for a cell that holds no solid");
     for (int d = 0; d < 3; ++d) slot_force_[3 * slot + d] = got_values_[3 * m + d];
   }
-  for (std::size_t slot = 0; slot < cells_.size(); ++slot) {
-    const Cell& c = cells_[slot];
-    for (const Share& sh : c.shares) {
-      const double part = sh.fraction / c.fraction;
-      const double* got = &slot_force_[3 * slot];
-      const V f{part * got[0], part * got[1], part * got[2]};
-      auto& l = loads_[sh.record];
-      for (int d = 0; d < 3; ++d) l.force[d] += f[d];
-      l.torque[0] += sh.lever[1] * f[2] - sh.lever[2] * f[1];
-      l.torque[1] += sh.lever[2] * f[0] - sh.lever[0] * f[2];
-      l.torque[2] += sh.lever[0] * f[1] - sh.lever[1] * f[0];
-    }
+  for (const Share& sh : shares_) {
+    const double part = sh.fraction / cells_[sh.slot].fraction;
+    const double* got = &slot_force_[3 * sh.slot];
+    const V f{part * got[0], part * got[1], part * got[2]};
+    auto& l = loads_[sh.record];
+    for (int d = 0; d < 3; ++d) l.force[d] += f[d];
+    l.torque[0] += sh.lever[1] * f[2] - sh.lever[2] * f[1];
+    l.torque[1] += sh.lever[2] * f[0] - sh.lever[0] * f[2];
+    l.torque[2] += sh.lever[0] * f[1] - sh.lever[1] * f[0];
   }
 }
 

@@ -4,7 +4,8 @@
 //      enough for every cell a particle covers),
 //   2. computes each owned cell's solid fraction per covering particle (exact
 //      for cells wholly inside or outside a sphere, adaptive octree sub-division
-//      of the others), the cell's total fraction (clamped at 1) and its solid
+//      of the others, kept per centre offset: fractions.hpp), the cell's total
+//      fraction (clamped at 1) and its solid
 //      velocity v + omega x (x_cell - x_p), fraction-weighted over the particles,
 //   3. sends those cells to the fluid, which collides them with eq. 2.66, with
 //      the fraction-weighted cos(contact angle) of the particles' species (a
@@ -19,14 +20,10 @@
 #include <vector>
 
 #include "immersed/immersed_interface.hpp"
+#include "immersed/psm/fractions.hpp"
 #include "immersed/psm/params.hpp"
 
 namespace coflow::immersed {
-
-// Fraction of the cube [lo, lo + h]^3 inside the sphere (c, r): exact 0 or 1
-// when the cube is wholly outside or inside, otherwise the cube is split into 8
-// down to `levels` times and each undecided leaf counts by its centre.
-double cube_fraction(const std::array<double, 3>& lo, double h, const std::array<double, 3>& c, double r, int levels);
 
 class PsmMethod final : public ImmersedMethod {
  public:

@@ -89,6 +89,7 @@ class FieldExchange {
   std::vector<int> peer_of_;  // remote rank -> index in peers_, or -1
   std::vector<MPI_Request> requests_;
   std::vector<MPI_Request> sparse_requests_;
+  std::vector<Box> dst_boxes_;  // send_sparse: each peer's block grown by the ghost layer, clipped
   bool sends_pending_ = false;
 };
 

@@ -5,9 +5,11 @@
 
 #include <array>
 #include <cmath>
+#include <map>
 #include <numbers>
+#include <vector>
 
-#include "immersed/psm/psm.hpp"
+#include "immersed/psm/fractions.hpp"
 
 using coflow::immersed::cube_fraction;
 using V = std::array<double, 3>;
@@ -49,4 +51,77 @@ TEST_CASE("a sphere's summed fractions converge to its volume as the octree refi
   }
   // The default (3 levels) is ten times better than one level.
   CHECK(err[3] < 0.1 * err[1]);
+}
+
+namespace {
+
+using Cells = std::vector<std::pair<coflow::coupler::Index3, double>>;
+
+// Cells as a map for comparison (absent = 0).
+std::map<coflow::coupler::Index3, double> as_map(const Cells& cells) {
+  std::map<coflow::coupler::Index3, double> m;
+  for (const auto& [c, f] : cells) m[c] = f;
+  return m;
+}
+
+double max_difference(const Cells& a, const Cells& b) {
+  auto ma = as_map(a), mb = as_map(b);
+  double worst = 0.0;
+  for (const auto& [c, f] : ma) worst = std::max(worst, std::abs(f - (mb.count(c) ? mb[c] : 0.0)));
+  for (const auto& [c, f] : mb) worst = std::max(worst, std::abs(f - (ma.count(c) ? ma[c] : 0.0)));
+  return std::isfinite(worst) ? worst : 1e300;
+}
+
+double sum(const Cells& a) {
+  double s = 0.0;
+  for (const auto& [c, f] : a) s += f;
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("fractions kept on a lattice of centre offsets stay within the octree's own error", "[immersed][psm]") {
+  // Cells of 0.5 mm from an origin off zero; radius 4 and 8 cells; 12 centres
+  // spread over the cell. The octree's own error per cell: 3 levels against 7
+  // (the 'truth'), at the same exact centre.
+  using coflow::immersed::SphereFractions;
+  const double h = 5e-4;
+  const V lower{-0.01, 0.002, 0.0};
+  for (double radius_cells : {4.0, 8.0}) {
+    SphereFractions exact(h, lower, 3, 0), truth(h, lower, 7, 0), kept(h, lower, 3, 8);
+    double worst_kept = 0.0, worst_octree = 0.0, worst_apart = 0.0;
+    for (int s = 0; s < 12; ++s) {
+      const V c{lower[0] + (20.0 + 0.0831 * s) * h, lower[1] + (21.0 + std::fmod(0.377 * s, 1.0)) * h,
+                lower[2] + (19.5 + std::fmod(0.6123 * s, 1.0)) * h};
+      Cells e, t, k;
+      exact.cover(c, radius_cells * h, e);
+      truth.cover(c, radius_cells * h, t);
+      kept.cover(c, radius_cells * h, k);
+      const double volume = 4.0 / 3.0 * std::numbers::pi * std::pow(radius_cells, 3);
+      CHECK(std::abs(sum(k) / volume - 1.0) < 1e-13);  // the interpolation keeps the volume
+      worst_kept = std::max(worst_kept, max_difference(k, t));
+      worst_octree = std::max(worst_octree, max_difference(e, t));
+      worst_apart = std::max(worst_apart, max_difference(k, e));
+    }
+    INFO("radius " << radius_cells << " cells, largest error of a cell's fraction against 7 levels: kept "
+                   << worst_kept << ", exact centre " << worst_octree << "; kept vs exact centre " << worst_apart);
+    CHECK(worst_kept < worst_octree);
+    CHECK(worst_apart < 0.1);
+  }
+}
+
+TEST_CASE("kept fractions move with the sphere by whole cells, and equal the exact ones on the lattice",
+          "[immersed][psm]") {
+  using coflow::immersed::SphereFractions;
+  const double h = 1.0;  // powers of two: centres on the lattice are exact
+  SphereFractions kept(h, {0, 0, 0}, 3, 8), exact(h, {0, 0, 0}, 3, 0);
+  Cells a, b, e;
+  kept.cover({10.25, 10.625, 10.5}, 3.5, a);
+  exact.cover({10.25, 10.625, 10.5}, 3.5, e);
+  CHECK(max_difference(a, e) <= 0.0);
+  kept.cover({10.5625, 10.8125, 10.0625}, 3.5, a);
+  kept.cover({12.5625, 7.8125, 11.0625}, 3.5, b);  // + (2, -3, 1) cells
+  for (auto& [c, f] : b) c = {c[0] - 2, c[1] + 3, c[2] - 1};
+  CHECK(max_difference(a, b) <= 0.0);
+  CHECK(kept.stencils_computed() == 9);  // one for the lattice centre, eight around the other
 }

@@ -1,0 +1,126 @@
+#include "immersed/psm/fractions.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <functional>
+#include <numbers>
+
+namespace coflow::immersed {
+
+using V = std::array<double, 3>;
+
+double cube_fraction(const V& lo, double h, const V& c, double r, int levels) {
+  // Nearest and farthest points of the cube from the centre.
+  double near2 = 0.0, far2 = 0.0;
+  for (int d = 0; d < 3; ++d) {
+    const double a = lo[d] - c[d], b = lo[d] + h - c[d];
+    const double n = a > 0 ? a : (b < 0 ? b : 0.0);
+    const double f = std::max(std::abs(a), std::abs(b));
+    near2 += n * n;
+    far2 += f * f;
+  }
+  const double r2 = r * r;
+  if (near2 >= r2) return 0.0;
+  if (far2 <= r2) return 1.0;
+  if (levels == 0) {
+    double m2 = 0.0;
+    for (int d = 0; d < 3; ++d) m2 += (lo[d] + 0.5 * h - c[d]) * (lo[d] + 0.5 * h - c[d]);
+    return m2 < r2 ? 1.0 : 0.0;
+  }
+  const double hh = 0.5 * h;
+  double sum = 0.0;
+  for (int k = 0; k < 8; ++k) {
+    const V sub{lo[0] + (k & 1) * hh, lo[1] + ((k >> 1) & 1) * hh, lo[2] + ((k >> 2) & 1) * hh};
+    sum += cube_fraction(sub, hh, c, r, levels - 1);
+  }
+  return 0.125 * sum;
+}
+
+SphereFractions::SphereFractions(double h, const V& lower, int levels, int lattice, std::size_t max_bytes)
+    : h_(h), lower_(lower), levels_(levels), lattice_(lattice), max_bytes_(max_bytes) {}
+
+std::size_t SphereFractions::KeyHash::operator()(const Key& k) const {
+  std::size_t s = std::hash<std::uint64_t>{}(k.radius_bits);
+  for (int v : {k.a, k.b, k.c}) s = s * 1000003u ^ std::hash<int>{}(v);
+  return s;
+}
+
+// Every cell of the box, in cell units, then the cut cells scaled so that the
+// sphere's cells add up to its volume exactly (wholly covered cells stay 1).
+std::vector<double> SphereFractions::stencil(const V& offset, double r, int m) const {
+  const int n = 2 * m + 1;
+  std::vector<double> f(static_cast<std::size_t>(n) * n * n, 0.0);
+  double full = 0.0, cut = 0.0;
+  std::size_t at = 0;
+  for (int k = -m; k <= m; ++k)
+    for (int j = -m; j <= m; ++j)
+      for (int i = -m; i <= m; ++i, ++at) {
+        f[at] = cube_fraction({double(i), double(j), double(k)}, 1.0, offset, r, levels_);
+        (f[at] >= 1.0 ? full : cut) += f[at];
+      }
+  const double volume = 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  const double scale = cut > 0.0 ? (volume - full) / cut : 1.0;
+  for (double& v : f)
+    if (v > 0.0 && v < 1.0) v = std::min(1.0, v * scale);
+  return f;
+}
+
+const std::vector<double>& SphereFractions::kept(double r, int m, int a, int b, int c) {
+  const Key key{std::bit_cast<std::uint64_t>(r), a, b, c};
+  auto it = kept_.find(key);
+  if (it != kept_.end()) return it->second;
+  if (bytes_ > max_bytes_) {  // a pure function of the key: dropping them changes no result
+    kept_.clear();
+    bytes_ = 0;
+  }
+  const double s = 1.0 / lattice_;
+  auto f = stencil({a * s, b * s, c * s}, r, m);
+  bytes_ += f.size() * sizeof(double);
+  ++computed_;
+  return kept_.emplace(key, std::move(f)).first->second;
+}
+
+void SphereFractions::cover(const V& c, double radius, std::vector<std::pair<coupler::Index3, double>>& out) {
+  const double r = radius / h_;
+  const int m = static_cast<int>(std::ceil(r)) + 1;
+  const int n = 2 * m + 1;
+  long base[3];
+  V offset;
+  for (int d = 0; d < 3; ++d) {
+    const double x = (c[d] - lower_[d]) / h_;
+    base[d] = static_cast<long>(std::floor(x));
+    offset[d] = x - static_cast<double>(base[d]);
+  }
+  const std::vector<double>* f = nullptr;
+  std::vector<double> exact;
+  if (lattice_ == 0) {
+    exact = stencil(offset, r, m);
+    f = &exact;
+  } else {
+    int a0[3];
+    double t[3];
+    for (int d = 0; d < 3; ++d) {
+      const double u = offset[d] * lattice_;
+      a0[d] = std::min(static_cast<int>(std::floor(u)), lattice_ - 1);
+      t[d] = u - a0[d];
+    }
+    blend_.assign(static_cast<std::size_t>(n) * n * n, 0.0);
+    for (int corner = 0; corner < 8; ++corner) {
+      double w = 1.0;
+      for (int d = 0; d < 3; ++d) w *= (corner >> d & 1) ? t[d] : 1.0 - t[d];
+      if (w <= 0.0) continue;
+      const auto& s = kept(r, m, a0[0] + (corner & 1), a0[1] + (corner >> 1 & 1), a0[2] + (corner >> 2 & 1));
+      for (std::size_t q = 0; q < s.size(); ++q) blend_[q] += w * s[q];
+    }
+    f = &blend_;
+  }
+  out.clear();
+  std::size_t at = 0;
+  for (int k = -m; k <= m; ++k)
+    for (int j = -m; j <= m; ++j)
+      for (int i = -m; i <= m; ++i, ++at)
+        if ((*f)[at] > 0.0) out.push_back({{base[0] + i, base[1] + j, base[2] + k}, (*f)[at]});
+}
+
+}  // namespace coflow::immersed

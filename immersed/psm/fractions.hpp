@@ -1,0 +1,73 @@
+// Solid fractions of the cells a sphere covers, for psm (seed 000 §2.4: each
+// cell's share of solid, eq. 2.66's epsilon).
+//
+// cube_fraction is the octree estimate of one cell. SphereFractions covers a
+// whole sphere, renormalised so that its cells add up to its volume exactly,
+// in one of two ways:
+//   - exact centre (lattice 0): every cell's octree at the sphere's own
+//     centre, every window; the reference;
+//   - centre lattice N (the default): the fractions depend only on the radius
+//     and the centre's offset inside its cell, so they are computed once for
+//     the centres on a lattice of h/N in the cell, kept, and interpolated
+//     trilinearly to the actual offset. A sphere that moves costs a few
+//     multiply-adds per cell instead of an octree per cut cell; whole-cell
+//     moves shift the kept stencils. Each kept stencil sums to the volume, so
+//     the interpolation does too; the difference from the exact centre is below
+//     the octree's own error (tests/unit/immersed/test_psm_fractions.cpp).
+// Both are pure functions of the centre and radius, so a restart and any
+// number of ranks give the same bits.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "coflow/decomposition.hpp"
+
+namespace coflow::immersed {
+
+// Fraction of the cube [lo, lo + h]^3 inside the sphere (c, r): exact 0 or 1
+// when the cube is wholly outside or inside, otherwise the cube is split into 8
+// down to `levels` times and each undecided leaf counts by its centre.
+double cube_fraction(const std::array<double, 3>& lo, double h, const std::array<double, 3>& c, double r, int levels);
+
+class SphereFractions {
+ public:
+  // h: the cell size; lower: the grid's origin; levels: octree levels;
+  // lattice: centre positions per cell and axis (0: exact centres);
+  // max_bytes: the kept stencils' memory, cleared whole when it is passed.
+  SphereFractions(double h, const std::array<double, 3>& lower, int levels, int lattice,
+                  std::size_t max_bytes = std::size_t{256} << 20);
+
+  // The cells (global, unwrapped indices) sphere (c, r) covers and their
+  // fractions (> 0), replacing `out`'s contents.
+  void cover(const std::array<double, 3>& c, double r, std::vector<std::pair<coupler::Index3, double>>& out);
+
+  std::size_t stencils_computed() const { return computed_; }
+
+ private:
+  struct Key {
+    std::uint64_t radius_bits;
+    int a, b, c;
+    bool operator==(const Key&) const = default;
+  };
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const;
+  };
+  // The fractions in the (2m+1)^3 cells around a base cell of a sphere of
+  // radius r (in cells) whose centre is `offset` (in cells) from the base
+  // cell's lower corner, renormalised to the sphere's volume.
+  std::vector<double> stencil(const std::array<double, 3>& offset, double r, int m) const;
+  const std::vector<double>& kept(double r, int m, int a, int b, int c);
+
+  double h_;
+  std::array<double, 3> lower_;
+  int levels_, lattice_;
+  std::size_t max_bytes_, bytes_ = 0, computed_ = 0;
+  std::unordered_map<Key, std::vector<double>, KeyHash> kept_;
+  std::vector<double> blend_;
+};
+
+}  // namespace coflow::immersed

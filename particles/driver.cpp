@@ -30,13 +30,13 @@ class ParticleWindows final : public coupler::WindowParts {
       : s_(s), solver_(std::move(solver)), params_(params), substeps_(substeps) {}
 
   void start(long w0) override;
-  void before_step(long) override {
-    if (link_) link_->before_step();
+  void before_step(long w) override {
+    if (link_) link_->before_step(w);
   }
   void step(long) override { solver_->advance(s_.window(), substeps_); }
-  void after_step(long) override {
-    if (link_) link_->after_step();
-    check_state();
+  void after_step(long w) override {
+    check_state();  // before the states go anywhere (parallel-explicit sends the next window's here)
+    if (link_) link_->after_step(w);
     walls_->add(solver_->take_wall_impulse());
     coupler::trace().steps = solver_->steps();
   }

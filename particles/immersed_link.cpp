@@ -21,36 +21,43 @@ ImmersedLink::ImmersedLink(coupler::Session& s, ParticleSolver& solver, const Pa
   lagged_ = !point_ && cfg.coupling.scheme == config::Scheme::parallel_explicit;
   const auto dest = s.decomposition_of("immersed", s.partner_ranks("immersed"));
   const auto h = cfg.domain.spacing();
-  to_immersed_ = std::make_unique<coupler::PointExchange>(
-      s.partner("immersed"), coupler::PointExchange::Role::origin, dest, cfg.domain.lower, h,
-      sizeof(protocol::ParticleRecord), point_ ? sizeof(protocol::FluidAtParticle) : sizeof(protocol::ParticleLoad),
-      protocol::kTagParticles, point_ ? 0 : coupling_ghost_cells(params, cfg));
+  for (auto& x : to_immersed_)
+    x = std::make_unique<coupler::PointExchange>(
+        s.partner("immersed"), coupler::PointExchange::Role::origin, dest, cfg.domain.lower, h,
+        sizeof(protocol::ParticleRecord), point_ ? sizeof(protocol::FluidAtParticle) : sizeof(protocol::ParticleLoad),
+        protocol::kTagParticles, point_ ? 0 : coupling_ghost_cells(params, cfg));
   if (point_)
     impulse_out_ = std::make_unique<coupler::PointExchange>(
         s.partner("immersed"), coupler::PointExchange::Role::origin, dest, cfg.domain.lower, h,
         sizeof(protocol::ParticleImpulse), sizeof(double), protocol::kTagImpulse, 0);
 }
 
-void ImmersedLink::before_step() {
-  send_states();
+void ImmersedLink::before_step(long w) {
+  if (lagged_) {
+    if (!ahead_) send_states(static_cast<int>(w % 2));
+    return;
+  }
+  send_states(0);
   if (point_) receive_fluid();
-  else if (!lagged_) apply_loads(receive_loads());
+  else apply_loads(receive_loads(0));
 }
 
-void ImmersedLink::after_step() {
+void ImmersedLink::after_step(long w) {
   if (point_) send_impulses();
   if (lagged_) {
-    pending_ = receive_loads();
+    ahead_ = w < s_.windows();
+    if (ahead_) send_states(static_cast<int>((w + 1) % 2));
+    pending_ = receive_loads(static_cast<int>(w % 2));
     apply_loads(pending_);
   }
 }
 
-void ImmersedLink::send_states() {
+void ImmersedLink::send_states(int k) {
   const ParticleArrays& p = solver_.particles();
   const std::size_t n = p.size();
   records_.resize(n * sizeof(protocol::ParticleRecord));
   positions_.resize(n);
-  sent_ids_.resize(n);
+  sent_ids_[k].resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     protocol::ParticleRecord rec{};
     rec.id = p.id[i];
@@ -63,22 +70,22 @@ void ImmersedLink::send_states() {
     rec.radius = p.radius[i];
     rec.mass = p.mass[i];
     rec.contact_angle = contact_angle_.at(static_cast<std::size_t>(p.species[i]));
-    sent_ids_[i] = p.id[i];
+    sent_ids_[k][i] = p.id[i];
     std::memcpy(records_.data() + i * sizeof rec, &rec, sizeof rec);
   }
-  to_immersed_->send(records_, positions_);
+  to_immersed_[k]->send(records_, positions_);
 }
 
 // Loads as (id, force, torque) rows of 7 doubles.
-std::vector<double> ImmersedLink::receive_loads() {
-  const std::size_t n = sent_ids_.size();
+std::vector<double> ImmersedLink::receive_loads(int k) {
+  const std::size_t n = sent_ids_[k].size();
   loads_.assign(n * sizeof(protocol::ParticleLoad), std::byte{0});
-  to_immersed_->receive_results(loads_, protocol::add_load);
+  to_immersed_[k]->receive_results(loads_, protocol::add_load);
   std::vector<double> rows(7 * n);
   for (std::size_t i = 0; i < n; ++i) {
     protocol::ParticleLoad l;
     std::memcpy(&l, loads_.data() + i * sizeof l, sizeof l);
-    rows[7 * i] = static_cast<double>(sent_ids_[i]);
+    rows[7 * i] = static_cast<double>(sent_ids_[k][i]);
     for (int d = 0; d < 3; ++d) {
       rows[7 * i + 1 + d] = l.force[d];
       rows[7 * i + 4 + d] = l.torque[d];
@@ -153,9 +160,9 @@ void ImmersedLink::load(const std::string& dir) {
 }
 
 void ImmersedLink::receive_fluid() {
-  const std::size_t n = sent_ids_.size();
+  const std::size_t n = sent_ids_[0].size();
   fluid_bytes_.assign(n * sizeof(protocol::FluidAtParticle), std::byte{0});
-  to_immersed_->receive_results(fluid_bytes_);
+  to_immersed_[0]->receive_results(fluid_bytes_);
   samples_.resize(ParticleSolver::kFluidValues * n);
   for (std::size_t i = 0; i < n; ++i) {
     protocol::FluidAtParticle f;

@@ -11,7 +11,10 @@
 // loads while the immersed side and the fluid compute this window's; those
 // arrive after the sub-steps, are matched to the particles by id (a particle
 // may have moved to another rank meanwhile) and act in the next window; the
-// loads in flight belong to a checkpoint.
+// loads in flight belong to a checkpoint. The next window's states go out right
+// after the sub-steps, before this window's loads come in, so that the immersed
+// side covers them while the fluid still steps (two point exchanges
+// alternate, window by window: each remembers its own routing).
 #pragma once
 
 #include <array>
@@ -29,14 +32,14 @@ namespace coflow::particles {
 class ImmersedLink {
  public:
   ImmersedLink(coupler::Session& s, ParticleSolver& solver, const ParticleParams& params);
-  void before_step();
-  void after_step();
+  void before_step(long w);
+  void after_step(long w);
   void save(const std::string& dir);  // collective
   void load(const std::string& dir);  // the loads in flight of a parallel-explicit checkpoint
 
  private:
-  void send_states();
-  std::vector<double> receive_loads();
+  void send_states(int k);
+  std::vector<double> receive_loads(int k);
   void apply_loads(const std::vector<double>& rows);
   void receive_fluid();
   void send_impulses();
@@ -45,11 +48,12 @@ class ImmersedLink {
   ParticleSolver& solver_;
   std::vector<double> contact_angle_;  // per species, degrees (-1: the fluid's)
   bool point_ = false, lagged_ = false;
-  std::unique_ptr<coupler::PointExchange> to_immersed_, impulse_out_;
+  bool ahead_ = false;  // lagged: this window's states went out after the last one's sub-steps
+  std::unique_ptr<coupler::PointExchange> to_immersed_[2], impulse_out_;
   std::vector<std::byte> records_, loads_, fluid_bytes_, impulse_records_;
   std::vector<std::array<double, 3>> positions_;
   std::vector<double> hforce_, htorque_, samples_, impulse_, pending_;
-  std::vector<std::int64_t> sent_ids_;
+  std::vector<std::int64_t> sent_ids_[2];
 };
 
 }  // namespace coflow::particles

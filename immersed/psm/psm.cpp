@@ -42,19 +42,44 @@ struct Cell {
   double weighted_wetting = 0.0;  // sum of fraction x cos(contact angle)
 };
 
+// What one window's particle states cover: the records as they came (ghost
+// copies too), the covered owned cells and each particle's share of them.
+struct Coverage {
+  std::vector<std::byte> records;
+  std::vector<std::uint8_t> owned_flags;
+  std::vector<protocol::ParticleRecord> rec;
+  std::vector<long> slot_of;  // owned cell -> index in cells, or -1
+  std::vector<Cell> cells;
+  std::vector<Share> shares;  // particle by particle, cell by cell
+  double solid_volume = 0.0;
+};
+
 }  // namespace
 
 namespace {
+
+coupler::PointExchange particle_exchange(coupler::Session& s, int ghost) {
+  const auto& dom = s.config().domain;
+  return coupler::PointExchange(s.partner("particles"), coupler::PointExchange::Role::destination,
+                                s.decomposition(), dom.lower, dom.spacing(), sizeof(protocol::ParticleRecord),
+                                sizeof(protocol::ParticleLoad), protocol::kTagParticles, ghost);
+}
 
 // One window of psm: 1. the particle states arrive; 2. the coverage of the
 // owned cells; 3. the covered cells go to the fluid, fraction (clamped at 1),
 // velocity and wetting (cos of the contact angle); 4. the force on the solid in each of them comes back after the
 // fluid step; 5. each particle gets its shares, with buoyancy, and they go back.
+// parallel-explicit pipelines 1-2: the particles send the next window's states
+// as soon as they have stepped (on the previous window's loads), and this
+// component covers them while the fluid steps the current window, so that
+// neither the covering nor the particles sit between two fluid steps. Two
+// coverages and two point exchanges alternate, window by window.
 class PsmWindows final : public coupler::WindowParts {
  public:
   PsmWindows(coupler::Session& s, const PsmParams& p, int ghost);
-  void before_step(long) override;  // 1
-  void step(long) override;         // 2, 3, 4
+  void start(long) override { ahead_ = false; }
+  void before_step(long w) override;  // 1, 2
+  void step(long w) override;         // 3, (1, 2 of w + 1), 4
   void after_step(long w) override;  // 5
   void output(long w) override;
   void save(const std::string&) override {}  // no state of its own: rebuilt every window
@@ -64,9 +89,10 @@ class PsmWindows final : public coupler::WindowParts {
   }
 
  private:
-  void cover(std::size_t p);
-  void add_cell(std::size_t p, const Index3& cell, double f, double wetting);
-  void share_forces();
+  void receive_and_cover(long w);
+  void cover(Coverage& c, std::size_t p);
+  void add_cell(Coverage& c, std::size_t p, const Index3& cell, double f, double wetting);
+  void share_forces(const Coverage& c);
 
   coupler::Session& s_;
   const config::DomainParams& dom_;
@@ -74,21 +100,18 @@ class PsmWindows final : public coupler::WindowParts {
   double h_;
   Box owned_;
   double rho_f_;
-  coupler::PointExchange points_;
+  bool pipelined_;  // parallel-explicit: windows alternate between two of each
+  bool ahead_ = false;  // the coverage of the coming window is already in
+  coupler::PointExchange points_[2];
+  Coverage coverage_[2];
   coupler::FieldExchange to_fluid_, from_fluid_;
-  std::vector<std::byte> records_, results_;
-  std::vector<std::uint8_t> owned_flags_;
-  std::vector<protocol::ParticleRecord> rec_;
-  std::vector<long> slot_of_;
-  std::vector<Cell> cells_;
-  std::vector<Share> shares_;  // particle by particle, cell by cell
+  std::vector<std::byte> results_;
   std::vector<Index3> send_cells_;
   std::vector<double> send_values_, got_values_, slot_force_;
   std::vector<long> got_cells_;
   std::vector<protocol::ParticleLoad> loads_;
   SphereFractions fractions_;
   std::vector<std::pair<Index3, double>> touched_;
-  double solid_volume_ = 0.0;
   double default_angle_ = 90.0;  // fluid.two_phase.contact_angle, for species without their own
   double total_[7] = {};
   ImmersedSeries series_;
@@ -101,49 +124,60 @@ PsmWindows::PsmWindows(coupler::Session& s, const PsmParams& p, int ghost)
       h_(dom_.spacing()[0]),
       owned_(s.decomposition().block(s.rank())),
       rho_f_(s.config().resolved["fluid"]["density"].as<double>()),
-      points_(s.partner("particles"), coupler::PointExchange::Role::destination, s.decomposition(), dom_.lower,
-              dom_.spacing(), sizeof(protocol::ParticleRecord), sizeof(protocol::ParticleLoad),
-              protocol::kTagParticles, ghost),
+      pipelined_(s.config().coupling.scheme == config::Scheme::parallel_explicit),
+      points_{particle_exchange(s, ghost), particle_exchange(s, ghost)},
       to_fluid_(s.partner("fluid"), coupler::FieldExchange::Role::sender, s.decomposition(), s.rank(),
                 s.decomposition_of("fluid", s.partner_ranks("fluid")),
                 coupler::FieldSpec{"solid", 5, coupler::Transfer::consistent, 0}, protocol::kTagSolid),
       from_fluid_(s.partner("fluid"), coupler::FieldExchange::Role::receiver, s.decomposition(), s.rank(),
                   s.decomposition_of("fluid", s.partner_ranks("fluid")),
                   coupler::FieldSpec{"solid_force", 3, coupler::Transfer::consistent, 0}, protocol::kTagSolidForce),
-      slot_of_(static_cast<std::size_t>(owned_.volume()), -1),
       fractions_(h_, dom_.lower, p.refinement, p.centre_lattice),
       series_(s) {
   const std::string angle = config::resolved_text(s.config(), {"fluid", "two_phase", "contact_angle"});
   if (!angle.empty()) default_angle_ = std::stod(angle);
+  for (Coverage& c : coverage_) c.slot_of.assign(static_cast<std::size_t>(owned_.volume()), -1);
   log::info("psm: {} octree levels, {}, ghost layer {} cells, buoyancy {}", p_.refinement,
             p_.centre_lattice > 0 ? fmt::format("fractions kept for centres on a lattice of h/{}", p_.centre_lattice)
                                   : std::string("fractions at the exact centres"),
             ghost, p_.buoyancy ? "on" : "off");
 }
 
-void PsmWindows::before_step(long) {
-  points_.receive(records_, owned_flags_);
-  const std::size_t n = owned_flags_.size();
-  rec_.resize(n);
-  if (n > 0) std::memcpy(rec_.data(), records_.data(), n * sizeof(protocol::ParticleRecord));
+// The states of window w's particles (at its start), and the cells they cover.
+void PsmWindows::receive_and_cover(long w) {
+  const int k = pipelined_ ? static_cast<int>(w % 2) : 0;
+  Coverage& c = coverage_[k];
+  points_[k].receive(c.records, c.owned_flags);
+  const std::size_t n = c.owned_flags.size();
+  c.rec.resize(n);
+  if (n > 0) std::memcpy(c.rec.data(), c.records.data(), n * sizeof(protocol::ParticleRecord));
+  for (const Cell& cell : c.cells) c.slot_of[cell.local] = -1;
+  c.cells.clear();
+  c.shares.clear();
+  c.solid_volume = 0.0;
+  for (std::size_t p = 0; p < c.rec.size(); ++p) cover(c, p);
 }
 
-void PsmWindows::step(long) {
-  for (const Cell& c : cells_) slot_of_[c.local] = -1;
-  cells_.clear();
-  shares_.clear();
-  solid_volume_ = 0.0;
-  for (std::size_t p = 0; p < rec_.size(); ++p) cover(p);
+void PsmWindows::before_step(long w) {
+  if (!ahead_) receive_and_cover(w);
+}
+
+void PsmWindows::step(long w) {
+  const Coverage& c = coverage_[pipelined_ ? w % 2 : 0];
   send_cells_.clear();
   send_values_.clear();
-  for (const Cell& c : cells_) {
-    send_cells_.push_back(c.global);
-    send_values_.push_back(std::min(1.0, c.fraction));
-    for (int d = 0; d < 3; ++d) send_values_.push_back(c.weighted_velocity[d] / c.fraction);
-    send_values_.push_back(c.weighted_wetting / c.fraction);
+  for (const Cell& cell : c.cells) {
+    send_cells_.push_back(cell.global);
+    send_values_.push_back(std::min(1.0, cell.fraction));
+    for (int d = 0; d < 3; ++d) send_values_.push_back(cell.weighted_velocity[d] / cell.fraction);
+    send_values_.push_back(cell.weighted_wetting / cell.fraction);
   }
   to_fluid_.flush();
   to_fluid_.send_sparse(send_cells_, send_values_);
+  // While the fluid steps: the next window's states, sent by the particles
+  // once they have stepped this window.
+  ahead_ = pipelined_ && w < s_.windows();
+  if (ahead_) receive_and_cover(w + 1);
   got_cells_.clear();
   got_values_.clear();
   from_fluid_.receive_sparse(got_cells_, got_values_);
@@ -152,18 +186,18 @@ void PsmWindows::step(long) {
 // The fractions of every cell the sphere touches (owned or not, inside the
 // domain or not: a pure function of its centre and radius, so that every rank
 // holding a copy has the same ones; fractions.hpp).
-void PsmWindows::cover(std::size_t p) {
-  const auto& r = rec_[p];
+void PsmWindows::cover(Coverage& c, std::size_t p) {
+  const auto& r = c.rec[p];
   fractions_.cover({r.x[0], r.x[1], r.x[2]}, r.radius, touched_);
   const double angle = r.contact_angle < 0.0 ? default_angle_ : r.contact_angle;
   const double wetting = std::cos(angle * std::numbers::pi / 180.0);
-  for (const auto& [cell, f] : touched_) add_cell(p, cell, f, wetting);
+  for (const auto& [cell, f] : touched_) add_cell(c, p, cell, f, wetting);
 }
 
 // Particle p covers fraction f of the (unwrapped) cell: add it when the
 // wrapped cell is in the domain and owned here.
-void PsmWindows::add_cell(std::size_t p, const Index3& cell, double f, double wetting) {
-  const auto& r = rec_[p];
+void PsmWindows::add_cell(Coverage& cov, std::size_t p, const Index3& cell, double f, double wetting) {
+  const auto& r = cov.rec[p];
   const double h = h_;
   Index3 g = cell;
   for (int d = 0; d < 3; ++d) {
@@ -178,11 +212,11 @@ void PsmWindows::add_cell(std::size_t p, const Index3& cell, double f, double we
   const V centre{dom_.lower[0] + (cell[0] + 0.5) * h, dom_.lower[1] + (cell[1] + 0.5) * h,
                  dom_.lower[2] + (cell[2] + 0.5) * h};
   const long local = ((g[2] - owned_.lo[2]) * ny + (g[1] - owned_.lo[1])) * nx + (g[0] - owned_.lo[0]);
-  if (slot_of_[local] < 0) {
-    slot_of_[local] = static_cast<long>(cells_.size());
-    cells_.push_back(Cell{local, g, 0.0, {0, 0, 0}, 0.0});
+  if (cov.slot_of[local] < 0) {
+    cov.slot_of[local] = static_cast<long>(cov.cells.size());
+    cov.cells.push_back(Cell{local, g, 0.0, {0, 0, 0}, 0.0});
   }
-  Cell& c = cells_[slot_of_[local]];
+  Cell& c = cov.cells[cov.slot_of[local]];
   const V lever{centre[0] - r.x[0], centre[1] - r.x[1], centre[2] - r.x[2]};
   // Solid velocity at the cell centre: v + omega x (x - x_p).
   const V us{r.v[0] + r.w[1] * lever[2] - r.w[2] * lever[1], r.v[1] + r.w[2] * lever[0] - r.w[0] * lever[2],
@@ -190,25 +224,25 @@ void PsmWindows::add_cell(std::size_t p, const Index3& cell, double f, double we
   c.fraction += f;
   for (int d = 0; d < 3; ++d) c.weighted_velocity[d] += f * us[d];
   c.weighted_wetting += f * wetting;
-  shares_.push_back({p, static_cast<std::size_t>(slot_of_[local]), f, lever});
-  solid_volume_ += f * h * h * h;
+  cov.shares.push_back({p, static_cast<std::size_t>(cov.slot_of[local]), f, lever});
+  cov.solid_volume += f * h * h * h;
 }
 
 // Each particle's share (by fraction) of the force in the cells it covers, and
 // the torque of those shares about its centre (seed 000 eqs 2.70-2.71).
-void PsmWindows::share_forces() {
-  loads_.assign(rec_.size(), protocol::ParticleLoad{});
+void PsmWindows::share_forces(const Coverage& cov) {
+  loads_.assign(cov.rec.size(), protocol::ParticleLoad{});
   // In the order of the shares (particle by particle, cell by cell), not of
   // the cells' arrival, so that the sums do not depend on the fluid's
   // decomposition (1 fluid rank = N, bit for bit).
-  slot_force_.assign(3 * cells_.size(), 0.0);
+  slot_force_.assign(3 * cov.cells.size(), 0.0);
   for (std::size_t m = 0; m < got_cells_.size(); ++m) {
-    const long slot = slot_of_[got_cells_[m]];
+    const long slot = cov.slot_of[got_cells_[m]];
     if (slot < 0) throw std::runtime_error("psm: the fluid returned a force for a cell that holds no solid");
     for (int d = 0; d < 3; ++d) slot_force_[3 * slot + d] = got_values_[3 * m + d];
   }
-  for (const Share& sh : shares_) {
-    const double part = sh.fraction / cells_[sh.slot].fraction;
+  for (const Share& sh : cov.shares) {
+    const double part = sh.fraction / cov.cells[sh.slot].fraction;
     const double* got = &slot_force_[3 * sh.slot];
     const V f{part * got[0], part * got[1], part * got[2]};
     auto& l = loads_[sh.record];
@@ -220,14 +254,16 @@ void PsmWindows::share_forces() {
 }
 
 void PsmWindows::after_step(long w) {
-  share_forces();
-  const std::size_t n = rec_.size();
+  const int k = pipelined_ ? static_cast<int>(w % 2) : 0;
+  const Coverage& cov = coverage_[k];
+  share_forces(cov);
+  const std::size_t n = cov.rec.size();
   const auto& g = s_.config().gravity;
   std::fill(total_, total_ + 6, 0.0);
-  total_[6] = solid_volume_;
+  total_[6] = cov.solid_volume;
   for (std::size_t p = 0; p < n; ++p) {
-    if (p_.buoyancy && owned_flags_[p]) {  // once per particle: by the rank that owns its centre
-      const double volume = 4.0 / 3.0 * std::numbers::pi * std::pow(rec_[p].radius, 3);
+    if (p_.buoyancy && cov.owned_flags[p]) {  // once per particle: by the rank that owns its centre
+      const double volume = 4.0 / 3.0 * std::numbers::pi * std::pow(cov.rec[p].radius, 3);
       for (int d = 0; d < 3; ++d) loads_[p].force[d] -= rho_f_ * volume * g[d];
     }
     for (int d = 0; d < 3; ++d) {
@@ -244,7 +280,7 @@ void PsmWindows::after_step(long w) {
                         6);
   results_.resize(n * sizeof(protocol::ParticleLoad));
   if (n > 0) std::memcpy(results_.data(), loads_.data(), results_.size());
-  points_.send_results(results_);
+  points_[k].send_results(results_);
   coupler::trace().steps = w;
 }
 

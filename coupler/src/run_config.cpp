@@ -87,11 +87,22 @@ void CheckpointParams::visit(Visitor& v) {
   v("keep", keep, "how many checkpoints to keep", at_least(1));
 }
 
+void LaunchParams::visit(Visitor& v) {
+  v("bind", bind,
+    "process binding of the whole job: core (one core per rank; on an oversubscribed node several ranks share "
+    "one, each pinned), none (the kernel moves ranks freely), auto (core where the ranks outnumber the cores, "
+    "else the launcher's default); mpirun --bind-to, srun --cpu-bind",
+    one_of({"auto", "none", "core"}));
+  v("mpi_args", mpi_args,
+    "extra arguments for mpirun or srun, before the programs (e.g. [--mca, btl_tcp_if_include, eth0])");
+}
+
 void RunParams::visit(Visitor& v) {
   v.required("name", name, "run name, used for the output directory");
   v.required("end_time", end_time, "simulated end time in s", positive());
   v.section("output", "snapshots and time series", [&](Visitor& s) { output.visit(s); });
   v.section("checkpoint", "periodic restart files", [&](Visitor& s) { checkpoint.visit(s); });
+  v.section("launch", "how the launcher starts the ranks", [&](Visitor& s) { launch.visit(s); });
   v("seed", seed, "seed from which all randomness derives");
   if (v.reading()) {
     if (name.empty() || name.find_first_of("/\\ \t") != std::string::npos || name == "." || name == "..")

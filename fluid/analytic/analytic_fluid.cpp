@@ -166,7 +166,7 @@ Diagnostics AnalyticFluid::diagnostics() {
   double global[6], gmax = 0;
   MPI_Allreduce(local, global, 5, MPI_DOUBLE, MPI_SUM, comm_);
   MPI_Allreduce(&umax, &gmax, 1, MPI_DOUBLE, MPI_MAX, comm_);
-  return Diagnostics{global[0], {global[1], global[2], global[3]}, global[4], gmax, 0.0};
+  return Diagnostics{global[0], {global[1], global[2], global[3]}, global[4], gmax, 0.0, {}};
 }
 
 }  // namespace coflow::fluid

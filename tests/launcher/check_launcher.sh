@@ -9,15 +9,27 @@ fail() { echo "FAIL: $*"; status=1; }
 cd "$(mktemp -d)"
 cfg=$cfgs/tests/coupler_dummies.yaml
 
-# 6 ranks on this machine: oversubscribed when they exceed the cores.
+# 6 ranks on this machine: oversubscribed when they exceed the cores; then
+# run.launch.bind auto pins them (each core shared by several), unless
+# COFLOW_BIND (scripts/test: none) says otherwise.
+unset COFLOW_BIND
 cores=$(nproc)
-over=""; [ 6 -gt "$cores" ] && over="--oversubscribe --bind-to none "
+over=""; [ 6 -gt "$cores" ] && over="--oversubscribe --bind-to core:overload-allowed "
 want="mpirun ${over}-np 2 $bin/coflow-fluid out/coupler-dummies/config.yaml : -np 3 $bin/coflow-immersed out/coupler-dummies/config.yaml : -np 1 $bin/coflow-particles out/coupler-dummies/config.yaml"
 got=$("$bin/coflow" run --dry-run "$cfg")
 [ "$got" = "$want" ] || fail "dry-run line
   want: $want
   got:  $got"
 [ ! -e out ] || fail "--dry-run created files"
+
+got=$("$bin/coflow" run --dry-run --set run.launch.bind=none --set 'run.launch.mpi_args=[--mca, btl, self]' "$cfg")
+case "$got" in "mpirun "*"--bind-to none --mca btl self -np 2 "*) ;; *) fail "bind none and mpi_args: $got" ;; esac
+got=$(COFLOW_BIND=none "$bin/coflow" run --dry-run "$cfg")
+[ 6 -le "$cores" ] || case "$got" in *"--bind-to none -np 2 "*) ;; *) fail "COFLOW_BIND=none: $got" ;; esac
+got=$(COFLOW_BIND=none "$bin/coflow" run --dry-run --set run.launch.bind=core "$cfg")
+case "$got" in *"--bind-to core"*) ;; *) fail "run.launch.bind core over COFLOW_BIND: $got" ;; esac
+"$bin/coflow" run --dry-run --set run.launch.bind=sockets "$cfg" >/dev/null 2>&1; rc=$?
+[ $rc -eq 2 ] || fail "run.launch.bind sockets: exit $rc, expected 2"
 
 mkdir -p ckpt && echo "window: 3" >ckpt/checkpoint.yaml
 got=$("$bin/coflow" run --dry-run --set fluid.ranks=1 --set run.output.dir=o --restart ckpt "$cfg" | head -n 1)
@@ -27,6 +39,8 @@ case "$got" in *"-np 1 $bin/coflow-fluid o/config.yaml --restart $PWD/ckpt"*) ;;
 
 got=$(SLURM_JOB_CPUS_PER_NODE=2 "$bin/coflow" run --dry-run --launcher srun "$cfg")  # 6 ranks on 2 CPUs: --overcommit
 printf '%s\n' "$got" | head -n 1 | grep -qx "srun --mpi=pmix --kill-on-bad-exit=1 -n 6 --overcommit --multi-prog out/coupler-dummies/multi-prog.conf" || fail "srun line: $got"
+got2=$(SLURM_JOB_CPUS_PER_NODE=2 "$bin/coflow" run --dry-run --launcher srun --set run.launch.bind=core --set 'run.launch.mpi_args=[--exclusive]' "$cfg")
+printf '%s\n' "$got2" | head -n 1 | grep -qx "srun --mpi=pmix --kill-on-bad-exit=1 -n 6 --overcommit --cpu-bind=cores --exclusive --multi-prog out/coupler-dummies/multi-prog.conf" || fail "srun line with bind and mpi_args: $got2"
 printf '%s\n' "$got" | grep -qx "0-1 $bin/coflow-fluid out/coupler-dummies/config.yaml" || fail "multi-prog fluid line"
 printf '%s\n' "$got" | grep -qx "2-4 $bin/coflow-immersed out/coupler-dummies/config.yaml" || fail "multi-prog immersed line"
 printf '%s\n' "$got" | grep -qx "5-5 $bin/coflow-particles out/coupler-dummies/config.yaml" || fail "multi-prog particles line"

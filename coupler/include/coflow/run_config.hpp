@@ -53,11 +53,21 @@ struct CheckpointParams {
   void visit(Visitor& v);
 };
 
+// How the launcher starts the ranks (mpirun or srun): the binding of the
+// whole job (both launch every component in one job, one binding for all) and
+// extra arguments.
+struct LaunchParams {
+  std::string bind = "auto";  // auto | none | core
+  StringList mpi_args;
+  void visit(Visitor& v);
+};
+
 struct RunParams {
   std::string name;
   double end_time = 0.0;
   OutputParams output;
   CheckpointParams checkpoint;
+  LaunchParams launch;
   std::uint64_t seed = 12345;
   void visit(Visitor& v);
 };

@@ -1,19 +1,27 @@
-// Benchmark: where the wall time of a coupled run goes.
+// Benchmark: where the wall time of a coupled run goes, and what a coupled
+// run costs against its fluid alone.
 //
 //   build/bin/bench-coupled [CONFIG_DIR]
 //
-// Runs, through the launcher (three executables), the settling sphere E2
-// (configs/validation/psm_settling_sphere_e2.yaml, shortened to 0.15 s) and the
-// sand-production demo (configs/sand_production.yaml, shortened to 0.01 s), and
-// reads each run's summary.json. For each it prints the share of the wall time
-// spent computing in the fluid, the particles and the immersed component, and in
-// coupling: time inside exchange calls that is not waiting for a partner
-// (packing, copying, MPI overhead), summed over the components. Waiting is the
-// serial dependency of serial-explicit coupling (the fluid cannot step before
-// it has the solid cells), i.e. load imbalance, and is printed separately.
+// Runs, through the launcher (three executables):
+//  1. the quickstart (configs/quickstart.yaml, 2 + 1 + 1 ranks) coupled with
+//     serial-explicit and with parallel-explicit, and its fluid alone
+//     (immersed.method none, particles.solver none: the same 2 fluid ranks),
+//     three times each, interleaved (this host's speed drifts), and prints the
+//     medians and their ratio;
+//  2. the settling sphere E2 (configs/validation/psm_settling_sphere_e2.yaml,
+//     shortened to 0.15 s) with both schemes, and the sand-production demo
+//     (configs/sand_production.yaml, shortened to 0.01 s), reading each run's
+//     summary.json: the share of the wall time spent computing in the fluid,
+//     the particles and the immersed component, and in coupling: time inside
+//     exchange calls that is not waiting for a partner (packing, copying, MPI
+//     overhead), averaged over the ranks. Waiting (time blocked on a partner,
+//     averaged over the ranks) is printed separately.
 //
-// Last line: RESULT fluid_pct=... particles_pct=... immersed_pct=... coupling_pct=... (for E2)
+// Last line: RESULT quickstart_ratio=... e2_waiting_pct=... sand_immersed_pct=... coupling_pct=...
+#include <algorithm>
 #include <cstdio>
+#include <vector>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -32,11 +40,12 @@ std::string launcher(const char* argv0) {
   return (std::filesystem::absolute(argv0).parent_path() / "coflow").string();
 }
 
-Split run(const std::string& coflow, const std::string& config, const std::string& out, double end_time) {
+Split run(const std::string& coflow, const std::string& config, const std::string& out, double end_time,
+          const std::string& sets = "") {
   std::filesystem::remove_all(out);
   const std::string cmd = fmt::format("'{}' run '{}' --set run.output.dir='{}' --set run.end_time={} "
-                                      "--set run.output.every={} > '{}.log' 2>&1",
-                                      coflow, config, out, end_time, end_time, out);
+                                      "--set run.output.every={} {} > '{}.log' 2>&1",
+                                      coflow, config, out, end_time, end_time, sets, out);
   if (std::system(cmd.c_str()) != 0) throw std::runtime_error("run failed: see " + out + ".log");
   // summary.json is JSON, which YAML reads.
   const YAML::Node s = YAML::LoadFile(out + "/summary.json");
@@ -52,7 +61,7 @@ Split run(const std::string& coflow, const std::string& config, const std::strin
     const double compute = v["wall_s"].as<double>() - v["exchange_s"].as<double>() - v["wait_s"].as<double>() -
                            v["io_s"].as<double>();
     const double overhead = v["exchange_s"].as<double>();
-    if (name == "fluid") r.fluid = compute;
+    if (name == "fluid") r.fluid = compute;  // per rank (the components report their rank 0)
     if (name == "particles") r.particles = compute;
     if (name == "immersed") r.immersed = compute;
     r.coupling += overhead * ranks;
@@ -62,6 +71,11 @@ Split run(const std::string& coflow, const std::string& config, const std::strin
   r.coupling /= ranks_total;  // per rank on average
   r.waiting /= ranks_total;
   return r;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
 }
 
 void print(const char* name, const Split& s) {
@@ -78,16 +92,31 @@ int main(int argc, char** argv) {
     const std::string configs = argc > 1 ? argv[1] : "configs";
     const std::string coflow = launcher(argv[0]);
     const auto tmp = std::filesystem::temp_directory_path();
+    const std::string qs = configs + "/quickstart.yaml", qs_out = (tmp / "coflow-bench-quickstart").string();
+    std::vector<double> serial, parallel, alone;
+    for (int rep = 0; rep < 3; ++rep) {
+      serial.push_back(run(coflow, qs, qs_out, 0.8).wall);
+      parallel.push_back(run(coflow, qs, qs_out, 0.8, "--set coupling.scheme=parallel-explicit").wall);
+      alone.push_back(run(coflow, qs, qs_out, 0.8, "--set immersed.method=none --set particles.solver=none").wall);
+    }
+    const double ms = median(serial), mp = median(parallel), ma = median(alone);
+    std::printf("bench-coupled: quickstart (2 + 1 + 1 ranks), medians of 3 interleaved runs:\n"
+                "  fluid alone %.2f s | serial-explicit %.2f s (%.2fx) | parallel-explicit %.2f s (%.2fx)\n",
+                ma, ms, ms / ma, mp, mp / ma);
     std::printf("bench-coupled: shares of the wall time (compute per component; coupling = exchange time not spent "
-                "waiting, per rank; waiting = serial dependency)\n");
-    const Split e2 = run(coflow, configs + "/validation/psm_settling_sphere_e2.yaml",
-                         (tmp / "coflow-bench-e2").string(), 0.15);
-    print("settling sphere E2", e2);
+                "waiting, per rank; waiting = time blocked on a partner, per rank)\n");
+    const std::string e2cfg = configs + "/validation/psm_settling_sphere_e2.yaml";
+    const Split e2 = run(coflow, e2cfg, (tmp / "coflow-bench-e2").string(), 0.15);
+    print("E2 serial", e2);
+    const Split e2p = run(coflow, e2cfg, (tmp / "coflow-bench-e2").string(), 0.15,
+                          "--set coupling.scheme=parallel-explicit");
+    print("E2 parallel", e2p);
     const Split sand = run(coflow, configs + "/sand_production.yaml", (tmp / "coflow-bench-sand").string(), 0.01);
     print("sand production", sand);
-    std::printf("RESULT fluid_pct=%.1f particles_pct=%.1f immersed_pct=%.1f coupling_pct=%.2f\n",
-                100 * e2.fluid / e2.wall, 100 * e2.particles / e2.wall, 100 * e2.immersed / e2.wall,
-                100 * e2.coupling / e2.wall);
+    std::printf("RESULT quickstart_ratio=%.2f quickstart_parallel_ratio=%.2f e2_waiting_pct=%.1f "
+                "e2_parallel_waiting_pct=%.1f sand_immersed_pct=%.1f e2_coupling_pct=%.2f sand_coupling_pct=%.2f\n",
+                ms / ma, mp / ma, 100 * e2.waiting / e2.wall, 100 * e2p.waiting / e2p.wall,
+                100 * sand.immersed / sand.wall, 100 * e2.coupling / e2.wall, 100 * sand.coupling / sand.wall);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench-coupled: %s\n", e.what());
     return 1;

@@ -92,35 +92,46 @@ void SphereFractions::cover(const V& c, double radius, std::vector<std::pair<cou
     base[d] = static_cast<long>(std::floor(x));
     offset[d] = x - static_cast<double>(base[d]);
   }
-  const std::vector<double>* f = nullptr;
-  std::vector<double> exact;
-  if (lattice_ == 0) {
-    exact = stencil(offset, r, m);
-    f = &exact;
-  } else {
-    int a0[3];
-    double t[3];
-    for (int d = 0; d < 3; ++d) {
-      const double u = offset[d] * lattice_;
-      a0[d] = std::min(static_cast<int>(std::floor(u)), lattice_ - 1);
-      t[d] = u - a0[d];
-    }
-    blend_.assign(static_cast<std::size_t>(n) * n * n, 0.0);
-    for (int corner = 0; corner < 8; ++corner) {
-      double w = 1.0;
-      for (int d = 0; d < 3; ++d) w *= (corner >> d & 1) ? t[d] : 1.0 - t[d];
-      if (w <= 0.0) continue;
-      const auto& s = kept(r, m, a0[0] + (corner & 1), a0[1] + (corner >> 1 & 1), a0[2] + (corner >> 2 & 1));
-      for (std::size_t q = 0; q < s.size(); ++q) blend_[q] += w * s[q];
-    }
-    f = &blend_;
-  }
   out.clear();
+  if (lattice_ == 0) {
+    const std::vector<double> f = stencil(offset, r, m);
+    std::size_t at = 0;
+    for (int k = -m; k <= m; ++k)
+      for (int j = -m; j <= m; ++j)
+        for (int i = -m; i <= m; ++i, ++at)
+          if (f[at] > 0.0) out.push_back({{base[0] + i, base[1] + j, base[2] + k}, f[at]});
+    return;
+  }
+  int a0[3], lo[3], hi[3];
+  double t[3];
+  for (int d = 0; d < 3; ++d) {
+    const double u = offset[d] * lattice_;
+    a0[d] = std::min(static_cast<int>(std::floor(u)), lattice_ - 1);
+    t[d] = u - a0[d];
+    // The cells the corners' spheres can touch (their centres lie between
+    // a0/N and (a0 + 1)/N): a smaller box than the stencils' own.
+    lo[d] = std::max(-m, static_cast<int>(std::floor(double(a0[d]) / lattice_ - r)));
+    hi[d] = std::min(m, static_cast<int>(std::floor(double(a0[d] + 1) / lattice_ + r)));
+  }
+  const int nx = hi[0] - lo[0] + 1, ny = hi[1] - lo[1] + 1, nz = hi[2] - lo[2] + 1;
+  blend_.assign(static_cast<std::size_t>(nx) * ny * nz, 0.0);
+  for (int corner = 0; corner < 8; ++corner) {
+    double w = 1.0;
+    for (int d = 0; d < 3; ++d) w *= (corner >> d & 1) ? t[d] : 1.0 - t[d];
+    if (w <= 0.0) continue;
+    const auto& s = kept(r, m, a0[0] + (corner & 1), a0[1] + (corner >> 1 & 1), a0[2] + (corner >> 2 & 1));
+    double* b = blend_.data();
+    for (int k = lo[2]; k <= hi[2]; ++k)
+      for (int j = lo[1]; j <= hi[1]; ++j) {
+        const double* row = s.data() + ((static_cast<std::size_t>(k + m) * n + (j + m)) * n + (lo[0] + m));
+        for (int i = 0; i < nx; ++i) *b++ += w * row[i];
+      }
+  }
   std::size_t at = 0;
-  for (int k = -m; k <= m; ++k)
-    for (int j = -m; j <= m; ++j)
-      for (int i = -m; i <= m; ++i, ++at)
-        if ((*f)[at] > 0.0) out.push_back({{base[0] + i, base[1] + j, base[2] + k}, (*f)[at]});
+  for (int k = lo[2]; k <= hi[2]; ++k)
+    for (int j = lo[1]; j <= hi[1]; ++j)
+      for (int i = lo[0]; i <= hi[0]; ++i, ++at)
+        if (blend_[at] > 0.0) out.push_back({{base[0] + i, base[1] + j, base[2] + k}, std::min(1.0, blend_[at])});
 }
 
 }  // namespace coflow::immersed

@@ -133,6 +133,7 @@ void report_lbm(const config::Config& cfg, config::Report& r) {
                     colours ? "four" : "two", Q, colours ? ": red and blue" : ""));
   const double windows = cfg.components.size() > 1 ? std::ceil(cfg.run.end_time / window - 1e-9) : 0.0;
   const double hours = (steps * block / rate + windows * kSecondsPerCoupledWindow) / 3600.0;
+  r.estimate_wall(hours * 3600.0);
   r.add("fluid", "wall time",
         fmt::format("about {} (a rough figure: {} cell updates per second per rank{})", config::duration(hours * 3600.0),
                     config::number(rate),

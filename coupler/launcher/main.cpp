@@ -159,6 +159,35 @@ std::vector<std::string> srun_argv(const Launch& l, const std::string& conf_path
   return a;
 }
 
+// A Slurm batch script that runs this configuration with srun: the tasks of
+// all components, a time limit from the pre-run report's estimate (x 1.5 +
+// 10 min; 1 h where no component estimates), the output beside the run's.
+std::string sbatch_script(const Config& cfg, const Launch& l, const std::string& cfg_path,
+                          const std::vector<std::string>& overrides, const std::string& restart,
+                          double estimate_s) {
+  const long limit = estimate_s > 0 ? static_cast<long>(std::ceil((1.5 * estimate_s + 600.0) / 60.0)) * 60 : 3600;
+  std::vector<std::string> cmd{self_dir() + "/coflow", "run", fs::absolute(cfg_path).string(), "--launcher", "srun"};
+  for (const auto& o : overrides) cmd.insert(cmd.end(), {"--set", o});
+  if (!restart.empty()) cmd.insert(cmd.end(), {"--restart", restart});
+  std::string ranks;
+  for (std::size_t i = 0; i < l.components.size(); ++i)
+    ranks += fmt::format("{}{} {}", i ? ", " : "", l.components[i], l.ranks[i]);
+  return fmt::format(
+      "#!/bin/bash\n"
+      "# coflow run '{}': {} ({} tasks)\n"
+      "#SBATCH --job-name={}\n"
+      "#SBATCH --ntasks={}\n"
+      "#SBATCH --time={:02d}:{:02d}:00   # {}\n"
+      "#SBATCH --output={}/slurm-%j.out\n"
+      "set -euo pipefail\n"
+      "cd {}\n"
+      "exec {}\n",
+      cfg.run.name, ranks, l.total, cfg.run.name, l.total, limit / 3600, (limit % 3600) / 60,
+      estimate_s > 0 ? fmt::format("the pre-run report's estimate {} x 1.5 + 10 min", coflow::config::duration(estimate_s))
+                     : std::string("no component estimates its wall time: 1 h"),
+      fs::absolute(cfg.output_dir()).string(), quoted(fs::current_path().string()), join_cmd(cmd));
+}
+
 // ------------------------------------------------------------- progress ---
 
 class Progress {
@@ -588,6 +617,28 @@ int report_failure(const Config& cfg, const std::string& dir, Failure failure, i
   return rc == 2 ? 2 : 1;
 }
 
+// --launcher sbatch: the batch script (printed with --dry-run, else written
+// into the run directory and handed to sbatch, which prints the job id).
+int submit_batch(const Config& cfg, const Launch& launch, const RunOptions& o) {
+  const coflow::config::Report r = coflow::config::pre_run_report(cfg, coflow::catalog());
+  const std::string script = sbatch_script(cfg, launch, o.cfg_path, o.overrides, o.restart, r.wall_seconds);
+  if (o.dry) {
+    std::printf("%s", script.c_str());
+    return 0;
+  }
+  if (const int rc = print_report(cfg, o, "", stdout); rc != 0) return rc;
+  if (find_in_path("sbatch").empty()) {
+    std::fprintf(stderr, "coflow: sbatch not found: run on a Slurm login node, or use --launcher srun or mpirun\n");
+    return 2;
+  }
+  fs::create_directories(cfg.output_dir());
+  const std::string path = cfg.output_dir() + "/job.sbatch";
+  coflow::output::atomic_write(path, script);
+  std::fflush(stdout);
+  const int rc = std::system(("sbatch " + quoted(path)).c_str());
+  return rc == 0 ? 0 : 1;
+}
+
 // `coflow run` on a valid configuration: plan, launch, follow, report.
 int run(const Config& cfg, RunOptions o) {
   std::map<std::string, std::string> exe_override;
@@ -598,6 +649,7 @@ int run(const Config& cfg, RunOptions o) {
   const std::string dir = cfg.output_dir();
   const std::string resolved = dir + "/config.yaml";
   const std::string conf_path = dir + "/multi-prog.conf";
+  if (o.launcher == "sbatch") return submit_batch(cfg, launch, o);
   const bool srun = o.launcher == "srun";
   const auto argv_launch = srun ? srun_argv(launch, conf_path) : mpirun_argv(launch, resolved, o.restart);
   if (o.dry) {
@@ -638,7 +690,11 @@ int main(int argc, char** argv) {
   auto* run_cmd = app.add_subcommand("run", "validate a configuration and run it");
   run_cmd->add_option("config", o.cfg_path, "run configuration (YAML)")->required();
   run_cmd->add_flag("--dry-run", o.dry, "print the launch command and stop");
-  run_cmd->add_option("--launcher", o.launcher, "mpirun (default) or srun")->check(CLI::IsMember({"mpirun", "srun"}));
+  run_cmd
+      ->add_option("--launcher", o.launcher,
+                   "mpirun (default), srun (inside an allocation), or sbatch (submit a batch job that runs srun; "
+                   "with --dry-run: print its script)")
+      ->check(CLI::IsMember({"mpirun", "srun", "sbatch"}));
   run_cmd->add_option("--restart", o.restart, "restart from a checkpoint directory, or latest (the run's newest)");
   run_cmd->add_option("--set", o.overrides, "override a key: --set fluid.lbm.tau=0.9 (repeatable)");
   run_cmd->add_option("--exe", o.exes, "use your own executable for a component: --exe fluid=PATH");

@@ -2,8 +2,9 @@
 # slurm.sh BIN_DIR CONFIG OUT
 # A real Slurm on this machine (Debian's slurmctld, slurmd, munge): the
 # quickstart through `coflow run --launcher srun` must equal the same run
-# through mpirun, and a component killed under srun must end the step within
-# 10 s with the component named. The daemons run from a temporary directory
+# through mpirun, a component killed under srun must end the step within
+# 10 s with the component named, and `--launcher sbatch` must submit a batch
+# job that runs it to the end. The daemons run from a temporary directory
 # and are stopped by their PIDs at the end, whatever happens.
 # Needs root (the daemons run as root here); otherwise, or without Slurm,
 # reported as skipped (exit 77).
@@ -102,4 +103,16 @@ awk -v t="$took" 'BEGIN { exit !(t <= 10) }' || fail "the step took $took s to e
 [ "$rc" -ne 0 ] || fail "exit status 0 after a component was killed"
 grep -q "run failed in component 'particles'" "$out/killed.log" || { tail -n 20 "$out/killed.log"; fail "the killed component is not named"; }
 grep -q '"failed_component": "particles"' "$out/killed/summary.json" || fail "summary.json does not name the component"
+
+# 3. --launcher sbatch submits a batch job that runs the same thing with srun.
+"$bin/coflow" run "$cfg" --launcher sbatch --set run.output.dir="$out/batch" --set run.end_time=0.05 >"$out/batch.log" 2>&1 \
+  || { tail -n 20 "$out/batch.log"; fail "sbatch submission failed"; }
+grep -q "^#SBATCH --ntasks=4$" "$out/batch/job.sbatch" || fail "job.sbatch: $(cat "$out/batch/job.sbatch")"
+job=$(sed -n 's/^Submitted batch job \([0-9]*\).*/\1/p' "$out/batch.log")
+[ -n "$job" ] || { cat "$out/batch.log"; fail "no job id from sbatch"; }
+for i in $(seq 1 600); do squeue -h -j "$job" 2>/dev/null | grep -q . || break; sleep 0.1; done
+grep -q '"status": "ok"' "$out/batch/summary.json" 2>/dev/null \
+  || { cat "$out"/batch/slurm-*.out 2>/dev/null | tail -n 20; fail "the batch job did not finish ok"; }
+grep -q "coflow: run 'quickstart' finished" "$out/batch/slurm-$job.out" || fail "no summary in slurm-$job.out"
+echo "batch job $job ran the quickstart through srun"
 echo "ok"

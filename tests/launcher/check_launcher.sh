@@ -45,6 +45,15 @@ printf '%s\n' "$got" | grep -qx "0-1 $bin/coflow-fluid out/coupler-dummies/confi
 printf '%s\n' "$got" | grep -qx "2-4 $bin/coflow-immersed out/coupler-dummies/config.yaml" || fail "multi-prog immersed line"
 printf '%s\n' "$got" | grep -qx "5-5 $bin/coflow-particles out/coupler-dummies/config.yaml" || fail "multi-prog particles line"
 
+# --launcher sbatch --dry-run: the batch script, tasks and a time limit from
+# the pre-run report (the quickstart's lbm estimates; x 1.5 + 10 min).
+got=$("$bin/coflow" run --dry-run --launcher sbatch --set fluid.ranks=4 "$cfgs/quickstart.yaml")
+printf '%s\n' "$got" | grep -qx "#SBATCH --ntasks=6" || fail "sbatch script tasks: $got"
+printf '%s\n' "$got" | grep -q "^#SBATCH --time=00:1[0-9]:00   # the pre-run report's estimate" || fail "sbatch time limit: $got"
+printf '%s\n' "$got" | grep -q "^exec $bin/coflow run $cfgs/quickstart.yaml --launcher srun --set fluid.ranks=4$" \
+  || fail "sbatch command: $got"
+[ ! -e out ] || fail "--dry-run --launcher sbatch created files"
+
 vars=$("$bin/coflow" variants)
 for v in lbm lbm-reference analytic; do printf '%s\n' "$vars" | grep -qE "^  $v " || fail "variants lacks $v"; done
 printf '%s\n' "$vars" | grep -q "fluid.lbm.tau" || fail "variants lacks the options of lbm"

@@ -19,6 +19,9 @@ struct Report {
   };
   std::vector<Line> lines;
   std::vector<std::string> warnings;  // "section: what, and how to fix it"
+  double wall_seconds = 0.0;  // the largest component estimate of the run's wall time; 0: none
+
+  void estimate_wall(double seconds) { wall_seconds = seconds > wall_seconds ? seconds : wall_seconds; }
 
   void add(const std::string& section, const std::string& label, const std::string& value) {
     lines.push_back({section, label, value});

@@ -27,6 +27,7 @@
 
 #include "coflow/catalog.hpp"
 #include "coflow/output.hpp"
+#include "coflow/rank_split.hpp"
 #include "coflow/session.hpp"
 #include "restart.hpp"
 
@@ -367,6 +368,16 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
   return 1;
 }
 
+// The rank split that would balance the run of this summary, or "".
+std::string split_advice(const YAML::Node& s) {
+  std::vector<coflow::coupler::ComponentLoad> loads;
+  for (const auto& c : coflow::config::component_order()) {
+    const YAML::Node n = s["components"][c];
+    if (n) loads.push_back({c, n["ranks"].as<int>(), n["compute_s"].as<double>()});
+  }
+  return coflow::coupler::rank_advice(loads, s["scheme"].as<std::string>() == "parallel-explicit");
+}
+
 void print_summary(const std::string& dir) {
   YAML::Node s;
   try {
@@ -391,6 +402,18 @@ void print_summary(const std::string& dir) {
                 (n["bytes_sent"].as<double>() + n["bytes_received"].as<double>()) / 1e6);
   }
   std::printf("  output: %s  (open %s/run.xdmf in ParaView)\n", dir.c_str(), dir.c_str());
+  if (const std::string advice = split_advice(s); !advice.empty()) std::printf("  ranks: %s\n", advice.c_str());
+}
+
+// `coflow validate`: the split the last run of this configuration suggests.
+void print_last_run_advice(const Config& cfg) {
+  try {
+    const YAML::Node s = YAML::LoadFile(cfg.output_dir() + "/summary.json");
+    if (s["status"].as<std::string>() != "ok") return;
+    if (const std::string advice = split_advice(s); !advice.empty())
+      std::printf("# ranks (the last run in %s): %s\n", cfg.output_dir().c_str(), advice.c_str());
+  } catch (const std::exception&) {  // no last run, or not a complete one: nothing to say
+  }
 }
 
 void write_failed_summary(const Config& cfg, const Failure& f, int code, double wall) {
@@ -730,6 +753,7 @@ int main(int argc, char** argv) {
   if (val->parsed()) {
     std::cout << "# " << o.cfg_path << ": valid\n" << std::flush;
     const int rc = print_report(cfg, o, "# ", stdout);
+    print_last_run_advice(cfg);
     std::cout << YAML::Dump(cfg.resolved) << std::endl;
     return rc;
   }

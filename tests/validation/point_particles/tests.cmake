@@ -70,3 +70,9 @@ set_tests_properties(validation.tutorial_particles PROPERTIES LABELS "validation
 # feeds dpm's Langevin model; dpm writes series/dispersion.csv (eq. 5.24),
 # compared with the model's moments in the k-epsilon decay the fluid carries.
 coflow_validation(dpm_grid_turbulence_fv grid_turbulence_fv dpm_grid_turbulence_fv.yaml 3)
+# Many ranks (issue 24): 16 in all, oversubscribed, against 1/1/1, with the
+# lbm and the fv fluid.
+coflow_validation(dpm_two_way_ranks_1_vs_16 compare dpm_two_way.yaml 2
+  "fluid.ranks=1 immersed.ranks=1 particles.ranks=1" "fluid.ranks=8 immersed.ranks=4 particles.ranks=4")
+coflow_validation(dpm_two_way_fv_ranks_1_vs_16 compare dpm_two_way_fv.yaml 2
+  "fluid.ranks=1 immersed.ranks=1 particles.ranks=1" "fluid.ranks=8 immersed.ranks=4 particles.ranks=4")

@@ -25,3 +25,6 @@ coflow_validation(psm_momentum_periodic momentum psm_momentum_periodic.yaml 2
 coflow_validation(psm_momentum_parallel momentum psm_momentum.yaml 2 --set coupling.scheme=parallel-explicit)
 coflow_validation(psm_momentum_periodic_parallel momentum psm_momentum_periodic.yaml 2
   --set fluid.ranks=2 --set immersed.ranks=2 --set particles.ranks=2 --set coupling.scheme=parallel-explicit)
+# Many ranks (issue 24): 16 in all, oversubscribed, against 1/1/1.
+coflow_validation(psm_ranks_1_vs_16 compare psm_momentum.yaml 2
+  "fluid.ranks=1 immersed.ranks=1 particles.ranks=1" "fluid.ranks=8 immersed.ranks=4 particles.ranks=4")

@@ -3,16 +3,20 @@
 //   mpirun --oversubscribe -np 8 build/bin/bench-coupler-exchange [cells] [repeats]
 //
 // 1. Setup: the communication map of a 128^3 x 3 field between two components
-//    of 4 ranks each (4 x 4), built from block intersections; max over ranks.
+//    of k ranks each (k x k, k = 1, 2, 4, ... up to half the ranks), built
+//    from block intersections; max over ranks; and the largest resident
+//    memory of a rank (VmHWM: the MPI library's share grows with the ranks).
 // 2. Throughput: the same field between two 1-rank components (world ranks 0
 //    and 1): FieldExchange send/receive vs MPI_Sendrecv of the same bytes, in
 //    the same run. Ranks 2.. sleep meanwhile so they do not steal the cores.
-// Last line: RESULT exchange_gbs=... mpi_gbs=... ratio=... setup_s=...
+// Last line: RESULT exchange_gbs=... mpi_gbs=... ratio=... setup_s=... (setup at 4 x 4)
 #include <mpi.h>
 
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -34,6 +38,43 @@ void sleepy_barrier(MPI_Comm comm) {
   }
 }
 
+// The map of a k x k split of world ranks 0 .. 2k - 1 (others: MPI_COMM_NULL);
+// the time to build it, max over the ranks (0 on ranks outside).
+double map_setup(int k, const Index3& cells, int nc) {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm half, inter;
+  const int color = rank < k ? 0 : rank < 2 * k ? 1 : MPI_UNDEFINED;
+  MPI_Comm_split(MPI_COMM_WORLD, color, rank, &half);
+  double setup = 0.0;
+  if (half != MPI_COMM_NULL) {
+    MPI_Intercomm_create(half, 0, MPI_COMM_WORLD, color == 0 ? k : 0, 11, &inter);
+    const Decomposition a(cells, k), b(cells, k);
+    int hr = 0;
+    MPI_Comm_rank(half, &hr);
+    MPI_Barrier(half);
+    const double t0 = now();
+    {
+      FieldExchange ex(inter, color == 0 ? FieldExchange::Role::sender : FieldExchange::Role::receiver,
+                       color == 0 ? a : b, hr, color == 0 ? b : a, {"velocity", nc, Transfer::consistent, 2}, 21);
+      setup = now() - t0;
+    }
+    MPI_Comm_free(&inter);
+    MPI_Comm_free(&half);
+  }
+  double most = 0.0;
+  MPI_Reduce(&setup, &most, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+  return most;
+}
+
+// Peak resident memory of this process, MiB (Linux /proc/self/status VmHWM).
+double peak_mib() {
+  std::ifstream f("/proc/self/status");
+  for (std::string line; std::getline(f, line);)
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  return 0.0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -46,32 +87,16 @@ int main(int argc, char** argv) {
   const Index3 cells{n, n, n};
   const int nc = 3;
 
-  // --- 1. map setup at 4 x 4 ---
+  // --- 1. map setup at k x k, and the memory of a rank ---
   double setup = 0.0;
-  if (size >= 8) {
-    MPI_Comm half, inter;
-    const int color = rank < 4 ? 0 : rank < 8 ? 1 : MPI_UNDEFINED;
-    MPI_Comm_split(MPI_COMM_WORLD, color, rank, &half);
-    if (half != MPI_COMM_NULL) {
-      MPI_Intercomm_create(half, 0, MPI_COMM_WORLD, color == 0 ? 4 : 0, 11, &inter);
-      const Decomposition a(cells, 4), b(cells, 4);
-      int hr = 0;
-      MPI_Comm_rank(half, &hr);
-      MPI_Barrier(half);
-      const double t0 = now();
-      {
-        FieldExchange ex(inter, color == 0 ? FieldExchange::Role::sender : FieldExchange::Role::receiver,
-                         color == 0 ? a : b, hr, color == 0 ? b : a, {"velocity", nc, Transfer::consistent, 2}, 21);
-        setup = now() - t0;
-      }
-      MPI_Comm_free(&inter);
-      MPI_Comm_free(&half);
-    }
-    double local = setup;
-    MPI_Reduce(&local, &setup, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
-  } else if (rank == 0) {
-    std::printf("note: run with 8 ranks to time the 4 x 4 map setup\n");
+  for (int k = 1; 2 * k <= size; k *= 2) {
+    const double t = map_setup(k, cells, nc);
+    if (k == 4) setup = t;
+    if (rank == 0) std::printf("communication map setup at %d x %d ranks: %.4f s (max over ranks)\n", k, k, t);
   }
+  double mine = peak_mib(), most = 0.0;
+  MPI_Reduce(&mine, &most, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+  if (rank == 0) std::printf("peak resident memory of a rank: %.1f MiB (largest of %d ranks)\n", most, size);
 
   // --- 2. throughput at 1 x 1 ---
   MPI_Comm pair = MPI_COMM_NULL, one = MPI_COMM_NULL, inter = MPI_COMM_NULL;
@@ -115,7 +140,6 @@ int main(int argc, char** argv) {
     std::printf("field: %ld^3 cells x %d doubles = %.1f MB per exchange, %d repeats\n", n, nc, bytes / 1e6, repeats);
     std::printf("coupler FieldExchange (1 x 1): %.3f s per exchange, %.2f GB/s\n", t_ex / repeats, ex_gbs);
     std::printf("plain MPI_Sendrecv (same bytes): %.3f s per exchange, %.2f GB/s\n", t_mpi / repeats, mpi_gbs);
-    if (size >= 8) std::printf("communication map setup at 4 x 4 ranks: %.4f s (max over ranks)\n", setup);
     std::printf("RESULT exchange_gbs=%.3f mpi_gbs=%.3f ratio=%.3f setup_s=%.4f\n", ex_gbs, mpi_gbs, ex_gbs / mpi_gbs,
                 setup);
   }

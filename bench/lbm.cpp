@@ -1,6 +1,13 @@
 // Benchmark: lbm D3Q19 BGK (standard, no force), periodic cube, 1 rank.
 //
 //   build/bin/bench-lbm [steps]
+//   mpirun -np 2 build/bin/bench-lbm [steps]     two ranks, one per core
+//
+// On 2 ranks it prints instead the two-core figures: BGK 256^3 cut in two
+// slabs (MLUPS, max over the ranks per step) against the roofline of both
+// cores copying at once (the socket's bandwidth, measured right before and
+// after), and the strong scaling from 1 rank (rank 0 alone, same grid, same
+// run) to 2.
 //
 // Prints MLUPS (million lattice-cell updates per second) at 128^3 and 256^3, the
 // copy bandwidth of this machine measured in the same run, and the roofline.
@@ -17,7 +24,10 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <chrono>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 #if defined(__AVX__)
 #include <immintrin.h>
@@ -98,8 +108,8 @@ struct Steps {
 // instead of lbm::spaced_stride apart (fluid.lbm.layout).
 // two_phase: red and blue populations (colour gradient, TRT, a droplet in the
 // box), whose roofline counts two_phase_bytes per update.
-Steps mlups(long n, int steps, bool general, bool packed, Copy& copy, bool two_phase = false) {
-  const std::string text = fmt::format(R"(
+std::string bench_config(long n, bool general, bool packed, bool two_phase) {
+  return fmt::format(R"(
 run: {{name: bench-lbm, end_time: 1.0}}
 domain: {{lower: [0, 0, 0], upper: [{0}, {0}, {0}], cells: [{1}, {1}, {1}], periodic: [true, true, true]}}
 fluid:
@@ -118,6 +128,10 @@ fluid:
                                                                n * 5e-4, n * 2.5e-4)
                                                  : "",
                                        two_phase ? "  two_phase: {surface_tension: 1.0e-6}" : "");
+}
+
+Steps mlups(long n, int steps, bool general, bool packed, Copy& copy, bool two_phase = false) {
+  const std::string text = bench_config(n, general, packed, two_phase);
   const config::Config cfg = config::parse_config_node(YAML::Load(text), "bench", catalog());
   const fluid::FluidParams params = fluid::read_params(cfg);
   const coupler::Decomposition dec({n, n, n}, 1, {1, 1, 1}, {true, true, true});
@@ -182,6 +196,87 @@ double pattern_mlups(long n, int steps) {
   return best;
 }
 
+// Wait on a barrier without spinning (the other rank has the core).
+void sleepy_barrier(MPI_Comm comm) {
+  MPI_Request r;
+  MPI_Ibarrier(comm, &r);
+  for (int done = 0; !done;) {
+    MPI_Test(&r, &done, MPI_STATUS_IGNORE);
+    if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+}
+
+// Bandwidth of all ranks of `comm` copying at once (bytes/s in all): best of
+// `repeats`, each the slowest rank's time.
+double copy_together(Copy& copy, MPI_Comm comm, int repeats) {
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  double best = 0.0;
+  for (int r = 0; r < repeats; ++r) {
+    MPI_Barrier(comm);
+    const double t0 = coupler::now();
+    copy.once();
+    double t = coupler::now() - t0, most = 0.0;
+    MPI_Allreduce(&t, &most, 1, MPI_DOUBLE, MPI_MAX, comm);
+    best = std::max(best, ranks * 2.0 * Copy::n * sizeof(double) / most);
+  }
+  return best;
+}
+
+// Median seconds per BGK step of an n^3 periodic box cut over the ranks of
+// `comm` (slowest rank), and the copy bandwidth of all of them at once,
+// the larger of before and after.
+std::pair<double, double> step_and_copy(long n, int steps, MPI_Comm comm, Copy& copy) {
+  int ranks = 1, rank = 0;
+  MPI_Comm_size(comm, &ranks);
+  MPI_Comm_rank(comm, &rank);
+  const config::Config cfg = config::parse_config_node(YAML::Load(bench_config(n, false, false, false)), "bench",
+                                                       catalog());
+  const fluid::FluidParams params = fluid::read_params(cfg);
+  const coupler::Decomposition dec({n, n, n}, ranks, {1, 1, ranks}, {true, true, true});
+  const auto solver = fluid::make_solver({cfg, params, dec, rank, comm});
+  const double dt = solver->time_step();
+  solver->advance(2 * dt);
+  const double before = copy_together(copy, comm, 2);
+  std::vector<double> times;
+  for (int s = 0; s < steps; ++s) {
+    MPI_Barrier(comm);
+    const double t0 = coupler::now();
+    solver->advance(dt);
+    double t = coupler::now() - t0, most = 0.0;
+    MPI_Allreduce(&t, &most, 1, MPI_DOUBLE, MPI_MAX, comm);
+    times.push_back(most);
+  }
+  return {median(times), std::max(before, copy_together(copy, comm, 2))};
+}
+
+// mpirun -np 2: the two-core figures (see the top of this file).
+void two_ranks(int steps, Copy& copy) {
+  const long n = 256;
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm solo;
+  MPI_Comm_split(MPI_COMM_WORLD, rank == 0 ? 0 : MPI_UNDEFINED, 0, &solo);
+  std::pair<double, double> one{0, 0};
+  if (solo != MPI_COMM_NULL) {
+    one = step_and_copy(n, steps, solo, copy);
+    MPI_Comm_free(&solo);
+  }
+  sleepy_barrier(MPI_COMM_WORLD);
+  const auto two = step_and_copy(n, steps, MPI_COMM_WORLD, copy);
+  if (rank != 0) return;
+  const double cells = static_cast<double>(n) * n * n;
+  const double m1 = cells / one.first / 1e6, m2 = cells / two.first / 1e6;
+  const double roof1 = one.second / bytes_per_update / 1e6, roof2 = two.second / bytes_per_update / 1e6;
+  std::printf("D3Q19 BGK 256^3 periodic, 1 rank (rank 0 alone): %.1f MLUPS, roofline of one core copying %.1f "
+              "(%.1f GB/s): fraction %.2f\n", m1, roof1, one.second / 1e9, m1 / roof1);
+  std::printf("D3Q19 BGK 256^3 periodic, 2 ranks (slabs of 256 x 256 x 128): %.1f MLUPS, roofline of both cores "
+              "copying at once %.1f (%.1f GB/s): fraction %.2f\n", m2, roof2, two.second / 1e9, m2 / roof2);
+  std::printf("strong scaling 1 -> 2 ranks: speed-up %.2f (efficiency %.2f); the socket's bandwidth over one "
+              "core's: %.2f\n", m2 / m1, m2 / m1 / 2.0, two.second / one.second);
+  std::printf("RESULT mlups_2=%.2f roofline_2=%.2f fraction_2=%.3f speedup=%.2f\n", m2, roof2, m2 / roof2, m2 / m1);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -189,6 +284,13 @@ int main(int argc, char** argv) {
   log::init("bench", 1);  // rank 1: warnings only
   const int steps = argc > 1 ? std::atoi(argv[1]) : 10;
   Copy copy;
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  if (size == 2) {
+    two_ranks(steps, copy);
+    MPI_Finalize();
+    return 0;
+  }
   const double bw = copy.best(5);
   const double roof = bw / bytes_per_update / 1e6;
   std::printf("copy bandwidth (1 core, loads + streaming stores), best of 5 at the start: %.2f GB/s\n", bw / 1e9);

@@ -61,7 +61,7 @@ Split run(const std::string& coflow, const std::string& config, const std::strin
     const double compute = v["wall_s"].as<double>() - v["exchange_s"].as<double>() - v["wait_s"].as<double>() -
                            v["io_s"].as<double>();
     const double overhead = v["exchange_s"].as<double>();
-    if (name == "fluid") r.fluid = compute;  // per rank (the components report their rank 0)
+    if (name == "fluid") r.fluid = compute;  // per rank (summary.json: the largest over the ranks)
     if (name == "particles") r.particles = compute;
     if (name == "immersed") r.immersed = compute;
     r.coupling += overhead * ranks;

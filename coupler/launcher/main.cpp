@@ -100,7 +100,12 @@ Launch plan(const Config& cfg, const std::map<std::string, std::string>& exe_ove
   l.bind = cfg.run.launch.bind;
   // Several runs on one node at once (ctest -j) pin their ranks to the same
   // cores: COFLOW_BIND=none in scripts/test decides what auto means there.
-  if (const char* b = std::getenv("COFLOW_BIND"); b && l.bind == "auto") l.bind = b;
+  if (const char* b = std::getenv("COFLOW_BIND"); b && l.bind == "auto") {
+    if (std::string(b) == "none" || std::string(b) == "core")
+      l.bind = b;
+    else
+      std::fprintf(stderr, "coflow: COFLOW_BIND=%s ignored (none or core)\n", b);
+  }
   l.mpi_args = cfg.run.launch.mpi_args;
   return l;
 }
@@ -164,12 +169,15 @@ std::vector<std::string> srun_argv(const Launch& l, const std::string& conf_path
 // all components, a time limit from the pre-run report's estimate (x 1.5 +
 // 10 min; 1 h where no component estimates), the output beside the run's.
 std::string sbatch_script(const Config& cfg, const Launch& l, const std::string& cfg_path,
-                          const std::vector<std::string>& overrides, const std::string& restart,
+                          const std::vector<std::string>& overrides, const std::string& restart, bool strict,
                           double estimate_s) {
   const long limit = estimate_s > 0 ? static_cast<long>(std::ceil((1.5 * estimate_s + 600.0) / 60.0)) * 60 : 3600;
   std::vector<std::string> cmd{self_dir() + "/coflow", "run", fs::absolute(cfg_path).string(), "--launcher", "srun"};
   for (const auto& o : overrides) cmd.insert(cmd.end(), {"--set", o});
   if (!restart.empty()) cmd.insert(cmd.end(), {"--restart", restart});
+  for (std::size_t i = 0; i < l.components.size(); ++i)  // --exe: the executables not built beside the launcher
+    if (l.exes[i] != self_dir() + "/coflow-" + l.components[i]) cmd.insert(cmd.end(), {"--exe", l.components[i] + "=" + l.exes[i]});
+  if (strict) cmd.push_back("--strict");
   std::string ranks;
   for (std::size_t i = 0; i < l.components.size(); ++i)
     ranks += fmt::format("{}{} {}", i ? ", " : "", l.components[i], l.ranks[i]);
@@ -644,7 +652,7 @@ int report_failure(const Config& cfg, const std::string& dir, Failure failure, i
 // into the run directory and handed to sbatch, which prints the job id).
 int submit_batch(const Config& cfg, const Launch& launch, const RunOptions& o) {
   const coflow::config::Report r = coflow::config::pre_run_report(cfg, coflow::catalog());
-  const std::string script = sbatch_script(cfg, launch, o.cfg_path, o.overrides, o.restart, r.wall_seconds);
+  const std::string script = sbatch_script(cfg, launch, o.cfg_path, o.overrides, o.restart, o.strict, r.wall_seconds);
   if (o.dry) {
     std::printf("%s", script.c_str());
     return 0;

@@ -91,7 +91,7 @@ void LaunchParams::visit(Visitor& v) {
   v("bind", bind,
     "process binding of the whole job: core (one core per rank; on an oversubscribed node several ranks share "
     "one, each pinned), none (the kernel moves ranks freely), auto (core where the ranks outnumber the cores, "
-    "else the launcher's default); mpirun --bind-to, srun --cpu-bind",
+    "else the launcher's default; under srun auto leaves the binding to Slurm); mpirun --bind-to, srun --cpu-bind",
     one_of({"auto", "none", "core"}));
   v("mpi_args", mpi_args,
     "extra arguments for mpirun or srun, before the programs (e.g. [--mca, btl_tcp_if_include, eth0])");

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <utility>
 
 namespace coflow::immersed {
 
@@ -37,8 +38,10 @@ double cube_fraction(const V& lo, double h, const V& c, double r, int levels) {
   return 0.125 * sum;
 }
 
-SphereFractions::SphereFractions(double h, const V& lower, int levels, int lattice, std::size_t max_bytes)
-    : h_(h), lower_(lower), levels_(levels), lattice_(lattice), max_bytes_(max_bytes) {}
+SphereFractions::SphereFractions(double h, const V& lower, int levels, int lattice, std::vector<double> kept_radii,
+                                 std::size_t max_bytes)
+    : h_(h), lower_(lower), levels_(levels), lattice_(lattice), kept_radii_(std::move(kept_radii)),
+      max_bytes_(max_bytes) {}
 
 std::size_t SphereFractions::KeyHash::operator()(const Key& k) const {
   std::size_t s = std::hash<std::uint64_t>{}(k.radius_bits);
@@ -93,7 +96,10 @@ void SphereFractions::cover(const V& c, double radius, std::vector<std::pair<cou
     offset[d] = x - static_cast<double>(base[d]);
   }
   out.clear();
-  if (lattice_ == 0) {
+  const bool keep = lattice_ > 0 && std::any_of(kept_radii_.begin(), kept_radii_.end(), [&](double k) {
+    return std::abs(k - radius) <= 1e-12 * k;
+  });
+  if (!keep) {
     const std::vector<double> f = stencil(offset, r, m);
     std::size_t at = 0;
     for (int k = -m; k <= m; ++k)

@@ -6,8 +6,11 @@
 // in one of two ways:
 //   - exact centre (lattice 0): every cell's octree at the sphere's own
 //     centre, every window; the reference;
-//   - centre lattice N (the default): the fractions depend only on the radius
-//     and the centre's offset inside its cell, so they are computed once for
+//   - centre lattice N (the default), for the radii it is given (the
+//     species of fixed diameter; other radii, from a size distribution or
+//     crushing, take the exact centre, as kept stencils of radii that never
+//     repeat would cost more than they save): the fractions depend only on the
+//     radius and the centre's offset inside its cell, so they are computed once for
 //     the centres on a lattice of h/N in the cell, kept, and interpolated
 //     trilinearly to the actual offset. A sphere that moves costs a few
 //     multiply-adds per cell instead of an octree per cut cell; whole-cell
@@ -37,9 +40,10 @@ class SphereFractions {
  public:
   // h: the cell size; lower: the grid's origin; levels: octree levels;
   // lattice: centre positions per cell and axis (0: exact centres);
-  // max_bytes: the kept stencils' memory, cleared whole when it is passed.
+  // kept_radii: the radii (m) whose stencils are kept; max_bytes: the kept
+  // stencils' memory, cleared whole when it is passed.
   SphereFractions(double h, const std::array<double, 3>& lower, int levels, int lattice,
-                  std::size_t max_bytes = std::size_t{256} << 20);
+                  std::vector<double> kept_radii, std::size_t max_bytes = std::size_t{256} << 20);
 
   // The cells (global, unwrapped indices) sphere (c, r) covers and their
   // fractions (> 0), replacing `out`'s contents.
@@ -65,6 +69,7 @@ class SphereFractions {
   double h_;
   std::array<double, 3> lower_;
   int levels_, lattice_;
+  std::vector<double> kept_radii_;
   std::size_t max_bytes_, bytes_ = 0, computed_ = 0;
   std::unordered_map<Key, std::vector<double>, KeyHash> kept_;
   std::vector<double> blend_;

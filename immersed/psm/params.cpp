@@ -12,7 +12,8 @@ void PsmParams::visit(config::Visitor& v) {
     "for centres on a lattice of h/N per axis, kept, and interpolated trilinearly to the actual centre (8: a "
     "moving sphere costs a few operations per cell, and the interpolation smooths the octree's leaf noise: largest "
     "cell error against 7 levels 0.020, exact centre 0.030, at radius 4 cells); 0: the octree at the exact "
-    "centre every window",
+    "centre every window. Only species of one diameter keep stencils; particles from a size distribution or "
+    "crushing take the exact centre",
     config::in_range(0, 64));
   v("buoyancy", buoyancy,
     "add the buoyancy -rho_f V g to each particle (the fluid carries no hydrostatic pressure gradient)");

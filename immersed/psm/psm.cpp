@@ -76,7 +76,7 @@ coupler::PointExchange particle_exchange(coupler::Session& s, int ghost) {
 // coverages and two point exchanges alternate, window by window.
 class PsmWindows final : public coupler::WindowParts {
  public:
-  PsmWindows(coupler::Session& s, const PsmParams& p, int ghost);
+  PsmWindows(coupler::Session& s, const PsmParams& p, int ghost, std::vector<double> kept_radii);
   void start(long) override { ahead_ = false; }
   void before_step(long w) override;  // 1, 2
   void step(long w) override;         // 3, (1, 2 of w + 1), 4
@@ -117,7 +117,7 @@ class PsmWindows final : public coupler::WindowParts {
   ImmersedSeries series_;
 };
 
-PsmWindows::PsmWindows(coupler::Session& s, const PsmParams& p, int ghost)
+PsmWindows::PsmWindows(coupler::Session& s, const PsmParams& p, int ghost, std::vector<double> kept_radii)
     : s_(s),
       dom_(s.config().domain),
       p_(p),
@@ -132,7 +132,7 @@ PsmWindows::PsmWindows(coupler::Session& s, const PsmParams& p, int ghost)
       from_fluid_(s.partner("fluid"), coupler::FieldExchange::Role::receiver, s.decomposition(), s.rank(),
                   s.decomposition_of("fluid", s.partner_ranks("fluid")),
                   coupler::FieldSpec{"solid_force", 3, coupler::Transfer::consistent, 0}, protocol::kTagSolidForce),
-      fractions_(h_, dom_.lower, p.refinement, p.centre_lattice),
+      fractions_(h_, dom_.lower, p.refinement, p.centre_lattice, std::move(kept_radii)),
       series_(s) {
   const std::string angle = config::resolved_text(s.config(), {"fluid", "two_phase", "contact_angle"});
   if (!angle.empty()) default_angle_ = std::stod(angle);
@@ -300,7 +300,11 @@ void PsmMethod::run(coupler::Session& s) {
   }
   const int ghost = particles::coupling_ghost_cells(pp, cfg);
   s.negotiate_window(0.0);
-  PsmWindows windows(s, p_, ghost);
+  // The species of one diameter keep their stencils (fractions.hpp).
+  std::vector<double> kept_radii;
+  for (const auto& [name, sp] : pp.species)
+    if (sp.diameter.kind == config::Distribution::Kind::fixed) kept_radii.push_back(0.5 * sp.diameter.a);
+  PsmWindows windows(s, p_, ghost, std::move(kept_radii));
   coupler::run_windows(s, windows);
 }
 

@@ -8,8 +8,9 @@
 // proportion to the square root of the work. Parallel-explicit components
 // overlap, so the wall time is about the largest work / ranks: the best split
 // is in proportion to the work. Whole ranks, at least one each, the total
-// kept; a greedy allocation of one rank at a time is optimal for both sums of
-// convex terms and for the maximum.
+// kept, given one at a time: for the sum to the component whose extra rank
+// shortens it most, for the maximum to the component that takes longest
+// (both greedy rules are optimal for their objective).
 #pragma once
 
 #include <string>

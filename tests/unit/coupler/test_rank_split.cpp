@@ -17,11 +17,16 @@ TEST_CASE("overlapped components get ranks in proportion to their work", "[coupl
   CHECK(r.wall_now == 6.0);
   CHECK(r.wall_balanced == 3.0);
   CHECK(rank_advice(loads, true).rfind("fluid 2, immersed 1, particles 1 would balance this run (about 50 %", 0) == 0);
+  // Two components tie for the longest: work 1, 6, 6 on 5 ranks; (1, 2, 2)
+  // halves the largest (6 -> 3), which no single extra rank shows.
+  const auto tie = balance_ranks({{"fluid", 3, 1.0 / 3.0}, {"immersed", 1, 6.0}, {"particles", 1, 6.0}}, true);
+  CHECK(tie.ranks == std::vector<int>{1, 2, 2});
+  CHECK(tie.wall_balanced == 3.0);
 }
 
 TEST_CASE("components that take turns get ranks by the square root of their work", "[coupler][ranks]") {
   // Work 16, 4, 1 on 7 ranks (sqrt: 4 : 2 : 1). Sum of work / ranks:
-  // (4, 2, 1) -> 4 + 2 + 1 = 7; e.g. (5, 1, 1) -> 3.2 + 4 + 1 = 8.2, (3, 3, 1) -> 8.67.
+  // (4, 2, 1) -> 4 + 2 + 1 = 7; e.g. (5, 1, 1) -> 3.2 + 4 + 1 = 8.2, (3, 3, 1) -> 7.67.
   const std::vector<ComponentLoad> loads{{"fluid", 1, 16.0}, {"immersed", 5, 0.8}, {"particles", 1, 1.0}};
   const auto r = balance_ranks(loads, false);
   CHECK(r.ranks == std::vector<int>{4, 2, 1});

@@ -88,7 +88,8 @@ TEST_CASE("fractions kept on a lattice of centre offsets stay within the octree'
   const double h = 5e-4;
   const V lower{-0.01, 0.002, 0.0};
   for (double radius_cells : {4.0, 8.0}) {
-    SphereFractions exact(h, lower, 3, 0), truth(h, lower, 7, 0), kept(h, lower, 3, 8);
+    const std::vector<double> radii{radius_cells * h};
+    SphereFractions exact(h, lower, 3, 0, {}), truth(h, lower, 7, 0, {}), kept(h, lower, 3, 8, radii);
     double worst_kept = 0.0, worst_octree = 0.0, worst_apart = 0.0;
     for (int s = 0; s < 12; ++s) {
       const V c{lower[0] + (20.0 + 0.0831 * s) * h, lower[1] + (21.0 + std::fmod(0.377 * s, 1.0)) * h,
@@ -114,7 +115,7 @@ TEST_CASE("kept fractions move with the sphere by whole cells, and equal the exa
           "[immersed][psm]") {
   using coflow::immersed::SphereFractions;
   const double h = 1.0;  // powers of two: centres on the lattice are exact
-  SphereFractions kept(h, {0, 0, 0}, 3, 8), exact(h, {0, 0, 0}, 3, 0);
+  SphereFractions kept(h, {0, 0, 0}, 3, 8, {3.5}), exact(h, {0, 0, 0}, 3, 0, {});
   Cells a, b, e;
   kept.cover({10.25, 10.625, 10.5}, 3.5, a);
   exact.cover({10.25, 10.625, 10.5}, 3.5, e);
@@ -124,4 +125,9 @@ TEST_CASE("kept fractions move with the sphere by whole cells, and equal the exa
   for (auto& [c, f] : b) c = {c[0] - 2, c[1] + 3, c[2] - 1};
   CHECK(max_difference(a, b) <= 0.0);
   CHECK(kept.stencils_computed() == 9);  // one for the lattice centre, eight around the other
+  // A radius not among the kept ones (a size distribution) takes the exact centre.
+  kept.cover({10.5625, 10.8125, 10.0625}, 3.25, a);
+  exact.cover({10.5625, 10.8125, 10.0625}, 3.25, e);
+  CHECK(max_difference(a, e) <= 0.0);
+  CHECK(kept.stencils_computed() == 9);
 }

@@ -29,7 +29,11 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include "bench_util.hpp"
+
 namespace {
+
+using coflow::bench::median;
 
 struct Split {
   double wall = 0, fluid = 0, particles = 0, immersed = 0, coupling = 0, waiting = 0;
@@ -71,11 +75,6 @@ Split run(const std::string& coflow, const std::string& config, const std::strin
   r.coupling /= ranks_total;  // per rank on average
   r.waiting /= ranks_total;
   return r;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
 }
 
 void print(const char* name, const Split& s) {

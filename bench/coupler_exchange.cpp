@@ -20,6 +20,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_util.hpp"
 #include "coflow/exchange.hpp"
 #include "coflow/trace.hpp"
 
@@ -27,16 +28,7 @@ using namespace coflow::coupler;
 
 namespace {
 
-// Wait on a barrier without spinning.
-void sleepy_barrier(MPI_Comm comm) {
-  MPI_Request r;
-  MPI_Ibarrier(comm, &r);
-  int done = 0;
-  while (!done) {
-    MPI_Test(&r, &done, MPI_STATUS_IGNORE);
-    if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-}
+using coflow::bench::sleepy_barrier;
 
 // The map of a k x k split of world ranks 0 .. 2k - 1 (others: MPI_COMM_NULL);
 // the time to build it, max over the ranks (0 on ranks outside).

@@ -33,6 +33,7 @@
 #include <immintrin.h>
 #endif
 
+#include "bench_util.hpp"
 #include "coflow/memory.hpp"
 
 #include <fmt/format.h>
@@ -49,6 +50,9 @@ using namespace coflow;
 using coflow::HugeVector;
 
 namespace {
+
+using coflow::bench::median;
+using coflow::bench::sleepy_barrier;
 
 // Copy bandwidth with the same store kind as the kernel: loads and streaming
 // (non-temporal) stores, traffic = 2 x the array size.
@@ -81,12 +85,6 @@ constexpr double bytes_per_update = 304.0;
 // populations in one pass and pulls them again to collide in a second
 // (another 304 B loaded, and 304 B of write-allocate: about twice this).
 constexpr double two_phase_bytes = 624.0;
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
 
 // MLUPS of each step and the roofline (MLUPS) beside it.
 struct Steps {
@@ -194,16 +192,6 @@ double pattern_mlups(long n, int steps) {
     std::swap(a, b);
   }
   return best;
-}
-
-// Wait on a barrier without spinning (the other rank has the core).
-void sleepy_barrier(MPI_Comm comm) {
-  MPI_Request r;
-  MPI_Ibarrier(comm, &r);
-  for (int done = 0; !done;) {
-    MPI_Test(&r, &done, MPI_STATUS_IGNORE);
-    if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
 }
 
 // Bandwidth of all ranks of `comm` copying at once (bytes/s in all): best of

@@ -90,7 +90,7 @@ TEST_CASE("fractions kept on a lattice of centre offsets stay within the octree'
   for (double radius_cells : {4.0, 8.0}) {
     const std::vector<double> radii{radius_cells * h};
     SphereFractions exact(h, lower, 3, 0, {}), truth(h, lower, 7, 0, {}), kept(h, lower, 3, 8, radii);
-    double worst_kept = 0.0, worst_octree = 0.0, worst_apart = 0.0;
+    double worst_kept = 0.0, worst_octree = 0.0, worst_apart = 0.0, worst_volume = 0.0;
     for (int s = 0; s < 12; ++s) {
       const V c{lower[0] + (20.0 + 0.0831 * s) * h, lower[1] + (21.0 + std::fmod(0.377 * s, 1.0)) * h,
                 lower[2] + (19.5 + std::fmod(0.6123 * s, 1.0)) * h};
@@ -99,15 +99,17 @@ TEST_CASE("fractions kept on a lattice of centre offsets stay within the octree'
       truth.cover(c, radius_cells * h, t);
       kept.cover(c, radius_cells * h, k);
       const double volume = 4.0 / 3.0 * std::numbers::pi * std::pow(radius_cells, 3);
-      CHECK(std::abs(sum(k) / volume - 1.0) < 1e-13);  // the interpolation keeps the volume
+      worst_volume = std::max(worst_volume, std::abs(sum(k) / volume - 1.0));  // the interpolation keeps it
       worst_kept = std::max(worst_kept, max_difference(k, t));
       worst_octree = std::max(worst_octree, max_difference(e, t));
       worst_apart = std::max(worst_apart, max_difference(k, e));
     }
     INFO("radius " << radius_cells << " cells, largest error of a cell's fraction against 7 levels: kept "
                    << worst_kept << ", exact centre " << worst_octree << "; kept vs exact centre " << worst_apart);
+    INFO("relative volume error of the kept fractions " << worst_volume);
     CHECK(worst_kept < worst_octree);
     CHECK(worst_apart < 0.1);
+    CHECK(worst_volume < 2e-14);  // 1.3e-15 and 2.3e-15 measured: round-off of the sums
   }
 }
 

@@ -1,0 +1,35 @@
+#include "fluid/fv/amr/forest.hpp"
+
+#include <p4est_base.h>
+
+#include <mutex>
+#include <stdexcept>
+
+namespace coflow::fluid::fv::amr {
+namespace {
+
+// p4est's and libsc's logging to errors only, once per process (p4est and
+// p8est are one package: registering it twice aborts).
+void quiet_p4est_once() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    sc_set_log_defaults(nullptr, nullptr, SC_LP_ERROR);
+    p4est_init(nullptr, SC_LP_ERROR);
+  });
+}
+
+}  // namespace
+
+Forest::Forest(MPI_Comm comm, const ForestSpec& spec) : spec_(spec), comm_(comm) {
+  if (spec.dims != 2 && spec.dims != 3) throw std::invalid_argument("refinement: dims must be 2 or 3");
+  if (spec.dims == 2 && (spec.trees[2] != 1 || spec.periodic[2]))
+    throw std::invalid_argument("refinement: a 2D brick has one tree along z and no z period");
+  if (spec.max_level < spec.min_level) throw std::invalid_argument("refinement: max_level below min_level");
+  quiet_p4est_once();
+  engine_ = spec.dims == 2 ? make_forest_engine_2d(comm, spec) : make_forest_engine_3d(comm, spec);
+  engine_->collect(*this);
+}
+
+Forest::~Forest() = default;
+
+}  // namespace coflow::fluid::fv::amr

@@ -1,0 +1,94 @@
+// The refinement engine of fv's block-structured adaptive grid: a forest of
+// quadtrees (2D) or octrees (3D) kept by p4est (Debian's libp4est-dev), one
+// tree per unit block of a brick, 2:1 balanced across faces, edges and
+// corners, partitioned over the ranks by equal leaf counts (every leaf holds
+// a patch of the same number of cells), with one layer of ghost leaves from
+// the neighbouring ranks. This class keeps p4est's objects and hands out the
+// leaves as plain data; the cells, the operators and the fields live in
+// composite_grid.hpp and the modules built on it.
+//
+// Why p4est: it is the distributed octree of deal.II, ForestClaw and
+// waLBerla's users, with 2:1 balance, partitioning and ghost layers that a
+// home-made tree would have to re-derive (docs/architecture.md).
+#pragma once
+
+#include <mpi.h>
+
+#include <array>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "coflow/decomposition.hpp"
+
+namespace coflow::fluid::fv::amr {
+
+using coupler::Index3;
+
+// A leaf of the forest: a patch of cells at `level`. Its position is its
+// index among all patches of that level over the whole brick (level 0: the
+// tree's brick position; each level doubles the counts per axis).
+struct Leaf {
+  int level = 0;
+  Index3 patch{0, 0, 0};
+  long global = 0;  // its index in the forest's global order (Morton per tree)
+  int owner = 0;    // the rank that owns it
+};
+
+struct ForestSpec {
+  int dims = 2;                       // 2 or 3
+  std::array<int, 3> trees{1, 1, 1};  // brick of unit trees (trees[2] = 1 in 2D)
+  std::array<bool, 3> periodic{false, false, false};
+  int min_level = 0;  // every leaf at least this fine
+  int max_level = 0;  // no leaf finer
+  // Refine the leaf at (level, patch) once more? Asked for every leaf below
+  // max_level, recursively; the forest is then 2:1 balanced, so a few
+  // leaves may be finer than asked.
+  std::function<bool(int level, const Index3& patch)> refine;
+};
+
+class Forest {
+ public:
+  Forest(MPI_Comm comm, const ForestSpec& spec);
+  ~Forest();
+  Forest(const Forest&) = delete;
+  Forest& operator=(const Forest&) = delete;
+
+  const ForestSpec& spec() const { return spec_; }
+  const std::vector<Leaf>& leaves() const { return leaves_; }  // this rank's, in global order
+  const std::vector<Leaf>& ghosts() const { return ghosts_; }  // neighbours' leaves touching ours
+  long global_leaves() const { return global_leaves_; }
+  long first_leaf() const { return first_leaf_; }  // global index of leaves()[0]
+  MPI_Comm comm() const { return comm_; }
+
+  // The p4est objects, 2D or 3D (forest_2d.cpp, forest_3d.cpp).
+  struct Engine {
+    virtual ~Engine() = default;
+    virtual void collect(Forest& f) = 0;  // fill leaves_, ghosts_, counts
+  };
+
+ private:
+  friend struct EngineAccess;
+  ForestSpec spec_;
+  MPI_Comm comm_;
+  std::unique_ptr<Engine> engine_;
+  std::vector<Leaf> leaves_, ghosts_;
+  long global_leaves_ = 0, first_leaf_ = 0;
+};
+
+// The dimension-specific builders (compiled once per dimension from
+// forest_p4est_impl.hpp).
+std::unique_ptr<Forest::Engine> make_forest_engine_2d(MPI_Comm comm, const ForestSpec& spec);
+std::unique_ptr<Forest::Engine> make_forest_engine_3d(MPI_Comm comm, const ForestSpec& spec);
+
+// Lets the engines fill a forest's leaf lists.
+struct EngineAccess {
+  static std::vector<Leaf>& leaves(Forest& f) { return f.leaves_; }
+  static std::vector<Leaf>& ghosts(Forest& f) { return f.ghosts_; }
+  static void counts(Forest& f, long global, long first) {
+    f.global_leaves_ = global;
+    f.first_leaf_ = first;
+  }
+};
+
+}  // namespace coflow::fluid::fv::amr

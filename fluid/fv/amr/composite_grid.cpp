@@ -23,9 +23,7 @@ Index3 shifted(Index3 i, int axis, long by) {
 }  // namespace
 
 CompositeGrid::CompositeGrid(const Forest& forest, const GridGeometry& geometry)
-    : forest_(forest), geometry_(geometry), dims_(forest.spec().dims), n_(geometry.patch) {
-  if (n_ < 4 || n_ % 2 != 0)
-    throw std::invalid_argument("refinement: a patch needs an even number of cells, at least 4");
+    : forest_(forest), geometry_(geometry), dims_(forest.spec().dims), n_(forest.spec().patch) {
   cells_per_patch_ = static_cast<long>(n_) * n_ * (dims_ == 3 ? n_ : 1);
   for (int d = 0; d < 3; ++d)
     if ((static_cast<long>(forest.spec().trees[d]) << forest.spec().max_level) >= (1L << kBits))

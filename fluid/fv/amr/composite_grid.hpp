@@ -34,7 +34,6 @@ using Stencil = std::vector<std::pair<long, double>>;
 struct GridGeometry {
   std::array<double, 3> origin{0.0, 0.0, 0.0};
   double tree_size = 1.0;  // edge of one tree (a level-0 patch)
-  int patch = 8;           // cells per patch edge (even, at least 4)
 };
 
 class CompositeGrid {

@@ -24,6 +24,8 @@ Forest::Forest(MPI_Comm comm, const ForestSpec& spec) : spec_(spec), comm_(comm)
   if (spec.dims != 2 && spec.dims != 3) throw std::invalid_argument("refinement: dims must be 2 or 3");
   if (spec.dims == 2 && (spec.trees[2] != 1 || spec.periodic[2]))
     throw std::invalid_argument("refinement: a 2D brick has one tree along z and no z period");
+  if (spec.patch < 4 || spec.patch % 2 != 0)
+    throw std::invalid_argument("refinement: a patch needs an even number of cells, at least 4");
   if (spec.max_level < spec.min_level) throw std::invalid_argument("refinement: max_level below min_level");
   quiet_p4est_once();
   engine_ = spec.dims == 2 ? make_forest_engine_2d(comm, spec) : make_forest_engine_3d(comm, spec);

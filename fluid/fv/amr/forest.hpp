@@ -17,6 +17,8 @@
 #include <array>
 #include <functional>
 #include <memory>
+#include <span>
+#include <stdexcept>
 #include <vector>
 
 #include "coflow/decomposition.hpp"
@@ -39,8 +41,11 @@ struct ForestSpec {
   int dims = 2;                       // 2 or 3
   std::array<int, 3> trees{1, 1, 1};  // brick of unit trees (trees[2] = 1 in 2D)
   std::array<bool, 3> periodic{false, false, false};
-  int min_level = 0;  // every leaf at least this fine
-  int max_level = 0;  // no leaf finer
+  int min_level = 0;   // every leaf at least this fine
+  int max_level = 0;   // no leaf finer
+  int patch = 8;       // cells per patch edge (even, at least 4)
+  int components = 0;  // field values per cell kept on the leaves (0: none)
+  int values_per_leaf() const { return components * patch * patch * (dims == 3 ? patch : 1); }
   // Refine the leaf at (level, patch) once more? Asked for every leaf below
   // max_level, recursively; the forest is then 2:1 balanced, so a few
   // leaves may be finer than asked.
@@ -57,6 +62,29 @@ class Forest {
   const ForestSpec& spec() const { return spec_; }
   const std::vector<Leaf>& leaves() const { return leaves_; }  // this rank's, in global order
   const std::vector<Leaf>& ghosts() const { return ghosts_; }  // neighbours' leaves touching ours
+  // Leaf i's field values (patch cells x fastest, `components` per cell);
+  // p4est moves them with the leaf when it repartitions.
+  std::span<double> data(std::size_t leaf) {
+    return {data_[leaf], static_cast<std::size_t>(spec_.values_per_leaf())};
+  }
+  std::span<const double> data(std::size_t leaf) const {
+    return {data_[leaf], static_cast<std::size_t>(spec_.values_per_leaf())};
+  }
+  // Ghost leaf g's values, as of the last exchange_ghosts().
+  std::span<const double> ghost_data(std::size_t g) const {
+    const std::size_t stride = static_cast<std::size_t>(spec_.values_per_leaf()) + 1;
+    return {ghost_buffer_.data() + g * stride, stride - 1};
+  }
+  void exchange_ghosts() { engine_->exchange(*this); }
+  // Regrids: each local leaf's mark (+1 refine, -1 coarsen if its whole
+  // family says so, 0 keep; levels stay within min_level..max_level), then
+  // 2:1 balance and repartition. Field values follow conservatively: a
+  // refined cell's value goes to its 2^d children, a coarsened cell takes
+  // its children's mean. Collective.
+  void adapt(const std::vector<int>& marks) {
+    if (marks.size() != leaves_.size()) throw std::invalid_argument("refinement: one mark per local leaf");
+    engine_->adapt(*this, marks);
+  }
   long global_leaves() const { return global_leaves_; }
   long first_leaf() const { return first_leaf_; }  // global index of leaves()[0]
   MPI_Comm comm() const { return comm_; }
@@ -64,7 +92,9 @@ class Forest {
   // The p4est objects, 2D or 3D (forest_2d.cpp, forest_3d.cpp).
   struct Engine {
     virtual ~Engine() = default;
-    virtual void collect(Forest& f) = 0;  // fill leaves_, ghosts_, counts
+    virtual void collect(Forest& f) = 0;  // fill leaves_, ghosts_, data_, counts
+    virtual void adapt(Forest& f, const std::vector<int>& marks) = 0;
+    virtual void exchange(Forest& f) = 0;
   };
 
  private:
@@ -73,6 +103,8 @@ class Forest {
   MPI_Comm comm_;
   std::unique_ptr<Engine> engine_;
   std::vector<Leaf> leaves_, ghosts_;
+  std::vector<double*> data_;
+  std::vector<double> ghost_buffer_;  // per ghost leaf its values and its mark
   long global_leaves_ = 0, first_leaf_ = 0;
 };
 
@@ -85,6 +117,8 @@ std::unique_ptr<Forest::Engine> make_forest_engine_3d(MPI_Comm comm, const Fores
 struct EngineAccess {
   static std::vector<Leaf>& leaves(Forest& f) { return f.leaves_; }
   static std::vector<Leaf>& ghosts(Forest& f) { return f.ghosts_; }
+  static std::vector<double*>& data(Forest& f) { return f.data_; }
+  static std::vector<double>& ghost_buffer(Forest& f) { return f.ghost_buffer_; }
   static void counts(Forest& f, long global, long first) {
     f.global_leaves_ = global;
     f.first_leaf_ = first;

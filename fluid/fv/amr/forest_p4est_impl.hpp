@@ -7,6 +7,7 @@
 // COFLOW_FOREST_ENGINE naming the builder function.
 #include <mpi.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "fluid/fv/amr/forest.hpp"
@@ -17,7 +18,77 @@ namespace {
 struct BuildContext {
   const ForestSpec* spec;
   const p4est_connectivity_t* conn;
+  int values = 0;  // doubles of field data per leaf; one more holds the leaf's mark
 };
+
+// The cell of a parent patch that holds cell `cell` of its child `child`
+// (p4est's child order: x bit first, then y, then z).
+long parent_of(long cell, int child, int n, int dims) {
+  long parent = 0, stride = 1;
+  for (int d = 0; d < dims; ++d) {
+    const long i = (cell / stride) % n;
+    parent += ((i + ((child >> d) & 1) * n) / 2) * stride;
+    stride *= n;
+  }
+  return parent;
+}
+
+double* data_of(p4est_quadrant_t* q) {
+  return static_cast<double*>(q->p.user_data);
+}
+
+// New leaves start with zero data and no mark.
+void zero_leaf(p4est_t* forest, p4est_topidx_t, p4est_quadrant_t* q) {
+  const auto* ctx = static_cast<const BuildContext*>(forest->user_pointer);
+  std::fill_n(data_of(q), ctx->values + 1, 0.0);
+}
+
+// Conservative transfer: a refined leaf's children inherit its values (the
+// patch's cells split in 2^d: each child cell takes its parent cell's
+// value); a coarsened family's parent takes the mean of the 2^d child cells
+// over each of its cells.
+void transfer(p4est_t* forest, p4est_topidx_t, int n_out, p4est_quadrant_t* out[], int n_in,
+              p4est_quadrant_t* in[]) {
+  const auto* ctx = static_cast<const BuildContext*>(forest->user_pointer);
+  if (ctx->values == 0) return;
+  const int n = ctx->spec->patch, dims = ctx->spec->dims;
+  const long per = ctx->values / ctx->spec->components;  // cells per patch
+  const int components = ctx->spec->components;
+  if (n_out == 1) {  // refined: parent out[0], children in[0..2^d)
+    for (int c = 0; c < n_in; ++c) {
+      double* child = data_of(in[c]);
+      for (long cell = 0; cell < per; ++cell) {
+        const long parent_cell = parent_of(cell, c, n, dims);
+        for (int q = 0; q < components; ++q)
+          child[cell * components + q] = data_of(out[0])[parent_cell * components + q];
+      }
+      child[ctx->values] = 0.0;
+    }
+  } else {  // coarsened: children out[0..2^d), parent in[0]
+    double* parent = data_of(in[0]);
+    std::fill_n(parent, ctx->values + 1, 0.0);
+    const double w = 1.0 / n_out;
+    for (int c = 0; c < n_out; ++c)
+      for (long cell = 0; cell < per; ++cell) {
+        const long parent_cell = parent_of(cell, c, n, dims);
+        for (int q = 0; q < components; ++q)
+          parent[parent_cell * components + q] += w * data_of(out[c])[cell * components + q];
+      }
+  }
+}
+
+int refine_marked(p4est_t* forest, p4est_topidx_t, p4est_quadrant_t* q) {
+  const auto* ctx = static_cast<const BuildContext*>(forest->user_pointer);
+  return q->level < ctx->spec->max_level && data_of(q)[ctx->values] > 0.5 ? 1 : 0;
+}
+
+int coarsen_marked(p4est_t* forest, p4est_topidx_t, p4est_quadrant_t* family[]) {
+  const auto* ctx = static_cast<const BuildContext*>(forest->user_pointer);
+  if (family[0]->level <= ctx->spec->min_level) return 0;
+  for (int c = 0; c < P4EST_CHILDREN; ++c)
+    if (!(data_of(family[c])[ctx->values] < -0.5)) return 0;
+  return 1;
+}
 
 // A quadrant's patch index at its level over the whole brick.
 Index3 patch_of(const p4est_connectivity_t* conn, p4est_topidx_t tree, const p4est_quadrant_t* q) {
@@ -50,13 +121,14 @@ class Engine final : public Forest::Engine {
 #else
     conn_ = p4est_connectivity_new_brick(spec.trees[0], spec.trees[1], spec.periodic[0], spec.periodic[1]);
 #endif
-    forest_ = p4est_new_ext(comm, conn_, 0, spec.min_level, 1, 0, nullptr, nullptr);
-    BuildContext ctx{&spec_, conn_};
-    forest_->user_pointer = &ctx;
-    p4est_refine(forest_, 1, refine_leaf, nullptr);
-    p4est_balance(forest_, P4EST_CONNECT_FULL, nullptr);
-    p4est_partition(forest_, 0, nullptr);
-    forest_->user_pointer = nullptr;
+    ctx_ = {&spec_, conn_, spec.values_per_leaf()};
+    const auto bytes = static_cast<size_t>(ctx_.values + 1) * sizeof(double);
+    forest_ = p4est_new_ext(comm, conn_, 0, spec.min_level, 1, bytes, zero_leaf, &ctx_);
+    p4est_refine(forest_, 1, refine_leaf, zero_leaf);
+    p4est_balance(forest_, P4EST_CONNECT_FULL, zero_leaf);
+    // Families stay on one rank, so that any family can be coarsened later
+    // whatever the rank count (1 rank then equals N).
+    p4est_partition(forest_, 1, nullptr);
     ghost_ = p4est_ghost_new(forest_, P4EST_CONNECT_FULL);
   }
   ~Engine() override {
@@ -67,7 +139,29 @@ class Engine final : public Forest::Engine {
   Engine(const Engine&) = delete;
   Engine& operator=(const Engine&) = delete;
 
+  void adapt(Forest& f, const std::vector<int>& marks) override {
+    std::size_t i = 0;
+    for_each_local([&](p4est_quadrant_t* q) { data_of(q)[ctx_.values] = marks.at(i++); });
+    p4est_coarsen_ext(forest_, 0, 0, coarsen_marked, zero_leaf, transfer);
+    p4est_refine_ext(forest_, 0, spec_.max_level, refine_marked, zero_leaf, transfer);
+    p4est_balance_ext(forest_, P4EST_CONNECT_FULL, zero_leaf, transfer);
+    p4est_partition(forest_, 1, nullptr);
+    p4est_ghost_destroy(ghost_);
+    ghost_ = p4est_ghost_new(forest_, P4EST_CONNECT_FULL);
+    collect(f);
+  }
+
+  void exchange(Forest& f) override {
+    auto& buffer = EngineAccess::ghost_buffer(f);
+    const std::size_t stride = static_cast<std::size_t>(ctx_.values) + 1;
+    buffer.assign(ghost_->ghosts.elem_count * stride, 0.0);
+    p4est_ghost_exchange_data(forest_, ghost_, buffer.data());
+  }
+
   void collect(Forest& f) override {
+    auto& data = EngineAccess::data(f);
+    data.clear();
+    for_each_local([&](p4est_quadrant_t* q) { data.push_back(data_of(q)); });
     auto& leaves = EngineAccess::leaves(f);
     auto& ghosts = EngineAccess::ghosts(f);
     leaves.clear();
@@ -91,7 +185,17 @@ class Engine final : public Forest::Engine {
   }
 
  private:
+  template <class F>
+  void for_each_local(F&& f) {
+    for (p4est_topidx_t t = forest_->first_local_tree; t <= forest_->last_local_tree; ++t) {
+      auto* tree = p4est_tree_array_index(forest_->trees, t);
+      for (size_t i = 0; i < tree->quadrants.elem_count; ++i)
+        f(p4est_quadrant_array_index(&tree->quadrants, i));
+    }
+  }
+
   ForestSpec spec_;
+  BuildContext ctx_{};
   p4est_connectivity_t* conn_ = nullptr;
   p4est_t* forest_ = nullptr;
   p4est_ghost_t* ghost_ = nullptr;

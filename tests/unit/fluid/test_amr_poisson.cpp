@@ -75,8 +75,10 @@ struct Errors {
 // error norms and (optionally) each cell's value by (level, index).
 Errors solve_manufactured(MPI_Comm comm, int dims, int levels, int patch,
                           std::map<std::array<long, 4>, double>* values = nullptr) {
-  const Forest forest(comm, nested_forest(dims, levels));
-  const CompositeGrid grid(forest, {{0.0, 0.0, 0.0}, 0.25, patch});
+  auto spec = nested_forest(dims, levels);
+  spec.patch = patch;
+  const Forest forest(comm, spec);
+  const CompositeGrid grid(forest, {{0.0, 0.0, 0.0}, 0.25});
   std::array<FaceCondition, 6> faces;
   faces.fill(FaceCondition::dirichlet);
   const auto L = assemble_laplacian(grid, faces);
@@ -140,8 +142,9 @@ namespace {
 std::array<double, 2> periodic_imbalance(int dims, int levels) {
   auto spec = nested_forest(dims, levels);
   spec.periodic = {true, true, dims == 3};
+  spec.patch = 4;
   const Forest forest(MPI_COMM_WORLD, spec);
-  const CompositeGrid grid(forest, {{0.0, 0.0, 0.0}, 0.25, 4});
+  const CompositeGrid grid(forest, {{0.0, 0.0, 0.0}, 0.25});
   std::array<FaceCondition, 6> faces;
   faces.fill(FaceCondition::dirichlet);
   const auto L = assemble_laplacian(grid, faces);

@@ -30,6 +30,39 @@ CompositeGrid::CompositeGrid(const Forest& forest, const GridGeometry& geometry)
       throw std::invalid_argument("refinement: too many patches per axis on the finest level");
   for (const auto* list : {&forest.leaves(), &forest.ghosts()})
     for (const auto& leaf : *list) known_[key(leaf.level, leaf.patch)] = &leaf;
+  for (std::size_t g = 0; g < forest.ghosts().size(); ++g)
+    ghost_index_[forest.ghosts()[g].global] = static_cast<long>(g);
+}
+
+long CompositeGrid::slot(long id) const {
+  const long leaf = id / cells_per_patch_, within = id % cells_per_patch_;
+  const long local = leaf - forest_.first_leaf();
+  if (local >= 0 && local < static_cast<long>(forest_.leaves().size()))
+    return local * cells_per_patch_ + within;
+  const auto it = ghost_index_.find(leaf);
+  if (it == ghost_index_.end())
+    throw std::logic_error("refinement: a stencil reaches beyond the ghost layer");
+  return local_cells() + it->second * cells_per_patch_ + within;
+}
+
+Stencil CompositeGrid::to_slots(const Stencil& s) const {
+  Stencil out;
+  out.reserve(s.size());
+  for (const auto& [id, w] : s) out.emplace_back(slot(id), w);
+  return out;
+}
+
+void CompositeGrid::gather(int component, std::vector<double>& out) const {
+  out.resize(static_cast<std::size_t>(slots()));
+  const auto nc = static_cast<std::size_t>(forest_.spec().components);
+  const auto per = static_cast<std::size_t>(cells_per_patch_);
+  std::size_t k = 0;
+  for (std::size_t l = 0; l < forest_.leaves().size(); ++l)
+    for (std::size_t c = 0; c < per; ++c)
+      out[k++] = forest_.data(l)[c * nc + static_cast<std::size_t>(component)];
+  for (std::size_t g = 0; g < forest_.ghosts().size(); ++g)
+    for (std::size_t c = 0; c < per; ++c)
+      out[k++] = forest_.ghost_data(g)[c * nc + static_cast<std::size_t>(component)];
 }
 
 CompositeGrid::Cell CompositeGrid::local_cell(long c) const {

@@ -36,6 +36,7 @@ struct GridGeometry {
   double tree_size = 1.0;  // edge of one tree (a level-0 patch)
 };
 
+// Valid while its forest does not adapt (rebuild it after a regrid).
 class CompositeGrid {
  public:
   CompositeGrid(const Forest& forest, const GridGeometry& geometry);
@@ -72,6 +73,16 @@ class CompositeGrid {
   // returns the flux (d phi / d n) * h_fine through that face as a stencil.
   void coarse_fine_gradient(const Cell& fine, int axis, int side, Stencil& out) const;
 
+  // Where cell `id` sits in a field gathered with its ghosts: the local cells
+  // first, then the ghost leaves' cells in the forest's ghost order.
+  long slot(long id) const;
+  long slots() const { return local_cells() + static_cast<long>(forest_.ghosts().size()) * cells_per_patch_; }
+  // The forest's component q on the local and ghost cells, by slot (the
+  // forest's ghosts exchanged first).
+  void gather(int component, std::vector<double>& out) const;
+  // A stencil with its ids turned into slots.
+  Stencil to_slots(const Stencil& s) const;
+
  private:
   bool wrap(int level, Index3& index) const;  // false: outside a wall
   const Leaf* find(int level, const Index3& patch) const;
@@ -84,6 +95,7 @@ class CompositeGrid {
   int n_;
   long cells_per_patch_;
   std::unordered_map<unsigned long long, const Leaf*> known_;  // local and ghost leaves by (level, patch)
+  std::unordered_map<long, long> ghost_index_;                 // ghost leaves by global index
 };
 
 // Adds `w` times `s` to `out`.

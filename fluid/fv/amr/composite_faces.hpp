@@ -1,0 +1,30 @@
+// The faces of every local cell of the composite grid, each with the stencils
+// that fv's operators read there: the outward normal derivative and the value
+// at the face's centre. A face between cells of one level is one face; a
+// face whose other side is finer is split into the 2^(d-1) fine faces, each
+// a fraction of the cell's face, with the fine side's stencils negated
+// (gradient) or shared (value), so that a flux computed from either side has
+// the same bits: fluxes cancel across every face and across levels
+// (refluxing built in). On the fine side of a coarse-fine face the ghost
+// value is CompositeGrid::coarse_fine_gradient's (Martin & Cartwright 1996).
+#pragma once
+
+#include <vector>
+
+#include "fluid/fv/amr/composite_grid.hpp"
+
+namespace coflow::fluid::fv::amr {
+
+struct SubFace {
+  int axis = 0;
+  int side = 1;           // outward normal: side * e_axis
+  double fraction = 1.0;  // of the cell's face area
+  bool wall = false;      // on a non-periodic domain face: no stencils
+  Stencil gradient;       // d phi / dn, outward (1 / length)
+  Stencil value;          // phi at the face's centre
+};
+
+// Per local cell, its sub-faces (ids global).
+std::vector<std::vector<SubFace>> build_faces(const CompositeGrid& grid);
+
+}  // namespace coflow::fluid::fv::amr

@@ -1,0 +1,175 @@
+#include "fluid/fv/amr/composite_flow.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "fluid/fv/amr/composite_laplacian.hpp"
+
+namespace coflow::fluid::fv::amr {
+namespace {
+
+double evaluate(const Stencil& s, const std::vector<double>& f) {
+  double v = 0.0;
+  for (const auto& [slot, w] : s) v += w * f[static_cast<std::size_t>(slot)];
+  return v;
+}
+
+}  // namespace
+
+CompositeFlow::CompositeFlow(Forest& forest, const GridGeometry& geometry, double viscosity)
+    : forest_(forest), nu_(viscosity), dims_(forest.spec().dims) {
+  const auto& spec = forest.spec();
+  if (spec.components != dims_ + 1)
+    throw std::invalid_argument("refinement: the flow keeps dims + 1 values per cell");
+  for (int d = 0; d < dims_; ++d)
+    if (!spec.periodic[d])
+      throw std::invalid_argument("refinement: the composite flow is periodic on every axis so far");
+  grid_ = std::make_unique<CompositeGrid>(forest, geometry);
+  faces_ = build_faces(*grid_);
+  mac_.resize(faces_.size());
+  for (std::size_t c = 0; c < faces_.size(); ++c) {
+    mac_[c].assign(faces_[c].size(), 0.0);
+    for (auto& f : faces_[c]) {
+      f.gradient = grid_->to_slots(f.gradient);
+      f.value = grid_->to_slots(f.value);
+    }
+  }
+  std::array<FaceCondition, 6> none;
+  none.fill(FaceCondition::neumann);
+  auto L = assemble_laplacian(*grid_, none);
+  // Periodic: constants are the kernel; pin global cell 0 to zero. Its
+  // divergence is then zero too, as the divergences sum to zero.
+  if (grid_->first_cell() == 0 && !L.rows.empty()) L.rows[0] = {{0, 1.0}};
+  poisson_ =
+      std::make_unique<IjSystem>(forest.comm(), grid_->first_cell(), L.rows, IjSystem::Options{1e-12, 300});
+}
+
+CompositeFlow::~CompositeFlow() = default;
+
+double CompositeFlow::volume(long c) const {
+  return std::pow(grid_->spacing(grid_->local_cell(c).level), dims_);
+}
+
+CompositeFlow::Field CompositeFlow::read_velocity() const {
+  const auto nc = static_cast<std::size_t>(dims_ + 1),
+             per = static_cast<std::size_t>(grid_->cells_per_patch());
+  Field u(static_cast<std::size_t>(dims_),
+          std::vector<double>(static_cast<std::size_t>(grid_->local_cells())));
+  for (std::size_t l = 0; l < forest_.leaves().size(); ++l)
+    for (std::size_t c = 0; c < per; ++c)
+      for (std::size_t q = 0; q < u.size(); ++q) u[q][l * per + c] = forest_.data(l)[c * nc + q];
+  return u;
+}
+
+void CompositeFlow::write(const Field& u) {
+  const auto nc = static_cast<std::size_t>(dims_ + 1),
+             per = static_cast<std::size_t>(grid_->cells_per_patch());
+  for (std::size_t l = 0; l < forest_.leaves().size(); ++l)
+    for (std::size_t c = 0; c < per; ++c)
+      for (std::size_t q = 0; q < u.size(); ++q) forest_.data(l)[c * nc + q] = u[q][l * per + c];
+}
+
+CompositeFlow::Field CompositeFlow::with_ghosts(const Field& u) {
+  write(u);
+  forest_.exchange_ghosts();
+  Field g(u.size());
+  for (std::size_t q = 0; q < u.size(); ++q) grid_->gather(static_cast<int>(q), g[q]);
+  return g;
+}
+
+CompositeFlow::Field CompositeFlow::rates(const Field& u) {
+  const Field g = with_ghosts(u);
+  Field r(u.size(), std::vector<double>(u[0].size(), 0.0));
+  for (std::size_t c = 0; c < faces_.size(); ++c) {
+    const double h = grid_->spacing(grid_->local_cell(static_cast<long>(c)).level);
+    for (std::size_t q = 0; q < u.size(); ++q) {
+      double sum = 0.0;
+      for (std::size_t s = 0; s < faces_[c].size(); ++s) {
+        const auto& f = faces_[c][s];
+        const double outward = f.side * mac_[c][s];  // normal velocity out of the cell
+        sum += f.fraction * (nu_ * evaluate(f.gradient, g[q]) - outward * evaluate(f.value, g[q]));
+      }
+      r[q][c] = sum / h;
+    }
+  }
+  return r;
+}
+
+void CompositeFlow::project(Field& u, double dt) {
+  const Field g = with_ghosts(u);
+  const std::size_t n = faces_.size();
+  std::vector<double> b(n, 0.0), phi(n, 0.0);
+  for (std::size_t c = 0; c < n; ++c) {
+    const double h = grid_->spacing(grid_->local_cell(static_cast<long>(c)).level);
+    double div = 0.0;
+    for (std::size_t s = 0; s < faces_[c].size(); ++s) {
+      const auto& f = faces_[c][s];
+      mac_[c][s] = evaluate(f.value, g[static_cast<std::size_t>(f.axis)]);
+      div += f.fraction * f.side * mac_[c][s];
+    }
+    b[c] = div / (h * dt);
+  }
+  if (grid_->first_cell() == 0 && n > 0) b[0] = 0.0;
+  poisson_->solve(b, phi);
+  iterations_ = poisson_->last_iterations();
+  // The pressure into the forest's last component, exchanged with the velocity.
+  const auto nc = static_cast<std::size_t>(dims_ + 1),
+             per = static_cast<std::size_t>(grid_->cells_per_patch());
+  for (std::size_t l = 0; l < forest_.leaves().size(); ++l)
+    for (std::size_t c = 0; c < per; ++c) forest_.data(l)[c * nc + nc - 1] = phi[l * per + c];
+  forest_.exchange_ghosts();
+  std::vector<double> p;
+  grid_->gather(dims_, p);
+  for (std::size_t c = 0; c < n; ++c) {
+    const double h = grid_->spacing(grid_->local_cell(static_cast<long>(c)).level);
+    for (std::size_t s = 0; s < faces_[c].size(); ++s) {
+      const auto& f = faces_[c][s];
+      mac_[c][s] -= dt * f.side * evaluate(f.gradient, p);
+      u[static_cast<std::size_t>(f.axis)][c] -= dt * f.fraction * f.side * evaluate(f.value, p) / h;
+    }
+  }
+  write(u);
+}
+
+void CompositeFlow::project_initial() {
+  Field u = read_velocity();
+  project(u, 1.0);
+}
+
+void CompositeFlow::step(double dt) {
+  const Field u0 = read_velocity();
+  const Field r0 = rates(u0);
+  Field u1 = u0;
+  for (std::size_t q = 0; q < u1.size(); ++q)
+    for (std::size_t c = 0; c < u1[q].size(); ++c) u1[q][c] += dt * r0[q][c];
+  project(u1, dt);
+  const Field r1 = rates(u1);
+  Field u2 = u0;
+  for (std::size_t q = 0; q < u2.size(); ++q)
+    for (std::size_t c = 0; c < u2[q].size(); ++c) u2[q][c] = 0.5 * (u0[q][c] + u1[q][c] + dt * r1[q][c]);
+  project(u2, dt);
+}
+
+double CompositeFlow::face_divergence() const {
+  double worst = 0.0;
+  for (std::size_t c = 0; c < faces_.size(); ++c) {
+    double div = 0.0;
+    for (std::size_t s = 0; s < faces_[c].size(); ++s)
+      div += faces_[c][s].fraction * faces_[c][s].side * mac_[c][s];
+    div /= grid_->spacing(grid_->local_cell(static_cast<long>(c)).level);
+    worst = std::max(worst, std::isnan(div) ? HUGE_VAL : std::fabs(div));
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE, MPI_MAX, forest_.comm());
+  return worst;
+}
+
+double CompositeFlow::momentum(int axis) const {
+  const Field u = read_velocity();
+  double sum = 0.0;
+  for (std::size_t c = 0; c < u[0].size(); ++c)
+    sum += volume(static_cast<long>(c)) * u[static_cast<std::size_t>(axis)][c];
+  MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_DOUBLE, MPI_SUM, forest_.comm());
+  return sum;
+}
+
+}  // namespace coflow::fluid::fv::amr

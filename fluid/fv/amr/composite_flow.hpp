@@ -1,0 +1,64 @@
+// Incompressible Navier-Stokes on the composite grid (seed 003 §4.1 on the
+// refined grid of §4.1.1): velocities at cell centres kept on the forest's
+// leaves, advected and diffused by fluxes through the composite faces
+// (composite_faces.hpp, so momentum is conserved across levels), stepped
+// explicitly by Heun's second-order Runge-Kutta method with all levels on
+// one step, and projected at each stage. The projection is exact on the
+// faces: face-normal velocities interpolated from the cells are corrected by
+// the same face gradients the composite Laplacian is built from (L = D G),
+// so their discrete divergence vanishes to the solver's tolerance (the
+// staggered, MAC, velocities); the cell velocities take the gradient by
+// Gauss's theorem from the same faces (an approximate projection, Almgren,
+// Bell & Szymczak 1996), and the face velocities carry the advection.
+//
+// This first version has periodic boundaries only; walls, the fv solver's
+// boundary keys and IMEX diffusion come with its wiring into `fluid.solver:
+// fv` (issue 25).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "fluid/fv/amr/composite_faces.hpp"
+#include "fluid/fv/amr/ij_system.hpp"
+
+namespace coflow::fluid::fv::amr {
+
+class CompositeFlow {
+ public:
+  // The forest keeps dims + 1 components per cell: the velocity, then the
+  // pressure (kinematic). Periodic on every axis.
+  CompositeFlow(Forest& forest, const GridGeometry& geometry, double viscosity);
+  ~CompositeFlow();
+
+  const CompositeGrid& grid() const { return *grid_; }
+  // Projects the velocity held by the forest (call once after setting it).
+  void project_initial();
+  // One step of length dt (Heun: two stages, each projected).
+  void step(double dt);
+  // The largest |divergence| of the face velocities, after the last projection.
+  double face_divergence() const;
+  // The total momentum sum V u along `axis` over all ranks.
+  double momentum(int axis) const;
+  int last_iterations() const { return iterations_; }
+
+ private:
+  using Field = std::vector<std::vector<double>>;  // per component, per local cell
+  Field read_velocity() const;
+  void write(const Field& u);
+  Field with_ghosts(const Field& u);  // per component, per slot
+  Field rates(const Field& u);        // advection and diffusion of u
+  void project(Field& u, double dt);
+  double volume(long c) const;
+
+  Forest& forest_;
+  std::unique_ptr<CompositeGrid> grid_;
+  std::vector<std::vector<SubFace>> faces_;  // ids as slots
+  std::vector<std::vector<double>> mac_;     // per local cell, per sub-face: the velocity along +axis
+  std::unique_ptr<IjSystem> poisson_;
+  double nu_;
+  int dims_;
+  int iterations_ = 0;
+};
+
+}  // namespace coflow::fluid::fv::amr

@@ -1,0 +1,141 @@
+// Incompressible Navier-Stokes on fv's composite grid (fluid/fv/amr):
+// the Taylor-Green vortex, an exact solution, on periodic forests of 2 and 3
+// fixed levels: second order as every spacing halves, momentum conserved to
+// round-off across the coarse-fine faces, face velocities divergence-free to
+// the solver's tolerance, and 1 rank equal to N. `unit` runs these on 1 rank;
+// `unit.mpi` on 4.
+#include <mpi.h>
+
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <map>
+#include <vector>
+
+#include "fluid/fv/amr/composite_flow.hpp"
+
+using namespace coflow::fluid::fv::amr;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kNu = 0.01, kEnd = 0.5;
+
+// u = sin x cos y e^(-2 nu t), v = -cos x sin y e^(-2 nu t) on [0, 2 pi]^2:
+// 4 x 4 trees of pi/2; one level more within 1.2 of (2.5, 3.6), a third
+// within 0.6, so that the coarse-fine faces cross the vortices.
+ForestSpec vortex_forest(int levels, int patch) {
+  ForestSpec s;
+  s.dims = 2;
+  s.trees = {4, 4, 1};
+  s.periodic = {true, true, false};
+  s.max_level = levels - 1;
+  s.patch = patch;
+  s.components = 3;
+  s.refine = [](int level, const Index3& p) {
+    const double size = 0.5 * kPi / (1 << level);
+    const double c[2] = {2.5, 3.6};
+    double r2 = 0.0;
+    for (int d = 0; d < 2; ++d) {
+      const double lo = static_cast<double>(p[d]) * size;
+      const double q = std::clamp(c[d], lo, lo + size) - c[d];
+      r2 += q * q;
+    }
+    const double radius = level == 0 ? 1.2 : 0.6;
+    return r2 < radius * radius;
+  };
+  return s;
+}
+
+struct Run {
+  double l2 = 0.0;          // velocity error at kEnd
+  double max = 0.0;         // its largest component
+  double drift = 0.0;       // worst |momentum change| / sum V |u|
+  double divergence = 0.0;  // face divergence after the last step, times the step
+  long cells = 0;
+  std::map<std::array<long, 4>, double> u;  // (level, i, j, component) -> value
+};
+
+Run vortex(MPI_Comm comm, int levels, int patch) {
+  Forest forest(comm, vortex_forest(levels, patch));
+  const GridGeometry geometry{{0.0, 0.0, 0.0}, 0.5 * kPi};
+  CompositeFlow flow(forest, geometry, kNu);
+  const auto& g = flow.grid();
+  for (long c = 0; c < g.local_cells(); ++c) {
+    const auto x = g.centre(g.local_cell(c));
+    auto v = forest.data(static_cast<std::size_t>(c / g.cells_per_patch()));
+    const auto k = static_cast<std::size_t>(c % g.cells_per_patch()) * 3;
+    v[k] = std::sin(x[0]) * std::cos(x[1]);
+    v[k + 1] = -std::cos(x[0]) * std::sin(x[1]);
+  }
+  flow.project_initial();
+  Run r;
+  double scale = 0.0;
+  for (long c = 0; c < g.local_cells(); ++c) scale += std::pow(g.spacing(g.local_cell(c).level), 2) * 0.6366;
+  MPI_Allreduce(MPI_IN_PLACE, &scale, 1, MPI_DOUBLE, MPI_SUM, comm);  // about sum V |u|
+  const double m0[2] = {flow.momentum(0), flow.momentum(1)};
+  const double h_fine = g.spacing(levels - 1);
+  // Advective CFL 0.3 on the finest level, well inside Heun's diffusive limit.
+  const double dt_max = std::min(0.3 * h_fine, 0.1 * h_fine * h_fine / kNu);
+  const int steps = static_cast<int>(std::ceil(kEnd / dt_max));
+  const double dt = kEnd / steps;
+  for (int n = 0; n < steps; ++n) {
+    flow.step(dt);
+    for (int a = 0; a < 2; ++a) r.drift = std::max(r.drift, std::fabs(flow.momentum(a) - m0[a]) / scale);
+  }
+  r.divergence = flow.face_divergence() * dt;
+  const double decay = std::exp(-2 * kNu * kEnd);
+  double sum2 = 0.0, volume = 0.0;
+  for (long c = 0; c < g.local_cells(); ++c) {
+    const auto cell = g.local_cell(c);
+    const auto x = g.centre(cell);
+    const auto v = forest.data(static_cast<std::size_t>(c / g.cells_per_patch()));
+    const auto k = static_cast<std::size_t>(c % g.cells_per_patch()) * 3;
+    const double eu = v[k] - std::sin(x[0]) * std::cos(x[1]) * decay;
+    const double ev = v[k + 1] + std::cos(x[0]) * std::sin(x[1]) * decay;
+    const double vol = std::pow(g.spacing(cell.level), 2);
+    sum2 += vol * (eu * eu + ev * ev);
+    r.max = std::max({r.max, std::isnan(eu + ev) ? HUGE_VAL : std::fabs(eu), std::fabs(ev)});
+    volume += vol;
+    r.u[{cell.level, cell.index[0], cell.index[1], 0}] = v[k];
+    r.u[{cell.level, cell.index[0], cell.index[1], 1}] = v[k + 1];
+  }
+  double s[2] = {sum2, volume};
+  MPI_Allreduce(MPI_IN_PLACE, s, 2, MPI_DOUBLE, MPI_SUM, comm);
+  r.l2 = std::isnan(s[0]) ? HUGE_VAL : std::sqrt(s[0] / s[1]);
+  MPI_Allreduce(MPI_IN_PLACE, &r.max, 1, MPI_DOUBLE, MPI_MAX, comm);
+  r.cells = g.global_cells();
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("amr flow: Taylor-Green vortex, second order on 2 and 3 levels", "[amr][mpi]") {
+  for (int levels : {2, 3}) {
+    const auto a = vortex(MPI_COMM_WORLD, levels, 8);
+    const auto b = vortex(MPI_COMM_WORLD, levels, 16);
+    const double order = std::log2(a.l2 / b.l2), order_max = std::log2(a.max / b.max);
+    INFO(levels << " levels: cells " << a.cells << " -> " << b.cells << ", L2 " << a.l2 << " -> " << b.l2
+                << " (order " << order << "), max " << a.max << " -> " << b.max << " (order " << order_max
+                << "); momentum drift " << a.drift << ", " << b.drift << "; face divergence * dt "
+                << a.divergence << ", " << b.divergence);
+    CHECK(order >= 1.8);  // references.csv: amr_flow_taylor_green
+    CHECK(order_max >= 1.5);
+    CHECK(std::max(a.drift, b.drift) <= 9e-15);            // references.csv: amr_flow_momentum
+    CHECK(std::max(a.divergence, b.divergence) <= 6e-14);  // references.csv: amr_flow_divergence
+  }
+}
+
+TEST_CASE("amr flow: 1 rank equals N ranks", "[amr][mpi]") {
+  const auto alone = vortex(MPI_COMM_SELF, 3, 8);
+  const auto shared = vortex(MPI_COMM_WORLD, 3, 8);
+  double worst = 0.0;
+  for (const auto& [key, v] : shared.u) {
+    const auto it = alone.u.find(key);
+    REQUIRE(it != alone.u.end());
+    worst = std::max(worst, std::isnan(v - it->second) ? HUGE_VAL : std::fabs(v - it->second));
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  INFO("largest difference " << worst);
+  CHECK(worst <= 1e-12);  // references.csv: amr_flow_ranks_1_vs_4
+}

@@ -89,7 +89,7 @@ CompositeFlow::Field CompositeFlow::rates(const Field& u) {
         const double outward = f.side * mac_[c][s];  // normal velocity out of the cell
         sum += f.fraction * (nu_ * evaluate(f.gradient, g[q]) - outward * evaluate(f.value, g[q]));
       }
-      r[q][c] = sum / h;
+      r[q][c] = sum / h + (source_.empty() ? 0.0 : source_[q][c]);
     }
   }
   return r;

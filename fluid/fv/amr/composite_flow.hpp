@@ -41,6 +41,10 @@ class CompositeFlow {
   // The total momentum sum V u along `axis` over all ranks.
   double momentum(int axis) const;
   int last_iterations() const { return iterations_; }
+  // A momentum source per local cell and component (acceleration, the
+  // point particles' force over the cell's fluid mass: seed 003 eq. 3.43),
+  // held over the following steps; empty: none.
+  void set_source(std::vector<std::vector<double>> acceleration) { source_ = std::move(acceleration); }
 
  private:
   using Field = std::vector<std::vector<double>>;  // per component, per local cell
@@ -56,6 +60,7 @@ class CompositeFlow {
   std::vector<std::vector<SubFace>> faces_;  // ids as slots
   std::vector<std::vector<double>> mac_;     // per local cell, per sub-face: the velocity along +axis
   std::unique_ptr<IjSystem> poisson_;
+  std::vector<std::vector<double>> source_;
   double nu_;
   int dims_;
   int iterations_ = 0;

@@ -1,5 +1,6 @@
 #include "fluid/fv/amr/composite_grid.hpp"
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -43,6 +44,22 @@ long CompositeGrid::slot(long id) const {
   if (it == ghost_index_.end())
     throw std::logic_error("refinement: a stencil reaches beyond the ghost layer");
   return local_cells() + it->second * cells_per_patch_ + within;
+}
+
+bool CompositeGrid::locate(std::array<double, 3> x, long* local) const {
+  for (int level = forest_.spec().max_level; level >= 0; --level) {
+    const double h = spacing(level);
+    Index3 index{0, 0, 0};
+    for (int d = 0; d < dims_; ++d)
+      index[d] = static_cast<long>(std::floor((x[d] - geometry_.origin[d]) / h));
+    long id = 0;
+    if (cover(level, index, &id) != Cover::leaf) continue;
+    const long c = id - first_cell();
+    if (c < 0 || c >= local_cells()) return false;
+    *local = c;
+    return true;
+  }
+  return false;
 }
 
 Stencil CompositeGrid::to_slots(const Stencil& s) const {

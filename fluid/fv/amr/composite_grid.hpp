@@ -73,6 +73,11 @@ class CompositeGrid {
   // returns the flux (d phi / d n) * h_fine through that face as a stencil.
   void coarse_fine_gradient(const Cell& fine, int axis, int side, Stencil& out) const;
 
+  // The local leaf cell containing point x (the finest cell there: the
+  // composite grid's cells do not overlap); false where that cell belongs
+  // to another rank. Periodic images are wrapped.
+  bool locate(std::array<double, 3> x, long* local) const;
+
   // Where cell `id` sits in a field gathered with its ghosts: the local cells
   // first, then the ghost leaves' cells in the forest's ghost order.
   long slot(long id) const;

@@ -17,16 +17,23 @@ double evaluate(const Stencil& s, const std::vector<double>& f) {
 }  // namespace
 
 CompositeFlow::CompositeFlow(Forest& forest, const GridGeometry& geometry, double viscosity)
-    : forest_(forest), nu_(viscosity), dims_(forest.spec().dims) {
-  const auto& spec = forest.spec();
-  if (spec.components != dims_ + 1)
-    throw std::invalid_argument("refinement: the flow keeps dims + 1 values per cell");
+    : forest_(forest),
+      geometry_(geometry),
+      nu_(viscosity),
+      dims_(forest.spec().dims),
+      nc_(forest.spec().components) {
+  if (nc_ < dims_ + 1)
+    throw std::invalid_argument("refinement: the flow keeps at least dims + 1 values per cell");
   for (int d = 0; d < dims_; ++d)
-    if (!spec.periodic[d])
+    if (!forest.spec().periodic[d])
       throw std::invalid_argument("refinement: the composite flow is periodic on every axis so far");
-  grid_ = std::make_unique<CompositeGrid>(forest, geometry);
+  build();
+}
+
+void CompositeFlow::build() {
+  grid_ = std::make_unique<CompositeGrid>(forest_, geometry_);
   faces_ = build_faces(*grid_);
-  mac_.resize(faces_.size());
+  mac_.assign(faces_.size(), {});
   for (std::size_t c = 0; c < faces_.size(); ++c) {
     mac_[c].assign(faces_[c].size(), 0.0);
     for (auto& f : faces_[c]) {
@@ -40,8 +47,33 @@ CompositeFlow::CompositeFlow(Forest& forest, const GridGeometry& geometry, doubl
   // Periodic: constants are the kernel; pin global cell 0 to zero. Its
   // divergence is then zero too, as the divergences sum to zero.
   if (grid_->first_cell() == 0 && !L.rows.empty()) L.rows[0] = {{0, 1.0}};
+  poisson_.reset();
   poisson_ =
-      std::make_unique<IjSystem>(forest.comm(), grid_->first_cell(), L.rows, IjSystem::Options{1e-12, 300});
+      std::make_unique<IjSystem>(forest_.comm(), grid_->first_cell(), L.rows, IjSystem::Options{1e-12, 300});
+  source_.clear();
+}
+
+void CompositeFlow::regrid(const std::vector<int>& marks) {
+  forest_.adapt(marks);
+  build();
+  project_initial();
+}
+
+void CompositeFlow::vorticity(int component) {
+  const Field g = with_ghosts(read_velocity());
+  const auto per = static_cast<std::size_t>(grid_->cells_per_patch()), nc = static_cast<std::size_t>(nc_);
+  for (std::size_t c = 0; c < faces_.size(); ++c) {
+    // Gradients by Gauss's theorem: d u_q / d x_axis.
+    std::array<std::array<double, 3>, 3> grad{};
+    const double h = grid_->spacing(grid_->local_cell(static_cast<long>(c)).level);
+    for (const auto& f : faces_[c])
+      for (std::size_t q = 0; q < g.size(); ++q)
+        grad[q][static_cast<std::size_t>(f.axis)] += f.fraction * f.side * evaluate(f.value, g[q]) / h;
+    const double wz = grad[1][0] - grad[0][1];
+    double w2 = wz * wz;
+    if (dims_ == 3) w2 += std::pow(grad[2][1] - grad[1][2], 2) + std::pow(grad[0][2] - grad[2][0], 2);
+    forest_.data(c / per)[(c % per) * nc + static_cast<std::size_t>(component)] = std::sqrt(w2);
+  }
 }
 
 CompositeFlow::~CompositeFlow() = default;
@@ -51,8 +83,7 @@ double CompositeFlow::volume(long c) const {
 }
 
 CompositeFlow::Field CompositeFlow::read_velocity() const {
-  const auto nc = static_cast<std::size_t>(dims_ + 1),
-             per = static_cast<std::size_t>(grid_->cells_per_patch());
+  const auto nc = static_cast<std::size_t>(nc_), per = static_cast<std::size_t>(grid_->cells_per_patch());
   Field u(static_cast<std::size_t>(dims_),
           std::vector<double>(static_cast<std::size_t>(grid_->local_cells())));
   for (std::size_t l = 0; l < forest_.leaves().size(); ++l)
@@ -62,8 +93,7 @@ CompositeFlow::Field CompositeFlow::read_velocity() const {
 }
 
 void CompositeFlow::write(const Field& u) {
-  const auto nc = static_cast<std::size_t>(dims_ + 1),
-             per = static_cast<std::size_t>(grid_->cells_per_patch());
+  const auto nc = static_cast<std::size_t>(nc_), per = static_cast<std::size_t>(grid_->cells_per_patch());
   for (std::size_t l = 0; l < forest_.leaves().size(); ++l)
     for (std::size_t c = 0; c < per; ++c)
       for (std::size_t q = 0; q < u.size(); ++q) forest_.data(l)[c * nc + q] = u[q][l * per + c];
@@ -113,10 +143,10 @@ void CompositeFlow::project(Field& u, double dt) {
   poisson_->solve(b, phi);
   iterations_ = poisson_->last_iterations();
   // The pressure into the forest's last component, exchanged with the velocity.
-  const auto nc = static_cast<std::size_t>(dims_ + 1),
-             per = static_cast<std::size_t>(grid_->cells_per_patch());
+  const auto nc = static_cast<std::size_t>(nc_), per = static_cast<std::size_t>(grid_->cells_per_patch());
   for (std::size_t l = 0; l < forest_.leaves().size(); ++l)
-    for (std::size_t c = 0; c < per; ++c) forest_.data(l)[c * nc + nc - 1] = phi[l * per + c];
+    for (std::size_t c = 0; c < per; ++c)
+      forest_.data(l)[c * nc + static_cast<std::size_t>(dims_)] = phi[l * per + c];
   forest_.exchange_ghosts();
   std::vector<double> p;
   grid_->gather(dims_, p);

@@ -26,8 +26,9 @@ namespace coflow::fluid::fv::amr {
 
 class CompositeFlow {
  public:
-  // The forest keeps dims + 1 components per cell: the velocity, then the
-  // pressure (kinematic). Periodic on every axis.
+  // The forest keeps at least dims + 1 components per cell: the velocity,
+  // then the pressure (kinematic), then any the caller uses (a refinement
+  // criterion's field). Periodic on every axis.
   CompositeFlow(Forest& forest, const GridGeometry& geometry, double viscosity);
   ~CompositeFlow();
 
@@ -36,6 +37,13 @@ class CompositeFlow {
   void project_initial();
   // One step of length dt (Heun: two stages, each projected).
   void step(double dt);
+  // Regrids the forest by `marks` (Forest::adapt: the velocity is carried
+  // conservatively), rebuilds the operators and projects the carried
+  // velocity. Collective.
+  void regrid(const std::vector<int>& marks);
+  // The vorticity's magnitude per cell (2D: |dv/dx - du/dy|) into the
+  // forest's `component` (a refinement criterion: mark_by_magnitude).
+  void vorticity(int component);
   // The largest |divergence| of the face velocities, after the last projection.
   double face_divergence() const;
   // The total momentum sum V u along `axis` over all ranks.
@@ -54,8 +62,10 @@ class CompositeFlow {
   Field rates(const Field& u);        // advection and diffusion of u
   void project(Field& u, double dt);
   double volume(long c) const;
+  void build();  // the grid, faces and Poisson system of the forest as it is
 
   Forest& forest_;
+  GridGeometry geometry_;
   std::unique_ptr<CompositeGrid> grid_;
   std::vector<std::vector<SubFace>> faces_;  // ids as slots
   std::vector<std::vector<double>> mac_;     // per local cell, per sub-face: the velocity along +axis
@@ -63,6 +73,7 @@ class CompositeFlow {
   std::vector<std::vector<double>> source_;
   double nu_;
   int dims_;
+  int nc_;  // values per cell on the forest
   int iterations_ = 0;
 };
 

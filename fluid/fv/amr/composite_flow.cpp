@@ -51,12 +51,26 @@ void CompositeFlow::build() {
   poisson_ =
       std::make_unique<IjSystem>(forest_.comm(), grid_->first_cell(), L.rows, IjSystem::Options{1e-12, 300});
   source_.clear();
+  for (auto& p : phi_) p.clear();
 }
 
-void CompositeFlow::regrid(const std::vector<int>& marks) {
+bool CompositeFlow::regrid(const std::vector<int>& marks) {
+  std::vector<std::pair<int, Index3>> before;
+  for (const auto& l : forest_.leaves()) before.emplace_back(l.level, l.patch);
   forest_.adapt(marks);
+  // Unchanged everywhere (no leaf refined, coarsened or moved): the
+  // operators and the face velocities stand.
+  int changed = before.size() != forest_.leaves().size() ? 1 : 0;
+  for (std::size_t l = 0; !changed && l < before.size(); ++l)
+    changed = before[l] != std::make_pair(forest_.leaves()[l].level, forest_.leaves()[l].patch) ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &changed, 1, MPI_INT, MPI_MAX, forest_.comm());
+  if (!changed) {
+    grid_ = std::make_unique<CompositeGrid>(forest_, geometry_);  // the leaf lists were rebuilt
+    return false;
+  }
   build();
   project_initial();
+  return true;
 }
 
 void CompositeFlow::vorticity(int component) {
@@ -125,10 +139,12 @@ CompositeFlow::Field CompositeFlow::rates(const Field& u) {
   return r;
 }
 
-void CompositeFlow::project(Field& u, double dt) {
+void CompositeFlow::project(Field& u, double dt, int stage) {
   const Field g = with_ghosts(u);
   const std::size_t n = faces_.size();
-  std::vector<double> b(n, 0.0), phi(n, 0.0);
+  std::vector<double> b(n, 0.0);
+  std::vector<double>& phi = phi_[static_cast<std::size_t>(stage)];  // this stage's last pressure: the guess
+  phi.resize(n, 0.0);
   for (std::size_t c = 0; c < n; ++c) {
     const double h = grid_->spacing(grid_->local_cell(static_cast<long>(c)).level);
     double div = 0.0;
@@ -163,7 +179,7 @@ void CompositeFlow::project(Field& u, double dt) {
 
 void CompositeFlow::project_initial() {
   Field u = read_velocity();
-  project(u, 1.0);
+  project(u, 1.0, 2);
 }
 
 void CompositeFlow::step(double dt) {
@@ -172,12 +188,12 @@ void CompositeFlow::step(double dt) {
   Field u1 = u0;
   for (std::size_t q = 0; q < u1.size(); ++q)
     for (std::size_t c = 0; c < u1[q].size(); ++c) u1[q][c] += dt * r0[q][c];
-  project(u1, dt);
+  project(u1, dt, 0);
   const Field r1 = rates(u1);
   Field u2 = u0;
   for (std::size_t q = 0; q < u2.size(); ++q)
     for (std::size_t c = 0; c < u2[q].size(); ++c) u2[q][c] = 0.5 * (u0[q][c] + u1[q][c] + dt * r1[q][c]);
-  project(u2, dt);
+  project(u2, dt, 1);
 }
 
 double CompositeFlow::face_divergence() const {

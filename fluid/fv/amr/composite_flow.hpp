@@ -16,6 +16,7 @@
 // fv` (issue 25).
 #pragma once
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -39,8 +40,9 @@ class CompositeFlow {
   void step(double dt);
   // Regrids the forest by `marks` (Forest::adapt: the velocity is carried
   // conservatively), rebuilds the operators and projects the carried
-  // velocity. Collective.
-  void regrid(const std::vector<int>& marks);
+  // velocity. Collective. Returns false (and keeps the operators) where
+  // the forest came out unchanged.
+  bool regrid(const std::vector<int>& marks);
   // The vorticity's magnitude per cell (2D: |dv/dx - du/dy|) into the
   // forest's `component` (a refinement criterion: mark_by_magnitude).
   void vorticity(int component);
@@ -60,7 +62,7 @@ class CompositeFlow {
   void write(const Field& u);
   Field with_ghosts(const Field& u);  // per component, per slot
   Field rates(const Field& u);        // advection and diffusion of u
-  void project(Field& u, double dt);
+  void project(Field& u, double dt, int stage);
   double volume(long c) const;
   void build();  // the grid, faces and Poisson system of the forest as it is
 
@@ -71,6 +73,9 @@ class CompositeFlow {
   std::vector<std::vector<double>> mac_;     // per local cell, per sub-face: the velocity along +axis
   std::unique_ptr<IjSystem> poisson_;
   std::vector<std::vector<double>> source_;
+  // Per local cell, the last pressure of each stage and of the initial
+  // projection: each solve's initial guess.
+  std::array<std::vector<double>, 3> phi_;
   double nu_;
   int dims_;
   int nc_;  // values per cell on the forest

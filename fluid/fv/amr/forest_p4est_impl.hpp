@@ -8,6 +8,8 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <stdexcept>
 
 #include "fluid/fv/amr/forest.hpp"
@@ -43,10 +45,53 @@ void zero_leaf(p4est_t* forest, p4est_topidx_t, p4est_quadrant_t* q) {
   std::fill_n(data_of(q), ctx->values + 1, 0.0);
 }
 
-// Conservative transfer: a refined leaf's children inherit its values (the
-// patch's cells split in 2^d: each child cell takes its parent cell's
-// value); a coarsened family's parent takes the mean of the 2^d child cells
-// over each of its cells.
+// The limited slope (per parent cell) of component q of a parent patch along
+// `axis` at parent cell (i, j, k): minmod of the two one-sided differences
+// inside the patch, the one available at its edges.
+double limited_slope(const double* parent, int n, int components, int q, const std::array<long, 3>& ijk,
+                     int axis) {
+  auto at = [&](std::array<long, 3> c) { return parent[((c[2] * n + c[1]) * n + c[0]) * components + q]; };
+  const double centre = at(ijk);
+  std::array<long, 3> lo = ijk, hi = ijk;
+  --lo[axis];
+  ++hi[axis];
+  const bool has_lo = lo[axis] >= 0, has_hi = hi[axis] < n;
+  const double down = has_lo ? centre - at(lo) : 0.0, up = has_hi ? at(hi) - centre : 0.0;
+  if (!has_lo) return up;
+  if (!has_hi) return down;
+  if (down * up <= 0.0) return 0.0;
+  return std::fabs(down) < std::fabs(up) ? down : up;
+}
+
+// Conservative transfer. A refined leaf's children take a limited linear
+// reconstruction of their parent cell (value + slope x offset, offsets of a
+// quarter cell either way, so the children's mean is the parent's value;
+// monotone: no new extrema); a coarsened family's parent takes the mean of
+// the 2^d child cells over each of its cells.
+void refine_cells(const BuildContext& ctx, const double* parent, double* child, int which) {
+  const int n = ctx.spec->patch, dims = ctx.spec->dims, components = ctx.spec->components;
+  const long per = ctx.values / components;
+  for (long cell = 0; cell < per; ++cell) {
+    std::array<long, 3> p{0, 0, 0};
+    std::array<double, 3> offset{0.0, 0.0, 0.0};
+    long rest = cell;
+    for (int d = 0; d < dims; ++d) {
+      const long i = rest % n + ((which >> d) & 1) * n;  // in the parent's fine units
+      rest /= n;
+      p[static_cast<std::size_t>(d)] = i / 2;
+      offset[static_cast<std::size_t>(d)] = (i % 2) ? 0.25 : -0.25;
+    }
+    const long parent_cell = (p[2] * n + p[1]) * n + p[0];
+    for (int q = 0; q < components; ++q) {
+      double v = parent[parent_cell * components + q];
+      for (int d = 0; d < dims; ++d)
+        v += offset[static_cast<std::size_t>(d)] * limited_slope(parent, n, components, q, p, d);
+      child[cell * components + q] = v;
+    }
+  }
+  child[ctx.values] = 0.0;
+}
+
 void transfer(p4est_t* forest, p4est_topidx_t, int n_out, p4est_quadrant_t* out[], int n_in,
               p4est_quadrant_t* in[]) {
   const auto* ctx = static_cast<const BuildContext*>(forest->user_pointer);
@@ -55,15 +100,7 @@ void transfer(p4est_t* forest, p4est_topidx_t, int n_out, p4est_quadrant_t* out[
   const long per = ctx->values / ctx->spec->components;  // cells per patch
   const int components = ctx->spec->components;
   if (n_out == 1) {  // refined: parent out[0], children in[0..2^d)
-    for (int c = 0; c < n_in; ++c) {
-      double* child = data_of(in[c]);
-      for (long cell = 0; cell < per; ++cell) {
-        const long parent_cell = parent_of(cell, c, n, dims);
-        for (int q = 0; q < components; ++q)
-          child[cell * components + q] = data_of(out[0])[parent_cell * components + q];
-      }
-      child[ctx->values] = 0.0;
-    }
+    for (int c = 0; c < n_in; ++c) refine_cells(*ctx, data_of(out[0]), data_of(in[c]), c);
   } else {  // coarsened: children out[0..2^d), parent in[0]
     double* parent = data_of(in[0]);
     std::fill_n(parent, ctx->values + 1, 0.0);

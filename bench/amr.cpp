@@ -1,0 +1,179 @@
+// Benchmark: fv's adaptive grid (fluid/fv/amr) against the same solver on
+// the uniform grid of its finest level, in one run, 1 rank.
+//
+//   build/bin/bench-amr [steps] [--out DIR]
+//
+// The case: a periodic planar jet on [0, 2 pi]^2 (u = 1 in a band of half
+// width pi/4 about y = pi, tanh edges of width pi/40; v a 5 % sin x
+// perturbation; nu = 1e-3), whose two shear layers roll up into vortices.
+// The adaptive run has 3 levels (4 x 4 trees of 8^2-cell patches: 32^2 to
+// 128^2), refines where |omega| > 1, coarsens where it is below 0.3,
+// regrids every 5 steps (vorticity, marks, p4est adapt and repartition,
+// conservative transfer, operators rebuilt, a projection). The uniform run
+// has every leaf on level 2 (128^2). Same step (CFL 0.3 on the finest
+// cells), same number of steps.
+//
+// Prints, for each: cells, time per step (regrids apart), cells x steps per
+// second; for the adaptive run the regrid's share of the wall time (target
+// <= 10 %), the ratio of its cells per second to the uniform run's (target
+// >= 0.7), its mean cells against the uniform count, and the enstrophy of
+// both at the end (how much of the flow the adaptive grid keeps). With
+// --out, writes DIR/amr_cells.csv (t, cells) and DIR/amr_snapshot.csv and
+// DIR/uniform_snapshot.csv (x, y, h, level, omega) for scripts/plot_amr.py.
+#include <fmt/format.h>
+#include <mpi.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "fluid/fv/amr/composite_flow.hpp"
+#include "fluid/fv/amr/refinement_criteria.hpp"
+
+using namespace coflow::fluid::fv::amr;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Result {
+  double step_s = 0.0, regrid_s = 0.0, mean_cells = 0.0, enstrophy = 0.0, iterations = 0.0;
+  int regrids = 0;
+};
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void set_jet(Forest& forest, const CompositeGrid& g) {
+  const double w = kPi / 4, delta = kPi / 40;
+  for (long c = 0; c < g.local_cells(); ++c) {
+    const auto x = g.centre(g.local_cell(c));
+    auto v = forest.data(static_cast<std::size_t>(c / g.cells_per_patch()));
+    const auto k = static_cast<std::size_t>(c % g.cells_per_patch()) * 4;
+    v[k] = 0.5 * (std::tanh((x[1] - kPi + w) / delta) - std::tanh((x[1] - kPi - w) / delta));
+    v[k + 1] = 0.05 * std::sin(x[0]);
+  }
+}
+
+double enstrophy(CompositeFlow& flow, Forest& forest) {
+  flow.vorticity(3);
+  const auto& g = flow.grid();
+  double e = 0.0;
+  for (long c = 0; c < g.local_cells(); ++c) {
+    const double w = forest.data(static_cast<std::size_t>(
+        c / g.cells_per_patch()))[static_cast<std::size_t>(c % g.cells_per_patch()) * 4 + 3];
+    e += 0.5 * w * w * std::pow(g.spacing(g.local_cell(c).level), 2);
+  }
+  return e;
+}
+
+void write_snapshot(CompositeFlow& flow, Forest& forest, const std::string& path) {
+  flow.vorticity(3);
+  const auto& g = flow.grid();
+  std::ofstream out(path);
+  out << "x,y,h,level,omega\n";
+  for (long c = 0; c < g.local_cells(); ++c) {
+    const auto cell = g.local_cell(c);
+    const auto x = g.centre(cell);
+    const double w = forest.data(static_cast<std::size_t>(
+        c / g.cells_per_patch()))[static_cast<std::size_t>(c % g.cells_per_patch()) * 4 + 3];
+    out << fmt::format("{:.6g},{:.6g},{:.6g},{},{:.6g}\n", x[0], x[1], g.spacing(cell.level), cell.level, w);
+  }
+}
+
+Result run(bool adaptive, int steps, const std::string& out_dir) {
+  ForestSpec spec;
+  spec.dims = 2;
+  spec.trees = {4, 4, 1};
+  spec.periodic = {true, true, false};
+  spec.patch = 8;
+  spec.components = 4;  // u, v, p, |omega|
+  spec.max_level = 2;
+  spec.min_level = adaptive ? 0 : 2;
+  Forest forest(MPI_COMM_WORLD, spec);
+  CompositeFlow flow(forest, {{0.0, 0.0, 0.0}, 0.5 * kPi}, 1e-3);
+  const auto marks = [&] {
+    flow.vorticity(3);
+    return mark_by_magnitude(forest, 3, 1.0, 0.3);
+  };
+  for (int pass = 0; adaptive && pass < 2; ++pass) {
+    set_jet(forest, flow.grid());
+    flow.regrid(marks());
+  }
+  set_jet(forest, flow.grid());
+  flow.project_initial();
+  const double dt = 0.3 * flow.grid().spacing(2);
+  std::ofstream cells_csv;
+  if (adaptive && !out_dir.empty()) {
+    cells_csv.open(out_dir + "/amr_cells.csv");
+    cells_csv << "t,cells\n0," << flow.grid().global_cells() << "\n";
+  }
+  Result r;
+  double cell_steps = 0.0;
+  for (int n = 1; n <= steps; ++n) {
+    auto t0 = std::chrono::steady_clock::now();
+    flow.step(dt);
+    r.step_s += seconds_since(t0);
+    r.iterations += flow.last_iterations() / static_cast<double>(steps);
+    cell_steps += static_cast<double>(flow.grid().global_cells());
+    if (adaptive && n % 5 == 0) {
+      t0 = std::chrono::steady_clock::now();
+      flow.regrid(marks());
+      r.regrid_s += seconds_since(t0);
+      ++r.regrids;
+      if (cells_csv) cells_csv << n * dt << "," << flow.grid().global_cells() << "\n";
+    }
+  }
+  r.mean_cells = cell_steps / steps;
+  r.enstrophy = enstrophy(flow, forest);
+  if (!out_dir.empty())
+    write_snapshot(flow, forest, out_dir + (adaptive ? "/amr_snapshot.csv" : "/uniform_snapshot.csv"));
+  return r;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  int steps = 500;
+  std::string out_dir;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--out" && i + 1 < argc)
+      out_dir = argv[++i];
+    else
+      steps = std::atoi(argv[i]);
+  }
+  if (!out_dir.empty()) std::filesystem::create_directories(out_dir);
+  const auto uniform = run(false, steps, out_dir);
+  const auto amr = run(true, steps, out_dir);
+  const double uniform_rate = uniform.mean_cells * steps / uniform.step_s;
+  const double amr_rate = amr.mean_cells * steps / (amr.step_s + amr.regrid_s);
+  const double regrid_share = amr.regrid_s / (amr.step_s + amr.regrid_s);
+  fmt::print("bench-amr: periodic planar jet, {} steps, 1 rank\n", steps);
+  fmt::print(
+      "  uniform  (level 2 everywhere): {:6.0f} cells, {:.4f} s/step, {:.3g} cells*steps/s, enstrophy "
+      "{:.5g}, "
+      "{:.1f} Poisson iterations\n",
+      uniform.mean_cells, uniform.step_s / steps, uniform_rate, uniform.enstrophy, uniform.iterations);
+  fmt::print("  adaptive Poisson iterations: {:.1f}\n", amr.iterations);
+  fmt::print(
+      "  adaptive (3 levels, regrid every 5): {:6.0f} cells on average ({:.0f} % fewer), {:.4f} s/step, "
+      "regrid {:.4f} s each ({:.1f} % of the wall time), {:.3g} cells*steps/s, enstrophy {:.5g} ({:+.2f} "
+      "%)\n",
+      amr.mean_cells, 100.0 * (1.0 - amr.mean_cells / uniform.mean_cells), amr.step_s / steps,
+      amr.regrid_s / std::max(1, amr.regrids), 100.0 * regrid_share, amr_rate, amr.enstrophy,
+      100.0 * (amr.enstrophy / uniform.enstrophy - 1.0));
+  fmt::print(
+      "RESULT cells_ratio={:.3f} rate_ratio={:.3f} regrid_share={:.3f} wall_ratio={:.3f} "
+      "enstrophy_diff={:.4f}\n",
+      amr.mean_cells / uniform.mean_cells, amr_rate / uniform_rate, regrid_share,
+      (amr.step_s + amr.regrid_s) / uniform.step_s, amr.enstrophy / uniform.enstrophy - 1.0);
+  MPI_Finalize();
+  return 0;
+}

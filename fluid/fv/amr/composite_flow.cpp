@@ -24,9 +24,6 @@ CompositeFlow::CompositeFlow(Forest& forest, const GridGeometry& geometry, doubl
       nc_(forest.spec().components) {
   if (nc_ < dims_ + 1)
     throw std::invalid_argument("refinement: the flow keeps at least dims + 1 values per cell");
-  for (int d = 0; d < dims_; ++d)
-    if (!forest.spec().periodic[d])
-      throw std::invalid_argument("refinement: the composite flow is periodic on every axis so far");
   build();
 }
 
@@ -81,8 +78,10 @@ void CompositeFlow::vorticity(int component) {
     std::array<std::array<double, 3>, 3> grad{};
     const double h = grid_->spacing(grid_->local_cell(static_cast<long>(c)).level);
     for (const auto& f : faces_[c])
-      for (std::size_t q = 0; q < g.size(); ++q)
-        grad[q][static_cast<std::size_t>(f.axis)] += f.fraction * f.side * evaluate(f.value, g[q]) / h;
+      for (std::size_t q = 0; q < g.size(); ++q) {
+        const double face = f.wall ? wall(f)[q] : evaluate(f.value, g[q]);
+        grad[q][static_cast<std::size_t>(f.axis)] += f.fraction * f.side * face / h;
+      }
     const double wz = grad[1][0] - grad[0][1];
     double w2 = wz * wz;
     if (dims_ == 3) w2 += std::pow(grad[2][1] - grad[1][2], 2) + std::pow(grad[0][2] - grad[2][0], 2);
@@ -130,6 +129,10 @@ CompositeFlow::Field CompositeFlow::rates(const Field& u) {
       double sum = 0.0;
       for (std::size_t s = 0; s < faces_[c].size(); ++s) {
         const auto& f = faces_[c][s];
+        if (f.wall) {  // no flux through it; viscous stress from the wall's velocity half a cell away
+          sum += f.fraction * nu_ * 2.0 * (wall(f)[q] - g[q][c]) / h;
+          continue;
+        }
         const double outward = f.side * mac_[c][s];  // normal velocity out of the cell
         sum += f.fraction * (nu_ * evaluate(f.gradient, g[q]) - outward * evaluate(f.value, g[q]));
       }
@@ -150,7 +153,9 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
     double div = 0.0;
     for (std::size_t s = 0; s < faces_[c].size(); ++s) {
       const auto& f = faces_[c][s];
-      mac_[c][s] = evaluate(f.value, g[static_cast<std::size_t>(f.axis)]);
+      mac_[c][s] =
+          f.wall ? 0.0
+                 : evaluate(f.value, g[static_cast<std::size_t>(f.axis)]);  // walls do not move normally
       div += f.fraction * f.side * mac_[c][s];
     }
     b[c] = div / (h * dt);
@@ -170,8 +175,10 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
     const double h = grid_->spacing(grid_->local_cell(static_cast<long>(c)).level);
     for (std::size_t s = 0; s < faces_[c].size(); ++s) {
       const auto& f = faces_[c][s];
-      mac_[c][s] -= dt * f.side * evaluate(f.gradient, p);
-      u[static_cast<std::size_t>(f.axis)][c] -= dt * f.fraction * f.side * evaluate(f.value, p) / h;
+      if (!f.wall) mac_[c][s] -= dt * f.side * evaluate(f.gradient, p);
+      // At a wall dp/dn = 0: the face takes the cell's pressure.
+      const double face = f.wall ? p[c] : evaluate(f.value, p);
+      u[static_cast<std::size_t>(f.axis)][c] -= dt * f.fraction * f.side * face / h;
     }
   }
   write(u);

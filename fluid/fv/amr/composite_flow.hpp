@@ -11,9 +11,10 @@
 // Gauss's theorem from the same faces (an approximate projection, Almgren,
 // Bell & Szymczak 1996), and the face velocities carry the advection.
 //
-// This first version has periodic boundaries only; walls, the fv solver's
-// boundary keys and IMEX diffusion come with its wiring into `fluid.solver:
-// fv` (issue 25).
+// Boundaries: periodic, or no-slip walls (optionally moving tangentially:
+// a lid) on the non-periodic domain faces, where the face velocity is zero
+// and dp/dn = 0. Inlets, outlets, the fv solver's boundary keys and IMEX
+// diffusion come with its wiring into `fluid.solver: fv` (issue 25).
 #pragma once
 
 #include <array>
@@ -34,6 +35,11 @@ class CompositeFlow {
   ~CompositeFlow();
 
   const CompositeGrid& grid() const { return *grid_; }
+  // The velocity of the wall on domain face 2 axis + (side > 0) (tangential;
+  // zero until set).
+  void set_wall_velocity(int face, const std::array<double, 3>& v) {
+    walls_[static_cast<std::size_t>(face)] = v;
+  }
   // Projects the velocity held by the forest (call once after setting it).
   void project_initial();
   // One step of length dt (Heun: two stages, each projected).
@@ -64,6 +70,9 @@ class CompositeFlow {
   Field rates(const Field& u);        // advection and diffusion of u
   void project(Field& u, double dt, int stage);
   double volume(long c) const;
+  const std::array<double, 3>& wall(const SubFace& f) const {
+    return walls_[static_cast<std::size_t>(2 * f.axis + (f.side > 0))];
+  }
   void build();  // the grid, faces and Poisson system of the forest as it is
 
   Forest& forest_;
@@ -73,6 +82,7 @@ class CompositeFlow {
   std::vector<std::vector<double>> mac_;     // per local cell, per sub-face: the velocity along +axis
   std::unique_ptr<IjSystem> poisson_;
   std::vector<std::vector<double>> source_;
+  std::array<std::array<double, 3>, 6> walls_{};
   // Per local cell, the last pressure of each stage and of the initial
   // projection: each solve's initial guess.
   std::array<std::vector<double>, 3> phi_;

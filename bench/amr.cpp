@@ -18,8 +18,9 @@
 // <= 10 %), the ratio of its cells per second to the uniform run's (target
 // >= 0.7), its mean cells against the uniform count, and the enstrophy of
 // both at the end (how much of the flow the adaptive grid keeps). With
-// --out, writes DIR/amr_cells.csv (t, cells) and DIR/amr_snapshot.csv and
-// DIR/uniform_snapshot.csv (x, y, h, level, omega) for scripts/plot_amr.py.
+// --out, writes DIR/amr_cells.csv (t, cells) and the last state of both runs,
+// DIR/amr_jet.{h5,xmf} and DIR/uniform_jet.{h5,xmf} (ParaView opens the .xmf;
+// scripts/plot_amr.py draws them).
 #include <fmt/format.h>
 #include <mpi.h>
 
@@ -32,6 +33,7 @@
 #include <vector>
 
 #include "fluid/fv/amr/composite_flow.hpp"
+#include "fluid/fv/amr/composite_output.hpp"
 #include "fluid/fv/amr/refinement_criteria.hpp"
 
 using namespace coflow::fluid::fv::amr;
@@ -70,20 +72,6 @@ double enstrophy(CompositeFlow& flow, Forest& forest) {
     e += 0.5 * w * w * std::pow(g.spacing(g.local_cell(c).level), 2);
   }
   return e;
-}
-
-void write_snapshot(CompositeFlow& flow, Forest& forest, const std::string& path) {
-  flow.vorticity(3);
-  const auto& g = flow.grid();
-  std::ofstream out(path);
-  out << "x,y,h,level,omega\n";
-  for (long c = 0; c < g.local_cells(); ++c) {
-    const auto cell = g.local_cell(c);
-    const auto x = g.centre(cell);
-    const double w = forest.data(static_cast<std::size_t>(
-        c / g.cells_per_patch()))[static_cast<std::size_t>(c % g.cells_per_patch()) * 4 + 3];
-    out << fmt::format("{:.6g},{:.6g},{:.6g},{},{:.6g}\n", x[0], x[1], g.spacing(cell.level), cell.level, w);
-  }
 }
 
 Result run(bool adaptive, int steps, const std::string& out_dir) {
@@ -131,8 +119,9 @@ Result run(bool adaptive, int steps, const std::string& out_dir) {
   }
   r.mean_cells = cell_steps / steps;
   r.enstrophy = enstrophy(flow, forest);
-  if (!out_dir.empty())
-    write_snapshot(flow, forest, out_dir + (adaptive ? "/amr_snapshot.csv" : "/uniform_snapshot.csv"));
+  if (!out_dir.empty())  // the vorticity is current (enstrophy)
+    write_composite(flow.grid(), out_dir, adaptive ? "amr_jet" : "uniform_jet", steps * dt, steps,
+                    {{"velocity", 0, 2}, {"pressure", 2, 1}, {"vorticity", 3, 1}});
   return r;
 }
 

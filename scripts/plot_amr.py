@@ -3,9 +3,11 @@ on the composite grid at the end with every patch's outline coloured by its
 level, and the cell count over time against the uniform finest grid's.
 
 Usage: plot_amr.py OUT_PNG DIR
-  DIR   where `bench-amr STEPS --out DIR` wrote amr_cells.csv and amr_snapshot.csv
+  DIR   where `bench-amr STEPS --out DIR` wrote amr_cells.csv and amr_jet.h5
 """
 import sys
+
+import h5py
 
 import matplotlib
 
@@ -16,8 +18,19 @@ from matplotlib.collections import PatchCollection
 from matplotlib.patches import Rectangle
 
 out, run = sys.argv[1], sys.argv[2]
-snap = np.genfromtxt(f"{run}/amr_snapshot.csv", delimiter=",", names=True)
 cells = np.genfromtxt(f"{run}/amr_cells.csv", delimiter=",", names=True)
+# Per level, the cells' own corners (4 per cell), vorticity and level.
+x, y, h, omega, level = [], [], [], [], []
+with h5py.File(f"{run}/amr_jet.h5", "r") as f:
+    for name in sorted(k for k in f if k.endswith("_nodes")):
+        p = name[: -len("nodes")]
+        nodes = f[name][:].reshape(-1, 4, 3)
+        x.append(nodes[:, :, 0].mean(axis=1))
+        y.append(nodes[:, :, 1].mean(axis=1))
+        h.append(nodes[:, :, 0].max(axis=1) - nodes[:, :, 0].min(axis=1))
+        omega.append(f[p + "vorticity"][:, 0])
+        level.append(f[p + "level"][:, 0])
+snap = {k: np.concatenate(v) for k, v in dict(x=x, y=y, h=h, omega=omega, level=level).items()}
 PATCH = 8  # cells per patch edge (bench-amr)
 
 fig, (ax, ac) = plt.subplots(1, 2, figsize=(12, 5.2), gridspec_kw={"width_ratios": [1.15, 1]})
@@ -50,4 +63,4 @@ ac.set_ylim(0, 18000)
 ac.legend(loc="lower right")
 ac.set_title("cells over time")
 fig.tight_layout()
-fig.savefig(out, dpi=110)
+fig.savefig(out, dpi=int(sys.argv[3]) if len(sys.argv) > 3 else 110)

@@ -254,6 +254,33 @@ void write_points(MPI_Comm comm, const std::string& path, double time, long step
   finish_file(comm, f, tmp, path);
 }
 
+std::size_t first_row(MPI_Comm comm, std::size_t rows) {
+  unsigned long long n = rows, offset = 0;
+  MPI_Exscan(&n, &offset, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  return rank == 0 ? 0 : static_cast<std::size_t>(offset);
+}
+
+void write_tables(MPI_Comm comm, const std::string& path, double time, long step,
+                  const std::vector<Table>& tables) {
+  const std::string tmp = tmp_name(comm, path);
+  hid_t f = create_parallel(comm, tmp);
+  write_scalar_attr(f, "time", time);
+  write_long_attr(f, "step", step);
+  write_string_attr(f, "time_units", "s");
+  for (const auto& t : tables) {
+    unsigned long long n = t.rows, total = 0;
+    MPI_Allreduce(&n, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
+    const hsize_t offset = first_row(comm, t.rows), columns = static_cast<hsize_t>(t.columns);
+    write_block(
+        f, t.name, t.integer ? H5T_NATIVE_INT64 : H5T_NATIVE_DOUBLE, {total, columns}, {offset, 0},
+        {n, columns},
+        t.integer ? static_cast<const void*>(t.integers.data()) : static_cast<const void*>(t.values.data()));
+  }
+  finish_file(comm, f, tmp, path);
+}
+
 std::vector<double> read_dataset(const std::string& path, const std::string& name,
                                  std::vector<std::size_t>* dims) {
   hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);

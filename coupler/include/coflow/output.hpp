@@ -71,6 +71,26 @@ void write_points(MPI_Comm comm, const std::string& path, double time, long step
                   std::span<const std::int64_t> id, std::span<const std::int32_t> species,
                   const std::vector<PointField>& fields, const std::vector<std::string>& species_names = {});
 
+// A table of rows (this rank's part): `columns` values per row, doubles or
+// 64-bit integers (`integer`: the same on every rank), in `values` or
+// `integers` (rows x columns).
+struct Table {
+  std::string name;
+  int columns = 1;
+  std::size_t rows = 0;
+  bool integer = false;
+  std::span<const double> values;
+  std::span<const std::int64_t> integers;
+};
+// Collective over `comm`: one dataset [rows over all ranks][columns] per
+// table, each rank's rows after those of the ranks below it (unstructured
+// meshes: fv's adaptive grid writes its cells so).
+void write_tables(MPI_Comm comm, const std::string& path, double time, long step,
+                  const std::vector<Table>& tables);
+// The first row of this rank's part of a table of `rows` local rows (the
+// offset write_tables uses). Collective.
+std::size_t first_row(MPI_Comm comm, std::size_t rows);
+
 // Read back (serial) for restarts, tests and initial conditions.
 std::vector<double> read_dataset(const std::string& path, const std::string& name,
                                  std::vector<std::size_t>* dims = nullptr);

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "coflow/output.hpp"
 #include "fluid/fv/amr/composite_laplacian.hpp"
 
 namespace coflow::fluid::fv::amr {
@@ -201,6 +202,40 @@ void CompositeFlow::step(double dt) {
   for (std::size_t q = 0; q < u2.size(); ++q)
     for (std::size_t c = 0; c < u2[q].size(); ++c) u2[q][c] = 0.5 * (u0[q][c] + u1[q][c] + dt * r1[q][c]);
   project(u2, dt, 1);
+}
+
+namespace {
+int sub_faces_per_cell(int dims) {
+  return 2 * dims * (1 << (dims - 1));
+}  // all faces split
+}  // namespace
+
+void CompositeFlow::save(const std::string& dir) {
+  forest_.save(dir + "/forest.p4est");
+  const auto n = faces_.size(), width = static_cast<std::size_t>(sub_faces_per_cell(dims_));
+  std::vector<double> mac(n * width, 0.0), phi(n * 3, 0.0);
+  for (std::size_t c = 0; c < n; ++c) {
+    std::copy(mac_[c].begin(), mac_[c].end(), mac.begin() + static_cast<std::ptrdiff_t>(c * width));
+    for (std::size_t k = 0; k < 3; ++k) phi[c * 3 + k] = phi_[k].empty() ? 0.0 : phi_[k][c];
+  }
+  output::write_tables(forest_.comm(), dir + "/flow.h5", 0.0, 0,
+                       {{"mac", static_cast<int>(width), n, false, mac, {}}, {"phi", 3, n, false, phi, {}}});
+}
+
+void CompositeFlow::load(const std::string& dir) {
+  // Rows are global cell ids (write_tables keeps the ranks' order, which is
+  // the forest's): any rank count reads its own.
+  const auto mac = output::read_dataset(dir + "/flow.h5", "mac");
+  const auto phi = output::read_dataset(dir + "/flow.h5", "phi");
+  const auto width = static_cast<std::size_t>(sub_faces_per_cell(dims_));
+  if (mac.size() != static_cast<std::size_t>(grid_->global_cells()) * width)
+    throw std::runtime_error("refinement: " + dir + "/flow.h5 does not match its forest");
+  const auto first = static_cast<std::size_t>(grid_->first_cell());
+  for (auto& p : phi_) p.assign(faces_.size(), 0.0);
+  for (std::size_t c = 0; c < faces_.size(); ++c) {
+    for (std::size_t s = 0; s < mac_[c].size(); ++s) mac_[c][s] = mac[(first + c) * width + s];
+    for (std::size_t k = 0; k < 3; ++k) phi_[k][c] = phi[(first + c) * 3 + k];
+  }
 }
 
 double CompositeFlow::face_divergence() const {

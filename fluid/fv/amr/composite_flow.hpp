@@ -19,6 +19,7 @@
 
 #include <array>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "fluid/fv/amr/composite_faces.hpp"
@@ -52,6 +53,13 @@ class CompositeFlow {
   // The vorticity's magnitude per cell (2D: |dv/dx - du/dy|) into the
   // forest's `component` (a refinement criterion: mark_by_magnitude).
   void vorticity(int component);
+  // Checkpoint (collective): the forest (leaves, velocity, pressure) in
+  // dir/forest.p4est, the face velocities and each stage's last pressure in
+  // dir/flow.h5; a flow built on Forest(comm, spec, dir + "/forest.p4est")
+  // then load(dir) continues bit for bit on the same rank count (on another,
+  // to the Poisson solver's tolerance).
+  void save(const std::string& dir);
+  void load(const std::string& dir);
   // The largest |divergence| of the face velocities, after the last projection.
   double face_divergence() const;
   // The total momentum sum V u along `axis` over all ranks.

@@ -20,7 +20,9 @@ void quiet_p4est_once() {
 
 }  // namespace
 
-Forest::Forest(MPI_Comm comm, const ForestSpec& spec) : spec_(spec), comm_(comm) {
+Forest::Forest(MPI_Comm comm, const ForestSpec& spec) : Forest(comm, spec, std::string()) {}
+
+Forest::Forest(MPI_Comm comm, const ForestSpec& spec, const std::string& path) : spec_(spec), comm_(comm) {
   if (spec.dims != 2 && spec.dims != 3) throw std::invalid_argument("refinement: dims must be 2 or 3");
   if (spec.dims == 2 && (spec.trees[2] != 1 || spec.periodic[2]))
     throw std::invalid_argument("refinement: a 2D brick has one tree along z and no z period");
@@ -28,7 +30,8 @@ Forest::Forest(MPI_Comm comm, const ForestSpec& spec) : spec_(spec), comm_(comm)
     throw std::invalid_argument("refinement: a patch needs an even number of cells, at least 4");
   if (spec.max_level < spec.min_level) throw std::invalid_argument("refinement: max_level below min_level");
   quiet_p4est_once();
-  engine_ = spec.dims == 2 ? make_forest_engine_2d(comm, spec) : make_forest_engine_3d(comm, spec);
+  engine_ =
+      spec.dims == 2 ? make_forest_engine_2d(comm, spec, path) : make_forest_engine_3d(comm, spec, path);
   engine_->collect(*this);
 }
 

@@ -19,6 +19,7 @@
 #include <memory>
 #include <span>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "coflow/decomposition.hpp"
@@ -55,6 +56,12 @@ struct ForestSpec {
 class Forest {
  public:
   Forest(MPI_Comm comm, const ForestSpec& spec);
+  // A forest saved by save(), on any rank count (its leaves and values; the
+  // spec must be the one it was built with: its refine function is not
+  // called). Collective.
+  Forest(MPI_Comm comm, const ForestSpec& spec, const std::string& path);
+  // Writes the leaves and their values to one file (p4est's format). Collective.
+  void save(const std::string& path) { engine_->save(path); }
   ~Forest();
   Forest(const Forest&) = delete;
   Forest& operator=(const Forest&) = delete;
@@ -95,6 +102,7 @@ class Forest {
     virtual void collect(Forest& f) = 0;  // fill leaves_, ghosts_, data_, counts
     virtual void adapt(Forest& f, const std::vector<int>& marks) = 0;
     virtual void exchange(Forest& f) = 0;
+    virtual void save(const std::string& path) = 0;
   };
 
  private:
@@ -110,8 +118,11 @@ class Forest {
 
 // The dimension-specific builders (compiled once per dimension from
 // forest_p4est_impl.hpp).
-std::unique_ptr<Forest::Engine> make_forest_engine_2d(MPI_Comm comm, const ForestSpec& spec);
-std::unique_ptr<Forest::Engine> make_forest_engine_3d(MPI_Comm comm, const ForestSpec& spec);
+// An empty path builds a new forest; otherwise loads the saved one.
+std::unique_ptr<Forest::Engine> make_forest_engine_2d(MPI_Comm comm, const ForestSpec& spec,
+                                                      const std::string& path);
+std::unique_ptr<Forest::Engine> make_forest_engine_3d(MPI_Comm comm, const ForestSpec& spec,
+                                                      const std::string& path);
 
 // Lets the engines fill a forest's leaf lists.
 struct EngineAccess {

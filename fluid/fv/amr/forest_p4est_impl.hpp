@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "fluid/fv/amr/forest.hpp"
 
@@ -168,6 +169,21 @@ class Engine final : public Forest::Engine {
     p4est_partition(forest_, 1, nullptr);
     ghost_ = p4est_ghost_new(forest_, P4EST_CONNECT_FULL);
   }
+  // Loads a forest saved by save() (any rank count), partitioned as a run of
+  // this rank count would have it.
+  Engine(MPI_Comm comm, const ForestSpec& spec, const std::string& path) : spec_(spec) {
+    ctx_ = {&spec_, nullptr, spec.values_per_leaf()};
+    const auto bytes = static_cast<size_t>(ctx_.values + 1) * sizeof(double);
+    forest_ = p4est_load_ext(path.c_str(), comm, bytes, 1, 1, 0, &ctx_, &conn_);
+    ctx_.conn = conn_;
+    p4est_partition(forest_, 1, nullptr);
+    ghost_ = p4est_ghost_new(forest_, P4EST_CONNECT_FULL);
+  }
+
+  void save(const std::string& path) override {
+    p4est_save_ext(path.c_str(), forest_, 1, 0);
+  }
+
   ~Engine() override {
     if (ghost_) p4est_ghost_destroy(ghost_);
     if (forest_) p4est_destroy(forest_);
@@ -240,7 +256,9 @@ class Engine final : public Forest::Engine {
 
 }  // namespace
 
-std::unique_ptr<Forest::Engine> COFLOW_FOREST_ENGINE(MPI_Comm comm, const ForestSpec& spec) {
+std::unique_ptr<Forest::Engine> COFLOW_FOREST_ENGINE(MPI_Comm comm, const ForestSpec& spec,
+                                                     const std::string& path) {
+  if (!path.empty()) return std::make_unique<Engine>(comm, spec, path);
   return std::make_unique<Engine>(comm, spec);
 }
 

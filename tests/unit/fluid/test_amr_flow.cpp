@@ -4,12 +4,15 @@
 // round-off across the coarse-fine faces, face velocities divergence-free to
 // the solver's tolerance, and 1 rank equal to N. `unit` runs these on 1 rank;
 // `unit.mpi` on 4.
+#include <fmt/format.h>
 #include <mpi.h>
 
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <filesystem>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <vector>
 
@@ -409,4 +412,80 @@ TEST_CASE("amr flow: 3D Arnold-Beltrami-Childress flow, second order on 2 levels
   INFO("cells " << ca << " -> " << cb << ", L2 " << a << " -> " << b << " (order " << std::log2(a / b)
                 << ")");
   CHECK(std::log2(a / b) >= 1.8);  // references.csv: amr_flow_abc_3d
+}
+
+namespace {
+
+// The vortex on 3 levels with a regrid on vorticity: `first` steps, then
+// (optionally) a checkpoint into `dir`, then `then` steps (a regrid at the
+// third). Returns (level, i, j, q) -> u.
+std::map<std::array<long, 4>, double> vortex_with_restart(int first, int then, const std::string& save_dir,
+                                                          const std::string& load_dir) {
+  auto spec = vortex_forest(3, 8);
+  spec.components = 4;
+  std::unique_ptr<Forest> forest =
+      load_dir.empty() ? std::make_unique<Forest>(MPI_COMM_WORLD, spec)
+                       : std::make_unique<Forest>(MPI_COMM_WORLD, spec, load_dir + "/forest.p4est");
+  CompositeFlow flow(*forest, {{0.0, 0.0, 0.0}, 0.5 * kPi}, kNu);
+  const auto& g0 = flow.grid();
+  if (load_dir.empty()) {
+    for (long c = 0; c < g0.local_cells(); ++c) {
+      const auto x = g0.centre(g0.local_cell(c));
+      auto v = forest->data(static_cast<std::size_t>(c / g0.cells_per_patch()));
+      const auto k = static_cast<std::size_t>(c % g0.cells_per_patch()) * 4;
+      v[k] = std::sin(x[0]) * std::cos(x[1]);
+      v[k + 1] = -std::cos(x[0]) * std::sin(x[1]);
+    }
+    flow.project_initial();
+    for (int n = 0; n < first; ++n) flow.step(0.01);
+    if (!save_dir.empty()) flow.save(save_dir);
+  } else {
+    flow.load(load_dir);
+  }
+  for (int n = 0; n < then; ++n) {
+    if (n == 3) {
+      flow.vorticity(3);
+      flow.regrid(mark_by_magnitude(*forest, 3, 1.2, 0.4));
+    }
+    flow.step(0.01);
+  }
+  std::map<std::array<long, 4>, double> u;
+  const auto& g = flow.grid();
+  for (long c = 0; c < g.local_cells(); ++c) {
+    const auto cell = g.local_cell(c);
+    const auto v = forest->data(static_cast<std::size_t>(c / g.cells_per_patch()));
+    for (long q = 0; q < 2; ++q)
+      u[{cell.level, cell.index[0], cell.index[1], q}] =
+          v[static_cast<std::size_t>(c % g.cells_per_patch() * 4 + q)];
+  }
+  return u;
+}
+
+}  // namespace
+
+TEST_CASE("amr flow: a restart continues bit for bit", "[amr][mpi]") {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const std::string dir = fmt::format("amr-restart-{}", size);
+  if (rank == 0) std::filesystem::create_directories(dir);
+  MPI_Barrier(MPI_COMM_WORLD);
+  const auto straight = vortex_with_restart(8, 8, dir, "");
+  const auto restarted = vortex_with_restart(0, 8, "", dir);
+  long missing = 0;
+  double worst = 0.0;
+  for (const auto& [key, v] : straight) {
+    const auto it = restarted.find(key);
+    if (it == restarted.end()) {
+      ++missing;
+      continue;
+    }
+    worst = std::max(worst, std::isnan(v - it->second) ? HUGE_VAL : std::fabs(v - it->second));
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, &missing, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+  INFO("cells missing " << missing << ", largest difference " << worst);
+  CHECK(missing == 0);
+  CHECK(worst <= 0.0);  // references.csv: amr_restart
 }

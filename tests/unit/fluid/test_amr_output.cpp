@@ -3,7 +3,8 @@
 // cells once (counts, volumes summing to the domain's) with their values,
 // read back from the HDF5 file. The ctest output.paraview_reads_amr then
 // opens the XDMF files with ParaView (tests/output/check_amr_xdmf.py): the
-// files stay in $COFLOW_AMR_OUT (default: amr-output in the working folder).
+// files stay in $COFLOW_AMR_OUT (default: amr-output-<ranks> in the working
+// folder).
 #include <fmt/format.h>
 #include <mpi.h>
 
@@ -38,10 +39,12 @@ void write_and_read(int dims, int levels) {
     auto v = forest.data(static_cast<std::size_t>(c / g.cells_per_patch()));
     v[static_cast<std::size_t>(c % g.cells_per_patch()) * 2 + 1] = field(g.centre(g.local_cell(c)));
   }
-  const char* env = std::getenv("COFLOW_AMR_OUT");
-  const std::string dir = env ? env : "amr-output";
-  int rank = 0;
+  int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  // unit and unit.mpi may run at once: a folder per rank count.
+  const char* env = std::getenv("COFLOW_AMR_OUT");
+  const std::string dir = env ? env : fmt::format("amr-output-{}", size);
   if (rank == 0) std::filesystem::create_directories(dir);
   MPI_Barrier(MPI_COMM_WORLD);
   const std::string stem = fmt::format("composite_{}d", dims);

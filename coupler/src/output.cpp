@@ -182,6 +182,15 @@ void finish_file(MPI_Comm comm, hid_t f, const std::string& tmp, const std::stri
   if (rank == 0) fs::rename(tmp, path);
 }
 
+// A new snapshot file (collective) at the temporary name, with its time and step.
+hid_t create_snapshot(MPI_Comm comm, const std::string& tmp, double time, long step) {
+  hid_t f = create_parallel(comm, tmp);
+  write_scalar_attr(f, "time", time);
+  write_long_attr(f, "step", step);
+  write_string_attr(f, "time_units", "s");
+  return f;
+}
+
 std::string tmp_name(MPI_Comm comm, const std::string& path) {
   // Same name on every rank of the collective.
   return path + ".tmp";
@@ -193,10 +202,7 @@ void write_grid(MPI_Comm comm, const std::string& path, double time, long step,
                 const coupler::Index3& cells, const coupler::Box& owned, const coupler::Box& local,
                 const std::vector<GridField>& fields) {
   const std::string tmp = tmp_name(comm, path);
-  hid_t f = create_parallel(comm, tmp);
-  write_scalar_attr(f, "time", time);
-  write_long_attr(f, "step", step);
-  write_string_attr(f, "time_units", "s");
+  hid_t f = create_snapshot(comm, tmp, time, step);
   write_string_attr(f, "layout", "[nz][ny][nx] or [nz][ny][nx][component], x fastest; cell centres");
   const long nx = owned.extent(0), ny = owned.extent(1), nz = owned.extent(2);
   const long lx = local.extent(0), ly = local.extent(1);
@@ -227,19 +233,13 @@ void write_grid(MPI_Comm comm, const std::string& path, double time, long step,
 void write_points(MPI_Comm comm, const std::string& path, double time, long step, std::size_t count,
                   std::span<const std::int64_t> id, std::span<const std::int32_t> species,
                   const std::vector<PointField>& fields, const std::vector<std::string>& species_names) {
-  unsigned long long n = count, offset = 0, total = 0;
-  MPI_Exscan(&n, &offset, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  if (rank == 0) offset = 0;
+  unsigned long long n = count, total = 0;
+  const unsigned long long offset = first_row(comm, count);
   MPI_Allreduce(&n, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
   const std::string tmp = tmp_name(comm, path);
-  hid_t f = create_parallel(comm, tmp);
-  write_scalar_attr(f, "time", time);
-  write_long_attr(f, "step", step);
+  hid_t f = create_snapshot(comm, tmp, time, step);
   write_block(f, "id", H5T_NATIVE_INT64, {total}, {offset}, {n}, id.data());
   write_block(f, "species", H5T_NATIVE_INT32, {total}, {offset}, {n}, species.data());
-  write_string_attr(f, "time_units", "s");
   // The species table: index i of "species" is the i-th name (comma-separated).
   write_string_attr(f, "species_names", fmt::format("{}", fmt::join(species_names, ",")));
   for (const auto& fld : fields) {
@@ -265,10 +265,7 @@ std::size_t first_row(MPI_Comm comm, std::size_t rows) {
 void write_tables(MPI_Comm comm, const std::string& path, double time, long step,
                   const std::vector<Table>& tables) {
   const std::string tmp = tmp_name(comm, path);
-  hid_t f = create_parallel(comm, tmp);
-  write_scalar_attr(f, "time", time);
-  write_long_attr(f, "step", step);
-  write_string_attr(f, "time_units", "s");
+  hid_t f = create_snapshot(comm, tmp, time, step);
   for (const auto& t : tables) {
     unsigned long long n = t.rows, total = 0;
     MPI_Allreduce(&n, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);

@@ -16,6 +16,7 @@
 #include <sstream>
 #include <vector>
 
+#include "amr_compare.hpp"
 #include "fluid/fv/amr/composite_flow.hpp"
 #include "fluid/fv/amr/refinement_criteria.hpp"
 
@@ -134,14 +135,10 @@ TEST_CASE("amr flow: Taylor-Green vortex, second order on 2 and 3 levels", "[amr
 TEST_CASE("amr flow: 1 rank equals N ranks", "[amr][mpi]") {
   const auto alone = vortex(MPI_COMM_SELF, 3, 8);
   const auto shared = vortex(MPI_COMM_WORLD, 3, 8);
-  double worst = 0.0;
-  for (const auto& [key, v] : shared.u) {
-    const auto it = alone.u.find(key);
-    REQUIRE(it != alone.u.end());
-    worst = std::max(worst, std::isnan(v - it->second) ? HUGE_VAL : std::fabs(v - it->second));
-  }
-  MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-  INFO("largest difference " << worst);
+  long missing = 0;
+  const double worst = coflow::test::largest_difference(shared.u, alone.u, &missing);
+  INFO("largest difference " << worst << ", cells missing " << missing);
+  CHECK(missing == 0);
   CHECK(worst <= 1e-12);  // references.csv: amr_flow_ranks_1_vs_4
 }
 
@@ -329,13 +326,9 @@ TEST_CASE("amr flow: a shear layer followed by regridding on vorticity, 1 rank e
   const auto alone = shear_layer(MPI_COMM_SELF);
   const auto shared = shear_layer(MPI_COMM_WORLD);
   CHECK(alone.cells == shared.cells);
-  double worst = 0.0;
-  for (const auto& [key, v] : shared.u) {
-    const auto it = alone.u.find(key);
-    REQUIRE(it != alone.u.end());
-    worst = std::max(worst, std::isnan(v - it->second) ? HUGE_VAL : std::fabs(v - it->second));
-  }
-  MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  long missing = 0;
+  const double worst = coflow::test::largest_difference(shared.u, alone.u, &missing);
+  CHECK(missing == 0);
   std::ostringstream cells;
   for (long c : shared.cells) cells << c << " ";
   INFO("cells after each regrid: " << cells.str() << "; momentum drift " << shared.drift << "; 1 vs N "
@@ -474,17 +467,7 @@ TEST_CASE("amr flow: a restart continues bit for bit", "[amr][mpi]") {
   const auto straight = vortex_with_restart(8, 8, dir, "");
   const auto restarted = vortex_with_restart(0, 8, "", dir);
   long missing = 0;
-  double worst = 0.0;
-  for (const auto& [key, v] : straight) {
-    const auto it = restarted.find(key);
-    if (it == restarted.end()) {
-      ++missing;
-      continue;
-    }
-    worst = std::max(worst, std::isnan(v - it->second) ? HUGE_VAL : std::fabs(v - it->second));
-  }
-  MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-  MPI_Allreduce(MPI_IN_PLACE, &missing, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+  const double worst = coflow::test::largest_difference(straight, restarted, &missing);
   INFO("cells missing " << missing << ", largest difference " << worst);
   CHECK(missing == 0);
   CHECK(worst <= 0.0);  // references.csv: amr_restart

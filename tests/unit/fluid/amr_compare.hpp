@@ -1,0 +1,35 @@
+// Comparing two runs of fv's adaptive grid cell by cell (1 rank against N, a
+// restart against a straight run): their values keyed by level and index.
+#pragma once
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace coflow::test {
+
+// The largest |a - b| over this rank's cells of `a`, reduced over `comm`
+// (NaN counts as infinite); *missing: the cells of `a` that `b` lacks, summed
+// over `comm`. Every rank must call it.
+template <class Key>
+double largest_difference(const std::map<Key, double>& a, const std::map<Key, double>& b, long* missing,
+                          MPI_Comm comm = MPI_COMM_WORLD) {
+  double worst = 0.0;
+  long absent = 0;
+  for (const auto& [key, v] : a) {
+    const auto it = b.find(key);
+    if (it == b.end()) {
+      ++absent;
+      continue;
+    }
+    const double d = v - it->second;
+    worst = std::max(worst, std::isnan(d) ? HUGE_VAL : std::fabs(d));
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE, MPI_MAX, comm);
+  MPI_Allreduce(&absent, missing, 1, MPI_LONG, MPI_SUM, comm);
+  return worst;
+}
+
+}  // namespace coflow::test

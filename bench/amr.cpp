@@ -71,6 +71,7 @@ double enstrophy(CompositeFlow& flow, Forest& forest) {
         c / g.cells_per_patch()))[static_cast<std::size_t>(c % g.cells_per_patch()) * 4 + 3];
     e += 0.5 * w * w * std::pow(g.spacing(g.local_cell(c).level), 2);
   }
+  MPI_Allreduce(MPI_IN_PLACE, &e, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
   return e;
 }
 

@@ -267,6 +267,9 @@ void write_tables(MPI_Comm comm, const std::string& path, double time, long step
   const std::string tmp = tmp_name(comm, path);
   hid_t f = create_snapshot(comm, tmp, time, step);
   for (const auto& t : tables) {
+    const std::size_t given = t.integer ? t.integers.size() : t.values.size();
+    if (given != t.rows * static_cast<std::size_t>(t.columns))
+      throw std::logic_error(fmt::format("table {}: {} values for {} rows of {}", t.name, given, t.rows, t.columns));
     unsigned long long n = t.rows, total = 0;
     MPI_Allreduce(&n, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
     const hsize_t offset = first_row(comm, t.rows), columns = static_cast<hsize_t>(t.columns);

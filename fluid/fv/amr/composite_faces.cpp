@@ -11,9 +11,10 @@ Index3 shifted(Index3 i, int axis, long by) {
 // The value at the face between cell `c` and its neighbour on `side`, both
 // leaves of one level: cubic through two cells on each side ((-1, 9, 9, -1)
 // / 16), or quadratic through three where one outer cell has no value at
-// this level, or the mean of the two. Third order where it can, so that a
-// cell's gradient by Gauss's theorem stays second order next to a level
-// whose faces are interpolated differently.
+// this level, or the mean of the two. Third order where it can: the cells'
+// gradients by Gauss's theorem and the advected values gain from it; beside
+// a coarse-fine face the gradient stays first order (the coarse face's value
+// is the mean of its fine faces', docs/validation.md).
 Stencil same_level_value(const CompositeGrid& g, const CompositeGrid::Cell& c, int axis, int side) {
   const Index3 near = c.index, far = shifted(c.index, axis, side);
   Stencil a, b, out;

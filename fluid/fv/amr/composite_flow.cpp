@@ -53,16 +53,7 @@ void CompositeFlow::build() {
 }
 
 bool CompositeFlow::regrid(const std::vector<int>& marks) {
-  std::vector<std::pair<int, Index3>> before;
-  for (const auto& l : forest_.leaves()) before.emplace_back(l.level, l.patch);
-  forest_.adapt(marks);
-  // Unchanged everywhere (no leaf refined, coarsened or moved): the
-  // operators and the face velocities stand.
-  int changed = before.size() != forest_.leaves().size() ? 1 : 0;
-  for (std::size_t l = 0; !changed && l < before.size(); ++l)
-    changed = before[l] != std::make_pair(forest_.leaves()[l].level, forest_.leaves()[l].patch) ? 1 : 0;
-  MPI_Allreduce(MPI_IN_PLACE, &changed, 1, MPI_INT, MPI_MAX, forest_.comm());
-  if (!changed) {
+  if (!forest_.adapt(marks)) {  // no leaf refined or coarsened: operators and face velocities stand
     grid_ = std::make_unique<CompositeGrid>(forest_, geometry_);  // the leaf lists were rebuilt
     return false;
   }
@@ -186,8 +177,18 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
 }
 
 void CompositeFlow::project_initial() {
+  // A pure projection: its potential is not the flow's pressure, which the
+  // forest keeps.
+  const auto nc = static_cast<std::size_t>(nc_), per = static_cast<std::size_t>(grid_->cells_per_patch());
+  std::vector<double> pressure;
+  for (std::size_t l = 0; l < forest_.leaves().size(); ++l)
+    for (std::size_t c = 0; c < per; ++c)
+      pressure.push_back(forest_.data(l)[c * nc + static_cast<std::size_t>(dims_)]);
   Field u = read_velocity();
   project(u, 1.0, 2);
+  for (std::size_t l = 0, k = 0; l < forest_.leaves().size(); ++l)
+    for (std::size_t c = 0; c < per; ++c)
+      forest_.data(l)[c * nc + static_cast<std::size_t>(dims_)] = pressure[k++];
 }
 
 void CompositeFlow::step(double dt) {
@@ -228,7 +229,8 @@ void CompositeFlow::load(const std::string& dir) {
   const auto mac = output::read_dataset(dir + "/flow.h5", "mac");
   const auto phi = output::read_dataset(dir + "/flow.h5", "phi");
   const auto width = static_cast<std::size_t>(sub_faces_per_cell(dims_));
-  if (mac.size() != static_cast<std::size_t>(grid_->global_cells()) * width)
+  const auto cells = static_cast<std::size_t>(grid_->global_cells());
+  if (mac.size() != cells * width || phi.size() != cells * 3)
     throw std::runtime_error("refinement: " + dir + "/flow.h5 does not match its forest");
   const auto first = static_cast<std::size_t>(grid_->first_cell());
   for (auto& p : phi_) p.assign(faces_.size(), 0.0);

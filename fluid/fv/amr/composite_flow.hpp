@@ -31,7 +31,7 @@ class CompositeFlow {
  public:
   // The forest keeps at least dims + 1 components per cell: the velocity,
   // then the pressure (kinematic), then any the caller uses (a refinement
-  // criterion's field). Periodic on every axis.
+  // criterion's field). Periodic axes, walls on the others.
   CompositeFlow(Forest& forest, const GridGeometry& geometry, double viscosity);
   ~CompositeFlow();
 

@@ -80,17 +80,23 @@ class Forest {
   // Ghost leaf g's values, as of the last exchange_ghosts().
   std::span<const double> ghost_data(std::size_t g) const {
     const std::size_t stride = static_cast<std::size_t>(spec_.values_per_leaf()) + 1;
+    if (ghost_buffer_.size() != ghosts_.size() * stride)
+      throw std::logic_error("refinement: ghost values read before exchange_ghosts() after a regrid");
     return {ghost_buffer_.data() + g * stride, stride - 1};
   }
   void exchange_ghosts() { engine_->exchange(*this); }
   // Regrids: each local leaf's mark (+1 refine, -1 coarsen if its whole
   // family says so, 0 keep; levels stay within min_level..max_level), then
   // 2:1 balance and repartition. Field values follow conservatively: a
-  // refined cell's value goes to its 2^d children, a coarsened cell takes
-  // its children's mean. Collective.
-  void adapt(const std::vector<int>& marks) {
+  // refined cell's children take a limited linear reconstruction of it (the
+  // mean of the children is the parent's value), a coarsened cell the mean
+  // of its children. Collective; returns whether any rank refined or
+  // coarsened a leaf (balance included).
+  bool adapt(const std::vector<int>& marks) {
     if (marks.size() != leaves_.size()) throw std::invalid_argument("refinement: one mark per local leaf");
-    engine_->adapt(*this, marks);
+    int changed = engine_->adapt(*this, marks) ? 1 : 0;
+    MPI_Allreduce(MPI_IN_PLACE, &changed, 1, MPI_INT, MPI_MAX, comm_);
+    return changed != 0;
   }
   long global_leaves() const { return global_leaves_; }
   long first_leaf() const { return first_leaf_; }  // global index of leaves()[0]
@@ -100,7 +106,8 @@ class Forest {
   struct Engine {
     virtual ~Engine() = default;
     virtual void collect(Forest& f) = 0;  // fill leaves_, ghosts_, data_, counts
-    virtual void adapt(Forest& f, const std::vector<int>& marks) = 0;
+    // Returns whether this rank refined or coarsened any leaf.
+    virtual bool adapt(Forest& f, const std::vector<int>& marks) = 0;
     virtual void exchange(Forest& f) = 0;
     virtual void save(const std::string& path) = 0;
   };

@@ -21,7 +21,8 @@ namespace {
 struct BuildContext {
   const ForestSpec* spec;
   const p4est_connectivity_t* conn;
-  int values = 0;  // doubles of field data per leaf; one more holds the leaf's mark
+  int values = 0;     // doubles of field data per leaf; one more holds the leaf's mark
+  long replaced = 0;  // leaves refined or coarsened (by marks or by balance) this rank
 };
 
 // The cell of a parent patch that holds cell `cell` of its child `child`
@@ -48,7 +49,8 @@ void zero_leaf(p4est_t* forest, p4est_topidx_t, p4est_quadrant_t* q) {
 
 // The limited slope (per parent cell) of component q of a parent patch along
 // `axis` at parent cell (i, j, k): minmod of the two one-sided differences
-// inside the patch, the one available at its edges.
+// inside the patch; at the patch's edges (no neighbour values in p4est's
+// callback) the one-sided difference, unlimited.
 double limited_slope(const double* parent, int n, int components, int q, const std::array<long, 3>& ijk,
                      int axis) {
   auto at = [&](std::array<long, 3> c) { return parent[((c[2] * n + c[1]) * n + c[0]) * components + q]; };
@@ -67,7 +69,7 @@ double limited_slope(const double* parent, int n, int components, int q, const s
 // Conservative transfer. A refined leaf's children take a limited linear
 // reconstruction of their parent cell (value + slope x offset, offsets of a
 // quarter cell either way, so the children's mean is the parent's value;
-// monotone: no new extrema); a coarsened family's parent takes the mean of
+// no new extrema inside the patch); a coarsened family's parent takes the mean of
 // the 2^d child cells over each of its cells.
 void refine_cells(const BuildContext& ctx, const double* parent, double* child, int which) {
   const int n = ctx.spec->patch, dims = ctx.spec->dims, components = ctx.spec->components;
@@ -95,7 +97,8 @@ void refine_cells(const BuildContext& ctx, const double* parent, double* child, 
 
 void transfer(p4est_t* forest, p4est_topidx_t, int n_out, p4est_quadrant_t* out[], int n_in,
               p4est_quadrant_t* in[]) {
-  const auto* ctx = static_cast<const BuildContext*>(forest->user_pointer);
+  auto* ctx = static_cast<BuildContext*>(forest->user_pointer);
+  ++ctx->replaced;
   if (ctx->values == 0) return;
   const int n = ctx->spec->patch, dims = ctx->spec->dims;
   const long per = ctx->values / ctx->spec->components;  // cells per patch
@@ -192,7 +195,8 @@ class Engine final : public Forest::Engine {
   Engine(const Engine&) = delete;
   Engine& operator=(const Engine&) = delete;
 
-  void adapt(Forest& f, const std::vector<int>& marks) override {
+  bool adapt(Forest& f, const std::vector<int>& marks) override {
+    ctx_.replaced = 0;
     std::size_t i = 0;
     for_each_local([&](p4est_quadrant_t* q) { data_of(q)[ctx_.values] = marks.at(i++); });
     p4est_coarsen_ext(forest_, 0, 0, coarsen_marked, zero_leaf, transfer);
@@ -202,6 +206,7 @@ class Engine final : public Forest::Engine {
     p4est_ghost_destroy(ghost_);
     ghost_ = p4est_ghost_new(forest_, P4EST_CONNECT_FULL);
     collect(f);
+    return ctx_.replaced > 0;
   }
 
   void exchange(Forest& f) override {
@@ -213,6 +218,7 @@ class Engine final : public Forest::Engine {
 
   void collect(Forest& f) override {
     auto& data = EngineAccess::data(f);
+    EngineAccess::ghost_buffer(f).clear();  // stale until the next exchange
     data.clear();
     for_each_local([&](p4est_quadrant_t* q) { data.push_back(data_of(q)); });
     auto& leaves = EngineAccess::leaves(f);

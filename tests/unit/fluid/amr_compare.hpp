@@ -10,6 +10,12 @@
 
 namespace coflow::test {
 
+// The larger of a worst value so far and a new one; a NaN makes it infinite
+// (std::max would drop it), so that a bound check sees it.
+inline double worst_of(double so_far, double value) {
+  return std::isnan(value) ? HUGE_VAL : std::max(so_far, value);
+}
+
 // The largest |a - b| over this rank's cells of `a`, reduced over `comm`
 // (NaN counts as infinite); *missing: the cells of `a` that `b` lacks, summed
 // over `comm`. Every rank must call it.
@@ -24,8 +30,7 @@ double largest_difference(const std::map<Key, double>& a, const std::map<Key, do
       ++absent;
       continue;
     }
-    const double d = v - it->second;
-    worst = std::max(worst, std::isnan(d) ? HUGE_VAL : std::fabs(d));
+    worst = worst_of(worst, std::fabs(v - it->second));
   }
   MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE, MPI_MAX, comm);
   MPI_Allreduce(&absent, missing, 1, MPI_LONG, MPI_SUM, comm);

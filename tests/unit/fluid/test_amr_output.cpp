@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <string>
 
+#include "amr_compare.hpp"
 #include "coflow/output.hpp"
 #include "fluid/fv/amr/composite_output.hpp"
 
@@ -73,7 +74,7 @@ void write_and_read(int dims, int levels) {
       double v = 1.0;
       for (int d = 0; d < dims; ++d) v *= hi[d] - lo[d];
       volume += v;
-      worst = std::max(worst, std::fabs(values[c] - field(centre)));
+      worst = coflow::test::worst_of(worst, std::fabs(values[c] - field(centre)));
     }
     cells += n;
   }

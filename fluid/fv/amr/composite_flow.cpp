@@ -5,6 +5,7 @@
 
 #include "coflow/output.hpp"
 #include "fluid/fv/amr/composite_laplacian.hpp"
+#include "fluid/fv/amr/refinement_criteria.hpp"
 
 namespace coflow::fluid::fv::amr {
 namespace {
@@ -52,7 +53,8 @@ void CompositeFlow::build() {
   for (auto& p : phi_) p.clear();
 }
 
-bool CompositeFlow::regrid(const std::vector<int>& marks) {
+bool CompositeFlow::regrid(std::vector<int> marks) {
+  keep_coarsening_balanced(*grid_, marks);
   if (!forest_.adapt(marks)) {  // no leaf refined or coarsened: operators and face velocities stand
     grid_ = std::make_unique<CompositeGrid>(forest_, geometry_);  // the leaf lists were rebuilt
     return false;

@@ -45,11 +45,12 @@ class CompositeFlow {
   void project_initial();
   // One step of length dt (Heun: two stages, each projected).
   void step(double dt);
-  // Regrids the forest by `marks` (Forest::adapt: the velocity is carried
+  // Regrids the forest by `marks` (less the coarsenings balance would undo:
+  // keep_coarsening_balanced; Forest::adapt carries the velocity
   // conservatively), rebuilds the operators and projects the carried
-  // velocity. Collective. Returns false (and keeps the operators) where
-  // the forest came out unchanged.
-  bool regrid(const std::vector<int>& marks);
+  // velocity. Collective. Returns false (and keeps the operators) where no
+  // leaf was refined or coarsened.
+  bool regrid(std::vector<int> marks);
   // The vorticity's magnitude per cell (2D: |dv/dx - du/dy|) into the
   // forest's `component` (a refinement criterion: mark_by_magnitude).
   void vorticity(int component);

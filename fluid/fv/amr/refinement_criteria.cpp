@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fluid/fv/amr/composite_grid.hpp"
+
 namespace coflow::fluid::fv::amr {
 namespace {
 
@@ -50,6 +52,45 @@ std::vector<int> mark_by_magnitude(const Forest& forest, int component, double r
     marks[l] = mark(largest, refine_above, coarsen_below);
   }
   return marks;
+}
+
+namespace {
+
+// Whether any leaf at `level` or finer covers a patch of `level` next to the
+// box [lo, lo + 4) of patches (per axis) there, periodic images wrapped.
+bool finer_around(const CompositeGrid& g, int level, const Index3& lo) {
+  const int dims = g.dims();
+  const long n = g.patch();
+  const int span = 6, total = dims == 3 ? span * span * span : span * span;
+  for (int k = 0; k < total; ++k) {
+    Index3 p{0, 0, 0};
+    bool ring = false;
+    for (int d = 0, rest = k; d < dims; ++d, rest /= span) {
+      const int o = rest % span - 1;  // -1 .. 4
+      ring = ring || o < 0 || o > 3;
+      p[static_cast<std::size_t>(d)] = lo[static_cast<std::size_t>(d)] + o;
+    }
+    if (!ring) continue;
+    Index3 cell{0, 0, 0};
+    for (int d = 0; d < dims; ++d) cell[static_cast<std::size_t>(d)] = p[static_cast<std::size_t>(d)] * n;
+    const auto c = g.cover(level, cell);
+    if (c == CompositeGrid::Cover::leaf || c == CompositeGrid::Cover::finer) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+void keep_coarsening_balanced(const CompositeGrid& g, std::vector<int>& marks) {
+  const auto& leaves = g.forest().leaves();
+  for (std::size_t l = 0; l < marks.size(); ++l) {
+    if (marks[l] >= 0 || leaves[l].level == 0) continue;
+    // The parent's region at two levels finer: 4 patches per axis from 4 x (parent index).
+    Index3 lo{0, 0, 0};
+    for (int d = 0; d < g.dims(); ++d)
+      lo[static_cast<std::size_t>(d)] = (leaves[l].patch[static_cast<std::size_t>(d)] >> 1) * 4;
+    if (finer_around(g, leaves[l].level + 1, lo)) marks[l] = 0;
+  }
 }
 
 std::vector<int> combine_marks(const std::vector<std::vector<int>>& marks) {

@@ -27,4 +27,11 @@ std::vector<int> mark_by_magnitude(const Forest& forest, int component, double r
 // Combines criteria: refine where any refines, coarsen where all coarsen.
 std::vector<int> combine_marks(const std::vector<std::vector<int>>& marks);
 
+class CompositeGrid;
+// Withdraws the coarsening marks of leaves whose parent would touch a leaf
+// two levels finer: 2:1 balance would refine the parent straight back,
+// smoothing its values for nothing and forcing a rebuild. `grid` is the
+// forest's grid as it is (its ghost leaves are the neighbours).
+void keep_coarsening_balanced(const CompositeGrid& grid, std::vector<int>& marks);
+
 }  // namespace coflow::fluid::fv::amr

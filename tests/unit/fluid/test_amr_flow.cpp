@@ -302,7 +302,7 @@ ShearLayer shear_layer(MPI_Comm comm) {
   }();
   const double m0[2] = {flow.momentum(0), flow.momentum(1)};
   const double dt = 0.3 * flow.grid().spacing(2);
-  for (int n = 1; n <= 60; ++n) {
+  for (int n = 1; n <= 40; ++n) {
     flow.step(dt);
     if (n % 5 == 0) {
       flow.regrid(marks());

@@ -57,6 +57,7 @@ class CompositeGrid {
 
   // The local cell with local number c (0 .. local_cells()-1).
   Cell local_cell(long c) const;
+  const std::array<double, 3>& origin() const { return geometry_.origin; }
   double spacing(int level) const { return geometry_.tree_size / (static_cast<double>(n_) * (1L << level)); }
   std::array<double, 3> centre(const Cell& c) const;
   // Cells of a level per axis over the brick.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "fluid/fv/amr/composite_grid.hpp"
 
@@ -80,6 +81,63 @@ bool finer_around(const CompositeGrid& g, int level, const Index3& lo) {
 }
 
 }  // namespace
+
+namespace {
+
+// A leaf's box in space.
+std::pair<std::array<double, 3>, std::array<double, 3>> leaf_box(const CompositeGrid& g, const Leaf& leaf) {
+  const double size = g.spacing(leaf.level) * g.patch();
+  std::array<double, 3> lo{0.0, 0.0, 0.0}, hi{0.0, 0.0, 0.0};
+  for (int d = 0; d < 3; ++d) {
+    const auto i = static_cast<std::size_t>(d);
+    lo[i] = g.origin()[i] + (d < g.dims() ? static_cast<double>(leaf.patch[i]) * size : 0.0);
+    hi[i] = lo[i] + (d < g.dims() ? size : 0.0);
+  }
+  return {lo, hi};
+}
+
+}  // namespace
+
+std::vector<int> mark_in_box(const CompositeGrid& g, const std::array<double, 3>& lo,
+                             const std::array<double, 3>& hi) {
+  const auto& leaves = g.forest().leaves();
+  std::vector<int> marks(leaves.size(), -1);
+  for (std::size_t l = 0; l < leaves.size(); ++l) {
+    const auto [a, b] = leaf_box(g, leaves[l]);
+    bool overlap = true;
+    for (int d = 0; d < g.dims(); ++d) {
+      const auto i = static_cast<std::size_t>(d);
+      overlap = overlap && a[i] < hi[i] && b[i] > lo[i];
+    }
+    if (overlap) marks[l] = 1;
+  }
+  return marks;
+}
+
+std::vector<int> mark_near_walls(const CompositeGrid& g, double distance) {
+  const auto& leaves = g.forest().leaves();
+  const auto& spec = g.forest().spec();
+  std::vector<int> marks(leaves.size(), -1);
+  for (std::size_t l = 0; l < leaves.size(); ++l) {
+    const auto [a, b] = leaf_box(g, leaves[l]);
+    for (int d = 0; d < g.dims(); ++d) {
+      const auto i = static_cast<std::size_t>(d);
+      if (spec.periodic[i]) continue;
+      const double low = g.origin()[i], high = low + g.spacing(0) * g.patch() * spec.trees[i];
+      if (a[i] - low < distance || high - b[i] < distance) marks[l] = 1;
+    }
+  }
+  return marks;
+}
+
+std::vector<int> mark_at_points(const CompositeGrid& g, const std::vector<std::array<double, 3>>& points) {
+  std::vector<int> marks(g.forest().leaves().size(), -1);
+  for (const auto& p : points) {
+    long cell = 0;
+    if (g.locate(p, &cell)) marks[static_cast<std::size_t>(cell / g.cells_per_patch())] = 1;
+  }
+  return marks;
+}
 
 void keep_coarsening_balanced(const CompositeGrid& g, std::vector<int>& marks) {
   const auto& leaves = g.forest().leaves();

@@ -28,6 +28,19 @@ std::vector<int> mark_by_magnitude(const Forest& forest, int component, double r
 std::vector<int> combine_marks(const std::vector<std::vector<int>>& marks);
 
 class CompositeGrid;
+
+// By geometry (`box`): refined where the leaf overlaps [lo, hi], coarsened
+// elsewhere.
+std::vector<int> mark_in_box(const CompositeGrid& grid, const std::array<double, 3>& lo,
+                             const std::array<double, 3>& hi);
+// Near walls (`walls`): refined where the leaf comes within `distance` of a
+// non-periodic domain face, coarsened elsewhere.
+std::vector<int> mark_near_walls(const CompositeGrid& grid, double distance);
+// Where points are (`particles`, `bodies` by their markers): refined where a
+// leaf holds at least one of `points` (this rank's or any rank's: points
+// outside the local leaves are ignored), coarsened where it holds none.
+std::vector<int> mark_at_points(const CompositeGrid& grid, const std::vector<std::array<double, 3>>& points);
+
 // Withdraws the coarsening marks of leaves whose parent would touch a leaf
 // two levels finer: 2:1 balance would refine the parent straight back,
 // smoothing its values for nothing and forcing a rebuild. `grid` is the

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "amr_compare.hpp"
+#include "fluid/fv/amr/composite_grid.hpp"
 #include "fluid/fv/amr/forest.hpp"
 #include "fluid/fv/amr/refinement_criteria.hpp"
 
@@ -164,4 +165,36 @@ TEST_CASE("amr regrid: ghost leaves carry their owners' values", "[amr][mpi]") {
     MPI_Allreduce(MPI_IN_PLACE, &ghosts, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
     if (size > 1) CHECK(ghosts > 0);  // on one rank there are none to check
   }
+}
+
+TEST_CASE("amr regrid: geometric criteria (box, walls, points) refine where they say", "[amr][mpi]") {
+  // Unit square, 4 x 4 trees of 0.25, 4^2-cell patches; walls along x, periodic along y.
+  ForestSpec s;
+  s.dims = 2;
+  s.trees = {4, 4, 1};
+  s.periodic = {false, true, false};
+  s.max_level = 1;
+  s.patch = 4;
+  Forest forest(MPI_COMM_WORLD, s);
+  const CompositeGrid g(forest, {{0.0, 0.0, 0.0}, 0.25});
+  const auto count = [&](const std::vector<int>& m) {
+    long n = std::count(m.begin(), m.end(), 1);
+    MPI_Allreduce(MPI_IN_PLACE, &n, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+    return n;
+  };
+  // [0.3, 0.6] x [0.1, 0.2] overlaps trees x 1..2, y 0: 2 leaves.
+  CHECK(count(mark_in_box(g, {0.3, 0.1, 0.0}, {0.6, 0.2, 0.0})) == 2);
+  // Within 0.1 of x = 0 or x = 1 (y periodic: no walls): the first and last columns, 8 leaves.
+  CHECK(count(mark_near_walls(g, 0.1)) == 8);
+  // Two points in one leaf, one in another: 2 leaves (each rank marks its own).
+  CHECK(count(mark_at_points(g, {{0.1, 0.1, 0.0}, {0.2, 0.2, 0.0}, {0.9, 0.6, 0.0}})) == 2);
+  // After refining the box's leaves, the box marks the children that overlap it.
+  forest.adapt(mark_in_box(g, {0.3, 0.1, 0.0}, {0.6, 0.2, 0.0}));
+  const CompositeGrid refined(forest, {{0.0, 0.0, 0.0}, 0.25});
+  const auto marks = mark_in_box(refined, {0.3, 0.1, 0.0}, {0.6, 0.2, 0.0});
+  long fine = 0;
+  for (std::size_t l = 0; l < marks.size(); ++l) fine += marks[l] == 1 && forest.leaves()[l].level == 1;
+  MPI_Allreduce(MPI_IN_PLACE, &fine, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+  // x in [0.25, 0.375), [0.375, 0.5), [0.5, 0.625) (not [0.625, 0.75)); y in [0, 0.125), [0.125, 0.25).
+  CHECK(fine == 6);
 }

@@ -40,17 +40,43 @@ void CompositeFlow::build() {
       f.value = grid_->to_slots(f.value);
     }
   }
-  std::array<FaceCondition, 6> none;
-  none.fill(FaceCondition::neumann);
-  auto L = assemble_laplacian(*grid_, none);
-  // Periodic: constants are the kernel; pin global cell 0 to zero. Its
-  // divergence is then zero too, as the divergences sum to zero.
-  if (grid_->first_cell() == 0 && !L.rows.empty()) L.rows[0] = {{0, 1.0}};
+  // dp/dn = 0 on walls and inlets, p = 0 on outlets.
+  std::array<FaceCondition, 6> conditions;
+  bool any_outlet = false;
+  for (std::size_t k = 0; k < 6; ++k) {
+    const bool open = kinds_[k] == Boundary::outlet && !forest_.spec().periodic[k / 2];
+    conditions[k] = open ? FaceCondition::dirichlet : FaceCondition::neumann;
+    any_outlet = any_outlet || open;
+  }
+  auto L = assemble_laplacian(*grid_, conditions);
+  // Without an outlet constants are the kernel; pin global cell 0 to zero.
+  // Its divergence is then zero too, as the divergences sum to zero.
+  pinned_ = !any_outlet;
+  if (pinned_ && grid_->first_cell() == 0 && !L.rows.empty()) L.rows[0] = {{0, 1.0}};
   poisson_.reset();
   poisson_ =
       std::make_unique<IjSystem>(forest_.comm(), grid_->first_cell(), L.rows, IjSystem::Options{1e-12, 300});
   source_.clear();
   for (auto& p : phi_) p.clear();
+}
+
+void CompositeFlow::set_inlet(int face, Inflow inflow) {
+  kinds_[static_cast<std::size_t>(face)] = Boundary::inlet;
+  inflow_[static_cast<std::size_t>(face)] = std::move(inflow);
+}
+
+void CompositeFlow::set_outlet(int face) {
+  kinds_[static_cast<std::size_t>(face)] = Boundary::outlet;
+  build();  // the pressure's condition changes
+}
+
+std::array<double, 3> CompositeFlow::imposed(const SubFace& f, std::size_t c) const {
+  const std::size_t k = face_of(f);
+  if (kinds_[k] != Boundary::inlet) return walls_[k];
+  const auto cell = grid_->local_cell(static_cast<long>(c));
+  auto x = grid_->centre(cell);
+  x[static_cast<std::size_t>(f.axis)] += 0.5 * f.side * grid_->spacing(cell.level);
+  return inflow_[k](x);
 }
 
 bool CompositeFlow::regrid(std::vector<int> marks) {
@@ -73,7 +99,7 @@ void CompositeFlow::vorticity(int component) {
     const double h = grid_->spacing(grid_->local_cell(static_cast<long>(c)).level);
     for (const auto& f : faces_[c])
       for (std::size_t q = 0; q < g.size(); ++q) {
-        const double face = f.wall ? wall(f)[q] : evaluate(f.value, g[q]);
+        const double face = !f.wall ? evaluate(f.value, g[q]) : outlet(f) ? g[q][c] : imposed(f, c)[q];
         grad[q][static_cast<std::size_t>(f.axis)] += f.fraction * f.side * face / h;
       }
     const double wz = grad[1][0] - grad[0][1];
@@ -123,8 +149,14 @@ CompositeFlow::Field CompositeFlow::rates(const Field& u) {
       double sum = 0.0;
       for (std::size_t s = 0; s < faces_[c].size(); ++s) {
         const auto& f = faces_[c][s];
-        if (f.wall) {  // no flux through it; viscous stress from the wall's velocity half a cell away
-          sum += f.fraction * nu_ * 2.0 * (wall(f)[q] - g[q][c]) / h;
+        if (f.wall && outlet(f)) {  // carried out at the cell's value; no viscous stress
+          sum -= f.fraction * f.side * mac_[c][s] * g[q][c];
+          continue;
+        }
+        if (f.wall) {  // the imposed velocity half a cell away; carried in or out with it
+          const auto ub = imposed(f, c);
+          sum += f.fraction *
+                 (nu_ * 2.0 * (ub[q] - g[q][c]) / h - f.side * ub[static_cast<std::size_t>(f.axis)] * ub[q]);
           continue;
         }
         const double outward = f.side * mac_[c][s];  // normal velocity out of the cell
@@ -147,14 +179,16 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
     double div = 0.0;
     for (std::size_t s = 0; s < faces_[c].size(); ++s) {
       const auto& f = faces_[c][s];
-      mac_[c][s] =
-          f.wall ? 0.0
-                 : evaluate(f.value, g[static_cast<std::size_t>(f.axis)]);  // walls do not move normally
+      const auto axis = static_cast<std::size_t>(f.axis);
+      if (!f.wall)
+        mac_[c][s] = evaluate(f.value, g[axis]);
+      else
+        mac_[c][s] = outlet(f) ? g[axis][c] : imposed(f, c)[axis];  // an outlet's corrected below
       div += f.fraction * f.side * mac_[c][s];
     }
     b[c] = div / (h * dt);
   }
-  if (grid_->first_cell() == 0 && n > 0) b[0] = 0.0;
+  if (pinned_ && grid_->first_cell() == 0 && n > 0) b[0] = 0.0;
   poisson_->solve(b, phi);
   iterations_ = poisson_->last_iterations();
   // The pressure into the forest's last component, exchanged with the velocity.
@@ -169,9 +203,12 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
     const double h = grid_->spacing(grid_->local_cell(static_cast<long>(c)).level);
     for (std::size_t s = 0; s < faces_[c].size(); ++s) {
       const auto& f = faces_[c][s];
-      if (!f.wall) mac_[c][s] -= dt * f.side * evaluate(f.gradient, p);
-      // At a wall dp/dn = 0: the face takes the cell's pressure.
-      const double face = f.wall ? p[c] : evaluate(f.value, p);
+      // dp/dn outward: p = 0 on an outlet half a cell away, 0 on walls and inlets.
+      if (!f.wall)
+        mac_[c][s] -= dt * f.side * evaluate(f.gradient, p);
+      else if (outlet(f))
+        mac_[c][s] -= dt * f.side * (-2.0 * p[c] / h);
+      const double face = !f.wall ? evaluate(f.value, p) : outlet(f) ? 0.0 : p[c];
       u[static_cast<std::size_t>(f.axis)][c] -= dt * f.fraction * f.side * face / h;
     }
   }
@@ -205,6 +242,12 @@ void CompositeFlow::step(double dt) {
   for (std::size_t q = 0; q < u2.size(); ++q)
     for (std::size_t c = 0; c < u2[q].size(); ++c) u2[q][c] = 0.5 * (u0[q][c] + u1[q][c] + dt * r1[q][c]);
   project(u2, dt, 1);
+  // u2 = u0 + dt (r0 + r1) / 2 - dt grad(phi_1 / 2 + phi_2): the step's
+  // pressure is phi_1 / 2 + phi_2 (each stage's solution kept in phi_).
+  const auto nc = static_cast<std::size_t>(nc_), per = static_cast<std::size_t>(grid_->cells_per_patch());
+  for (std::size_t l = 0, k = 0; l < forest_.leaves().size(); ++l)
+    for (std::size_t c = 0; c < per; ++c, ++k)
+      forest_.data(l)[c * nc + static_cast<std::size_t>(dims_)] = 0.5 * phi_[0][k] + phi_[1][k];
 }
 
 namespace {

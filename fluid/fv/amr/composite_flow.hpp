@@ -11,13 +11,14 @@
 // Gauss's theorem from the same faces (an approximate projection, Almgren,
 // Bell & Szymczak 1996), and the face velocities carry the advection.
 //
-// Boundaries: periodic, or no-slip walls (optionally moving tangentially:
-// a lid) on the non-periodic domain faces, where the face velocity is zero
-// and dp/dn = 0. Inlets, outlets, the fv solver's boundary keys and IMEX
-// diffusion come with its wiring into `fluid.solver: fv` (issue 25).
+// Boundaries: periodic, or on the non-periodic domain faces no-slip walls
+// (optionally moving tangentially: a lid) and inlets (velocity given, dp/dn
+// = 0), and outlets (p = 0, du/dn = 0). The fv solver's boundary keys and
+// IMEX diffusion come with its wiring into `fluid.solver: fv` (issue 25).
 #pragma once
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -36,11 +37,18 @@ class CompositeFlow {
   ~CompositeFlow();
 
   const CompositeGrid& grid() const { return *grid_; }
-  // The velocity of the wall on domain face 2 axis + (side > 0) (tangential;
-  // zero until set).
+  // What holds on domain face 2 axis + (side > 0) where its axis is not
+  // periodic: a no-slip wall (the default; moving tangentially at the
+  // velocity set here), an inlet (the velocity `inflow` gives at each face
+  // centre), or an outlet (pressure 0, zero normal derivative of the
+  // velocity). Set before the first projection.
+  enum class Boundary { wall, inlet, outlet };
+  using Inflow = std::function<std::array<double, 3>(const std::array<double, 3>&)>;
   void set_wall_velocity(int face, const std::array<double, 3>& v) {
     walls_[static_cast<std::size_t>(face)] = v;
   }
+  void set_inlet(int face, Inflow inflow);
+  void set_outlet(int face);
   // Projects the velocity held by the forest (call once after setting it).
   void project_initial();
   // One step of length dt (Heun: two stages, each projected).
@@ -79,9 +87,10 @@ class CompositeFlow {
   Field rates(const Field& u);        // advection and diffusion of u
   void project(Field& u, double dt, int stage);
   double volume(long c) const;
-  const std::array<double, 3>& wall(const SubFace& f) const {
-    return walls_[static_cast<std::size_t>(2 * f.axis + (f.side > 0))];
-  }
+  static std::size_t face_of(const SubFace& f) { return static_cast<std::size_t>(2 * f.axis + (f.side > 0)); }
+  // The velocity a wall or inlet imposes on cell c's boundary face f.
+  std::array<double, 3> imposed(const SubFace& f, std::size_t c) const;
+  bool outlet(const SubFace& f) const { return kinds_[face_of(f)] == Boundary::outlet; }
   void build();  // the grid, faces and Poisson system of the forest as it is
 
   Forest& forest_;
@@ -92,12 +101,15 @@ class CompositeFlow {
   std::unique_ptr<IjSystem> poisson_;
   std::vector<std::vector<double>> source_;
   std::array<std::array<double, 3>, 6> walls_{};
+  std::array<Boundary, 6> kinds_{};  // all walls
+  std::array<Inflow, 6> inflow_;
   // Per local cell, the last pressure of each stage and of the initial
   // projection: each solve's initial guess.
   std::array<std::vector<double>, 3> phi_;
   double nu_;
   int dims_;
-  int nc_;  // values per cell on the forest
+  int nc_;              // values per cell on the forest
+  bool pinned_ = true;  // no outlet: the pressure of global cell 0 is held at 0
   int iterations_ = 0;
 };
 

@@ -1,7 +1,10 @@
-// The lid-driven cavity at Re 100 on fv's adaptive grid (fluid/fv/amr) with
-// walls: 32^2 cells in the middle, 64^2-fine cells along the four walls
+// Walled flows on fv's adaptive grid (fluid/fv/amr). The lid-driven cavity
+// at Re 100: 32^2 cells in the middle, 64^2-fine cells along the four walls
 // (2 levels), stepped to steady state; the centre-line velocities against
-// Ghia, Ghia & Shin 1982 (Tables I and II), independent data. 1 rank.
+// Ghia, Ghia & Shin 1982 (Tables I and II), independent data; 1 rank (its
+// own ctest, unit.amr_cavity). Poiseuille flow from an inlet to an outlet
+// with finer cells along the walls, against the exact solution (unit and
+// unit.mpi).
 #include <mpi.h>
 
 #include <algorithm>
@@ -84,4 +87,58 @@ TEST_CASE("amr cavity: Re 100 on 2 levels against Ghia, Ghia & Shin 1982", "[.][
                 << flow.grid().global_cells() << ", largest deviation from Ghia " << worst);
   CHECK(change <= 1e-5);
   CHECK(worst <= 0.02);  // references.csv: amr_cavity_re100
+}
+
+TEST_CASE("amr channel: Poiseuille flow from an inlet to an outlet across levels", "[amr][mpi]") {
+  // [0, 2] x [0, 1], 8 x 4 trees of 0.25 with 4^2-cell patches; the trees
+  // along both walls one level finer. Inlet x- with the exact profile u =
+  // 6 U y (1 - y) (U = 1), outlet x+, walls y-, y+; nu 0.1 (Re 10). Started
+  // from the exact solution (the dp/dx of Poiseuille: -12 nu U / H^2), it
+  // must stay there, up to the discrete steady state's O(h^2).
+  ForestSpec spec;
+  spec.dims = 2;
+  spec.trees = {8, 4, 1};
+  spec.max_level = 1;
+  spec.patch = 4;
+  spec.components = 3;
+  spec.refine = [](int, const Index3& p) { return p[1] == 0 || p[1] == 3; };
+  Forest forest(MPI_COMM_WORLD, spec);
+  CompositeFlow flow(forest, {{0.0, 0.0, 0.0}, 0.25}, 0.1);
+  const auto profile = [](const std::array<double, 3>& x) {
+    return std::array<double, 3>{6 * x[1] * (1 - x[1]), 0, 0};
+  };
+  flow.set_inlet(0, profile);
+  flow.set_outlet(1);
+  const auto& g = flow.grid();
+  for (long c = 0; c < g.local_cells(); ++c)
+    forest.data(static_cast<std::size_t>(
+        c / g.cells_per_patch()))[static_cast<std::size_t>(c % g.cells_per_patch()) * 3] =
+        profile(g.centre(g.local_cell(c)))[0];
+  flow.project_initial();
+  for (int n = 0; n < 500; ++n) flow.step(0.002);
+  // Velocity against the profile, and the pressure gradient by least squares
+  // over the cells with 0.5 < x < 1.5 (sums over all ranks).
+  double worst_u = 0.0, worst_v = 0.0, s[5] = {0, 0, 0, 0, 0};  // n, sx, sp, sxx, sxp
+  for (long c = 0; c < g.local_cells(); ++c) {
+    const auto x = g.centre(g.local_cell(c));
+    const auto v = forest.data(static_cast<std::size_t>(c / g.cells_per_patch()));
+    const auto k = static_cast<std::size_t>(c % g.cells_per_patch()) * 3;
+    worst_u = coflow::test::worst_of(worst_u, std::fabs(v[k] - profile(x)[0]));
+    worst_v = coflow::test::worst_of(worst_v, std::fabs(v[k + 1]));
+    if (x[0] > 0.5 && x[0] < 1.5) {
+      const double terms[5] = {1.0, x[0], v[k + 2], x[0] * x[0], x[0] * v[k + 2]};
+      for (int i = 0; i < 5; ++i) s[i] += terms[i];
+    }
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &worst_u, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, &worst_v, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, s, 5, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+  const double dpdx = (s[0] * s[4] - s[1] * s[2]) / (s[0] * s[3] - s[1] * s[1]);
+  INFO("cells " << g.global_cells() << "; largest |u - u_exact| " << worst_u << ", |v| " << worst_v
+                << "; dp/dx " << dpdx << " (exact -1.2); face divergence x dt "
+                << flow.face_divergence() * 0.002);
+  CHECK(worst_u <= 0.02);  // references.csv: amr_channel_poiseuille
+  CHECK(worst_v <= 0.0125);
+  CHECK(std::fabs(dpdx + 1.2) <= 0.012);
+  CHECK(flow.face_divergence() * 0.002 <= 3e-16);
 }

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "../../validation/ghia_1982.hpp"
-#include "amr_compare.hpp"
+#include "amr_testing.hpp"
 #include "fluid/fv/amr/composite_flow.hpp"
 
 using namespace coflow::fluid::fv::amr;
@@ -53,12 +53,7 @@ double on_centre_line(const CompositeFlow& flow, const Forest& forest, int axis,
 }  // namespace
 
 TEST_CASE("amr cavity: Re 100 on 2 levels against Ghia, Ghia & Shin 1982", "[.][amr_cavity]") {
-  ForestSpec spec;
-  spec.dims = 2;
-  spec.trees = {4, 4, 1};
-  spec.max_level = 1;
-  spec.patch = 8;
-  spec.components = 3;
+  auto spec = coflow::test::forest_2d({4, 4, 1}, {false, false, false}, 1, 8, 3);
   spec.refine = [](int, const Index3& p) {  // the patches along the walls
     return p[0] == 0 || p[0] == 3 || p[1] == 0 || p[1] == 3;
   };
@@ -95,12 +90,7 @@ TEST_CASE("amr channel: Poiseuille flow from an inlet to an outlet across levels
   // 6 U y (1 - y) (U = 1), outlet x+, walls y-, y+; nu 0.1 (Re 10). Started
   // from the exact solution (the dp/dx of Poiseuille: -12 nu U / H^2), it
   // must stay there, up to the discrete steady state's O(h^2).
-  ForestSpec spec;
-  spec.dims = 2;
-  spec.trees = {8, 4, 1};
-  spec.max_level = 1;
-  spec.patch = 4;
-  spec.components = 3;
+  auto spec = coflow::test::forest_2d({8, 4, 1}, {false, false, false}, 1, 4, 3);
   spec.refine = [](int, const Index3& p) { return p[1] == 0 || p[1] == 3; };
   Forest forest(MPI_COMM_WORLD, spec);
   CompositeFlow flow(forest, {{0.0, 0.0, 0.0}, 0.25}, 0.1);

@@ -16,7 +16,7 @@
 #include <sstream>
 #include <vector>
 
-#include "amr_compare.hpp"
+#include "amr_testing.hpp"
 #include "fluid/fv/amr/composite_flow.hpp"
 #include "fluid/fv/amr/refinement_criteria.hpp"
 
@@ -269,14 +269,7 @@ void shear_initial(Forest& forest, const CompositeGrid& g) {
 }
 
 ShearLayer shear_layer(MPI_Comm comm) {
-  ForestSpec spec;
-  spec.dims = 2;
-  spec.trees = {4, 4, 1};
-  spec.periodic = {true, true, false};
-  spec.max_level = 2;
-  spec.patch = 8;
-  spec.components = 4;  // u, v, p, |omega|
-  Forest forest(comm, spec);
+  Forest forest(comm, coflow::test::forest_2d({4, 4, 1}, {true, true, false}, 2, 8, 4));  // u, v, p, |omega|
   CompositeFlow flow(forest, {{0.0, 0.0, 0.0}, 0.5 * kPi}, 1e-3);
   const auto marks = [&] {
     flow.vorticity(3);

@@ -14,7 +14,7 @@
 #include <filesystem>
 #include <string>
 
-#include "amr_compare.hpp"
+#include "amr_testing.hpp"
 #include "coflow/output.hpp"
 #include "fluid/fv/amr/composite_output.hpp"
 

@@ -11,7 +11,7 @@
 #include <map>
 #include <vector>
 
-#include "amr_compare.hpp"
+#include "amr_testing.hpp"
 #include "fluid/fv/amr/composite_laplacian.hpp"
 #include "fluid/fv/amr/ij_system.hpp"
 

@@ -12,7 +12,7 @@
 #include <map>
 #include <vector>
 
-#include "amr_compare.hpp"
+#include "amr_testing.hpp"
 #include "fluid/fv/amr/composite_grid.hpp"
 #include "fluid/fv/amr/forest.hpp"
 #include "fluid/fv/amr/refinement_criteria.hpp"
@@ -169,13 +169,7 @@ TEST_CASE("amr regrid: ghost leaves carry their owners' values", "[amr][mpi]") {
 
 TEST_CASE("amr regrid: geometric criteria (box, walls, points) refine where they say", "[amr][mpi]") {
   // Unit square, 4 x 4 trees of 0.25, 4^2-cell patches; walls along x, periodic along y.
-  ForestSpec s;
-  s.dims = 2;
-  s.trees = {4, 4, 1};
-  s.periodic = {false, true, false};
-  s.max_level = 1;
-  s.patch = 4;
-  Forest forest(MPI_COMM_WORLD, s);
+  Forest forest(MPI_COMM_WORLD, coflow::test::forest_2d({4, 4, 1}, {false, true, false}, 1, 4, 0));
   const CompositeGrid g(forest, {{0.0, 0.0, 0.0}, 0.25});
   const auto count = [&](const std::vector<int>& m) {
     long n = std::count(m.begin(), m.end(), 1);

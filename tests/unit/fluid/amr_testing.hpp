@@ -1,14 +1,32 @@
-// Comparing two runs of fv's adaptive grid cell by cell (1 rank against N, a
-// restart against a straight run): their values keyed by level and index.
+// What the tests of fv's adaptive grid share: a 2D forest's spec, a worst
+// value that NaN cannot hide in, and comparing two runs cell by cell (1 rank
+// against N, a restart against a straight run) by level and index.
 #pragma once
 
 #include <mpi.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 
+#include "fluid/fv/amr/forest.hpp"
+
 namespace coflow::test {
+
+// A 2D brick of `trees` with `patch`-cell patches, up to `max_level`,
+// `components` values per cell.
+inline fluid::fv::amr::ForestSpec forest_2d(std::array<int, 3> trees, std::array<bool, 3> periodic,
+                                            int max_level, int patch, int components) {
+  fluid::fv::amr::ForestSpec s;
+  s.dims = 2;
+  s.trees = trees;
+  s.periodic = periodic;
+  s.max_level = max_level;
+  s.patch = patch;
+  s.components = components;
+  return s;
+}
 
 // The larger of a worst value so far and a new one; a NaN makes it infinite
 // (std::max would drop it), so that a bound check sees it.

@@ -3,11 +3,6 @@
 namespace coflow::fluid::fv::amr {
 namespace {
 
-Index3 shifted(Index3 i, int axis, long by) {
-  i[axis] += by;
-  return i;
-}
-
 // The value at the face between cell `c` and its neighbour on `side`, both
 // leaves of one level: cubic through two cells on each side ((-1, 9, 9, -1)
 // / 16), or quadratic through three where one outer cell has no value at

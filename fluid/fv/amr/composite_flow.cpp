@@ -32,14 +32,6 @@ CompositeFlow::CompositeFlow(Forest& forest, const GridGeometry& geometry, doubl
 void CompositeFlow::build() {
   grid_ = std::make_unique<CompositeGrid>(forest_, geometry_);
   faces_ = build_faces(*grid_);
-  mac_.assign(faces_.size(), {});
-  for (std::size_t c = 0; c < faces_.size(); ++c) {
-    mac_[c].assign(faces_[c].size(), 0.0);
-    for (auto& f : faces_[c]) {
-      f.gradient = grid_->to_slots(f.gradient);
-      f.value = grid_->to_slots(f.value);
-    }
-  }
   // dp/dn = 0 on walls and inlets, p = 0 on outlets.
   std::array<FaceCondition, 6> conditions;
   bool any_outlet = false;
@@ -48,7 +40,18 @@ void CompositeFlow::build() {
     conditions[k] = open ? FaceCondition::dirichlet : FaceCondition::neumann;
     any_outlet = any_outlet || open;
   }
-  auto L = assemble_laplacian(*grid_, conditions);
+  auto L = assemble_laplacian(*grid_, faces_, conditions);
+  // Then the faces read fields gathered with their ghosts: ids to slots.
+  mac_.assign(faces_.size(), {});
+  h_.resize(faces_.size());
+  for (std::size_t c = 0; c < faces_.size(); ++c) {
+    mac_[c].assign(faces_[c].size(), 0.0);
+    h_[c] = grid_->spacing(grid_->local_cell(static_cast<long>(c)).level);
+    for (auto& f : faces_[c]) {
+      f.gradient = grid_->to_slots(f.gradient);
+      f.value = grid_->to_slots(f.value);
+    }
+  }
   // Without an outlet constants are the kernel; pin global cell 0 to zero.
   // Its divergence is then zero too, as the divergences sum to zero.
   pinned_ = !any_outlet;
@@ -96,11 +99,10 @@ void CompositeFlow::vorticity(int component) {
   for (std::size_t c = 0; c < faces_.size(); ++c) {
     // Gradients by Gauss's theorem: d u_q / d x_axis.
     std::array<std::array<double, 3>, 3> grad{};
-    const double h = grid_->spacing(grid_->local_cell(static_cast<long>(c)).level);
+    const double h = h_[c];
     for (const auto& f : faces_[c])
       for (std::size_t q = 0; q < g.size(); ++q) {
-        const double face = !f.wall ? evaluate(f.value, g[q]) : outlet(f) ? g[q][c] : imposed(f, c)[q];
-        grad[q][static_cast<std::size_t>(f.axis)] += f.fraction * f.side * face / h;
+        grad[q][static_cast<std::size_t>(f.axis)] += f.fraction * f.side * face_velocity(f, c, g, q) / h;
       }
     const double wz = grad[1][0] - grad[0][1];
     double w2 = wz * wz;
@@ -112,7 +114,7 @@ void CompositeFlow::vorticity(int component) {
 CompositeFlow::~CompositeFlow() = default;
 
 double CompositeFlow::volume(long c) const {
-  return std::pow(grid_->spacing(grid_->local_cell(c).level), dims_);
+  return std::pow(h_[static_cast<std::size_t>(c)], dims_);
 }
 
 CompositeFlow::Field CompositeFlow::read_velocity() const {
@@ -140,11 +142,32 @@ CompositeFlow::Field CompositeFlow::with_ghosts(const Field& u) {
   return g;
 }
 
+double CompositeFlow::face_velocity(const SubFace& f, std::size_t c, const Field& g, std::size_t q) const {
+  if (!f.wall) return evaluate(f.value, g[q]);
+  return outlet(f) ? g[q][c] : imposed(f, c)[q];  // an outlet carries the cell's value
+}
+
+std::vector<double> CompositeFlow::pressure() const {
+  const auto nc = static_cast<std::size_t>(nc_), per = static_cast<std::size_t>(grid_->cells_per_patch());
+  std::vector<double> p;
+  p.reserve(h_.size());
+  for (std::size_t l = 0; l < forest_.leaves().size(); ++l)
+    for (std::size_t c = 0; c < per; ++c)
+      p.push_back(forest_.data(l)[c * nc + static_cast<std::size_t>(dims_)]);
+  return p;
+}
+
+void CompositeFlow::set_pressure(const std::vector<double>& p) {
+  const auto nc = static_cast<std::size_t>(nc_), per = static_cast<std::size_t>(grid_->cells_per_patch());
+  for (std::size_t l = 0, k = 0; l < forest_.leaves().size(); ++l)
+    for (std::size_t c = 0; c < per; ++c) forest_.data(l)[c * nc + static_cast<std::size_t>(dims_)] = p[k++];
+}
+
 CompositeFlow::Field CompositeFlow::rates(const Field& u) {
   const Field g = with_ghosts(u);
   Field r(u.size(), std::vector<double>(u[0].size(), 0.0));
   for (std::size_t c = 0; c < faces_.size(); ++c) {
-    const double h = grid_->spacing(grid_->local_cell(static_cast<long>(c)).level);
+    const double h = h_[c];
     for (std::size_t q = 0; q < u.size(); ++q) {
       double sum = 0.0;
       for (std::size_t s = 0; s < faces_[c].size(); ++s) {
@@ -175,15 +198,12 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
   std::vector<double>& phi = phi_[static_cast<std::size_t>(stage)];  // this stage's last pressure: the guess
   phi.resize(n, 0.0);
   for (std::size_t c = 0; c < n; ++c) {
-    const double h = grid_->spacing(grid_->local_cell(static_cast<long>(c)).level);
+    const double h = h_[c];
     double div = 0.0;
     for (std::size_t s = 0; s < faces_[c].size(); ++s) {
       const auto& f = faces_[c][s];
-      const auto axis = static_cast<std::size_t>(f.axis);
-      if (!f.wall)
-        mac_[c][s] = evaluate(f.value, g[axis]);
-      else
-        mac_[c][s] = outlet(f) ? g[axis][c] : imposed(f, c)[axis];  // an outlet's corrected below
+      mac_[c][s] =
+          face_velocity(f, c, g, static_cast<std::size_t>(f.axis));  // an outlet's is corrected below
       div += f.fraction * f.side * mac_[c][s];
     }
     b[c] = div / (h * dt);
@@ -191,16 +211,13 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
   if (pinned_ && grid_->first_cell() == 0 && n > 0) b[0] = 0.0;
   poisson_->solve(b, phi);
   iterations_ = poisson_->last_iterations();
-  // The pressure into the forest's last component, exchanged with the velocity.
-  const auto nc = static_cast<std::size_t>(nc_), per = static_cast<std::size_t>(grid_->cells_per_patch());
-  for (std::size_t l = 0; l < forest_.leaves().size(); ++l)
-    for (std::size_t c = 0; c < per; ++c)
-      forest_.data(l)[c * nc + static_cast<std::size_t>(dims_)] = phi[l * per + c];
+  // The pressure into the forest's pressure component, exchanged with the velocity.
+  set_pressure(phi);
   forest_.exchange_ghosts();
   std::vector<double> p;
   grid_->gather(dims_, p);
   for (std::size_t c = 0; c < n; ++c) {
-    const double h = grid_->spacing(grid_->local_cell(static_cast<long>(c)).level);
+    const double h = h_[c];
     for (std::size_t s = 0; s < faces_[c].size(); ++s) {
       const auto& f = faces_[c][s];
       // dp/dn outward: p = 0 on an outlet half a cell away, 0 on walls and inlets.
@@ -218,16 +235,10 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
 void CompositeFlow::project_initial() {
   // A pure projection: its potential is not the flow's pressure, which the
   // forest keeps.
-  const auto nc = static_cast<std::size_t>(nc_), per = static_cast<std::size_t>(grid_->cells_per_patch());
-  std::vector<double> pressure;
-  for (std::size_t l = 0; l < forest_.leaves().size(); ++l)
-    for (std::size_t c = 0; c < per; ++c)
-      pressure.push_back(forest_.data(l)[c * nc + static_cast<std::size_t>(dims_)]);
+  const auto kept = pressure();
   Field u = read_velocity();
   project(u, 1.0, 2);
-  for (std::size_t l = 0, k = 0; l < forest_.leaves().size(); ++l)
-    for (std::size_t c = 0; c < per; ++c)
-      forest_.data(l)[c * nc + static_cast<std::size_t>(dims_)] = pressure[k++];
+  set_pressure(kept);
 }
 
 void CompositeFlow::step(double dt) {
@@ -244,10 +255,9 @@ void CompositeFlow::step(double dt) {
   project(u2, dt, 1);
   // u2 = u0 + dt (r0 + r1) / 2 - dt grad(phi_1 / 2 + phi_2): the step's
   // pressure is phi_1 / 2 + phi_2 (each stage's solution kept in phi_).
-  const auto nc = static_cast<std::size_t>(nc_), per = static_cast<std::size_t>(grid_->cells_per_patch());
-  for (std::size_t l = 0, k = 0; l < forest_.leaves().size(); ++l)
-    for (std::size_t c = 0; c < per; ++c, ++k)
-      forest_.data(l)[c * nc + static_cast<std::size_t>(dims_)] = 0.5 * phi_[0][k] + phi_[1][k];
+  std::vector<double> p(phi_[1].size());
+  for (std::size_t k = 0; k < p.size(); ++k) p[k] = 0.5 * phi_[0][k] + phi_[1][k];
+  set_pressure(p);
 }
 
 namespace {

@@ -87,6 +87,10 @@ class CompositeFlow {
   Field rates(const Field& u);        // advection and diffusion of u
   void project(Field& u, double dt, int stage);
   double volume(long c) const;
+  // The velocity component q at cell c's face f (fields with ghosts).
+  double face_velocity(const SubFace& f, std::size_t c, const Field& g, std::size_t q) const;
+  std::vector<double> pressure() const;  // per local cell, from the forest
+  void set_pressure(const std::vector<double>& p);
   static std::size_t face_of(const SubFace& f) { return static_cast<std::size_t>(2 * f.axis + (f.side > 0)); }
   // The velocity a wall or inlet imposes on cell c's boundary face f.
   std::array<double, 3> imposed(const SubFace& f, std::size_t c) const;
@@ -97,6 +101,7 @@ class CompositeFlow {
   GridGeometry geometry_;
   std::unique_ptr<CompositeGrid> grid_;
   std::vector<std::vector<SubFace>> faces_;  // ids as slots
+  std::vector<double> h_;                    // per local cell, its spacing
   std::vector<std::vector<double>> mac_;     // per local cell, per sub-face: the velocity along +axis
   std::unique_ptr<IjSystem> poisson_;
   std::vector<std::vector<double>> source_;

@@ -16,11 +16,6 @@ unsigned long long key(int level, const Index3& p) {
          ((static_cast<unsigned long long>(p[1]) & m) << kBits) | (static_cast<unsigned long long>(p[0]) & m);
 }
 
-Index3 shifted(Index3 i, int axis, long by) {
-  i[axis] += by;
-  return i;
-}
-
 }  // namespace
 
 CompositeGrid::CompositeGrid(const Forest& forest, const GridGeometry& geometry)

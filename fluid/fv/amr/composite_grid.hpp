@@ -104,6 +104,12 @@ class CompositeGrid {
   std::unordered_map<long, long> ghost_index_;                 // ghost leaves by global index
 };
 
+// `i` moved by `by` along `axis`.
+inline Index3 shifted(Index3 i, int axis, long by) {
+  i[static_cast<std::size_t>(axis)] += by;
+  return i;
+}
+
 // Adds `w` times `s` to `out`.
 inline void add(Stencil& out, const Stencil& s, double w) {
   for (const auto& [id, v] : s) out.emplace_back(id, v * w);

@@ -24,7 +24,11 @@ void merge(Stencil& s) {
 
 CompositeLaplacian assemble_laplacian(const CompositeGrid& g,
                                       const std::array<FaceCondition, 6>& conditions) {
-  const auto faces = build_faces(g);
+  return assemble_laplacian(g, build_faces(g), conditions);
+}
+
+CompositeLaplacian assemble_laplacian(const CompositeGrid& g, const std::vector<std::vector<SubFace>>& faces,
+                                      const std::array<FaceCondition, 6>& conditions) {
   CompositeLaplacian L;
   L.rows.resize(faces.size());
   for (std::size_t c = 0; c < faces.size(); ++c) {

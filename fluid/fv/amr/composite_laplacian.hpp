@@ -11,6 +11,7 @@
 #include <array>
 #include <vector>
 
+#include "fluid/fv/amr/composite_faces.hpp"
 #include "fluid/fv/amr/composite_grid.hpp"
 
 namespace coflow::fluid::fv::amr {
@@ -35,5 +36,9 @@ struct CompositeLaplacian {
 // Assembles L on `grid`; `faces[2 * axis + (side > 0)]` says what holds on
 // each non-periodic domain face.
 CompositeLaplacian assemble_laplacian(const CompositeGrid& grid, const std::array<FaceCondition, 6>& faces);
+// The same from the grid's faces already built (build_faces, ids global).
+CompositeLaplacian assemble_laplacian(const CompositeGrid& grid,
+                                      const std::vector<std::vector<SubFace>>& faces,
+                                      const std::array<FaceCondition, 6>& conditions);
 
 }  // namespace coflow::fluid::fv::amr

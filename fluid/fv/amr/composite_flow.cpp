@@ -301,7 +301,7 @@ double CompositeFlow::face_divergence() const {
     double div = 0.0;
     for (std::size_t s = 0; s < faces_[c].size(); ++s)
       div += faces_[c][s].fraction * faces_[c][s].side * mac_[c][s];
-    div /= grid_->spacing(grid_->local_cell(static_cast<long>(c)).level);
+    div /= h_[c];
     worst = std::max(worst, std::isnan(div) ? HUGE_VAL : std::fabs(div));
   }
   MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE, MPI_MAX, forest_.comm());

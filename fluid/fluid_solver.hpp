@@ -55,6 +55,11 @@ class FluidSolver {
   virtual const coupler::Box& owned() const = 0;
   // Fields for snapshots, as arrays over owned() (no ghost), `components` per cell.
   virtual std::vector<output::GridField> fields(const config::StringList& names) = 0;
+  // A solver whose own grid is not the uniform one (fv's adaptive grid)
+  // writes it next to each snapshot: <dir>/<stem>.h5 and .xmf. Collective.
+  virtual void write_levels(const std::string& dir, const std::string& stem, double time, long step) {
+    (void)dir, (void)stem, (void)time, (void)step;
+  }
   virtual Diagnostics diagnostics() = 0;  // collective
   // Columns of series/fluid.csv after the common ones (Diagnostics::extra).
   virtual std::vector<output::Series::Column> series_columns() const { return {}; }

@@ -44,6 +44,9 @@ bool turbulent(const config::Config& cfg) {
   return !config::resolved_text(cfg, {"fluid", "turbulence", "model"}).empty();
 }
 
+// fluid.fv.refinement is given.
+bool refined(const config::Config& cfg) { return config::resolved_node(cfg, "fluid.fv.refinement").IsMap(); }
+
 // lbm takes the solids of psm and returns the force on them (with two fluids
 // it also takes their wetting: immersed's contract); analytic is a
 // prescribed flow (with turbulence) that nothing feeds back into.
@@ -54,7 +57,9 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
   if (variant == "analytic") c.provides = {f::velocity, f::pressure, f::k, f::epsilon};
   if (variant == "fv" || variant == "fv-reference") c.provides = {f::velocity, f::pressure};
   if ((variant == "fv" || variant == "fv-reference") && turbulent(cfg)) c.provides = {f::velocity, f::pressure, f::k, f::epsilon};
-  if (variant == "fv" || variant == "fv-reference") c.provides.push_back(f::ibm_forcing);
+  // On the adaptive grid (fluid.fv.refinement) fv has neither k-epsilon nor immersed boundaries yet.
+  if (variant == "fv" && refined(cfg)) c.provides = {f::velocity, f::pressure};
+  else if (variant == "fv" || variant == "fv-reference") c.provides.push_back(f::ibm_forcing);
   // lbm forces immersed boundaries with one fluid (the two-phase core has no hook).
   if (variant == "lbm" && !config::resolved_node(cfg, "fluid.two_phase").IsMap() &&
       !config::resolved_node(cfg, "fluid.solids").IsSequence())
@@ -212,6 +217,42 @@ static void check_turbulence(config::Visitor& v, const config::Config& cfg, cons
   }
 }
 
+// What fv's adaptive grid does not take yet (fluid/fv/amr, issue 25): the
+// uniform oracle, k-epsilon, symmetry faces, ramps, a pressure face other than
+// the reference pressure 0, immersed methods other than point.
+static void check_refinement(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
+  if (!refined(cfg)) return;
+  const std::string key = "fluid.fv.refinement";
+  if (variant != "fv") {
+    v.fail(key, fmt::format("solver {} is the uniform-grid oracle and does not refine; use solver: fv", variant));
+    return;
+  }
+  if (turbulent(cfg))
+    v.fail("fluid.turbulence", "k-epsilon does not run on the adaptive grid yet: remove fluid.fv.refinement (fv on "
+                               "the uniform grid has it) or fluid.turbulence");
+  FluidParams p;
+  config::Reader r(config::resolved_node(cfg, "fluid"), cfg.file, "fluid");
+  p.visit(r, cfg);
+  for (int f = 0; f < 6; ++f) {
+    const int a = f / 2;
+    if (cfg.domain.periodic[a] || cfg.domain.cells[a] == 1) continue;
+    const BoundaryParams b = p.boundary(f, cfg);
+    const std::string at = "fluid.boundaries." + face_names()[f];
+    if (b.type == "symmetry")
+      v.fail(at, "the adaptive grid has no symmetry faces yet: use a wall, a periodic axis, or fv without refinement");
+    if (b.ramp > 0)
+      v.fail(at + ".ramp", "the adaptive grid's faces take their value from the start: remove ramp, or refinement");
+    if (b.type == "pressure" && !b.value.values.empty() && b.value.values[0] != 0.0)
+      v.fail(at + ".value", fmt::format("the adaptive grid's pressure faces hold the reference pressure 0 (got {} "
+                                        "Pa): drive the flow by an inlet or fluid.body_force",
+                                        b.value.values[0]));
+  }
+  if (cfg.has("immersed") && cfg.component("immersed").variant != "point")
+    v.fail("immersed.method", fmt::format("method {} does not run with fv's adaptive grid yet (point does): remove "
+                                          "fluid.fv.refinement, or use method: point",
+                                          cfg.component("immersed").variant));
+}
+
 config::ComponentSchema schema() {
   config::ComponentSchema s = component_schema("fluid", "solver", variant_schemas(),
                                                 "the fluid component (omit the section, or solver: none, for no fluid)");
@@ -219,6 +260,7 @@ config::ComponentSchema schema() {
   s.contract = contract;
   s.report = report;
   s.resolve = resolve;
+  s.check = check_refinement;
   s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);
     if (v.reading() && !has_variant(variant_schemas(), info.variant)) {  // external, none, or a wrong name reported above

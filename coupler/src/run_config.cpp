@@ -328,6 +328,9 @@ Config parse_config_node(YAML::Node root, const std::string& file, const Catalog
   if (r.problems().empty()) check_decompositions(r, cfg);
   cfg.resolved = r.resolved();
   if (r.problems().empty()) check_contracts(r, cfg, catalog);
+  for (const auto& schema : catalog)
+    if (r.problems().empty() && schema.check && cfg.has(schema.section))
+      schema.check(r, cfg, cfg.component(schema.section).variant);
   r.check();
   for (const auto& schema : catalog)
     if (schema.resolve && cfg.has(schema.section)) schema.resolve(cfg, cfg.component(schema.section).variant);

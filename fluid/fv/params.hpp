@@ -9,6 +9,7 @@
 
 #include "coflow/config.hpp"
 #include "coflow/run_config.hpp"
+#include "fluid/fv/refinement_params.hpp"
 
 namespace coflow::fluid::fv {
 
@@ -21,6 +22,7 @@ struct FvParams {
   double tolerance = 1e-10;
   int max_iterations = 200;
   std::string multigrid = "pfmg";
+  RefinementParams refinement;
   void visit(config::Visitor& v) {
     v("advection", advection,
       "central (second order) or upwind (second-order upwind-biased, bounded by van Leer's limiter: no new "
@@ -46,6 +48,18 @@ struct FvParams {
       "fv: the preconditioner of the conjugate gradients, a hypre Struct multigrid: pfmg (semicoarsening, "
       "Ashby & Falgout 1996) or smg (Schaffer 1998; more robust on stretched cells, slower)",
       config::one_of({"pfmg", "smg"}));
+    v.section(
+        "refinement",
+        "fv on a block-structured adaptive grid (seed 003 §4.1.1; p4est): levels of ratio 2 in patches of "
+        "cells, refined and coarsened by the criteria every few steps. There the steps are Heun's explicit "
+        "second-order Runge-Kutta with central fluxes through the composite faces (advection, form, time and "
+        "multigrid are not used; the step is also kept below h^2 / (4 d nu) on the finest cells), projected at "
+        "each stage with hypre's BoomerAMG",
+        [&](config::Visitor& s) {
+          if (s.reading() && !refinement.on) return;
+          refinement.visit(s);
+        },
+        &refinement.on);
   }
   void check(config::Visitor& v, const config::Config& cfg) const {
     const auto& d = cfg.domain;
@@ -54,6 +68,7 @@ struct FvParams {
     if (cfl > 1.0)
       v.fail("cfl",
              fmt::format("{} > 1: the explicit advection is unstable beyond C = 1; use 0.2 to 0.8", cfl));
+    if (refinement.on) refinement.check(v, cfg);
   }
 };
 

@@ -95,6 +95,19 @@ class Registry {
     entries_.push_back(std::move(e));
   }
 
+  // A variant whose factory picks the class from its Params.
+  template <class Params>
+  void add(std::string name, std::function<std::unique_ptr<Interface>(const Setup&, const Params&)> make) {
+    Entry e;
+    e.name = std::move(name);
+    e.create = [make](const Setup& setup, config::Visitor& v) -> std::unique_ptr<Interface> {
+      Params p;
+      p.visit(v);
+      return make(setup, p);
+    };
+    entries_.push_back(std::move(e));
+  }
+
   const Entry& at(const std::string& name) const {
     auto it = std::find_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.name == name; });
     if (it == entries_.end())

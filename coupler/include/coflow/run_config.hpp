@@ -122,6 +122,11 @@ struct ComponentSchema {
   // leaves out (e.g. the boundaries of faces not given), so that the resolved
   // file shows it. Unset: nothing to add.
   std::function<void(Config&, const std::string& variant)> resolve;
+  // Checks that span sections (a key of this component against another's, or
+  // against a subsection of its own), run once the whole file is read and
+  // resolved and the contracts hold; failures go to `v` at dotted paths from
+  // the top ("fluid.fv.refinement"). Unset: none.
+  std::function<void(Visitor& v, const Config&, const std::string& variant)> check;
 };
 
 using Catalog = std::vector<ComponentSchema>;

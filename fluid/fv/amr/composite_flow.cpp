@@ -295,15 +295,19 @@ void CompositeFlow::load(const std::string& dir) {
   }
 }
 
+std::vector<double> CompositeFlow::divergence() const {
+  std::vector<double> div(faces_.size(), 0.0);
+  for (std::size_t c = 0; c < faces_.size(); ++c) {
+    for (std::size_t s = 0; s < faces_[c].size(); ++s)
+      div[c] += faces_[c][s].fraction * faces_[c][s].side * mac_[c][s];
+    div[c] /= h_[c];
+  }
+  return div;
+}
+
 double CompositeFlow::face_divergence() const {
   double worst = 0.0;
-  for (std::size_t c = 0; c < faces_.size(); ++c) {
-    double div = 0.0;
-    for (std::size_t s = 0; s < faces_[c].size(); ++s)
-      div += faces_[c][s].fraction * faces_[c][s].side * mac_[c][s];
-    div /= h_[c];
-    worst = std::max(worst, std::isnan(div) ? HUGE_VAL : std::fabs(div));
-  }
+  for (const double d : divergence()) worst = std::max(worst, std::isnan(d) ? HUGE_VAL : std::fabs(d));
   MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE, MPI_MAX, forest_.comm());
   return worst;
 }

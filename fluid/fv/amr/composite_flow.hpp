@@ -71,6 +71,8 @@ class CompositeFlow {
   void load(const std::string& dir);
   // The largest |divergence| of the face velocities, after the last projection.
   double face_divergence() const;
+  // Per local cell, the divergence of its face velocities (1/s).
+  std::vector<double> divergence() const;
   // The total momentum sum V u along `axis` over all ranks.
   double momentum(int axis) const;
   int last_iterations() const { return iterations_; }

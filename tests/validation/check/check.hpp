@@ -70,10 +70,12 @@ class LastRow {
     std::stringstream hs(header);
     for (std::string c; std::getline(hs, c, ',');) names_.push_back(c);
   }
-  double operator()(const std::string& name) const {
+  double operator()(const std::string& name) const { return last_.at(column(name)); }
+  bool has(const std::string& name) const { return std::find(names_.begin(), names_.end(), name) != names_.end(); }
+  std::size_t column(const std::string& name) const {
     const auto it = std::find(names_.begin(), names_.end(), name);
     if (it == names_.end()) throw std::runtime_error(path_ + " has no column " + name);
-    return last_.at(static_cast<std::size_t>(it - names_.begin()));
+    return static_cast<std::size_t>(it - names_.begin());
   }
 
  private:
@@ -135,6 +137,7 @@ int jet(const std::string& dir);
 // fv/checks.cpp
 int cavity(const std::string& dir);
 int tg_error(const std::string& dir);
+int vortex(const std::string& dir);
 int divergence(const std::string& dir);
 int outflow_reflection(const std::string& a, const std::string& b);
 // fv/turbulence_checks.cpp

@@ -105,3 +105,11 @@ coflow_validation(fv_ke_ranks_1_vs_4 compare fv_ke_all_boundaries_3d.yaml 4
 coflow_validation(fv_outflow_vortex reflection fv_outflow_vortex.yaml 1 "fluid.boundaries.x+.type=outflow"
   "domain.upper=[2.0,1.0,0.015625] domain.cells=[128,64,1]"
   "fluid.boundaries.x+.type=pressure fluid.boundaries.x+.value=0.0")
+# fv on the adaptive grid (fluid.fv.refinement, issue 25): a vortex carried
+# across a periodic box and followed by vorticity refinement, against the
+# exact viscous solution; 1 rank against 3 with regridding; the seed's
+# two-way momentum case with the particles drifting across a level boundary.
+coflow_validation(fv_amr_vortex vortex fv_amr_vortex.yaml 1)
+coflow_validation(fv_amr_vortex_ranks compare fv_amr_vortex.yaml 3
+  "fluid.ranks=1 run.end_time=0.25 run.output.every=0.25" "fluid.ranks=3 run.end_time=0.25 run.output.every=0.25")
+coflow_validation(dpm_two_way_amr two_way dpm_two_way_amr.yaml 3)

@@ -1,0 +1,305 @@
+#include "fluid/fv/amr/amr_solver.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <stdexcept>
+
+#include "fluid/fv/amr/composite_output.hpp"
+#include "fluid/fv/amr/refinement_criteria.hpp"
+#include "fluid/fv/fv_solver.hpp"
+#include "fluid/fv/scheme.hpp"
+
+namespace coflow::fluid::fv::amr {
+
+AmrFvSolver::AmrFvSolver(const Setup& s, const Params& p)
+    : cfg_(s.cfg),
+      fluid_(s.params),
+      p_(p),
+      comm_(s.comm),
+      rank_(s.rank),
+      decomposition_(s.decomposition),
+      owned_(s.decomposition.block(s.rank)) {
+  const auto& d = cfg_.domain;
+  dims_ = d.cells[2] == 1 ? 2 : 3;
+  h_ = d.spacing()[0];
+  rho_ = fluid_.density;
+  nu_ = fluid_.viscosity;
+  geometry_.origin = {d.lower[0], d.lower[1], d.lower[2]};
+  geometry_.tree_size = h_ * p_.refinement.patch * static_cast<double>(1L << (p_.refinement.levels - 1));
+  source_fine_.assign(3 * static_cast<std::size_t>(owned_.volume()), 0.0);
+  forest_ = std::make_unique<Forest>(comm_, forest_spec());
+  make_flow();
+  // Refine on the initial field, one level per pass, then set it again on
+  // the leaves made (exact values, not the transfer's), and project.
+  for (int pass = 1; pass < p_.refinement.levels; ++pass) {
+    set_initial();
+    if (!flow_->regrid(marks())) break;
+    after_regrid();
+  }
+  set_initial();
+  flow_->project_initial();
+}
+
+AmrFvSolver::~AmrFvSolver() = default;
+
+ForestSpec AmrFvSolver::forest_spec() const {
+  ForestSpec spec;
+  spec.dims = dims_;
+  for (int a = 0; a < 3; ++a) {
+    const auto A = static_cast<std::size_t>(a);
+    spec.trees[A] = a < dims_ ? static_cast<int>(p_.refinement.base_cells(cfg_, a) / p_.refinement.patch) : 1;
+    spec.periodic[A] = a < dims_ && cfg_.domain.periodic[a];
+  }
+  spec.max_level = p_.refinement.levels - 1;
+  spec.patch = p_.refinement.patch;
+  spec.components = dims_ + 2;  // velocity, kinematic pressure, a criterion's field
+  return spec;
+}
+
+// The boundaries of fluid.boundaries (the checks of fluid/schema.cpp keep
+// out what the composite flow has not: symmetry faces, ramps, a pressure
+// other than the reference).
+void AmrFvSolver::make_flow() {
+  flow_ = std::make_unique<CompositeFlow>(*forest_, geometry_, nu_);
+  const auto& d = cfg_.domain;
+  for (int f = 0; f < 6; ++f) {
+    const int a = f / 2;
+    if (a >= dims_ || d.periodic[a]) continue;
+    const BoundaryParams b = fluid_.boundary(f, cfg_);
+    if (b.type == "pressure" || b.type == "outflow") {
+      flow_->set_outlet(f);
+    } else if (b.type == "velocity") {
+      const std::array<double, 3> v{b.value.values[0], b.value.values[1], dims_ == 3 ? b.value.values[2] : 0.0};
+      if (v[static_cast<std::size_t>(a)] == 0.0 && b.profile == "uniform") {
+        flow_->set_wall_velocity(f, v);  // a moving wall (a lid)
+        continue;
+      }
+      flow_->set_inlet(f, [this, b, v, f](const std::array<double, 3>& x) {
+        double s[3];
+        for (int e = 0; e < 3; ++e) s[e] = (x[static_cast<std::size_t>(e)] - cfg_.domain.lower[e]) /
+                                           (cfg_.domain.upper[e] - cfg_.domain.lower[e]);
+        const double k = b.profile_factor(f, s, cfg_);
+        return std::array<double, 3>{k * v[0], k * v[1], k * v[2]};
+      });
+    }
+  }
+  view_ = std::make_unique<UniformView>(flow_->grid(), decomposition_, rank_);
+  apply_source();
+}
+
+void AmrFvSolver::set_initial() {
+  const auto& g = flow_->grid();
+  const auto per = static_cast<std::size_t>(g.cells_per_patch()), nc = static_cast<std::size_t>(dims_ + 2);
+  for (long c = 0; c < g.local_cells(); ++c) {
+    const auto x = g.centre(g.local_cell(c));
+    Vec3 u{0, 0, 0};
+    double p = 0.0;
+    fluid_.initial_state(cfg_, {x[0], x[1], x[2]}, u, p);
+    auto v = forest_->data(static_cast<std::size_t>(c) / per);
+    const std::size_t k = (static_cast<std::size_t>(c) % per) * nc;
+    for (std::size_t q = 0; q < static_cast<std::size_t>(dims_); ++q) v[k + q] = u[q];
+    v[k + static_cast<std::size_t>(dims_)] = p / rho_;
+  }
+}
+
+void AmrFvSolver::after_regrid() {
+  view_ = std::make_unique<UniformView>(flow_->grid(), decomposition_, rank_);
+  apply_source();
+}
+
+void AmrFvSolver::apply_source() {
+  view_->to_cells(source_fine_, 3, source_cells_);
+  const bool body = fluid_.body_force[0] != 0 || fluid_.body_force[1] != 0 || fluid_.body_force[2] != 0;
+  const auto n = static_cast<std::size_t>(flow_->grid().local_cells());
+  std::vector<std::vector<double>> a(static_cast<std::size_t>(dims_), std::vector<double>(n, 0.0));
+  bool any = body;
+  for (std::size_t q = 0; q < a.size(); ++q)
+    for (std::size_t c = 0; c < n; ++c) {
+      a[q][c] = (source_cells_[3 * c + q] + fluid_.body_force[q]) / rho_;
+      any = any || source_cells_[3 * c + q] != 0.0;
+    }
+  flow_->set_source(any ? std::move(a) : std::vector<std::vector<double>>{});
+}
+
+void AmrFvSolver::set_source(std::span<const double> force_density) {
+  source_fine_.assign(force_density.begin(), force_density.end());
+  apply_source();
+}
+
+std::vector<int> AmrFvSolver::marks() {
+  const auto& g = flow_->grid();
+  const int scratch = dims_ + 1;
+  std::vector<std::vector<int>> all;
+  for (const auto& c : p_.refinement.criteria) {
+    if (c.kind == "vorticity") {
+      flow_->vorticity(scratch);
+      all.push_back(mark_by_magnitude(*forest_, scratch, c.refine_above, c.coarsen_below));
+    } else if (c.kind == "walls") {
+      all.push_back(mark_near_walls(g, c.distance));
+    } else if (c.kind == "box") {
+      all.push_back(mark_in_box(g, {c.lower.values[0], c.lower.values[1], c.lower.values[2]},
+                                {c.upper.values[0], c.upper.values[1], c.upper.values[2]}));
+    } else if (c.kind == "particles") {  // where the particles' source is: |f| > 0
+      const auto per = static_cast<std::size_t>(g.cells_per_patch()), nc = static_cast<std::size_t>(dims_ + 2);
+      for (std::size_t k = 0; k < static_cast<std::size_t>(g.local_cells()); ++k) {
+        const double* f = &source_cells_[3 * k];
+        forest_->data(k / per)[(k % per) * nc + static_cast<std::size_t>(scratch)] =
+            std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+      }
+      all.push_back(mark_by_magnitude(*forest_, scratch, 0.0, std::numeric_limits<double>::min()));
+    }
+  }
+  return combine_marks(all);
+}
+
+void AmrFvSolver::regrid() {
+  if (flow_->regrid(marks())) ++regrids_;
+  after_regrid();  // the leaves' order may have changed with the partition
+}
+
+double AmrFvSolver::stable_step() {
+  double umax[4] = {0, 0, 0, 0};  // and 1 where a value is not finite
+  const auto u = cell_values(0, dims_, 1.0);
+  const auto D = static_cast<std::size_t>(dims_);
+  for (std::size_t k = 0; k < u.size(); ++k) {
+    const double a = std::abs(u[k]);
+    if (!(a <= std::numeric_limits<double>::max())) umax[3] = 1;
+    umax[k % D] = std::max(umax[k % D], a);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, umax, 4, MPI_DOUBLE, MPI_MAX, comm_);
+  if (umax[3] > 0)
+    throw std::runtime_error(fmt::format("fv (refinement): the velocity is not finite at t = {:.6g} s (step {}); "
+                                         "lower fluid.fv.cfl or fluid.fv.max_step",
+                                         time_, steps_));
+  double rate = 0.0;  // seed 003 eq. 4.1 on the finest cells
+  for (int a = 0; a < dims_; ++a) rate += umax[a] / h_;
+  double limit = rate > 0 ? p_.cfl / rate : std::numeric_limits<double>::infinity();
+  // Heun's method is stable for explicit diffusion up to nu dt / h^2 = 1 / (2 d): half of it.
+  if (nu_ > 0) limit = std::min(limit, h_ * h_ / (4.0 * dims_ * nu_));
+  if (p_.max_step > 0) limit = std::min(limit, p_.max_step);
+  return limit;
+}
+
+void AmrFvSolver::advance(double window) {
+  const double end = time_ + window;
+  window_steps_ = 0;
+  poisson_iterations_ = 0;
+  long left = 0;
+  double dt = 0.0;
+  while (end - time_ > 1e-12 * window) {
+    const double limit = stable_step();
+    if (left == 0 || dt > limit) {
+      dt = fv::next_step(limit, dt_prev_, end - time_);
+      left = std::max(1L, std::lround((end - time_) / dt));
+    }
+    flow_->step(dt);
+    time_ = left == 1 ? end : time_ + dt;  // the window's last step lands on its end exactly
+    dt_prev_ = last_dt_ = dt;
+    ++steps_;
+    ++window_steps_;
+    poisson_iterations_ = std::max(poisson_iterations_, flow_->last_iterations());
+    if (steps_ % p_.refinement.every == 0) regrid();
+    if (--left == 0) break;
+  }
+}
+
+std::vector<double> AmrFvSolver::cell_values(int first, int count, double scale) const {
+  const auto& g = flow_->grid();
+  const auto per = static_cast<std::size_t>(g.cells_per_patch()), nc = static_cast<std::size_t>(dims_ + 2);
+  const auto n = static_cast<std::size_t>(count);
+  std::vector<double> v(static_cast<std::size_t>(g.local_cells()) * n);
+  for (std::size_t k = 0; k < static_cast<std::size_t>(g.local_cells()); ++k)
+    for (std::size_t q = 0; q < n; ++q)
+      v[k * n + q] = scale * forest_->data(k / per)[(k % per) * nc + static_cast<std::size_t>(first) + q];
+  return v;
+}
+
+std::vector<output::GridField> AmrFvSolver::fields(const config::StringList& names) {
+  const auto u = cell_values(0, dims_, 1.0);
+  std::vector<double> u3(3 * (u.size() / static_cast<std::size_t>(dims_)), 0.0);
+  for (std::size_t k = 0; k < u.size(); ++k) u3[3 * (k / dims_) + k % dims_] = u[k];
+  view_->to_uniform(u3, 3, out_u_);
+  view_->to_uniform(cell_values(dims_, 1, rho_), 1, out_p_);
+  view_->to_uniform(flow_->divergence(), 1, out_div_);
+  const auto N = static_cast<std::size_t>(owned_.volume());
+  out_rho_.assign(N, rho_);
+  out_zero_.assign(N, 0.0);  // k, epsilon, nu_t, y_plus: no turbulence model on the adaptive grid
+  return FvSolver::named_fields(names, {out_u_, out_p_, out_rho_, out_div_, out_zero_, out_zero_, out_zero_,
+                                        out_zero_});
+}
+
+void AmrFvSolver::write_levels(const std::string& dir, const std::string& stem, double time, long step) {
+  flow_->vorticity(dims_ + 1);
+  write_composite(flow_->grid(), dir, stem, time, step,
+                  {{"velocity", 0, dims_}, {"kinematic_pressure", dims_, 1}, {"vorticity", dims_ + 1, 1}});
+}
+
+// Mass, momentum and kinetic energy over the leaf cells (each of its own
+// volume); then the window's steps, last step, most Poisson iterations of a
+// step, the largest face divergence, the cells and the regrids so far.
+Diagnostics AmrFvSolver::diagnostics() {
+  const auto& g = flow_->grid();
+  const auto u = cell_values(0, dims_, 1.0);
+  const auto D = static_cast<std::size_t>(dims_);
+  Diagnostics d;
+  double sums[5] = {0, 0, 0, 0, 0};
+  for (std::size_t k = 0; k < static_cast<std::size_t>(g.local_cells()); ++k) {
+    const double m = rho_ * std::pow(g.spacing(g.local_cell(static_cast<long>(k)).level), dims_) *
+                     (dims_ == 2 ? cfg_.domain.upper[2] - cfg_.domain.lower[2] : 1.0);
+    double u2 = 0.0;
+    for (std::size_t q = 0; q < D; ++q) {
+      sums[1 + q] += m * u[k * D + q];
+      u2 += u[k * D + q] * u[k * D + q];
+    }
+    sums[0] += m;
+    sums[4] += 0.5 * m * u2;
+    d.max_velocity = std::max(d.max_velocity, std::sqrt(u2));
+  }
+  MPI_Allreduce(MPI_IN_PLACE, sums, 5, MPI_DOUBLE, MPI_SUM, comm_);
+  MPI_Allreduce(MPI_IN_PLACE, &d.max_velocity, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  d.mass = sums[0];
+  d.momentum = {sums[1], sums[2], sums[3]};
+  d.kinetic_energy = sums[4];
+  d.extra = {static_cast<double>(window_steps_),      last_dt_, static_cast<double>(poisson_iterations_),
+             flow_->face_divergence(),                static_cast<double>(g.global_cells()),
+             static_cast<double>(regrids_)};
+  return d;
+}
+
+std::vector<output::Series::Column> AmrFvSolver::series_columns() const {
+  return {{"steps", "1"},          {"dt", "s"},    {"poisson_iterations", "1"},
+          {"max_divergence", "1/s"}, {"cells", "1"}, {"regrids", "1"}};
+}
+
+// The forest and the flow (composite_flow.hpp), then the solver's own state
+// in dir/amr.txt: steps, time, last step (hexadecimal floats: exact),
+// regrids, the last window's steps.
+void AmrFvSolver::save(const std::string& dir) {
+  flow_->save(dir);
+  if (rank_ != 0) return;
+  std::ofstream f(dir + "/amr.txt");
+  f << fmt::format("{} {:a} {:a} {} {}\n", steps_, time_, dt_prev_, regrids_, window_steps_);
+  if (!f) throw std::runtime_error("fv (refinement): cannot write " + dir + "/amr.txt");
+}
+
+// The steps and time come from the checkpoint: the driver's count is of
+// windows (fv's steps vary), and the regrids fall every `every` steps.
+void AmrFvSolver::load(const std::string& dir, long, double) {
+  std::ifstream f(dir + "/amr.txt");
+  std::string time_text, dt_text;
+  if (!(f >> steps_ >> time_text >> dt_text >> regrids_ >> window_steps_))
+    throw std::runtime_error("fv (refinement): " + dir + "/amr.txt is missing or unreadable");
+  time_ = std::strtod(time_text.c_str(), nullptr);
+  dt_prev_ = std::strtod(dt_text.c_str(), nullptr);
+  flow_.reset();
+  view_.reset();
+  forest_ = std::make_unique<Forest>(comm_, forest_spec(), dir + "/forest.p4est");
+  make_flow();
+  flow_->load(dir);
+}
+
+}  // namespace coflow::fluid::fv::amr

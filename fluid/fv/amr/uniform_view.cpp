@@ -1,0 +1,105 @@
+#include "fluid/fv/amr/uniform_view.hpp"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+namespace coflow::fluid::fv::amr {
+
+namespace {
+
+// Displacements of `counts` (each times `scale`), and the scaled counts.
+std::vector<int> scaled(const std::vector<int>& counts, int scale, std::vector<int>& displs) {
+  std::vector<int> out(counts.size());
+  displs.assign(counts.size(), 0);
+  for (std::size_t r = 0; r < counts.size(); ++r) {
+    out[r] = counts[r] * scale;
+    if (r > 0) displs[r] = displs[r - 1] + out[r - 1];
+  }
+  return out;
+}
+
+std::vector<int> offsets(const std::vector<int>& counts) {
+  std::vector<int> d(counts.size(), 0);
+  for (std::size_t r = 1; r < counts.size(); ++r) d[r] = d[r - 1] + counts[r - 1];
+  return d;
+}
+
+}  // namespace
+
+UniformView::UniformView(const CompositeGrid& grid, const coupler::Decomposition& dec, int rank)
+    : comm_(grid.forest().comm()), local_cells_(grid.local_cells()), owned_cells_(dec.block(rank).volume()) {
+  const int finest = grid.forest().spec().max_level, dims = grid.dims();
+  for (int a = 0; a < dims; ++a)
+    if (grid.extent(finest, a) != dec.cells()[static_cast<std::size_t>(a)])
+      throw std::invalid_argument(fmt::format("refinement: the finest level has {} cells along axis {}, the fluid "
+                                              "grid {}",
+                                              grid.extent(finest, a), a, dec.cells()[static_cast<std::size_t>(a)]));
+  const auto ranks = static_cast<std::size_t>(dec.ranks());
+  // Each leaf cell's fine cells, with the rank owning each and its index there.
+  std::vector<std::vector<std::pair<long, long>>> to(ranks);  // (leaf cell, index in the owner's box)
+  weight_.resize(static_cast<std::size_t>(local_cells_));
+  for (long c = 0; c < local_cells_; ++c) {
+    const auto cell = grid.local_cell(c);
+    const long r = 1L << (finest - cell.level);
+    const long rz = dims == 3 ? r : 1;
+    weight_[static_cast<std::size_t>(c)] = 1.0 / static_cast<double>(r * r * rz);
+    for (long k = 0; k < rz; ++k)
+      for (long j = 0; j < r; ++j)
+        for (long i = 0; i < r; ++i) {
+          const coupler::Index3 f{cell.index[0] * r + i, cell.index[1] * r + j, cell.index[2] * rz + k};
+          const int owner = dec.owner(f);
+          const coupler::Box& b = dec.block(owner);
+          const long at = ((f[2] - b.lo[2]) * b.extent(1) + (f[1] - b.lo[1])) * b.extent(0) + (f[0] - b.lo[0]);
+          to[static_cast<std::size_t>(owner)].emplace_back(c, at);
+        }
+  }
+  send_counts_.resize(ranks);
+  std::vector<long> send_at;
+  for (std::size_t q = 0; q < ranks; ++q) {
+    send_counts_[q] = static_cast<int>(to[q].size());
+    for (const auto& [c, at] : to[q]) {
+      send_cell_.push_back(c);
+      send_at.push_back(at);
+    }
+  }
+  recv_counts_.resize(ranks);
+  MPI_Alltoall(send_counts_.data(), 1, MPI_INT, recv_counts_.data(), 1, MPI_INT, comm_);
+  send_displs_ = offsets(send_counts_);
+  recv_displs_ = offsets(recv_counts_);
+  recv_fine_.resize(static_cast<std::size_t>(recv_displs_.back() + recv_counts_.back()));
+  if (static_cast<long>(recv_fine_.size()) != owned_cells_)
+    throw std::logic_error("refinement: the uniform view does not cover the owned box once");
+  MPI_Alltoallv(send_at.data(), send_counts_.data(), send_displs_.data(), MPI_LONG, recv_fine_.data(),
+                recv_counts_.data(), recv_displs_.data(), MPI_LONG, comm_);
+}
+
+void UniformView::to_uniform(std::span<const double> cells, int n, std::vector<double>& out) const {
+  const auto N = static_cast<std::size_t>(n);
+  std::vector<double> send(send_cell_.size() * N), recv(recv_fine_.size() * N);
+  for (std::size_t s = 0; s < send_cell_.size(); ++s)
+    for (std::size_t q = 0; q < N; ++q) send[s * N + q] = cells[static_cast<std::size_t>(send_cell_[s]) * N + q];
+  std::vector<int> sd, rd;
+  const auto sc = scaled(send_counts_, n, sd), rc = scaled(recv_counts_, n, rd);
+  MPI_Alltoallv(send.data(), sc.data(), sd.data(), MPI_DOUBLE, recv.data(), rc.data(), rd.data(), MPI_DOUBLE, comm_);
+  out.assign(static_cast<std::size_t>(owned_cells_) * N, 0.0);
+  for (std::size_t s = 0; s < recv_fine_.size(); ++s)
+    for (std::size_t q = 0; q < N; ++q) out[static_cast<std::size_t>(recv_fine_[s]) * N + q] = recv[s * N + q];
+}
+
+void UniformView::to_cells(std::span<const double> fine, int n, std::vector<double>& out) const {
+  const auto N = static_cast<std::size_t>(n);
+  std::vector<double> send(recv_fine_.size() * N), recv(send_cell_.size() * N);
+  for (std::size_t s = 0; s < recv_fine_.size(); ++s)
+    for (std::size_t q = 0; q < N; ++q) send[s * N + q] = fine[static_cast<std::size_t>(recv_fine_[s]) * N + q];
+  std::vector<int> sd, rd;
+  const auto sc = scaled(recv_counts_, n, sd), rc = scaled(send_counts_, n, rd);
+  MPI_Alltoallv(send.data(), sc.data(), sd.data(), MPI_DOUBLE, recv.data(), rc.data(), rd.data(), MPI_DOUBLE, comm_);
+  out.assign(static_cast<std::size_t>(local_cells_) * N, 0.0);
+  for (std::size_t s = 0; s < send_cell_.size(); ++s) {
+    const auto c = static_cast<std::size_t>(send_cell_[s]);
+    for (std::size_t q = 0; q < N; ++q) out[c * N + q] += recv[s * N + q] * weight_[c];
+  }
+}
+
+}  // namespace coflow::fluid::fv::amr

@@ -57,9 +57,9 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
   if (variant == "analytic") c.provides = {f::velocity, f::pressure, f::k, f::epsilon};
   if (variant == "fv" || variant == "fv-reference") c.provides = {f::velocity, f::pressure};
   if ((variant == "fv" || variant == "fv-reference") && turbulent(cfg)) c.provides = {f::velocity, f::pressure, f::k, f::epsilon};
-  // On the adaptive grid (fluid.fv.refinement) fv has neither k-epsilon nor immersed boundaries yet.
+  // On the adaptive grid (fluid.fv.refinement) fv has no k-epsilon yet.
   if (variant == "fv" && refined(cfg)) c.provides = {f::velocity, f::pressure};
-  else if (variant == "fv" || variant == "fv-reference") c.provides.push_back(f::ibm_forcing);
+  if (variant == "fv" || variant == "fv-reference") c.provides.push_back(f::ibm_forcing);
   // lbm forces immersed boundaries with one fluid (the two-phase core has no hook).
   if (variant == "lbm" && !config::resolved_node(cfg, "fluid.two_phase").IsMap() &&
       !config::resolved_node(cfg, "fluid.solids").IsSequence())
@@ -218,8 +218,8 @@ static void check_turbulence(config::Visitor& v, const config::Config& cfg, cons
 }
 
 // What fv's adaptive grid does not take yet (fluid/fv/amr, issue 25): the
-// uniform oracle, k-epsilon, symmetry faces, ramps, a pressure face other than
-// the reference pressure 0, immersed methods other than point.
+// uniform oracle, k-epsilon, ramps, a pressure face other than the reference
+// pressure 0; immersed boundaries need the `bodies` criterion.
 static void check_refinement(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
   if (!refined(cfg)) return;
   const std::string key = "fluid.fv.refinement";
@@ -238,8 +238,6 @@ static void check_refinement(config::Visitor& v, const config::Config& cfg, cons
     if (cfg.domain.periodic[a] || cfg.domain.cells[a] == 1) continue;
     const BoundaryParams b = p.boundary(f, cfg);
     const std::string at = "fluid.boundaries." + face_names()[f];
-    if (b.type == "symmetry")
-      v.fail(at, "the adaptive grid has no symmetry faces yet: use a wall, a periodic axis, or fv without refinement");
     if (b.ramp > 0)
       v.fail(at + ".ramp", "the adaptive grid's faces take their value from the start: remove ramp, or refinement");
     if (b.type == "pressure" && !b.value.values.empty() && b.value.values[0] != 0.0)
@@ -247,10 +245,14 @@ static void check_refinement(config::Visitor& v, const config::Config& cfg, cons
                                         "Pa): drive the flow by an inlet or fluid.body_force",
                                         b.value.values[0]));
   }
-  if (cfg.has("immersed") && cfg.component("immersed").variant != "point")
-    v.fail("immersed.method", fmt::format("method {} does not run with fv's adaptive grid yet (point does): remove "
-                                          "fluid.fv.refinement, or use method: point",
-                                          cfg.component("immersed").variant));
+  if (cfg.has("immersed") && cfg.component("immersed").variant == "ibm") {
+    bool bodies = false;
+    for (const auto& c : config::resolved_node(cfg, "fluid.fv.refinement.criteria"))
+      bodies = bodies || (c.IsMap() && c["bodies"]);
+    if (!bodies)
+      v.fail(key + ".criteria", "immersed.method ibm forces the fluid on the finest level: add `- bodies: {}` to the "
+                                "criteria, so that the leaves around the bodies refine to it");
+  }
 }
 
 config::ComponentSchema schema() {

@@ -50,6 +50,10 @@ void visit_criteria(config::Visitor& v, std::vector<RefinementCriterion>& out) {
                 s.fail("upper", fmt::format("upper[{}] = {} is not above lower[{}] = {}", d, c.upper.values[d], d,
                                             c.lower.values[d]));
         }},
+       {"bodies",
+        "around immersed boundaries (immersed.method ibm): leaves within 2.5 finest cells of a marker refine to "
+        "the finest level, where the forcing runs",
+        [&](config::Visitor&) { out.emplace_back().kind = "bodies"; }},
        {"particles", "where point particles are: the cells their momentum source reaches (immersed.method point)",
         [&](config::Visitor&) { out.emplace_back().kind = "particles"; }}});
 }
@@ -96,7 +100,8 @@ void RefinementParams::check(config::Visitor& v, const config::Config& cfg) cons
                                    h[0], h[1], dims == 3 ? fmt::format(" x {:.6g}", h[2]) : std::string()));
       return;
     }
-  if (criteria.empty()) v.fail("refinement.criteria", "give at least one criterion (vorticity, walls, box or particles)");
+  if (criteria.empty())
+    v.fail("refinement.criteria", "give at least one criterion (vorticity, walls, box, bodies or particles)");
 }
 
 }  // namespace coflow::fluid::fv

@@ -17,7 +17,7 @@ namespace coflow::fluid::fv {
 // One refinement criterion (a leaf refines where any criterion asks, and
 // coarsens where all allow).
 struct RefinementCriterion {
-  std::string kind;  // vorticity | walls | box | particles
+  std::string kind;  // vorticity | walls | box | bodies | particles
   double refine_above = 0.0, coarsen_below = 0.0;  // vorticity: 1/s
   double distance = 0.0;                           // walls: m
   config::Numbers lower, upper;                    // box: m

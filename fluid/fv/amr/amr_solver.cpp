@@ -12,6 +12,7 @@
 #include "fluid/fv/amr/refinement_criteria.hpp"
 #include "fluid/fv/fv_solver.hpp"
 #include "fluid/fv/scheme.hpp"
+#include "immersed/ibm/params.hpp"
 
 namespace coflow::fluid::fv::amr {
 
@@ -70,7 +71,9 @@ void AmrFvSolver::make_flow() {
     const int a = f / 2;
     if (a >= dims_ || d.periodic[a]) continue;
     const BoundaryParams b = fluid_.boundary(f, cfg_);
-    if (b.type == "pressure" || b.type == "outflow") {
+    if (b.type == "symmetry") {
+      flow_->set_symmetry(f);
+    } else if (b.type == "pressure" || b.type == "outflow") {
       flow_->set_outlet(f);
     } else if (b.type == "velocity") {
       const std::array<double, 3> v{b.value.values[0], b.value.values[1], dims_ == 3 ? b.value.values[2] : 0.0};
@@ -87,6 +90,7 @@ void AmrFvSolver::make_flow() {
       });
     }
   }
+  flow_->set_forcing([this](CompositeFlow::Field& u, double dt, int stage) { force(u, dt, stage); });
   view_ = std::make_unique<UniformView>(flow_->grid(), decomposition_, rank_);
   apply_source();
 }
@@ -109,6 +113,7 @@ void AmrFvSolver::set_initial() {
 void AmrFvSolver::after_regrid() {
   view_ = std::make_unique<UniformView>(flow_->grid(), decomposition_, rank_);
   apply_source();
+  if (markers_) make_forcing();
 }
 
 void AmrFvSolver::apply_source() {
@@ -143,6 +148,8 @@ std::vector<int> AmrFvSolver::marks() {
     } else if (c.kind == "box") {
       all.push_back(mark_in_box(g, {c.lower.values[0], c.lower.values[1], c.lower.values[2]},
                                 {c.upper.values[0], c.upper.values[1], c.upper.values[2]}));
+    } else if (c.kind == "bodies") {
+      if (markers_) all.push_back(mark_at_points(g, marker_reach()));
     } else if (c.kind == "particles") {  // where the particles' source is: |f| > 0
       const auto per = static_cast<std::size_t>(g.cells_per_patch()), nc = static_cast<std::size_t>(dims_ + 2);
       for (std::size_t k = 0; k < static_cast<std::size_t>(g.local_cells()); ++k) {
@@ -153,7 +160,20 @@ std::vector<int> AmrFvSolver::marks() {
       all.push_back(mark_by_magnitude(*forest_, scratch, 0.0, std::numeric_limits<double>::min()));
     }
   }
+  if (all.empty()) return std::vector<int>(forest_->leaves().size(), 0);  // bodies before their markers: keep
   return combine_marks(all);
+}
+
+std::vector<std::array<double, 3>> AmrFvSolver::marker_reach() const {
+  std::vector<std::array<double, 3>> points;
+  const double w = 2.5 * h_;
+  const int nz = dims_ == 3 ? 3 : 1;
+  for (const auto& m : markers_->markers)
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i)
+          points.push_back({m.x[0] + (i - 1) * w, m.x[1] + (j - 1) * w, m.x[2] + (dims_ == 3 ? (k - 1) * w : 0.0)});
+  return points;
 }
 
 void AmrFvSolver::regrid() {
@@ -171,6 +191,7 @@ double AmrFvSolver::stable_step() {
     umax[k % D] = std::max(umax[k % D], a);
   }
   MPI_Allreduce(MPI_IN_PLACE, umax, 4, MPI_DOUBLE, MPI_MAX, comm_);
+  velocity_scale_ = std::max({umax[0], umax[1], umax[2]});
   if (umax[3] > 0)
     throw std::runtime_error(fmt::format("fv (refinement): the velocity is not finite at t = {:.6g} s (step {}); "
                                          "lower fluid.fv.cfl or fluid.fv.max_step",
@@ -301,5 +322,69 @@ void AmrFvSolver::load(const std::string& dir, long, double) {
   make_flow();
   flow_->load(dir);
 }
+
+// The first markers: the leaves around them refine to the finest level
+// (one level per pass), then the forcing is built on it. Every set (a
+// moving body's each window) is checked against the leaves.
+void AmrFvSolver::set_markers(ibm::MarkerSet markers) {
+  const bool first = !markers_;
+  markers_ = std::make_unique<ibm::MarkerSet>(std::move(markers));
+  // (A restarted run's forest is refined already: no pass, bit for bit.)
+  for (int pass = 1; first && steps_ == 0 && pass < p_.refinement.levels; ++pass)
+    if (flow_->regrid(marks())) {
+      ++regrids_;
+      view_ = std::make_unique<UniformView>(flow_->grid(), decomposition_, rank_);
+      apply_source();
+    }
+  make_forcing();
+}
+
+// The forcing on the finest cells: a point of the finest grid is a local
+// cell where a finest leaf cell of this rank is there, else nobody's. Every
+// point a marker's kernel reaches must be one somewhere, or the marker would
+// lose part of its stencil: checked on the points of marker_reach(). The
+// stencils are built again on the current leaves (the loads so far stay).
+void AmrFvSolver::make_forcing() {
+  const int finest = p_.refinement.levels - 1;
+  long coarse = 0;
+  for (const auto& x : marker_reach()) {
+    long c = 0;
+    if (flow_->grid().locate(x, &c) && flow_->grid().local_cell(c).level < finest) ++coarse;
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &coarse, 1, MPI_LONG, MPI_SUM, comm_);
+  if (coarse > 0)
+    throw std::runtime_error(fmt::format(
+        "fv (refinement): {} points within 2.5 cells of the immersed boundary's markers lie on a coarser level "
+        "than the finest: add `bodies` to fluid.fv.refinement.criteria (it refines there), or regrid more often",
+        coarse));
+  if (!ibm_) {
+    std::array<bool, 3> periodic{};
+    for (int a = 0; a < dims_; ++a) periodic[static_cast<std::size_t>(a)] = cfg_.domain.periodic[a];
+    auto index = [this, finest](const std::array<long, 3>& at) -> long {
+      const auto& g = flow_->grid();
+      long id = 0;
+      if (g.cover(finest, at, &id) != CompositeGrid::Cover::leaf) return -1;
+      id -= g.first_cell();
+      return id >= 0 && id < g.local_cells() ? id : -1;
+    };
+    auto grid = ibm::DirectForcing::collocated(immersed::grid_geometry(cfg_.domain), periodic, index);
+    ibm_ = std::make_unique<ibm::DirectForcing>(std::move(grid), immersed::read_ibm_params(cfg_).forcing(), comm_);
+  }
+  ibm_->set_markers(*markers_);
+}
+
+// In each Heun stage, before its projection: u forced toward the markers'
+// velocities at the step's end. A change dU in stage 0 enters the step as
+// dU / 2, one in stage 1 as dU (composite_flow.hpp), so the loads take the
+// factors rho / dt and 2 rho / dt: their mean over the two calls is the
+// step's force, rho (dU_0 / 2 + dU_1) dV / dt (eq. 4.8).
+void AmrFvSolver::force(CompositeFlow::Field& u, double dt, int stage) {
+  if (!ibm_ || ibm_->empty()) return;
+  std::array<double*, 3> v{nullptr, nullptr, nullptr};
+  for (std::size_t q = 0; q < u.size(); ++q) v[q] = u[q].data();
+  ibm_->apply(v, time_ + dt, velocity_scale_, (stage == 0 ? 1.0 : 2.0) * rho_ / dt, dt);
+}
+
+std::vector<double> AmrFvSolver::take_body_loads() { return ibm_ ? ibm_->take_report() : std::vector<double>{}; }
 
 }  // namespace coflow::fluid::fv::amr

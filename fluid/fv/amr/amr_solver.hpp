@@ -20,6 +20,7 @@
 #include "fluid/fv/amr/composite_flow.hpp"
 #include "fluid/fv/amr/uniform_view.hpp"
 #include "fluid/fv/params.hpp"
+#include "immersed/ibm/direct_forcing.hpp"
 
 namespace coflow::fluid::fv::amr {
 
@@ -39,6 +40,11 @@ class AmrFvSolver final : public FluidSolver {
   Diagnostics diagnostics() override;
   std::vector<output::Series::Column> series_columns() const override;
   void set_source(std::span<const double> force_density) override;
+  // Immersed boundaries (seed 003 §4.2.1) on the finest level: the leaves
+  // around the markers refine to it first (the `bodies` criterion), then the
+  // multi-direct forcing runs on the finest cells in each Heun stage.
+  void set_markers(ibm::MarkerSet markers) override;
+  std::vector<double> take_body_loads() override;
   void save(const std::string& dir) override;
   void load(const std::string& dir, long steps, double time) override;
 
@@ -51,6 +57,11 @@ class AmrFvSolver final : public FluidSolver {
   void after_regrid();     // the uniform view and the source on the new leaves
   void apply_source();     // body force and particle source, as accelerations per leaf cell
   std::vector<int> marks();
+  // Points a marker's kernel reaches: the marker and +-2.5 finest cells along
+  // each axis (3^d points; no leaf of 4 or more cells lies between them).
+  std::vector<std::array<double, 3>> marker_reach() const;
+  void make_forcing();        // the forcing's stencils on the current leaves; checks they are all finest
+  void force(CompositeFlow::Field& u, double dt, int stage);
   void regrid();
   double stable_step();    // collective; throws on a value that is not finite
   std::vector<double> cell_values(int first, int count, double scale) const;  // from the forest, per local cell
@@ -75,6 +86,9 @@ class AmrFvSolver final : public FluidSolver {
   double time_ = 0.0, dt_prev_ = 0.0, last_dt_ = 0.0;
   long steps_ = 0, window_steps_ = 0, regrids_ = 0;
   int poisson_iterations_ = 0;  // the most of a step in the window
+  std::unique_ptr<ibm::DirectForcing> ibm_;
+  std::unique_ptr<ibm::MarkerSet> markers_;  // the last set, for the stencils after a regrid
+  double velocity_scale_ = 0.0;              // the largest |u| at the last step's start
   std::vector<double> out_u_, out_p_, out_rho_, out_div_, out_zero_;
 };
 

@@ -68,13 +68,21 @@ void CompositeFlow::set_inlet(int face, Inflow inflow) {
   inflow_[static_cast<std::size_t>(face)] = std::move(inflow);
 }
 
+void CompositeFlow::set_symmetry(int face) { kinds_[static_cast<std::size_t>(face)] = Boundary::symmetry; }
+
 void CompositeFlow::set_outlet(int face) {
   kinds_[static_cast<std::size_t>(face)] = Boundary::outlet;
   build();  // the pressure's condition changes
 }
 
-std::array<double, 3> CompositeFlow::imposed(const SubFace& f, std::size_t c) const {
+std::array<double, 3> CompositeFlow::imposed(const SubFace& f, std::size_t c, const Field& g) const {
   const std::size_t k = face_of(f);
+  if (kinds_[k] == Boundary::symmetry) {  // no flow through, no shear: the cell's own tangential velocity
+    std::array<double, 3> v{0.0, 0.0, 0.0};
+    for (std::size_t q = 0; q < g.size(); ++q) v[q] = g[q][c];
+    v[static_cast<std::size_t>(f.axis)] = 0.0;
+    return v;
+  }
   if (kinds_[k] != Boundary::inlet) return walls_[k];
   const auto cell = grid_->local_cell(static_cast<long>(c));
   auto x = grid_->centre(cell);
@@ -144,7 +152,7 @@ CompositeFlow::Field CompositeFlow::with_ghosts(const Field& u) {
 
 double CompositeFlow::face_velocity(const SubFace& f, std::size_t c, const Field& g, std::size_t q) const {
   if (!f.wall) return evaluate(f.value, g[q]);
-  return outlet(f) ? g[q][c] : imposed(f, c)[q];  // an outlet carries the cell's value
+  return outlet(f) ? g[q][c] : imposed(f, c, g)[q];  // an outlet carries the cell's value
 }
 
 std::vector<double> CompositeFlow::pressure() const {
@@ -177,7 +185,7 @@ CompositeFlow::Field CompositeFlow::rates(const Field& u) {
           continue;
         }
         if (f.wall) {  // the imposed velocity half a cell away; carried in or out with it
-          const auto ub = imposed(f, c);
+          const auto ub = imposed(f, c, g);
           sum += f.fraction *
                  (nu_ * 2.0 * (ub[q] - g[q][c]) / h - f.side * ub[static_cast<std::size_t>(f.axis)] * ub[q]);
           continue;
@@ -247,11 +255,13 @@ void CompositeFlow::step(double dt) {
   Field u1 = u0;
   for (std::size_t q = 0; q < u1.size(); ++q)
     for (std::size_t c = 0; c < u1[q].size(); ++c) u1[q][c] += dt * r0[q][c];
+  if (forcing_) forcing_(u1, dt, 0);
   project(u1, dt, 0);
   const Field r1 = rates(u1);
   Field u2 = u0;
   for (std::size_t q = 0; q < u2.size(); ++q)
     for (std::size_t c = 0; c < u2[q].size(); ++c) u2[q][c] = 0.5 * (u0[q][c] + u1[q][c] + dt * r1[q][c]);
+  if (forcing_) forcing_(u2, dt, 1);
   project(u2, dt, 1);
   // u2 = u0 + dt (r0 + r1) / 2 - dt grad(phi_1 / 2 + phi_2): the step's
   // pressure is phi_1 / 2 + phi_2 (each stage's solution kept in phi_).

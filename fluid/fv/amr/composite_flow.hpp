@@ -12,9 +12,10 @@
 // Bell & Szymczak 1996), and the face velocities carry the advection.
 //
 // Boundaries: periodic, or on the non-periodic domain faces no-slip walls
-// (optionally moving tangentially: a lid) and inlets (velocity given, dp/dn
-// = 0), and outlets (p = 0, du/dn = 0). The fv solver's boundary keys and
-// IMEX diffusion come with its wiring into `fluid.solver: fv` (issue 25).
+// (optionally moving tangentially: a lid), inlets (velocity given, dp/dn =
+// 0), outlets (p = 0, du/dn = 0) and symmetry faces (no flow through, no
+// shear). amr_solver.hpp maps fluid.boundaries onto them; diffusion is
+// explicit (no IMEX on the composite grid yet).
 #pragma once
 
 #include <array>
@@ -42,13 +43,22 @@ class CompositeFlow {
   // velocity set here), an inlet (the velocity `inflow` gives at each face
   // centre), or an outlet (pressure 0, zero normal derivative of the
   // velocity). Set before the first projection.
-  enum class Boundary { wall, inlet, outlet };
+  enum class Boundary { wall, inlet, outlet, symmetry };
   using Inflow = std::function<std::array<double, 3>(const std::array<double, 3>&)>;
   void set_wall_velocity(int face, const std::array<double, 3>& v) {
     walls_[static_cast<std::size_t>(face)] = v;
   }
   void set_inlet(int face, Inflow inflow);
   void set_outlet(int face);
+  // A symmetry face: no flow through it, no shear along it (dp/dn = 0).
+  void set_symmetry(int face);
+  // Called in each Heun stage on the predicted velocity (per component, per
+  // local cell) before its projection: an immersed boundary's direct forcing
+  // (seed 003 eqs. 4.8-4.11). Stage 0 predicts u1 = u0 + dt r0; stage 1 is
+  // u2 = (u0 + u1 + dt r1) / 2, so a velocity change dU made in stage 0 enters
+  // the step as dU / 2 and one made in stage 1 as dU.
+  using Field = std::vector<std::vector<double>>;  // per component, per local cell
+  void set_forcing(std::function<void(Field& u, double dt, int stage)> forcing) { forcing_ = std::move(forcing); }
   // Projects the velocity held by the forest (call once after setting it).
   void project_initial();
   // One step of length dt (Heun: two stages, each projected).
@@ -82,7 +92,6 @@ class CompositeFlow {
   void set_source(std::vector<std::vector<double>> acceleration) { source_ = std::move(acceleration); }
 
  private:
-  using Field = std::vector<std::vector<double>>;  // per component, per local cell
   Field read_velocity() const;
   void write(const Field& u);
   Field with_ghosts(const Field& u);  // per component, per slot
@@ -94,8 +103,9 @@ class CompositeFlow {
   std::vector<double> pressure() const;  // per local cell, from the forest
   void set_pressure(const std::vector<double>& p);
   static std::size_t face_of(const SubFace& f) { return static_cast<std::size_t>(2 * f.axis + (f.side > 0)); }
-  // The velocity a wall or inlet imposes on cell c's boundary face f.
-  std::array<double, 3> imposed(const SubFace& f, std::size_t c) const;
+  // The velocity a wall, inlet or symmetry face imposes on cell c's boundary
+  // face f (g: the velocity with ghosts; a symmetry face reads the cell's).
+  std::array<double, 3> imposed(const SubFace& f, std::size_t c, const Field& g) const;
   bool outlet(const SubFace& f) const { return kinds_[face_of(f)] == Boundary::outlet; }
   void build();  // the grid, faces and Poisson system of the forest as it is
 
@@ -110,6 +120,7 @@ class CompositeFlow {
   std::array<std::array<double, 3>, 6> walls_{};
   std::array<Boundary, 6> kinds_{};  // all walls
   std::array<Inflow, 6> inflow_;
+  std::function<void(Field&, double, int)> forcing_;
   // Per local cell, the last pressure of each stage and of the initial
   // projection: each solve's initial guess.
   std::array<std::vector<double>, 3> phi_;

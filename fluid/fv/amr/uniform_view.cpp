@@ -8,7 +8,7 @@ namespace coflow::fluid::fv::amr {
 
 namespace {
 
-// Displacements of `counts` (each times `scale`), and the scaled counts.
+// `counts` times `scale`, and their displacements (into displs).
 std::vector<int> scaled(const std::vector<int>& counts, int scale, std::vector<int>& displs) {
   std::vector<int> out(counts.size());
   displs.assign(counts.size(), 0);
@@ -76,29 +76,33 @@ UniformView::UniformView(const CompositeGrid& grid, const coupler::Decomposition
 
 void UniformView::to_uniform(std::span<const double> cells, int n, std::vector<double>& out) const {
   const auto N = static_cast<std::size_t>(n);
-  std::vector<double> send(send_cell_.size() * N), recv(recv_fine_.size() * N);
+  send_.resize(send_cell_.size() * N);
+  recv_.resize(recv_fine_.size() * N);
   for (std::size_t s = 0; s < send_cell_.size(); ++s)
-    for (std::size_t q = 0; q < N; ++q) send[s * N + q] = cells[static_cast<std::size_t>(send_cell_[s]) * N + q];
-  std::vector<int> sd, rd;
-  const auto sc = scaled(send_counts_, n, sd), rc = scaled(recv_counts_, n, rd);
-  MPI_Alltoallv(send.data(), sc.data(), sd.data(), MPI_DOUBLE, recv.data(), rc.data(), rd.data(), MPI_DOUBLE, comm_);
+    for (std::size_t q = 0; q < N; ++q) send_[s * N + q] = cells[static_cast<std::size_t>(send_cell_[s]) * N + q];
+  sc_ = scaled(send_counts_, n, sd_);
+  rc_ = scaled(recv_counts_, n, rd_);
+  MPI_Alltoallv(send_.data(), sc_.data(), sd_.data(), MPI_DOUBLE, recv_.data(), rc_.data(), rd_.data(), MPI_DOUBLE,
+                comm_);
   out.assign(static_cast<std::size_t>(owned_cells_) * N, 0.0);
   for (std::size_t s = 0; s < recv_fine_.size(); ++s)
-    for (std::size_t q = 0; q < N; ++q) out[static_cast<std::size_t>(recv_fine_[s]) * N + q] = recv[s * N + q];
+    for (std::size_t q = 0; q < N; ++q) out[static_cast<std::size_t>(recv_fine_[s]) * N + q] = recv_[s * N + q];
 }
 
 void UniformView::to_cells(std::span<const double> fine, int n, std::vector<double>& out) const {
   const auto N = static_cast<std::size_t>(n);
-  std::vector<double> send(recv_fine_.size() * N), recv(send_cell_.size() * N);
+  send_.resize(recv_fine_.size() * N);
+  recv_.resize(send_cell_.size() * N);
   for (std::size_t s = 0; s < recv_fine_.size(); ++s)
-    for (std::size_t q = 0; q < N; ++q) send[s * N + q] = fine[static_cast<std::size_t>(recv_fine_[s]) * N + q];
-  std::vector<int> sd, rd;
-  const auto sc = scaled(recv_counts_, n, sd), rc = scaled(send_counts_, n, rd);
-  MPI_Alltoallv(send.data(), sc.data(), sd.data(), MPI_DOUBLE, recv.data(), rc.data(), rd.data(), MPI_DOUBLE, comm_);
+    for (std::size_t q = 0; q < N; ++q) send_[s * N + q] = fine[static_cast<std::size_t>(recv_fine_[s]) * N + q];
+  sc_ = scaled(recv_counts_, n, sd_);
+  rc_ = scaled(send_counts_, n, rd_);
+  MPI_Alltoallv(send_.data(), sc_.data(), sd_.data(), MPI_DOUBLE, recv_.data(), rc_.data(), rd_.data(), MPI_DOUBLE,
+                comm_);
   out.assign(static_cast<std::size_t>(local_cells_) * N, 0.0);
   for (std::size_t s = 0; s < send_cell_.size(); ++s) {
     const auto c = static_cast<std::size_t>(send_cell_[s]);
-    for (std::size_t q = 0; q < N; ++q) out[c * N + q] += recv[s * N + q] * weight_[c];
+    for (std::size_t q = 0; q < N; ++q) out[c * N + q] += recv_[s * N + q] * weight_[c];
   }
 }
 

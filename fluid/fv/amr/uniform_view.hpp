@@ -45,6 +45,8 @@ class UniformView {
   std::vector<long> send_cell_;  // per fine cell sent: the local leaf cell holding it
   std::vector<long> recv_fine_;  // per fine cell received: its index in the owned box
   std::vector<double> weight_;   // per local leaf cell: 1 / (fine cells it holds)
+  mutable std::vector<double> send_, recv_;          // message buffers, kept between calls
+  mutable std::vector<int> sc_, sd_, rc_, rd_;       // their counts and displacements
 };
 
 }  // namespace coflow::fluid::fv::amr

@@ -132,3 +132,48 @@ TEST_CASE("amr channel: Poiseuille flow from an inlet to an outlet across levels
   CHECK(std::fabs(dpdx + 1.2) <= 0.012);
   CHECK(flow.face_divergence() * 0.002 <= 3e-16);
 }
+
+TEST_CASE("amr channel: the half channel with a symmetry face at its centre line", "[amr][mpi]") {
+  // The lower half of the channel above, [0, 2] x [0, 0.5]: wall at y = 0,
+  // symmetry face at y = 0.5 (no flow through, no shear), the trees along
+  // the wall one level finer. Poiseuille flow is the same there: u = 6 y
+  // (1 - y), dp/dx = -12 nu U / H^2 with H = 1.
+  auto spec = coflow::test::forest_2d({8, 2, 1}, {false, false, false}, 1, 4, 3);
+  spec.refine = [](int, const Index3& p) { return p[1] == 0; };
+  Forest forest(MPI_COMM_WORLD, spec);
+  CompositeFlow flow(forest, {{0.0, 0.0, 0.0}, 0.25}, 0.1);
+  const auto profile = [](const std::array<double, 3>& x) {
+    return std::array<double, 3>{6 * x[1] * (1 - x[1]), 0, 0};
+  };
+  flow.set_inlet(0, profile);
+  flow.set_symmetry(3);
+  flow.set_outlet(1);
+  const auto& g = flow.grid();
+  for (long c = 0; c < g.local_cells(); ++c)
+    forest.data(static_cast<std::size_t>(
+        c / g.cells_per_patch()))[static_cast<std::size_t>(c % g.cells_per_patch()) * 3] =
+        profile(g.centre(g.local_cell(c)))[0];
+  flow.project_initial();
+  for (int n = 0; n < 500; ++n) flow.step(0.002);
+  double worst_u = 0.0, worst_v = 0.0, s[5] = {0, 0, 0, 0, 0};  // n, sx, sp, sxx, sxp
+  for (long c = 0; c < g.local_cells(); ++c) {
+    const auto x = g.centre(g.local_cell(c));
+    const auto v = forest.data(static_cast<std::size_t>(c / g.cells_per_patch()));
+    const auto k = static_cast<std::size_t>(c % g.cells_per_patch()) * 3;
+    worst_u = coflow::test::worst_of(worst_u, std::fabs(v[k] - profile(x)[0]));
+    worst_v = coflow::test::worst_of(worst_v, std::fabs(v[k + 1]));
+    if (x[0] > 0.5 && x[0] < 1.5) {
+      const double terms[5] = {1.0, x[0], v[k + 2], x[0] * x[0], x[0] * v[k + 2]};
+      for (int i = 0; i < 5; ++i) s[i] += terms[i];
+    }
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &worst_u, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, &worst_v, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, s, 5, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+  const double dpdx = (s[0] * s[4] - s[1] * s[2]) / (s[0] * s[3] - s[1] * s[1]);
+  INFO("cells " << g.global_cells() << "; largest |u - u_exact| " << worst_u << ", |v| " << worst_v
+                << "; dp/dx " << dpdx << " (exact -1.2)");
+  CHECK(worst_u <= 0.02);  // references.csv: amr_half_channel_symmetry
+  CHECK(worst_v <= 0.0125);
+  CHECK(std::fabs(dpdx + 1.2) <= 0.012);
+}

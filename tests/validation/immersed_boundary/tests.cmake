@@ -41,3 +41,6 @@ coflow_validation(ibm_lbm_ranks_1_vs_2_moving compare ibm_cylinder_translating_l
 set_tests_properties(validation.ibm_cylinder_re20 validation.ibm_cylinder_re20_lbm validation.ibm_cylinder_frames
   validation.ibm_cylinder_mdf_slip validation.ibm_fv_vs_reference_fixed validation.ibm_fv_vs_reference_moving
   PROPERTIES PROCESSORS 1)
+# On fv's adaptive grid (issue 25): the cylinder with its near wake on the
+# finest of 3 levels against the same grid refined everywhere.
+coflow_validation(ibm_cylinder_amr pair ibm_cylinder_amr.yaml 2 ibm_frames "" "config=ibm_cylinder_amr_fine.yaml")

@@ -199,21 +199,12 @@ void FvSolver::step(double dt) {
 // the flow outgrows the step. Equal steps keep the implicit matrices (they
 // depend on dt) and their multigrid hierarchies from one step to the next.
 void FvSolver::advance(double window) {
-  const double end = time_ + window;
   window_steps_ = 0;
   poisson_iterations_ = viscous_iterations_ = 0;
-  long left = 0;
-  double dt = 0.0;
-  while (end - time_ > 1e-12 * window) {
-    const double limit = stable_step();
-    if (left == 0 || dt > limit) {
-      dt = fv::next_step(limit, dt_prev_, end - time_);
-      left = std::max(1L, std::lround((end - time_) / dt));
-    }
-    next_time_ = left == 1 ? end : time_ + dt;  // the window's last step lands on its end exactly
+  fv::step_window(time_, dt_prev_, window, [this] { return stable_step(); }, [this](double dt, double t) {
+    next_time_ = t;
     step(dt);
-    if (--left == 0) break;
-  }
+  });
   max_divergence_ = max_divergence(u_);
 }
 

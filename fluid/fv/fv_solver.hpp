@@ -47,6 +47,7 @@ class FvSolver final : public FluidSolver {
   };
   static std::vector<output::GridField> named_fields(const config::StringList& names, const Arrays& a);
   static Diagnostics cell_diagnostics(const std::vector<double>& centre_velocity, double cell_mass);
+  static void reduce(Diagnostics& d, MPI_Comm comm);  // a rank's sums to the component's (collective)
   // The columns fv adds to series/fluid.csv (fv-reference adds the same).
   static std::vector<output::Series::Column> columns(bool turbulent = false);  // with k-epsilon's when turbulent
   void set_source(std::span<const double> force_density) override;

@@ -69,15 +69,20 @@ Diagnostics FvSolver::cell_diagnostics(const std::vector<double>& u, double m) {
   return d;
 }
 
-Diagnostics FvSolver::diagnostics() {
-  fields({});
-  Diagnostics d = cell_diagnostics(out_u_, rho_ * h_[0] * h_[1] * h_[2]);
+// A rank's sums and largest velocity to the component's.
+void FvSolver::reduce(Diagnostics& d, MPI_Comm comm) {
   double sums[5] = {d.mass, d.momentum[0], d.momentum[1], d.momentum[2], d.kinetic_energy};
-  MPI_Allreduce(MPI_IN_PLACE, sums, 5, MPI_DOUBLE, MPI_SUM, comm_);
-  MPI_Allreduce(MPI_IN_PLACE, &d.max_velocity, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  MPI_Allreduce(MPI_IN_PLACE, sums, 5, MPI_DOUBLE, MPI_SUM, comm);
+  MPI_Allreduce(MPI_IN_PLACE, &d.max_velocity, 1, MPI_DOUBLE, MPI_MAX, comm);
   d.mass = sums[0];
   d.momentum = {sums[1], sums[2], sums[3]};
   d.kinetic_energy = sums[4];
+}
+
+Diagnostics FvSolver::diagnostics() {
+  fields({});
+  Diagnostics d = cell_diagnostics(out_u_, rho_ * h_[0] * h_[1] * h_[2]);
+  reduce(d, comm_);
   d.extra = {static_cast<double>(window_steps_), last_dt_, static_cast<double>(poisson_iterations_),
              static_cast<double>(viscous_iterations_), max_divergence_};
   if (turbulent_) add_turbulence_diagnostics(d);

@@ -91,4 +91,25 @@ inline double next_step(double limit, double last, double remaining) {
   return remaining / n;
 }
 
+// Steps through a window of length `window` from `time` (which `step`
+// advances): each step's length from next_step(limit(), last, what is left),
+// recomputed when the limit falls below it, the last step landing on the
+// window's end exactly. step(dt, t) takes one step of dt that ends at t and
+// sets `time` to t and `last` to dt. fv and fv on the adaptive grid.
+template <class Limit, class Step>
+void step_window(const double& time, const double& last, double window, Limit&& limit, Step&& step) {
+  const double end = time + window;
+  long left = 0;
+  double dt = 0.0;
+  while (end - time > 1e-12 * window) {
+    const double most = limit();
+    if (left == 0 || dt > most) {
+      dt = next_step(most, last, end - time);
+      left = std::max(1L, std::lround((end - time) / dt));
+    }
+    step(dt, left == 1 ? end : time + dt);
+    if (--left == 0) break;
+  }
+}
+
 }  // namespace coflow::fluid::fv

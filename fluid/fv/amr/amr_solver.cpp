@@ -206,26 +206,17 @@ double AmrFvSolver::stable_step() {
 }
 
 void AmrFvSolver::advance(double window) {
-  const double end = time_ + window;
   window_steps_ = 0;
   poisson_iterations_ = 0;
-  long left = 0;
-  double dt = 0.0;
-  while (end - time_ > 1e-12 * window) {
-    const double limit = stable_step();
-    if (left == 0 || dt > limit) {
-      dt = fv::next_step(limit, dt_prev_, end - time_);
-      left = std::max(1L, std::lround((end - time_) / dt));
-    }
+  fv::step_window(time_, dt_prev_, window, [this] { return stable_step(); }, [this](double dt, double t) {
     flow_->step(dt);
-    time_ = left == 1 ? end : time_ + dt;  // the window's last step lands on its end exactly
+    time_ = t;
     dt_prev_ = last_dt_ = dt;
     ++steps_;
     ++window_steps_;
     poisson_iterations_ = std::max(poisson_iterations_, flow_->last_iterations());
     if (steps_ % p_.refinement.every == 0) regrid();
-    if (--left == 0) break;
-  }
+  });
 }
 
 std::vector<double> AmrFvSolver::cell_values(int first, int count, double scale) const {
@@ -267,24 +258,19 @@ Diagnostics AmrFvSolver::diagnostics() {
   const auto u = cell_values(0, dims_, 1.0);
   const auto D = static_cast<std::size_t>(dims_);
   Diagnostics d;
-  double sums[5] = {0, 0, 0, 0, 0};
   for (std::size_t k = 0; k < static_cast<std::size_t>(g.local_cells()); ++k) {
     const double m = rho_ * std::pow(g.spacing(g.local_cell(static_cast<long>(k)).level), dims_) *
                      (dims_ == 2 ? cfg_.domain.upper[2] - cfg_.domain.lower[2] : 1.0);
     double u2 = 0.0;
     for (std::size_t q = 0; q < D; ++q) {
-      sums[1 + q] += m * u[k * D + q];
+      d.momentum[q] += m * u[k * D + q];
       u2 += u[k * D + q] * u[k * D + q];
     }
-    sums[0] += m;
-    sums[4] += 0.5 * m * u2;
+    d.mass += m;
+    d.kinetic_energy += 0.5 * m * u2;
     d.max_velocity = std::max(d.max_velocity, std::sqrt(u2));
   }
-  MPI_Allreduce(MPI_IN_PLACE, sums, 5, MPI_DOUBLE, MPI_SUM, comm_);
-  MPI_Allreduce(MPI_IN_PLACE, &d.max_velocity, 1, MPI_DOUBLE, MPI_MAX, comm_);
-  d.mass = sums[0];
-  d.momentum = {sums[1], sums[2], sums[3]};
-  d.kinetic_energy = sums[4];
+  FvSolver::reduce(d, comm_);
   d.extra = {static_cast<double>(window_steps_),      last_dt_, static_cast<double>(poisson_iterations_),
              flow_->face_divergence(),                static_cast<double>(g.global_cells()),
              static_cast<double>(regrids_)};

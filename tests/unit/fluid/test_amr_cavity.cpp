@@ -84,6 +84,40 @@ TEST_CASE("amr cavity: Re 100 on 2 levels against Ghia, Ghia & Shin 1982", "[.][
   CHECK(worst <= 0.02);  // references.csv: amr_cavity_re100
 }
 
+namespace {
+
+// Plane Poiseuille flow u = 6 y (1 - y) (U = 1, H = 1).
+std::array<double, 3> poiseuille(const std::array<double, 3>& x) { return {6 * x[1] * (1 - x[1]), 0, 0}; }
+
+struct ChannelErrors {
+  double u = 0.0, v = 0.0;  // largest |u - u_exact| and |v|
+  double dpdx = 0.0;        // by least squares over the cells with 0.5 < x < 1.5
+};
+
+// Over all ranks.
+ChannelErrors channel_errors(const Forest& forest, const CompositeGrid& g) {
+  ChannelErrors e;
+  double s[5] = {0, 0, 0, 0, 0};  // n, sx, sp, sxx, sxp
+  for (long c = 0; c < g.local_cells(); ++c) {
+    const auto x = g.centre(g.local_cell(c));
+    const auto v = forest.data(static_cast<std::size_t>(c / g.cells_per_patch()));
+    const auto k = static_cast<std::size_t>(c % g.cells_per_patch()) * 3;
+    e.u = coflow::test::worst_of(e.u, std::fabs(v[k] - poiseuille(x)[0]));
+    e.v = coflow::test::worst_of(e.v, std::fabs(v[k + 1]));
+    if (x[0] > 0.5 && x[0] < 1.5) {
+      const double terms[5] = {1.0, x[0], v[k + 2], x[0] * x[0], x[0] * v[k + 2]};
+      for (int i = 0; i < 5; ++i) s[i] += terms[i];
+    }
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &e.u, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, &e.v, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, s, 5, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+  e.dpdx = (s[0] * s[4] - s[1] * s[2]) / (s[0] * s[3] - s[1] * s[1]);
+  return e;
+}
+
+}  // namespace
+
 TEST_CASE("amr channel: Poiseuille flow from an inlet to an outlet across levels", "[amr][mpi]") {
   // [0, 2] x [0, 1], 8 x 4 trees of 0.25 with 4^2-cell patches; the trees
   // along both walls one level finer. Inlet x- with the exact profile u =
@@ -94,9 +128,7 @@ TEST_CASE("amr channel: Poiseuille flow from an inlet to an outlet across levels
   spec.refine = [](int, const Index3& p) { return p[1] == 0 || p[1] == 3; };
   Forest forest(MPI_COMM_WORLD, spec);
   CompositeFlow flow(forest, {{0.0, 0.0, 0.0}, 0.25}, 0.1);
-  const auto profile = [](const std::array<double, 3>& x) {
-    return std::array<double, 3>{6 * x[1] * (1 - x[1]), 0, 0};
-  };
+  const auto profile = poiseuille;
   flow.set_inlet(0, profile);
   flow.set_outlet(1);
   const auto& g = flow.grid();
@@ -106,24 +138,7 @@ TEST_CASE("amr channel: Poiseuille flow from an inlet to an outlet across levels
         profile(g.centre(g.local_cell(c)))[0];
   flow.project_initial();
   for (int n = 0; n < 500; ++n) flow.step(0.002);
-  // Velocity against the profile, and the pressure gradient by least squares
-  // over the cells with 0.5 < x < 1.5 (sums over all ranks).
-  double worst_u = 0.0, worst_v = 0.0, s[5] = {0, 0, 0, 0, 0};  // n, sx, sp, sxx, sxp
-  for (long c = 0; c < g.local_cells(); ++c) {
-    const auto x = g.centre(g.local_cell(c));
-    const auto v = forest.data(static_cast<std::size_t>(c / g.cells_per_patch()));
-    const auto k = static_cast<std::size_t>(c % g.cells_per_patch()) * 3;
-    worst_u = coflow::test::worst_of(worst_u, std::fabs(v[k] - profile(x)[0]));
-    worst_v = coflow::test::worst_of(worst_v, std::fabs(v[k + 1]));
-    if (x[0] > 0.5 && x[0] < 1.5) {
-      const double terms[5] = {1.0, x[0], v[k + 2], x[0] * x[0], x[0] * v[k + 2]};
-      for (int i = 0; i < 5; ++i) s[i] += terms[i];
-    }
-  }
-  MPI_Allreduce(MPI_IN_PLACE, &worst_u, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-  MPI_Allreduce(MPI_IN_PLACE, &worst_v, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-  MPI_Allreduce(MPI_IN_PLACE, s, 5, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
-  const double dpdx = (s[0] * s[4] - s[1] * s[2]) / (s[0] * s[3] - s[1] * s[1]);
+  const auto [worst_u, worst_v, dpdx] = channel_errors(forest, g);
   INFO("cells " << g.global_cells() << "; largest |u - u_exact| " << worst_u << ", |v| " << worst_v
                 << "; dp/dx " << dpdx << " (exact -1.2); face divergence x dt "
                 << flow.face_divergence() * 0.002);
@@ -142,9 +157,7 @@ TEST_CASE("amr channel: the half channel with a symmetry face at its centre line
   spec.refine = [](int, const Index3& p) { return p[1] == 0; };
   Forest forest(MPI_COMM_WORLD, spec);
   CompositeFlow flow(forest, {{0.0, 0.0, 0.0}, 0.25}, 0.1);
-  const auto profile = [](const std::array<double, 3>& x) {
-    return std::array<double, 3>{6 * x[1] * (1 - x[1]), 0, 0};
-  };
+  const auto profile = poiseuille;
   flow.set_inlet(0, profile);
   flow.set_symmetry(3);
   flow.set_outlet(1);
@@ -155,22 +168,7 @@ TEST_CASE("amr channel: the half channel with a symmetry face at its centre line
         profile(g.centre(g.local_cell(c)))[0];
   flow.project_initial();
   for (int n = 0; n < 500; ++n) flow.step(0.002);
-  double worst_u = 0.0, worst_v = 0.0, s[5] = {0, 0, 0, 0, 0};  // n, sx, sp, sxx, sxp
-  for (long c = 0; c < g.local_cells(); ++c) {
-    const auto x = g.centre(g.local_cell(c));
-    const auto v = forest.data(static_cast<std::size_t>(c / g.cells_per_patch()));
-    const auto k = static_cast<std::size_t>(c % g.cells_per_patch()) * 3;
-    worst_u = coflow::test::worst_of(worst_u, std::fabs(v[k] - profile(x)[0]));
-    worst_v = coflow::test::worst_of(worst_v, std::fabs(v[k + 1]));
-    if (x[0] > 0.5 && x[0] < 1.5) {
-      const double terms[5] = {1.0, x[0], v[k + 2], x[0] * x[0], x[0] * v[k + 2]};
-      for (int i = 0; i < 5; ++i) s[i] += terms[i];
-    }
-  }
-  MPI_Allreduce(MPI_IN_PLACE, &worst_u, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-  MPI_Allreduce(MPI_IN_PLACE, &worst_v, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-  MPI_Allreduce(MPI_IN_PLACE, s, 5, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
-  const double dpdx = (s[0] * s[4] - s[1] * s[2]) / (s[0] * s[3] - s[1] * s[1]);
+  const auto [worst_u, worst_v, dpdx] = channel_errors(forest, g);
   INFO("cells " << g.global_cells() << "; largest |u - u_exact| " << worst_u << ", |v| " << worst_v
                 << "; dp/dx " << dpdx << " (exact -1.2)");
   CHECK(worst_u <= 0.02);  // references.csv: amr_half_channel_symmetry

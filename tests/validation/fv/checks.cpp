@@ -33,6 +33,20 @@ double on_line(const std::vector<double>& u, long nx, long ny, int c, int along,
   return (1 - w) * at(i) + w * at(i + 1);
 }
 
+// The last fluid snapshot's time, cell-centre velocity (3 per cell, x
+// fastest) and cells along x and y (2D).
+struct Velocity {
+  double t;
+  std::vector<double> u;
+  long nx, ny;
+};
+Velocity last_velocity(const std::string& dir) {
+  const std::string snap = last_snapshot(dir);
+  std::vector<std::size_t> dims;
+  auto u = output::read_dataset(snap, "velocity", &dims);
+  return {output::read_time(snap), std::move(u), static_cast<long>(dims[2]), static_cast<long>(dims[1])};
+}
+
 }  // namespace
 
 // The lid (y+, velocity U along x) drives a square cavity of side L: the
@@ -71,11 +85,7 @@ int tg_error(const std::string& dir) {
   const auto fp = fluid_params(cfg);
   const auto& d = cfg.domain;
   const auto h = d.spacing();
-  const std::string snap = last_snapshot(dir);
-  const double t = output::read_time(snap);
-  std::vector<std::size_t> dims;
-  const auto u = output::read_dataset(snap, "velocity", &dims);
-  const long ny = static_cast<long>(dims[1]), nx = static_cast<long>(dims[2]);
+  const auto [t, u, nx, ny] = last_velocity(dir);
   const double kx = 2 * std::numbers::pi / (d.upper[0] - d.lower[0]),
                ky = 2 * std::numbers::pi / (d.upper[1] - d.lower[1]);
   const double decay = std::exp(-fp.viscosity * (kx * kx + ky * ky) * t), U = fp.initial_amplitude;
@@ -109,11 +119,7 @@ int vortex(const std::string& dir) {
   const auto fp = fluid_params(cfg);
   const auto& d = cfg.domain;
   const auto h = d.spacing();
-  const std::string snap = last_snapshot(dir);
-  const double t = output::read_time(snap);
-  std::vector<std::size_t> dims;
-  const auto u = output::read_dataset(snap, "velocity", &dims);
-  const long ny = static_cast<long>(dims[1]), nx = static_cast<long>(dims[2]);
+  const auto [t, u, nx, ny] = last_velocity(dir);
   const double A = fp.initial_amplitude, R = fp.initial_radius, s2 = R * R + 2 * fp.viscosity * t;
   const double L[2] = {d.upper[0] - d.lower[0], d.upper[1] - d.lower[1]};
   double centre[2], e2 = 0.0, worst = 0.0;

@@ -252,6 +252,22 @@ static void check_refinement(config::Visitor& v, const config::Config& cfg, cons
     if (!bodies)
       v.fail(key + ".criteria", "immersed.method ibm forces the fluid on the finest level: add `- bodies: {}` to the "
                                 "criteria, so that the leaves around the bodies refine to it");
+    // The leaves refine around the markers where they are set; a moving body would leave them.
+    const YAML::Node all = config::resolved_node(cfg, "immersed.ibm.bodies");
+    for (std::size_t i = 0; all.IsSequence() && i < all.size(); ++i) {
+      const YAML::Node& body = all;
+      const YAML::Node m = body[i]["motion"];
+      bool moves = false;
+      for (const char* k : {"velocity", "angular_velocity", "amplitude"}) {
+        const YAML::Node& motion = m;
+        if (motion.IsMap() && motion[k].IsSequence())
+          for (const auto& x : motion[k]) moves = moves || x.as<double>() != 0.0;
+      }
+      if (moves)
+        v.fail(fmt::format("immersed.ibm.bodies[{}].motion", i),
+               "moving bodies do not run on fv's adaptive grid yet (its leaves refine where the markers are set): "
+               "remove fluid.fv.refinement, or the motion");
+    }
   }
 }
 

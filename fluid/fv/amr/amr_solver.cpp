@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -62,8 +63,9 @@ ForestSpec AmrFvSolver::forest_spec() const {
 }
 
 // The boundaries of fluid.boundaries (the checks of fluid/schema.cpp keep
-// out what the composite flow has not: symmetry faces, ramps, a pressure
-// other than the reference).
+// out what the composite flow has not: ramps, a pressure other than the
+// reference). Outflow and pressure faces are both outlets, p = 0 and
+// du/dn = 0.
 void AmrFvSolver::make_flow() {
   flow_ = std::make_unique<CompositeFlow>(*forest_, geometry_, nu_);
   const auto& d = cfg_.domain;
@@ -199,8 +201,12 @@ double AmrFvSolver::stable_step() {
   double rate = 0.0;  // seed 003 eq. 4.1 on the finest cells
   for (int a = 0; a < dims_; ++a) rate += umax[a] / h_;
   double limit = rate > 0 ? p_.cfl / rate : std::numeric_limits<double>::infinity();
-  // Heun's method is stable for explicit diffusion up to nu dt / h^2 = 1 / (2 d): half of it.
+  // Heun's method is stable for explicit diffusion up to nu dt / h^2 = 1 / (2 d): half of it. With
+  // central advection its amplification is |G|^2 = 1 + C^4 / 4 - (damping by diffusion), so the
+  // diffusion number must stay above about C^4 / 16: dt <= (16 nu h^2 / U^4)^(1/3), U = sum |u_d|.
   if (nu_ > 0) limit = std::min(limit, h_ * h_ / (4.0 * dims_ * nu_));
+  const double speed = umax[0] + umax[1] + umax[2];
+  if (speed > 0) limit = std::min(limit, std::cbrt(16.0 * nu_ * h_ * h_ / std::pow(speed, 4)));
   if (p_.max_step > 0) limit = std::min(limit, p_.max_step);
   return limit;
 }
@@ -230,14 +236,22 @@ std::vector<double> AmrFvSolver::cell_values(int first, int count, double scale)
   return v;
 }
 
+// Only the fields asked for cross to the uniform grid (one all-to-all each).
 std::vector<output::GridField> AmrFvSolver::fields(const config::StringList& names) {
-  const auto u = cell_values(0, dims_, 1.0);
-  std::vector<double> u3(3 * (u.size() / static_cast<std::size_t>(dims_)), 0.0);
-  for (std::size_t k = 0; k < u.size(); ++k) u3[3 * (k / dims_) + k % dims_] = u[k];
-  view_->to_uniform(u3, 3, out_u_);
-  view_->to_uniform(cell_values(dims_, 1, rho_), 1, out_p_);
-  view_->to_uniform(flow_->divergence(), 1, out_div_);
+  const auto asked = [&](const char* n) { return std::find(names.begin(), names.end(), n) != names.end(); };
   const auto N = static_cast<std::size_t>(owned_.volume());
+  out_u_.assign(3 * N, 0.0);
+  out_p_.assign(N, 0.0);
+  out_div_.assign(N, 0.0);
+  if (asked("velocity")) {
+    const auto u = cell_values(0, dims_, 1.0);
+    const auto D = static_cast<std::size_t>(dims_);
+    std::vector<double> u3(3 * (u.size() / D), 0.0);
+    for (std::size_t k = 0; k < u.size(); ++k) u3[3 * (k / D) + k % D] = u[k];
+    view_->to_uniform(u3, 3, out_u_);
+  }
+  if (asked("pressure")) view_->to_uniform(cell_values(dims_, 1, rho_), 1, out_p_);
+  if (asked("divergence")) view_->to_uniform(flow_->divergence(), 1, out_div_);
   out_rho_.assign(N, rho_);
   out_zero_.assign(N, 0.0);  // k, epsilon, nu_t, y_plus: no turbulence model on the adaptive grid
   return FvSolver::named_fields(names, {out_u_, out_p_, out_rho_, out_div_, out_zero_, out_zero_, out_zero_,

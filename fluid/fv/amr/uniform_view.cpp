@@ -68,10 +68,11 @@ UniformView::UniformView(const CompositeGrid& grid, const coupler::Decomposition
   send_displs_ = offsets(send_counts_);
   recv_displs_ = offsets(recv_counts_);
   recv_fine_.resize(static_cast<std::size_t>(recv_displs_.back() + recv_counts_.back()));
-  if (static_cast<long>(recv_fine_.size()) != owned_cells_)
-    throw std::logic_error("refinement: the uniform view does not cover the owned box once");
   MPI_Alltoallv(send_at.data(), send_counts_.data(), send_displs_.data(), MPI_LONG, recv_fine_.data(),
                 recv_counts_.data(), recv_displs_.data(), MPI_LONG, comm_);
+  int wrong = static_cast<long>(recv_fine_.size()) != owned_cells_;  // every rank learns it: no hang
+  MPI_Allreduce(MPI_IN_PLACE, &wrong, 1, MPI_INT, MPI_MAX, comm_);
+  if (wrong) throw std::logic_error("refinement: the uniform view does not cover the owned boxes once");
 }
 
 void UniformView::to_uniform(std::span<const double> cells, int n, std::vector<double>& out) const {

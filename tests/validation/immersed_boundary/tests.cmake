@@ -44,3 +44,6 @@ set_tests_properties(validation.ibm_cylinder_re20 validation.ibm_cylinder_re20_l
 # On fv's adaptive grid (issue 25): the cylinder with its near wake on the
 # finest of 3 levels against the same grid refined everywhere.
 coflow_validation(ibm_cylinder_amr pair ibm_cylinder_amr.yaml 2 ibm_frames "" "config=ibm_cylinder_amr_fine.yaml")
+# The same adaptive run against fv on the uniform grid of its finest level:
+# another discretisation (staggered, IMEX), validated against Wu & Shu above.
+coflow_validation(ibm_cylinder_amr_vs_fv pair ibm_cylinder_amr.yaml 2 ibm_frames "" "fluid.fv.refinement=null")

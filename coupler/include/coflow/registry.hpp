@@ -85,14 +85,9 @@ class Registry {
 
   template <class T>
   void add(std::string name) {
-    Entry e;
-    e.name = std::move(name);
-    e.create = [](const Setup& setup, config::Visitor& v) -> std::unique_ptr<Interface> {
-      typename T::Params p;
-      p.visit(v);
+    add<typename T::Params>(std::move(name), [](const Setup& setup, const typename T::Params& p) -> std::unique_ptr<Interface> {
       return std::make_unique<T>(setup, p);
-    };
-    entries_.push_back(std::move(e));
+    });
   }
 
   // A variant whose factory picks the class from its Params.

@@ -40,6 +40,7 @@ AmrFvSolver::AmrFvSolver(const Setup& s, const Params& p)
   for (int pass = 1; pass < p_.refinement.levels; ++pass) {
     set_initial();
     if (!flow_->regrid(marks())) break;
+    ++regrids_;
     after_regrid();
   }
   set_initial();
@@ -97,18 +98,21 @@ void AmrFvSolver::make_flow() {
   apply_source();
 }
 
+double& AmrFvSolver::value(std::size_t cell, int q) const {
+  const auto per = static_cast<std::size_t>(flow_->grid().cells_per_patch());
+  return forest_->data(cell / per)[(cell % per) * static_cast<std::size_t>(dims_ + 2) + static_cast<std::size_t>(q)];
+}
+
 void AmrFvSolver::set_initial() {
   const auto& g = flow_->grid();
-  const auto per = static_cast<std::size_t>(g.cells_per_patch()), nc = static_cast<std::size_t>(dims_ + 2);
   for (long c = 0; c < g.local_cells(); ++c) {
     const auto x = g.centre(g.local_cell(c));
     Vec3 u{0, 0, 0};
     double p = 0.0;
     fluid_.initial_state(cfg_, {x[0], x[1], x[2]}, u, p);
-    auto v = forest_->data(static_cast<std::size_t>(c) / per);
-    const std::size_t k = (static_cast<std::size_t>(c) % per) * nc;
-    for (std::size_t q = 0; q < static_cast<std::size_t>(dims_); ++q) v[k + q] = u[q];
-    v[k + static_cast<std::size_t>(dims_)] = p / rho_;
+    const auto C = static_cast<std::size_t>(c);
+    for (int q = 0; q < dims_; ++q) value(C, q) = u[static_cast<std::size_t>(q)];
+    value(C, dims_) = p / rho_;
   }
 }
 
@@ -153,11 +157,9 @@ std::vector<int> AmrFvSolver::marks() {
     } else if (c.kind == "bodies") {
       if (markers_) all.push_back(mark_at_points(g, marker_reach()));
     } else if (c.kind == "particles") {  // where the particles' source is: |f| > 0
-      const auto per = static_cast<std::size_t>(g.cells_per_patch()), nc = static_cast<std::size_t>(dims_ + 2);
       for (std::size_t k = 0; k < static_cast<std::size_t>(g.local_cells()); ++k) {
         const double* f = &source_cells_[3 * k];
-        forest_->data(k / per)[(k % per) * nc + static_cast<std::size_t>(scratch)] =
-            std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+        value(k, scratch) = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
       }
       all.push_back(mark_by_magnitude(*forest_, scratch, 0.0, std::numeric_limits<double>::min()));
     }
@@ -226,13 +228,10 @@ void AmrFvSolver::advance(double window) {
 }
 
 std::vector<double> AmrFvSolver::cell_values(int first, int count, double scale) const {
-  const auto& g = flow_->grid();
-  const auto per = static_cast<std::size_t>(g.cells_per_patch()), nc = static_cast<std::size_t>(dims_ + 2);
   const auto n = static_cast<std::size_t>(count);
-  std::vector<double> v(static_cast<std::size_t>(g.local_cells()) * n);
-  for (std::size_t k = 0; k < static_cast<std::size_t>(g.local_cells()); ++k)
-    for (std::size_t q = 0; q < n; ++q)
-      v[k * n + q] = scale * forest_->data(k / per)[(k % per) * nc + static_cast<std::size_t>(first) + q];
+  std::vector<double> v(static_cast<std::size_t>(flow_->grid().local_cells()) * n);
+  for (std::size_t k = 0; k < v.size() / n; ++k)
+    for (std::size_t q = 0; q < n; ++q) v[k * n + q] = scale * value(k, first + static_cast<int>(q));
   return v;
 }
 

@@ -65,6 +65,7 @@ class AmrFvSolver final : public FluidSolver {
   void regrid();
   double stable_step();    // collective; throws on a value that is not finite
   std::vector<double> cell_values(int first, int count, double scale) const;  // from the forest, per local cell
+  double& value(std::size_t cell, int q) const;  // the forest's component q of local cell `cell`
 
   const config::Config& cfg_;
   FluidParams fluid_;

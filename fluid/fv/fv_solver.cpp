@@ -69,6 +69,7 @@ FvSolver::FvSolver(const Setup& s, const Params& p)
     for (auto& c : *f) c.assign(padded, 0.0);
   p_field_.assign(padded, 0.0);
   phi_.assign(padded, 0.0);
+  phi_old_.assign(padded, 0.0);
   rhs_.assign(owned, 0.0);
   x_.assign(owned, 0.0);
   const std::array<bool, 3> per{periodic_[0], periodic_[1], periodic_[2]};
@@ -186,6 +187,7 @@ void FvSolver::step(double dt) {
     source_old_ = source_;
     source_fresh_ = false;
   }
+  dt_prev2_ = dt_prev_;
   dt_prev_ = dt;
   time_ = next_time_;
   ++steps_;

@@ -111,6 +111,7 @@ class FvSolver final : public FluidSolver {
   double divergence_at(const Faces& u, long n) const;
   void set_poisson();
   void poisson_rhs(double factor, double t0, double t1, bool incremental);
+  double first_guess(long n, double dt, bool incremental) const;
   void project(const fv::Imex& s, double dt, bool incremental);
   double max_divergence(const Faces& u) const;  // collective
 
@@ -175,7 +176,7 @@ class FvSolver final : public FluidSolver {
   // below it (index n - 1 along c) so that the ghost exchange carries it to
   // the blocks beside; fill_ghosts copies it to the boundary face (index n).
   Faces top_;
-  Field p_field_, phi_;
+  Field p_field_, phi_, phi_old_;  // the pressure, its last increment and the one before
   std::vector<double> rhs_, x_;
   std::unique_ptr<fv::StructSystem> poisson_;
   std::array<std::unique_ptr<fv::StructSystem>, 3> viscous_;
@@ -183,7 +184,7 @@ class FvSolver final : public FluidSolver {
       viscous_theta_{0, 0, 0};  // a0/dt and theta nu of the matrices set
   bool have_source_ = false, source_fresh_ = false;  // fresh: set since the last step
 
-  double time_ = 0.0, dt_prev_ = 0.0;
+  double time_ = 0.0, dt_prev_ = 0.0, dt_prev2_ = 0.0;  // the last step and the one before
   double next_time_ = 0.0;  // the time the step under way reaches
   long steps_ = 0;
   // Of the last window: steps, the last step, the largest Poisson iterations

@@ -152,13 +152,13 @@ std::vector<double> interleave(const std::array<std::vector<double>, 3>& parts) 
 
 // The state: face velocities of this step and the last, the upper open
 // faces, the last advection term, the last step's momentum source (at the
-// cells), the pressure and its last increment (the Poisson solve's first
-// guess); the clock (steps, time, last
-// step) as exact hexadecimal numbers.
+// cells), the pressure and its last two increments (the Poisson solve's first
+// guess); the clock (steps, time, the last two steps) as exact hexadecimal
+// numbers.
 void FvSolver::save(const std::string& dir) {
   auto faces = [&](const Faces& f) { return interleave({owned_of(f[0]), owned_of(f[1]), owned_of(f[2])}); };
   const auto u = faces(u_), top = faces(top_), old = faces(u_old_), adv = faces(adv_old_),
-             p = owned_of(p_field_), phi = owned_of(phi_), src = faces(source_old_);
+             p = owned_of(p_field_), phi = owned_of(phi_), phi_old = owned_of(phi_old_), src = faces(source_old_);
   grid::save_cell_fields(comm_, dir + "/fv.h5", time_, steps_, cells_, blk_.owned,
                          {{"velocity_faces", 3, u},
                           {"velocity_upper", 3, top},
@@ -166,6 +166,7 @@ void FvSolver::save(const std::string& dir) {
                           {"advection_previous", 3, adv},
                           {"pressure", 1, p},
                           {"pressure_increment", 1, phi},
+                          {"pressure_increment_previous", 1, phi_old},
                           {"source_previous", 3, src}});
   if (turbulent_)
     grid::save_cell_fields(comm_, dir + "/fv_turbulence.h5", time_, steps_, cells_, blk_.owned,
@@ -173,7 +174,7 @@ void FvSolver::save(const std::string& dir) {
   int written = 1;  // rank 0 writes the clock; every rank learns whether it could
   if (rank_ == 0) {
     std::ofstream clock(dir + "/fv_clock.txt");
-    clock << fmt::format("{} {:a} {:a}\n", steps_, time_, dt_prev_);
+    clock << fmt::format("{} {:a} {:a} {:a}\n", steps_, time_, dt_prev_, dt_prev2_);
     written = clock ? 1 : 0;
   }
   MPI_Bcast(&written, 1, MPI_INT, 0, comm_);
@@ -194,17 +195,18 @@ void FvSolver::load(const std::string& dir, long, double) {
   faces("source_previous", source_old_);
   for (auto& f : source_old_) ex_.exchange(f);
   set_owned(p_field_, grid::load_cell_field(path, "pressure", cells_, blk_.owned, 1));
-  set_owned(phi_, grid::load_cell_field(path, "pressure_increment", cells_, blk_.owned,
-                                        1));  // the next first guess
+  set_owned(phi_, grid::load_cell_field(path, "pressure_increment", cells_, blk_.owned, 1));  // first guesses
+  set_owned(phi_old_, grid::load_cell_field(path, "pressure_increment_previous", cells_, blk_.owned, 1));
   std::ifstream clock(dir + "/fv_clock.txt");
-  std::string t, dt;
-  if (!(clock >> steps_ >> t >> dt))
+  std::string t, dt, dt2;
+  if (!(clock >> steps_ >> t >> dt >> dt2))
     throw std::runtime_error(
         fmt::format("fv: {}/fv_clock.txt is missing or unreadable: restart from a checkpoint "
                     "written by the fv solver",
                     dir));
   time_ = std::strtod(t.c_str(), nullptr);
   dt_prev_ = std::strtod(dt.c_str(), nullptr);
+  dt_prev2_ = std::strtod(dt2.c_str(), nullptr);
   viscous_key_ = {0, 0, 0};
   fill_ghosts(u_, time_);
   fill_pressure_ghosts(p_field_, time_, false, time_);

@@ -46,6 +46,7 @@ FvReference::FvReference(const Setup& s, const Params& p)
     for (auto& c : *f) c.assign(size, 0.0);
   p_.assign(size, 0.0);
   phi_.assign(size, 0.0);
+  phi_old_.assign(size, 0.0);
   // The initial state at the faces (velocity) and centres (pressure), ghosts included.
   for (long k = -g_[2]; k < n_[2] + g_[2]; ++k)
     for (long j = -g_[1]; j < n_[1] + g_[1]; ++j)
@@ -394,6 +395,7 @@ void FvReference::project(const fv::Imex& s, double dt, bool incremental) {
     mean /= static_cast<double>(rows.size());
     for (long i : rows) x[static_cast<std::size_t>(i)] -= mean;
   }
+  phi_old_.swap(phi_);  // kept only for fv's checkpoint format (fv extrapolates its first guess)
   phi_ = x;
   pressure_ghosts(phi_, change);
   correct(u_, factor);
@@ -440,6 +442,7 @@ void FvReference::advance(double window) {
     if (turbulent_) turbulence_step(dt);
     adv_old_.swap(adv_);
     source_old_ = source_;
+    dt_prev2_ = dt_prev_;
     dt_prev_ = last_dt_ = dt;
     time_ = next_time_;
     ++steps_;
@@ -522,7 +525,7 @@ void FvReference::wrap_cells(Faces& f) const {
 // fv's checkpoint format (fv_state.cpp), so that either variant restarts the other's.
 void FvReference::save(const std::string& dir) {
   const std::size_t N = static_cast<std::size_t>(n_[0] * n_[1] * n_[2]);
-  std::vector<double> u(3 * N), top(3 * N, 0.0), old(3 * N), adv(3 * N), src(3 * N), p(N), phi(N);
+  std::vector<double> u(3 * N), top(3 * N, 0.0), old(3 * N), adv(3 * N), src(3 * N), p(N), phi(N), phi_old(N);
   std::size_t o = 0;
   each_cell([&](const long* x, std::size_t n) {
     for (std::size_t c = 0; c < 3; ++c) {
@@ -536,6 +539,7 @@ void FvReference::save(const std::string& dir) {
     }
     p[o] = p_[n];
     phi[o] = phi_[n];
+    phi_old[o] = phi_old_[n];
     ++o;
   });
   grid::save_cell_fields(comm_, dir + "/fv.h5", time_, steps_, {n_[0], n_[1], n_[2]}, box_,
@@ -545,6 +549,7 @@ void FvReference::save(const std::string& dir) {
                           {"advection_previous", 3, adv},
                           {"pressure", 1, p},
                           {"pressure_increment", 1, phi},
+                          {"pressure_increment_previous", 1, phi_old},
                           {"source_previous", 3, src}});
   if (turbulent_) {
     std::vector<double> k(N), e(N);
@@ -554,7 +559,7 @@ void FvReference::save(const std::string& dir) {
                            {{"k", 1, k}, {"epsilon", 1, e}});
   }
   std::ofstream clock(dir + "/fv_clock.txt");
-  clock << fmt::format("{} {:a} {:a}\n", steps_, time_, dt_prev_);
+  clock << fmt::format("{} {:a} {:a} {:a}\n", steps_, time_, dt_prev_, dt_prev2_);
   if (!clock) throw std::runtime_error(fmt::format("fv-reference: cannot write {}/fv_clock.txt", dir));
 }
 
@@ -567,6 +572,7 @@ void FvReference::load(const std::string& dir, long, double) {
   const auto adv = grid::load_cell_field(path, "advection_previous", cells, box_, 3);
   const auto p = grid::load_cell_field(path, "pressure", cells, box_, 1);
   const auto phi = grid::load_cell_field(path, "pressure_increment", cells, box_, 1);
+  const auto phi_old = grid::load_cell_field(path, "pressure_increment_previous", cells, box_, 1);
   const auto src = grid::load_cell_field(path, "source_previous", cells, box_, 3);
   std::size_t o = 0;
   each_cell([&](const long* x, std::size_t n) {
@@ -581,15 +587,17 @@ void FvReference::load(const std::string& dir, long, double) {
     }
     p_[n] = p[o];
     phi_[n] = phi[o];
+    phi_old_[n] = phi_old[o];
     ++o;
   });
   wrap_cells(source_old_);
   std::ifstream clock(dir + "/fv_clock.txt");
-  std::string t, dt;
-  if (!(clock >> steps_ >> t >> dt))
+  std::string t, dt, dt2;
+  if (!(clock >> steps_ >> t >> dt >> dt2))
     throw std::runtime_error(fmt::format("fv-reference: {}/fv_clock.txt is missing or unreadable", dir));
   time_ = std::strtod(t.c_str(), nullptr);
   dt_prev_ = std::strtod(dt.c_str(), nullptr);
+  dt_prev2_ = std::strtod(dt2.c_str(), nullptr);
   velocity_ghosts(u_, time_, true, false);
   double face_p[6];
   for (int f = 0; f < 6; ++f) face_p[f] = side_pressure(f, time_);

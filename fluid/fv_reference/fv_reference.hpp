@@ -117,8 +117,8 @@ class FvReference final : public FluidSolver {
   Side sides_[6];
   bool has_open_ = false;
   Faces u_, u_old_, adv_, adv_old_, source_, source_old_;  // source: at the cells, the last step's too
-  Field p_, phi_;
-  double time_ = 0.0, dt_prev_ = 0.0, last_dt_ = 0.0, next_time_ = 0.0;
+  Field p_, phi_, phi_old_;  // phi_old_: the increment before the last, for the checkpoint only
+  double time_ = 0.0, dt_prev_ = 0.0, dt_prev2_ = 0.0, last_dt_ = 0.0, next_time_ = 0.0;
   double velocity_scale_ = 0.0;  // the largest |u_c| at the step's start
   long steps_ = 0, window_steps_ = 0;
   int poisson_iterations_ = 0;

@@ -150,7 +150,10 @@ struct LineRef {
 
 // How far ahead (in cells) the line kernels prefetch the populations they
 // pull: eight cache lines, measured best on a Zen 3 core (32-64 equal, 96 and
-// more slower; none 5 % slower).
+// more slower; none 5 % slower). The prefetches are T0 (every cache level):
+// with non-temporal ones (NTA) the BGK kernel ran at half the speed on a Xeon
+// VM (30.8 against 63.8 MLUPS at 256^3, bench-lbm, 2026-11-26), and on the
+// Zen 3 core T0 and NTA measured alike.
 inline constexpr long prefetch_ahead = 64;
 
 // The stride of SpacedRef: 2^25 doubles and 37 cache lines (with a power of two
@@ -261,7 +264,7 @@ template <class L, class R, int... qs>
 
 template <class R, int... qs>
 [[gnu::always_inline]] inline void line_prefetch(const R& r, long i, std::integer_sequence<int, qs...>) {
-  (__builtin_prefetch(r.template in<qs>(i + prefetch_ahead), 0, 0), ...);
+  (__builtin_prefetch(r.template in<qs>(i + prefetch_ahead), 0, 3), ...);
 }
 
 template <class L, bool Incompressible, class R>

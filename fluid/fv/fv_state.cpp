@@ -202,7 +202,7 @@ void FvSolver::load(const std::string& dir, long, double) {
   if (!(clock >> steps_ >> t >> dt >> dt2))
     throw std::runtime_error(
         fmt::format("fv: {}/fv_clock.txt is missing or unreadable: restart from a checkpoint "
-                    "written by the fv solver",
+                    "written by the fv solver (since 4a74140 the clock holds the last two steps)",
                     dir));
   time_ = std::strtod(t.c_str(), nullptr);
   dt_prev_ = std::strtod(dt.c_str(), nullptr);

@@ -48,8 +48,9 @@ void FvSolver::set_poisson() {
 // extrapolated linearly in time from the last two, as rates phi / dt at the
 // steps' midpoints (with equal steps 2 phi_n - phi_n-1). The relative
 // tolerance is on the residual against the right-hand side, so a closer guess
-// saves iterations (bench-fv's cavity: 11.0 -> 9.5 at 128^2, 11.2 -> 10.1 at
-// 512^2, 15.0 -> 14.2 at 128^3; docs/performance.md).
+// saves iterations (bench-fv's cavity: 9.5 at 128^2, 10.1 at 512^2 and 14.2 at
+// 128^3, against 11.0, 11.2 and 15.0 with the last increment, from another
+// machine's run; docs/performance.md).
 double FvSolver::first_guess(long n, double dt, bool incremental) const {
   if (!incremental) return p_field_[n];
   if (steps_ < 3) return phi_[n];

@@ -422,7 +422,8 @@ class TwoPhaseCore final : public LbmCore {
   // A prefetch into every cache level (T0): colour4 and then collide4 pull the
   // same populations, and a non-temporal prefetch (NTA) leaves a line in no
   // outer cache on Intel cores, so that collide4 fetched it from memory again
-  // (the kernel ran 4.6x slower with NTA on a Xeon; docs/performance.md).
+  // (on a Xeon VM a 56^3 drop's steps took 4.6x as long with NTA, bench-lbm's
+  // 128^3 drop 2.6-3.9x; docs/performance.md).
   static void prefetch_kept(const double* p) { __builtin_prefetch(p, 0, 3); }
 
   // Four plain cells: the colour field of their pulled populations (stream_cell's

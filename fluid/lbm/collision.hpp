@@ -150,11 +150,16 @@ struct LineRef {
 
 // How far ahead (in cells) the line kernels prefetch the populations they
 // pull: eight cache lines, measured best on a Zen 3 core (32-64 equal, 96 and
-// more slower; none 5 % slower). The prefetches are T0 (every cache level):
-// with non-temporal ones (NTA) the BGK kernel ran at half the speed on a Xeon
-// VM (30.8 against 63.8 MLUPS at 256^3, bench-lbm, 2026-11-26), and on the
-// Zen 3 core T0 and NTA measured alike.
+// more slower; none 5 % slower).
 inline constexpr long prefetch_ahead = 64;
+
+// The prefetch of a population every kernel pulls, into every cache level
+// (T0). With non-temporal prefetches (NTA), which on Intel cores leave a line
+// in L1 only, the BGK kernel ran at 0.48-0.51 of its speed on a Xeon VM (30.8
+// against 63.8 MLUPS at 256^3, bench-lbm, 2026-11-26) and the colour-gradient
+// kernel, whose two passes pull the same lines, at 0.26-0.39; on the Zen 3
+// core T0 and NTA measured alike.
+[[gnu::always_inline]] inline void prefetch_pulled(const double* p) { __builtin_prefetch(p, 0, 3); }
 
 // The stride of SpacedRef: 2^25 doubles and 37 cache lines (with a power of two
 // the 38 streams would share cache sets). Blocks of up to this many cells
@@ -264,7 +269,7 @@ template <class L, class R, int... qs>
 
 template <class R, int... qs>
 [[gnu::always_inline]] inline void line_prefetch(const R& r, long i, std::integer_sequence<int, qs...>) {
-  (__builtin_prefetch(r.template in<qs>(i + prefetch_ahead), 0, 3), ...);
+  (prefetch_pulled(r.template in<qs>(i + prefetch_ahead)), ...);
 }
 
 template <class L, bool Incompressible, class R>

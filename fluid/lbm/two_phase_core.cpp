@@ -419,13 +419,6 @@ class TwoPhaseCore final : public LbmCore {
   // (the plain colour gradient), in a fluid without a momentum source.
   bool plain(long x) const { return plain_pull_[x] && !special_[x] && src_.empty(); }
 
-  // A prefetch into every cache level (T0): colour4 and then collide4 pull the
-  // same populations, and a non-temporal prefetch (NTA) leaves a line in no
-  // outer cache on Intel cores, so that collide4 fetched it from memory again
-  // (on a Xeon VM a 56^3 drop's steps took 4.6x as long with NTA, bench-lbm's
-  // 128^3 drop 2.6-3.9x; docs/performance.md).
-  static void prefetch_kept(const double* p) { __builtin_prefetch(p, 0, 3); }
-
   // Four plain cells: the colour field of their pulled populations (stream_cell's
   // sum); collide4 pulls them again, so nothing is stored in between.
   void colour4(long x) {
@@ -434,8 +427,8 @@ class TwoPhaseCore final : public LbmCore {
     for (int q = 0; q < L::Q; ++q) {
       rr += detail::get(&red_.f[q * cells_ + x - off_[q]]);
       bb += detail::get(&blue_.f[q * cells_ + x - off_[q]]);
-      prefetch_kept(&red_.f[q * cells_ + x - off_[q] + prefetch_ahead]);
-      prefetch_kept(&blue_.f[q * cells_ + x - off_[q] + prefetch_ahead]);
+      prefetch_pulled(&red_.f[q * cells_ + x - off_[q] + prefetch_ahead]);
+      prefetch_pulled(&blue_.f[q * cells_ + x - off_[q] + prefetch_ahead]);
     }
     detail::put<false>(&phi_[x], rr - bb);
   }
@@ -455,8 +448,8 @@ class TwoPhaseCore final : public LbmCore {
     for (int q = 0; q < L::Q; ++q) {
       r[q] = detail::get(&red_.f[q * cells_ + x - off_[q]]);
       b[q] = detail::get(&blue_.f[q * cells_ + x - off_[q]]);
-      prefetch_kept(&red_.f[q * cells_ + x - off_[q] + prefetch_ahead]);
-      prefetch_kept(&blue_.f[q * cells_ + x - off_[q] + prefetch_ahead]);
+      prefetch_pulled(&red_.f[q * cells_ + x - off_[q] + prefetch_ahead]);
+      prefetch_pulled(&blue_.f[q * cells_ + x - off_[q] + prefetch_ahead]);
     }
     const Vec4 uu = colour_collide_lanes<L, Incompressible, Vec4>(r, b, g, colour_, F);
     for (int m = 0; m < 4; ++m) max_u2_ = nan_max(max_u2_, uu[m]);

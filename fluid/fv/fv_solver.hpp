@@ -111,7 +111,7 @@ class FvSolver final : public FluidSolver {
   double divergence_at(const Faces& u, long n) const;
   void set_poisson();
   void poisson_rhs(double factor, double t0, double t1, bool incremental);
-  double first_guess(long n, double dt, bool incremental) const;
+  std::array<double, 2> guess_weights(double dt) const;
   void project(const fv::Imex& s, double dt, bool incremental);
   double max_divergence(const Faces& u) const;  // collective
 

@@ -26,6 +26,10 @@
 #                       incompressible; prints both profile errors and their ratio
 #   address_limit       ARGS: a limit (KiB) on address space; runs CONFIG with
 #                       and without it and compares (lbm's layout fallback)
+#   restart_from        ARGS: EVERY, "A overrides", "B overrides": run B straight,
+#                       run A with a checkpoint every EVERY seconds, restart B from
+#                       A's first checkpoint; compares B restarted with B straight
+#                       (variants that share a checkpoint format)
 # Every metric printed is checked against the rows of references.csv whose first
 # column is CASE: `case,metric,op,bound,source`.
 set -u -o pipefail
@@ -48,6 +52,14 @@ sets() {  # "a=1 b=2" -> --set a=1 --set b=2
 check() { "$bin/coflow-check" "$@" || { echo "FAIL: coflow-check $*"; exit 1; }; }
 
 case "$mode" in
+  restart_from)
+    every=$1; mapfile -t a < <(sets "$2"); mapfile -t b < <(sets "$3")
+    run "$out/straight" "${b[@]}"
+    run "$out/checkpointed" "${a[@]}" --set run.checkpoint.every="$every"
+    first=$(ls -d "$out"/checkpointed/checkpoints/window_* 2>/dev/null | head -n 1)
+    [ -n "$first" ] || { echo "FAIL: run A wrote no checkpoint"; exit 1; }
+    run "$out/restarted" "${b[@]}" --restart "$first"
+    check compare "$out/straight" "$out/restarted" | tee -a "$metrics" || exit 1 ;;
   profile|probes|channel|walls|fluid_walls|decay|mass|ramp|impact|pour|crush|momentum|drag|settling|dpm_settling|granular_gas|two_way|dispersion|grid_turbulence|injection|jet|rotation|contact_angle|layered|colour_mass|permeability|washburn|injection_phase|grain_interface|bridge|cavity|tg_error|divergence|ke_decay|ke_grid|ke_channel|grid_turbulence_fv|ibm_steady|ibm_shedding|vortex)
     run "$out/run" "$@"
     check "$mode" "$out/run" | tee -a "$metrics" || exit 1 ;;

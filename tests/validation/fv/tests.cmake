@@ -38,6 +38,12 @@ coflow_validation(fv_ranks_1_vs_2_taylor_green compare fv_taylor_green.yaml 2
 # CNAB2; the periodic Taylor-Green vortex with the solves at 1e-13.
 coflow_validation(fv_vs_reference compare fv_all_boundaries_3d.yaml 1
   "fluid.solver=fv" "fluid.solver=fv-reference")
+# fv and fv-reference write one checkpoint format: each restarts from the
+# other's first checkpoint and ends where its own straight run ends, to round-off.
+coflow_validation(fv_restart_from_reference restart_from fv_all_boundaries_3d.yaml 1
+  10.0 "fluid.solver=fv-reference" "fluid.solver=fv")
+coflow_validation(fv_reference_restart_from_fv restart_from fv_all_boundaries_3d.yaml 1
+  10.0 "fluid.solver=fv" "fluid.solver=fv-reference")
 coflow_validation(fv_vs_reference_cnab2_central compare fv_all_boundaries_3d.yaml 1
   "fluid.solver=fv fluid.fv.time=cnab2 fluid.fv.advection=central fluid.fv.form=non-divergent"
   "fluid.solver=fv-reference fluid.fv.time=cnab2 fluid.fv.advection=central fluid.fv.form=non-divergent")

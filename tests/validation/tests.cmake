@@ -5,6 +5,7 @@ add_executable(coflow-check validation/check/main.cpp validation/check/compare.c
   validation/granular/checks.cpp validation/point_particles/checks.cpp validation/resolved_particles/checks.cpp
   validation/two_phase/checks.cpp validation/fv/checks.cpp validation/fv/turbulence_checks.cpp
   validation/immersed_boundary/checks.cpp)
+coflow_precompile(coflow-check <yaml-cpp/yaml.h>)
 target_link_libraries(coflow-check PRIVATE coflow_fluid coflow_immersed coflow_particles coflow_catalog coflow_warnings)
 set(validate ${CMAKE_CURRENT_SOURCE_DIR}/validation/validate.sh)
 set(vcfg ${PROJECT_SOURCE_DIR}/configs/validation)

@@ -87,6 +87,9 @@ class AmrFvSolver final : public FluidSolver {
   double time_ = 0.0, dt_prev_ = 0.0, last_dt_ = 0.0;
   long steps_ = 0, window_steps_ = 0, regrids_ = 0;
   int poisson_iterations_ = 0;  // the most of a step in the window
+  // Where the time went, for the log (bench-amr reads it): the steps, the
+  // regrids between them, and the cells summed over the steps.
+  double step_seconds_ = 0.0, regrid_seconds_ = 0.0, cell_steps_ = 0.0;
   std::unique_ptr<ibm::DirectForcing> ibm_;
   std::unique_ptr<ibm::MarkerSet> markers_;  // the last set, for the stencils after a regrid
   double velocity_scale_ = 0.0;              // the largest |u| at the last step's start

@@ -1,7 +1,7 @@
 // Benchmark: fv's adaptive grid (fluid/fv/amr) against the same solver on
 // the uniform grid of its finest level, in one run, 1 rank.
 //
-//   build/bin/bench-amr [steps] [--out DIR]
+//   build/bin/bench-amr [steps] [--out DIR] [--configs DIR]
 //
 // The case: a periodic planar jet on [0, 2 pi]^2 (u = 1 in a band of half
 // width pi/4 about y = pi, tanh edges of width pi/40; v a 5 % sin x
@@ -12,6 +12,9 @@
 // conservative transfer, operators rebuilt, a projection). The uniform run
 // has every leaf on level 2 (128^2). Same step (CFL 0.3 on the finest
 // cells), same number of steps.
+//
+// (b) then runs the cylinder of configs/validation/ibm_cylinder_amr.yaml
+// (the issue's case) through the launcher, adaptive and on fv's uniform grid.
 //
 // Prints, for each: cells, time per step (regrids apart), cells x steps per
 // second; for the adaptive run the regrid's share of the wall time (target
@@ -24,13 +27,19 @@
 #include <fmt/format.h>
 #include <mpi.h>
 
+#include <unistd.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
+
+#include <yaml-cpp/yaml.h>
 
 #include "fluid/fv/amr/composite_flow.hpp"
 #include "fluid/fv/amr/composite_output.hpp"
@@ -126,9 +135,78 @@ Result run(bool adaptive, int steps, const std::string& out_dir) {
   return r;
 }
 
+// The text of a file ("" when it cannot be read).
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// (b) The cylinder of configs/validation/ibm_cylinder_amr.yaml (Re 40 in a
+// 16 x 16 box, 3 levels, the finest 128^2 around the body and its wake; an
+// immersed boundary, so three executables) through the launcher, and the
+// same case on fv's uniform grid of the finest level (fluid.fv.refinement:
+// null) and on the adaptive code with every leaf on the finest level
+// (ibm_cylinder_amr_fine.yaml). Reads the fluids' logs: the adaptive solver's
+// steps, regrids and cells, fv's steps. Returns the report ("" when a run fails). Runs before
+// MPI_Init: the launcher's mpirun must not start inside this MPI process.
+std::string cylinder(const std::filesystem::path& bin, const std::filesystem::path& config) {
+  const auto dir = std::filesystem::temp_directory_path() / fmt::format("coflow-bench-amr-{}", ::getpid());
+  const auto run_case = [&](const std::string& name, const std::filesystem::path& file, const std::string& sets) {
+    const auto out = dir / name;
+    const std::string cmd = fmt::format("'{}' run '{}' --set run.output.dir='{}' {} > '{}.log' 2>&1",
+                                        (bin / "coflow").string(), file.string(), out.string(), sets, out.string());
+    return std::system(cmd.c_str()) == 0 ? slurp(out / "logs" / "fluid.log") : std::string();
+  };
+  std::filesystem::create_directories(dir);
+  const auto fine_config = config.parent_path() / "ibm_cylinder_amr_fine.yaml";  // every leaf on the finest level
+  const std::string amr = run_case("amr", config, ""), fine = run_case("fine", fine_config, "");
+  const std::string uni = run_case("uniform", config, "--set fluid.fv.refinement=null");
+  if (!std::getenv("COFLOW_BENCH_KEEP")) std::filesystem::remove_all(dir);
+  std::smatch a, f, u;
+  const std::regex amr_line(R"(fv \(refinement\): (\d+) steps in ([0-9.]+) s, (\d+) regrids in ([0-9.]+) s)"
+                            R"( \(([0-9.]+) % of both\); (\d+) cells on average, ([0-9.eE+-]+) cell-steps per second)");
+  const std::regex fv_line(R"(fv: (\d+) steps in ([0-9.]+) s)");
+  if (!std::regex_search(amr, a, amr_line) || !std::regex_search(fine, f, amr_line) ||
+      !std::regex_search(uni, u, fv_line)) {
+    fmt::print("(b) cylinder: a run failed or logged no timing (COFLOW_BENCH_KEEP=1 keeps {})\n", dir.string());
+    return "";
+  }
+  const auto cells = YAML::LoadFile(config.string())["domain"]["cells"];
+  const double uniform_cells = cells[0].as<double>() * cells[1].as<double>() * cells[2].as<double>();
+  const double amr_steps = std::stod(a[1]), amr_s = std::stod(a[2]) + std::stod(a[4]);
+  const double uni_steps = std::stod(u[1]), uni_s = std::stod(u[2]);
+  const double amr_rate = std::stod(a[7]), uni_rate = uniform_cells * uni_steps / uni_s;
+  std::string r = "(b) cylinder (ibm_cylinder_amr.yaml, 3 levels, coupled run, 1 fluid rank):\n";
+  r += fmt::format("  fv uniform {:.0f} cells: {:.4f} s/step, {:.3g} cells*steps/s\n", uniform_cells,
+                   uni_s / uni_steps, uni_rate);
+  r += fmt::format("  adaptive {} cells on average ({:.0f} % fewer): {:.4f} s/step with regrids, regrids {} % "
+                   "of the time, {:.3g} cells*steps/s\n",
+                   a[6].str(), 100.0 * (1.0 - std::stod(a[6]) / uniform_cells), amr_s / amr_steps, a[5].str(),
+                   amr_rate);
+  r += fmt::format("  adaptive code with every leaf on the finest level ({} cells): {:.3g} cells*steps/s\n", f[6].str(),
+                   std::stod(f[7]));
+  r += fmt::format("RESULT cylinder_regrid_share={:.3f} cylinder_rate_ratio_fv={:.3f} cylinder_rate_ratio_fine={:.3f} "
+                   "cylinder_wall_ratio_fv={:.3f}\n",
+                   std::stod(a[5]) / 100.0, amr_rate / uni_rate, amr_rate / std::stod(f[7]),
+                   (amr_s / amr_steps) / (uni_s / uni_steps));
+  return r;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The launcher beside this program (build/bin); the configs two levels up,
+  // or where --configs DIR says.
+  const auto bin = std::filesystem::canonical("/proc/self/exe").parent_path();
+  std::filesystem::path configs = bin.parent_path().parent_path() / "configs";
+  for (int i = 1; i + 1 < argc; ++i)
+    if (std::string(argv[i]) == "--configs") configs = argv[i + 1];
+  const auto config = configs / "validation" / "ibm_cylinder_amr.yaml";
+  const std::string cylinder_report = std::filesystem::exists(config)
+                                          ? cylinder(bin, config)
+                                          : fmt::format("(b) cylinder: {} not found\n", config.string());
   MPI_Init(&argc, &argv);
   int steps = 500;
   std::string out_dir;
@@ -136,6 +214,8 @@ int main(int argc, char** argv) {
     const std::string a = argv[i];
     if (a == "--out" && i + 1 < argc)
       out_dir = argv[++i];
+    else if (a == "--configs" && i + 1 < argc)
+      ++i;  // read above
     else
       steps = std::atoi(argv[i]);
   }
@@ -164,6 +244,7 @@ int main(int argc, char** argv) {
       "enstrophy_diff={:.4f}\n",
       amr.mean_cells / uniform.mean_cells, amr_rate / uniform_rate, regrid_share,
       (amr.step_s + amr.regrid_s) / uniform.step_s, amr.enstrophy / uniform.enstrophy - 1.0);
+  fmt::print("{}", cylinder_report);
   MPI_Finalize();
-  return 0;
+  return cylinder_report.rfind("RESULT") != std::string::npos ? 0 : 1;
 }

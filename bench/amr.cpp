@@ -41,6 +41,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "text_file.hpp"
 #include "fluid/fv/amr/composite_flow.hpp"
 #include "fluid/fv/amr/composite_output.hpp"
 #include "fluid/fv/amr/refinement_criteria.hpp"
@@ -135,14 +136,6 @@ Result run(bool adaptive, int steps, const std::string& out_dir) {
   return r;
 }
 
-// The text of a file ("" when it cannot be read).
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // (b) The cylinder of configs/validation/ibm_cylinder_amr.yaml (Re 40 in a
 // 16 x 16 box, 3 levels, the finest 128^2 around the body and its wake; an
 // immersed boundary, so three executables) through the launcher, and the
@@ -157,7 +150,8 @@ std::string cylinder(const std::filesystem::path& bin, const std::filesystem::pa
     const auto out = dir / name;
     const std::string cmd = fmt::format("'{}' run '{}' --set run.output.dir='{}' {} > '{}.log' 2>&1",
                                         (bin / "coflow").string(), file.string(), out.string(), sets, out.string());
-    return std::system(cmd.c_str()) == 0 ? slurp(out / "logs" / "fluid.log") : std::string();
+    if (std::system(cmd.c_str()) != 0) return std::string();
+    return coflow::bench::slurp((out / "logs" / "fluid.log").string());
   };
   std::filesystem::create_directories(dir);
   const auto fine_config = config.parent_path() / "ibm_cylinder_amr_fine.yaml";  // every leaf on the finest level

@@ -28,19 +28,14 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include "text_file.hpp"
+
 namespace {
 
 struct Figures {
   long markers = 0;
   double iterations = 0, ibm_pct = 0, exchange_pct = 0, wall = 0, mb = 0, fluid_s_per_step = 0;
 };
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 double match(const std::string& text, const std::string& pattern) {
   std::smatch m;
@@ -87,7 +82,8 @@ Figures run(const std::string& coflow, int cells, const std::string& plate, bool
                                       (dir / "case.yaml").string(), out, dir.string());
   if (std::system(cmd.c_str()) != 0) throw std::runtime_error("run failed: see " + dir.string() + "/run.log");
   Figures f;
-  const std::string fluid_log = slurp(out + "/logs/fluid.log"), immersed_log = slurp(out + "/logs/immersed.log");
+  const std::string fluid_log = coflow::bench::slurp(out + "/logs/fluid.log"),
+                    immersed_log = coflow::bench::slurp(out + "/logs/immersed.log");
   f.markers = std::lround(match(immersed_log, R"(ibm: (\d+) markers)"));
   f.ibm_pct = match(fluid_log, R"(immersed boundary ([0-9.]+) %)");
   const double steps = match(fluid_log, R"(fv: (\d+) steps in)"), step_s = match(fluid_log, R"(steps in ([0-9.]+) s)");

@@ -1,7 +1,7 @@
 // Benchmark: the finite-volume fluid (fv), 1 rank, lid-driven cavity at
 // Re = 1000 (U = 1 m/s, L = 1 m, nu = 1e-3 m^2/s) from rest.
 //
-//   build/bin/bench-fv [steps] [--quick]
+//   build/bin/bench-fv [steps] [--quick] [--channel]
 //
 // (a) 2D at 128^2, 256^2 and 512^2: time per step and per cell, the pressure
 //     Poisson's iterations and time per solve (relative tolerance 1e-10): the
@@ -17,7 +17,7 @@
 // (c) k-epsilon: a 2D channel from an inlet at 256 x 64 and 512 x 128 (--quick:
 //     the first): fv's k-epsilon step against its laminar step (the model's
 //     cost) and against OpenFOAM's pimpleFoam with kEpsilon (same grid, step
-//     and tolerances; OpenFOAM's walls take wall functions).
+//     and tolerances; OpenFOAM's walls take wall functions). --channel: (c) alone.
 //
 // Last line: RESULT fv_s_per_step=... icofoam_s_per_step=... ratio=... (512^2)
 // k_epsilon_cost=... k_epsilon_vs_pimplefoam=... (the largest channel).
@@ -305,10 +305,12 @@ int main(int argc, char** argv) {
   MPI_Init(&argc, &argv);
   log::init("bench", 1);  // rank 1: warnings only
   long steps = 20;
-  bool quick = false;
+  bool quick = false, channel_only = false;
   for (int a = 1; a < argc; ++a) {
     if (std::string(argv[a]) == "--quick")
       quick = true;
+    else if (std::string(argv[a]) == "--channel")
+      channel_only = true;
     else
       steps = std::atol(argv[a]);
   }
@@ -317,12 +319,12 @@ int main(int argc, char** argv) {
   Result fv;
   double foam = 0.0, fv512 = 0.0, foam512 = 0.0;
   for (int n : {128, 256, 512}) {
-    if (quick && n > 256) break;
+    if ((quick && n > 256) || channel_only) break;
     report("(a) 2D", n, 2, steps, fv, foam);
     fv512 = fv.s_per_step;
     foam512 = foam;
   }
-  report("(b) 3D", quick ? 64 : 128, 3, std::max(2L, steps / 5), fv, foam);
+  if (!channel_only) report("(b) 3D", quick ? 64 : 128, 3, std::max(2L, steps / 5), fv, foam);
   double ke_cost = 0.0, ke_vs_foam = 0.0;
   for (int nx : {256, 512}) {
     if (quick && nx > 256) break;

@@ -40,12 +40,6 @@ double FvSolver::profile(int face, int c, const long* x) const {
   return factor;
 }
 
-bool FvSolver::is_boundary_face(int c, long i) const {
-  if (periodic_[c]) return false;
-  const long g = blk_.owned.lo[c] + i;
-  return g == 0 || g == cells_[c];
-}
-
 bool FvSolver::is_dirichlet_face(int c, long i) const {
   if (!is_boundary_face(c, i)) return false;
   return faces_[2 * c + (blk_.owned.lo[c] + i == 0 ? 0 : 1)].kind != Face::open;

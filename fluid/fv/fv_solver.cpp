@@ -131,10 +131,6 @@ void FvSolver::initialise() {
   fill_pressure_ghosts(p_field_, 0.0, false, 0.0);
 }
 
-long FvSolver::stride(int d) const {
-  return d == 0 ? 1 : d == 1 ? blk_.padded(0) : blk_.padded(0) * blk_.padded(1);
-}
-
 void FvSolver::set_owned(Field& f, const std::vector<double>& v) const {
   for_owned(
       [&](const long*, long n, long o) { f[static_cast<std::size_t>(n)] = v[static_cast<std::size_t>(o)]; });

@@ -97,13 +97,34 @@ class FvSolver final : public FluidSolver {
   void fill_pressure_ghosts(Field& p, double t, bool increment, double t0);
   void extrapolate_open_faces(Faces& u, double dt);
   double outflow_speed(int face) const;
-  bool is_boundary_face(int c, long i) const;  // a domain face of axis c: not an unknown
+  // A domain face of axis c: not an unknown (inline: in every face loop).
+  bool is_boundary_face(int c, long i) const {
+    if (periodic_[c]) return false;
+    const long g = blk_.owned.lo[c] + i;
+    return g == 0 || g == cells_[c];
+  }
   bool is_dirichlet_face(int c, long i) const;
   double profile(int face, int c, const long* x) const;
   // Momentum (momentum.cpp).
   void advection(const Faces& u, Faces& out) const;
   double advection_at(const Faces& u, int c, long n) const;
-  Neighbour neighbour_kind(int c, const long* at, int d, int side) const;
+  // What lies beyond the side of the unknown u_c at `at` along d: another
+  // unknown (inside the domain or across a periodic face), a wall's or velocity
+  // face's value (on the face for d == c, a ghost for d != c; a symmetry face's
+  // normal component is 0), or no gradient (an open face; a symmetry face for
+  // the tangential components). Inline:
+  // the implicit viscous matrices are rebuilt from it every step.
+  Neighbour neighbour_kind(int c, const long* at, int d, int side) const {
+    if (periodic_[d]) return Neighbour::inside;
+    const long g = blk_.owned.lo[d] + at[d];
+    const bool beyond =
+        d == c ? (side == 0 ? g - 1 == 0 : g + 1 == cells_[d]) : (side == 0 ? g == 0 : g + 1 == cells_[d]);
+    if (!beyond) return Neighbour::inside;
+    const Face::Kind kind = faces_[static_cast<std::size_t>(2 * d + side)].kind;
+    if (d == c) return kind == Face::open ? Neighbour::open : Neighbour::wall_normal;
+    return kind == Face::dirichlet ? Neighbour::wall_tangential
+                                   : Neighbour::open;  // open, symmetry: no gradient
+  }
   double viscous_rhs(int c, const long* at, long n, const fv::Imex& s, double dt) const;
   void momentum(const fv::Imex& s, double dt);
   void set_viscous(int c, double diag, double theta);
@@ -123,17 +144,27 @@ class FvSolver final : public FluidSolver {
   void turbulence_step(double dt);
   double strain_rate2_at(long n) const;  // S^2 = 2 S_ij S_ij at a cell (seed 003 eqs. 3.15-3.16)
   void advect_scalar(Field& q, double inlet, double wall_sign, double dt);
-  void solve_scalar(fv::StructSystem& sys, Field& q, const Field& sink, const Field& source, double sigma,
-                    double inlet, bool wall_zero, const Field* fixed, double dt);
+  void solve_scalar(fv::StructSystem& sys, Field& q, Field& change, const Field& sink, const Field& source,
+                    double sigma, double inlet, bool wall_zero, const Field* fixed, double dt);
   void fill_scalar_ghosts(Field& q, double inlet, double wall_sign, bool extrapolate);
   void update_eddy_viscosity();
-  double nu_face(int c, long n, int d, int side) const;  // nu + nu_t on a side of u_c's control volume
+  // nu + nu_t on side `side` along d of u_c's control volume (u_c at index n,
+  // the lower c-face of cell n): along c the cell below (n - s_c) or the cell
+  // n itself; along another axis the edge between the four cells around it.
+  // Inline: the implicit viscous matrices are rebuilt from it every step.
+  double nu_face(int c, long n, int d, int side) const {
+    if (!turbulent_) return nu_;
+    const long sc = stride(c);
+    if (d == c) return nu_ + nut_[side == 0 ? n - sc : n];
+    const long e = side == 0 ? -stride(d) : stride(d);
+    return nu_ + 0.25 * (nut_[n] + nut_[n - sc] + nut_[n + e] + nut_[n + e - sc]);
+  }
   double diffusion_at(const Field& u, int c, long n) const;
   void add_stress_transpose(const Faces& u, Faces& out) const;
   std::vector<double> y_plus() const;
   void add_turbulence_diagnostics(Diagnostics& d);
 
-  long stride(int d) const;
+  long stride(int d) const { return d == 0 ? 1 : d == 1 ? blk_.padded(0) : blk_.padded(0) * blk_.padded(1); }
   // f(at, n, o) over the owned cells: owned-relative coordinates, padded and owned index.
   template <class F>
   void for_owned(F&& f) const {
@@ -202,6 +233,7 @@ class FvSolver final : public FluidSolver {
   bool turbulent_ = false;
   TurbulenceParams turb_;
   Field k_, eps_, nut_, wall_y_;
+  Field k_change_, eps_change_;  // the last step's change by the k and epsilon solves (next first guesses)
   std::unique_ptr<fv::StructSystem> k_system_, eps_system_;
   int turbulence_iterations_ = 0;
   double turbulence_seconds_ = 0.0, scalar_solve_seconds_ = 0.0;  // wall time, this rank

@@ -170,7 +170,10 @@ void FvSolver::save(const std::string& dir) {
                           {"source_previous", 3, src}});
   if (turbulent_)
     grid::save_cell_fields(comm_, dir + "/fv_turbulence.h5", time_, steps_, cells_, blk_.owned,
-                           {{"k", 1, owned_of(k_)}, {"epsilon", 1, owned_of(eps_)}});
+                           {{"k", 1, owned_of(k_)},
+                            {"epsilon", 1, owned_of(eps_)},
+                            {"k_change", 1, owned_of(k_change_)},  // first guesses
+                            {"epsilon_change", 1, owned_of(eps_change_)}});
   int written = 1;  // rank 0 writes the clock; every rank learns whether it could
   if (rank_ == 0) {
     std::ofstream clock(dir + "/fv_clock.txt");
@@ -214,6 +217,8 @@ void FvSolver::load(const std::string& dir, long, double) {
     const std::string tpath = dir + "/fv_turbulence.h5";
     set_owned(k_, grid::load_cell_field(tpath, "k", cells_, blk_.owned, 1));
     set_owned(eps_, grid::load_cell_field(tpath, "epsilon", cells_, blk_.owned, 1));
+    set_owned(k_change_, grid::load_cell_field(tpath, "k_change", cells_, blk_.owned, 1));
+    set_owned(eps_change_, grid::load_cell_field(tpath, "epsilon_change", cells_, blk_.owned, 1));
     fill_scalar_ghosts(k_, turb_.inlet_k, 0.0, true);
     fill_scalar_ghosts(eps_, turb_.inlet_epsilon, 1.0, true);
     update_eddy_viscosity();

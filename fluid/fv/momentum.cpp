@@ -43,66 +43,46 @@ void FvSolver::advection(const Faces& u, Faces& out) const {
 // viscous_rhs). A domain face of axis c is not an unknown: its row is 1.
 void FvSolver::set_viscous(int c, double diag_scale, double theta) {
   fv::StructSystem::Rows& m = rows_;
-  m.reset(static_cast<std::size_t>(blk_.owned_cells()));
-  auto& diag = m.diag;
-  auto& lo = m.lower;
-  auto& hi = m.upper;
+  m.resize(static_cast<std::size_t>(blk_.owned_cells()));  // every entry written below
+  double w[3] = {0.0, 0.0, 0.0};
+  for (int d = 0; d < dims_; ++d) w[d] = theta / (h_[d] * h_[d]);
   for_owned([&](const long* at, long n, long o) {
-    const auto O = static_cast<std::size_t>(o);
-    if (is_boundary_face(c, at[c])) {
-      diag[O] = 1.0;
-      return;
-    }
-    double scale = 1.0;
-    diag[O] = diag_scale;
-    for (int d = 0; d < dims_; ++d) {
-      for (int side = 0; side < 2; ++side) {
-        const double k = theta * nu_face(c, n, d, side) / (h_[d] * h_[d]);
-        auto& coupling = side == 0 ? lo[static_cast<std::size_t>(d)] : hi[static_cast<std::size_t>(d)];
-        auto& opposite = side == 0 ? hi[static_cast<std::size_t>(d)] : lo[static_cast<std::size_t>(d)];
-        switch (neighbour_kind(c, at, d, side)) {
-          case Neighbour::inside:
-            diag[O] += k;
-            coupling[O] -= k;
-            break;
-          case Neighbour::wall_tangential:  // ghost = (8U - 6 u0 + u1) / 3
-            diag[O] += 3 * k;
-            if (turbulent_) break;  // u1's part on the right-hand side (viscous_rhs)
-            opposite[O] -= k / 3;
-            scale *= fv::wall_row_scale;
-            break;
-          case Neighbour::wall_normal:  // the face's value, known
-            diag[O] += k;
-            break;
-          case Neighbour::open:  // zero gradient
-            break;
+    double diag = 1.0, lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.0, 0.0, 0.0}, scale = 1.0;
+    if (!is_boundary_face(c, at[c])) {
+      diag = diag_scale;
+      for (int d = 0; d < dims_; ++d) {
+        for (int side = 0; side < 2; ++side) {
+          const double k = w[d] * nu_face(c, n, d, side);
+          double& coupling = side == 0 ? lo[d] : hi[d];
+          double& opposite = side == 0 ? hi[d] : lo[d];
+          switch (neighbour_kind(c, at, d, side)) {
+            case Neighbour::inside:
+              diag += k;
+              coupling -= k;
+              break;
+            case Neighbour::wall_tangential:  // ghost = (8U - 6 u0 + u1) / 3
+              diag += 3 * k;
+              if (turbulent_) break;  // u1's part on the right-hand side (viscous_rhs)
+              opposite -= k / 3;
+              scale *= fv::wall_row_scale;
+              break;
+            case Neighbour::wall_normal:  // the face's value, known
+              diag += k;
+              break;
+            case Neighbour::open:  // zero gradient
+              break;
+          }
         }
       }
     }
-    diag[O] *= scale;
+    const auto O = static_cast<std::size_t>(o);
+    m.diag[O] = diag * scale;
     for (int d = 0; d < dims_; ++d) {
-      lo[static_cast<std::size_t>(d)][O] *= scale;
-      hi[static_cast<std::size_t>(d)][O] *= scale;
+      m.lower[static_cast<std::size_t>(d)][O] = lo[d] * scale;
+      m.upper[static_cast<std::size_t>(d)][O] = hi[d] * scale;
     }
   });
   viscous_[static_cast<std::size_t>(c)]->set(m);
-}
-
-// What lies beyond the side of the unknown u_c at `at` along d: another
-// unknown (inside the domain or across a periodic face), a wall's or velocity
-// face's value (on the face for d == c, a ghost for d != c; a symmetry face's
-// normal component is 0), or no gradient (an open face; a symmetry face for
-// the tangential components).
-FvSolver::Neighbour FvSolver::neighbour_kind(int c, const long* at, int d, int side) const {
-  if (periodic_[d]) return Neighbour::inside;
-  const long g = blk_.owned.lo[d] + at[d];
-  const bool beyond =
-      d == c ? (side == 0 ? g - 1 == 0 : g + 1 == cells_[d]) : (side == 0 ? g == 0 : g + 1 == cells_[d]);
-  if (!beyond) return Neighbour::inside;
-  const Face::Kind kind = faces_[static_cast<std::size_t>(2 * d + side)].kind;
-  if (d == c) return kind == Face::open ? Neighbour::open : Neighbour::wall_normal;
-  return kind == Face::dirichlet ? Neighbour::wall_tangential
-                                 : Neighbour::open;  // open, symmetry: no gradient
 }
 
 // The right-hand side of component c's row at `at`: the history, the

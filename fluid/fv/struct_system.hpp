@@ -53,7 +53,14 @@ class StructSystem {
   // below and above along each axis (zero until set); set() hands it over.
   struct Rows {
     explicit Rows(std::size_t cells = 0) { reset(cells); }
-    // All entries zero again, the storage kept (a matrix rebuilt every step).
+    // Room for `cells` rows, the entries left as they are (for an assembly
+    // that writes every entry: a matrix rebuilt every step).
+    void resize(std::size_t cells) {
+      diag.resize(cells);
+      for (auto& v : lower) v.resize(cells);
+      for (auto& v : upper) v.resize(cells);
+    }
+    // All entries zero again, the storage kept.
     void reset(std::size_t cells) {
       diag.assign(cells, 0.0);
       for (auto& v : lower) v.assign(cells, 0.0);
@@ -79,7 +86,6 @@ class StructSystem {
   int iterations_ = 0;
   double residual_ = 0.0;
   double floor_ = 0.0;
-  std::vector<double> values_;  // set()'s staging of the entries
 };
 
 }  // namespace coflow::fluid::fv

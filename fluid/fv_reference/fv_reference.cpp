@@ -552,11 +552,14 @@ void FvReference::save(const std::string& dir) {
                           {"pressure_increment_previous", 1, phi_old},
                           {"source_previous", 3, src}});
   if (turbulent_) {
-    std::vector<double> k(N), e(N);
+    std::vector<double> k(N), e(N), none(N, 0.0);
     o = 0;
     each_cell([&](const long*, std::size_t n) { k[o] = k_[n], e[o] = eps_[n], ++o; });
+    // fv's first guesses of its k and epsilon solves (the last step's change):
+    // this solver starts from k and epsilon themselves, so fv restarting from
+    // here does too.
     grid::save_cell_fields(comm_, dir + "/fv_turbulence.h5", time_, steps_, {n_[0], n_[1], n_[2]}, box_,
-                           {{"k", 1, k}, {"epsilon", 1, e}});
+                           {{"k", 1, k}, {"epsilon", 1, e}, {"k_change", 1, none}, {"epsilon_change", 1, none}});
   }
   std::ofstream clock(dir + "/fv_clock.txt");
   clock << fmt::format("{} {:a} {:a} {:a}\n", steps_, time_, dt_prev_, dt_prev2_);

@@ -10,17 +10,6 @@
 
 namespace coflow::fluid {
 
-// nu + nu_t on side `side` along d of u_c's control volume (u_c at index n,
-// the lower c-face of cell n): along c the cell below (n - s_c) or the cell
-// n itself; along another axis the edge between the four cells around it.
-double FvSolver::nu_face(int c, long n, int d, int side) const {
-  if (!turbulent_) return nu_;
-  const long sc = stride(c);
-  if (d == c) return nu_ + nut_[side == 0 ? n - sc : n];
-  const long e = side == 0 ? -stride(d) : stride(d);
-  return nu_ + 0.25 * (nut_[n] + nut_[n - sc] + nut_[n + e] + nut_[n + e - sc]);
-}
-
 // div((nu + nu_t) grad u_c) at u_c's face n, from the ghosts (explicit).
 double FvSolver::diffusion_at(const Field& u, int c, long n) const {
   double l = 0.0;

@@ -36,21 +36,25 @@ void DirectForcing::set_markers(MarkerSet markers) {
   set_ = std::move(markers);
   moving_ = false;
   for (const auto& m : set_.markers)
-    for (int d = 0; d < 3; ++d) moving_ = moving_ || m.u[d] != 0.0;
+    for (int d = 0; d < 3; ++d) moving_ = moving_ || m.u[d] != 0.0 || m.a[d] != 0.0;
   for (const auto& b : set_.bodies)
-    for (int d = 0; d < 3; ++d) moving_ = moving_ || b.velocity[d] != 0.0;
+    for (int d = 0; d < 3; ++d) moving_ = moving_ || b.velocity[d] != 0.0 || b.acceleration[d] != 0.0;
   if (loads_.size() != 6 * set_.bodies.size()) loads_.assign(6 * set_.bodies.size(), 0.0);
   placed_at_ = -1.0;
 }
 
-// The markers at time t, moved on from their set's time with their velocity,
-// and their stencils: built again only when they moved.
+// The markers at time t, moved on from their set's time with their velocity
+// and acceleration, their velocities there, and their stencils: built again
+// only when they moved.
 void DirectForcing::place(double t) {
   if (placed_at_ >= 0 && (!moving_ || placed_at_ == t)) return;
   const double dt = t - set_.time;
   x_.resize(set_.markers.size());
-  for (std::size_t m = 0; m < x_.size(); ++m)
-    for (int d = 0; d < 3; ++d) x_[m][d] = set_.markers[m].x[d] + set_.markers[m].u[d] * dt;
+  target_.resize(set_.markers.size());
+  for (std::size_t m = 0; m < x_.size(); ++m) {
+    x_[m] = set_.markers[m].x_at(dt);
+    target_[m] = set_.markers[m].u_at(dt);
+  }
   placed_at_ = t;
   build_stencils();
 }
@@ -134,8 +138,7 @@ DirectForcing::Result DirectForcing::apply(const std::array<double*, 3>& u, doub
   // The same scale on every rank (their iterations must match): the flow's
   // and the markers' largest speed; a fluid at rest about a fixed body takes
   // the tolerance in its own units.
-  for (const auto& m : set_.markers)
-    scale = std::max(scale, std::sqrt(m.u[0] * m.u[0] + m.u[1] * m.u[1] + m.u[2] * m.u[2]) / unit_);
+  for (const auto& v : target_) scale = std::max(scale, std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) / unit_);
   MPI_Allreduce(MPI_IN_PLACE, &scale, 1, MPI_DOUBLE, MPI_MAX, comm_);
   if (!(scale > 0)) scale = 1.0;
   std::vector<double> total(3 * x_.size(), 0.0);
@@ -153,7 +156,7 @@ double DirectForcing::slip(const std::vector<double>& at, std::vector<double>& b
   for (std::size_t m = 0; m < x_.size(); ++m) {
     double s2 = 0.0;
     for (std::size_t c = 0; c < grid_.components.size(); ++c) {
-      b[3 * m + c] = set_.markers[m].u[c] / unit_ - at[3 * m + c];
+      b[3 * m + c] = target_[m][c] / unit_ - at[3 * m + c];
       s2 += b[3 * m + c] * b[3 * m + c];
     }
     worst = std::max(worst, std::sqrt(s2));
@@ -244,7 +247,7 @@ void DirectForcing::add_loads(const std::vector<double>& total, double factor, d
     Vec force, arm;
     for (int d = 0; d < 3; ++d) {
       force[d] = -factor * total[3 * m + static_cast<std::size_t>(d)] * mk.volume_ratio * dv;
-      arm[d] = x_[m][d] - (f.centre[d] + f.velocity[d] * shift);
+      arm[d] = x_[m][d] - (f.centre[d] + (f.velocity[d] + 0.5 * f.acceleration[d] * shift) * shift);
     }
     double* l = &loads_[6 * b];
     for (int d = 0; d < 3; ++d) l[d] += force[d] * dt;

@@ -71,8 +71,8 @@ class DirectForcing {
   const std::vector<long>& touched() const { return touched_; }
   bool empty() const { return set_.markers.empty(); }
   // Forces u (one array per component) toward the markers' velocities at time
-  // t (the markers moved on linearly from their set's time). `scale` is the
-  // flow's velocity scale for the tolerance; the load on the bodies is
+  // t (the markers moved on at constant acceleration from their set's time).
+  // `scale` is the flow's velocity scale for the tolerance; the load on the bodies is
   // accumulated as -factor sum_m dU_m Delta V_m over `dt` (factor: the
   // fluid's alpha2 rho / dt, so that factor dU is the force density of eq. 4.8).
   Result apply(const std::array<double*, 3>& u, double t, double scale, double factor, double dt);
@@ -104,6 +104,7 @@ class DirectForcing {
   int dims_;
   MarkerSet set_;
   std::vector<Vec> x_;       // the markers' positions at the last place()
+  std::vector<Vec> target_;  // and their velocities there
   double placed_at_ = -1.0;  // the time of x_ (-1: none)
   bool moving_ = false;
   double unit_ = 1.0;

@@ -40,6 +40,10 @@ struct Body {
     const double w = 2 * std::numbers::pi * motion.frequency;
     return vec(motion.velocity) + vec(motion.amplitude) * w * std::cos(w * t);
   }
+  V3 centre_acceleration(double t) const {
+    const double w = 2 * std::numbers::pi * motion.frequency;
+    return -vec(motion.amplitude) * w * w * std::sin(w * t);
+  }
   Eigen::Matrix3d rotation(double t) const {
     const V3 om = vec(motion.angular_velocity);
     const double angle = om.norm() * t;
@@ -124,12 +128,15 @@ ibm::MarkerSet IbmWindows::markers(double t) const {
   const double ratio = grid_.shell() / grid_.cell_volume();
   for (std::size_t n = 0; n < bodies_.size(); ++n) {
     const Body& b = bodies_[n];
-    const V3 c = b.centre(t), vc = b.centre_velocity(t), om = vec(b.motion.angular_velocity);
+    const V3 c = b.centre(t), vc = b.centre_velocity(t), ac = b.centre_acceleration(t);
+    const V3 om = vec(b.motion.angular_velocity);
     const Eigen::Matrix3d R = b.rotation(t);
-    set.bodies.push_back({{c[0], c[1], c[2]}, {vc[0], vc[1], vc[2]}});
+    set.bodies.push_back({{c[0], c[1], c[2]}, {vc[0], vc[1], vc[2]}, {ac[0], ac[1], ac[2]}});
     for (const auto& p : b.points) {
-      const V3 r = R * V3(p.x[0], p.x[1], p.x[2]), x = c + r, u = vc + om.cross(r);
-      set.markers.push_back({{x[0], x[1], x[2]}, {u[0], u[1], u[2]}, p.area * ratio, static_cast<int>(n)});
+      // A constant rotation: the centripetal acceleration om x (om x r).
+      const V3 r = R * V3(p.x[0], p.x[1], p.x[2]), x = c + r, u = vc + om.cross(r), a = ac + om.cross(om.cross(r));
+      set.markers.push_back(
+          {{x[0], x[1], x[2]}, {u[0], u[1], u[2]}, p.area * ratio, static_cast<int>(n), {a[0], a[1], a[2]}});
     }
   }
   return set;

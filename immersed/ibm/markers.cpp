@@ -147,14 +147,16 @@ MeshVolume mesh_volume(const stl::TriangleMesh& mesh) {
 
 std::vector<double> MarkerSet::pack() const {
   std::vector<double> f{time, static_cast<double>(bodies.size()), static_cast<double>(markers.size())};
-  f.reserve(3 + 6 * bodies.size() + 8 * markers.size());
+  f.reserve(3 + 9 * bodies.size() + 11 * markers.size());
   for (const auto& b : bodies) {
     f.insert(f.end(), b.centre.begin(), b.centre.end());
     f.insert(f.end(), b.velocity.begin(), b.velocity.end());
+    f.insert(f.end(), b.acceleration.begin(), b.acceleration.end());
   }
   for (const auto& m : markers) {
     f.insert(f.end(), m.x.begin(), m.x.end());
     f.insert(f.end(), m.u.begin(), m.u.end());
+    f.insert(f.end(), m.a.begin(), m.a.end());
     f.push_back(m.volume_ratio);
     f.push_back(static_cast<double>(m.body));
   }
@@ -166,21 +168,23 @@ MarkerSet MarkerSet::unpack(const std::vector<double>& f) {
   if (f.size() < 3) throw std::runtime_error("ibm: a marker message without its header");
   s.time = f[0];
   const auto nb = static_cast<std::size_t>(f[1]), nm = static_cast<std::size_t>(f[2]);
-  if (f.size() != 3 + 6 * nb + 8 * nm) throw std::runtime_error("ibm: a marker message of the wrong length");
+  if (f.size() != 3 + 9 * nb + 11 * nm) throw std::runtime_error("ibm: a marker message of the wrong length");
   std::size_t at = 3;
   s.bodies.resize(nb);
   for (auto& b : s.bodies) {
     for (int d = 0; d < 3; ++d) b.centre[d] = f[at + d];
     for (int d = 0; d < 3; ++d) b.velocity[d] = f[at + 3 + d];
-    at += 6;
+    for (int d = 0; d < 3; ++d) b.acceleration[d] = f[at + 6 + d];
+    at += 9;
   }
   s.markers.resize(nm);
   for (auto& m : s.markers) {
     for (int d = 0; d < 3; ++d) m.x[d] = f[at + d];
     for (int d = 0; d < 3; ++d) m.u[d] = f[at + 3 + d];
-    m.volume_ratio = f[at + 6];
-    m.body = static_cast<int>(f[at + 7]);
-    at += 8;
+    for (int d = 0; d < 3; ++d) m.a[d] = f[at + 6 + d];
+    m.volume_ratio = f[at + 9];
+    m.body = static_cast<int>(f[at + 10]);
+    at += 11;
   }
   return s;
 }

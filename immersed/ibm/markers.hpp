@@ -52,17 +52,27 @@ struct MeshVolume {
 };
 MeshVolume mesh_volume(const stl::TriangleMesh& mesh);
 
-// What goes to the fluid: per marker its position and velocity at the
-// window's start, Delta V_Gamma over the cell volume, its body; per body the
-// reference point of its torque and that point's velocity. Within a window
-// the fluid moves both linearly (exact for a translation).
+// What goes to the fluid: per marker its position, velocity and acceleration
+// at the window's start, Delta V_Gamma over the cell volume, its body; per
+// body the reference point of its torque and that point's velocity and
+// acceleration. Within a window the fluid moves both at constant acceleration
+// (x + u s + a s^2 / 2, velocity u + a s): exact for a translation, second
+// order in the window for an oscillation or a rotation, whose markers would
+// otherwise be held to the window start's velocity.
 struct Marker {
   Vec x{0, 0, 0}, u{0, 0, 0};
   double volume_ratio = 0.0;  // Delta V_Gamma / (dx dy dz)
   int body = 0;
+  Vec a{0, 0, 0};
+  // Position and velocity a time s after the set's.
+  Vec x_at(double s) const {
+    return {x[0] + (u[0] + 0.5 * a[0] * s) * s, x[1] + (u[1] + 0.5 * a[1] * s) * s,
+            x[2] + (u[2] + 0.5 * a[2] * s) * s};
+  }
+  Vec u_at(double s) const { return {u[0] + a[0] * s, u[1] + a[1] * s, u[2] + a[2] * s}; }
 };
 struct BodyFrame {
-  Vec centre{0, 0, 0}, velocity{0, 0, 0};
+  Vec centre{0, 0, 0}, velocity{0, 0, 0}, acceleration{0, 0, 0};
 };
 struct MarkerSet {
   double time = 0.0;  // s: the time of the positions

@@ -91,14 +91,29 @@ TEST_CASE("a 2D fluid sees a prism by its outline: perimeter times the slab", "[
 TEST_CASE("the marker message round-trips", "[immersed][ibm]") {
   ibm::MarkerSet s;
   s.time = 1.25;
-  s.bodies = {{{1, 2, 3}, {0.5, 0, 0}}};
-  s.markers = {{{0.1, 0.2, 0.3}, {0.5, 0, 0}, 0.75, 0}, {{0.4, 0.5, 0.6}, {0.5, 0.1, 0}, 1.5, 0}};
+  s.bodies = {{{1, 2, 3}, {0.5, 0, 0}, {0, -2, 0}}};
+  s.markers = {{{0.1, 0.2, 0.3}, {0.5, 0, 0}, 0.75, 0}, {{0.4, 0.5, 0.6}, {0.5, 0.1, 0}, 1.5, 0, {0, 0, 4}}};
   const ibm::MarkerSet r = ibm::MarkerSet::unpack(s.pack());
   CHECK(r.time == 1.25);
   REQUIRE(r.markers.size() == 2);
   CHECK(r.markers[1].x[2] == 0.6);
   CHECK(r.markers[1].volume_ratio == 1.5);
+  CHECK(r.markers[1].body == 0);
+  CHECK(r.markers[1].a[2] == 4);
   CHECK(r.bodies[0].centre[1] == 2);
+  CHECK(r.bodies[0].acceleration[1] == -2);
+}
+
+TEST_CASE("a marker moves at constant acceleration within a window", "[immersed][ibm]") {
+  // x(s) = x + u s + a s^2 / 2 and u(s) = u + a s: exact for a uniformly
+  // accelerated point (and for a translation, a = 0).
+  const ibm::Marker m{{1, 2, 3}, {0.5, -1, 0}, 1.0, 0, {2, 0, -4}};
+  const auto x = m.x_at(0.5), u = m.u_at(0.5);
+  CHECK(x[0] == Approx(1 + 0.25 + 0.25).epsilon(1e-15));
+  CHECK(x[1] == Approx(2 - 0.5).epsilon(1e-15));
+  CHECK(x[2] == Approx(3 - 0.5).epsilon(1e-15));
+  CHECK(u[0] == Approx(1.5).epsilon(1e-15));
+  CHECK(u[2] == Approx(-2).epsilon(1e-15));
 }
 
 TEST_CASE("multi-direct forcing drives the markers to the body's velocity and conserves the force",

@@ -29,8 +29,11 @@ BodyCase body_case(const config::Config& cfg) {
   for (int d = 0; d < 3; ++d) c.centre[d] = 0.5 * (m.lower[d] + m.upper[d]);
   const auto fp = fluid_params(cfg);
   const auto& v = b.motion.velocity;
-  // A body crossing fluid at rest moves at its velocity; a fixed one sits in the inflow of x-.
+  // A body crossing fluid at rest moves at its velocity, an oscillating one
+  // at its largest (2 pi f a); a fixed one sits in the inflow of x-.
+  const auto& a = b.motion.amplitude;
   c.speed = std::hypot(v[0], v[1], v[2]);
+  if (c.speed == 0.0) c.speed = 2 * std::numbers::pi * b.motion.frequency * std::hypot(a[0], a[1], a[2]);
   if (c.speed == 0.0) c.speed = std::abs(fp.boundary(0, cfg).value.values.at(0));
   const bool two_d = cfg.domain.two_dimensional();
   const double area = two_d ? c.diameter * (cfg.domain.upper[2] - cfg.domain.lower[2])
@@ -175,6 +178,73 @@ int ibm_frames(const std::string& a, const std::string& b) {
   const double last = cd(ca, ra.back());
   std::printf("drag_coefficient_a=%.6e\ndrag_coefficient_b=%.6e\ncd_difference=%.6e\n", last, cd(cb, rb.back()),
               worst / std::abs(last));
+  return 0;
+}
+
+// A cylinder oscillating in line through fluid at rest, x = a sin(2 pi f t)
+// (a along x; Dütsch, Durst, Becker & Lienhart 1998, J. Fluid Mech.
+// 360:249-271: KC = U T / D, Re = U D / nu, U = 2 pi f |a|): over the run's
+// last whole period, the in-line force coefficient F_x / (1/2 rho U^2 D L)
+// sampled at the rows' mid-times, its amplitude (half its peak to peak) and
+// Morison's drag and inertia coefficients fitted by least squares to
+// F = -1/2 rho Cd D L |u| u - 1/4 pi rho Ci D^2 L du/dt, u the cylinder's
+// velocity, as Dütsch et al. fitted theirs.
+int ibm_oscillating(const std::string& dir) {
+  const auto cfg = load(dir);
+  const immersed::IbmParams ibm = immersed::read_ibm_params(cfg);
+  const immersed::BodyMotion& mo = ibm.bodies.at(0).motion;
+  const BodyCase b = body_case(cfg);
+  const double a = mo.amplitude[0], w = 2 * std::numbers::pi * mo.frequency, speed = std::abs(a) * w;
+  if (!(speed > 0) || mo.amplitude[1] != 0 || mo.amplitude[2] != 0)
+    throw std::runtime_error("ibm_oscillating wants the first body oscillating along x");
+  const double period = 1.0 / mo.frequency, kc = speed * period / b.diameter, q_area = b.q_area;
+  const auto rows = read_series(dir + "/series/immersed.csv");
+  const double end = rows.back().at(0), step = rows.back().at(0) - rows.at(rows.size() - 2).at(0);
+  // Least squares for (Cd, Ci): F* = Cd g1 + Ci g2 at each row's mid-time.
+  double m11 = 0, m12 = 0, m22 = 0, r1 = 0, r2 = 0, lo = 0, hi = 0, ss = 0;
+  long n = 0;
+  constexpr int harmonics = 7;
+  double fa[harmonics + 1] = {}, fb[harmonics + 1] = {};  // Fourier coefficients over the period
+  for (const auto& r : rows) {
+    if (r.at(0) <= end - period + 1e-9 * period) continue;
+    const double t = r.at(0) - 0.5 * step, f = r.at(1) / q_area;
+    for (int k = 0; k <= harmonics; ++k) fa[k] += f * std::cos(k * w * t), fb[k] += f * std::sin(k * w * t);
+    const double u = a * w * std::cos(w * t) / speed, du = -a * w * w * std::sin(w * t);  // u / U, du/dt
+    const double g1 = -std::abs(u) * u, g2 = -0.5 * std::numbers::pi * b.diameter * du / (speed * speed);
+    m11 += g1 * g1, m12 += g1 * g2, m22 += g2 * g2, r1 += g1 * f, r2 += g2 * f, ss += f * f;
+    lo = -nan_max(-lo, -f), hi = nan_max(hi, f), ++n;
+  }
+  if (n < 20) throw std::runtime_error("fewer than 20 rows in the last period: lower run.output.series_every");
+  const double det = m11 * m22 - m12 * m12, cd = (r1 * m22 - r2 * m12) / det, ci = (m11 * r2 - m12 * r1) / det;
+  // The fit's residual relative to the force's root mean square.
+  const double residual = std::sqrt(std::max(0.0, ss - cd * r1 - ci * r2) / ss);
+  // The history's amplitude without the forcing's step-to-step jitter (a
+  // moving body's cells change from fluid to forced and back; Lee, Kim, Choi
+  // & Yang 2011, J. Comput. Phys. 230:2677): its Fourier series to the 7th
+  // harmonic of the period, half its peak to peak.
+  double smooth_lo = 0, smooth_hi = 0;
+  for (int s = 0; s < 3600; ++s) {
+    const double phase = 2 * std::numbers::pi * s / 3600.0;
+    double f = fa[0] / static_cast<double>(n);
+    for (int k = 1; k <= harmonics; ++k)
+      f += 2.0 / static_cast<double>(n) * (fa[k] * std::cos(k * phase) + fb[k] * std::sin(k * phase));
+    smooth_lo = -nan_max(-smooth_lo, -f), smooth_hi = nan_max(smooth_hi, f);
+  }
+  // Morison's history with Dütsch et al.'s coefficients (Cd 2.09, Ci 1.45):
+  // its amplitude, and the relative errors.
+  double morison = 0;
+  for (int s = 0; s < 3600; ++s) {
+    const double phase = 2 * std::numbers::pi * s / 3600.0, u = std::cos(phase);
+    morison = std::max(morison, std::abs(-2.09 * std::abs(u) * u + 1.45 * std::numbers::pi * std::numbers::pi / kc *
+                                                                       std::sin(phase)));
+  }
+  const double amplitude = 0.5 * (smooth_hi - smooth_lo);
+  std::printf("keulegan_carpenter=%.6e\nreynolds=%.6e\nraw_force_amplitude=%.6e\nforce_amplitude=%.6e\n"
+              "morison_amplitude=%.6e\namplitude_error=%.6e\ndrag_coefficient=%.6e\ninertia_coefficient=%.6e\n"
+              "cd_error=%.6e\nci_error=%.6e\nmorison_residual=%.6e\n",
+              kc, speed * b.diameter / fluid_params(cfg).viscosity, 0.5 * (hi - lo), amplitude, morison,
+              std::abs(amplitude - morison) / morison, cd, ci, std::abs(cd - 2.09) / 2.09, std::abs(ci - 1.45) / 1.45,
+              residual);
   return 0;
 }
 

@@ -9,6 +9,9 @@ coflow_validation(ibm_cylinder_re20 pair ibm_cylinder_re20.yaml 1 ibm_extrapolat
 coflow_validation(ibm_cylinder_mdf_slip ibm_steady ibm_cylinder_fixed_frame.yaml 1
   --set immersed.ibm.iteration=mdf --set immersed.ibm.max_iterations=20)
 coflow_validation(ibm_cylinder_frames pair ibm_cylinder_translating.yaml 1 ibm_frames "" "config=ibm_cylinder_fixed_frame.yaml")
+# The in-line oscillating cylinder of Dütsch et al. (1998) at Re 100, KC 5:
+# Morison's coefficients fitted to the in-line force of the last period.
+coflow_validation(ibm_cylinder_oscillating ibm_oscillating ibm_cylinder_oscillating.yaml 1)
 set(ibm_short "run.end_time=4.0 run.output.every=4.0")
 coflow_validation(ibm_ranks_1_vs_2_fixed compare ibm_cylinder_fixed_frame.yaml 2
   "fluid.ranks=1 ${ibm_short}" "fluid.ranks=2 immersed.ranks=2 fluid.decomposition=[2,1,1] ${ibm_short}")

@@ -50,18 +50,26 @@ std::vector<double> column(const std::vector<std::vector<double>>& rows, std::si
 }
 
 // The recirculation length behind the body, in diameters from its rear
-// surface: where u_x along the wake's centre line (the mean of the two rows
-// of cells beside y = centre) turns from negative to positive.
+// surface: where u_x along the wake's centre line (interpolated between the
+// rows of cells beside y = centre, and in 3D z = centre) turns from negative
+// to positive.
 double recirculation(const config::Config& cfg, const std::string& dir, const BodyCase& b) {
   std::vector<std::size_t> dims;
   const auto u = output::read_dataset(last_snapshot(dir), "velocity", &dims);
-  const long nx = static_cast<long>(dims[2]);
+  const long nx = static_cast<long>(dims[2]), ny = static_cast<long>(dims[1]);
   const auto h = cfg.domain.spacing();
-  const double s = (b.centre[1] - cfg.domain.lower[1]) / h[1] - 0.5;  // cell-centre coordinate of the line
-  const auto j0 = static_cast<long>(std::floor(s));
-  const double f = s - static_cast<double>(j0);
+  auto line = [&](int d, long& lo) {  // the lower cell index and the weight of the upper one
+    if (cfg.domain.cells[static_cast<std::size_t>(d)] == 1) return lo = 0, 0.0;
+    const double s = (b.centre[d] - cfg.domain.lower[d]) / h[d] - 0.5;
+    lo = static_cast<long>(std::floor(s));
+    return s - static_cast<double>(lo);
+  };
+  long j0 = 0, k0 = 0;
+  const double f = line(1, j0), g = line(2, k0);
+  auto at = [&](long i, long j, long k) { return u[static_cast<std::size_t>(((k * ny + j) * nx + i) * 3)]; };
   auto ux = [&](long i) {
-    return (1 - f) * u[static_cast<std::size_t>((j0 * nx + i) * 3)] + f * u[static_cast<std::size_t>(((j0 + 1) * nx + i) * 3)];
+    const double low = (1 - f) * at(i, j0, k0) + f * at(i, j0 + 1, k0);
+    return g == 0.0 ? low : (1 - g) * low + g * ((1 - f) * at(i, j0, k0 + 1) + f * at(i, j0 + 1, k0 + 1));
   };
   const double rear = b.centre[0] + 0.5 * b.diameter;
   for (long i = 0; i + 1 < nx; ++i) {

@@ -281,6 +281,14 @@ void write_tables(MPI_Comm comm, const std::string& path, double time, long step
   finish_file(comm, f, tmp, path);
 }
 
+bool has_dataset(const std::string& path, const std::string& name) {
+  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) throw std::runtime_error(fmt::format("cannot open HDF5 file '{}'", path));
+  const bool found = H5Lexists(f, name.c_str(), H5P_DEFAULT) > 0;
+  H5Fclose(f);
+  return found;
+}
+
 std::vector<double> read_dataset(const std::string& path, const std::string& name,
                                  std::vector<std::size_t>* dims) {
   hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);

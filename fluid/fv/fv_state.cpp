@@ -2,11 +2,14 @@
 // momentum source it takes, checkpoint and restart.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
+#include <utility>
 
+#include "coflow/output.hpp"
 #include "fluid/fv/fv_solver.hpp"
 #include "fluid/grid/cell_fields.hpp"
 
@@ -217,8 +220,14 @@ void FvSolver::load(const std::string& dir, long, double) {
     const std::string tpath = dir + "/fv_turbulence.h5";
     set_owned(k_, grid::load_cell_field(tpath, "k", cells_, blk_.owned, 1));
     set_owned(eps_, grid::load_cell_field(tpath, "epsilon", cells_, blk_.owned, 1));
-    set_owned(k_change_, grid::load_cell_field(tpath, "k_change", cells_, blk_.owned, 1));
-    set_owned(eps_change_, grid::load_cell_field(tpath, "epsilon_change", cells_, blk_.owned, 1));
+    // The solves' first guesses; a checkpoint from before they were kept has
+    // none, and the solves then start from k and epsilon themselves.
+    for (auto [name, field] : {std::pair{"k_change", &k_change_}, std::pair{"epsilon_change", &eps_change_}}) {
+      if (output::has_dataset(tpath, name))
+        set_owned(*field, grid::load_cell_field(tpath, name, cells_, blk_.owned, 1));
+      else
+        std::fill(field->begin(), field->end(), 0.0);
+    }
     fill_scalar_ghosts(k_, turb_.inlet_k, 0.0, true);
     fill_scalar_ghosts(eps_, turb_.inlet_epsilon, 1.0, true);
     update_eddy_viscosity();

@@ -92,6 +92,10 @@ void write_tables(MPI_Comm comm, const std::string& path, double time, long step
 std::size_t first_row(MPI_Comm comm, std::size_t rows);
 
 // Read back (serial) for restarts, tests and initial conditions.
+// has_dataset: whether the HDF5 file at `path` holds a dataset `name` at its
+// root (an optional field of an older checkpoint); throws when the file
+// cannot be opened.
+bool has_dataset(const std::string& path, const std::string& name);
 std::vector<double> read_dataset(const std::string& path, const std::string& name,
                                  std::vector<std::size_t>* dims = nullptr);
 double read_time(const std::string& path);

@@ -206,6 +206,9 @@ int ibm_oscillating(const std::string& dir) {
   if (!(speed > 0) || mo.amplitude[1] != 0 || mo.amplitude[2] != 0)
     throw std::runtime_error("ibm_oscillating wants the first body oscillating along x");
   const double period = 1.0 / mo.frequency, kc = speed * period / b.diameter, q_area = b.q_area;
+  const double reynolds = speed * b.diameter / fluid_params(cfg).viscosity;
+  if (std::abs(kc - 5) > 1e-6 * 5 || std::abs(reynolds - 100) > 1e-6 * 100)
+    throw std::runtime_error("the reference numbers here are for KC 5 and Re 100");
   const auto rows = read_series(dir + "/series/immersed.csv");
   const double end = rows.back().at(0), step = rows.back().at(0) - rows.at(rows.size() - 2).at(0);
   // Least squares for (Cd, Ci): F* = Cd g1 + Ci g2 at each row's mid-time.
@@ -230,27 +233,23 @@ int ibm_oscillating(const std::string& dir) {
   // moving body's cells change from fluid to forced and back; Lee, Kim, Choi
   // & Yang 2011, J. Comput. Phys. 230:2677): its Fourier series to the 7th
   // harmonic of the period, half its peak to peak.
-  double smooth_lo = 0, smooth_hi = 0;
+  // Beside it, the amplitude of Morison's history with Dütsch et al.'s
+  // coefficients (Cd 2.09, Ci 1.45).
+  double smooth_lo = 0, smooth_hi = 0, morison = 0;
   for (int s = 0; s < 3600; ++s) {
-    const double phase = 2 * std::numbers::pi * s / 3600.0;
+    const double phase = 2 * std::numbers::pi * s / 3600.0, u = std::cos(phase);
     double f = fa[0] / static_cast<double>(n);
     for (int k = 1; k <= harmonics; ++k)
       f += 2.0 / static_cast<double>(n) * (fa[k] * std::cos(k * phase) + fb[k] * std::sin(k * phase));
     smooth_lo = -nan_max(-smooth_lo, -f), smooth_hi = nan_max(smooth_hi, f);
-  }
-  // Morison's history with Dütsch et al.'s coefficients (Cd 2.09, Ci 1.45):
-  // its amplitude, and the relative errors.
-  double morison = 0;
-  for (int s = 0; s < 3600; ++s) {
-    const double phase = 2 * std::numbers::pi * s / 3600.0, u = std::cos(phase);
-    morison = std::max(morison, std::abs(-2.09 * std::abs(u) * u + 1.45 * std::numbers::pi * std::numbers::pi / kc *
-                                                                       std::sin(phase)));
+    morison = std::max(morison, std::abs(-2.09 * std::abs(u) * u +
+                                         1.45 * std::numbers::pi * std::numbers::pi / kc * std::sin(phase)));
   }
   const double amplitude = 0.5 * (smooth_hi - smooth_lo);
   std::printf("keulegan_carpenter=%.6e\nreynolds=%.6e\nraw_force_amplitude=%.6e\nforce_amplitude=%.6e\n"
               "morison_amplitude=%.6e\namplitude_error=%.6e\ndrag_coefficient=%.6e\ninertia_coefficient=%.6e\n"
               "cd_error=%.6e\nci_error=%.6e\nmorison_residual=%.6e\n",
-              kc, speed * b.diameter / fluid_params(cfg).viscosity, 0.5 * (hi - lo), amplitude, morison,
+              kc, reynolds, 0.5 * (hi - lo), amplitude, morison,
               std::abs(amplitude - morison) / morison, cd, ci, std::abs(cd - 2.09) / 2.09, std::abs(ci - 1.45) / 1.45,
               residual);
   return 0;

@@ -1,12 +1,14 @@
 // Benchmark: the finite-volume fluid (fv), 1 rank, lid-driven cavity at
 // Re = 1000 (U = 1 m/s, L = 1 m, nu = 1e-3 m^2/s) from rest.
 //
-//   build/bin/bench-fv [steps] [--quick] [--channel]
+//   build/bin/bench-fv [steps] [--quick] [--channel] [--cavity]
 //
 // (a) 2D at 128^2, 256^2 and 512^2: time per step and per cell, the pressure
 //     Poisson's iterations and time per solve (relative tolerance 1e-10): the
 //     iterations stay flat and the time per cell of a solve stays flat (O(N)).
 // (b) 3D at 128^3 (--quick: 64^3).
+// In (a) and (b) fv's Poisson runs by its geometric multigrid (the default),
+// and again, in the same run, by hypre's PCG + PFMG (fluid.fv.multigrid: pfmg).
 // Each case runs through OpenFOAM's icoFoam (Debian package openfoam,
 // `icoFoam` on PATH) on the same grid with the same step (Courant 0.5 at the
 // lid) and the same tolerance (p: GAMG, U: symmetric Gauss-Seidel, both to a
@@ -17,7 +19,8 @@
 // (c) k-epsilon: a 2D channel from an inlet at 256 x 64 and 512 x 128 (--quick:
 //     the first): fv's k-epsilon step against its laminar step (the model's
 //     cost) and against OpenFOAM's pimpleFoam with kEpsilon (same grid, step
-//     and tolerances; OpenFOAM's walls take wall functions). --channel: (c) alone.
+//     and tolerances; OpenFOAM's walls take wall functions). --channel: (c) alone;
+//     --cavity: (a) and (b) alone.
 //
 // Last line: RESULT fv_s_per_step=... icofoam_s_per_step=... ratio=... (512^2)
 // k_epsilon_cost=... k_epsilon_vs_pimplefoam=... (the largest channel).
@@ -50,7 +53,7 @@ struct Result {
   long cells = 0;
 };
 
-std::string cavity_yaml(int n, int dims, double dt) {
+std::string cavity_yaml(int n, int dims, double dt, const std::string& multigrid) {
   const double dz = dims == 2 ? 1.0 / n : 1.0;
   return fmt::format(R"(
 run: {{name: bench-fv, end_time: 1.0}}
@@ -61,10 +64,10 @@ fluid:
   viscosity: 1.0e-3
   boundaries:
     y+: {{type: velocity, value: [1.0, 0.0, 0.0]}}
-  fv: {{advection: central, time: sbdf2, cfl: 1.0, max_step: {dt:.17g}, tolerance: 1.0e-10}}
+  fv: {{advection: central, time: sbdf2, cfl: 1.0, max_step: {dt:.17g}, tolerance: 1.0e-10, multigrid: {mg}}}
 )",
                      fmt::arg("dz", dz), fmt::arg("n", n), fmt::arg("nz", dims == 2 ? 1 : n),
-                     fmt::arg("dt", dt));
+                     fmt::arg("dt", dt), fmt::arg("mg", multigrid));
 }
 
 Result run_fv_yaml(const std::string& yaml, double dt, long steps) {
@@ -90,7 +93,9 @@ Result run_fv_yaml(const std::string& yaml, double dt, long steps) {
   return res;
 }
 
-Result run_fv(int n, int dims, double dt, long steps) { return run_fv_yaml(cavity_yaml(n, dims, dt), dt, steps); }
+Result run_fv(int n, int dims, double dt, long steps, const std::string& multigrid) {
+  return run_fv_yaml(cavity_yaml(n, dims, dt, multigrid), dt, steps);
+}
 
 // (c) A 2D channel 8 x 2 (half height 1) from a uniform inlet (U = 1 m/s,
 // nu = 1e-4 m^2/s: Re_b = 20000; k 3.75e-3, epsilon 2.69e-4) to a pressure
@@ -261,7 +266,8 @@ double run_openfoam(const std::string& app, const std::string& tag, Writer&& wri
 
 void report(const char* name, int n, int dims, long steps, Result& fv, double& foam) {
   const double dt = 0.5 / n;  // Courant 0.5 at the lid
-  fv = run_fv(n, dims, dt, steps);
+  fv = run_fv(n, dims, dt, steps, "geometric");
+  const Result pfmg = run_fv(n, dims, dt, steps, "pfmg");
   std::string note;
   foam = run_openfoam(
       "icoFoam", std::to_string(n), [&](const auto& dir) { write_openfoam_case(dir, n, dims, dt, steps); }, steps,
@@ -271,6 +277,9 @@ void report(const char* name, int n, int dims, long steps, Result& fv, double& f
       "(%.1f ns per cell), %.0f %% of the step (viscous %.0f %%)",
       name, n, dims, fv.s_per_step, 1e9 * fv.s_per_step / double(fv.cells), fv.poisson_iterations,
       fv.poisson_s, 1e9 * fv.poisson_s / double(fv.cells), 100 * fv.poisson_share, 100 * fv.viscous_share);
+  std::printf("; with hypre's PCG + PFMG instead: Poisson %.1f iterations, %.4f s per solve, %.0f %% of its step "
+              "(the geometric multigrid %.2fx faster per solve)",
+              pfmg.poisson_iterations, pfmg.poisson_s, 100 * pfmg.poisson_share, pfmg.poisson_s / fv.poisson_s);
   if (foam > 0)
     std::printf("; icoFoam %.4f s/step: fv %.2fx faster\n", foam, foam / fv.s_per_step);
   else
@@ -305,12 +314,14 @@ int main(int argc, char** argv) {
   MPI_Init(&argc, &argv);
   log::init("bench", 1);  // rank 1: warnings only
   long steps = 20;
-  bool quick = false, channel_only = false;
+  bool quick = false, channel_only = false, cavity_only = false;
   for (int a = 1; a < argc; ++a) {
     if (std::string(argv[a]) == "--quick")
       quick = true;
     else if (std::string(argv[a]) == "--channel")
       channel_only = true;
+    else if (std::string(argv[a]) == "--cavity")
+      cavity_only = true;
     else
       steps = std::atol(argv[a]);
   }
@@ -327,7 +338,7 @@ int main(int argc, char** argv) {
   if (!channel_only) report("(b) 3D", quick ? 64 : 128, 3, std::max(2L, steps / 5), fv, foam);
   double ke_cost = 0.0, ke_vs_foam = 0.0;
   for (int nx : {256, 512}) {
-    if (quick && nx > 256) break;
+    if ((quick && nx > 256) || cavity_only) break;
     report_channel(nx, nx / 4, steps, ke_cost, ke_vs_foam);
   }
   std::printf("RESULT fv_s_per_step=%.4g icofoam_s_per_step=%.4g ratio=%.3f k_epsilon_cost=%.3f "

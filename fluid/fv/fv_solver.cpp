@@ -18,7 +18,7 @@ namespace {
 constexpr int kGhost = 2;  // the upwind-biased face value reads two cells upstream
 
 fv::StructSystem::Options solver_options(const fv::FvParams& p, const std::string& name) {
-  return {p.multigrid, p.tolerance, p.max_iterations, name};
+  return {p.multigrid == "smg" ? "smg" : "pfmg", p.tolerance, p.max_iterations, name};
 }
 
 }  // namespace
@@ -73,8 +73,17 @@ FvSolver::FvSolver(const Setup& s, const Params& p)
   rhs_.assign(owned, 0.0);
   x_.assign(owned, 0.0);
   const std::array<bool, 3> per{periodic_[0], periodic_[1], periodic_[2]};
-  poisson_ = std::make_unique<fv::StructSystem>(comm_, blk_.owned, cells_, per,
-                                                solver_options(p_, "pressure Poisson solve"));
+  if (p_.multigrid == "geometric" &&
+      fv::PoissonMultigrid::suits(s.decomposition, std::array<double, 3>{h_[0], h_[1], h_[2]})) {
+    std::array<bool, 6> open{};
+    for (std::size_t f = 0; f < 6; ++f) open[f] = faces_[f].kind == Face::open;
+    poisson_mg_ = std::make_unique<fv::PoissonMultigrid>(
+        s.decomposition, s.rank, comm_, std::array<double, 3>{h_[0], h_[1], h_[2]}, open,
+        fv::PoissonMultigrid::Options{p_.tolerance, p_.max_iterations, 3, "pressure Poisson solve"});
+  } else {
+    poisson_ = std::make_unique<fv::StructSystem>(comm_, blk_.owned, cells_, per,
+                                                  solver_options(p_, "pressure Poisson solve"));
+  }
   for (int c = 0; c < dims_; ++c)
     viscous_[static_cast<std::size_t>(c)] = std::make_unique<fv::StructSystem>(
         comm_, blk_.owned, cells_, per, solver_options(p_, fmt::format("viscous solve of u_{}", "xyz"[c])));

@@ -19,6 +19,7 @@
 
 #include "fluid/fluid_solver.hpp"
 #include "fluid/fv/params.hpp"
+#include "fluid/fv/poisson_multigrid.hpp"
 #include "fluid/fv/scheme.hpp"
 #include "fluid/fv/struct_system.hpp"
 #include "fluid/turbulence_params.hpp"
@@ -209,7 +210,8 @@ class FvSolver final : public FluidSolver {
   Faces top_;
   Field p_field_, phi_, phi_old_;  // the pressure, its last increment and the one before
   std::vector<double> rhs_, x_;
-  std::unique_ptr<fv::StructSystem> poisson_;
+  std::unique_ptr<fv::StructSystem> poisson_;         // hypre's PCG + PFMG or SMG, or
+  std::unique_ptr<fv::PoissonMultigrid> poisson_mg_;  // coflow's geometric multigrid (fluid.fv.multigrid)
   std::array<std::unique_ptr<fv::StructSystem>, 3> viscous_;
   std::array<double, 3> viscous_key_{0, 0, 0},
       viscous_theta_{0, 0, 0};  // a0/dt and theta nu of the matrices set

@@ -21,7 +21,7 @@ struct FvParams {
   double max_step = 0.0;
   double tolerance = 1e-10;
   int max_iterations = 200;
-  std::string multigrid = "pfmg";
+  std::string multigrid = "geometric";
   RefinementParams refinement;
   void visit(config::Visitor& v) {
     v("advection", advection,
@@ -45,9 +45,12 @@ struct FvParams {
     v("max_iterations", max_iterations, "iterations of one linear solve before the run stops with a message",
       config::greater(0.0));
     v("multigrid", multigrid,
-      "fv: the preconditioner of the conjugate gradients, a hypre Struct multigrid: pfmg (semicoarsening, "
-      "Ashby & Falgout 1996) or smg (Schaffer 1998; more robust on stretched cells, slower)",
-      config::one_of({"pfmg", "smg"}));
+      "fv: the preconditioner of the conjugate gradients. geometric: the pressure Poisson by coflow's "
+      "matrix-free geometric multigrid (full coarsening, red-black Gauss-Seidel, trilinear transfers; "
+      "fluid/fv/poisson_multigrid.hpp) where every rank's block has an even number of cells along each axis "
+      "and the cells' aspect ratio is at most 2, else by pfmg, and the viscous solves by pfmg; pfmg: hypre's Struct semicoarsening multigrid (Ashby & "
+      "Falgout 1996) for all; smg: hypre's SMG (Schaffer 1998; more robust on stretched cells, slower)",
+      config::one_of({"geometric", "pfmg", "smg"}));
     v.section(
         "refinement",
         "fv on a block-structured adaptive grid (seed 003 §4.1.1; p4est): levels of ratio 2 in patches of "

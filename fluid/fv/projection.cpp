@@ -21,6 +21,7 @@ double FvSolver::divergence_at(const Faces& u, long n) const {
 }
 
 void FvSolver::set_poisson() {
+  if (!poisson_) return;  // the geometric multigrid builds its own operator
   fv::StructSystem::Rows m(static_cast<std::size_t>(blk_.owned_cells()));
   for_owned([&](const long* at, long, long o) {
     const auto O = static_cast<std::size_t>(o);
@@ -95,13 +96,22 @@ void FvSolver::project(const fv::Imex& s, double dt, bool incremental) {
   double hmin = h_[0];
   for (int d = 1; d < dims_; ++d) hmin = std::min(hmin, h_[d]);
   const double cells = static_cast<double>(cells_[0] * cells_[1] * cells_[2]);
-  poisson_->set_absolute_floor(1e-6 * p_.tolerance * factor * velocity_scale_ / hmin * std::sqrt(cells));
+  const double floor = 1e-6 * p_.tolerance * factor * velocity_scale_ / hmin * std::sqrt(cells);
   const double start = MPI_Wtime();
-  poisson_->solve(rhs_, x_);
+  int iterations = 0;
+  if (poisson_mg_) {
+    poisson_mg_->set_absolute_floor(floor);
+    poisson_mg_->solve(rhs_, x_);
+    iterations = poisson_mg_->last_iterations();
+  } else {
+    poisson_->set_absolute_floor(floor);
+    poisson_->solve(rhs_, x_);
+    iterations = poisson_->last_iterations();
+  }
   poisson_seconds_ += MPI_Wtime() - start;
   ++poisson_solves_;
-  poisson_iteration_sum_ += poisson_->last_iterations();
-  poisson_iterations_ = std::max(poisson_iterations_, poisson_->last_iterations());
+  poisson_iteration_sum_ += iterations;
+  poisson_iterations_ = std::max(poisson_iterations_, iterations);
   if (!has_open_) {  // the constant of phi: mean zero
     double sum = 0.0;
     for (double v : x_) sum += v;

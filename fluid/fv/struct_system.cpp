@@ -173,4 +173,17 @@ void StructSystem::solve(std::span<const double> b, std::span<double> x) {
         opt_.name, residual_, it, opt_.tolerance));
 }
 
+void StructSystem::cycle(std::span<const double> b, std::span<double> x) {
+  if (diagonal_) throw std::logic_error("StructSystem::cycle: no multigrid with the diagonal preconditioner");
+  HYPRE_StructVectorSetBoxValues(h_->b, h_->lo, h_->hi, const_cast<double*>(b.data()));
+  HYPRE_StructVectorAssemble(h_->b);
+  HYPRE_StructVectorSetConstantValues(h_->x, 0.0);
+  if (!h_->ready) make_solver();
+  if (opt_.multigrid == "smg")
+    HYPRE_StructSMGSolve(h_->precond, h_->A, h_->b, h_->x);
+  else
+    HYPRE_StructPFMGSolve(h_->precond, h_->A, h_->b, h_->x);
+  HYPRE_StructVectorGetBoxValues(h_->x, h_->lo, h_->hi, x.data());
+}
+
 }  // namespace coflow::fluid::fv

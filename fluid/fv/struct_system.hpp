@@ -43,6 +43,10 @@ class StructSystem {
   // a system dominated by its diagonal (a viscous solve with a short step),
   // where a V-cycle costs more than the iterations it saves.
   void use_diagonal(bool on);
+  // One multigrid V-cycle from a zero guess, x = M b, without the conjugate
+  // gradients: the coarsest-level solve of a multigrid of coflow's own
+  // (PoissonMultigrid), where it must be a fixed linear map.
+  void cycle(std::span<const double> b, std::span<double> x);
   int last_iterations() const { return iterations_; }
   // Also stop when the residual's 2-norm is below `floor` (0: no floor): a
   // right-hand side of round-off size cannot be reduced by the relative

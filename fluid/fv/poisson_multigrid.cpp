@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "fluid/fv/struct_system.hpp"
 #include "fluid/grid/ghost_exchange.hpp"
@@ -241,6 +242,9 @@ bool PoissonMultigrid::suits(const coupler::Decomposition& dec, const std::array
       lo = std::min(lo, h[static_cast<std::size_t>(d)]);
       hi = std::max(hi, h[static_cast<std::size_t>(d)]);
     }
+  // x and y have more than one cell (as fv requires): the transfers step
+  // along both.
+  if (dec.cells()[0] < 2 || dec.cells()[1] < 2) return false;
   coupler::Decomposition coarse;
   return hi <= 2.0 * lo && halves(dec, coarse);
 }
@@ -372,6 +376,7 @@ void PoissonMultigrid::solve(std::span<const double> b, std::span<double> x) {
     }
   });
   const double bb = dot(L, b_, b_, comm_);
+  if (bb == 0.0) std::fill(x_.begin(), x_.end(), 0.0);  // as hypre's PCG: x = 0 for b = 0
   apply(x_);
   for_rows(L, [&](long row, long, long) {
     for (long c = row; c < row + nx; ++c) r[static_cast<std::size_t>(c)] = b_[static_cast<std::size_t>(c)] - ap_[static_cast<std::size_t>(c)];
@@ -383,9 +388,13 @@ void PoissonMultigrid::solve(std::span<const double> b, std::span<double> x) {
   while (rr > target && bb > 0.0 && iterations_ < opt_.max_iterations) {
     cycle(0);
     const double rz_new = dot(L, r, L.x, comm_);
-    const double beta = iterations_ == 0 ? 0.0 : rz_new / rz;
+    if (iterations_ == 0) {
+      p_ = L.x;
+    } else {
+      const double beta = rz_new / rz;
+      for (std::size_t c = 0; c < p_.size(); ++c) p_[c] = L.x[c] + beta * p_[c];
+    }
     rz = rz_new;
-    for (std::size_t c = 0; c < p_.size(); ++c) p_[c] = L.x[c] + beta * p_[c];
     const double alpha = rz / apply(p_);
     rr = 0.0;
     for_rows(L, [&](long row, long, long) {

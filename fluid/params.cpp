@@ -1,5 +1,9 @@
+#include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <numbers>
+#include <sstream>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -33,8 +37,24 @@ void BoundaryParams::visit(config::Visitor& v) {
     "velocity faces: uniform, or parabolic (fv): the value at the face's centre, falling as 4 s (1 - s) to zero "
     "at the faces across each of its other axes that is not periodic (a channel's or, as a product, a duct's "
     "inlet)",
-    config::one_of({"uniform", "parabolic"}));
+    config::one_of({"uniform", "parabolic", "table"}));
+  v("profile_file", profile_file,
+    "profile: table (fv): a text file of rows `coordinate, factor`, the coordinate in m along profile_axis and the "
+    "factor on `value` there; linear between rows, the end rows' factor beyond them; relative to this file");
+  v("profile_axis", profile_axis, "profile: table: the axis of the table's coordinate, across the face",
+    config::one_of({"x", "y", "z"}));
   if (!v.reading()) return;
+  if (profile == "table" && profile_file.empty())
+    v.fail("profile", "a table profile needs profile_file: the file of its rows (coordinate, factor)");
+  if (profile != "table" && !profile_file.empty())
+    v.fail("profile_file", "profile_file is read for profile: table only; add profile: table or remove it");
+  if (profile == "table" && !profile_file.empty()) {
+    try {
+      table = read_profile_table(profile_file.path, profile_axis[0] - 'x');
+    } catch (const std::exception& e) {
+      v.fail("profile_file", e.what());
+    }
+  }
   const bool given = v.given("value");
   if (profile != "uniform" && type != "velocity")
     v.fail("profile", fmt::format("a {} boundary has no velocity profile; profile is for velocity faces", type));
@@ -73,6 +93,11 @@ void FluidParams::visit(config::Visitor& v, const config::Config& cfg) {
                                    face, axis));
           if (cfg.domain.cells[axis] == 1)
             s.fail("", fmt::format("axis {} has one cell (a 2D run): it takes no boundary", "xyz"[axis]));
+          const auto& b = boundaries[face];
+          if (b.profile == "table" && b.table.axis == axis)
+            s.fail("profile_axis", fmt::format("the table's axis {} is the face's normal; give an axis across "
+                                               "the face",
+                                               b.profile_axis));
         }
       },
       face_names());
@@ -183,7 +208,50 @@ void FluidParams::initial_state(const config::Config& cfg, const Vec3& x, Vec3& 
   p += 0.25 * density * U * U * (std::cos(2 * X) + (kx * kx) / (ky * ky) * std::cos(2 * Y));
 }
 
+double ProfileTable::operator()(double coordinate) const {
+  if (coordinate <= at.front()) return factor.front();
+  if (coordinate >= at.back()) return factor.back();
+  const auto k = static_cast<std::size_t>(std::upper_bound(at.begin(), at.end(), coordinate) - at.begin());
+  const double t = (coordinate - at[k - 1]) / (at[k] - at[k - 1]);
+  return factor[k - 1] + t * (factor[k] - factor[k - 1]);
+}
+
+ProfileTable read_profile_table(const std::string& path, int axis) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(fmt::format("cannot open the profile table {}", path));
+  ProfileTable t;
+  t.axis = axis;
+  std::string line;
+  bool header = false;
+  for (int n = 1; std::getline(in, line); ++n) {
+    line = line.substr(0, line.find('#'));
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream row(line);
+    double x = 0.0, f = 0.0;
+    std::string rest;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    if (!(row >> x >> f) || (row >> rest)) {
+      if (t.at.empty() && !header) {  // a header
+        header = true;
+        continue;
+      }
+      throw std::runtime_error(fmt::format("a row must be two numbers, coordinate and factor (line {} of {})", n, path));
+    }
+    if (!t.at.empty() && !(x > t.at.back()))
+      throw std::runtime_error(fmt::format("the coordinates must increase row to row (line {} of {})", n, path));
+    if (!std::isfinite(f)) throw std::runtime_error(fmt::format("the factor is not a number (line {} of {})", n, path));
+    t.at.push_back(x);
+    t.factor.push_back(f);
+  }
+  if (t.at.size() < 2) throw std::runtime_error(fmt::format("a profile table needs two rows at least ({})", path));
+  return t;
+}
+
 double BoundaryParams::profile_factor(int face, const double s[3], const config::Config& cfg) const {
+  if (profile == "table") {
+    const int a = table.axis;
+    return table(cfg.domain.lower[a] + s[a] * (cfg.domain.upper[a] - cfg.domain.lower[a]));
+  }
   if (profile != "parabolic") return 1.0;
   double f = 1.0;
   for (int a = 0; a < 3; ++a)
@@ -193,7 +261,11 @@ double BoundaryParams::profile_factor(int face, const double s[3], const config:
 
 BoundaryParams FluidParams::boundary(int face, const config::Config& cfg) const {
   const int axis = face / 2;
-  if (cfg.domain.periodic[axis]) return BoundaryParams{"periodic", {}, 0.0, "auto", "", "uniform"};
+  if (cfg.domain.periodic[axis]) {
+    BoundaryParams periodic;
+    periodic.type = "periodic";
+    return periodic;
+  }
   auto it = boundaries.find(face_names()[face]);
   return it == boundaries.end() ? BoundaryParams{} : it->second;
 }

@@ -15,6 +15,20 @@ namespace coflow::fluid {
 
 using config::Vec3;
 
+// A velocity face's tabulated profile (profile: table): the factor on the
+// face's value at rows of the coordinate along one axis, linear between rows
+// and the end rows' factor beyond them.
+struct ProfileTable {
+  int axis = -1;  // 0, 1, 2; -1: no table
+  std::vector<double> at, factor;
+  double operator()(double coordinate) const;
+};
+// Rows "coordinate, factor" (comma or blanks between; '#' starts a comment;
+// a line that is not numbers before the first row is a header); throws "what is wrong
+// (line N of file)" for a row that is not two numbers, coordinates that do not
+// increase, or fewer than two rows.
+ProfileTable read_profile_table(const std::string& path, int axis);
+
 // One face of the box: x-, x+, y-, y+, z-, z+.
 struct BoundaryParams {
   std::string type = "wall";  // wall | pressure | velocity | outflow | symmetry
@@ -22,11 +36,15 @@ struct BoundaryParams {
   double ramp = 0.0;          // s: the value rises linearly from zero over this time
   std::string closure = "auto";  // lbm: regularized | zou-he | auto (the type's default)
   std::string phase;             // two-phase: red | blue enters here; "": the colour of the face's cell
-  std::string profile = "uniform";  // velocity faces: uniform | parabolic
+  std::string profile = "uniform";  // velocity faces: uniform | parabolic | table
+  config::FilePath profile_file;    // table: its rows
+  std::string profile_axis = "y";   // table: the axis of its coordinate
+  ProfileTable table;               // table: read from profile_file
   void visit(config::Visitor& v);
-  // The profile's factor at a point of the face: 1 (uniform), or the product
+  // The profile's factor at a point of the face: 1 (uniform), the product
   // over the face's other axes that end in faces (not periodic, more than one
-  // cell) of 4 s (1 - s), s the point's fraction of the box along that axis.
+  // cell) of 4 s (1 - s), s the point's fraction of the box along that axis
+  // (parabolic), or the table at the point's coordinate along its axis.
   double profile_factor(int face, const double s[3], const config::Config& cfg) const;
 };
 

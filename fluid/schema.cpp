@@ -295,7 +295,7 @@ config::ComponentSchema schema() {
                                                    info.variant));
         else if (b.profile != "uniform")
           v.fail("boundaries." + face + ".profile",
-                 fmt::format("solver {} takes uniform velocity faces only (fv takes parabolic ones)", info.variant));
+                 fmt::format("solver {} takes uniform velocity faces only (fv takes parabolic and table ones)", info.variant));
       }
     if (v.reading() && info.variant.rfind("lbm", 0) != 0) {
       if (p.two_phase.on) v.fail("two_phase", fmt::format("solver {} has one fluid; two_phase needs solver: lbm", info.variant));

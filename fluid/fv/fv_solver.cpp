@@ -57,6 +57,7 @@ FvSolver::FvSolver(const Setup& s, const Params& p)
       for (int e = 0; e < 3; ++e)
         face.shaped[static_cast<std::size_t>(e)] =
             b.profile == "parabolic" && e != a && !periodic_[static_cast<std::size_t>(e)];
+      if (b.profile == "table") face.table = b.table;
     } else {
       face.kind = Face::open;
       face.convective = b.type == "outflow";

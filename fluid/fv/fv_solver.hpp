@@ -80,6 +80,7 @@ class FvSolver final : public FluidSolver {
     bool convective = false;       // an outflow face: du/dt + U du/dn = 0
     bool wall = false;             // a dirichlet face with no normal velocity (a wall, moving or not)
     std::array<bool, 3> shaped{};  // a parabolic velocity face: the axes its profile spans
+    ProfileTable table;            // a tabulated velocity face (table.axis >= 0)
     Vec3 velocity_at(double t) const;
     double pressure_at(double t) const;
   };

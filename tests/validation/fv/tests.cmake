@@ -82,6 +82,14 @@ coflow_validation(fv_vs_reference_inlet compare fv_channel_inlet.yaml 1
   "fluid.solver=fv ${fv_inlet_sets}" "fluid.solver=fv-reference ${fv_inlet_sets}")
 coflow_validation(fv_ranks_1_vs_2_inlet compare fv_channel_inlet.yaml 2
   "fluid.ranks=1 ${fv_inlet_sets}" "fluid.ranks=2 fluid.decomposition=[1,2,1] ${fv_inlet_sets}")
+# The same inlet as a table of the parabola at the cells' centres (profile:
+# table): Poiseuille flow again, and the tabulated face read alike by fv and
+# fv-reference.
+set(fv_inlet_table "fluid.boundaries.x-.profile=table fluid.boundaries.x-.profile_file=profiles/channel_parabola_32.csv")
+coflow_validation(fv_channel_inlet_table profile fv_channel_inlet.yaml 1
+  --set fluid.boundaries.x-.profile=table --set fluid.boundaries.x-.profile_file=profiles/channel_parabola_32.csv)
+coflow_validation(fv_vs_reference_inlet_table compare fv_channel_inlet.yaml 1
+  "fluid.solver=fv ${fv_inlet_sets} ${fv_inlet_table}" "fluid.solver=fv-reference ${fv_inlet_sets} ${fv_inlet_table}")
 # k-epsilon with the two-layer wall model (issue 22): decaying homogeneous
 # turbulence against the model's exact solution (and with C_e2 changed), the
 # decay behind a grid (seed 003 §5.4's carrier flow) against the model's exact

@@ -235,7 +235,8 @@ ProfileTable read_profile_table(const std::string& path, int axis) {
         header = true;
         continue;
       }
-      throw std::runtime_error(fmt::format("a row must be two numbers, coordinate and factor (line {} of {})", n, path));
+      throw std::runtime_error(
+          fmt::format("a row must be two numbers, coordinate and factor (line {} of {})", n, path));
     }
     if (!t.at.empty() && !(x > t.at.back()))
       throw std::runtime_error(fmt::format("the coordinates must increase row to row (line {} of {})", n, path));

@@ -74,23 +74,37 @@ FvSolver::FvSolver(const Setup& s, const Params& p)
   rhs_.assign(owned, 0.0);
   x_.assign(owned, 0.0);
   const std::array<bool, 3> per{periodic_[0], periodic_[1], periodic_[2]};
-  if (p_.multigrid == "geometric" &&
-      fv::PoissonMultigrid::suits(s.decomposition, std::array<double, 3>{h_[0], h_[1], h_[2]})) {
-    std::array<bool, 6> open{};
-    for (std::size_t f = 0; f < 6; ++f) open[f] = faces_[f].kind == Face::open;
-    poisson_mg_ = std::make_unique<fv::PoissonMultigrid>(
-        s.decomposition, s.rank, comm_, std::array<double, 3>{h_[0], h_[1], h_[2]}, open,
-        fv::PoissonMultigrid::Options{p_.tolerance, p_.max_iterations, 3, "pressure Poisson solve"});
-  } else {
-    poisson_ = std::make_unique<fv::StructSystem>(comm_, blk_.owned, cells_, per,
-                                                  solver_options(p_, "pressure Poisson solve"));
-  }
+  make_poisson(s.decomposition, per);
   for (int c = 0; c < dims_; ++c)
     viscous_[static_cast<std::size_t>(c)] = std::make_unique<fv::StructSystem>(
         comm_, blk_.owned, cells_, per, solver_options(p_, fmt::format("viscous solve of u_{}", "xyz"[c])));
   set_poisson();
   initialise();
   init_turbulence();
+}
+
+// The pressure Poisson's solver (fluid.fv.multigrid), named in the log.
+void FvSolver::make_poisson(const coupler::Decomposition& dec, const std::array<bool, 3>& per) {
+  const std::array<double, 3> h{h_[0], h_[1], h_[2]};
+  if (p_.multigrid == "geometric" && fv::PoissonMultigrid::suits(dec, h)) {
+    std::array<bool, 6> open{};
+    for (std::size_t f = 0; f < 6; ++f) open[f] = faces_[f].kind == Face::open;
+    const fv::PoissonMultigrid::Options opt{p_.tolerance, p_.max_iterations, 3, "pressure Poisson solve"};
+    poisson_mg_ = std::make_unique<fv::PoissonMultigrid>(dec, rank_, comm_, h, open, opt);
+    if (rank_ == 0)
+      log::info("fv: the pressure Poisson by conjugate gradients and the geometric multigrid ({} levels, the "
+                "coarsest by hypre's PFMG)",
+                poisson_mg_->levels());
+    return;
+  }
+  poisson_ = std::make_unique<fv::StructSystem>(comm_, blk_.owned, cells_, per,
+                                                solver_options(p_, "pressure Poisson solve"));
+  if (rank_ == 0)
+    log::info("fv: the pressure Poisson by hypre's conjugate gradients and {}{}",
+              p_.multigrid == "smg" ? "SMG" : "PFMG",
+              p_.multigrid == "geometric" ? " (the geometric multigrid needs every rank's block to halve along "
+                                            "each axis and cells of aspect ratio at most 2)"
+                                          : "");
 }
 
 // Where the time went, for the log: the share of the pressure Poisson and

@@ -132,6 +132,7 @@ class FvSolver final : public FluidSolver {
   void set_viscous(int c, double diag, double theta);
   // Projection (projection.cpp).
   double divergence_at(const Faces& u, long n) const;
+  void make_poisson(const coupler::Decomposition& dec, const std::array<bool, 3>& per);
   void set_poisson();
   void poisson_rhs(double factor, double t0, double t1, bool incremental);
   std::array<double, 2> guess_weights(double dt) const;

@@ -137,8 +137,8 @@ void residual(Level& L) {
   const long nx = L.blk.extent[0];
   for_rows(L, [&](long row, long, long) {
     for (long c = row; c < row + nx; ++c)
-      L.r[static_cast<std::size_t>(c)] = L.b[static_cast<std::size_t>(c)] - L.diag[static_cast<std::size_t>(c)] * x[c] +
-                                          neighbours<D>(L, x, c);
+      L.r[static_cast<std::size_t>(c)] = L.b[static_cast<std::size_t>(c)] -
+                                         L.diag[static_cast<std::size_t>(c)] * x[c] + neighbours<D>(L, x, c);
   });
   L.ex.exchange(L.r);
   mirror(L, L.r);
@@ -186,7 +186,8 @@ void prolong_add(Level& C, Level& F) {
           const long f = F.blk.idx(2 * I, 2 * J + cy, D == 3 ? 2 * K + cz : 0);
           for (int cx = 0; cx < 2; ++cx) {
             const long ox = cx ? 1 : -1;
-            double v = 0.75 * (0.75 * xc[c] + 0.25 * xc[c + oy]) + 0.25 * (0.75 * xc[c + ox] + 0.25 * xc[c + ox + oy]);
+            double v = 0.75 * (0.75 * xc[c] + 0.25 * xc[c + oy]) +
+                       0.25 * (0.75 * xc[c + ox] + 0.25 * xc[c + ox + oy]);
             if constexpr (D == 3) {
               const double w = 0.75 * (0.75 * xc[c + oz] + 0.25 * xc[c + oz + oy]) +
                                0.25 * (0.75 * xc[c + oz + ox] + 0.25 * xc[c + oz + ox + oy]);
@@ -227,7 +228,8 @@ double dot(const Level& L, const std::vector<double>& a, const std::vector<doubl
   double s = 0.0;
   const long nx = L.blk.extent[0];
   for_rows(L, [&](long row, long, long) {
-    for (long c = row; c < row + nx; ++c) s += a[static_cast<std::size_t>(c)] * b[static_cast<std::size_t>(c)];
+    for (long c = row; c < row + nx; ++c)
+      s += a[static_cast<std::size_t>(c)] * b[static_cast<std::size_t>(c)];
   });
   MPI_Allreduce(MPI_IN_PLACE, &s, 1, MPI_DOUBLE, MPI_SUM, comm);
   return s;
@@ -250,9 +252,11 @@ bool PoissonMultigrid::suits(const coupler::Decomposition& dec, const std::array
 }
 
 PoissonMultigrid::PoissonMultigrid(const coupler::Decomposition& dec, int rank, MPI_Comm comm,
-                                   const std::array<double, 3>& h, const std::array<bool, 6>& open, Options opt)
+                                   const std::array<double, 3>& h, const std::array<bool, 6>& open,
+                                   Options opt)
     : opt_(std::move(opt)), comm_(comm), dims_(dec.cells()[2] == 1 ? 2 : 3) {
-  if (!suits(dec, h)) throw std::logic_error("PoissonMultigrid: the grid does not suit it (PoissonMultigrid::suits)");
+  if (!suits(dec, h))
+    throw std::logic_error("PoissonMultigrid: the grid does not suit it (PoissonMultigrid::suits)");
   std::array<double, 3> hl = h;
   coupler::Decomposition d = dec, coarse;
   for (;;) {
@@ -269,8 +273,9 @@ PoissonMultigrid::PoissonMultigrid(const coupler::Decomposition& dec, int rank, 
     if (dec.cells()[a] > 1 && !dec.periodic()[a] && (open[2 * a] || open[2 * a + 1])) singular_ = false;
   std::array<bool, 3> per{};
   for (int a = 0; a < 3; ++a) per[static_cast<std::size_t>(a)] = L.dec.periodic()[a] || L.dec.cells()[a] == 1;
-  coarsest_ = std::make_unique<StructSystem>(comm, L.blk.owned, L.dec.cells(), per,
-                                             StructSystem::Options{"pfmg", 0.0, 1, opt_.name + " (coarsest level)"});
+  coarsest_ =
+      std::make_unique<StructSystem>(comm, L.blk.owned, L.dec.cells(), per,
+                                     StructSystem::Options{"pfmg", 0.0, 1, opt_.name + " (coarsest level)"});
   StructSystem::Rows m(static_cast<std::size_t>(L.blk.owned_cells()));
   long o = 0;
   for_rows(L, [&](long row, long j, long k) {
@@ -353,7 +358,8 @@ double PoissonMultigrid::apply(std::vector<double>& v) {
   for_rows(L, [&](long row, long, long) {
     for (long c = row; c < row + nx; ++c) {
       const auto C = static_cast<std::size_t>(c);
-      ap_[C] = L.diag[C] * v[C] - (dims_ == 3 ? neighbours<3>(L, v.data(), c) : neighbours<2>(L, v.data(), c));
+      ap_[C] =
+          L.diag[C] * v[C] - (dims_ == 3 ? neighbours<3>(L, v.data(), c) : neighbours<2>(L, v.data(), c));
       s += v[C] * ap_[C];
     }
   });
@@ -379,7 +385,8 @@ void PoissonMultigrid::solve(std::span<const double> b, std::span<double> x) {
   if (bb == 0.0) std::fill(x_.begin(), x_.end(), 0.0);  // as hypre's PCG: x = 0 for b = 0
   apply(x_);
   for_rows(L, [&](long row, long, long) {
-    for (long c = row; c < row + nx; ++c) r[static_cast<std::size_t>(c)] = b_[static_cast<std::size_t>(c)] - ap_[static_cast<std::size_t>(c)];
+    for (long c = row; c < row + nx; ++c)
+      r[static_cast<std::size_t>(c)] = b_[static_cast<std::size_t>(c)] - ap_[static_cast<std::size_t>(c)];
   });
   double rr = dot(L, r, r, comm_);
   const double target = std::max(opt_.tolerance * opt_.tolerance * bb, floor_ * floor_);

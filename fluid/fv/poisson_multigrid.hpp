@@ -78,7 +78,7 @@ class PoissonMultigrid {
   std::vector<std::unique_ptr<Level>> levels_;
   std::unique_ptr<StructSystem> coarsest_;
   std::vector<double> coarse_b_, coarse_x_;  // the coarsest level's owned cells
-  std::vector<double> b_, x_, p_, ap_;  // conjugate gradients (padded as the finest level)
+  std::vector<double> b_, x_, p_, ap_;       // conjugate gradients (padded as the finest level)
   int iterations_ = 0;
   double residual_ = 0.0, floor_ = 0.0;
 };

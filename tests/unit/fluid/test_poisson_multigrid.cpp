@@ -4,10 +4,9 @@
 // solvers' tolerance, the preconditioned iterations do not grow with the grid
 // (O(N) per solve), and the residual of the solution, recomputed here, is
 // below the tolerance. Runs on any rank count (`unit` 1 rank, `unit.mpi` 4).
-#include <catch2/catch.hpp>
-
 #include <mpi.h>
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
 
@@ -92,7 +91,8 @@ Outcome compare(const Problem& pb) {
   const double cells = static_cast<double>(pb.cells[0] * pb.cells[1] * pb.cells[2]);
   double norms[2] = {0.0, 0.0};
   for (std::size_t c = 0; c < x.size(); ++c) {
-    const double a = x[c] - (any_open ? 0.0 : mean[0] / cells), r = x_ref[c] - (any_open ? 0.0 : mean[1] / cells);
+    const double a = x[c] - (any_open ? 0.0 : mean[0] / cells),
+                 r = x_ref[c] - (any_open ? 0.0 : mean[1] / cells);
     norms[0] += (a - r) * (a - r);
     norms[1] += r * r;
   }
@@ -112,12 +112,12 @@ TEST_CASE("poisson multigrid: equals hypre's PCG + PFMG, iterations flat with th
       CHECK(out.residual <= 1e-13);
       if (first == 0) first = out.iterations;
       CHECK(out.iterations <= first + 2);  // O(N): no growth with the grid
-      CHECK(out.iterations <= 20);  // 16 on 1 rank, 18 on 4 (to 1e-13)
+      CHECK(out.iterations <= 20);         // 16 on 1 rank, 18 on 4 (to 1e-13)
     }
   }
   SECTION("3D, an open face, a periodic axis, stretched cells") {
-    const Outcome out =
-        compare({{32, 16, 24}, {false, true, false}, {false, true, false, false, false, false}, {0.02, 0.03, 0.025}});
+    const Outcome out = compare(
+        {{32, 16, 24}, {false, true, false}, {false, true, false, false, false, false}, {0.02, 0.03, 0.025}});
     INFO("iterations " << out.iterations << " difference " << out.difference);
     CHECK(out.difference <= 1e-10);
     CHECK(out.iterations <= 25);  // 21 (point smoothing on cells of aspect 1.5)
@@ -139,8 +139,8 @@ TEST_CASE("poisson multigrid: equals hypre's PCG + PFMG, iterations flat with th
     CHECK(out.iterations <= 20);  // 17
   }
   SECTION("2D, open faces on two sides") {
-    const Outcome out =
-        compare({{64, 48, 1}, {false, false, false}, {true, false, false, true, false, false}, {0.01, 0.01, 1.0}});
+    const Outcome out = compare(
+        {{64, 48, 1}, {false, false, false}, {true, false, false, true, false, false}, {0.01, 0.01, 1.0}});
     INFO("iterations " << out.iterations << " difference " << out.difference);
     CHECK(out.difference <= 1e-10);
     CHECK(out.iterations <= 16);  // 14 and 15
@@ -170,7 +170,8 @@ std::vector<double> global_solution(const Problem& pb, MPI_Comm comm, int& level
   std::size_t o = 0;
   for (long k = box.lo[2]; k < box.hi[2]; ++k)
     for (long j = box.lo[1]; j < box.hi[1]; ++j)
-      for (long i = box.lo[0]; i < box.hi[0]; ++i) all[static_cast<std::size_t>((k * pb.cells[1] + j) * pb.cells[0] + i)] = x[o++];
+      for (long i = box.lo[0]; i < box.hi[0]; ++i)
+        all[static_cast<std::size_t>((k * pb.cells[1] + j) * pb.cells[0] + i)] = x[o++];
   MPI_Allreduce(MPI_IN_PLACE, all.data(), static_cast<int>(n), MPI_DOUBLE, MPI_SUM, comm);
   return all;
 }
@@ -181,7 +182,8 @@ std::vector<double> global_solution(const Problem& pb, MPI_Comm comm, int& level
 // often as it does (3 times here: 4 blocks of 16 x 16 x 16), so 1 rank and N
 // ranks run the same iterations and differ by round-off.
 TEST_CASE("poisson multigrid: 1 rank equals N ranks", "[fv][mpi]") {
-  const Problem pb{{32, 32, 16}, {false, false, true}, {false, true, false, false, false, false}, {0.1, 0.1, 0.1}};
+  const Problem pb{
+      {32, 32, 16}, {false, false, true}, {false, true, false, false, false, false}, {0.1, 0.1, 0.1}};
   int levels_many = 0, levels_one = 0;
   const std::vector<double> many = global_solution(pb, MPI_COMM_WORLD, levels_many);
   int rank = 0;

@@ -2,7 +2,6 @@
 // linear between rows, the end rows' factor beyond them, comments and a
 // header skipped, and a bad file refused with the line at fault.
 #include <catch2/catch.hpp>
-
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -20,15 +19,16 @@ std::string write(const std::string& name, const std::string& text) {
 }  // namespace
 
 TEST_CASE("profile table: linear between rows, clamped beyond them", "[fluid]") {
-  const auto path = write("profile_ok.csv", "# u / U across a duct\ny, factor\n0.0, 0.0\n0.5 1.0  # blanks too\n\n2.0, 0.25\n");
+  const auto path = write("profile_ok.csv",
+                          "# u / U across a duct\ny, factor\n0.0, 0.0\n0.5 1.0  # blanks too\n\n2.0, 0.25\n");
   const auto t = read_profile_table(path, 1);
   CHECK(t.axis == 1);
   REQUIRE(t.at.size() == 3);
-  CHECK(t(0.25) == 0.5);          // halfway between the first two rows
-  CHECK(t(1.25) == 0.625);        // halfway between the last two
-  CHECK(t(0.5) == 1.0);           // on a row
-  CHECK(t(-1.0) == 0.0);          // before the first row: its factor
-  CHECK(t(3.0) == 0.25);          // after the last
+  CHECK(t(0.25) == 0.5);    // halfway between the first two rows
+  CHECK(t(1.25) == 0.625);  // halfway between the last two
+  CHECK(t(0.5) == 1.0);     // on a row
+  CHECK(t(-1.0) == 0.0);    // before the first row: its factor
+  CHECK(t(3.0) == 0.25);    // after the last
   std::remove(path.c_str());
 }
 
@@ -38,7 +38,8 @@ TEST_CASE("profile table: a bad file names the line at fault", "[fluid]") {
   const auto back = write("profile_back.csv", "0.0, 1.0\n1.0, 1.0\n0.5, 1.0\n");
   CHECK_THROWS_WITH(read_profile_table(back, 1), Catch::Contains("must increase row to row (line 3 of"));
   const auto three = write("profile_three.csv", "y, f\n0.0, 1.0, 2.0\n");
-  CHECK_THROWS_WITH(read_profile_table(three, 1), Catch::Contains("two numbers, coordinate and factor (line 2 of"));
+  CHECK_THROWS_WITH(read_profile_table(three, 1),
+                    Catch::Contains("two numbers, coordinate and factor (line 2 of"));
   CHECK_THROWS_WITH(read_profile_table("/nonexistent/profile.csv", 1), Catch::Contains("cannot open"));
   for (const auto& p : {one, back, three}) std::remove(p.c_str());
 }

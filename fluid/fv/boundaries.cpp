@@ -25,25 +25,16 @@ double FvSolver::Face::pressure_at(double t) const {
   return ramped(pressure, ramp, t);
 }
 
-// The factor of a parabolic or tabulated velocity face at component c's place
-// `x` (owned-relative; u_c sits on a c-face, the others at centres): 4 s (1 - s)
-// across each shaped axis, or the table at the place's coordinate along its
-// axis (BoundaryParams::profile_factor).
+// The velocity profile's factor at component c's place `x` (owned-relative;
+// u_c sits on a c-face, the others at centres): BoundaryParams::profile_factor
+// at the place's fractions of the box.
 double FvSolver::profile(int face, int c, const long* x) const {
   const Face& f = faces_[static_cast<std::size_t>(face)];
-  if (f.table.axis >= 0) {
-    const int e = f.table.axis;
-    return f.table(cfg_.domain.lower[e] +
-                   (static_cast<double>(blk_.owned.lo[e] + x[e]) + (e == c ? 0.0 : 0.5)) * h_[e]);
-  }
-  double factor = 1.0;
-  for (int e = 0; e < 3; ++e) {
-    if (!f.shaped[static_cast<std::size_t>(e)]) continue;
-    const double s = (static_cast<double>(blk_.owned.lo[e] + x[e]) + (e == c ? 0.0 : 0.5)) /
-                     static_cast<double>(cells_[e]);
-    factor *= 4 * s * (1 - s);
-  }
-  return factor;
+  if (!f.profiled) return 1.0;
+  double s[3];
+  for (int e = 0; e < 3; ++e)
+    s[e] = (static_cast<double>(blk_.owned.lo[e] + x[e]) + (e == c ? 0.0 : 0.5)) / static_cast<double>(cells_[e]);
+  return f.boundary.profile_factor(face, s, cfg_);
 }
 
 bool FvSolver::is_dirichlet_face(int c, long i) const {

@@ -54,10 +54,8 @@ FvSolver::FvSolver(const Setup& s, const Params& p)
       face.kind = Face::dirichlet;
       if (b.type == "velocity") face.velocity = {b.value.values[0], b.value.values[1], b.value.values[2]};
       face.wall = face.velocity[a] == 0.0;
-      for (int e = 0; e < 3; ++e)
-        face.shaped[static_cast<std::size_t>(e)] =
-            b.profile == "parabolic" && e != a && !periodic_[static_cast<std::size_t>(e)];
-      if (b.profile == "table") face.table = b.table;
+      face.profiled = b.profile != "uniform";
+      face.boundary = b;
     } else {
       face.kind = Face::open;
       face.convective = b.type == "outflow";

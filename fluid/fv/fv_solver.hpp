@@ -79,8 +79,8 @@ class FvSolver final : public FluidSolver {
     bool here = false;             // this rank's block touches it
     bool convective = false;       // an outflow face: du/dt + U du/dn = 0
     bool wall = false;             // a dirichlet face with no normal velocity (a wall, moving or not)
-    std::array<bool, 3> shaped{};  // a parabolic velocity face: the axes its profile spans
-    ProfileTable table;            // a tabulated velocity face (table.axis >= 0)
+    bool profiled = false;         // a velocity face with a profile (parabolic or table)
+    BoundaryParams boundary;       // its keys: the profile's factor (profile_factor)
     Vec3 velocity_at(double t) const;
     double pressure_at(double t) const;
   };

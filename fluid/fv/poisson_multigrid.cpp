@@ -1,7 +1,5 @@
 #include "fluid/fv/poisson_multigrid.hpp"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -421,10 +419,7 @@ void PoissonMultigrid::solve(std::span<const double> b, std::span<double> x) {
     for (long i = 0; i < nx; ++i, ++o) x[static_cast<std::size_t>(o)] = x_[static_cast<std::size_t>(row + i)];
   });
   if (!(rr <= target) && bb > 0.0)
-    throw std::runtime_error(fmt::format(
-        "fv: the {} did not converge: relative residual {:.3g} after {} iterations (tolerance {:.3g}); raise "
-        "fluid.fv.max_iterations or fluid.fv.tolerance, or lower fluid.fv.cfl if the flow is blowing up",
-        opt_.name, residual_, iterations_, opt_.tolerance));
+    throw std::runtime_error(not_converged(opt_.name, residual_, iterations_, opt_.tolerance));
 }
 
 }  // namespace coflow::fluid::fv

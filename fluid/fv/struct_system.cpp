@@ -167,10 +167,14 @@ void StructSystem::solve(std::span<const double> b, std::span<double> x) {
   HYPRE_ClearAllErrors();  // non-convergence is judged below, by the residual
   HYPRE_StructVectorGetBoxValues(h_->x, h_->lo, h_->hi, x.data());
   if (!(residual_ <= opt_.tolerance) && it >= opt_.max_iterations)
-    throw std::runtime_error(fmt::format(
-        "fv: the {} did not converge: relative residual {:.3g} after {} iterations (tolerance {:.3g}); raise "
-        "fluid.fv.max_iterations or fluid.fv.tolerance, or lower fluid.fv.cfl if the flow is blowing up",
-        opt_.name, residual_, it, opt_.tolerance));
+    throw std::runtime_error(not_converged(opt_.name, residual_, it, opt_.tolerance));
+}
+
+std::string not_converged(const std::string& name, double residual, long iterations, double tolerance) {
+  return fmt::format(
+      "fv: the {} did not converge: relative residual {:.3g} after {} iterations (tolerance {:.3g}); raise "
+      "fluid.fv.max_iterations or fluid.fv.tolerance, or lower fluid.fv.cfl if the flow is blowing up",
+      name, residual, iterations, tolerance);
 }
 
 void StructSystem::cycle(std::span<const double> b, std::span<double> x) {

@@ -92,4 +92,7 @@ class StructSystem {
   double floor_ = 0.0;
 };
 
+// The message of a linear solve of fv that stopped short of its tolerance.
+std::string not_converged(const std::string& name, double residual, long iterations, double tolerance);
+
 }  // namespace coflow::fluid::fv

@@ -35,9 +35,7 @@ FvReference::FvReference(const Setup& s, const Params& p)
                 : (b.type == "wall" || b.type == "velocity") ? Kind::wall
                                                              : Kind::open;
     if (b.type == "velocity") side.velocity = {b.value.values[0], b.value.values[1], b.value.values[2]};
-    for (int e = 0; e < 3; ++e)
-      side.shaped[e] = b.profile == "parabolic" && e != f / 2 && !d.periodic[e] && n_[e] > 1;
-    if (b.profile == "table") side.table = b.table;
+    side.boundary = b;
     if (b.type == "pressure") side.pressure = b.value.values[0];
     side.pressure_face = b.type == "pressure";
     has_open_ = has_open_ || side.kind == Kind::open;
@@ -79,20 +77,13 @@ double FvReference::side_pressure(int face, double t) const {
   return s.ramp > 0 ? s.pressure * std::min(1.0, t / s.ramp) : s.pressure;
 }
 
-// A parabolic velocity face's factor at u_c's place x (a c-face; the other
-// components at centres): 4 s (1 - s) across each axis the profile spans; a
-// tabulated one's: the table at the place's coordinate along its axis.
+// A velocity face's profile factor at u_c's place x (a c-face; the other
+// components at centres): BoundaryParams::profile_factor at its fractions of
+// the box.
 double FvReference::profile(int face, int c, const long* x) const {
-  const ProfileTable& t = sides_[face].table;
-  if (t.axis >= 0)
-    return t(cfg_.domain.lower[t.axis] + (static_cast<double>(x[t.axis]) + (t.axis == c ? 0.0 : 0.5)) * h_[t.axis]);
-  double factor = 1.0;
-  for (int e = 0; e < 3; ++e) {
-    if (!sides_[face].shaped[e]) continue;
-    const double s = (static_cast<double>(x[e]) + (e == c ? 0.0 : 0.5)) / static_cast<double>(n_[e]);
-    factor *= 4 * s * (1 - s);
-  }
-  return factor;
+  double s[3];
+  for (int e = 0; e < 3; ++e) s[e] = (static_cast<double>(x[e]) + (e == c ? 0.0 : 0.5)) / static_cast<double>(n_[e]);
+  return sides_[face].boundary.profile_factor(face, s, cfg_);
 }
 
 // Faces on the domain's boundary along a non-periodic axis are not unknowns.

@@ -52,8 +52,7 @@ class FvReference final : public FluidSolver {
     Kind kind = Kind::periodic;
     Vec3 velocity{0, 0, 0};
     double pressure = 0.0, ramp = 0.0;
-    bool shaped[3] = {false, false, false};  // a parabolic velocity face: the axes its profile spans
-    ProfileTable table;                      // a tabulated velocity face (table.axis >= 0)
+    BoundaryParams boundary;                 // its keys: a velocity face's profile (profile_factor)
     bool pressure_face = false;              // open: a pressure face (else an outflow face)
   };
 

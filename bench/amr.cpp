@@ -26,8 +26,8 @@
 // scripts/plot_amr.py draws them).
 #include <fmt/format.h>
 #include <mpi.h>
-
 #include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
 #include <chrono>
 #include <cmath>
@@ -39,12 +39,11 @@
 #include <string>
 #include <vector>
 
-#include <yaml-cpp/yaml.h>
-
-#include "text_file.hpp"
+#include "bench_args.hpp"
 #include "fluid/fv/amr/composite_flow.hpp"
 #include "fluid/fv/amr/composite_output.hpp"
 #include "fluid/fv/amr/refinement_criteria.hpp"
+#include "text_file.hpp"
 
 using namespace coflow::fluid::fv::amr;
 
@@ -194,25 +193,21 @@ int main(int argc, char** argv) {
   // The launcher beside this program (build/bin); the configs two levels up,
   // or where --configs DIR says.
   const auto bin = std::filesystem::canonical("/proc/self/exe").parent_path();
-  std::filesystem::path configs = bin.parent_path().parent_path() / "configs";
-  for (int i = 1; i + 1 < argc; ++i)
-    if (std::string(argv[i]) == "--configs") configs = argv[i + 1];
-  const auto config = configs / "validation" / "ibm_cylinder_amr.yaml";
+  std::string configs = (bin.parent_path().parent_path() / "configs").string();
+  int steps = 500;
+  std::string out_dir;
+  CLI::App app{"bench-amr: fv's adaptive grid against its uniform finest grid (see bench/amr.cpp)"};
+  app.add_option("steps", steps, "steps of the jet")->check(CLI::Range(1, 100000000))->capture_default_str();
+  app.add_option("--out", out_dir, "write the jet's cells and last states here");
+  app.add_option("--configs", configs, "the configs directory")
+      ->check(CLI::ExistingDirectory)
+      ->capture_default_str();
+  coflow::bench::parse_args(app, argc, argv);
+  const auto config = std::filesystem::path(configs) / "validation" / "ibm_cylinder_amr.yaml";
   const std::string cylinder_report = std::filesystem::exists(config)
                                           ? cylinder(bin, config)
                                           : fmt::format("(b) cylinder: {} not found\n", config.string());
   MPI_Init(&argc, &argv);
-  int steps = 500;
-  std::string out_dir;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--out" && i + 1 < argc)
-      out_dir = argv[++i];
-    else if (a == "--configs" && i + 1 < argc)
-      ++i;  // read above
-    else
-      steps = std::atoi(argv[i]);
-  }
   if (!out_dir.empty()) std::filesystem::create_directories(out_dir);
   const auto uniform = run(false, steps, out_dir);
   const auto amr = run(true, steps, out_dir);

@@ -19,16 +19,17 @@
 //     averaged over the ranks) is printed separately.
 //
 // Last line: RESULT quickstart_ratio=... e2_waiting_pct=... sand_immersed_pct=... coupling_pct=...
-#include <algorithm>
-#include <cstdio>
-#include <vector>
-#include <cstdlib>
-#include <filesystem>
-#include <string>
-
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bench_args.hpp"
 #include "bench_util.hpp"
 
 namespace {
@@ -88,7 +89,12 @@ void print(const char* name, const Split& s) {
 
 int main(int argc, char** argv) {
   try {
-    const std::string configs = argc > 1 ? argv[1] : "configs";
+    std::string configs = "configs";
+    CLI::App app{"bench-coupled: a coupled run against its fluid alone (see bench/coupled.cpp)"};
+    app.add_option("configs", configs, "the configs directory")
+        ->check(CLI::ExistingDirectory)
+        ->capture_default_str();
+    coflow::bench::parse_args(app, argc, argv);
     const std::string coflow = launcher(argv[0]);
     const auto tmp = std::filesystem::temp_directory_path();
     const std::string qs = configs + "/quickstart.yaml", qs_out = (tmp / "coflow-bench-quickstart").string();

@@ -20,6 +20,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_args.hpp"
 #include "bench_util.hpp"
 #include "coflow/exchange.hpp"
 #include "coflow/trace.hpp"
@@ -70,12 +71,20 @@ double peak_mib() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  long n = 128;
+  int repeats = 20;
+  CLI::App app{"bench-coupler-exchange: the coupler's field exchange (see bench/coupler_exchange.cpp)"};
+  app.add_option("cells", n, "cells along each axis of the cube")
+      ->check(CLI::Range(2L, 4096L))
+      ->capture_default_str();
+  app.add_option("repeats", repeats, "timed exchanges")
+      ->check(CLI::Range(1, 100000000))
+      ->capture_default_str();
+  coflow::bench::parse_args(app, argc, argv);
   MPI_Init(&argc, &argv);
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
-  const long n = argc > 1 ? std::atol(argv[1]) : 128;
-  const int repeats = argc > 2 ? std::atoi(argv[2]) : 20;
   const Index3 cells{n, n, n};
   const int nc = 3;
 

@@ -12,7 +12,9 @@
 //     gravity onto its floor; coflow only.
 //
 // Last line: RESULT coflow_psps=... liggghts_psps=... ratio=... (case a).
+#include <fmt/format.h>
 #include <mpi.h>
+#include <unistd.h>
 
 #include <array>
 #include <chrono>
@@ -26,10 +28,7 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
-#include <fmt/format.h>
-
+#include "bench_args.hpp"
 #include "coflow/catalog.hpp"
 #include "coflow/log.hpp"
 #include "coflow/output.hpp"
@@ -124,9 +123,14 @@ run {steps}
 }  // namespace
 
 int main(int argc, char** argv) {
+  long steps = 1000;
+  CLI::App app{"bench-dem: soft-sphere DEM against LIGGGHTS (see bench/dem.cpp)"};
+  app.add_option("steps", steps, "timed steps per case")
+      ->check(CLI::Range(1, 100000000))
+      ->capture_default_str();
+  coflow::bench::parse_args(app, argc, argv);
   MPI_Init(&argc, &argv);
   log::init("bench", 1);  // rank 1: warnings only
-  const long steps = argc > 1 ? std::atol(argv[1]) : 1000;
   const double L = kSide * kSpacing;
 
   // (a) dense lattice: the overlapping spheres are written as a coflow particle

@@ -14,6 +14,7 @@
 //     with every triangle (on a subset of the particles, scaled), and the
 //     events both find (they must be the same).
 // Last line: RESULT psps_collisions=... psps_free=... detection_speedup=... mesh_speedup=...
+#include <fmt/format.h>
 #include <mpi.h>
 
 #include <cmath>
@@ -22,8 +23,7 @@
 #include <filesystem>
 #include <numbers>
 
-#include <fmt/format.h>
-
+#include "bench_args.hpp"
 #include "coflow/catalog.hpp"
 #include "coflow/log.hpp"
 #include "coflow/trace.hpp"
@@ -142,9 +142,14 @@ double mesh_speedup() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  int steps = 50;
+  CLI::App app{"bench-dpm: point-particle throughput (see bench/dpm.cpp)"};
+  app.add_option("steps", steps, "timed steps per case")
+      ->check(CLI::Range(1, 100000000))
+      ->capture_default_str();
+  coflow::bench::parse_args(app, argc, argv);
   MPI_Init(&argc, &argv);
   log::init("bench", 1);  // warnings only
-  const int steps = argc > 1 ? std::atoi(argv[1]) : 50;
   auto on = make_gas(100000, true);
   const double with = psps(*on->solver, steps);
   const long collisions = on->solver->stats().collisions;

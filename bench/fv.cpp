@@ -38,6 +38,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_args.hpp"
 #include "coflow/catalog.hpp"
 #include "coflow/log.hpp"
 #include "fluid/driver.hpp"
@@ -311,20 +312,18 @@ void report_channel(int nx, int ny, long steps, double& ratio_laminar, double& r
 }  // namespace
 
 int main(int argc, char** argv) {
-  MPI_Init(&argc, &argv);
-  log::init("bench", 1);  // rank 1: warnings only
   long steps = 20;
   bool quick = false, channel_only = false, cavity_only = false;
-  for (int a = 1; a < argc; ++a) {
-    if (std::string(argv[a]) == "--quick")
-      quick = true;
-    else if (std::string(argv[a]) == "--channel")
-      channel_only = true;
-    else if (std::string(argv[a]) == "--cavity")
-      cavity_only = true;
-    else
-      steps = std::atol(argv[a]);
-  }
+  CLI::App app{"bench-fv: the fv fluid against OpenFOAM (see bench/fv.cpp)"};
+  app.add_option("steps", steps, "warm-up steps, then as many timed")
+      ->check(CLI::Range(1, 100000000))
+      ->capture_default_str();
+  app.add_flag("--quick", quick, "the smaller grids only (2D to 256^2, 3D 64^3, the first channel)");
+  auto* channel = app.add_flag("--channel", channel_only, "(c) the k-epsilon channel alone");
+  app.add_flag("--cavity", cavity_only, "(a) and (b) the cavities alone")->excludes(channel);
+  coflow::bench::parse_args(app, argc, argv);
+  MPI_Init(&argc, &argv);
+  log::init("bench", 1);  // rank 1: warnings only
   std::printf("bench-fv: 1 rank, lid-driven cavity Re 1000, %ld warm-up + %ld timed steps per case\n", steps,
               steps);
   Result fv;

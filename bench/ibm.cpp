@@ -17,6 +17,9 @@
 //
 // Last line: RESULT markers=... iterations=... ibm_pct=... exchange_pct=... (fixed)
 // moving_ibm_pct=... moving_exchange_pct=...
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -25,9 +28,7 @@
 #include <sstream>
 #include <string>
 
-#include <fmt/format.h>
-#include <yaml-cpp/yaml.h>
-
+#include "bench_args.hpp"
 #include "text_file.hpp"
 
 namespace {
@@ -104,8 +105,15 @@ Figures run(const std::string& coflow, int cells, const std::string& plate, bool
 
 int main(int argc, char** argv) {
   try {
-    const int cells = argc > 1 ? std::atoi(argv[1]) : 128;
-    const std::string plate = std::filesystem::absolute(argc > 2 ? argv[2] : "configs/cases/geometry/jet_plate.stl");
+    int cells = 128;
+    std::string plate_file = "configs/cases/geometry/jet_plate.stl";
+    CLI::App app{"bench-ibm: the immersed boundary's cost in a coupled run (see bench/ibm.cpp)"};
+    app.add_option("cells", cells, "fv cells along each axis")
+        ->check(CLI::Range(8, 1024))
+        ->capture_default_str();
+    app.add_option("plate", plate_file, "the plate's STL")->check(CLI::ExistingFile)->capture_default_str();
+    coflow::bench::parse_args(app, argc, argv);
+    const std::string plate = std::filesystem::absolute(plate_file);
     const std::string coflow = (std::filesystem::absolute(argv[0]).parent_path() / "coflow").string();
     std::printf("bench-ibm: the jet plate (%s) in %d^3 fv cells, 5 windows of 2 ms\n", plate.c_str(), cells);
     const Figures fixed = run(coflow, cells, plate, false), moving = run(coflow, cells, plate, true);

@@ -33,17 +33,17 @@
 #include <immintrin.h>
 #endif
 
-#include "bench_util.hpp"
-#include "coflow/memory.hpp"
-
 #include <fmt/format.h>
 
+#include "bench_args.hpp"
+#include "bench_util.hpp"
 #include "coflow/catalog.hpp"
 #include "coflow/log.hpp"
+#include "coflow/memory.hpp"
 #include "coflow/trace.hpp"
-#include "fluid/lbm/lattice.hpp"
 #include "fluid/driver.hpp"
 #include "fluid/fluid_solver.hpp"
+#include "fluid/lbm/lattice.hpp"
 #include "fluid/schema.hpp"
 
 using namespace coflow;
@@ -268,9 +268,15 @@ void two_ranks(int steps, Copy& copy) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  int steps = 10;
+  CLI::App app{
+      "bench-lbm: the lbm kernels' MLUPS against this machine's memory roofline (see bench/lbm.cpp)"};
+  app.add_option("steps", steps, "timed steps per case")
+      ->check(CLI::Range(1, 100000000))
+      ->capture_default_str();
+  coflow::bench::parse_args(app, argc, argv);
   MPI_Init(&argc, &argv);
   log::init("bench", 1);  // rank 1: warnings only
-  const int steps = argc > 1 ? std::atoi(argv[1]) : 10;
   Copy copy;
   int size = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &size);

@@ -4,6 +4,7 @@
 // permeabilities, each colour's mass, and the permeability of a voxelised
 // sphere array.
 #include "../check/check.hpp"
+#include "capillary_bridge.hpp"
 
 namespace coflow::check {
 
@@ -329,20 +330,35 @@ int grain_interface(const std::string& dir) {
   return 0;
 }
 
+// The red volume of the last fluid snapshot, in cells: sum of (1 + phase)/2
+// times the fluid share (1 - solid_fraction; interior solids 0).
+double red_volume_cells(const std::string& dir) {
+  const std::string f = last_snapshot(dir);
+  const auto phase = output::read_dataset(f, "phase"), solid = output::read_dataset(f, "solid_fraction");
+  double v = 0.0;
+  for (std::size_t c = 0; c < phase.size(); ++c) v += 0.5 * (1.0 + phase[c]) * (1.0 - solid.at(c));
+  return v;
+}
+
 // A capillary bridge between a fixed grain (the first particle) and a
-// sphere touching it on its -x side: the grain's force along x in
-// series/immersed.csv, averaged over the last quarter of the run, against
-// the small-bridge limit -2 pi R gamma cos(theta) (the bridge pulls the
-// spheres together; the limit of a shrinking bridge, Willett et al. 2000).
+// sphere of the same radius touching it on its -x side: the grain's force
+// along x in series/immersed.csv, averaged over the last quarter of the run,
+// against the exact bridge of the run's red volume between touching spheres
+// at the contact angle (capillary_bridge.hpp: Young-Laplace's meridian; it
+// tends to the small-bridge limit 2 pi R gamma cos(theta) of Willett et al.
+// 2000 as the volume goes to 0; the bridge pulls the spheres together, so
+// the grain's force is -F). Also printed: the force over that limit.
 int bridge(const std::string& dir) {
   const auto cfg = load(dir);
   const auto fp = fluid_params(cfg);
+  const double dx = cfg.domain.spacing()[0], gamma = fp.two_phase.surface_tension;
   const YAML::Node part = cfg.resolved["particles"];
   const YAML::Node grain = part["initial"][0]["single"];
   const YAML::Node species = part["species"][grain["species"].as<std::string>()];
   const double R = 0.5 * species["diameter"].as<double>();
   double theta = species["contact_angle"].as<double>();
   if (theta < 0.0) theta = fp.two_phase.contact_angle;
+  theta *= std::numbers::pi / 180.0;
   const auto rows = read_series(dir + "/series/immersed.csv");
   const double t_end = rows.back().at(0);
   double sum = 0.0, lo = 1e300, hi = -1e300;
@@ -350,10 +366,14 @@ int bridge(const std::string& dir) {
   for (const auto& r : rows)
     if (r.at(0) >= 0.75 * t_end) sum += r.at(1), lo = std::min(lo, r.at(1)), hi = std::max(hi, r.at(1)), ++n;
   if (n == 0) throw std::runtime_error(dir + ": no rows in the last quarter");
-  const double F = sum / n, expected = -2.0 * std::numbers::pi * R * fp.two_phase.surface_tension *
-                                           std::cos(theta * std::numbers::pi / 180.0);
-  std::printf("bridge_force=%.6e\nexpected_force=%.6e\nbridge_error=%.6e\nforce_spread=%.6e\n", F, expected,
-              std::abs(F / expected - 1.0), (hi - lo) / std::abs(expected));
+  const double F = -sum / n, limit = 2.0 * std::numbers::pi * R * gamma * std::cos(theta);
+  const double volume = red_volume_cells(dir);
+  const BridgeShape exact = capillary_bridge(R / dx, theta, volume);
+  const double expected = exact.force * gamma * dx;
+  std::printf("bridge_force=%.6e\nred_volume_cells=%.3f\nfilling_angle_deg=%.3f\ntheory_force=%.6e\n", F, volume,
+              exact.filling * 180.0 / std::numbers::pi, expected);
+  std::printf("small_bridge_limit=%.6e\nlimit_ratio=%.6f\ntheory_ratio=%.6f\n", limit, F / limit, expected / limit);
+  std::printf("bridge_error=%.6e\nforce_spread=%.6e\n", std::abs(F / expected - 1.0), (hi - lo) / expected);
   std::printf("colour_mass_drift=%.6e\n", colour_mass_drift(dir));
   return 0;
 }

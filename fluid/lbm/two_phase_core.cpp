@@ -422,13 +422,18 @@ class TwoPhaseCore final : public LbmCore {
   // Four plain cells: the colour field of their pulled populations (stream_cell's
   // sum); collide4 pulls them again, so nothing is stored in between.
   void colour4(long x) {
+    // Locals, not members: the stores below are byte copies, after which the
+    // compiler would reload every member they might alias.
+    const long n = cells_;
+    const double *rf = red_.f.data(), *bf = blue_.f.data();
     Vec4 rr = splat<Vec4>(0.0), bb = rr;
 #pragma GCC unroll 32
     for (int q = 0; q < L::Q; ++q) {
-      rr += detail::get(&red_.f[q * cells_ + x - off_[q]]);
-      bb += detail::get(&blue_.f[q * cells_ + x - off_[q]]);
-      prefetch_pulled(&red_.f[q * cells_ + x - off_[q] + prefetch_ahead]);
-      prefetch_pulled(&blue_.f[q * cells_ + x - off_[q] + prefetch_ahead]);
+      const long at = q * n + x - off_[q];
+      rr += detail::get(rf + at);
+      bb += detail::get(bf + at);
+      prefetch_pulled(rf + at + prefetch_ahead);
+      prefetch_pulled(bf + at + prefetch_ahead);
     }
     detail::put<false>(&phi_[x], rr - bb);
   }
@@ -436,27 +441,34 @@ class TwoPhaseCore final : public LbmCore {
   // Four plain cells pulled and collided (collide_cell's arithmetic on four
   // lanes), into `next`.
   void collide4(long x) {
+    const long n = cells_;  // locals: see colour4
+    const double *rf = red_.f.data(), *bf = blue_.f.data(), *phi = phi_.data();
+    double *rn = red_.next.data(), *bn = blue_.next.data();
+    const long* off = off_;
     Vec4 r[L::Q], b[L::Q], g[3];
     g[0] = g[1] = g[2] = splat<Vec4>(0.0);
 #pragma GCC unroll 32
     for (int q = 1; q < L::Q; ++q) {
-      const Vec4 ph = detail::get(&phi_[x + off_[q]]);
+      const Vec4 ph = detail::get(phi + x + off[q]);
       for (int d = 0; d < 3; ++d) g[d] += L::e[q][d] * ph;
     }
     const double F[3] = {s_.force[0] + 0.0, s_.force[1] + 0.0, s_.force[2] + 0.0};  // as force() without a source
 #pragma GCC unroll 32
     for (int q = 0; q < L::Q; ++q) {
-      r[q] = detail::get(&red_.f[q * cells_ + x - off_[q]]);
-      b[q] = detail::get(&blue_.f[q * cells_ + x - off_[q]]);
-      prefetch_pulled(&red_.f[q * cells_ + x - off_[q] + prefetch_ahead]);
-      prefetch_pulled(&blue_.f[q * cells_ + x - off_[q] + prefetch_ahead]);
+      const long at = q * n + x - off[q];
+      r[q] = detail::get(rf + at);
+      b[q] = detail::get(bf + at);
+      prefetch_pulled(rf + at + prefetch_ahead);
+      prefetch_pulled(bf + at + prefetch_ahead);
     }
     const Vec4 uu = colour_collide_lanes<L, Incompressible, Vec4>(r, b, g, colour_, F);
-    for (int m = 0; m < 4; ++m) max_u2_ = nan_max(max_u2_, uu[m]);
+    double most = max_u2_;
+    for (int m = 0; m < 4; ++m) most = nan_max(most, uu[m]);
+    max_u2_ = most;
 #pragma GCC unroll 32
     for (int q = 0; q < L::Q; ++q) {
-      detail::put<false>(&red_.next[q * cells_ + x], r[q]);
-      detail::put<false>(&blue_.next[q * cells_ + x], b[q]);
+      detail::put<false>(rn + q * n + x, r[q]);
+      detail::put<false>(bn + q * n + x, b[q]);
     }
   }
 

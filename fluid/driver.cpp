@@ -59,7 +59,7 @@ class FluidWindows final : public coupler::WindowParts {
       : s_(s), cfg_(s.config()), solver_(std::move(solver)), per_window_(per_window), owned_(solver_->owned()),
         probes_(cfg_, s.decomposition(), s.rank(), s.comm()) {
     psm_ = s.has_partner("immersed") && cfg_.component("immersed").variant == "psm";
-    point_ = s.has_partner("immersed") && cfg_.component("immersed").variant == "point";
+    point_ = s.has_partner("immersed") && config::point_coupling(cfg_);
     ibm_ = s.has_partner("immersed") && cfg_.component("immersed").variant == "ibm";
     if (psm_ || point_) open_exchanges();
   }

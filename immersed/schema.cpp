@@ -43,9 +43,10 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
       c.provides.push_back(f::grain_wetting);
   }
   if (variant == "ibm") c.needs = {{f::ibm_forcing, key}};
-  if (variant == "point") {
+  if (variant == "point" || (variant == "ibm" && config::point_coupling(cfg))) {
     c.provides = {f::fluid_at_particle, f::momentum_source};
-    c.needs = {{f::velocity, key}, {f::particle_state, key}, {f::impulse, key}};
+    const std::string why = variant == "ibm" ? "immersed.ibm.particles" : key;
+    c.needs.insert(c.needs.end(), {{f::velocity, why}, {f::particle_state, why}, {f::impulse, why}});
     c.schemes = {config::Scheme::serial_explicit};
   }
   return c;

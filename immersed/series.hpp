@@ -5,6 +5,8 @@
 
 #include <mpi.h>
 
+#include <string>
+
 #include "coflow/output.hpp"
 #include "coflow/session.hpp"
 
@@ -12,9 +14,11 @@ namespace coflow::immersed {
 
 class ImmersedSeries {
  public:
-  explicit ImmersedSeries(coupler::Session& s) : s_(s) {
+  // `name`: the file in series/ (immersed.csv; ibm with point particles
+  // writes the particles' totals to immersed_particles.csv beside the bodies').
+  explicit ImmersedSeries(coupler::Session& s, const std::string& name = "immersed") : s_(s) {
     if (s.rank() == 0)
-      series_ = output::Series(s.output_dir() + "/series/immersed.csv",
+      series_ = output::Series(s.output_dir() + "/series/" + name + ".csv",
                                {{"time", "s"},
                                 {"force_x", "N"},
                                 {"force_y", "N"},

@@ -17,7 +17,7 @@ ImmersedLink::ImmersedLink(coupler::Session& s, ParticleSolver& solver, const Pa
     : s_(s), solver_(solver) {
   for (const auto& sp : params.species) contact_angle_.push_back(sp.second.contact_angle);
   const auto& cfg = s.config();
-  point_ = cfg.component("immersed").variant == "point";
+  point_ = config::point_coupling(cfg);
   lagged_ = !point_ && cfg.coupling.scheme == config::Scheme::parallel_explicit;
   const auto dest = s.decomposition_of("immersed", s.partner_ranks("immersed"));
   const auto h = cfg.domain.spacing();

@@ -113,7 +113,10 @@ void report_initial_files(const ParticleParams& p, config::Report& r) {
 void report(const config::Config& cfg, const std::string& variant, config::Report& r) {
   if (variant == "external") return;
   const ParticleParams p = read_particles(cfg, variant);
-  const std::string method = cfg.has("immersed") ? cfg.component("immersed").variant : "";
+  // ibm with point particles couples them as method point does.
+  const std::string method = !cfg.has("immersed")       ? ""
+                             : config::point_coupling(cfg) ? "point"
+                                                           : cfg.component("immersed").variant;
   r.add("particles", "initial particles", initial_count(p));
   report_initial_files(p, r);
   if (!p.injection.empty()) r.add("particles", "injection", fmt::format("{} inlet(s)", p.injection.size()));

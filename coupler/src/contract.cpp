@@ -45,15 +45,19 @@ struct Party {
 const char* where(Location l) { return l == Location::cell ? "cell" : "point"; }
 
 // Variants of the other components (present or not) whose contract provides
-// `field`: the fix to suggest.
-std::vector<std::string> providers(const Config& cfg, const Catalog& catalog, const std::string& field,
+// every one of `fields`: the fix to suggest.
+std::vector<std::string> providers(const Config& cfg, const Catalog& catalog, const std::vector<std::string>& fields,
                                    const std::string& consumer_section) {
   std::vector<std::string> out;
   for (const auto& schema : catalog) {
     if (schema.section == consumer_section || !schema.contract) continue;
     std::vector<std::string> names;
-    for (const auto& v : schema.variants)
-      if (v != "external" && schema.contract(cfg, v).provides_field(field)) names.push_back(v);
+    for (const auto& v : schema.variants) {
+      if (v == "external") continue;
+      const Contract c = schema.contract(cfg, v);
+      if (std::all_of(fields.begin(), fields.end(), [&](const std::string& f) { return c.provides_field(f); }))
+        names.push_back(v);
+    }
     if (!names.empty()) out.push_back(fmt::format("{}.{}: {}", schema.section, schema.selector, fmt::join(names, " or ")));
   }
   return out;
@@ -70,18 +74,23 @@ void check_needs(Reader& r, const Config& cfg, const Catalog& catalog, const std
   std::vector<std::string> done;
   for (const auto& need : me.contract.needs) {
     if (std::find(done.begin(), done.end(), need.key) != done.end()) continue;
-    std::vector<std::string> missing, fix;
+    std::vector<std::string> missing, fields, fix;
     std::string otherwise;
     for (const auto& n : me.contract.needs) {
       if (n.key != need.key || (!n.only_with.empty() && !cfg.has(n.only_with)) || provided(run, me, n.field.name))
         continue;
       missing.push_back(fmt::format("{} ({}, {})", n.field.name, where(n.field.location), n.field.units));
-      for (const auto& p : providers(cfg, catalog, n.field.name, me.schema->section))
-        if (std::find(fix.begin(), fix.end(), p) == fix.end()) fix.push_back(p);
+      fields.push_back(n.field.name);
       if (!n.otherwise.empty()) otherwise = n.otherwise;
     }
     done.push_back(need.key);
     if (missing.empty()) continue;
+    // Variants that provide all of them; else, field by field, those that provide some.
+    fix = providers(cfg, catalog, fields, me.schema->section);
+    if (fix.empty())
+      for (const auto& field : fields)
+        for (const auto& p : providers(cfg, catalog, {field}, me.schema->section))
+          if (std::find(fix.begin(), fix.end(), p) == fix.end()) fix.push_back(p);
     std::vector<std::string> others;
     for (const auto& other : run)
       if (&other != &me) others.push_back(other.label());

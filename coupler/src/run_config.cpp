@@ -363,6 +363,11 @@ std::string resolved_text(const Config& cfg, const std::vector<std::string>& pat
   return n.IsScalar() ? n.Scalar() : "";
 }
 
+bool point_coupling(const Config& cfg) {
+  const std::string method = resolved_text(cfg, {"immersed", "method"});
+  return method == "point" || (method == "ibm" && resolved_text(cfg, {"immersed", "ibm", "particles"}) == "point");
+}
+
 YAML::Node resolved_node(const Config& cfg, const std::string& dotted_path) {
   std::vector<std::string> path;
   std::string rest = dotted_path;

@@ -14,6 +14,7 @@
 #include "coflow/window_loop.hpp"
 #include "immersed/ibm/link.hpp"
 #include "immersed/ibm/markers.hpp"
+#include "immersed/point/point.hpp"
 
 namespace coflow::immersed {
 
@@ -185,12 +186,52 @@ void IbmWindows::output(long w) {
   row_time_ = 0.0;
 }
 
+// Bodies and point particles in one run (immersed.ibm.particles: point):
+// each window the markers go out and the particles get the fluid at them,
+// then, after the particles' sub-steps, their momentum source goes to the
+// fluid and the bodies' loads come back (the fluid takes its source and the
+// markers before its step, and sends the loads after it).
+class IbmWithParticles final : public coupler::WindowParts {
+ public:
+  IbmWithParticles(coupler::Session& s, const IbmParams& p)
+      : bodies_(s, p), particles_(make_point_windows(s, "immersed_particles")) {}
+  void start(long w0) override { particles_->start(w0); }
+  void before_step(long w) override {
+    bodies_.before_step(w);
+    particles_->before_step(w);
+  }
+  void step(long) override {}
+  void after_step(long w) override {
+    particles_->after_step(w);
+    bodies_.after_step(w);
+  }
+  void output(long w) override {
+    bodies_.output(w);
+    particles_->output(w);
+  }
+  void save(const std::string&) override {}  // neither keeps a state but the time
+  void finish() override { particles_->finish(); }
+
+ private:
+  IbmWindows bodies_;
+  std::unique_ptr<coupler::WindowParts> particles_;
+};
+
 }  // namespace
 
 void IbmMethod::run(coupler::Session& s) {
   if (!s.has_partner("fluid"))
     throw std::runtime_error("immersed.method ibm forces a fluid: the fluid section must be present");
+  const bool particles = p_.particles == "point";
+  if (particles && !s.has_partner("particles"))
+    throw std::runtime_error("immersed.ibm.particles point couples point particles: the particles section must be "
+                             "present");
   s.negotiate_window(0.0);
+  if (particles) {
+    IbmWithParticles windows(s, p_);
+    coupler::run_windows(s, windows);
+    return;
+  }
   IbmWindows windows(s, p_);
   coupler::run_windows(s, windows);
 }

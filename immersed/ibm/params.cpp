@@ -60,6 +60,11 @@ void IbmParams::visit(config::Visitor& v) {
     "multi-direct forcing: iterate until the largest slip |U_b - U| at the markers is below this fraction of "
     "the flow's largest velocity",
     config::greater(0.0));
+  v("particles", particles,
+    "none: the bodies alone; point: also couple point particles (particles.solver dpm) to the fluid as method "
+    "point does, in the same windows (the flow around a body carrying particles, seed 003 §5.3; "
+    "serial-explicit)",
+    config::one_of({"none", "point"}));
   v.list("bodies", "the immersed bodies, each a closed triangle mesh", [&](config::Visitor& s) {
     bodies.emplace_back();
     bodies.back().visit(s);

@@ -43,6 +43,7 @@ struct IbmParams {
   std::string iteration = "cg";
   int max_iterations = 50;
   double tolerance = 1e-4;
+  std::string particles = "none";  // none | point: point particles coupled in the same windows
   std::vector<BodyParams> bodies;
   void visit(config::Visitor& v);
   void check(config::Visitor& v, const config::Config& cfg) const;

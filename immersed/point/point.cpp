@@ -34,7 +34,7 @@ namespace {
 // known to be finite.
 class PointWindows final : public coupler::WindowParts {
  public:
-  PointWindows(coupler::Session& s, double rho, double mu, bool two_way);
+  PointWindows(coupler::Session& s, double rho, double mu, bool two_way, const std::string& series);
   void before_step(long) override;   // 1, 2
   void step(long) override {}        // the particles and the fluid step
   void after_step(long w) override;  // 3, 4
@@ -62,7 +62,7 @@ class PointWindows final : public coupler::WindowParts {
   ImmersedSeries series_;
 };
 
-PointWindows::PointWindows(coupler::Session& s, double rho, double mu, bool two_way)
+PointWindows::PointWindows(coupler::Session& s, double rho, double mu, bool two_way, const std::string& series)
     : s_(s),
       dom_(s.config().domain),
       h_(dom_.spacing()[0]),
@@ -82,7 +82,7 @@ PointWindows::PointWindows(coupler::Session& s, double rho, double mu, bool two_
                 dom_.spacing(), sizeof(protocol::ParticleImpulse), sizeof(double), protocol::kTagImpulse, 0),
       flow_(flow_in_.local_size()),
       source_(source_out_.local_size()),
-      series_(s) {
+      series_(s, series) {
   log::info("point: trilinear interpolation and spreading, fluid rho {:.4g} kg/m^3, mu {:.4g} Pa s", rho, mu);
 }
 
@@ -177,10 +177,8 @@ void PointWindows::output(long w) {
 
 }  // namespace
 
-void PointMethod::run(coupler::Session& s) {
+std::unique_ptr<coupler::WindowParts> make_point_windows(coupler::Session& s, const std::string& series) {
   const auto& cfg = s.config();
-  if (!s.has_partner("fluid") || !s.has_partner("particles"))
-    throw std::runtime_error("immersed.method point couples a fluid and particles: both sections must be present");
   const double rho = cfg.resolved["fluid"]["density"].as<double>();
   const double mu = rho * cfg.resolved["fluid"]["viscosity"].as<double>();
   // One-way when asked, or when the fluid takes no momentum source (its
@@ -195,9 +193,15 @@ void PointMethod::run(coupler::Session& s) {
                                     : fmt::format(" (fluid.solver {} takes no momentum source): the fluid does not "
                                                   "feel the particles",
                                                   fluid));
+  return std::make_unique<PointWindows>(s, rho, mu, two_way, series);
+}
+
+void PointMethod::run(coupler::Session& s) {
+  if (!s.has_partner("fluid") || !s.has_partner("particles"))
+    throw std::runtime_error("immersed.method point couples a fluid and particles: both sections must be present");
   s.negotiate_window(0.0);
-  PointWindows windows(s, rho, mu, two_way);
-  coupler::run_windows(s, windows);
+  const auto windows = make_point_windows(s, "immersed");
+  coupler::run_windows(s, *windows);
 }
 
 }  // namespace coflow::immersed

@@ -15,10 +15,20 @@
 // lost to it, so fluid + particles is conserved to round-off.
 #pragma once
 
+#include <memory>
+#include <string>
+
+#include "coflow/window_loop.hpp"
 #include "immersed/immersed_interface.hpp"
 #include "immersed/point/params.hpp"
 
 namespace coflow::immersed {
+
+// The point method's part of each window (steps 1-4 above), for a run of its
+// own or beside ibm's bodies (immersed.ibm.particles: point); its totals go to
+// series/<series>.csv. Needs the fluid and particles partners; call it after
+// the window is negotiated.
+std::unique_ptr<coupler::WindowParts> make_point_windows(coupler::Session& s, const std::string& series);
 
 class PointMethod final : public ImmersedMethod {
  public:

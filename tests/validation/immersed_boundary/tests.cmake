@@ -52,3 +52,7 @@ coflow_validation(ibm_cylinder_amr pair ibm_cylinder_amr.yaml 2 ibm_frames "" "c
 # The same adaptive run against fv on the uniform grid of its finest level:
 # another discretisation (staggered, IMEX), validated against Wu & Shu above.
 coflow_validation(ibm_cylinder_amr_vs_fv pair ibm_cylinder_amr.yaml 2 ibm_frames "" "fluid.fv.refinement=null")
+# A body and point particles in one run (immersed.ibm.particles: point): the
+# momentum of fluid + particles against the impulses on the body (fluid) and
+# on its mesh (particles' strikes), a conservation law.
+coflow_validation(ibm_with_particles ibm_particles ibm_with_particles.yaml 1)

@@ -114,7 +114,7 @@ void report(const config::Config& cfg, const std::string& variant, config::Repor
   if (variant == "external") return;
   const ParticleParams p = read_particles(cfg, variant);
   // ibm with point particles couples them as method point does.
-  const std::string method = !cfg.has("immersed")       ? ""
+  const std::string method = !cfg.has("immersed")          ? ""
                              : config::point_coupling(cfg) ? "point"
                                                            : cfg.component("immersed").variant;
   r.add("particles", "initial particles", initial_count(p));

@@ -46,7 +46,8 @@ const char* where(Location l) { return l == Location::cell ? "cell" : "point"; }
 
 // Variants of the other components (present or not) whose contract provides
 // every one of `fields`: the fix to suggest.
-std::vector<std::string> providers(const Config& cfg, const Catalog& catalog, const std::vector<std::string>& fields,
+std::vector<std::string> providers(const Config& cfg, const Catalog& catalog,
+                                   const std::vector<std::string>& fields,
                                    const std::string& consumer_section) {
   std::vector<std::string> out;
   for (const auto& schema : catalog) {
@@ -55,7 +56,8 @@ std::vector<std::string> providers(const Config& cfg, const Catalog& catalog, co
     for (const auto& v : schema.variants) {
       if (v == "external") continue;
       const Contract c = schema.contract(cfg, v);
-      if (std::all_of(fields.begin(), fields.end(), [&](const std::string& f) { return c.provides_field(f); }))
+      if (std::all_of(fields.begin(), fields.end(),
+                      [&](const std::string& f) { return c.provides_field(f); }))
         names.push_back(v);
     }
     if (!names.empty()) out.push_back(fmt::format("{}.{}: {}", schema.section, schema.selector, fmt::join(names, " or ")));

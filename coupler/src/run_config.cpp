@@ -365,7 +365,8 @@ std::string resolved_text(const Config& cfg, const std::vector<std::string>& pat
 
 bool point_coupling(const Config& cfg) {
   const std::string method = resolved_text(cfg, {"immersed", "method"});
-  return method == "point" || (method == "ibm" && resolved_text(cfg, {"immersed", "ibm", "particles"}) == "point");
+  return method == "point" ||
+         (method == "ibm" && resolved_text(cfg, {"immersed", "ibm", "particles"}) == "point");
 }
 
 YAML::Node resolved_node(const Config& cfg, const std::string& dotted_path) {

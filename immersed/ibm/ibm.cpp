@@ -1,11 +1,11 @@
 #include "immersed/ibm/ibm.hpp"
 
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
-
-#include <Eigen/Geometry>
-#include <fmt/format.h>
 
 #include "coflow/log.hpp"
 #include "coflow/output.hpp"
@@ -224,8 +224,9 @@ void IbmMethod::run(coupler::Session& s) {
     throw std::runtime_error("immersed.method ibm forces a fluid: the fluid section must be present");
   const bool particles = p_.particles == "point";
   if (particles && !s.has_partner("particles"))
-    throw std::runtime_error("immersed.ibm.particles point couples point particles: the particles section must be "
-                             "present");
+    throw std::runtime_error(
+        "immersed.ibm.particles point couples point particles: the particles section must be "
+        "present");
   s.negotiate_window(0.0);
   if (particles) {
     IbmWithParticles windows(s, p_);

@@ -61,7 +61,8 @@ void IbmParams::visit(config::Visitor& v) {
     "the flow's largest velocity",
     config::greater(0.0));
   v("particles", particles,
-    "none: the bodies alone; point: also couple point particles (particles.solver dpm) to the fluid as method "
+    "none: the bodies alone; point: also couple point particles (particles.solver dpm) to the fluid as "
+    "method "
     "point does, in the same windows (the flow around a body carrying particles, seed 003 §5.3; "
     "serial-explicit)",
     config::one_of({"none", "point"}));

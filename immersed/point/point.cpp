@@ -62,7 +62,8 @@ class PointWindows final : public coupler::WindowParts {
   ImmersedSeries series_;
 };
 
-PointWindows::PointWindows(coupler::Session& s, double rho, double mu, bool two_way, const std::string& series)
+PointWindows::PointWindows(coupler::Session& s, double rho, double mu, bool two_way,
+                           const std::string& series)
     : s_(s),
       dom_(s.config().domain),
       h_(dom_.spacing()[0]),
@@ -75,11 +76,12 @@ PointWindows::PointWindows(coupler::Session& s, double rho, double mu, bool two_
       source_out_(s.partner("fluid"), coupler::FieldExchange::Role::sender, s.decomposition(), s.rank(),
                   s.decomposition_of("fluid", s.partner_ranks("fluid")),
                   coupler::FieldSpec{"source", 3, coupler::Transfer::conservative, 1}, protocol::kTagSource),
-      states_(s.partner("particles"), coupler::PointExchange::Role::destination, s.decomposition(), dom_.lower,
-              dom_.spacing(), sizeof(protocol::ParticleRecord), sizeof(protocol::FluidAtParticle),
+      states_(s.partner("particles"), coupler::PointExchange::Role::destination, s.decomposition(),
+              dom_.lower, dom_.spacing(), sizeof(protocol::ParticleRecord), sizeof(protocol::FluidAtParticle),
               protocol::kTagParticles, 0),
-      impulses_(s.partner("particles"), coupler::PointExchange::Role::destination, s.decomposition(), dom_.lower,
-                dom_.spacing(), sizeof(protocol::ParticleImpulse), sizeof(double), protocol::kTagImpulse, 0),
+      impulses_(s.partner("particles"), coupler::PointExchange::Role::destination, s.decomposition(),
+                dom_.lower, dom_.spacing(), sizeof(protocol::ParticleImpulse), sizeof(double),
+                protocol::kTagImpulse, 0),
       flow_(flow_in_.local_size()),
       source_(source_out_.local_size()),
       series_(s, series) {
@@ -198,7 +200,8 @@ std::unique_ptr<coupler::WindowParts> make_point_windows(coupler::Session& s, co
 
 void PointMethod::run(coupler::Session& s) {
   if (!s.has_partner("fluid") || !s.has_partner("particles"))
-    throw std::runtime_error("immersed.method point couples a fluid and particles: both sections must be present");
+    throw std::runtime_error(
+        "immersed.method point couples a fluid and particles: both sections must be present");
   s.negotiate_window(0.0);
   const auto windows = make_point_windows(s, "immersed");
   coupler::run_windows(s, *windows);

@@ -13,7 +13,9 @@ using coflow::check::toroidal_force;
 using coflow::check::bridge_detail::at_filling;
 constexpr double pi = std::numbers::pi, R = 12.0;
 
-double degrees(double d) { return d * pi / 180.0; }
+double degrees(double d) {
+  return d * pi / 180.0;
+}
 
 }  // namespace
 

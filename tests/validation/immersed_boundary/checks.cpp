@@ -269,10 +269,13 @@ namespace coflow::check {
 // (shares of |P0|: the test exercises both).
 int ibm_particles(const std::string& dir) {
   const auto f = read_series(dir + "/series/fluid.csv"), p = read_series(dir + "/series/particles.csv");
-  const auto bodies = read_series(dir + "/series/immersed.csv"), walls = read_series(dir + "/series/walls.csv");
+  const auto bodies = read_series(dir + "/series/immersed.csv"),
+             walls = read_series(dir + "/series/walls.csv");
   if (f.size() != p.size() || walls.size() != f.size() || bodies.size() + 1 != f.size() || f.size() < 3)
-    throw std::runtime_error(dir + ": the series do not have a row every window (fluid, particles, walls from t = 0, "
-                                   "immersed from the first window)");
+    throw std::runtime_error(
+        dir +
+        ": the series do not have a row every window (fluid, particles, walls from t = 0, "
+        "immersed from the first window)");
   const std::size_t body_columns = (bodies[0].size() - 3) / 6;  // per body 6, then iterations and slip
   double P0[3], on_bodies[3] = {0, 0, 0}, on_walls[3] = {0, 0, 0}, drift = 0.0;
   for (int d = 0; d < 3; ++d) P0[d] = f[0][2 + d] + p[0][2 + d];
@@ -285,9 +288,10 @@ int ibm_particles(const std::string& dir) {
       drift = nan_max(drift, std::abs(f[r][2 + d] + p[r][2 + d] + on_bodies[d] + on_walls[d] - P0[d]) / norm);
     }
   }
-  std::printf("initial_momentum=%.6e\nbody_impulse_share=%.6e\nwall_impulse_share=%.6e\nmomentum_drift=%.6e\n", norm,
-              std::hypot(on_bodies[0], on_bodies[1], on_bodies[2]) / norm,
-              std::hypot(on_walls[0], on_walls[1], on_walls[2]) / norm, drift);
+  std::printf(
+      "initial_momentum=%.6e\nbody_impulse_share=%.6e\nwall_impulse_share=%.6e\nmomentum_drift=%.6e\n", norm,
+      std::hypot(on_bodies[0], on_bodies[1], on_bodies[2]) / norm,
+      std::hypot(on_walls[0], on_walls[1], on_walls[2]) / norm, drift);
   return 0;
 }
 

@@ -31,11 +31,11 @@
 namespace coflow::check {
 
 struct BridgeShape {
-  double filling = 0.0;   // phi, rad
-  double neck = 0.0;      // r_n
-  double curvature = 0.0; // H = dp / gamma (negative: the liquid below the gas's pressure)
-  double volume = 0.0;    // of the whole bridge
-  double force = 0.0;     // F / gamma, attractive
+  double filling = 0.0;    // phi, rad
+  double neck = 0.0;       // r_n
+  double curvature = 0.0;  // H = dp / gamma (negative: the liquid below the gas's pressure)
+  double volume = 0.0;     // of the whole bridge
+  double force = 0.0;      // F / gamma, attractive
 };
 
 namespace bridge_detail {
@@ -59,8 +59,10 @@ inline Shot shoot(double R, double theta, double phi, double H) {
   Shot s;
   for (int n = 0; n < steps; ++n) {  // classical RK4 in x, from x = xc down to 0
     const double k1y = dy(y, psi), k1p = dpsi(y, psi);
-    const double k2y = dy(y + 0.5 * h * k1y, psi + 0.5 * h * k1p), k2p = dpsi(y + 0.5 * h * k1y, psi + 0.5 * h * k1p);
-    const double k3y = dy(y + 0.5 * h * k2y, psi + 0.5 * h * k2p), k3p = dpsi(y + 0.5 * h * k2y, psi + 0.5 * h * k2p);
+    const double k2y = dy(y + 0.5 * h * k1y, psi + 0.5 * h * k1p),
+                 k2p = dpsi(y + 0.5 * h * k1y, psi + 0.5 * h * k1p);
+    const double k3y = dy(y + 0.5 * h * k2y, psi + 0.5 * h * k2p),
+                 k3p = dpsi(y + 0.5 * h * k2y, psi + 0.5 * h * k2p);
     const double k4y = dy(y + h * k3y, psi + h * k3p), k4p = dpsi(y + h * k3y, psi + h * k3p);
     const double y1 = y + h / 6.0 * (k1y + 2.0 * k2y + 2.0 * k3y + k4y);
     const double psi1 = psi + h / 6.0 * (k1p + 2.0 * k2p + 2.0 * k3p + k4p);
@@ -87,14 +89,16 @@ inline BridgeShape at_filling(double R, double theta, double phi) {
   };
   for (int n = 0; above(lo) && n < 60; ++n) lo *= 2.0;
   for (int n = 0; !above(hi) && n < 60; ++n) hi *= 2.0;
-  if (above(lo) || !above(hi)) throw std::runtime_error("capillary bridge: no meridian for this filling angle");
+  if (above(lo) || !above(hi))
+    throw std::runtime_error("capillary bridge: no meridian for this filling angle");
   for (int n = 0; n < 64; ++n) {
     const double mid = 0.5 * (lo + hi);
     (above(mid) ? hi : lo) = mid;
   }
   const double H = 0.5 * (lo + hi);
   const Shot s = shoot(R, theta, phi, H);
-  if (!s.ok || std::abs(s.psi) > 1e-6) throw std::runtime_error("capillary bridge: the shooting did not close");
+  if (!s.ok || std::abs(s.psi) > 1e-6)
+    throw std::runtime_error("capillary bridge: the shooting did not close");
   BridgeShape b;
   b.filling = phi, b.neck = s.neck, b.curvature = H, b.volume = 2.0 * s.half_volume;
   b.force = 2.0 * std::numbers::pi * s.neck - std::numbers::pi * s.neck * s.neck * H;
@@ -108,7 +112,8 @@ inline BridgeShape at_filling(double R, double theta, double phi) {
 // grows with it (from 1e-3 rad to just short of a vertical meridian).
 inline BridgeShape capillary_bridge(double R, double theta, double V) {
   double lo = 1e-3, hi = std::min(0.5 * std::numbers::pi, std::numbers::pi - theta) - 1e-3;
-  if (bridge_detail::at_filling(R, theta, lo).volume > V || bridge_detail::at_filling(R, theta, hi).volume < V)
+  if (bridge_detail::at_filling(R, theta, lo).volume > V ||
+      bridge_detail::at_filling(R, theta, hi).volume < V)
     throw std::runtime_error("capillary bridge: the volume is outside the shapes this solves");
   for (int n = 0; n < 40; ++n) {
     const double mid = 0.5 * (lo + hi);

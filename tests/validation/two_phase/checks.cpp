@@ -370,9 +370,10 @@ int bridge(const std::string& dir) {
   const double volume = red_volume_cells(dir);
   const BridgeShape exact = capillary_bridge(R / dx, theta, volume);
   const double expected = exact.force * gamma * dx;
-  std::printf("bridge_force=%.6e\nred_volume_cells=%.3f\nfilling_angle_deg=%.3f\ntheory_force=%.6e\n", F, volume,
-              exact.filling * 180.0 / std::numbers::pi, expected);
-  std::printf("small_bridge_limit=%.6e\nlimit_ratio=%.6f\ntheory_ratio=%.6f\n", limit, F / limit, expected / limit);
+  std::printf("bridge_force=%.6e\nred_volume_cells=%.3f\nfilling_angle_deg=%.3f\ntheory_force=%.6e\n", F,
+              volume, exact.filling * 180.0 / std::numbers::pi, expected);
+  std::printf("small_bridge_limit=%.6e\nlimit_ratio=%.6f\ntheory_ratio=%.6f\n", limit, F / limit,
+              expected / limit);
   std::printf("bridge_error=%.6e\nforce_spread=%.6e\n", std::abs(F / expected - 1.0), (hi - lo) / expected);
   std::printf("colour_mass_drift=%.6e\n", colour_mass_drift(dir));
   return 0;

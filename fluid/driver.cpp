@@ -92,12 +92,15 @@ class FluidWindows final : public coupler::WindowParts {
       receive_solids();
       if (w == 1) output(0);
     }
+    // The markers first: immersed broadcasts them at the start of its window,
+    // before the point exchanges of particles beside the bodies (a large
+    // broadcast completes only when both sides are in it).
+    if (ibm_ && ibm::receive_markers(s_.partner("immersed"), markers_))
+      solver_->set_markers(ibm::MarkerSet::unpack(markers_));
     if (point_) {
       send_flow();
       receive_source();
     }
-    if (ibm_ && ibm::receive_markers(s_.partner("immersed"), markers_))
-      solver_->set_markers(ibm::MarkerSet::unpack(markers_));
   }
   void step(long) override {
     solver_->advance(s_.window());

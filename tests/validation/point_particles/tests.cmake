@@ -39,6 +39,11 @@ function(coflow_jet name mode config procs plate)
 endfunction()
 coflow_jet(dpm_jet_plate_no_pp jet dpm_jet_plate.yaml 1 - --set @WALLS@ --set particles.collision.enabled=false)
 coflow_jet(dpm_jet_plate jet dpm_jet_plate.yaml 1 - --set @WALLS@)
+# The same jet with the air computed by fv around the plate as an immersed
+# body and coupled both ways (immersed.ibm.particles: point), to the first
+# impacts: the air dragged along makes them faster than in still air.
+coflow_jet(dpm_jet_plate_fv jet dpm_jet_plate_fv.yaml 1 - --set @WALLS@
+  --set [=[immersed.ibm.bodies=[{"name":"plate","mesh":"@PLATE@"}]]=] --set particles.collision.enabled=false)
 coflow_jet(dpm_mesh_vs_reference compare dpm_jet_crosscheck.yaml 1
   "--size 0.02 --thickness 0.002 --cells 6 --center 0.025 0.025 0.02 --normal z --tilt 25"
   "particles.solver=dpm run.output.collision_events=true @WALLS@"

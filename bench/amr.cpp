@@ -197,7 +197,7 @@ int main(int argc, char** argv) {
   int steps = 500;
   std::string out_dir;
   CLI::App app{"bench-amr: fv's adaptive grid against its uniform finest grid (see bench/amr.cpp)"};
-  app.add_option("steps", steps, "steps of the jet")->check(CLI::Range(1, 100000000))->capture_default_str();
+  coflow::bench::add_steps(app, steps, "steps of the jet");
   app.add_option("--out", out_dir, "write the jet's cells and last states here");
   app.add_option("--configs", configs, "the configs directory")
       ->check(CLI::ExistingDirectory)

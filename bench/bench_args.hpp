@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdlib>
+#include <string>
 
 namespace coflow::bench {
 
@@ -15,6 +16,12 @@ inline void parse_args(CLI::App& app, int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::exit(app.exit(e) == 0 ? 0 : 2);
   }
+}
+
+// The positional count of steps (1 to 1e8), its default shown in the usage.
+template <class T>
+void add_steps(CLI::App& app, T& steps, const std::string& what) {
+  app.add_option("steps", steps, what)->check(CLI::Range(1, 100000000))->capture_default_str();
 }
 
 }  // namespace coflow::bench

@@ -125,9 +125,7 @@ run {steps}
 int main(int argc, char** argv) {
   long steps = 1000;
   CLI::App app{"bench-dem: soft-sphere DEM against LIGGGHTS (see bench/dem.cpp)"};
-  app.add_option("steps", steps, "timed steps per case")
-      ->check(CLI::Range(1, 100000000))
-      ->capture_default_str();
+  coflow::bench::add_steps(app, steps, "timed steps per case");
   coflow::bench::parse_args(app, argc, argv);
   MPI_Init(&argc, &argv);
   log::init("bench", 1);  // rank 1: warnings only

@@ -144,9 +144,7 @@ double mesh_speedup() {
 int main(int argc, char** argv) {
   int steps = 50;
   CLI::App app{"bench-dpm: point-particle throughput (see bench/dpm.cpp)"};
-  app.add_option("steps", steps, "timed steps per case")
-      ->check(CLI::Range(1, 100000000))
-      ->capture_default_str();
+  coflow::bench::add_steps(app, steps, "timed steps per case");
   coflow::bench::parse_args(app, argc, argv);
   MPI_Init(&argc, &argv);
   log::init("bench", 1);  // warnings only

@@ -315,9 +315,7 @@ int main(int argc, char** argv) {
   long steps = 20;
   bool quick = false, channel_only = false, cavity_only = false;
   CLI::App app{"bench-fv: the fv fluid against OpenFOAM (see bench/fv.cpp)"};
-  app.add_option("steps", steps, "warm-up steps, then as many timed")
-      ->check(CLI::Range(1, 100000000))
-      ->capture_default_str();
+  coflow::bench::add_steps(app, steps, "warm-up steps, then as many timed");
   app.add_flag("--quick", quick, "the smaller grids only (2D to 256^2, 3D 64^3, the first channel)");
   auto* channel = app.add_flag("--channel", channel_only, "(c) the k-epsilon channel alone");
   app.add_flag("--cavity", cavity_only, "(a) and (b) the cavities alone")->excludes(channel);

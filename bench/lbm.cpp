@@ -271,9 +271,7 @@ int main(int argc, char** argv) {
   int steps = 10;
   CLI::App app{
       "bench-lbm: the lbm kernels' MLUPS against this machine's memory roofline (see bench/lbm.cpp)"};
-  app.add_option("steps", steps, "timed steps per case")
-      ->check(CLI::Range(1, 100000000))
-      ->capture_default_str();
+  coflow::bench::add_steps(app, steps, "timed steps per case");
   coflow::bench::parse_args(app, argc, argv);
   MPI_Init(&argc, &argv);
   log::init("bench", 1);  // rank 1: warnings only

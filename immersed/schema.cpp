@@ -43,7 +43,10 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
       c.provides.push_back(f::grain_wetting);
   }
   if (variant == "ibm") c.needs = {{f::ibm_forcing, key}};
-  if (variant == "point" || (variant == "ibm" && config::point_coupling(cfg))) {
+  // ibm couples point particles where its own key says so (whatever method
+  // this run names: the contract of every variant is asked for suggestions).
+  const bool ibm_points = config::resolved_text(cfg, {"immersed", "ibm", "particles"}) == "point";
+  if (variant == "point" || (variant == "ibm" && ibm_points)) {
     c.provides = {f::fluid_at_particle, f::momentum_source};
     const std::string why = variant == "ibm" ? "immersed.ibm.particles" : key;
     c.needs.insert(c.needs.end(), {{f::velocity, why}, {f::particle_state, why}, {f::impulse, why}});

@@ -46,7 +46,7 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
   }
   if (point_particles(variant)) {
     c.provides = {f::particle_state, f::impulse};
-    c.needs = {{f::fluid_at_particle, key, "immersed"}};
+    c.needs = {{f::fluid_at_particle, key, "immersed", "or, with immersed.method: ibm, immersed.ibm.particles: point"}};
     c.schemes = {config::Scheme::serial_explicit};
     if (config::resolved_text(cfg, {"particles", "dispersion", "model"}) == "langevin")
       for (const auto& field : {f::k, f::epsilon})

@@ -187,10 +187,11 @@ void IbmWindows::output(long w) {
 }
 
 // Bodies and point particles in one run (immersed.ibm.particles: point):
-// each window the markers go out and the particles get the fluid at them,
-// then, after the particles' sub-steps, their momentum source goes to the
-// fluid and the bodies' loads come back (the fluid takes its source and the
-// markers before its step, and sends the loads after it).
+// each window the markers go out first, then the particles get the fluid at
+// them; after the particles' sub-steps their momentum source goes to the
+// fluid and the bodies' loads come back. The fluid takes the markers, then
+// sends its velocity and takes the source, before its step, and sends the
+// loads after it (docs/protocol.md: the markers' broadcast must come first).
 class IbmWithParticles final : public coupler::WindowParts {
  public:
   IbmWithParticles(coupler::Session& s, const IbmParams& p)

@@ -56,3 +56,8 @@ coflow_validation(ibm_cylinder_amr_vs_fv pair ibm_cylinder_amr.yaml 2 ibm_frames
 # momentum of fluid + particles against the impulses on the body (fluid) and
 # on its mesh (particles' strikes), a conservation law.
 coflow_validation(ibm_with_particles ibm_particles ibm_with_particles.yaml 1)
+# The same on 1 rank of each component against 2 of each (a body cut by the
+# fluid's blocks, particles crossing the immersed and particle ranks' blocks).
+coflow_validation(ibm_with_particles_ranks_1_vs_2 compare ibm_with_particles.yaml 2
+  "run.end_time=2.0 run.output.every=2.0"
+  "run.end_time=2.0 run.output.every=2.0 fluid.ranks=2 immersed.ranks=2 particles.ranks=2 fluid.decomposition=[2,1,1]")

@@ -24,6 +24,7 @@
 // bulge beyond vertical; throws otherwise.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>

@@ -34,27 +34,24 @@ void BoundaryParams::visit(config::Visitor& v) {
     "imbibition); omitted: what enters takes the colour of the face's cell, as at an outlet",
     config::one_of({"", "red", "blue"}));
   v("profile", profile,
-    "velocity faces: uniform, or parabolic (fv): the value at the face's centre, falling as 4 s (1 - s) to zero "
+    "velocity faces: uniform, or parabolic (fv): the value at the face's centre, falling as 4 s (1 - s) to "
+    "zero "
     "at the faces across each of its other axes that is not periodic (a channel's or, as a product, a duct's "
-    "inlet)",
-    config::one_of({"uniform", "parabolic", "table"}));
+    "inlet), table (profile_file) or expression (profile_expression)",
+    config::one_of({"uniform", "parabolic", "table", "expression"}));
   v("profile_file", profile_file,
     "profile: table (fv): a text file of rows `coordinate, factor`, the coordinate in m along profile_axis and the "
     "factor on `value` there; linear between rows, the end rows' factor beyond them; relative to this file");
   v("profile_axis", profile_axis, "profile: table: the axis of the table's coordinate, across the face",
     config::one_of({"x", "y", "z"}));
+  v("profile_expression", profile_expression,
+    "profile: expression (fv): the factor on `value` as a formula in x, y, z (m, the point on the face) and "
+    "t (s), "
+    "e.g. `4*y*(1-y)` or `cos(2*pi*t/0.5)`; constants pi and e, muParser's functions (sin, cos, exp, sqrt, "
+    "abs, "
+    "min, max, ...) and `c ? a : b`; quote it in YAML");
   if (!v.reading()) return;
-  if (profile == "table" && profile_file.empty())
-    v.fail("profile", "a table profile needs profile_file: the file of its rows (coordinate, factor)");
-  if (profile != "table" && !profile_file.empty())
-    v.fail("profile_file", "profile_file is read for profile: table only; add profile: table or remove it");
-  if (profile == "table" && !profile_file.empty()) {
-    try {
-      table = read_profile_table(profile_file.path, profile_axis[0] - 'x');
-    } catch (const std::exception& e) {
-      v.fail("profile_file", e.what());
-    }
-  }
+  check_profile_keys(v);
   const bool given = v.given("value");
   if (profile != "uniform" && type != "velocity")
     v.fail("profile", fmt::format("a {} boundary has no velocity profile; profile is for velocity faces", type));
@@ -74,6 +71,55 @@ void BoundaryParams::visit(config::Visitor& v) {
     v.fail("ramp", fmt::format("a {} boundary has no value to ramp", type));
   if (valueless && given)
     v.fail("value", fmt::format("a {} boundary takes no value; for a moving wall use type: velocity", type));
+}
+
+// profile_file with profile: table, profile_expression with profile:
+// expression; reads the table or parses the formula.
+void BoundaryParams::check_profile_keys(config::Visitor& v) {
+  if (profile == "table" && profile_file.empty())
+    v.fail("profile", "a table profile needs profile_file: the file of its rows (coordinate, factor)");
+  if (profile != "table" && !profile_file.empty())
+    v.fail("profile_file", "profile_file is read for profile: table only; add profile: table or remove it");
+  if (profile == "table" && !profile_file.empty()) {
+    try {
+      table = read_profile_table(profile_file.path, profile_axis[0] - 'x');
+    } catch (const std::exception& e) {
+      v.fail("profile_file", e.what());
+    }
+  }
+  if (profile == "expression" && profile_expression.empty())
+    v.fail("profile",
+           "an expression profile needs profile_expression: the factor as a formula, e.g. \"4*y*(1-y)\"");
+  if (profile != "expression" && !profile_expression.empty())
+    v.fail("profile_expression",
+           "profile_expression is read for profile: expression only; add profile: expression "
+           "or remove it");
+  if (profile == "expression" && !profile_expression.empty()) {
+    try {
+      formula = ProfileExpression(profile_expression);
+    } catch (const std::exception& e) {
+      v.fail("profile_expression", e.what());
+    }
+  }
+}
+
+// An expression profile gives a number at the face's centre, corners and
+// edge midpoints at t = 0 (else the run would stop at its first step).
+static void check_profile_on_face(config::Visitor& v, const config::Config& cfg, const BoundaryParams& b,
+                                  int face) {
+  const int a = face / 2;
+  const int u = (a + 1) % 3, w = (a + 2) % 3;
+  for (double su : {0.0, 0.5, 1.0})
+    for (double sw : {0.0, 0.5, 1.0}) {
+      double s[3];
+      s[a] = face % 2, s[u] = su, s[w] = sw;
+      try {
+        b.profile_factor(face, s, cfg, 0.0);
+      } catch (const std::exception& e) {
+        v.fail("profile_expression", e.what());
+        return;
+      }
+    }
 }
 
 void FluidParams::visit(config::Visitor& v, const config::Config& cfg) {
@@ -98,6 +144,7 @@ void FluidParams::visit(config::Visitor& v, const config::Config& cfg) {
             s.fail("profile_axis", fmt::format("the table's axis {} is the face's normal; give an axis across "
                                                "the face",
                                                b.profile_axis));
+          if (!b.formula.empty()) check_profile_on_face(s, cfg, b, 2 * axis + (face[1] == '+' ? 1 : 0));
         }
       },
       face_names());
@@ -248,7 +295,14 @@ ProfileTable read_profile_table(const std::string& path, int axis) {
   return t;
 }
 
-double BoundaryParams::profile_factor(int face, const double s[3], const config::Config& cfg) const {
+double BoundaryParams::profile_factor(int face, const double s[3], const config::Config& cfg,
+                                      double t) const {
+  const auto& d = cfg.domain;
+  if (profile == "expression") {
+    double x[3];
+    for (int a = 0; a < 3; ++a) x[a] = d.lower[a] + s[a] * (d.upper[a] - d.lower[a]);
+    return formula(x, t);
+  }
   if (profile == "table") {
     const int a = table.axis;
     return table(cfg.domain.lower[a] + s[a] * (cfg.domain.upper[a] - cfg.domain.lower[a]));

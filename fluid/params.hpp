@@ -8,6 +8,7 @@
 
 #include "coflow/config.hpp"
 #include "coflow/run_config.hpp"
+#include "fluid/profile_expression.hpp"
 #include "fluid/turbulence_params.hpp"
 #include "fluid/two_phase_params.hpp"
 
@@ -36,16 +37,20 @@ struct BoundaryParams {
   double ramp = 0.0;          // s: the value rises linearly from zero over this time
   std::string closure = "auto";  // lbm: regularized | zou-he | auto (the type's default)
   std::string phase;             // two-phase: red | blue enters here; "": the colour of the face's cell
-  std::string profile = "uniform";  // velocity faces: uniform | parabolic | table
+  std::string profile = "uniform";  // velocity faces: uniform | parabolic | table | expression
   config::FilePath profile_file;    // table: its rows
   std::string profile_axis = "y";   // table: the axis of its coordinate
   ProfileTable table;               // table: read from profile_file
+  std::string profile_expression;   // expression: its text
+  ProfileExpression formula;        // expression: parsed from profile_expression
   void visit(config::Visitor& v);
-  // The profile's factor at a point of the face: 1 (uniform), the product
-  // over the face's other axes that end in faces (not periodic, more than one
-  // cell) of 4 s (1 - s), s the point's fraction of the box along that axis
-  // (parabolic), or the table at the point's coordinate along its axis.
-  double profile_factor(int face, const double s[3], const config::Config& cfg) const;
+  void check_profile_keys(config::Visitor& v);
+  // The profile's factor at a point of the face at time t: 1 (uniform), the
+  // product over the face's other axes that end in faces (not periodic, more
+  // than one cell) of 4 s (1 - s), s the point's fraction of the box along
+  // that axis (parabolic), the table at the point's coordinate along its
+  // axis, or the expression at the point's coordinates (m) and t.
+  double profile_factor(int face, const double s[3], const config::Config& cfg, double t = 0.0) const;
 };
 
 inline const std::vector<std::string>& face_names() {

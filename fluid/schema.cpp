@@ -240,6 +240,10 @@ static void check_refinement(config::Visitor& v, const config::Config& cfg, cons
     const std::string at = "fluid.boundaries." + face_names()[f];
     if (b.ramp > 0)
       v.fail(at + ".ramp", "the adaptive grid's faces take their value from the start: remove ramp, or refinement");
+    if (b.formula.uses_time())
+      v.fail(at + ".profile_expression",
+             "the adaptive grid's faces hold their values in time: give a formula "
+             "without t, or remove refinement");
     if (b.type == "pressure" && !b.value.values.empty() && b.value.values[0] != 0.0)
       v.fail(at + ".value", fmt::format("the adaptive grid's pressure faces hold the reference pressure 0 (got {} "
                                         "Pa): drive the flow by an inlet or fluid.body_force",
@@ -295,7 +299,9 @@ config::ComponentSchema schema() {
                                                    info.variant));
         else if (b.profile != "uniform")
           v.fail("boundaries." + face + ".profile",
-                 fmt::format("solver {} takes uniform velocity faces only (fv takes parabolic and table ones)", info.variant));
+                 fmt::format("solver {} takes uniform velocity faces only (fv takes parabolic, table and "
+                             "expression ones)",
+                             info.variant));
       }
     if (v.reading() && info.variant.rfind("lbm", 0) != 0) {
       if (p.two_phase.on) v.fail("two_phase", fmt::format("solver {} has one fluid; two_phase needs solver: lbm", info.variant));

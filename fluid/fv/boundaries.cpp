@@ -26,15 +26,15 @@ double FvSolver::Face::pressure_at(double t) const {
 }
 
 // The velocity profile's factor at component c's place `x` (owned-relative;
-// u_c sits on a c-face, the others at centres): BoundaryParams::profile_factor
-// at the place's fractions of the box.
-double FvSolver::profile(int face, int c, const long* x) const {
+// u_c sits on a c-face, the others at centres) at time t:
+// BoundaryParams::profile_factor at the place's fractions of the box.
+double FvSolver::profile(int face, int c, const long* x, double t) const {
   const Face& f = faces_[static_cast<std::size_t>(face)];
   if (!f.profiled) return 1.0;
   double s[3];
   for (int e = 0; e < 3; ++e)
     s[e] = (static_cast<double>(blk_.owned.lo[e] + x[e]) + (e == c ? 0.0 : 0.5)) / static_cast<double>(cells_[e]);
-  return f.boundary.profile_factor(face, s, cfg_);
+  return f.boundary.profile_factor(face, s, cfg_, t);
 }
 
 bool FvSolver::is_dirichlet_face(int c, long i) const {
@@ -63,7 +63,7 @@ void FvSolver::fill_face_ghosts(Field& u, int c, int a, int side, const Face& f,
         u[at(n + 1)] = u[at(n - 2)];
       }
     } else if (f.kind != Face::open) {  // a wall's or velocity face's value (a symmetry face's normal: 0)
-      const double v = U[c] * profile(2 * a + side, c, line);
+      const double v = U[c] * profile(2 * a + side, c, line, t);
       if (side == 0 && c == a) {
         u[at(0)] = v;
         u[at(-1)] = 2 * v - u[at(1)];

@@ -79,7 +79,7 @@ class FvSolver final : public FluidSolver {
     bool here = false;             // this rank's block touches it
     bool convective = false;       // an outflow face: du/dt + U du/dn = 0
     bool wall = false;             // a dirichlet face with no normal velocity (a wall, moving or not)
-    bool profiled = false;         // a velocity face with a profile (parabolic or table)
+    bool profiled = false;         // a velocity face with a profile (parabolic, table or expression)
     BoundaryParams boundary;       // its keys: the profile's factor (profile_factor)
     Vec3 velocity_at(double t) const;
     double pressure_at(double t) const;
@@ -106,7 +106,7 @@ class FvSolver final : public FluidSolver {
     return g == 0 || g == cells_[c];
   }
   bool is_dirichlet_face(int c, long i) const;
-  double profile(int face, int c, const long* x) const;
+  double profile(int face, int c, const long* x, double t) const;
   // Momentum (momentum.cpp).
   void advection(const Faces& u, Faces& out) const;
   double advection_at(const Faces& u, int c, long n) const;

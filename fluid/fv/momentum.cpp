@@ -95,7 +95,8 @@ double FvSolver::viscous_rhs(int c, const long* at, long n, const fv::Imex& s, d
   if (is_boundary_face(c, at[c])) {
     const long g = blk_.owned.lo[c] + at[c];
     const Face& f = faces_[static_cast<std::size_t>(2 * c + (g == 0 ? 0 : 1))];
-    return f.kind == Face::open ? u_[C][n] : f.velocity_at(t1)[c] * profile(2 * c + (g == 0 ? 0 : 1), c, at);
+    return f.kind == Face::open ? u_[C][n]
+                                : f.velocity_at(t1)[c] * profile(2 * c + (g == 0 ? 0 : 1), c, at, t1);
   }
   double r = (s.a1 * u_[C][n] - s.a2 * u_old_[C][n]) / dt + s.b0 * adv_[C][n] + s.b1 * adv_old_[C][n];
   if (s.theta < 1) r += (1 - s.theta) * diffusion_at(u_[C], c, n);
@@ -114,8 +115,8 @@ double FvSolver::viscous_rhs(int c, const long* at, long n, const fv::Imex& s, d
       const Neighbour kind = neighbour_kind(c, at, d, side);
       if (kind == Neighbour::inside || kind == Neighbour::open) continue;
       const double k = s.theta * nu_face(c, n, d, side) / (h_[d] * h_[d]);
-      const double U =
-          faces_[static_cast<std::size_t>(2 * d + side)].velocity_at(t1)[c] * profile(2 * d + side, c, at);
+      const double U = faces_[static_cast<std::size_t>(2 * d + side)].velocity_at(t1)[c] *
+                       profile(2 * d + side, c, at, t1);
       if (kind == Neighbour::wall_normal) r += k * U;
       if (kind == Neighbour::wall_tangential && turbulent_) {  // u1 extrapolated to the new time
         const long in = side == 0 ? stride(d) : -stride(d);

@@ -78,12 +78,12 @@ double FvReference::side_pressure(int face, double t) const {
 }
 
 // A velocity face's profile factor at u_c's place x (a c-face; the other
-// components at centres): BoundaryParams::profile_factor at its fractions of
-// the box.
-double FvReference::profile(int face, int c, const long* x) const {
+// components at centres) at time t: BoundaryParams::profile_factor at its
+// fractions of the box.
+double FvReference::profile(int face, int c, const long* x, double t) const {
   double s[3];
   for (int e = 0; e < 3; ++e) s[e] = (static_cast<double>(x[e]) + (e == c ? 0.0 : 0.5)) / static_cast<double>(n_[e]);
-  return sides_[face].boundary.profile_factor(face, s, cfg_);
+  return sides_[face].boundary.profile_factor(face, s, cfg_, t);
 }
 
 // Faces on the domain's boundary along a non-periodic axis are not unknowns.
@@ -109,7 +109,7 @@ void FvReference::velocity_ghosts(Faces& u, double t, bool keep_open, bool zero)
         }
         for (int side = 0; side < 2; ++side) {
           const Side& sd = sides_[2 * a + side];
-          const double v = zero ? 0.0 : side_velocity(2 * a + side, t)[c] * profile(2 * a + side, c, x);
+          const double v = zero ? 0.0 : side_velocity(2 * a + side, t)[c] * profile(2 * a + side, c, x, t);
           const long b = side == 0 ? 0 : n - 1, dir = side == 0 ? -1 : 1;  // last cell, outwards
           if (sd.kind == Kind::symmetry && c != a) {                       // mirrored: no shear
             q(f, b + dir) = q(f, b);

@@ -66,7 +66,7 @@ class FvReference final : public FluidSolver {
   Vec3 side_velocity(int face, double t) const;
   double side_pressure(int face, double t) const;
   bool unknown(int c, long i) const;  // the face of u_c at index i along c is solved for
-  double profile(int face, int c, const long* x) const;
+  double profile(int face, int c, const long* x, double t) const;
 
   // Ghosts of the velocity at time t. keep_open: the normal velocity on an
   // open face stays (else it becomes the first face inside's); zero: the faces'

@@ -60,7 +60,7 @@ case "$mode" in
     [ -n "$first" ] || { echo "FAIL: run A wrote no checkpoint"; exit 1; }
     run "$out/restarted" "${b[@]}" --restart "$first"
     check compare "$out/straight" "$out/restarted" | tee -a "$metrics" || exit 1 ;;
-  profile|probes|channel|walls|fluid_walls|decay|mass|ramp|impact|pour|crush|momentum|drag|settling|dpm_settling|granular_gas|two_way|dispersion|grid_turbulence|injection|jet|rotation|contact_angle|layered|colour_mass|permeability|washburn|injection_phase|grain_interface|bridge|cavity|tg_error|divergence|ke_decay|ke_grid|ke_channel|grid_turbulence_fv|ibm_steady|ibm_shedding|ibm_oscillating|ibm_particles|vortex)
+  profile|probes|channel|walls|fluid_walls|decay|mass|ramp|impact|pour|crush|momentum|drag|settling|dpm_settling|granular_gas|two_way|dispersion|grid_turbulence|injection|jet|rotation|contact_angle|layered|colour_mass|permeability|washburn|injection_phase|grain_interface|bridge|cavity|tg_error|stokes_layer|divergence|ke_decay|ke_grid|ke_channel|grid_turbulence_fv|ibm_steady|ibm_shedding|ibm_oscillating|ibm_particles|vortex)
     run "$out/run" "$@"
     check "$mode" "$out/run" | tee -a "$metrics" || exit 1 ;;
   compare|layouts)
@@ -101,10 +101,11 @@ case "$mode" in
       run "$out/run$n" "${s[@]}"
     done
     check "$what" "$out/run1" "$out/run2" | tee -a "$metrics" || exit 1 ;;
-  order|order_tg)
+  order|order_tg|order_stokes)
     # order: steady profiles (coflow-check profile); order_tg: the Taylor-Green
-    # vortex at the end (coflow-check tg_error).
-    what=profile; [ "$mode" = order_tg ] && what=tg_error
+    # vortex at the end (coflow-check tg_error); order_stokes: Stokes'
+    # oscillating wall (coflow-check stokes_layer).
+    what=profile; [ "$mode" = order_tg ] && what=tg_error; [ "$mode" = order_stokes ] && what=stokes_layer
     errs=()
     for n in 1 2 3; do
       mapfile -t s < <(sets "${!n}")

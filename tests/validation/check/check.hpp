@@ -137,6 +137,7 @@ int jet(const std::string& dir);
 // fv/checks.cpp
 int cavity(const std::string& dir);
 int tg_error(const std::string& dir);
+int stokes_layer(const std::string& dir);
 int vortex(const std::string& dir);
 int divergence(const std::string& dir);
 int outflow_reflection(const std::string& a, const std::string& b);

@@ -52,6 +52,7 @@ int main(int argc, char** argv) {
     if (what == "bridge" && argc == 3) return bridge(argv[2]);
     if (what == "cavity" && argc == 3) return cavity(argv[2]);
     if (what == "tg_error" && argc == 3) return tg_error(argv[2]);
+    if (what == "stokes_layer" && argc == 3) return stokes_layer(argv[2]);
     if (what == "vortex" && argc == 3) return vortex(argv[2]);
     if (what == "divergence" && argc == 3) return divergence(argv[2]);
     if (what == "outflow_reflection" && argc == 4) return outflow_reflection(argv[2], argv[3]);

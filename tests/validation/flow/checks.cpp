@@ -59,9 +59,9 @@ int profile(const std::string& dir) {
         const double y = (j + 0.5) * h[1], z = (k + 0.5) * h[2];
         const double H = ny * h[1], W = nz * h[2];
         double ua;
-        // A parabolic inlet, or a table of the same parabola
-        // (configs/validation/profiles/channel_parabola_32.csv): the channel's profile.
-        if (b_xm.type == "velocity" && (b_xm.profile == "parabolic" || b_xm.profile == "table"))
+        // A parabolic inlet, a table of the same parabola
+        // (configs/validation/profiles/channel_parabola_32.csv) or its formula: the channel's profile.
+        if (b_xm.type == "velocity" && b_xm.profile != "uniform")
           ua = 4 * b_xm.value.values[0] * (y / H) * (1 - y / H);
         else if (couette)  // lbm's moving wall is its last cells' centres (Zou-He velocity face)
           ua = b_yp.value.values[0] * y / ((fv ? ny : ny - 0.5) * h[1]);

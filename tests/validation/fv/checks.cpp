@@ -1,6 +1,8 @@
 // coflow-check: the finite-volume fluid (fv): lid-driven cavity against Ghia,
 // Ghia & Shin 1982, Taylor-Green error against the exact decay, divergence
-// after the projection.
+// after the projection, Stokes' oscillating wall.
+#include <complex>
+
 #include "../check/check.hpp"
 #include "../ghia_1982.hpp"
 
@@ -74,6 +76,46 @@ int cavity(const std::string& dir) {
   }
   std::printf("reynolds=%.6g\nmax_deviation_u=%.6e\nmax_deviation_v=%.6e\nmax_deviation=%.6e\n", re, du, dv,
               std::max(du, dv));
+  return 0;
+}
+
+// Stokes' second problem in a gap of depth H (configs/validation/fv_stokes_layer.yaml):
+// the wall y- moves as U sin(omega t), T = 2 pi / omega = 1 s, the wall y+ rests.
+// The periodic state is Im[U e^{i omega t} sinh(k (H - y)) / sinh(k H)], k =
+// (1 + i) / delta, delta = sqrt(2 nu / omega) (the gap's form of Stokes' 1851
+// solution: it satisfies u_t = nu u_yy, u(0) = U sin(omega t), u(H) = 0).
+// Prints the cells' root-mean-square error over U at the last snapshot
+// (l2_error). The
+// check first makes sure the run's wall followed sin(2 pi t / 1 s): the
+// reference is for that motion only.
+int stokes_layer(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  const auto& d = cfg.domain;
+  const auto wall = fp.boundary(2, cfg);
+  const double U = wall.value.values.at(0), omega = 2 * std::numbers::pi / 1.0;
+  if (wall.profile != "expression") throw std::runtime_error("the y- face needs profile: expression");
+  for (double tt = 0.0; tt < 1.0; tt += 0.0625) {
+    const double s[3] = {0.5, 0.0, 0.5};
+    if (std::abs(wall.profile_factor(2, s, cfg, tt) - std::sin(omega * tt)) > 1e-12)
+      throw std::runtime_error(
+          "the y- face's profile_expression is not sin(2*pi*t/1.0): the check's reference "
+          "is for that motion");
+  }
+  const auto h = d.spacing();
+  const auto [t, u, nx, ny] = last_velocity(dir);
+  const double H = d.upper[1] - d.lower[1], delta = std::sqrt(2 * fp.viscosity / omega);
+  const std::complex<double> k(1.0 / delta, 1.0 / delta),
+      phase = std::exp(std::complex<double>(0.0, omega * t));
+  double e2 = 0.0;
+  for (long j = 0; j < ny; ++j)
+    for (long i = 0; i < nx; ++i) {
+      const double y = (j + 0.5) * h[1];
+      const double ua = U * (phase * std::sinh(k * (H - y)) / std::sinh(k * H)).imag();
+      const double un = u[static_cast<std::size_t>((j * nx + i) * 3)];
+      e2 += (un - ua) * (un - ua);
+    }
+  std::printf("l2_error=%.6e\n", std::sqrt(e2 / static_cast<double>(nx * ny)) / U);
   return 0;
 }
 

@@ -90,6 +90,19 @@ coflow_validation(fv_channel_inlet_table profile fv_channel_inlet.yaml 1
   --set fluid.boundaries.x-.profile=table --set fluid.boundaries.x-.profile_file=profiles/channel_parabola_32.csv)
 coflow_validation(fv_vs_reference_inlet_table compare fv_channel_inlet.yaml 1
   "fluid.solver=fv ${fv_inlet_sets} ${fv_inlet_table}" "fluid.solver=fv-reference ${fv_inlet_sets} ${fv_inlet_table}")
+# The inlet's parabola as a formula (profile: expression), and a face whose
+# formula is in time: Stokes' oscillating wall against the gap's exact
+# periodic solution, its order in space (16, 32, 64 cells across the gap, the
+# step small enough that the space error dominates), fv against fv-reference.
+coflow_validation(fv_channel_inlet_expression profile fv_channel_inlet.yaml 1
+  --set fluid.boundaries.x-.profile=expression --set "fluid.boundaries.x-.profile_expression=4*(y/0.032)*(1-y/0.032)")
+coflow_validation(fv_stokes_layer stokes_layer fv_stokes_layer.yaml 1)
+coflow_validation(fv_stokes_layer_order order_stokes fv_stokes_layer.yaml 1
+  "domain.cells=[4,16,1] domain.upper=[0.05,0.2,0.0125]"
+  "domain.cells=[4,32,1] domain.upper=[0.025,0.2,0.00625]"
+  "domain.cells=[4,64,1] domain.upper=[0.0125,0.2,0.003125]")
+coflow_validation(fv_vs_reference_stokes_layer compare fv_stokes_layer.yaml 1
+  "fluid.solver=fv run.end_time=2.25 run.output.every=2.25" "fluid.solver=fv-reference run.end_time=2.25 run.output.every=2.25")
 # k-epsilon with the two-layer wall model (issue 22): decaying homogeneous
 # turbulence against the model's exact solution (and with C_e2 changed), the
 # decay behind a grid (seed 003 §5.4's carrier flow) against the model's exact

@@ -60,10 +60,9 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
   // On the adaptive grid (fluid.fv.refinement) fv has no k-epsilon yet.
   if (variant == "fv" && refined(cfg)) c.provides = {f::velocity, f::pressure};
   if (variant == "fv" || variant == "fv-reference") c.provides.push_back(f::ibm_forcing);
-  // lbm forces immersed boundaries with one fluid (the two-phase core has no hook).
-  if (variant == "lbm" && !config::resolved_node(cfg, "fluid.two_phase").IsMap() &&
-      !config::resolved_node(cfg, "fluid.solids").IsSequence())
-    c.provides.push_back(f::ibm_forcing);
+  // lbm forces immersed boundaries with one fluid or two (and interior solids);
+  // lbm-reference does not.
+  if (variant == "lbm") c.provides.push_back(f::ibm_forcing);
   return c;
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 
 #include "coflow/session.hpp"
 #include "fluid/grid/ghost_exchange.hpp"
@@ -64,6 +65,7 @@ class TwoPhaseCore final : public LbmCore {
     red_.halo.finish(red_.f.data(), cells_);
     blue_.halo.finish(blue_.f.data(), cells_);
     stream();
+    if (hook_) hook_();  // immersed boundaries: the streamed populations are in `next`
     colour_grains();
     ghosts_.exchange(phi_);
     fill_open_ghosts();
@@ -89,7 +91,10 @@ class TwoPhaseCore final : public LbmCore {
           for (int d = 0; d < 3; ++d) j[d] += L::e[q][d] * f;
         }
         const double rho_m = Incompressible ? 1.0 : r;
-        for (int d = 0; d < 3; ++d) u[3 * c + d] = (j[d] - 0.5 * s_.force[d]) / rho_m;
+        // As the one-fluid core: half the body force and of an immersed
+        // boundary's force out (Guo), a source's impulse counted in full.
+        const double* e = cell_force_.empty() ? nullptr : &cell_force_[static_cast<std::size_t>(3 * c)];
+        for (int d = 0; d < 3; ++d) u[3 * c + d] = (j[d] - 0.5 * (s_.force[d] + (e ? e[d] : 0.0))) / rho_m;
         rho[c] = r;
       }
       ++c;
@@ -188,6 +193,35 @@ class TwoPhaseCore final : public LbmCore {
     }
   }
   void set_source(std::span<const double> force) override { src_.assign(force.begin(), force.end()); }
+  // Immersed boundaries (LbmCore::set_hook): with a hook every cell takes the
+  // one-cell passes, so that the streaming stores the pulled populations that
+  // streamed_velocity reads and the collision adds the cells' forces.
+  void set_hook(std::function<void()> hook) override { hook_ = std::move(hook); }
+  void streamed_velocity(std::span<const long> cells, std::span<double> u,
+                         std::span<double> rho) const override {
+    for (std::size_t n = 0; n < cells.size(); ++n) {
+      const long c = cells[n], x = block_index(c);
+      double r = 0.0, j[3] = {0.0, 0.0, 0.0}, F[3];
+      for (int q = 0; q < L::Q; ++q) {
+        const double f = red_.next[q * cells_ + x] + blue_.next[q * cells_ + x];
+        r += f;
+        for (int d = 0; d < 3; ++d) j[d] += L::e[q][d] * f;
+      }
+      for (int d = 0; d < 3; ++d)
+        F[d] = s_.force[d] + (src_.empty() ? 0.0 : src_[3 * c + d]);  // not the last forcing
+      const double rho_m = Incompressible ? 1.0 : r;
+      for (int d = 0; d < 3; ++d) u[3 * n + d] = (j[d] + 0.5 * F[d]) / rho_m;
+      rho[n] = rho_m;
+    }
+  }
+  void set_cell_forces(std::span<const long> cells, std::span<const double> force) override {
+    if (cell_force_.empty()) cell_force_.assign(3 * static_cast<std::size_t>(owned_cells()), 0.0);
+    for (long c : forced_)
+      for (int d = 0; d < 3; ++d) cell_force_[static_cast<std::size_t>(3 * c + d)] = 0.0;
+    forced_.assign(cells.begin(), cells.end());
+    for (std::size_t n = 0; n < cells.size(); ++n)
+      for (int d = 0; d < 3; ++d) cell_force_[static_cast<std::size_t>(3 * cells[n] + d)] = force[3 * n + d];
+  }
   void take_solid_momentum(std::vector<double>& out) override {
     out = solid_momentum_;
     std::fill(solid_momentum_.begin(), solid_momentum_.end(), 0.0);
@@ -203,9 +237,12 @@ class TwoPhaseCore final : public LbmCore {
     const long nx = lay_.extent[0], ny = lay_.extent[1];
     return lay_.idx(c % nx, (c / nx) % ny, c / (nx * ny));
   }
-  // The body force and the momentum source of owned cell c.
+  // The body force, the momentum source and the immersed boundaries' force of
+  // owned cell c.
   void force(long c, double F[3]) const {
     for (int d = 0; d < 3; ++d) F[d] = s_.force[d] + (src_.empty() ? 0.0 : src_[3 * c + d]);
+    if (!cell_force_.empty())
+      for (int d = 0; d < 3; ++d) F[d] += cell_force_[static_cast<std::size_t>(3 * c + d)];
   }
   template <class F>
   void for_owned(F&& f) const {
@@ -416,8 +453,9 @@ class TwoPhaseCore final : public LbmCore {
 
   // A cell the four-cell passes take: a fluid cell whose neighbours are all
   // fluid (pulled without bounce-back or closure), without wetting or grains
-  // (the plain colour gradient), in a fluid without a momentum source.
-  bool plain(long x) const { return plain_pull_[x] && !special_[x] && src_.empty(); }
+  // (the plain colour gradient), in a fluid without a momentum source or
+  // immersed boundaries.
+  bool plain(long x) const { return plain_pull_[x] && !special_[x] && src_.empty() && !hook_; }
 
   // Four plain cells: the colour field of their pulled populations (stream_cell's
   // sum); collide4 pulls them again, so nothing is stored in between.
@@ -652,6 +690,9 @@ class TwoPhaseCore final : public LbmCore {
   std::vector<int> wet_index_;  // geometric wetting: per cell, into wet_ (-1: no solid neighbour)
   std::vector<Wet> wet_;
   std::vector<double> src_;
+  std::function<void()> hook_;                // immersed boundaries: runs between streaming and collision
+  std::vector<double> cell_force_;            // their force, 3 per owned cell (lattice units)
+  std::vector<long> forced_;                  // the owned cells cell_force_ holds forces on
   std::vector<std::uint8_t> plain_pull_;      // 1: a fluid cell whose neighbours are all fluid
   std::vector<std::uint8_t> static_special_;  // 1: a solid, or a fluid cell with wetting (walls, solids)
   std::vector<std::uint8_t> special_;         // the same, and the cells grains wet

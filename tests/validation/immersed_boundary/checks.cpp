@@ -299,4 +299,46 @@ int ibm_particles(const std::string& dir) {
   return 0;
 }
 
+// A fixed body in a box periodic on every axis, the fluid driven by its body
+// force G (fluid.body_force, N/m^3; it acts on every cell, the body's inside
+// too): the fluid's momentum changes only by G V t and by the impulse of the
+// force on the bodies, P(t) = P(0) + G V t - I(t) (a conservation law; the
+// series every window, immersed.csv giving each window's mean force).
+// Prints the largest departure over G V t_end + |P(0)| (momentum_drift), and
+// the share of the drive the bodies hold over the run's last quarter,
+// mean F_x / (G_x V) (drive_share: 1 in the steady state).
+int ibm_balance(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto& d = cfg.domain;
+  if (!d.periodic[0] || !d.periodic[1] || !d.periodic[2])
+    throw std::runtime_error(dir +
+                             ": ibm_balance needs a box periodic on every axis (no walls, no open faces)");
+  const auto fp = fluid_params(cfg);
+  const double V = (d.upper[0] - d.lower[0]) * (d.upper[1] - d.lower[1]) * (d.upper[2] - d.lower[2]);
+  const auto f = read_series(dir + "/series/fluid.csv"), bodies = read_series(dir + "/series/immersed.csv");
+  if (bodies.size() + 1 != f.size() || f.size() < 5)
+    throw std::runtime_error(dir +
+                             ": the series do not have a row every window (fluid from t = 0, immersed from "
+                             "the first window)");
+  const std::size_t body_columns = (bodies[0].size() - 3) / 6;
+  const double t_end = f.back()[0];
+  const double norm = std::hypot(fp.body_force[0], fp.body_force[1], fp.body_force[2]) * V * t_end +
+                      std::hypot(f[0][2], f[0][3], f[0][4]);
+  double impulse[3] = {0, 0, 0}, drift = 0.0, held = 0.0, span = 0.0;
+  for (std::size_t r = 1; r < f.size(); ++r) {
+    const double dt = f[r][0] - f[r - 1][0];
+    for (int c = 0; c < 3; ++c) {
+      for (std::size_t b = 0; b < body_columns; ++b) impulse[c] += bodies[r - 1][1 + 6 * b + c] * dt;
+      const double expected = f[0][2 + c] + fp.body_force[c] * V * f[r][0] - impulse[c];
+      drift = nan_max(drift, std::abs(f[r][2 + c] - expected) / norm);
+    }
+    if (f[r][0] > 0.75 * t_end) {
+      for (std::size_t b = 0; b < body_columns; ++b) held += bodies[r - 1][1 + 6 * b] * dt;
+      span += dt;
+    }
+  }
+  std::printf("momentum_drift=%.6e\ndrive_share=%.6e\n", drift, held / span / (fp.body_force[0] * V));
+  return 0;
+}
+
 }  // namespace coflow::check

@@ -40,12 +40,19 @@ coflow_validation(ibm_lbm_ranks_1_vs_2 compare ibm_cylinder_re20_lbm.yaml 2
   "fluid.ranks=1 ${ibm_lbm_short}" "fluid.ranks=2 immersed.ranks=2 fluid.decomposition=[1,2,1] ${ibm_lbm_short}")
 coflow_validation(ibm_lbm_ranks_1_vs_2_moving compare ibm_cylinder_translating_lbm.yaml 2
   "fluid.ranks=1 ${ibm_short}" "fluid.ranks=2 immersed.ranks=2 fluid.decomposition=[1,2,1] ${ibm_short}")
+# Two fluids (the colour-gradient lbm) past a fixed cylinder in a box periodic
+# on every axis, driven by a body force: the momentum balance with the
+# body's impulse, and 1 rank against 2 (fluid and immersed, cut through the body).
+coflow_validation(ibm_two_phase_lbm ibm_balance ibm_two_phase_lbm.yaml 1)
+set(ibm_two_phase_short "run.end_time=10.0 run.output.every=10.0")
+coflow_validation(ibm_two_phase_lbm_ranks_1_vs_2 compare ibm_two_phase_lbm.yaml 2
+  "fluid.ranks=1 ${ibm_two_phase_short}" "fluid.ranks=2 immersed.ranks=2 fluid.decomposition=[2,1,1] ${ibm_two_phase_short}")
 # One fluid rank and one immersed rank that waits asleep for the fluid
 # (coflow/wait.hpp backs off to sleeping; the forcing runs in the fluid):
 # these runs take one core, and ctest may run another test beside them.
 set_tests_properties(validation.ibm_cylinder_re20 validation.ibm_cylinder_re20_lbm validation.ibm_cylinder_frames
   validation.ibm_cylinder_mdf_slip validation.ibm_fv_vs_reference_fixed validation.ibm_fv_vs_reference_moving
-  PROPERTIES PROCESSORS 1)
+  validation.ibm_two_phase_lbm PROPERTIES PROCESSORS 1)
 # On fv's adaptive grid (issue 25): the cylinder with its near wake on the
 # finest of 3 levels against the same grid refined everywhere.
 coflow_validation(ibm_cylinder_amr pair ibm_cylinder_amr.yaml 2 ibm_frames "" "config=ibm_cylinder_amr_fine.yaml")

@@ -1,14 +1,15 @@
 #include "fluid/schema.hpp"
 
-#include <algorithm>
-
 #include <fmt/format.h>
 
-#include "coflow/decomposition.hpp"
+#include <algorithm>
+#include <cmath>
 
+#include "coflow/decomposition.hpp"
 #include "fluid/analytic/params.hpp"
 #include "fluid/fv/params.hpp"
 #include "fluid/lbm/params.hpp"
+#include "fluid/lbm/units.hpp"
 #include "fluid/params.hpp"
 
 namespace coflow::fluid {
@@ -274,6 +275,30 @@ static void check_refinement(config::Visitor& v, const config::Config& cfg, cons
   }
 }
 
+// lbm steps by a fixed dt (from fluid.lbm.tau): a window the user gives must
+// hold a whole number of them (the fluid would refuse it at its start).
+static void check_lbm_window(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
+  if (variant.rfind("lbm", 0) != 0 || cfg.coupling.window.is_auto) return;
+  FluidParams fp;
+  config::Reader r(config::resolved_node(cfg, "fluid"), cfg.file, "fluid");
+  fp.visit(r, cfg);
+  const auto lp = config::read_section<lbm::LbmParams>(cfg, "fluid.lbm", "fluid.lbm");
+  const double dt = lbm::Units::from(cfg.domain.spacing()[0], fp.viscosity, fp.density, lp.tau).dt;
+  const double window = cfg.coupling.window.value, ratio = window / dt;
+  if (std::abs(ratio - std::round(ratio)) <= 1e-6 * ratio) return;
+  const double k = std::max(1.0, std::round(ratio));
+  v.fail("coupling.window",
+         fmt::format("{} s is {} lattice steps of dt = {} s (fluid.lbm.tau {} at this grid and "
+                     "viscosity); give a whole number of them, e.g. {} s, or window: auto",
+                     config::number(window), config::number(ratio), config::number(dt),
+                     config::number(lp.tau), config::number(k * dt)));
+}
+
+static void check(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
+  check_refinement(v, cfg, variant);
+  check_lbm_window(v, cfg, variant);
+}
+
 config::ComponentSchema schema() {
   config::ComponentSchema s = component_schema("fluid", "solver", variant_schemas(),
                                                 "the fluid component (omit the section, or solver: none, for no fluid)");
@@ -281,7 +306,7 @@ config::ComponentSchema schema() {
   s.contract = contract;
   s.report = report;
   s.resolve = resolve;
-  s.check = check_refinement;
+  s.check = check;
   s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);
     if (v.reading() && !has_variant(variant_schemas(), info.variant)) {  // external, none, or a wrong name reported above

@@ -17,6 +17,11 @@ using namespace coflow::check;
 int main(int argc, char** argv) {
   try {
     const std::string what = argc > 1 ? argv[1] : "";
+    // Every argument after the mode is a run directory with its resolved
+    // configuration (a missing one would reach the readers below).
+    for (int a = 2; a < argc; ++a)
+      if (!std::ifstream(std::string(argv[a]) + "/config.yaml"))
+        throw std::runtime_error(std::string(argv[a]) + " is not a run directory (no config.yaml in it)");
     if (what == "profile" && argc == 3) return profile(argv[2]);
     if (what == "probes" && argc == 3) return probes(argv[2]);
     if (what == "fluid_walls" && argc == 3) return fluid_walls(argv[2]);

@@ -298,9 +298,10 @@ ProfileTable read_profile_table(const std::string& path, int axis) {
 double BoundaryParams::profile_factor(int face, const double s[3], const config::Config& cfg,
                                       double t) const {
   const auto& d = cfg.domain;
-  if (profile == "expression") {
+  if (profile == "expression") {  // at the point's place across the face, on the face along its normal
     double x[3];
     for (int a = 0; a < 3; ++a) x[a] = d.lower[a] + s[a] * (d.upper[a] - d.lower[a]);
+    x[face / 2] = face % 2 == 0 ? d.lower[face / 2] : d.upper[face / 2];
     return formula(x, t);
   }
   if (profile == "table") {

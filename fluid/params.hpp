@@ -49,7 +49,8 @@ struct BoundaryParams {
   // product over the face's other axes that end in faces (not periodic, more
   // than one cell) of 4 s (1 - s), s the point's fraction of the box along
   // that axis (parabolic), the table at the point's coordinate along its
-  // axis, or the expression at the point's coordinates (m) and t.
+  // axis, or the expression at the point's coordinates (m; on the face along
+  // its normal) and t.
   double profile_factor(int face, const double s[3], const config::Config& cfg, double t = 0.0) const;
 };
 

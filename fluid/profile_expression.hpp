@@ -14,8 +14,8 @@ class ProfileExpression {
   ProfileExpression() = default;
   // Parses `text` (variables x, y, z, t; constants pi and e; muParser's
   // functions: sin, cos, exp, sqrt, abs, min, max, ...); throws
-  // std::runtime_error "what is wrong at position N" for a syntax error or an
-  // unknown name.
+  // std::runtime_error "cannot read the expression ...: what is wrong at
+  // character N (or: at the end)" for a syntax error or an unknown name.
   explicit ProfileExpression(const std::string& text);
   bool empty() const { return !state_; }
   bool uses_time() const;  // the formula names t

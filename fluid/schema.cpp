@@ -61,8 +61,8 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
   // On the adaptive grid (fluid.fv.refinement) fv has no k-epsilon yet.
   if (variant == "fv" && refined(cfg)) c.provides = {f::velocity, f::pressure};
   if (variant == "fv" || variant == "fv-reference") c.provides.push_back(f::ibm_forcing);
-  // lbm forces immersed boundaries with one fluid or two (and interior solids);
-  // lbm-reference does not.
+  // lbm forces immersed boundaries with one fluid or two (not beside interior
+  // solids: check_lbm_solids); lbm-reference does not.
   if (variant == "lbm") c.provides.push_back(f::ibm_forcing);
   return c;
 }
@@ -294,9 +294,21 @@ static void check_lbm_window(config::Visitor& v, const config::Config& cfg, cons
                      config::number(lp.tau), config::number(k * dt)));
 }
 
+// lbm's immersed-boundary forcing reads and forces fluid cells only: its
+// stencils must not reach into interior solids, so the two do not run together.
+static void check_lbm_solids(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
+  if (variant != "lbm" || !config::resolved_node(cfg, "fluid.solids").IsSequence()) return;
+  if (!cfg.has("immersed") || cfg.component("immersed").variant != "ibm") return;
+  v.fail("fluid.solids",
+         "interior solids and immersed bodies (immersed.method ibm) do not run together on lbm (the "
+         "forcing's cells would reach into the solids): make the solid an immersed body, or the body "
+         "an interior solid (fluid.solids takes STL meshes)");
+}
+
 static void check(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
   check_refinement(v, cfg, variant);
   check_lbm_window(v, cfg, variant);
+  check_lbm_solids(v, cfg, variant);
 }
 
 config::ComponentSchema schema() {

@@ -52,7 +52,7 @@ class LbmCore {
   // for this step's collision. A core without them throws.
   virtual void set_hook(std::function<void()> hook) {
     (void)hook;
-    throw std::runtime_error("this lattice Boltzmann fluid does not take immersed boundaries (one fluid only)");
+    throw std::runtime_error("this lattice Boltzmann fluid does not take immersed boundaries");
   }
   virtual void streamed_velocity(std::span<const long> cells, std::span<double> u, std::span<double> rho) const {
     (void)cells, (void)u, (void)rho;

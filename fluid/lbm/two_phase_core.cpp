@@ -207,8 +207,7 @@ class TwoPhaseCore final : public LbmCore {
         r += f;
         for (int d = 0; d < 3; ++d) j[d] += L::e[q][d] * f;
       }
-      for (int d = 0; d < 3; ++d)
-        F[d] = s_.force[d] + (src_.empty() ? 0.0 : src_[3 * c + d]);  // not the last forcing
+      drive(c, F);  // not the last step's forcing
       const double rho_m = Incompressible ? 1.0 : r;
       for (int d = 0; d < 3; ++d) u[3 * n + d] = (j[d] + 0.5 * F[d]) / rho_m;
       rho[n] = rho_m;
@@ -237,10 +236,13 @@ class TwoPhaseCore final : public LbmCore {
     const long nx = lay_.extent[0], ny = lay_.extent[1];
     return lay_.idx(c % nx, (c / nx) % ny, c / (nx * ny));
   }
-  // The body force, the momentum source and the immersed boundaries' force of
-  // owned cell c.
-  void force(long c, double F[3]) const {
+  // The body force and the momentum source of owned cell c.
+  void drive(long c, double F[3]) const {
     for (int d = 0; d < 3; ++d) F[d] = s_.force[d] + (src_.empty() ? 0.0 : src_[3 * c + d]);
+  }
+  // The same and the immersed boundaries' force (set by this step's hook).
+  void force(long c, double F[3]) const {
+    drive(c, F);
     if (!cell_force_.empty())
       for (int d = 0; d < 3; ++d) F[d] += cell_force_[static_cast<std::size_t>(3 * c + d)];
   }
@@ -556,7 +558,7 @@ class TwoPhaseCore final : public LbmCore {
     double r[L::Q], b[L::Q], f[L::Q], F[3];
     for (int q = 0; q < L::Q; ++q) r[q] = red_.next[q * cells_ + x], b[q] = blue_.next[q * cells_ + x];
     const long loc[3] = {lay_.origin[0] + i, lay_.origin[1] + j, lay_.origin[2] + k};
-    force((k * lay_.extent[1] + j) * lay_.extent[0] + i, F);
+    drive((k * lay_.extent[1] + j) * lay_.extent[0] + i, F);  // this step's forcing comes after
     const auto on = [&](int face) {
       const int axis = face / 2;
       return s_.cells[axis] > 1 && loc[axis] == (face % 2 == 0 ? 0 : s_.cells[axis] - 1);

@@ -50,6 +50,13 @@ int profile(const std::string& dir) {
   double G = fp.body_force[0];
   if (b_xm.type == "pressure" && b_xp.type == "pressure")
     G = (b_xm.value.values[0] - b_xp.value.values[0]) / ((fv ? nx : nx - 1) * h[0]);
+  if (b_xm.profile == "expression")  // the reference below is the channel's parabola: the formula must be it
+    for (double sy = 0.0; sy <= 1.0; sy += 0.125) {
+      const double at[3] = {0.0, sy, 0.5};
+      if (std::abs(b_xm.profile_factor(0, at, cfg) - 4 * sy * (1 - sy)) > 1e-12)
+        throw std::runtime_error(
+            "the x- face's profile_expression is not the channel's parabola 4 s (1 - s)");
+    }
   const bool couette = b_yp.type == "velocity";
   const bool duct_flow = !d.periodic[2] && nz > 1;
   double err2 = 0.0, ref2 = 0.0;

@@ -90,12 +90,13 @@ coflow_validation(fv_channel_inlet_table profile fv_channel_inlet.yaml 1
   --set fluid.boundaries.x-.profile=table --set fluid.boundaries.x-.profile_file=profiles/channel_parabola_32.csv)
 coflow_validation(fv_vs_reference_inlet_table compare fv_channel_inlet.yaml 1
   "fluid.solver=fv ${fv_inlet_sets} ${fv_inlet_table}" "fluid.solver=fv-reference ${fv_inlet_sets} ${fv_inlet_table}")
-# The inlet's parabola as a formula (profile: expression), and a face whose
+# The inlet's parabola as a formula (profile: expression; its factor 1 + 100 x
+# is 1 only on the face itself, where the formula must be evaluated), and a face whose
 # formula is in time: Stokes' oscillating wall against the gap's exact
 # periodic solution, its order in space (16, 32, 64 cells across the gap, the
 # step small enough that the space error dominates), fv against fv-reference.
 coflow_validation(fv_channel_inlet_expression profile fv_channel_inlet.yaml 1
-  --set fluid.boundaries.x-.profile=expression --set "fluid.boundaries.x-.profile_expression=4*(y/0.032)*(1-y/0.032)")
+  --set fluid.boundaries.x-.profile=expression --set "fluid.boundaries.x-.profile_expression=4*(y/0.032)*(1-y/0.032)*(1+100*x)")
 coflow_validation(fv_stokes_layer stokes_layer fv_stokes_layer.yaml 1)
 coflow_validation(fv_stokes_layer_order order_stokes fv_stokes_layer.yaml 1
   "domain.cells=[4,16,1] domain.upper=[0.05,0.2,0.0125]"

@@ -69,7 +69,8 @@ std::vector<double> FvSolver::y_plus() const {
         const Field& q = u_[static_cast<std::size_t>(c)];
         const long sc = stride(c);
         const double u0 = 0.5 * (q[n] + q[n + sc]), u1 = 0.5 * (q[n + in] + q[n + in + sc]);
-        const double U = face.velocity_at(time_)[c];
+        const double U =
+            face.velocity_at(time_)[c] * profile(f, c, at, time_);  // the wall's own velocity there
         const double slope = (9 * (u0 - U) - (u1 - U)) / (3 * h_[a]);
         shear2 += slope * slope;
       }

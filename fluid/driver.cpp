@@ -288,12 +288,12 @@ void FluidWindows::receive_source() {
 // The window: a whole number of fluid steps.
 long steps_per_window(const config::Config& cfg, double dt, double window) {
   if (dt <= 0) return 1;
-  const double ratio = window / dt;
-  if (std::abs(ratio - std::round(ratio)) > 1e-6 * ratio)
+  const long n = whole_steps(window, dt);
+  if (n == 0)
     throw config::ConfigError({config::Problem{
         cfg.file, 0, 0, "coupling.window",
         fmt::format("must be a whole number of fluid steps ({:.6g} s); got {:.6g} s", dt, window)}});
-  return std::lround(window / dt);
+  return n;
 }
 
 }  // namespace

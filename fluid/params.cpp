@@ -46,10 +46,9 @@ void BoundaryParams::visit(config::Visitor& v) {
     config::one_of({"x", "y", "z"}));
   v("profile_expression", profile_expression,
     "profile: expression (fv): the factor on `value` as a formula in x, y, z (m, the point on the face) and "
-    "t (s), "
-    "e.g. `4*y*(1-y)` or `cos(2*pi*t/0.5)`; constants pi and e, muParser's functions (sin, cos, exp, sqrt, "
-    "abs, "
-    "min, max, ...) and `c ? a : b`; quote it in YAML");
+    "t "
+    "(s), e.g. `4*y*(1-y)` or `cos(2*pi*t/0.5)`; constants pi and e, muParser's functions (sin, cos, exp, "
+    "sqrt, abs, min, max, ...) and `c ? a : b`; quote it in YAML");
   if (!v.reading()) return;
   check_profile_keys(v);
   const bool given = v.given("value");

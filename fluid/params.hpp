@@ -2,6 +2,7 @@
 // initial state. Part of the fluid schema library.
 #pragma once
 
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -53,6 +54,14 @@ struct BoundaryParams {
   // its normal) and t.
   double profile_factor(int face, const double s[3], const config::Config& cfg, double t = 0.0) const;
 };
+
+// The number of fluid steps dt in a coupling window, or 0 when the window is
+// not a whole number of them (to 1e-6 of the count): the driver's rule, and
+// validate's for lbm's fixed step.
+inline long whole_steps(double window, double dt) {
+  const double ratio = window / dt;
+  return std::abs(ratio - std::round(ratio)) > 1e-6 * ratio ? 0 : std::lround(ratio);
+}
 
 inline const std::vector<std::string>& face_names() {
   static const std::vector<std::string> f{"x-", "x+", "y-", "y+", "z-", "z+"};

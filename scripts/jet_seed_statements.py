@@ -17,22 +17,20 @@ the 5 mm bins of scripts/plot_jet_impacts.py:
     the bins' impacts): the seed's "the mean angle falls towards +x".
 Uses Debian's python3 with numpy.
 """
+import os
 import sys
 
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from plot_jet_impacts import area_cm2, binned, edges  # noqa: E402  (the maps' bins)
+
 MIN_COUNT = 20
-edges = np.linspace(0.05, 0.15, 21)
-area_cm2 = (edges[1] - edges[0]) ** 2 * 1e4
 centres_cm = 0.5 * (edges[1:] + edges[:-1]) * 100
 
 
 def summary(out, run):
-    d = np.genfromtxt(f"{out}/{run}/events/impacts.csv", delimiter=",", names=True)
-    d = d[d["wall"] >= 6]  # the plate's triangles (0-5: the box's faces)
-    duration = max(float(np.max(d["time"])), 1e-12)
-    n, _, _ = np.histogram2d(d["x"], d["z"], bins=[edges, edges])
-    s, _, _ = np.histogram2d(d["x"], d["z"], bins=[edges, edges], weights=d["angle"])
+    n, s, duration, angles = binned(out, run)
     full = n >= MIN_COUNT
     mean = np.where(full, s / np.maximum(n, 1), np.nan)
     freq = n / duration / area_cm2
@@ -41,7 +39,7 @@ def summary(out, run):
     xm = np.sum(w * xs) / np.sum(w)
     slope = np.sum(w * (xs - xm) * np.nan_to_num(mean)) / np.sum(w * (xs - xm) ** 2)
     hit = freq >= 0.01 * np.max(freq)
-    return (len(d), float(np.mean(d["angle"])), float(np.min(d["angle"])), float(np.max(d["angle"])),
+    return (len(angles), float(np.mean(angles)), float(np.min(angles)), float(np.max(angles)),
             float(np.nanmin(mean)), float(np.nanmax(mean)), float(np.sum(hit)) * area_cm2, float(np.max(freq)), slope)
 
 

@@ -20,27 +20,31 @@ import matplotlib.colors as mcolors  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-out = sys.argv[1]
-img = sys.argv[2] if len(sys.argv) > 2 else "docs/img"
-os.makedirs(img, exist_ok=True)
 edges = np.linspace(0.05, 0.15, 21)
 area_cm2 = (edges[1] - edges[0]) ** 2 * 1e4
 
 
-def maps(run):
+def binned(out, run):
+    """One run's impacts on the plate (its triangles: wall >= 6) on the bins:
+    counts n, sums of the angle s, the run's duration (s) and every impact's angle."""
     d = np.genfromtxt(f"{out}/{run}/events/impacts.csv", delimiter=",", names=True)
     d = d[d["wall"] >= 6]
     duration = max(float(np.max(d["time"])), 1e-12)
     n, _, _ = np.histogram2d(d["x"], d["z"], bins=[edges, edges])
     s, _, _ = np.histogram2d(d["x"], d["z"], bins=[edges, edges], weights=d["angle"])
+    return n, s, duration, d["angle"]
+
+
+def maps(out, run):
+    n, s, duration, angles = binned(out, run)
     with np.errstate(invalid="ignore", divide="ignore"):
         angle = np.where(n > 0, s / n, np.nan)
-    return angle, n / duration / area_cm2, len(d), float(np.mean(d["angle"]))
+    return angle, n / duration / area_cm2, len(angles), float(np.mean(angles))
 
 
-def figure(runs, titles, name):
+def figure(out, img, runs, titles, name):
     fig, ax = plt.subplots(2, len(runs), figsize=(3.3 * len(runs), 6.4), squeeze=False)
-    data = [maps(r) for r in runs]
+    data = [maps(out, r) for r in runs]
     fmax = max(np.max(f) for _, f, _, _ in data)
     for k, ((angle, freq, count, mean), title) in enumerate(zip(data, titles)):
         ext = [edges[0] * 100, edges[-1] * 100, edges[0] * 100, edges[-1] * 100]
@@ -57,7 +61,15 @@ def figure(runs, titles, name):
     print(f"wrote {img}/{name}")
 
 
-figure(["spread_0", "spread_5", "spread_10", "spread_15"],
-       ["spread 0 deg", "spread 5 deg", "spread 10 deg", "spread 15 deg"], "dpm_jet_spread.png")
-figure(["spread_0", "nozzle_60", "nozzle_45", "nozzle_30"],
-       ["nozzle 90 deg", "nozzle 60 deg", "nozzle 45 deg", "nozzle 30 deg"], "dpm_jet_nozzle.png")
+def main():
+    out = sys.argv[1]
+    img = sys.argv[2] if len(sys.argv) > 2 else "docs/img"
+    os.makedirs(img, exist_ok=True)
+    figure(out, img, ["spread_0", "spread_5", "spread_10", "spread_15"],
+           ["spread 0 deg", "spread 5 deg", "spread 10 deg", "spread 15 deg"], "dpm_jet_spread.png")
+    figure(out, img, ["spread_0", "nozzle_60", "nozzle_45", "nozzle_30"],
+           ["nozzle 90 deg", "nozzle 60 deg", "nozzle 45 deg", "nozzle 30 deg"], "dpm_jet_nozzle.png")
+
+
+if __name__ == "__main__":
+    main()

@@ -192,11 +192,17 @@ class TwoPhaseCore final : public LbmCore {
       for (int q = 0; q < L::Q; ++q) red_.f[q * cells_ + x] = r[q], blue_.f[q * cells_ + x] = b[q];
     }
   }
-  void set_source(std::span<const double> force) override { src_.assign(force.begin(), force.end()); }
+  void set_source(std::span<const double> force) override {
+    src_.assign(force.begin(), force.end());
+    fused_ = src_.empty() && !hook_;
+  }
   // Immersed boundaries (LbmCore::set_hook): with a hook every cell takes the
   // one-cell passes, so that the streaming stores the pulled populations that
   // streamed_velocity reads and the collision adds the cells' forces.
-  void set_hook(std::function<void()> hook) override { hook_ = std::move(hook); }
+  void set_hook(std::function<void()> hook) override {
+    hook_ = std::move(hook);
+    fused_ = src_.empty() && !hook_;
+  }
   void streamed_velocity(std::span<const long> cells, std::span<double> u,
                          std::span<double> rho) const override {
     for (std::size_t n = 0; n < cells.size(); ++n) {
@@ -456,8 +462,8 @@ class TwoPhaseCore final : public LbmCore {
   // A cell the four-cell passes take: a fluid cell whose neighbours are all
   // fluid (pulled without bounce-back or closure), without wetting or grains
   // (the plain colour gradient), in a fluid without a momentum source or
-  // immersed boundaries.
-  bool plain(long x) const { return plain_pull_[x] && !special_[x] && src_.empty() && !hook_; }
+  // immersed boundaries (fused_).
+  bool plain(long x) const { return fused_ && plain_pull_[x] && !special_[x]; }
 
   // Four plain cells: the colour field of their pulled populations (stream_cell's
   // sum); collide4 pulls them again, so nothing is stored in between.
@@ -693,6 +699,7 @@ class TwoPhaseCore final : public LbmCore {
   std::vector<Wet> wet_;
   std::vector<double> src_;
   std::function<void()> hook_;                // immersed boundaries: runs between streaming and collision
+  bool fused_ = true;  // neither a source nor a hook: plain cells take the four-cell passes
   std::vector<double> cell_force_;            // their force, 3 per owned cell (lattice units)
   std::vector<long> forced_;                  // the owned cells cell_force_ holds forces on
   std::vector<std::uint8_t> plain_pull_;      // 1: a fluid cell whose neighbours are all fluid

@@ -85,9 +85,8 @@ int cavity(const std::string& dir) {
 // (1 + i) / delta, delta = sqrt(2 nu / omega) (the gap's form of Stokes' 1851
 // solution: it satisfies u_t = nu u_yy, u(0) = U sin(omega t), u(H) = 0).
 // Prints the cells' root-mean-square error over U at the last snapshot
-// (l2_error). The
-// check first makes sure the run's wall followed sin(2 pi t / 1 s): the
-// reference is for that motion only.
+// (l2_error). The check first makes sure the run's wall followed
+// sin(2 pi t / 1 s): the reference is for that motion only.
 int stokes_layer(const std::string& dir) {
   const auto cfg = load(dir);
   const auto fp = fluid_params(cfg);

@@ -261,6 +261,40 @@ int ibm_oscillating(const std::string& dir) {
 
 namespace coflow::check {
 
+namespace {
+
+// The series of a momentum balance with fixed bodies: the fluid's (and the
+// others named) from t = 0, the bodies' loads (each window's mean) from the
+// first window, a row every window. Fixed bodies only: a moving body's load in
+// immersed.csv also holds rho V a of the fluid inside it.
+struct BalanceSeries {
+  std::vector<std::vector<double>> fluid, bodies;
+  std::size_t body_columns = 0;  // per body 6, then iterations and slip
+  // The bodies' summed load component c over the window ending at fluid row r.
+  double load(std::size_t r, int c) const {
+    double sum = 0.0;
+    for (std::size_t b = 0; b < body_columns; ++b)
+      sum += bodies[r - 1][1 + 6 * b + static_cast<std::size_t>(c)];
+    return sum;
+  }
+};
+
+BalanceSeries balance_series(const std::string& dir, const std::string& mode) {
+  for (const auto& body : immersed::read_ibm_params(load(dir)).bodies)
+    if (body.motion.moves())
+      throw std::runtime_error(dir + ": " + mode + " balances fixed bodies only (body " + body.name +
+                               " moves)");
+  BalanceSeries s{read_series(dir + "/series/fluid.csv"), read_series(dir + "/series/immersed.csv")};
+  if (s.bodies.size() + 1 != s.fluid.size() || s.fluid.size() < 3)
+    throw std::runtime_error(dir +
+                             ": the series do not have a row every window (fluid from t = 0, immersed from "
+                             "the first window)");
+  s.body_columns = (s.bodies[0].size() - 3) / 6;
+  return s;
+}
+
+}  // namespace
+
 // A body and point particles in one run (configs/validation/
 // ibm_with_particles.yaml): no gravity, periodic sides, so the momentum of
 // fluid + particles changes only by the impulse of the fluid's force on the
@@ -268,28 +302,21 @@ namespace coflow::check {
 // particles' strikes on their walls (series/walls.csv). Rows every window:
 // the largest departure of P_fluid + P_particles + those impulses from its
 // start, per axis, relative to |P0|; and what the bodies and the walls took
-// (shares of |P0|: the test exercises both). Fixed bodies only: a moving
-// body's load in immersed.csv also holds rho V a of the fluid inside it.
+// (shares of |P0|: the test exercises both). Fixed bodies only (balance_series).
 int ibm_particles(const std::string& dir) {
-  for (const auto& body : immersed::read_ibm_params(load(dir)).bodies)
-    if (body.motion.moves())
-      throw std::runtime_error(dir + ": ibm_particles balances fixed bodies only (body " + body.name + " moves)");
-  const auto f = read_series(dir + "/series/fluid.csv"), p = read_series(dir + "/series/particles.csv");
-  const auto bodies = read_series(dir + "/series/immersed.csv"),
-             walls = read_series(dir + "/series/walls.csv");
-  if (f.size() != p.size() || walls.size() != f.size() || bodies.size() + 1 != f.size() || f.size() < 3)
-    throw std::runtime_error(
-        dir +
-        ": the series do not have a row every window (fluid, particles, walls from t = 0, "
-        "immersed from the first window)");
-  const std::size_t body_columns = (bodies[0].size() - 3) / 6;  // per body 6, then iterations and slip
+  const BalanceSeries s = balance_series(dir, "ibm_particles");
+  const auto& f = s.fluid;
+  const auto p = read_series(dir + "/series/particles.csv"), walls = read_series(dir + "/series/walls.csv");
+  if (f.size() != p.size() || walls.size() != f.size())
+    throw std::runtime_error(dir +
+                             ": the particles' and walls' series do not have a row every window from t = 0");
   double P0[3], on_bodies[3] = {0, 0, 0}, on_walls[3] = {0, 0, 0}, drift = 0.0;
   for (int d = 0; d < 3; ++d) P0[d] = f[0][2 + d] + p[0][2 + d];
   const double norm = std::hypot(P0[0], P0[1], P0[2]);
   for (std::size_t r = 1; r < f.size(); ++r) {
     const double dt = f[r][0] - f[r - 1][0];
     for (int d = 0; d < 3; ++d) {
-      for (std::size_t b = 0; b < body_columns; ++b) on_bodies[d] += bodies[r - 1][1 + 6 * b + d] * dt;
+      on_bodies[d] += s.load(r, d) * dt;
       for (std::size_t c = 1 + d; c < walls[r].size(); c += 3) on_walls[d] += walls[r][c] * dt;
       drift = nan_max(drift, std::abs(f[r][2 + d] + p[r][2 + d] + on_bodies[d] + on_walls[d] - P0[d]) / norm);
     }
@@ -304,8 +331,8 @@ int ibm_particles(const std::string& dir) {
 // A fixed body in a box periodic on every axis, the fluid driven by its body
 // force G (fluid.body_force, N/m^3; it acts on every cell, the body's inside
 // too): the fluid's momentum changes only by G V t and by the impulse of the
-// force on the bodies, P(t) = P(0) + G V t - I(t) (a conservation law; the
-// series every window, immersed.csv giving each window's mean force). On lbm
+// force on the bodies, P(t) = P(0) + G V t - I(t) (a conservation law; fixed
+// bodies, the series every window: balance_series). On lbm
 // the output momentum is Guo's, sum (j - F/2): it holds back half of the last
 // step's forcing on the fluid, -F dt / 2, which the check adds back (F: the
 // window's mean force on the bodies, dt the lattice step). Prints the largest
@@ -320,12 +347,8 @@ int ibm_balance(const std::string& dir) {
                              ": ibm_balance needs a box periodic on every axis (no walls, no open faces)");
   const auto fp = fluid_params(cfg);
   const double V = (d.upper[0] - d.lower[0]) * (d.upper[1] - d.lower[1]) * (d.upper[2] - d.lower[2]);
-  const auto f = read_series(dir + "/series/fluid.csv"), bodies = read_series(dir + "/series/immersed.csv");
-  if (bodies.size() + 1 != f.size() || f.size() < 5)
-    throw std::runtime_error(dir +
-                             ": the series do not have a row every window (fluid from t = 0, immersed from "
-                             "the first window)");
-  const std::size_t body_columns = (bodies[0].size() - 3) / 6;
+  const BalanceSeries s = balance_series(dir, "ibm_balance");
+  const auto& f = s.fluid;
   const double t_end = f.back()[0];
   double half_step = 0.0;  // lbm: dt / 2
   if (cfg.component("fluid").variant.rfind("lbm", 0) == 0) {
@@ -338,16 +361,13 @@ int ibm_balance(const std::string& dir) {
   for (std::size_t r = 1; r < f.size(); ++r) {
     const double dt = f[r][0] - f[r - 1][0];
     for (int c = 0; c < 3; ++c) {
-      double held_back = 0.0;
-      for (std::size_t b = 0; b < body_columns; ++b) {
-        impulse[c] += bodies[r - 1][1 + 6 * b + c] * dt;
-        held_back += bodies[r - 1][1 + 6 * b + c] * half_step;
-      }
+      impulse[c] += s.load(r, c) * dt;
+      const double held_back = s.load(r, c) * half_step;
       const double expected = f[0][2 + c] + fp.body_force[c] * V * f[r][0] - impulse[c] + held_back;
       drift = nan_max(drift, std::abs(f[r][2 + c] - expected) / norm);
     }
     if (f[r][0] > 0.75 * t_end) {
-      for (std::size_t b = 0; b < body_columns; ++b) held += bodies[r - 1][1 + 6 * b] * dt;
+      held += s.load(r, 0) * dt;
       span += dt;
     }
   }

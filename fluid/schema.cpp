@@ -61,9 +61,9 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
   // On the adaptive grid (fluid.fv.refinement) fv has no k-epsilon yet.
   if (variant == "fv" && refined(cfg)) c.provides = {f::velocity, f::pressure};
   if (variant == "fv" || variant == "fv-reference") c.provides.push_back(f::ibm_forcing);
-  // lbm forces immersed boundaries with one fluid or two (not beside interior
-  // solids: check_lbm_solids); lbm-reference does not.
-  if (variant == "lbm") c.provides.push_back(f::ibm_forcing);
+  // lbm and lbm-reference force immersed boundaries with one fluid or two
+  // (not beside interior solids: check_lbm_solids).
+  if (variant == "lbm" || variant == "lbm-reference") c.provides.push_back(f::ibm_forcing);
   return c;
 }
 
@@ -295,7 +295,9 @@ static void check_lbm_window(config::Visitor& v, const config::Config& cfg, cons
 // lbm's immersed-boundary forcing reads and forces fluid cells only: its
 // stencils must not reach into interior solids, so the two do not run together.
 static void check_lbm_solids(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
-  if (variant != "lbm" || !config::resolved_node(cfg, "fluid.solids").IsSequence()) return;
+  if ((variant != "lbm" && variant != "lbm-reference") ||
+      !config::resolved_node(cfg, "fluid.solids").IsSequence())
+    return;
   if (!cfg.has("immersed") || cfg.component("immersed").variant != "ibm") return;
   v.fail("fluid.solids",
          "interior solids and immersed bodies (immersed.method ibm) do not run together on lbm (the "

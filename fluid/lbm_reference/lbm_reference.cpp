@@ -16,7 +16,7 @@ namespace coflow::fluid {
 using lbm::FaceType;
 
 LbmReference::LbmReference(const Setup& setup, const Params& p)
-    : s_(lbm::make_setup(setup.cfg, setup.params, p, setup.time_step)), comm_(setup.comm) {
+    : s_(lbm::make_setup(setup.cfg, setup.params, p, setup.time_step)), cfg_(&setup.cfg), comm_(setup.comm) {
   int size = 1;
   MPI_Comm_size(comm_, &size);
   if (size != 1) throw std::runtime_error("lbm-reference is serial: set fluid.ranks: 1");
@@ -225,10 +225,13 @@ void LbmReference::step() {
     if (s_.faces[face].type == FaceType::outflow) apply_face(face, fs, post);
   for (int face = 0; face < 6; ++face)
     if (s_.faces[face].type != FaceType::outflow) apply_face(face, fs, post);
+  if (ibm_) force_immersed([&](long c, int q) { return fs[c * Q_ + q]; });
+  step_u2_ = 0.0;
   for (long c = 0; c < n_[0] * n_[1] * n_[2]; ++c) {
     const auto it = solid_.find(c);
     double F[3];
-    force_at(c, F);
+    total_force(c, F);
+    note_speed(&fs[c * Q_], F);
     if (it == solid_.end() || on_open_face(c))  // open faces keep their closure: fluid
       collide(&fs[c * Q_], F, s_.tau);
     else
@@ -236,6 +239,7 @@ void LbmReference::step() {
   }
   if (!solid_.empty()) ++solid_steps_;
   f_ = fs;
+  max_u2_ = step_u2_;
   ++steps_;
 }
 
@@ -395,8 +399,10 @@ void LbmReference::moments(long c, double& rho, double u[3]) const {
   // Stored f is post-collision: its momentum carries the whole force, so the
   // velocity of the step is (j - F/2) / rho_m.
   const double rho_m = s_.incompressible ? 1.0 : rho;
-  // (the body force's half; a point-particle source counts in full, as in lbm)
-  for (int d = 0; d < 3; ++d) u[d] = (j[d] - 0.5 * s_.force[d]) / rho_m;
+  // (the body force's half and the immersed boundaries'; a point-particle
+  // source counts in full, as in lbm)
+  for (int d = 0; d < 3; ++d)
+    u[d] = (j[d] - 0.5 * (s_.force[d] + (ibm_force_.empty() ? 0.0 : ibm_force_[3 * c + d]))) / rho_m;
 }
 
 void LbmReference::advance(double dt) {

@@ -2,14 +2,17 @@
 // serial, distributions stored per cell. It is the test oracle for `lbm`.
 #pragma once
 
+#include <array>
+#include <functional>
 #include <map>
+#include <memory>
 #include <span>
-
 #include <vector>
 
 #include "fluid/fluid_solver.hpp"
 #include "fluid/lbm/params.hpp"
 #include "fluid/lbm/setup.hpp"
+#include "immersed/ibm/direct_forcing.hpp"
 
 namespace coflow::fluid {
 
@@ -32,6 +35,9 @@ class LbmReference final : public FluidSolver {
                  std::span<const double> wetting) override;
   void take_solid_force(std::vector<double>& force) override;
   void set_source(std::span<const double> force_density) override;
+  // Immersed boundaries (immersed_boundary_reference.cpp).
+  void set_markers(ibm::MarkerSet markers) override;
+  std::vector<double> take_body_loads() override;
 
   void step();
   // Lattice moments of a cell (rho, u) from the stored post-collision state.
@@ -42,6 +48,14 @@ class LbmReference final : public FluidSolver {
   double equilibrium(int q, double rho, const double u[3]) const;
   // Density and velocity (with half the force, Guo) of one cell's populations.
   void force_at(long c, double F[3]) const;
+  // The same with the immersed boundaries' force: what the collision and the
+  // fields see.
+  void total_force(long c, double F[3]) const;
+  // The direct forcing between streaming and collision, on the pulled
+  // populations pop(cell, q); sets ibm_force_.
+  void force_immersed(const std::function<double(long, int)>& pop);
+  // Track the largest u^2 of the step's collisions (the forcing's velocity scale).
+  void note_speed(const double* f, const double F[3]);
   void fluid_velocity(const double* f, const double* F, double& rho, double u[3]) const;
   void collide(double* f, const double* F, double tau) const;
   // Two fluids or interior solids (two_phase_reference.cpp).
@@ -84,6 +98,7 @@ class LbmReference final : public FluidSolver {
   void regularize(double* f, int axis, int s, double rho, const double u[3]) const;
 
   lbm::Setup s_;
+  const config::Config* cfg_;
   MPI_Comm comm_;
   coupler::Box box_;
   long n_[3];
@@ -103,6 +118,12 @@ class LbmReference final : public FluidSolver {
   std::vector<double> r_, b_, phi_;
   std::vector<int> solid_id_;
   std::vector<double> grain_eps_, grain_cos_;  // per cell: psm fraction and cos(theta) (0: none)
+  // immersed.method ibm: the forcing (made at the first markers), the forced
+  // velocity per cell, the force per cell (lattice units; empty: no bodies).
+  std::unique_ptr<ibm::DirectForcing> ibm_;
+  std::array<std::vector<double>, 3> ibm_u_;
+  std::vector<double> ibm_force_;
+  double max_u2_ = 0.0, step_u2_ = 0.0;  // largest u^2 of the last step's collisions; of this one's so far
 };
 
 }  // namespace coflow::fluid

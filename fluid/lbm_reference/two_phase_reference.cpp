@@ -101,6 +101,8 @@ void LbmReference::step_colours() {
     for (int q = 0; q < Q_; ++q) rho += r_[c * Q_ + q] + b_[c * Q_ + q];
     phi_[c] = (1.0 - grain.fraction) * phi_[c] + grain.fraction * rho * grain.wetting;
   }
+  if (ibm_) force_immersed([&](long c, int q) { return r_[c * Q_ + q] + b_[c * Q_ + q]; });
+  step_u2_ = 0.0;
   for (long k = 0; k < n_[2]; ++k)
     for (long j = 0; j < n_[1]; ++j)
       for (long i = 0; i < n_[0]; ++i) {
@@ -108,7 +110,10 @@ void LbmReference::step_colours() {
         if (solid_id_[c]) continue;
         double g[3] = {0.0, 0.0, 0.0}, F[3];
         colour_gradient(i, j, k, g);
-        force_at(c, F);
+        total_force(c, F);
+        std::vector<double> f(Q_);
+        for (int q = 0; q < Q_; ++q) f[q] = r_[c * Q_ + q] + b_[c * Q_ + q];
+        note_speed(f.data(), F);
         const std::vector<double> r0(r_.begin() + c * Q_, r_.begin() + (c + 1) * Q_);
         const std::vector<double> b0(b_.begin() + c * Q_, b_.begin() + (c + 1) * Q_);
         collide_colours(c, g, F);
@@ -116,6 +121,7 @@ void LbmReference::step_colours() {
         if (grain != solid_.end() && !on_open_face(c)) collide_grain(c, r0, b0, F, grain->second);
       }
   if (!solid_.empty()) ++solid_steps_;
+  max_u2_ = step_u2_;
   ++steps_;
 }
 

@@ -47,12 +47,21 @@ coflow_validation(ibm_two_phase_lbm ibm_balance ibm_two_phase_lbm.yaml 1)
 set(ibm_two_phase_short "run.end_time=10.0 run.output.every=10.0")
 coflow_validation(ibm_two_phase_lbm_ranks_1_vs_2 compare ibm_two_phase_lbm.yaml 2
   "fluid.ranks=1 ${ibm_two_phase_short}" "fluid.ranks=2 immersed.ranks=2 fluid.decomposition=[2,1,1] ${ibm_two_phase_short}")
+# lbm against lbm-reference (the plain oracle) with the same forcing: a fixed
+# cylinder, a translating one, and the two fluids' case.
+coflow_validation(ibm_lbm_vs_reference_fixed compare ibm_cylinder_re20_lbm.yaml 1
+  "fluid.solver=lbm ${ibm_lbm_short}" "fluid.solver=lbm-reference ${ibm_lbm_short}")
+coflow_validation(ibm_lbm_vs_reference_moving compare ibm_cylinder_translating_lbm.yaml 1
+  "fluid.solver=lbm ${ibm_short}" "fluid.solver=lbm-reference ${ibm_short}")
+coflow_validation(ibm_two_phase_lbm_vs_reference compare ibm_two_phase_lbm.yaml 1
+  "fluid.solver=lbm ${ibm_two_phase_short}" "fluid.solver=lbm-reference ${ibm_two_phase_short}")
 # One fluid rank and one immersed rank that waits asleep for the fluid
 # (coflow/wait.hpp backs off to sleeping; the forcing runs in the fluid):
 # these runs take one core, and ctest may run another test beside them.
 set_tests_properties(validation.ibm_cylinder_re20 validation.ibm_cylinder_re20_lbm validation.ibm_cylinder_frames
   validation.ibm_cylinder_mdf_slip validation.ibm_fv_vs_reference_fixed validation.ibm_fv_vs_reference_moving
-  validation.ibm_two_phase_lbm PROPERTIES PROCESSORS 1)
+  validation.ibm_two_phase_lbm validation.ibm_lbm_vs_reference_fixed validation.ibm_lbm_vs_reference_moving
+  validation.ibm_two_phase_lbm_vs_reference PROPERTIES PROCESSORS 1)
 # On fv's adaptive grid (issue 25): the cylinder with its near wake on the
 # finest of 3 levels against the same grid refined everywhere.
 coflow_validation(ibm_cylinder_amr pair ibm_cylinder_amr.yaml 2 ibm_frames "" "config=ibm_cylinder_amr_fine.yaml")

@@ -292,7 +292,7 @@ static void check_lbm_window(config::Visitor& v, const config::Config& cfg, cons
                      config::number(lp.tau), config::number(k * dt)));
 }
 
-// lbm's immersed-boundary forcing reads and forces fluid cells only: its
+// The lattice Boltzmann fluids' immersed-boundary forcing reads and forces fluid cells only: its
 // stencils must not reach into interior solids, so the two do not run together.
 static void check_lbm_solids(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
   if ((variant != "lbm" && variant != "lbm-reference") ||
@@ -300,8 +300,9 @@ static void check_lbm_solids(config::Visitor& v, const config::Config& cfg, cons
     return;
   if (!cfg.has("immersed") || cfg.component("immersed").variant != "ibm") return;
   v.fail("fluid.solids",
-         "interior solids and immersed bodies (immersed.method ibm) do not run together on lbm (the "
-         "forcing's cells would reach into the solids): make the solid an immersed body, or the body "
+         "interior solids and immersed bodies (immersed.method ibm) do not run together on lbm or "
+         "lbm-reference (the forcing's cells would reach into the solids): make the solid an immersed body, "
+         "or the body "
          "an interior solid (fluid.solids takes STL meshes)");
 }
 

@@ -138,7 +138,10 @@ class Core final : public LbmCore {
 
   // The step with immersed boundaries: every ghost first, then the hook (the
   // forcing reads the streamed populations and sets its cells' forces), then
-  // every row.
+  // every row. The forcing runs before the open faces' closures here (after
+  // them in the two-fluid core and lbm-reference); no forced cell lies on an
+  // open face, since validate keeps bodies the kernel's support and a cell
+  // inside every face that is not periodic (immersed/ibm/params.cpp).
   void hooked_step() {
     pop_.halo.post(pop_.f.data(), lay_.stride);
     pop_.halo.finish(pop_.f.data(), lay_.stride);

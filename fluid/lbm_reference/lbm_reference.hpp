@@ -46,7 +46,7 @@ class LbmReference final : public FluidSolver {
  private:
   long index(long i, long j, long k) const { return (k * n_[1] + j) * n_[0] + i; }
   double equilibrium(int q, double rho, const double u[3]) const;
-  // Density and velocity (with half the force, Guo) of one cell's populations.
+  // The body force plus the cell's momentum source, lattice units.
   void force_at(long c, double F[3]) const;
   // The same with the immersed boundaries' force: what the collision and the
   // fields see.
@@ -56,6 +56,7 @@ class LbmReference final : public FluidSolver {
   void force_immersed(const std::function<double(long, int)>& pop);
   // Track the largest u^2 of the step's collisions (the forcing's velocity scale).
   void note_speed(const double* f, const double F[3]);
+  // Density and velocity (with half the force, Guo) of one cell's populations.
   void fluid_velocity(const double* f, const double* F, double& rho, double u[3]) const;
   void collide(double* f, const double* F, double tau) const;
   // Two fluids or interior solids (two_phase_reference.cpp).

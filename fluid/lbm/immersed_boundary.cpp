@@ -14,16 +14,13 @@ namespace coflow::fluid {
 void LbmSolver::set_markers(ibm::MarkerSet markers) {
   if (!ibm_) {
     const long nx = owned_.extent(0), ny = owned_.extent(1), nz = owned_.extent(2);
-    const config::DomainParams& d = cfg_->domain;
-    std::array<bool, 3> periodic{d.periodic[0], d.periodic[1], d.periodic[2]};
     auto index = [this, nx, ny, nz](const std::array<long, 3>& g) -> long {
       const long i = g[0] - owned_.lo[0], j = g[1] - owned_.lo[1], k = g[2] - owned_.lo[2];
       if (i < 0 || i >= nx || j < 0 || j >= ny || k < 0 || k >= nz) return -1;
       return (k * ny + j) * nx + i;
     };
-    auto grid = ibm::DirectForcing::collocated(immersed::grid_geometry(d), periodic, index);
-    ibm_ = std::make_unique<ibm::DirectForcing>(std::move(grid), immersed::read_ibm_params(*cfg_).forcing(), comm_);
-    ibm_->set_velocity_unit(s_.units.velocity());  // the markers in m/s, the cells in lattice units
+    // The markers in m/s, the cells in lattice units.
+    ibm_ = immersed::collocated_forcing(*cfg_, index, s_.units.velocity(), comm_);
     for (auto& a : ibm_u_) a.assign(static_cast<std::size_t>(nx * ny * nz), 0.0);
     core_->set_hook([this] { force_immersed(); });
   }

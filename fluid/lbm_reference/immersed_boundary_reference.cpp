@@ -15,16 +15,12 @@ namespace coflow::fluid {
 void LbmReference::set_markers(ibm::MarkerSet markers) {
   if (!ibm_) {
     const long nx = n_[0], ny = n_[1], nz = n_[2];
-    const config::DomainParams& d = cfg_->domain;
-    const std::array<bool, 3> periodic{d.periodic[0], d.periodic[1], d.periodic[2]};
     auto index = [nx, ny, nz](const std::array<long, 3>& g) -> long {
       if (g[0] < 0 || g[0] >= nx || g[1] < 0 || g[1] >= ny || g[2] < 0 || g[2] >= nz) return -1;
       return (g[2] * ny + g[1]) * nx + g[0];
     };
-    auto grid = ibm::DirectForcing::collocated(immersed::grid_geometry(d), periodic, index);
-    ibm_ = std::make_unique<ibm::DirectForcing>(std::move(grid), immersed::read_ibm_params(*cfg_).forcing(),
-                                                comm_);
-    ibm_->set_velocity_unit(s_.units.velocity());  // the markers in m/s, the cells in lattice units
+    // The markers in m/s, the cells in lattice units.
+    ibm_ = immersed::collocated_forcing(*cfg_, index, s_.units.velocity(), comm_);
     for (auto& a : ibm_u_) a.assign(static_cast<std::size_t>(nx * ny * nz), 0.0);
     ibm_force_.assign(static_cast<std::size_t>(3 * nx * ny * nz), 0.0);
   }

@@ -106,6 +106,18 @@ std::unique_ptr<ibm::DirectForcing> staggered_forcing(const config::Config& cfg,
       read_ibm_params(cfg).forcing(), comm);
 }
 
+std::unique_ptr<ibm::DirectForcing> collocated_forcing(const config::Config& cfg,
+                                                       std::function<long(const std::array<long, 3>&)> index,
+                                                       double velocity_unit, MPI_Comm comm) {
+  const config::DomainParams& d = cfg.domain;
+  const std::array<bool, 3> periodic{d.periodic[0], d.periodic[1], d.periodic[2]};
+  auto forcing = std::make_unique<ibm::DirectForcing>(
+      ibm::DirectForcing::collocated(grid_geometry(d), periodic, std::move(index)),
+      read_ibm_params(cfg).forcing(), comm);
+  forcing->set_velocity_unit(velocity_unit);
+  return forcing;
+}
+
 namespace {
 
 // The box a body sweeps until end_time: its mesh's box moved by the

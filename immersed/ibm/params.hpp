@@ -62,5 +62,10 @@ IbmParams read_ibm_params(const config::Config& cfg);
 std::unique_ptr<ibm::DirectForcing> staggered_forcing(const config::Config& cfg, std::array<bool, 3> periodic,
                                                       std::function<long(int, const std::array<long, 3>&)> index,
                                                       MPI_Comm comm);
+// A fluid's forcing on its cell centres (lbm, lbm-reference): the domain's
+// periodic axes, velocities in units of velocity_unit m/s.
+std::unique_ptr<ibm::DirectForcing> collocated_forcing(const config::Config& cfg,
+                                                       std::function<long(const std::array<long, 3>&)> index,
+                                                       double velocity_unit, MPI_Comm comm);
 
 }  // namespace coflow::immersed

@@ -28,10 +28,7 @@ void LbmSolver::set_markers(ibm::MarkerSet markers) {
 }
 
 std::vector<double> LbmSolver::take_body_loads() {
-  if (!ibm_) return {};
-  std::vector<double> out = ibm_->take_report();
-  out.back() *= s_.units.velocity();  // the slip in m/s
-  return out;
+  return ibm_ ? ibm_->take_report() : std::vector<double>{};
 }
 
 void LbmSolver::force_immersed() {

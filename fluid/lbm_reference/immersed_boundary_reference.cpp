@@ -28,10 +28,7 @@ void LbmReference::set_markers(ibm::MarkerSet markers) {
 }
 
 std::vector<double> LbmReference::take_body_loads() {
-  if (!ibm_) return {};
-  std::vector<double> out = ibm_->take_report();
-  out.back() *= s_.units.velocity();  // the slip in m/s
-  return out;
+  return ibm_ ? ibm_->take_report() : std::vector<double>{};
 }
 
 void LbmReference::force_immersed(const std::function<double(long, int)>& pop) {

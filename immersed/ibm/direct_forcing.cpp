@@ -272,7 +272,7 @@ std::vector<double> DirectForcing::take_report() {
   const Result w = worst_;
   std::vector<double> out = take_loads();
   out.push_back(w.iterations);
-  out.push_back(w.slip);
+  out.push_back(w.slip * unit_);  // the grid's units to m/s
   return out;
 }
 

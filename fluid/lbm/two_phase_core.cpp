@@ -344,10 +344,13 @@ class TwoPhaseCore final : public LbmCore {
     // The owned cells in or next to a grain cell (owned, or a ghost from
     // another rank), each once.
     grain_touched_.clear();
+    // A ghost cell's neighbour may lie beyond the block: before its first
+    // plane or after its last (the other axes' overruns land on ghost or
+    // padding cells, which are not owned).
     const auto around = [&](long x) {
       for (int q = 0; q < L::Q; ++q) {
         const long n = x + off_[q];
-        if (owned_[n] && !touched_[n]) touched_[n] = 1, grain_touched_.push_back(n);
+        if (n >= 0 && n < cells_ && owned_[n] && !touched_[n]) touched_[n] = 1, grain_touched_.push_back(n);
       }
     };
     for (const Grain& m : grains_) around(m.x);

@@ -77,3 +77,10 @@ coflow_validation(ibm_with_particles ibm_particles ibm_with_particles.yaml 1)
 coflow_validation(ibm_with_particles_ranks_1_vs_2 compare ibm_with_particles.yaml 2
   "run.end_time=2.0 run.output.every=2.0"
   "run.end_time=2.0 run.output.every=2.0 fluid.ranks=2 immersed.ranks=2 particles.ranks=2 fluid.decomposition=[2,1,1]")
+# Many ranks (issue 24) on the paths added since: 16 in all, oversubscribed,
+# against 1 of each component: a body on lbm, and a body with point particles.
+coflow_validation(ibm_lbm_ranks_1_vs_16 compare ibm_cylinder_re20_lbm.yaml 2
+  "fluid.ranks=1 ${ibm_lbm_short}" "fluid.ranks=12 immersed.ranks=4 ${ibm_lbm_short}")
+coflow_validation(ibm_with_particles_ranks_1_vs_16 compare ibm_with_particles.yaml 2
+  "run.end_time=1.0 run.output.every=1.0"
+  "run.end_time=1.0 run.output.every=1.0 fluid.ranks=8 immersed.ranks=4 particles.ranks=4")

@@ -83,6 +83,9 @@ coflow_validation(two_phase_grains_vs_reference_seed compare two_phase_grains_cr
   "fluid.solver=lbm-reference fluid.two_phase.wetting=seed fluid.lbm.collision=bgk")
 coflow_validation(two_phase_grains_ranks_1_vs_4 compare two_phase_grains_crosscheck.yaml 2
   "fluid.ranks=1" "fluid.ranks=4 fluid.decomposition=[2,2,1]")
+# Many ranks (issue 24): 16 in all, oversubscribed.
+coflow_validation(two_phase_grains_ranks_1_vs_16 compare two_phase_grains_crosscheck.yaml 2
+  "fluid.ranks=1" "fluid.ranks=8 immersed.ranks=4 particles.ranks=4")
 coflow_validation(two_phase_grain_interface_60 grain_interface two_phase_grain_interface.yaml 1)
 coflow_validation(two_phase_grain_interface_90 grain_interface two_phase_grain_interface.yaml 1
   --set particles.species.grain.contact_angle=90 --set run.end_time=83.333)

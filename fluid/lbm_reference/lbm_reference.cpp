@@ -231,7 +231,7 @@ void LbmReference::step() {
     const auto it = solid_.find(c);
     double F[3];
     total_force(c, F);
-    note_speed(&fs[c * Q_], F);
+    if (ibm_) note_speed(&fs[c * Q_], F);  // the forcing's velocity scale
     if (it == solid_.end() || on_open_face(c))  // open faces keep their closure: fluid
       collide(&fs[c * Q_], F, s_.tau);
     else

@@ -111,9 +111,11 @@ void LbmReference::step_colours() {
         double g[3] = {0.0, 0.0, 0.0}, F[3];
         colour_gradient(i, j, k, g);
         total_force(c, F);
-        std::vector<double> f(Q_);
-        for (int q = 0; q < Q_; ++q) f[q] = r_[c * Q_ + q] + b_[c * Q_ + q];
-        note_speed(f.data(), F);
+        if (ibm_) {  // the forcing's velocity scale
+          std::vector<double> f(Q_);
+          for (int q = 0; q < Q_; ++q) f[q] = r_[c * Q_ + q] + b_[c * Q_ + q];
+          note_speed(f.data(), F);
+        }
         const std::vector<double> r0(r_.begin() + c * Q_, r_.begin() + (c + 1) * Q_);
         const std::vector<double> b0(b_.begin() + c * Q_, b_.begin() + (c + 1) * Q_);
         collide_colours(c, g, F);

@@ -95,7 +95,7 @@ class FluidWindows final : public coupler::WindowParts {
     // The markers first: immersed broadcasts them at the start of its window,
     // before the point exchanges of particles beside the bodies (a large
     // broadcast completes only when both sides are in it).
-    if (ibm_ && ibm::receive_markers(s_.partner("immersed"), markers_))
+    if (ibm_ && !markers_last_ && ibm::receive_markers(s_.partner("immersed"), markers_, markers_last_))
       solver_->set_markers(ibm::MarkerSet::unpack(markers_));
     if (point_) {
       send_flow();
@@ -139,6 +139,7 @@ class FluidWindows final : public coupler::WindowParts {
   coupler::Box owned_;
   bool psm_ = false, point_ = false, ibm_ = false;
   std::vector<double> markers_;  // ibm: the last marker message
+  bool markers_last_ = false;    // ibm: the markers hold to the end (fixed bodies)
   output::Series series_;
   Probes probes_;
   output::Series probes_series_;

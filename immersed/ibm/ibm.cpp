@@ -143,10 +143,12 @@ ibm::MarkerSet IbmWindows::markers(double t) const {
   return set;
 }
 
+// Fixed bodies: one broadcast, marked the last (the fluid receives no more).
 void IbmWindows::before_step(long w) {
-  const bool due = !sent_ || moving_;
-  const std::vector<double> packed = due && s_.rank() == 0 ? markers((w - 1) * s_.window()).pack() : std::vector<double>{};
-  ibm::send_markers(s_.partner("fluid"), s_.rank(), due, packed);
+  if (sent_ && !moving_) return;
+  const std::vector<double> packed =
+      s_.rank() == 0 ? markers((w - 1) * s_.window()).pack() : std::vector<double>{};
+  ibm::send_markers(s_.partner("fluid"), s_.rank(), !moving_, packed);
   sent_ = true;
 }
 

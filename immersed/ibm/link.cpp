@@ -1,5 +1,7 @@
 #include "immersed/ibm/link.hpp"
 
+#include <cstdlib>
+
 #include "coflow/protocol.hpp"
 #include "coflow/trace.hpp"
 #include "coflow/wait.hpp"
@@ -8,16 +10,17 @@ namespace coflow::ibm {
 
 using coupler::trace;
 
-void send_markers(MPI_Comm fluid, int rank, bool due, const std::vector<double>& packed) {
+// The count goes first: the payload's size, negative when it is the last.
+void send_markers(MPI_Comm fluid, int rank, bool last, const std::vector<double>& packed) {
   const int root = rank == 0 ? MPI_ROOT : MPI_PROC_NULL;
-  long count = due && rank == 0 ? static_cast<long>(packed.size()) : 0;
+  const long count = rank == 0 ? static_cast<long>(packed.size()) : 0;
+  long sent = last ? -count : count;
   MPI_Request r;
   {
     coupler::Timer t(trace().exchange_s);
-    MPI_Ibcast(&count, 1, MPI_LONG, root, fluid, &r);
+    MPI_Ibcast(&sent, 1, MPI_LONG, root, fluid, &r);
   }
   coupler::wait_one(r, "ibm markers to the fluid");
-  if (!due) return;  // every immersed rank knows it (the payload's count matters at the root only)
   {
     coupler::Timer t(trace().exchange_s);
     MPI_Ibcast(const_cast<double*>(packed.data()), static_cast<int>(count), MPI_DOUBLE, root, fluid, &r);
@@ -29,11 +32,13 @@ void send_markers(MPI_Comm fluid, int rank, bool due, const std::vector<double>&
   }
 }
 
-bool receive_markers(MPI_Comm immersed, std::vector<double>& packed) {
+bool receive_markers(MPI_Comm immersed, std::vector<double>& packed, bool& last) {
   long count = 0;
   MPI_Request r;
   MPI_Ibcast(&count, 1, MPI_LONG, 0, immersed, &r);
   coupler::wait_one(r, "ibm markers from immersed");
+  last = count < 0;
+  count = std::abs(count);
   if (count == 0) return false;
   packed.resize(static_cast<std::size_t>(count));
   MPI_Ibcast(packed.data(), static_cast<int>(count), MPI_DOUBLE, 0, immersed, &r);

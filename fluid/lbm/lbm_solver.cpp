@@ -98,17 +98,25 @@ class Core final : public LbmCore {
   }
 
   void step() override {
-    if (hook_) {
-      hooked_step();
-      return;
-    }
     // 1. Start the halo exchange of the post-collision populations; halos with
     //    this rank itself (a periodic axis not split) are copied at once.
     pop_.halo.post(pop_.f.data(), lay_.stride);
-    // When no other rank borders this block along x, its x ghosts are ready
-    // now (copied, or walls filled from owned cells): the interior pass then
-    // takes whole rows, and the rows' end cells need no second visit.
-    if (x_local_) fill_walls(0, 2);
+    if (hook_) {
+      // Immersed boundaries: every ghost first, then the hook (the forcing
+      // reads the streamed populations and sets its cells' forces). The
+      // forcing runs before the open faces' closures here (after them in the
+      // two-fluid core and lbm-reference); no forced cell lies on an open
+      // face, since validate keeps bodies the kernel's support and a cell
+      // inside every face that is not periodic (immersed/ibm/params.cpp).
+      pop_.halo.finish(pop_.f.data(), lay_.stride);
+      fill_walls(0, 6);
+      hook_();
+    } else if (x_local_) {
+      // When no other rank borders this block along x, its x ghosts are ready
+      // now (copied, or walls filled from owned cells): the interior pass then
+      // takes whole rows, and the rows' end cells need no second visit.
+      fill_walls(0, 2);
+    }
     // 2. Interior rows read no ghost from another rank: compute them while
     //    messages fly.
     max_u2_ = 0.0;
@@ -116,8 +124,10 @@ class Core final : public LbmCore {
     for (long k = lay_.ghost[2]; k < lay_.extent[2] - lay_.ghost[2]; ++k)
       for (long j = lay_.ghost[1]; j < lay_.extent[1] - lay_.ghost[1]; ++j) fast_row(i0, i1, j, k);
     // 3. Ghosts: from neighbours, then walls (bounce-back, seed 000 eq. 2.44).
-    pop_.halo.finish(pop_.f.data(), lay_.stride);
-    fill_walls(x_local_ ? 2 : 0, 6);
+    if (!hook_) {
+      pop_.halo.finish(pop_.f.data(), lay_.stride);
+      fill_walls(x_local_ ? 2 : 0, 6);
+    }
     // 4. The shell: rows on the block's faces, and the end cells of the others
     //    that the interior pass left.
     for (long k = 0; k < lay_.extent[2]; ++k)
@@ -136,25 +146,6 @@ class Core final : public LbmCore {
     pop_.swap();
   }
 
-  // The step with immersed boundaries: every ghost first, then the hook (the
-  // forcing reads the streamed populations and sets its cells' forces), then
-  // every row. The forcing runs before the open faces' closures here (after
-  // them in the two-fluid core and lbm-reference); no forced cell lies on an
-  // open face, since validate keeps bodies the kernel's support and a cell
-  // inside every face that is not periodic (immersed/ibm/params.cpp).
-  void hooked_step() {
-    pop_.halo.post(pop_.f.data(), lay_.stride);
-    pop_.halo.finish(pop_.f.data(), lay_.stride);
-    fill_walls(0, 6);
-    hook_();
-    max_u2_ = 0.0;
-    for (long k = 0; k < lay_.extent[2]; ++k)
-      for (long j = 0; j < lay_.extent[1]; ++j) shell_row(0, lay_.extent[0], j, k);
-#if defined(__AVX__)
-    _mm_sfence();  // order the streaming stores before anything reads them
-#endif
-    pop_.swap();
-  }
   void set_hook(std::function<void()> hook) override { hook_ = std::move(hook); }
 
   void streamed_velocity(std::span<const long> cells, std::span<double> u, std::span<double> rho) const override {
@@ -178,15 +169,18 @@ class Core final : public LbmCore {
     const long nx = lay_.extent[0];
     if (extra_.empty()) {
       extra_.assign(static_cast<std::size_t>(3 * nx * lay_.extent[1] * lay_.extent[2]), 0.0);
+      extra_cell_.assign(static_cast<std::size_t>(nx * lay_.extent[1] * lay_.extent[2]), 0);
       extra_row_.assign(static_cast<std::size_t>(lay_.extent[1] * lay_.extent[2]), 0);
     }
     for (long c : extra_cells_) {
       for (int d = 0; d < 3; ++d) extra_[static_cast<std::size_t>(3 * c + d)] = 0.0;
+      extra_cell_[static_cast<std::size_t>(c)] = 0;
       extra_row_[static_cast<std::size_t>(c / nx)] = 0;
     }
     extra_cells_.assign(cells.begin(), cells.end());
     for (std::size_t n = 0; n < cells.size(); ++n) {
       for (int d = 0; d < 3; ++d) extra_[static_cast<std::size_t>(3 * cells[n] + d)] = force[3 * n + d];
+      extra_cell_[static_cast<std::size_t>(cells[n])] = 1;
       extra_row_[static_cast<std::size_t>(cells[n] / nx)] = 1;
     }
   }
@@ -310,16 +304,39 @@ class Core final : public LbmCore {
   void fast_row(long i0, long i1, long j, long k) {
     if (i1 <= i0) return;
     const long row = k * lay_.extent[1] + j;
-    if ((!src_.empty() && src_row_[row]) || (!extra_row_.empty() && extra_row_[row])) {
+    if (!src_.empty() && src_row_[row]) {
       source_row(i0, i1, j, k);
       return;
     }
-    // BGK without body force takes the lean kernel; the choice is made per row
-    // (a test inside the chunk loop halves the speed).
+    if (!extra_row_.empty() && extra_row_[row]) {
+      forced_row(i0, i1, j, k);
+      return;
+    }
+    plain_row(i0, i1, j, k);
+  }
+
+  // BGK without body force takes the lean kernel; the choice is made per row
+  // (a test inside the chunk loop halves the speed).
+  void plain_row(long i0, long i1, long j, long k) {
     if (lean_)
       vec_row<true>(i0, i1, j, k);
     else
       vec_row<false>(i0, i1, j, k);
+  }
+
+  // A row through an immersed body's forcing: its forced cells one at a
+  // time, each with its force, the runs between them by the row kernel.
+  void forced_row(long i0, long i1, long j, long k) {
+    const char* forced = &extra_cell_[static_cast<std::size_t>((k * lay_.extent[1] + j) * lay_.extent[0])];
+    for (long i = i0; i < i1;) {
+      long e = i + 1;
+      while (e < i1 && forced[e] == forced[i]) ++e;
+      if (forced[i])
+        source_row(i, e, j, k);
+      else
+        plain_row(i, e, j, k);
+      i = e;
+    }
   }
 
   // Eight cells (one cache line per population) at a time with the lean
@@ -428,7 +445,8 @@ class Core final : public LbmCore {
   // Immersed boundaries: the hook, the forces of this step's forced cells.
   std::function<void()> hook_;
   std::vector<double> extra_;
-  std::vector<char> extra_row_;
+  std::vector<char> extra_cell_;  // cells with such a force
+  std::vector<char> extra_row_;   // rows (j, k) holding one
   std::vector<long> extra_cells_;
   double max_u2_ = 0.0;
   double wall_momentum_[18] = {};  // lattice momentum each wall face took since the last take

@@ -79,7 +79,8 @@ ForestSpec AmrFvSolver::forest_spec() const {
 // reference). Outflow and pressure faces are both outlets, p = 0 and
 // du/dn = 0.
 void AmrFvSolver::make_flow() {
-  flow_ = std::make_unique<CompositeFlow>(*forest_, geometry_, nu_);
+  flow_ = std::make_unique<CompositeFlow>(*forest_, geometry_, nu_,
+                                          IjSystem::Options{p_.tolerance, p_.max_iterations});
   const auto& d = cfg_.domain;
   for (int f = 0; f < 6; ++f) {
     const int a = f / 2;

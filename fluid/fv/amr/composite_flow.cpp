@@ -18,12 +18,14 @@ double evaluate(const Stencil& s, const std::vector<double>& f) {
 
 }  // namespace
 
-CompositeFlow::CompositeFlow(Forest& forest, const GridGeometry& geometry, double viscosity)
+CompositeFlow::CompositeFlow(Forest& forest, const GridGeometry& geometry, double viscosity,
+                             IjSystem::Options solve)
     : forest_(forest),
       geometry_(geometry),
       nu_(viscosity),
       dims_(forest.spec().dims),
-      nc_(forest.spec().components) {
+      nc_(forest.spec().components),
+      solve_(solve) {
   if (nc_ < dims_ + 1)
     throw std::invalid_argument("refinement: the flow keeps at least dims + 1 values per cell");
   build();
@@ -57,8 +59,7 @@ void CompositeFlow::build() {
   pinned_ = !any_outlet;
   if (pinned_ && grid_->first_cell() == 0 && !L.rows.empty()) L.rows[0] = {{0, 1.0}};
   poisson_.reset();
-  poisson_ =
-      std::make_unique<IjSystem>(forest_.comm(), grid_->first_cell(), L.rows, IjSystem::Options{1e-12, 300});
+  poisson_ = std::make_unique<IjSystem>(forest_.comm(), grid_->first_cell(), L.rows, solve_);
   source_.clear();
   for (auto& p : phi_) p.clear();
 }

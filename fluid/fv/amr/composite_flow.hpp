@@ -34,7 +34,9 @@ class CompositeFlow {
   // The forest keeps at least dims + 1 components per cell: the velocity,
   // then the pressure (kinematic), then any the caller uses (a refinement
   // criterion's field). Periodic axes, walls on the others.
-  CompositeFlow(Forest& forest, const GridGeometry& geometry, double viscosity);
+  // `solve`: where the projection's Poisson (GMRES + BoomerAMG) stops.
+  CompositeFlow(Forest& forest, const GridGeometry& geometry, double viscosity,
+                IjSystem::Options solve = {1e-12, 300});
   ~CompositeFlow();
 
   const CompositeGrid& grid() const { return *grid_; }
@@ -127,6 +129,7 @@ class CompositeFlow {
   double nu_;
   int dims_;
   int nc_;              // values per cell on the forest
+  IjSystem::Options solve_;  // where the Poisson solves stop
   bool pinned_ = true;  // no outlet: the pressure of global cell 0 is held at 0
   int iterations_ = 0;
 };

@@ -14,7 +14,8 @@
 // cells), same number of steps.
 //
 // (b) then runs the cylinder of configs/validation/ibm_cylinder_amr.yaml
-// (the issue's case) through the launcher, adaptive and on fv's uniform grid.
+// (the issue's case) through the launcher, adaptive, adaptive with every leaf
+// on the finest level and on fv's uniform grid, three times each, interleaved.
 //
 // Prints, for each: cells, time per step (regrids apart), cells x steps per
 // second; for the adaptive run the regrid's share of the wall time (target
@@ -40,6 +41,7 @@
 #include <vector>
 
 #include "bench_args.hpp"
+#include "bench_util.hpp"
 #include "fluid/fv/amr/composite_flow.hpp"
 #include "fluid/fv/amr/composite_output.hpp"
 #include "fluid/fv/amr/refinement_criteria.hpp"
@@ -140,9 +142,33 @@ Result run(bool adaptive, int steps, const std::string& out_dir) {
 // immersed boundary, so three executables) through the launcher, and the
 // same case on fv's uniform grid of the finest level (fluid.fv.refinement:
 // null) and on the adaptive code with every leaf on the finest level
-// (ibm_cylinder_amr_fine.yaml). Reads the fluids' logs: the adaptive solver's
-// steps, regrids and cells, fv's steps. Returns the report ("" when a run fails). Runs before
-// MPI_Init: the launcher's mpirun must not start inside this MPI process.
+// (ibm_cylinder_amr_fine.yaml), three times each, interleaved (this host's
+// speed drifts by tens of per cent between runs): the medians. Reads the
+// fluids' logs: the adaptive solver's steps, regrids and cells, fv's steps.
+struct CylinderRun {
+  double step_s = 0, rate = 0, regrid_pct = 0, cells = 0;
+};
+
+// One run's figures from its fluid log, or false when it logged none.
+bool parse_cylinder(const std::string& log, double uniform_cells, CylinderRun& r) {
+  static const std::regex amr_line(
+      R"(fv \(refinement\): (\d+) steps in ([0-9.]+) s, (\d+) regrids in ([0-9.]+) s)"
+      R"( \(([0-9.]+) % of both\); (\d+) cells on average, ([0-9.eE+-]+) cell-steps per second)");
+  static const std::regex fv_line(R"(fv: (\d+) steps in ([0-9.]+) s)");
+  std::smatch m;
+  if (std::regex_search(log, m, amr_line)) {
+    r = {(std::stod(m[2]) + std::stod(m[4])) / std::stod(m[1]), std::stod(m[7]), std::stod(m[5]),
+         std::stod(m[6])};
+    return true;
+  }
+  if (!std::regex_search(log, m, fv_line)) return false;
+  r = {std::stod(m[2]) / std::stod(m[1]), uniform_cells * std::stod(m[1]) / std::stod(m[2]), 0.0,
+       uniform_cells};
+  return true;
+}
+
+// Returns the report ("" when a run fails). Runs before MPI_Init: the
+// launcher's mpirun must not start inside this MPI process.
 std::string cylinder(const std::filesystem::path& bin, const std::filesystem::path& config) {
   const auto dir = std::filesystem::temp_directory_path() / fmt::format("coflow-bench-amr-{}", ::getpid());
   const auto run_case = [&](const std::string& name, const std::filesystem::path& file, const std::string& sets) {
@@ -153,37 +179,47 @@ std::string cylinder(const std::filesystem::path& bin, const std::filesystem::pa
     return coflow::bench::slurp((out / "logs" / "fluid.log").string());
   };
   std::filesystem::create_directories(dir);
-  const auto fine_config = config.parent_path() / "ibm_cylinder_amr_fine.yaml";  // every leaf on the finest level
-  const std::string amr = run_case("amr", config, ""), fine = run_case("fine", fine_config, "");
-  const std::string uni = run_case("uniform", config, "--set fluid.fv.refinement=null");
-  if (!std::getenv("COFLOW_BENCH_KEEP")) std::filesystem::remove_all(dir);
-  std::smatch a, f, u;
-  const std::regex amr_line(R"(fv \(refinement\): (\d+) steps in ([0-9.]+) s, (\d+) regrids in ([0-9.]+) s)"
-                            R"( \(([0-9.]+) % of both\); (\d+) cells on average, ([0-9.eE+-]+) cell-steps per second)");
-  const std::regex fv_line(R"(fv: (\d+) steps in ([0-9.]+) s)");
-  if (!std::regex_search(amr, a, amr_line) || !std::regex_search(fine, f, amr_line) ||
-      !std::regex_search(uni, u, fv_line)) {
-    fmt::print("(b) cylinder: a run failed or logged no timing (COFLOW_BENCH_KEEP=1 keeps {})\n", dir.string());
-    return "";
-  }
+  const auto fine_config =
+      config.parent_path() / "ibm_cylinder_amr_fine.yaml";  // every leaf on the finest level
   const auto cells = YAML::LoadFile(config.string())["domain"]["cells"];
   const double uniform_cells = cells[0].as<double>() * cells[1].as<double>() * cells[2].as<double>();
-  const double amr_steps = std::stod(a[1]), amr_s = std::stod(a[2]) + std::stod(a[4]);
-  const double uni_steps = std::stod(u[1]), uni_s = std::stod(u[2]);
-  const double amr_rate = std::stod(a[7]), uni_rate = uniform_cells * uni_steps / uni_s;
-  std::string r = "(b) cylinder (ibm_cylinder_amr.yaml, 3 levels, coupled run, 1 fluid rank):\n";
+  std::vector<double> amr_step, amr_rate, share, fine_rate, uni_step, uni_rate, vs_fine, vs_fv, wall_vs_fv;
+  double amr_cells = 0.0;  // the mean cells, the same each run
+  for (int rep = 0; rep < 3; ++rep) {
+    CylinderRun a, f, u;
+    if (!parse_cylinder(run_case("amr", config, ""), uniform_cells, a) ||
+        !parse_cylinder(run_case("fine", fine_config, ""), uniform_cells, f) ||
+        !parse_cylinder(run_case("uniform", config, "--set fluid.fv.refinement=null"), uniform_cells, u)) {
+      fmt::print("(b) cylinder: a run failed or logged no timing (COFLOW_BENCH_KEEP=1 keeps {})\n",
+                 dir.string());
+      return "";
+    }
+    amr_step.push_back(a.step_s), amr_rate.push_back(a.rate), share.push_back(a.regrid_pct);
+    fine_rate.push_back(f.rate), uni_step.push_back(u.step_s), uni_rate.push_back(u.rate);
+    vs_fine.push_back(a.rate / f.rate), vs_fv.push_back(a.rate / u.rate),
+        wall_vs_fv.push_back(a.step_s / u.step_s);
+    amr_cells = a.cells;
+  }
+  if (!std::getenv("COFLOW_BENCH_KEEP")) std::filesystem::remove_all(dir);
+  using coflow::bench::median;
+  std::string r =
+      "(b) cylinder (ibm_cylinder_amr.yaml, 3 levels, coupled run, 1 fluid rank), medians of 3 "
+      "interleaved runs:\n";
   r += fmt::format("  fv uniform {:.0f} cells: {:.4f} s/step, {:.3g} cells*steps/s\n", uniform_cells,
-                   uni_s / uni_steps, uni_rate);
-  r += fmt::format("  adaptive {} cells on average ({:.0f} % fewer): {:.4f} s/step with regrids, regrids {} % "
-                   "of the time, {:.3g} cells*steps/s\n",
-                   a[6].str(), 100.0 * (1.0 - std::stod(a[6]) / uniform_cells), amr_s / amr_steps, a[5].str(),
-                   amr_rate);
-  r += fmt::format("  adaptive code with every leaf on the finest level ({} cells): {:.3g} cells*steps/s\n", f[6].str(),
-                   std::stod(f[7]));
-  r += fmt::format("RESULT cylinder_regrid_share={:.3f} cylinder_rate_ratio_fv={:.3f} cylinder_rate_ratio_fine={:.3f} "
-                   "cylinder_wall_ratio_fv={:.3f}\n",
-                   std::stod(a[5]) / 100.0, amr_rate / uni_rate, amr_rate / std::stod(f[7]),
-                   (amr_s / amr_steps) / (uni_s / uni_steps));
+                   median(uni_step), median(uni_rate));
+  r += fmt::format(
+      "  adaptive {:.0f} cells on average ({:.0f} % fewer): {:.4f} s/step with regrids, regrids {:.1f} % "
+      "of the time, {:.3g} cells*steps/s\n",
+      amr_cells, 100.0 * (1.0 - amr_cells / uniform_cells), median(amr_step), median(share),
+      median(amr_rate));
+  r += fmt::format("  adaptive code with every leaf on the finest level: {:.3g} cells*steps/s\n",
+                   median(fine_rate));
+  r += fmt::format("  adaptive / every leaf finest, cells*steps/s, each run: {:.3f} {:.3f} {:.3f}\n",
+                   vs_fine[0], vs_fine[1], vs_fine[2]);
+  r += fmt::format(
+      "RESULT cylinder_regrid_share={:.3f} cylinder_rate_ratio_fv={:.3f} cylinder_rate_ratio_fine={:.3f} "
+      "cylinder_wall_ratio_fv={:.3f}\n",
+      median(share) / 100.0, median(vs_fv), median(vs_fine), median(wall_vs_fv));
   return r;
 }
 

@@ -70,10 +70,14 @@ class TwoPhaseCore final : public LbmCore {
     ghosts_.exchange(phi_);
     fill_open_ghosts();
     max_u2_ = 0.0;
-    for_rows([&](long x) { return plain(x); }, [&](long x) { collide4(x); },
-             [&](long i, long j, long k, long x) {
-               if (!solid_[x] && !grain_[x]) collide_cell(i, j, k, x);
-             });
+    const auto one = [&](long i, long j, long k, long x) {
+      if (!solid_[x] && !grain_[x]) collide_cell(i, j, k, x);
+    };
+    if (hook_ && src_.empty())  // every cell streamed into `next`: the forced ones one at a time
+      for_rows([&](long x) { return plain_pull_[x] && !special_[x] && !forced_cell_[x]; },
+               [&](long x) { collide4_streamed(x); }, one);
+    else
+      for_rows([&](long x) { return plain(x); }, [&](long x) { collide4(x); }, one);
     red_.swap();
     blue_.swap();
   }
@@ -220,12 +224,19 @@ class TwoPhaseCore final : public LbmCore {
     }
   }
   void set_cell_forces(std::span<const long> cells, std::span<const double> force) override {
-    if (cell_force_.empty()) cell_force_.assign(3 * static_cast<std::size_t>(owned_cells()), 0.0);
-    for (long c : forced_)
+    if (cell_force_.empty()) {
+      cell_force_.assign(3 * static_cast<std::size_t>(owned_cells()), 0.0);
+      forced_cell_.assign(static_cast<std::size_t>(cells_), 0);
+    }
+    for (long c : forced_) {
       for (int d = 0; d < 3; ++d) cell_force_[static_cast<std::size_t>(3 * c + d)] = 0.0;
+      forced_cell_[static_cast<std::size_t>(block_index(c))] = 0;
+    }
     forced_.assign(cells.begin(), cells.end());
-    for (std::size_t n = 0; n < cells.size(); ++n)
+    for (std::size_t n = 0; n < cells.size(); ++n) {
       for (int d = 0; d < 3; ++d) cell_force_[static_cast<std::size_t>(3 * cells[n] + d)] = force[3 * n + d];
+      forced_cell_[static_cast<std::size_t>(block_index(cells[n]))] = 1;
+    }
   }
   void take_solid_momentum(std::vector<double>& out) override {
     out = solid_momentum_;
@@ -434,10 +445,13 @@ class TwoPhaseCore final : public LbmCore {
   // half-way bounce-back from solid cells (eq. 2.44), and the colour field of
   // the pulled populations.
   void stream() {
-    for_rows([&](long x) { return plain(x); }, [&](long x) { colour4(x); },
-             [&](long i, long j, long k, long x) {
-               if (!solid_[x]) stream_cell(i, j, k, x);
-             });
+    const auto one = [&](long i, long j, long k, long x) {
+      if (!solid_[x]) stream_cell(i, j, k, x);
+    };
+    if (hook_ && src_.empty())  // immersed boundaries: every cell's populations into `next`
+      for_rows([&](long x) { return plain_pull_[x] && !special_[x]; }, [&](long x) { stream4(x); }, one);
+    else
+      for_rows([&](long x) { return plain(x); }, [&](long x) { colour4(x); }, one);
   }
 
   // Rows of owned cells, four at a time along x: `four` where `plain` holds for
@@ -487,6 +501,25 @@ class TwoPhaseCore final : public LbmCore {
     detail::put<false>(&phi_[x], rr - bb);
   }
 
+  // Four plain cells pulled into `next` with their colour field (stream_cell's
+  // arithmetic on four lanes), for a collision that reads them there.
+  void stream4(long x) {
+    const long n = cells_;  // locals: see colour4
+    const double *rf = red_.f.data(), *bf = blue_.f.data();
+    double *rn = red_.next.data(), *bn = blue_.next.data();
+    Vec4 rr = splat<Vec4>(0.0), bb = rr;
+#pragma GCC unroll 32
+    for (int q = 0; q < L::Q; ++q) {
+      const long at = q * n + x - off_[q];
+      const Vec4 r = detail::get(rf + at), b = detail::get(bf + at);
+      detail::put<false>(rn + q * n + x, r);
+      detail::put<false>(bn + q * n + x, b);
+      rr += r;
+      bb += b;
+    }
+    detail::put<false>(&phi_[x], rr - bb);
+  }
+
   // Four plain cells pulled and collided (collide_cell's arithmetic on four
   // lanes), into `next`.
   void collide4(long x) {
@@ -510,6 +543,35 @@ class TwoPhaseCore final : public LbmCore {
       prefetch_pulled(rf + at + prefetch_ahead);
       prefetch_pulled(bf + at + prefetch_ahead);
     }
+    const Vec4 uu = colour_collide_lanes<L, Incompressible, Vec4>(r, b, g, colour_, F);
+    double most = max_u2_;
+    for (int m = 0; m < 4; ++m) most = nan_max(most, uu[m]);
+    max_u2_ = most;
+#pragma GCC unroll 32
+    for (int q = 0; q < L::Q; ++q) {
+      detail::put<false>(rn + q * n + x, r[q]);
+      detail::put<false>(bn + q * n + x, b[q]);
+    }
+  }
+
+  // Four plain cells already streamed into `next` (with immersed boundaries
+  // stream() stores every cell there, for the forcing to read): collide4's
+  // arithmetic on them, in place, without a cell force.
+  void collide4_streamed(long x) {
+    const long n = cells_;  // locals: see colour4
+    const double* phi = phi_.data();
+    double *rn = red_.next.data(), *bn = blue_.next.data();
+    Vec4 r[L::Q], b[L::Q], g[3];
+    g[0] = g[1] = g[2] = splat<Vec4>(0.0);
+#pragma GCC unroll 32
+    for (int q = 1; q < L::Q; ++q) {
+      const Vec4 ph = detail::get(phi + x + off_[q]);
+      for (int d = 0; d < 3; ++d) g[d] += L::e[q][d] * ph;
+    }
+    const double F[3] = {s_.force[0] + 0.0, s_.force[1] + 0.0,
+                         s_.force[2] + 0.0};  // as force() off the forced cells
+#pragma GCC unroll 32
+    for (int q = 0; q < L::Q; ++q) r[q] = detail::get(rn + q * n + x), b[q] = detail::get(bn + q * n + x);
     const Vec4 uu = colour_collide_lanes<L, Incompressible, Vec4>(r, b, g, colour_, F);
     double most = max_u2_;
     for (int m = 0; m < 4; ++m) most = nan_max(most, uu[m]);
@@ -705,6 +767,7 @@ class TwoPhaseCore final : public LbmCore {
   bool fused_ = true;  // neither a source nor a hook: plain cells take the four-cell passes
   std::vector<double> cell_force_;            // their force, 3 per owned cell (lattice units)
   std::vector<long> forced_;                  // the owned cells cell_force_ holds forces on
+  std::vector<std::uint8_t> forced_cell_;     // the same per cell of the block (1: forced)
   std::vector<std::uint8_t> plain_pull_;      // 1: a fluid cell whose neighbours are all fluid
   std::vector<std::uint8_t> static_special_;  // 1: a solid, or a fluid cell with wetting (walls, solids)
   std::vector<std::uint8_t> special_;         // the same, and the cells grains wet

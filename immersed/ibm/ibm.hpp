@@ -3,9 +3,9 @@
 // owns the geometry: it samples each mesh into markers about a cell apart
 // (ibm/markers.hpp) and moves them as the bodies' prescribed motions say. Each
 // window it
-//   1. sends the markers to every fluid rank (when a body moved, or the first
-//      window; otherwise an empty message): the fluid iterates the forcing
-//      alone inside its steps (ibm/direct_forcing.hpp),
+//   1. sends the markers to every fluid rank while a body moves; when none
+//      moves, in the first window only, marked the last: the fluid iterates
+//      the forcing alone inside its steps (ibm/direct_forcing.hpp),
 //   2. receives, after the fluid's step, the mean force and torque on each
 //      body over the window, the most forcing iterations and the largest slip
 //      left, and writes them to series/immersed.csv.

@@ -4,8 +4,8 @@
 // come back from fluid rank 0 at its end. Nothing goes per iteration of the
 // multi-direct forcing: the fluid iterates alone. When no body moves, the
 // first broadcast says that its markers hold for the rest of the run, and no
-// broadcast follows: the fluid then never waits for immersed (its loads are
-// small sends that complete without the receiver).
+// broadcast follows: the fluid then does not wait for immersed (its loads are
+// small sends, which normally complete without the receiver).
 #pragma once
 
 #include <mpi.h>

@@ -16,37 +16,52 @@ namespace coflow::fluid::lbm {
 
 // f: the cell's streamed populations (zero-centred); F: the body force
 // density; out: the new populations; gain: += the fluid's momentum gain
-// sum_q B Omega^s_q e_q.
+// sum_q B Omega^s_q e_q. Directions go in pairs (q, opp(q)), e_opp = -e_q:
+// each pair's equilibria share e.u and (e.u)^2 (collision.hpp's trt_pair
+// folds the cell's terms the same way).
 template <class L, bool Incompressible>
 inline void psm_collide(const double* f, const double* F, double omega, double tau, double eps, const double* us,
                         double* out, double* gain) {
-  double rho = 0, jm[3] = {0, 0, 0};
+  double dev = 0, jm[3] = {0, 0, 0};  // the density's deviation from 1 (zero-centred populations)
+  // Unrolled, so that the lattice's vectors are constants, not converted ints.
+#pragma GCC unroll 32
   for (int q = 0; q < L::Q; ++q) {
-    rho += f[q];
+    dev += f[q];
     for (int d = 0; d < 3; ++d) jm[d] += L::e[q][d] * f[q];
   }
-  rho += 1.0;  // zero-centred populations (collision.hpp)
-  const double rho_m = Incompressible ? 1.0 : rho;
+  const double rho_m = Incompressible ? 1.0 : 1.0 + dev;
   const double u[3] = {(jm[0] + 0.5 * F[0]) / rho_m, (jm[1] + 0.5 * F[1]) / rho_m, (jm[2] + 0.5 * F[2]) / rho_m};
   const double B = eps * (tau - 0.5) / ((1.0 - eps) + (tau - 0.5));  // eq. 2.67
-  double feq[L::Q], feq_s[L::Q];
-  for (int q = 0; q < L::Q; ++q) {
-    feq[q] = equilibrium<L, Incompressible>(q, rho, u);
-    feq_s[q] = equilibrium<L, Incompressible>(q, rho, us);
-  }
-  double g[3] = {0, 0, 0}, uF = 0;
-  for (int d = 0; d < 3; ++d) uF += u[d] * F[d];
-  for (int q = 0; q < L::Q; ++q) {
+  const double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2],
+               ss = us[0] * us[0] + us[1] * us[1] + us[2] * us[2];
+  const double uF = u[0] * F[0] + u[1] * F[1] + u[2] * F[2];
+  // feq_q(u) = w_q (e0 + c45 (e.u)^2 + c3 e.u), and the solid's with e0s, u_s.
+  const double e0 = dev - 1.5 * rho_m * uu, e0s = dev - 1.5 * rho_m * ss, c45 = 4.5 * rho_m, c3 = 3.0 * rho_m;
+  const double fluid = (1.0 - B) * omega, share = 1.0 - B, source = 1.0 - 0.5 * omega;
+  // The rest population: Omega^s_0 = feq_0(u_s) - feq_0(u).
+  out[0] = f[0] - fluid * (f[0] - L::w[0] * e0) + share * source * L::w[0] * (-3.0 * uF) +
+           B * L::w[0] * (e0s - e0);
+  double g[3] = {0, 0, 0};
+#pragma GCC unroll 32
+  for (int q = 1; q < L::Q; ++q) {
     const int o = L::opp[q];
-    const double omega_s = f[o] - feq[o] + feq_s[q] - f[q];
-    double eu = 0, eF = 0;
+    if (o < q) continue;  // each pair once
+    const double w = L::w[q];
+    double eu = 0, es = 0, eF = 0;
     for (int d = 0; d < 3; ++d) {
       eu += L::e[q][d] * u[d];
+      es += L::e[q][d] * us[d];
       eF += L::e[q][d] * F[d];
     }
-    const double S = (1.0 - 0.5 * omega) * L::w[q] * (3.0 * (eF - uF) + 9.0 * eu * eF);
-    out[q] = f[q] - (1.0 - B) * omega * (f[q] - feq[q]) + (1.0 - B) * S + B * omega_s;
-    for (int d = 0; d < 3; ++d) g[d] += B * omega_s * L::e[q][d];
+    const double even = e0 + c45 * eu * eu, odd = c3 * eu, even_s = e0s + c45 * es * es, odd_s = c3 * es;
+    const double feq_q = w * (even + odd), feq_o = w * (even - odd);
+    const double fs_q = w * (even_s + odd_s), fs_o = w * (even_s - odd_s);
+    const double os_q = f[o] - feq_o + fs_q - f[q], os_o = f[q] - feq_q + fs_o - f[o];
+    const double s_even = 9.0 * eu * eF - 3.0 * uF, s_q = source * w * (s_even + 3.0 * eF),
+                 s_o = source * w * (s_even - 3.0 * eF);
+    out[q] = f[q] - fluid * (f[q] - feq_q) + share * s_q + B * os_q;
+    out[o] = f[o] - fluid * (f[o] - feq_o) + share * s_o + B * os_o;
+    for (int d = 0; d < 3; ++d) g[d] += B * (os_q - os_o) * L::e[q][d];
   }
   for (int d = 0; d < 3; ++d) gain[d] += g[d];
 }

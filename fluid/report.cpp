@@ -152,16 +152,9 @@ void report(const config::Config& cfg, const std::string& variant, config::Repor
     return;
   }
   if (variant == "analytic")
-    r.add("fluid", "flow", "prescribed (" + config::resolved_text(cfg, {"fluid", "analytic", "field"}) +
-                               "), exact at any time; no time step");
-  // k-epsilon's wall distance (seed 003 eqs. 3.18-3.27) is the box's: immersed bodies are not walls to it.
-  if (!config::resolved_text(cfg, {"fluid", "turbulence", "model"}).empty() &&
-      config::resolved_text(cfg, {"immersed", "method"}) == "ibm")
-    r.warn("fluid",
-           "fluid.turbulence: the wall distance of the k-epsilon model counts the box's wall faces only; "
-           "cells next to the immersed bodies take the model as far from a wall (no two-layer treatment "
-           "there): resolve the body's boundary layer only where that is acceptable, or make the wall a "
-           "face of the box");
+    r.add("fluid", "flow",
+          "prescribed (" + config::resolved_text(cfg, {"fluid", "analytic", "field"}) +
+              "), exact at any time; no time step");
 }
 
 }  // namespace coflow::fluid

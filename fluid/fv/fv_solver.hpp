@@ -144,6 +144,7 @@ class FvSolver final : public FluidSolver {
 
   // Turbulence, k-epsilon with the two-layer wall model (turbulence/*.cpp).
   void init_turbulence();
+  void set_body_wall_distance(const ibm::MarkerSet& markers);  // wall_y_: the box's walls and the bodies
   void turbulence_step(double dt);
   double strain_rate2_at(long n) const;  // S^2 = 2 S_ij S_ij at a cell (seed 003 eqs. 3.15-3.16)
   void advect_scalar(Field& q, double inlet, double wall_sign, double dt);
@@ -232,11 +233,11 @@ class FvSolver final : public FluidSolver {
   std::vector<double> out_u_, out_p_, out_rho_, out_div_, out_k_, out_eps_, out_nut_, out_yplus_;
 
   // fluid.turbulence: k, epsilon and nu_t at the cells (padded), each cell's
-  // distance to the nearest wall (infinite without walls), the implicit
-  // systems of k and epsilon.
+  // distance to the nearest wall (infinite without walls; the box's walls
+  // and the immersed bodies' surfaces), the implicit systems of k and epsilon.
   bool turbulent_ = false;
   TurbulenceParams turb_;
-  Field k_, eps_, nut_, wall_y_;
+  Field k_, eps_, nut_, wall_y_, box_wall_y_;
   Field k_change_, eps_change_;  // the last step's change by the k and epsilon solves (next first guesses)
   std::unique_ptr<fv::StructSystem> k_system_, eps_system_;
   int turbulence_iterations_ = 0;

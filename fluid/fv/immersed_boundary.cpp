@@ -22,6 +22,7 @@ void FvSolver::set_markers(ibm::MarkerSet markers) {
     };
     ibm_ = immersed::staggered_forcing(cfg_, periodic_, index, comm_);
   }
+  if (turbulent_) set_body_wall_distance(markers);
   ibm_->set_markers(std::move(markers));
 }
 

@@ -127,6 +127,7 @@ class FvReference final : public FluidSolver {
   bool turbulent_ = false;
   TurbulenceParams turb_;
   Field k_, eps_, nut_, wall_y_;  // cells, padded; wall_y_: distance to the nearest wall
+  Field box_wall_y_;              // the same, the box's walls alone (immersed bodies are walls too)
 };
 
 // The loops and the solver shared by fv_reference.cpp and k_epsilon_reference.cpp.

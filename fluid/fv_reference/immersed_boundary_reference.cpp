@@ -2,6 +2,7 @@
 // immersed_boundary.cpp) on the serial grid, the same direct forcing
 // (ibm/direct_forcing.hpp) on u* at the end of the momentum step, before its
 // ghosts are filled.
+#include "fluid/fv/turbulence/wall_distance.hpp"
 #include "fluid/fv_reference/fv_reference.hpp"
 #include "immersed/ibm/params.hpp"
 
@@ -17,6 +18,20 @@ void FvReference::set_markers(ibm::MarkerSet markers) {
     const std::array<bool, 3> periodic{sides_[0].kind == Kind::periodic, sides_[2].kind == Kind::periodic,
                                        sides_[4].kind == Kind::periodic};
     ibm_ = immersed::staggered_forcing(cfg_, periodic, index, comm_);
+  }
+  if (turbulent_) {  // the bodies are walls for k-epsilon too: fv's distance (turbulence/wall_distance.hpp)
+    const fv::BodyDistance body(markers, {h_[0], h_[1], h_[2]}, dims_);
+    for (long k = -g_[2]; k < n_[2] + g_[2]; ++k)
+      for (long j = -g_[1]; j < n_[1] + g_[1]; ++j)
+        for (long i = -g_[0]; i < n_[0] + g_[0]; ++i) {
+          const long x[3] = {i, j, k};
+          std::array<double, 3> c{0, 0, 0};
+          for (int a = 0; a < dims_; ++a)
+            c[static_cast<std::size_t>(a)] =
+                cfg_.domain.lower[static_cast<std::size_t>(a)] + (x[a] + 0.5) * h_[a];
+          const auto n = static_cast<std::size_t>(at(x));
+          wall_y_[n] = std::min(box_wall_y_[n], body(c));
+        }
   }
   ibm_->set_markers(std::move(markers));
 }

@@ -40,6 +40,7 @@ void FvReference::turbulence_init() {
         }
         if (cl.one_equation(wall_y_[n], k_[n])) eps_[n] = cl.epsilon_near_wall(wall_y_[n], k_[n]);
       }
+  box_wall_y_ = wall_y_;
   scalar_ghosts(k_, turb_.inlet_k, 0.0, true);
   scalar_ghosts(eps_, turb_.inlet_epsilon, 1.0, true);
   eddy_viscosity();

@@ -136,8 +136,13 @@ ibm::MarkerSet IbmWindows::markers(double t) const {
     for (const auto& p : b.points) {
       // A constant rotation: the centripetal acceleration om x (om x r).
       const V3 r = R * V3(p.x[0], p.x[1], p.x[2]), x = c + r, u = vc + om.cross(r), a = ac + om.cross(om.cross(r));
-      set.markers.push_back(
-          {{x[0], x[1], x[2]}, {u[0], u[1], u[2]}, p.area * ratio, static_cast<int>(n), {a[0], a[1], a[2]}});
+      const V3 nr = R * V3(p.normal[0], p.normal[1], p.normal[2]);
+      set.markers.push_back({{x[0], x[1], x[2]},
+                             {u[0], u[1], u[2]},
+                             p.area * ratio,
+                             static_cast<int>(n),
+                             {a[0], a[1], a[2]},
+                             {nr[0], nr[1], nr[2]}});
     }
   }
   return set;

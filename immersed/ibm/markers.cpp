@@ -147,7 +147,7 @@ MeshVolume mesh_volume(const stl::TriangleMesh& mesh) {
 
 std::vector<double> MarkerSet::pack() const {
   std::vector<double> f{time, static_cast<double>(bodies.size()), static_cast<double>(markers.size())};
-  f.reserve(3 + 9 * bodies.size() + 11 * markers.size());
+  f.reserve(3 + 9 * bodies.size() + 14 * markers.size());
   for (const auto& b : bodies) {
     f.insert(f.end(), b.centre.begin(), b.centre.end());
     f.insert(f.end(), b.velocity.begin(), b.velocity.end());
@@ -159,6 +159,7 @@ std::vector<double> MarkerSet::pack() const {
     f.insert(f.end(), m.a.begin(), m.a.end());
     f.push_back(m.volume_ratio);
     f.push_back(static_cast<double>(m.body));
+    f.insert(f.end(), m.n.begin(), m.n.end());
   }
   return f;
 }
@@ -168,7 +169,7 @@ MarkerSet MarkerSet::unpack(const std::vector<double>& f) {
   if (f.size() < 3) throw std::runtime_error("ibm: a marker message without its header");
   s.time = f[0];
   const auto nb = static_cast<std::size_t>(f[1]), nm = static_cast<std::size_t>(f[2]);
-  if (f.size() != 3 + 9 * nb + 11 * nm) throw std::runtime_error("ibm: a marker message of the wrong length");
+  if (f.size() != 3 + 9 * nb + 14 * nm) throw std::runtime_error("ibm: a marker message of the wrong length");
   std::size_t at = 3;
   s.bodies.resize(nb);
   for (auto& b : s.bodies) {
@@ -184,7 +185,8 @@ MarkerSet MarkerSet::unpack(const std::vector<double>& f) {
     for (int d = 0; d < 3; ++d) m.a[d] = f[at + 6 + d];
     m.volume_ratio = f[at + 9];
     m.body = static_cast<int>(f[at + 10]);
-    at += 11;
+    for (int d = 0; d < 3; ++d) m.n[d] = f[at + 11 + d];
+    at += 14;
   }
   return s;
 }

@@ -53,7 +53,8 @@ struct MeshVolume {
 MeshVolume mesh_volume(const stl::TriangleMesh& mesh);
 
 // What goes to the fluid: per marker its position, velocity and acceleration
-// at the window's start, Delta V_Gamma over the cell volume, its body; per
+// at the window's start, Delta V_Gamma over the cell volume, its body and its
+// outward normal; per
 // body the reference point of its torque and that point's velocity and
 // acceleration. Within a window the fluid moves both at constant acceleration
 // (x + u s + a s^2 / 2, velocity u + a s): exact for a translation, second
@@ -64,6 +65,7 @@ struct Marker {
   double volume_ratio = 0.0;  // Delta V_Gamma / (dx dy dz)
   int body = 0;
   Vec a{0, 0, 0};
+  Vec n{0, 0, 0};  // outward unit normal of its piece of surface (the fluid's wall distance)
   // Position and velocity a time s after the set's.
   Vec x_at(double s) const {
     return {x[0] + (u[0] + 0.5 * a[0] * s) * s, x[1] + (u[1] + 0.5 * a[1] * s) * s,

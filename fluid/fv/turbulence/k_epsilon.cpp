@@ -27,6 +27,7 @@
 #include "fluid/fv/fv_solver.hpp"
 #include "fluid/fv/lines.hpp"
 #include "fluid/fv/turbulence/closure.hpp"
+#include "fluid/fv/turbulence/wall_distance.hpp"
 
 namespace coflow::fluid {
 
@@ -50,6 +51,7 @@ void FvSolver::init_turbulence() {
       wall_y_[n] = std::min(wall_y_[n], y);
     }
   });
+  box_wall_y_ = wall_y_;
   const std::array<bool, 3> per{periodic_[0], periodic_[1], periodic_[2]};
   k_system_ = std::make_unique<fv::StructSystem>(comm_, blk_.owned, cells_, per,
                                                  fv::StructSystem::Options{p_.multigrid, p_.tolerance,
@@ -64,6 +66,22 @@ void FvSolver::init_turbulence() {
   fill_scalar_ghosts(k_, turb_.inlet_k, 0.0, true);
   fill_scalar_ghosts(eps_, turb_.inlet_epsilon, 1.0, true);
   update_eddy_viscosity();
+}
+
+// Immersed bodies are walls too (seed 003 §3.1.2 takes y to the nearest
+// wall): each cell's distance is the smaller of the box's walls' and the
+// bodies' surface (turbulence/wall_distance.hpp), again whenever the markers
+// come (a moving body: every window).
+void FvSolver::set_body_wall_distance(const ibm::MarkerSet& markers) {
+  const fv::BodyDistance body(markers, {h_[0], h_[1], h_[2]}, dims_);
+  const auto& lower = cfg_.domain.lower;
+  for_padded([&](const long* at, long n) {
+    std::array<double, 3> x{0, 0, 0};
+    for (int a = 0; a < dims_; ++a)
+      x[static_cast<std::size_t>(a)] =
+          lower[static_cast<std::size_t>(a)] + (static_cast<double>(blk_.owned.lo[a] + at[a]) + 0.5) * h_[a];
+    wall_y_[n] = std::min(box_wall_y_[n], body(x));
+  });
 }
 
 // Ghosts of a cell scalar: the neighbours' by exchange; beyond a wall

@@ -36,6 +36,9 @@ coflow_validation(ibm_fv_vs_reference_fixed compare ibm_cylinder_fixed_frame.yam
   "fluid.solver=fv ${ibm_tight}" "fluid.solver=fv-reference ${ibm_tight}")
 coflow_validation(ibm_fv_vs_reference_moving compare ibm_cylinder_translating.yaml 1
   "fluid.solver=fv ${ibm_tight}" "fluid.solver=fv-reference ${ibm_tight}")
+# k-epsilon (two-layer) with the cylinder a wall to it (its distance from the
+# markers): fv against fv-reference, which take the same distance.
+coflow_validation(ibm_ke_fv_vs_reference compare ibm_cylinder_ke.yaml 1 "fluid.solver=fv" "fluid.solver=fv-reference")
 # The lattice Boltzmann fluid with the same forcing between streaming and
 # collision: the cylinder at Re 20 from 8 and 12 cells a diameter.
 coflow_validation(ibm_cylinder_re20_lbm pair ibm_cylinder_re20_lbm.yaml 1 ibm_extrapolated
@@ -64,7 +67,7 @@ coflow_validation(ibm_two_phase_lbm_vs_reference compare ibm_two_phase_lbm.yaml 
 # (coflow/wait.hpp backs off to sleeping; the forcing runs in the fluid):
 # these runs take one core, and ctest may run another test beside them.
 set_tests_properties(validation.ibm_cylinder_re20 validation.ibm_cylinder_re20_lbm validation.ibm_cylinder_frames
-  validation.ibm_cylinder_re100 validation.ibm_sphere_re100
+  validation.ibm_cylinder_re100 validation.ibm_sphere_re100 validation.ibm_ke_fv_vs_reference
   validation.ibm_cylinder_mdf_slip validation.ibm_fv_vs_reference_fixed validation.ibm_fv_vs_reference_moving
   validation.ibm_two_phase_lbm validation.ibm_lbm_vs_reference_fixed validation.ibm_lbm_vs_reference_moving
   validation.ibm_two_phase_lbm_vs_reference PROPERTIES PROCESSORS 1)

@@ -75,9 +75,9 @@ class TwoPhaseCore final : public LbmCore {
     };
     if (hook_ && src_.empty())  // every cell streamed into `next`: the forced ones one at a time
       for_rows([&](long x) { return plain_pull_[x] && !special_[x] && !forced_cell_[x]; },
-               [&](long x) { collide4_streamed(x); }, one);
+               [&](long x) { collide4<false>(x); }, one);
     else
-      for_rows([&](long x) { return plain(x); }, [&](long x) { collide4(x); }, one);
+      for_rows([&](long x) { return plain(x); }, [&](long x) { collide4<true>(x); }, one);
     red_.swap();
     blue_.swap();
   }
@@ -520,8 +520,11 @@ class TwoPhaseCore final : public LbmCore {
     detail::put<false>(&phi_[x], rr - bb);
   }
 
-  // Four plain cells pulled and collided (collide_cell's arithmetic on four
-  // lanes), into `next`.
+  // Four plain cells collided (collide_cell's arithmetic on four lanes), into
+  // `next`: pulled from the current populations (Pulled), or already streamed
+  // into `next` by stream4 (with immersed boundaries stream() stores every
+  // cell there, for the forcing to read; these cells take no cell force).
+  template <bool Pulled>
   void collide4(long x) {
     const long n = cells_;  // locals: see colour4
     const double *rf = red_.f.data(), *bf = blue_.f.data(), *phi = phi_.data();
@@ -537,41 +540,17 @@ class TwoPhaseCore final : public LbmCore {
     const double F[3] = {s_.force[0] + 0.0, s_.force[1] + 0.0, s_.force[2] + 0.0};  // as force() without a source
 #pragma GCC unroll 32
     for (int q = 0; q < L::Q; ++q) {
-      const long at = q * n + x - off[q];
-      r[q] = detail::get(rf + at);
-      b[q] = detail::get(bf + at);
-      prefetch_pulled(rf + at + prefetch_ahead);
-      prefetch_pulled(bf + at + prefetch_ahead);
+      if constexpr (Pulled) {
+        const long at = q * n + x - off[q];
+        r[q] = detail::get(rf + at);
+        b[q] = detail::get(bf + at);
+        prefetch_pulled(rf + at + prefetch_ahead);
+        prefetch_pulled(bf + at + prefetch_ahead);
+      } else {
+        r[q] = detail::get(rn + q * n + x);
+        b[q] = detail::get(bn + q * n + x);
+      }
     }
-    const Vec4 uu = colour_collide_lanes<L, Incompressible, Vec4>(r, b, g, colour_, F);
-    double most = max_u2_;
-    for (int m = 0; m < 4; ++m) most = nan_max(most, uu[m]);
-    max_u2_ = most;
-#pragma GCC unroll 32
-    for (int q = 0; q < L::Q; ++q) {
-      detail::put<false>(rn + q * n + x, r[q]);
-      detail::put<false>(bn + q * n + x, b[q]);
-    }
-  }
-
-  // Four plain cells already streamed into `next` (with immersed boundaries
-  // stream() stores every cell there, for the forcing to read): collide4's
-  // arithmetic on them, in place, without a cell force.
-  void collide4_streamed(long x) {
-    const long n = cells_;  // locals: see colour4
-    const double* phi = phi_.data();
-    double *rn = red_.next.data(), *bn = blue_.next.data();
-    Vec4 r[L::Q], b[L::Q], g[3];
-    g[0] = g[1] = g[2] = splat<Vec4>(0.0);
-#pragma GCC unroll 32
-    for (int q = 1; q < L::Q; ++q) {
-      const Vec4 ph = detail::get(phi + x + off_[q]);
-      for (int d = 0; d < 3; ++d) g[d] += L::e[q][d] * ph;
-    }
-    const double F[3] = {s_.force[0] + 0.0, s_.force[1] + 0.0,
-                         s_.force[2] + 0.0};  // as force() off the forced cells
-#pragma GCC unroll 32
-    for (int q = 0; q < L::Q; ++q) r[q] = detail::get(rn + q * n + x), b[q] = detail::get(bn + q * n + x);
     const Vec4 uu = colour_collide_lanes<L, Incompressible, Vec4>(r, b, g, colour_, F);
     double most = max_u2_;
     for (int m = 0; m < 4; ++m) most = nan_max(most, uu[m]);

@@ -20,7 +20,7 @@ void FvReference::set_markers(ibm::MarkerSet markers) {
     ibm_ = immersed::staggered_forcing(cfg_, periodic, index, comm_);
   }
   if (turbulent_) {  // the bodies are walls for k-epsilon too: fv's distance (turbulence/wall_distance.hpp)
-    const fv::BodyDistance body(markers, {h_[0], h_[1], h_[2]}, dims_);
+    const fv::BodyDistance body(markers, fv::BodyDistance::grid_of(cfg_));
     for (long k = -g_[2]; k < n_[2] + g_[2]; ++k)
       for (long j = -g_[1]; j < n_[1] + g_[1]; ++j)
         for (long i = -g_[0]; i < n_[0] + g_[0]; ++i) {
@@ -32,6 +32,7 @@ void FvReference::set_markers(ibm::MarkerSet markers) {
           const auto n = static_cast<std::size_t>(at(x));
           wall_y_[n] = std::min(box_wall_y_[n], body(c));
         }
+    eddy_viscosity();  // nu_t of the two-layer model near the bodies
   }
   ibm_->set_markers(std::move(markers));
 }

@@ -200,11 +200,13 @@ class TwoPhaseCore final : public LbmCore {
     src_.assign(force.begin(), force.end());
     fused_ = src_.empty() && !hook_;
   }
-  // Immersed boundaries (LbmCore::set_hook): with a hook every cell takes the
-  // one-cell passes, so that the streaming stores the pulled populations that
-  // streamed_velocity reads and the collision adds the cells' forces.
+  // Immersed boundaries (LbmCore::set_hook): with a hook every cell's pulled
+  // populations are stored in `next` (streamed_velocity reads them), four
+  // cells at a time where plain, and the forced cells collide one at a time
+  // with their force (step(), stream()).
   void set_hook(std::function<void()> hook) override {
     hook_ = std::move(hook);
+    forced_cell_.assign(static_cast<std::size_t>(cells_), 0);  // before any set_cell_forces
     fused_ = src_.empty() && !hook_;
   }
   void streamed_velocity(std::span<const long> cells, std::span<double> u,
@@ -224,10 +226,8 @@ class TwoPhaseCore final : public LbmCore {
     }
   }
   void set_cell_forces(std::span<const long> cells, std::span<const double> force) override {
-    if (cell_force_.empty()) {
-      cell_force_.assign(3 * static_cast<std::size_t>(owned_cells()), 0.0);
-      forced_cell_.assign(static_cast<std::size_t>(cells_), 0);
-    }
+    if (cell_force_.empty()) cell_force_.assign(3 * static_cast<std::size_t>(owned_cells()), 0.0);
+    if (forced_cell_.empty()) forced_cell_.assign(static_cast<std::size_t>(cells_), 0);
     for (long c : forced_) {
       for (int d = 0; d < 3; ++d) cell_force_[static_cast<std::size_t>(3 * c + d)] = 0.0;
       forced_cell_[static_cast<std::size_t>(block_index(c))] = 0;
@@ -743,7 +743,7 @@ class TwoPhaseCore final : public LbmCore {
   std::vector<Wet> wet_;
   std::vector<double> src_;
   std::function<void()> hook_;                // immersed boundaries: runs between streaming and collision
-  bool fused_ = true;  // neither a source nor a hook: plain cells take the four-cell passes
+  bool fused_ = true;  // neither a source nor a hook: plain cells take the fused four-cell passes
   std::vector<double> cell_force_;            // their force, 3 per owned cell (lattice units)
   std::vector<long> forced_;                  // the owned cells cell_force_ holds forces on
   std::vector<std::uint8_t> forced_cell_;     // the same per cell of the block (1: forced)

@@ -73,7 +73,7 @@ void FvSolver::init_turbulence() {
 // bodies' surface (turbulence/wall_distance.hpp), again whenever the markers
 // come (a moving body: every window).
 void FvSolver::set_body_wall_distance(const ibm::MarkerSet& markers) {
-  const fv::BodyDistance body(markers, {h_[0], h_[1], h_[2]}, dims_);
+  const fv::BodyDistance body(markers, fv::BodyDistance::grid_of(cfg_));
   const auto& lower = cfg_.domain.lower;
   for_padded([&](const long* at, long n) {
     std::array<double, 3> x{0, 0, 0};
@@ -82,6 +82,7 @@ void FvSolver::set_body_wall_distance(const ibm::MarkerSet& markers) {
           lower[static_cast<std::size_t>(a)] + (static_cast<double>(blk_.owned.lo[a] + at[a]) + 0.5) * h_[a];
     wall_y_[n] = std::min(box_wall_y_[n], body(x));
   });
+  update_eddy_viscosity();  // nu_t of the two-layer model near the bodies
 }
 
 // Ghosts of a cell scalar: the neighbours' by exchange; beyond a wall

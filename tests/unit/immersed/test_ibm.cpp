@@ -92,7 +92,8 @@ TEST_CASE("the marker message round-trips", "[immersed][ibm]") {
   ibm::MarkerSet s;
   s.time = 1.25;
   s.bodies = {{{1, 2, 3}, {0.5, 0, 0}, {0, -2, 0}}};
-  s.markers = {{{0.1, 0.2, 0.3}, {0.5, 0, 0}, 0.75, 0}, {{0.4, 0.5, 0.6}, {0.5, 0.1, 0}, 1.5, 0, {0, 0, 4}}};
+  s.markers = {{{0.1, 0.2, 0.3}, {0.5, 0, 0}, 0.75, 0},
+               {{0.4, 0.5, 0.6}, {0.5, 0.1, 0}, 1.5, 0, {0, 0, 4}, {0.6, 0, -0.8}}};
   const ibm::MarkerSet r = ibm::MarkerSet::unpack(s.pack());
   CHECK(r.time == 1.25);
   REQUIRE(r.markers.size() == 2);
@@ -100,6 +101,8 @@ TEST_CASE("the marker message round-trips", "[immersed][ibm]") {
   CHECK(r.markers[1].volume_ratio == 1.5);
   CHECK(r.markers[1].body == 0);
   CHECK(r.markers[1].a[2] == 4);
+  CHECK(r.markers[1].n[0] == 0.6);
+  CHECK(r.markers[1].n[2] == -0.8);
   CHECK(r.bodies[0].centre[1] == 2);
   CHECK(r.bodies[0].acceleration[1] == -2);
 }

@@ -93,6 +93,9 @@ double BodyDistance::nearest_distance(const std::array<double, 3>& x) const {
 double BodyDistance::operator()(const std::array<double, 3>& x) const {
   if (root_ < 0) return std::numeric_limits<double>::infinity();
   double best = nearest_distance(x);
+  bool any = false;  // no periodic axis: no images
+  for (int d = 0; d < dims_; ++d) any = any || grid_.periodic[static_cast<std::size_t>(d)];
+  if (!any) return best;
   int shifts[3] = {0, 0, 0};
   for (shifts[0] = -1; shifts[0] <= 1; ++shifts[0])
     for (shifts[1] = -1; shifts[1] <= 1; ++shifts[1])

@@ -82,7 +82,7 @@ void FvSolver::set_viscous(int c, double diag_scale, double theta) {
       m.upper[static_cast<std::size_t>(d)][O] = hi[d] * scale;
     }
   });
-  viscous_[static_cast<std::size_t>(c)]->set(m);
+  viscous_[static_cast<std::size_t>(c)]->take(m);
 }
 
 // The right-hand side of component c's row at `at`: the history, the

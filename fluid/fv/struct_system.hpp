@@ -76,10 +76,18 @@ class StructSystem {
   void set(const Rows& r) {
     set(r.diag, {r.lower[0], r.lower[1], r.lower[2]}, {r.upper[0], r.upper[1], r.upper[2]});
   }
+  // As set(r), but the matrix is handed over without a copy: `r` comes back
+  // holding the storage of the previous matrix (as many rows, entries
+  // unspecified). For a matrix rebuilt every step.
+  void take(Rows& r);
   double last_residual() const { return residual_; }
 
  private:
   void make_solver();
+  void changed();
+  void sync_hypre();
+  void solve_diagonal(std::span<const double> b, std::span<double> x);
+  void matvec(const double* p, std::vector<double>& s);
   void free_solver();
   struct Hypre;
   Hypre* h_ = nullptr;
@@ -87,6 +95,12 @@ class StructSystem {
   int dims_ = 3;
   bool diagonal_ = false;
   bool red_black_ = true;  // PFMG smooths by red-black Gauss-Seidel (else weighted Jacobi)
+  // The matrix (owned cells, x fastest). hypre gets a copy only when its
+  // multigrid is used (stale_: not yet copied); the diagonal PCG reads it
+  // here, 1 / a_ii in inv_diag_ (inv_stale_: not yet computed).
+  Rows rows_;
+  std::vector<double> inv_diag_;
+  bool stale_ = false, inv_stale_ = false;
   int iterations_ = 0;
   double residual_ = 0.0;
   double floor_ = 0.0;

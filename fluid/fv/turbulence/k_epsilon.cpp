@@ -246,7 +246,7 @@ void FvSolver::solve_scalar(fv::StructSystem& sys, Field& q, Field& change, cons
   MPI_Allreduce(MPI_IN_PLACE, &dominance, 1, MPI_DOUBLE, MPI_MAX, comm_);
   sys.use_diagonal(dominance < 0.9);
   const double start = MPI_Wtime();
-  sys.set(m);
+  sys.take(m);
   sys.solve(rhs_, x_);
   scalar_solve_seconds_ += MPI_Wtime() - start;
   turbulence_iterations_ = std::max(turbulence_iterations_, sys.last_iterations());

@@ -1,8 +1,10 @@
 // A symmetric positive (semi-)definite 5-point (2D) or 7-point (3D) system on
 // the fluid grid's cells, distributed as the fluid's blocks, solved by
 // hypre's Struct conjugate gradients preconditioned by one multigrid V-cycle
-// (PFMG or SMG). fv's pressure Poisson and implicit viscous solves are such
-// systems; hypre is Debian's libhypre-dev.
+// (PFMG or SMG), or by conjugate gradients preconditioned by the diagonal,
+// written out here with hypre's exchange of ghost cells (use_diagonal). fv's
+// pressure Poisson, implicit viscous and k-epsilon solves are such systems;
+// hypre is Debian's libhypre-dev.
 #pragma once
 
 #include <mpi.h>
@@ -41,7 +43,8 @@ class StructSystem {
   void solve(std::span<const double> b, std::span<double> x);
   // Precondition by the diagonal alone (Jacobi) instead of the multigrid: for
   // a system dominated by its diagonal (a viscous solve with a short step),
-  // where a V-cycle costs more than the iterations it saves.
+  // where a V-cycle costs more than the iterations it saves. These solves
+  // run coflow's own loops (solve_diagonal), not hypre's PCG.
   void use_diagonal(bool on);
   // One multigrid V-cycle from a zero guess, x = M b, without the conjugate
   // gradients: the coarsest-level solve of a multigrid of coflow's own

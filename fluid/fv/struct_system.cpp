@@ -224,6 +224,8 @@ void StructSystem::solve_diagonal(std::span<const double> b, std::span<double> x
   const long nx = h_->hi[0] - h_->lo[0] + 1, rows = static_cast<long>(h_->p_rows.size());
   double* P = hypre_StructVectorData(reinterpret_cast<hypre_StructVector*>(h_->p));
   auto &r = h_->r, &S = h_->s;
+  if (rows_.diag.size() != b.size() || x.size() != b.size())
+    throw std::logic_error("StructSystem::solve: no matrix, or vectors of another size than its rows");
   r.resize(b.size()), S.resize(b.size());
   if (inv_stale_) {
     inv_diag_.resize(rows_.diag.size());
@@ -248,6 +250,8 @@ void StructSystem::solve_diagonal(std::span<const double> b, std::span<double> x
   const double bb = sums[0], limit = std::max(opt_.tolerance * opt_.tolerance * bb, floor_ * floor_);
   double rr = sums[1], rz = sums[2];
   int it = 0;
+  if (!std::isfinite(bb))
+    throw std::runtime_error(fmt::format("fv: the {} has a right-hand side that is not finite", opt_.name));
   if (bb == 0.0) std::fill(x.begin(), x.end(), 0.0), rr = 0.0;  // as hypre: b = 0 gives x = 0
   // At least one iteration, as hypre's PCG: a first guess already within the
   // tolerance still gets closer (a steady flow's residual would otherwise
@@ -259,7 +263,7 @@ void StructSystem::solve_diagonal(std::span<const double> b, std::span<double> x
       row_sums(nx, &ps, 1, [&](long i, double* a) { a[0] += p[i] * s[i]; });
     });
     MPI_Allreduce(MPI_IN_PLACE, &ps, 1, MPI_DOUBLE, MPI_SUM, h_->comm);
-    if (ps == 0.0) break;  // r = 0: x is exact
+    if (ps == 0.0) break;  // p = 0 (a breakdown): judged below by the residual
     const double alpha = rz / ps;
     double next[2] = {0.0, 0.0};  // r.r, r.z
     each_row([&](long o, double* p, const double* s) {
@@ -279,7 +283,7 @@ void StructSystem::solve_diagonal(std::span<const double> b, std::span<double> x
   }
   iterations_ = it;
   residual_ = bb > 0.0 ? std::sqrt(rr / bb) : 0.0;
-  if (!(residual_ <= opt_.tolerance) && (it >= opt_.max_iterations || !std::isfinite(rr)))
+  if (!(rr <= limit))  // out of iterations, a breakdown, or not finite
     throw std::runtime_error(not_converged(opt_.name, residual_, it, opt_.tolerance));
 }
 

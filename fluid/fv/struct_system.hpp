@@ -80,8 +80,8 @@ class StructSystem {
     set(r.diag, {r.lower[0], r.lower[1], r.lower[2]}, {r.upper[0], r.upper[1], r.upper[2]});
   }
   // As set(r), but the matrix is handed over without a copy: `r` comes back
-  // holding the storage of the previous matrix (as many rows, entries
-  // unspecified). For a matrix rebuilt every step.
+  // holding the storage of the previous matrix (entries unspecified; empty
+  // after the first). For a matrix rebuilt every step.
   void take(Rows& r);
   double last_residual() const { return residual_; }
 

@@ -170,12 +170,14 @@ TEST_CASE("struct system: the diagonal PCG solves a varying-coefficient system",
                   << r.iterations << ", residual " << r.residual << ", against PFMG " << r.difference);
     CHECK(r.iterations > 1);
     CHECK(r.residual <= 1e-12);    // the stopping rule, recomputed from the whole matrix
-    CHECK(r.difference <= 1e-11);  // against PCG + PFMG to 1e-13 (4.5e-13 to 7.3e-13 measured)
+    CHECK(r.difference <= 7.3e-12);  // against PCG + PFMG to 1e-13 (4.5e-13 to 7.3e-13 measured)
   }
 }
 
 // A second matrix in the same system (1 / a_ii again), then the multigrid path
 // after matrices handed over in the diagonal one (hypre's copy made then).
+// True residuals 2.9e-13 to 7.3e-13 measured (bound 2e-12, the solver's 1e-12
+// plus the drift of the recursively updated residual).
 TEST_CASE("struct system: a new matrix, and the multigrid after the diagonal", "[fv][mpi]") {
   const Global G{{20, 16, 1}, {true, false, false}, 2};
   const auto box = my_box(G);
@@ -186,15 +188,17 @@ TEST_CASE("struct system: a new matrix, and the multigrid after the diagonal", "
     std::vector<double> x(a.b.size(), 0.0);
     sys.take(a.m);
     sys.solve(a.b, x);
-    INFO("mass " << mass << ", diagonal PCG");
-    CHECK(true_residual(G, box, mass, a, x) <= 2e-12);
+    const double res = true_residual(G, box, mass, a, x);
+    INFO("mass " << mass << ", diagonal PCG, residual " << res);
+    CHECK(res <= 2e-12);
   }
   Assembled a = assemble(G, box, 0.3);
   std::vector<double> x(a.b.size(), 0.0);
   sys.use_diagonal(false);
   sys.solve(a.b, x);
-  INFO("PCG + PFMG after the diagonal path");
-  CHECK(true_residual(G, box, 0.3, a, x) <= 2e-12);
+  const double res = true_residual(G, box, 0.3, a, x);
+  INFO("PCG + PFMG after the diagonal path, residual " << res);
+  CHECK(res <= 2e-12);
   std::vector<double> bad = a.b;
   bad[0] = std::numeric_limits<double>::quiet_NaN();
   sys.use_diagonal(true);

@@ -38,6 +38,7 @@ FvSolver::FvSolver(const Setup& s, const Params& p)
     cells_[a] = d.cells[a];
     periodic_[static_cast<std::size_t>(a)] = d.periodic[a] || d.cells[a] == 1;
     h_[a] = h[a];
+    inv_h_[a] = 1.0 / h[a];
   }
   nu_ = fluid_.viscosity;
   rho_ = fluid_.density;

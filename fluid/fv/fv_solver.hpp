@@ -130,6 +130,8 @@ class FvSolver final : public FluidSolver {
   double viscous_rhs(int c, const long* at, long n, const fv::Imex& s, double dt) const;
   void momentum(const fv::Imex& s, double dt);
   void set_viscous(int c, double diag, double theta);
+  void viscous_rows_inside(int c, double diag_scale, const double (&w)[3], long n, long o, long len,
+                           fv::StructSystem::Rows& m) const;
   // Projection (projection.cpp).
   double divergence_at(const Faces& u, long n) const;
   void make_poisson(const coupler::Decomposition& dec, const std::array<bool, 3>& per);
@@ -150,6 +152,20 @@ class FvSolver final : public FluidSolver {
   void advect_scalar(Field& q, double inlet, double wall_sign, double dt);
   void solve_scalar(fv::StructSystem& sys, Field& q, Field& change, const Field& sink, const Field& source,
                     double sigma, double inlet, bool wall_zero, const Field* fixed, double dt);
+  // What the rows of one scalar's system read (solve_scalar): padded fields
+  // (fixed null without fixed cells) and the constants.
+  struct ScalarRows {
+    const double *q, *change, *sink, *source, *fixed;
+    double half_sigma, inv_dt, inlet;
+    bool wall_zero;
+    double inv_h2[3];
+  };
+  template <int DIMS, bool FIXED>
+  void assemble_scalar_row(const ScalarRows& in, fv::StructSystem::Rows& m, const bool (&edge)[3][2], long n0,
+                           long o0, long len);
+  static int diagonally_dominant(const fv::StructSystem::Rows& m, long o0, long len);
+  void add_scalar_face_terms(const ScalarRows& in, fv::StructSystem::Rows& m, const bool (&edge)[3][2],
+                             long n0, long o0, long len);
   void fill_scalar_ghosts(Field& q, double inlet, double wall_sign, bool extrapolate);
   void update_eddy_viscosity();
   // nu + nu_t on side `side` along d of u_c's control volume (u_c at index n,
@@ -178,6 +194,16 @@ class FvSolver final : public FluidSolver {
         for (at[0] = 0; at[0] < blk_.extent[0]; ++at[0], ++o)
           f(static_cast<const long*>(at), blk_.idx(at[0], at[1], at[2]), o);
   }
+  // f(at, n, o, len) for each row of owned cells along x: `at` the row's
+  // first cell (owned-relative), n and o its padded and owned index; the
+  // row's cells are n + i and o + i, i < len (a loop over i vectorises).
+  template <class F>
+  void for_owned_rows(F&& f) const {
+    long o = 0, at[3] = {0, 0, 0};
+    for (at[2] = 0; at[2] < blk_.extent[2]; ++at[2])
+      for (at[1] = 0; at[1] < blk_.extent[1]; ++at[1], o += blk_.extent[0])
+        f(static_cast<const long*>(at), blk_.idx(0, at[1], at[2]), o, blk_.extent[0]);
+  }
   template <class F>
   void for_padded(F&& f) const {
     long at[3];
@@ -200,6 +226,7 @@ class FvSolver final : public FluidSolver {
   std::array<bool, 3> periodic_{};
   int dims_ = 3;
   double h_[3] = {1, 1, 1};
+  double inv_h_[3] = {1, 1, 1};  // 1 / h_: the k-epsilon loops multiply (a division was a fifth of them)
   double nu_ = 0, rho_ = 1;
   std::array<Face, 6> faces_;
   bool has_open_ = false;

@@ -1,7 +1,10 @@
 // fv: the momentum step to the provisional velocity u* (advection explicit,
 // diffusion implicit, the pressure of the last step; seed 003 eqs. 4.3-4.5),
 // one implicit system per component.
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <type_traits>
 
 #include "fluid/fv/fv_solver.hpp"
 
@@ -41,12 +44,15 @@ void FvSolver::advection(const Faces& u, Faces& out) const {
 // The implicit system of component c: (a0/dt) u - theta nu lap(u) = rhs, with
 // the faces' conditions folded in (they also add to the right-hand side:
 // viscous_rhs). A domain face of axis c is not an unknown: its row is 1.
+// With an eddy viscosity the matrices are rebuilt every step: the rows whose
+// neighbours are all unknowns go by viscous_rows_inside (the same numbers,
+// in a loop that vectorises), the others cell by cell here.
 void FvSolver::set_viscous(int c, double diag_scale, double theta) {
   fv::StructSystem::Rows& m = rows_;
   m.resize(static_cast<std::size_t>(blk_.owned_cells()));  // every entry written below
   double w[3] = {0.0, 0.0, 0.0};
   for (int d = 0; d < dims_; ++d) w[d] = theta / (h_[d] * h_[d]);
-  for_owned([&](const long* at, long n, long o) {
+  auto cell = [&](const long* at, long n, long o) {
     double diag = 1.0, lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.0, 0.0, 0.0}, scale = 1.0;
     if (!is_boundary_face(c, at[c])) {
       diag = diag_scale;
@@ -81,8 +87,72 @@ void FvSolver::set_viscous(int c, double diag_scale, double theta) {
       m.lower[static_cast<std::size_t>(d)][O] = lo[d] * scale;
       m.upper[static_cast<std::size_t>(d)][O] = hi[d] * scale;
     }
+  };
+  for_owned_rows([&](const long* at, long n0, long o0, long len) {
+    // Along x only the first two and the last two can see a domain face.
+    bool inside = turbulent_ && len > 4 && !(c > 0 && is_boundary_face(c, at[c]));
+    for (int d = 1; d < dims_ && inside; ++d)
+      inside = neighbour_kind(c, at, d, 0) == Neighbour::inside &&
+               neighbour_kind(c, at, d, 1) == Neighbour::inside;
+    const long first = inside ? 2 : len, last = inside ? len - 2 : len;
+    long here[3] = {0, at[1], at[2]};
+    for (here[0] = 0; here[0] < first; ++here[0]) cell(here, n0 + here[0], o0 + here[0]);
+    if (inside) viscous_rows_inside(c, diag_scale, w, n0 + first, o0 + first, last - first, m);
+    for (here[0] = last; here[0] < len; ++here[0]) cell(here, n0 + here[0], o0 + here[0]);
   });
   viscous_[static_cast<std::size_t>(c)]->take(m);
+}
+
+// The rows of u_c's unknowns n + i (owned o + i), i < len, whose neighbours
+// are all unknowns: the numbers of set_viscous's cell by cell assembly
+// (nu_face's sums in the same order), in a loop that vectorises.
+void FvSolver::viscous_rows_inside(int c, double diag_scale, const double (&w)[3], long n, long o, long len,
+                                   fv::StructSystem::Rows& m) const {
+  const double* nut = nut_.data() + n;
+  double* diag_out = m.diag.data() + o;
+  const double nu = nu_;
+  const long sc = stride(c);
+  std::array<double*, 3> lower{}, upper{};
+  for (int d = 0; d < 3; ++d) {
+    lower[static_cast<std::size_t>(d)] = m.lower[static_cast<std::size_t>(d)].data() + o;
+    upper[static_cast<std::size_t>(d)] = m.upper[static_cast<std::size_t>(d)].data() + o;
+    if (d >= dims_)
+      std::fill_n(lower[static_cast<std::size_t>(d)], len, 0.0),
+          std::fill_n(upper[static_cast<std::size_t>(d)], len, 0.0);
+  }
+  const auto row = [&](auto dims_c, auto c_c) {
+    constexpr int DIMS = decltype(dims_c)::value, C = decltype(c_c)::value;
+    double* lo[3] = {lower[0], lower[1], lower[2]};
+    double* hi[3] = {upper[0], upper[1], upper[2]};
+    const long s[3] = {stride(0), stride(1), stride(2)};
+#pragma GCC ivdep
+    for (long i = 0; i < len; ++i) {
+      double diag = diag_scale;
+#pragma GCC unroll 3
+      for (int d = 0; d < DIMS; ++d) {
+        const double k_lo =
+            d == C ? w[d] * (nu + nut[i - sc])
+                   : w[d] * (nu + 0.25 * (nut[i] + nut[i - sc] + nut[i - s[d]] + nut[i - s[d] - sc]));
+        const double k_hi =
+            d == C ? w[d] * (nu + nut[i])
+                   : w[d] * (nu + 0.25 * (nut[i] + nut[i - sc] + nut[i + s[d]] + nut[i + s[d] - sc]));
+        diag += k_lo;
+        diag += k_hi;
+        lo[d][i] = -k_lo;
+        hi[d][i] = -k_hi;
+      }
+      diag_out[i] = diag;
+    }
+  };
+  using I2 = std::integral_constant<int, 2>;
+  using I3 = std::integral_constant<int, 3>;
+  using C0 = std::integral_constant<int, 0>;
+  using C1 = std::integral_constant<int, 1>;
+  using C2 = std::integral_constant<int, 2>;
+  if (dims_ == 2)
+    c == 0 ? row(I2{}, C0{}) : row(I2{}, C1{});
+  else
+    c == 0 ? row(I3{}, C0{}) : c == 1 ? row(I3{}, C1{}) : row(I3{}, C2{});
 }
 
 // The right-hand side of component c's row at `at`: the history, the

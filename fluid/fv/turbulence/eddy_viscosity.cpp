@@ -33,16 +33,16 @@ void FvSolver::add_stress_transpose(const Faces& u, Faces& out) const {
         const Field& v = u[static_cast<std::size_t>(d)];
         const long sd = stride(d);
         if (d == c) {
-          const double up = nut_[n] * (v[n + sc] - v[n]) / h_[c];
-          const double dn = nut_[n - sc] * (v[n] - v[n - sc]) / h_[c];
-          r += (up - dn) / h_[c];
+          const double up = nut_[n] * (v[n + sc] - v[n]) * inv_h_[c];
+          const double dn = nut_[n - sc] * (v[n] - v[n - sc]) * inv_h_[c];
+          r += (up - dn) * inv_h_[c];
           continue;
         }
         const double nu_up = 0.25 * (nut_[n] + nut_[n - sc] + nut_[n + sd] + nut_[n + sd - sc]);
         const double nu_dn = 0.25 * (nut_[n] + nut_[n - sc] + nut_[n - sd] + nut_[n - sd - sc]);
-        const double up = nu_up * (v[n + sd] - v[n + sd - sc]) / h_[c];
-        const double dn = nu_dn * (v[n] - v[n - sc]) / h_[c];
-        r += (up - dn) / h_[d];
+        const double up = nu_up * (v[n + sd] - v[n + sd - sc]) * inv_h_[c];
+        const double dn = nu_dn * (v[n] - v[n - sc]) * inv_h_[c];
+        r += (up - dn) * inv_h_[d];
       }
       o[n] += r;
     });

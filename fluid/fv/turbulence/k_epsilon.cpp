@@ -135,8 +135,8 @@ double FvSolver::strain_rate2_at(long n) const {
     const long sc = stride(c);
     for (int d = 0; d < dims_; ++d) {
       const long sd = stride(d);
-      g[c][d] = d == c ? (q[n + sc] - q[n]) / h_[c]
-                       : 0.25 * ((q[n + sd] + q[n + sd + sc]) - (q[n - sd] + q[n - sd + sc])) / h_[d];
+      g[c][d] = d == c ? (q[n + sc] - q[n]) * inv_h_[c]
+                       : 0.25 * ((q[n + sd] + q[n + sd + sc]) - (q[n - sd] + q[n - sd + sc])) * inv_h_[d];
     }
   }
   double s2 = 0.0;
@@ -157,7 +157,7 @@ void FvSolver::advect_scalar(Field& q, double inlet, double wall_sign, double dt
                           std::abs(u_[static_cast<std::size_t>(d)][n + stride(d)])});
     });
   MPI_Allreduce(MPI_IN_PLACE, umax, 3, MPI_DOUBLE, MPI_MAX, comm_);
-  for (int d = 0; d < dims_; ++d) rate += umax[d] / h_[d];
+  for (int d = 0; d < dims_; ++d) rate += umax[d] * inv_h_[d];
   const int sub = std::max(1, static_cast<int>(std::ceil(2.0 * rate * dt * (1 - 1e-12))));
   const double h = dt / sub;
   bool inlet_side[6];
@@ -180,7 +180,7 @@ void FvSolver::advect_scalar(Field& q, double inlet, double wall_sign, double dt
         if (at[d] == last) face[n + s] = inlet_side[2 * d + 1] ? inlet : value(n + s);
       });
       for_owned([&](const long*, long n, long) {
-        next[n] -= (v[n + s] * face[n + s] - v[n] * face[n] - q[n] * (v[n + s] - v[n])) / h_[d];
+        next[n] -= (v[n + s] * face[n + s] - v[n] * face[n] - q[n] * (v[n + s] - v[n])) * inv_h_[d];
       });
     }
     for_owned([&](const long*, long n, long) { next[n] = q[n] + h * next[n]; });
@@ -196,55 +196,37 @@ void FvSolver::advect_scalar(Field& q, double inlet, double wall_sign, double dt
 // are the identity and their neighbours take them to the right-hand side (the
 // matrix stays symmetric). The first guess is q plus the last step's change
 // by this solve, `change` (kept for the next step): about 3 of 8 iterations
-// fewer in bench-fv's channel.
+// fewer in bench-fv's channel. The rows are assembled along x without a
+// branch (assemble_scalar_row), the faces' terms added after
+// (add_scalar_face_terms).
 void FvSolver::solve_scalar(fv::StructSystem& sys, Field& q, Field& change, const Field& sink,
                             const Field& source, double sigma, double inlet, bool wall_zero, const Field* fixed,
                             double dt) {
   fv::StructSystem::Rows& m = rows_;
   m.resize(static_cast<std::size_t>(blk_.owned_cells()));  // every entry written below
-  double inv_h2[3] = {0.0, 0.0, 0.0};
-  for (int d = 0; d < dims_; ++d) inv_h2[d] = 1.0 / (h_[d] * h_[d]);
-  const double half_sigma = 0.5 / sigma;
-  double dominance = 0.0;  // the largest off-diagonal sum over the diagonal
-  for_owned([&](const long* at, long n, long o) {
-    const auto O = static_cast<std::size_t>(o);
-    const bool free = !fixed || !((*fixed)[n] > 0);
-    x_[O] = free ? q[n] + change[n] : q[n];
-    double diag = 1.0, r = q[n], lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.0, 0.0, 0.0};
-    if (free) {
-      diag = 1.0 / dt + sink[n], r = q[n] / dt + source[n];
-      for (int d = 0; d < dims_; ++d)
-        for (int side = 0; side < 2; ++side) {
-          const long nb = n + (side == 0 ? -stride(d) : stride(d));
-          const double D = (nu_ + (nut_[n] + nut_[nb]) * half_sigma) * inv_h2[d];
-          const long g = blk_.owned.lo[d] + at[d];
-          const bool edge = !periodic_[d] && (side == 0 ? g == 0 : g + 1 == cells_[d]);
-          if (edge) {
-            const Face& f = faces_[static_cast<std::size_t>(2 * d + side)];
-            if (f.wall && wall_zero) diag += 2 * nu_ * inv_h2[d];  // nu_t = 0 on the wall
-            if (f.kind == Face::dirichlet && !f.wall) diag += 2 * D, r += 2 * D * inlet;
-            continue;
-          }
-          diag += D;
-          if (fixed && (*fixed)[nb] > 0)
-            r += D * q[nb];
-          else
-            (side == 0 ? lo : hi)[d] = -D;
-        }
-    }
-    m.diag[O] = diag;
-    double off = 0.0;
+  ScalarRows in{q.data(),    change.data(), sink.data(), source.data(), fixed ? fixed->data() : nullptr,
+                0.5 / sigma, 1.0 / dt,      inlet,       wall_zero,     {0.0, 0.0, 0.0}};
+  for (int d = 0; d < dims_; ++d) in.inv_h2[d] = 1.0 / (h_[d] * h_[d]);
+  int dominant = 1;  // every row's off-diagonal sum below 0.9 of its diagonal
+  for_owned_rows([&](const long* at, long n0, long o0, long len) {
+    bool edge[3][2] = {};  // the neighbour on that side is beyond a domain face
     for (int d = 0; d < dims_; ++d) {
-      m.lower[static_cast<std::size_t>(d)][O] = lo[d];
-      m.upper[static_cast<std::size_t>(d)][O] = hi[d];
-      off -= lo[d] + hi[d];
+      const long g = blk_.owned.lo[d] + at[d];
+      edge[d][0] = !periodic_[d] && g == 0;
+      edge[d][1] = !periodic_[d] && (d == 0 ? g + len : g + 1) == cells_[d];
     }
-    dominance = std::max(dominance, off / diag);
-    rhs_[O] = r;
+    if (dims_ == 2)
+      in.fixed ? assemble_scalar_row<2, true>(in, m, edge, n0, o0, len)
+               : assemble_scalar_row<2, false>(in, m, edge, n0, o0, len);
+    else
+      in.fixed ? assemble_scalar_row<3, true>(in, m, edge, n0, o0, len)
+               : assemble_scalar_row<3, false>(in, m, edge, n0, o0, len);
+    add_scalar_face_terms(in, m, edge, n0, o0, len);
+    dominant &= diagonally_dominant(m, o0, len);
   });
   // Jacobi when the diagonal dominates (a short step), a multigrid V-cycle else.
-  MPI_Allreduce(MPI_IN_PLACE, &dominance, 1, MPI_DOUBLE, MPI_MAX, comm_);
-  sys.use_diagonal(dominance < 0.9);
+  MPI_Allreduce(MPI_IN_PLACE, &dominant, 1, MPI_INT, MPI_MIN, comm_);
+  sys.use_diagonal(dominant == 1);
   const double start = MPI_Wtime();
   sys.take(m);
   sys.solve(rhs_, x_);
@@ -252,6 +234,109 @@ void FvSolver::solve_scalar(fv::StructSystem& sys, Field& q, Field& change, cons
   turbulence_iterations_ = std::max(turbulence_iterations_, sys.last_iterations());
   for_owned([&](const long*, long n, long o) { change[n] = x_[static_cast<std::size_t>(o)] - q[n]; });
   set_owned(q, x_);
+}
+
+// The rows of the cells n0 + i (owned o0 + i), i < len, along x, as if every
+// neighbour were inside: the faces' own terms come after
+// (add_scalar_face_terms). A neighbour beyond a domain face (`edge`) gives
+// no coupling; a fixed one (FIXED: the two-layer model's epsilon; fixed is 0
+// or 1) goes to the right-hand side. Written so that the loop vectorises:
+// plain pointers, the edges as factors 0 or 1, and no select of a computed
+// value that the compiler would turn into a branch (a fixed cell's diagonal
+// is diag (1 - f) + f: exactly 1 or diag).
+template <int DIMS, bool FIXED>
+void FvSolver::assemble_scalar_row(const ScalarRows& in, fv::StructSystem::Rows& m, const bool (&edge)[3][2],
+                                   long n0, long o0, long len) {
+  const double* __restrict q = in.q + n0;
+  const double* __restrict change = in.change + n0;
+  const double* __restrict sink = in.sink + n0;
+  const double* __restrict source = in.source + n0;
+  const double* __restrict fx = FIXED ? in.fixed + n0 : nullptr;
+  const double* __restrict nut = nut_.data() + n0;
+  double* __restrict diag_out = m.diag.data() + o0;
+  double* __restrict rhs = rhs_.data() + o0;
+  double* __restrict x = x_.data() + o0;
+  const double nu = nu_, hs = in.half_sigma, inv_dt = in.inv_dt;
+  const long first_beyond = edge[0][0] ? 0 : -1, last_beyond = edge[0][1] ? len - 1 : -1;
+  const double inside[3][2] = {{1.0, 1.0},  // along x: first_beyond, last_beyond
+                               {edge[1][0] ? 0.0 : 1.0, edge[1][1] ? 0.0 : 1.0},
+                               {edge[2][0] ? 0.0 : 1.0, edge[2][1] ? 0.0 : 1.0}};
+  // One axis's couplings of cell i: D the face's diffusion over h^2.
+  auto axis = [&](long i, long s, double in_lo, double in_hi, double inv_h2, double* __restrict lower,
+                  double* __restrict upper, double& diag, double& r, double fixed)
+      __attribute__((always_inline)) {
+    const double D_lo = (nu + (nut[i] + nut[i - s]) * hs) * inv_h2;
+    const double D_hi = (nu + (nut[i] + nut[i + s]) * hs) * inv_h2;
+    const double f_lo = FIXED ? fx[i - s] : 0.0, f_hi = FIXED ? fx[i + s] : 0.0;
+    diag += in_lo * D_lo;
+    diag += in_hi * D_hi;
+    if (FIXED) {  // a fixed neighbour's value to the right-hand side
+      r += in_lo * f_lo * (D_lo * q[i - s]);
+      r += in_hi * f_hi * (D_hi * q[i + s]);
+    }
+    lower[i] = fixed + f_lo == 0.0 && in_lo > 0 ? -D_lo : 0.0;
+    upper[i] = fixed + f_hi == 0.0 && in_hi > 0 ? -D_hi : 0.0;
+  };
+  double* __restrict lower[3];
+  double* __restrict upper[3];
+  for (int d = 0; d < 3; ++d) {
+    lower[d] = m.lower[static_cast<std::size_t>(d)].data() + o0;
+    upper[d] = m.upper[static_cast<std::size_t>(d)].data() + o0;
+  }
+  const long s1 = stride(1), s2 = stride(2);
+#pragma GCC ivdep
+  for (long i = 0; i < len; ++i) {
+    const double fixed = FIXED ? fx[i] : 0.0;
+    double diag = inv_dt + sink[i], r = q[i] * inv_dt + source[i];
+    axis(i, 1, i != first_beyond ? 1.0 : 0.0, i != last_beyond ? 1.0 : 0.0, in.inv_h2[0], lower[0], upper[0],
+         diag, r, fixed);
+    axis(i, s1, inside[1][0], inside[1][1], in.inv_h2[1], lower[1], upper[1], diag, r, fixed);
+    if constexpr (DIMS == 3)
+      axis(i, s2, inside[2][0], inside[2][1], in.inv_h2[2], lower[2], upper[2], diag, r, fixed);
+    else
+      lower[2][i] = upper[2][i] = 0.0;
+    diag_out[i] = diag * (1.0 - fixed) + fixed;  // exactly 1 (fixed) or diag
+    rhs[i] = r * (1.0 - fixed) + q[i] * fixed;
+    x[i] = q[i] + (1.0 - fixed) * change[i];
+  }
+}
+
+// Whether every row o0 + i, i < len, has its off-diagonal sum below 0.9 of
+// its diagonal (the entries of unused axes are 0).
+int FvSolver::diagonally_dominant(const fv::StructSystem::Rows& m, long o0, long len) {
+  const double *lo0 = m.lower[0].data() + o0, *lo1 = m.lower[1].data() + o0, *lo2 = m.lower[2].data() + o0;
+  const double *up0 = m.upper[0].data() + o0, *up1 = m.upper[1].data() + o0, *up2 = m.upper[2].data() + o0;
+  const double* diag = m.diag.data() + o0;
+  int all = 1;
+  for (long i = 0; i < len; ++i) {
+    const double off = -((lo0[i] + up0[i]) + (lo1[i] + up1[i]) + (lo2[i] + up2[i]));
+    all &= off < 0.9 * diag[i] ? 1 : 0;
+  }
+  return all;
+}
+
+// The domain faces' terms in a row's free cells: beyond a wall (wall_zero)
+// q' = 0 on the wall (nu_t = 0 there), beyond an inlet q' = inlet on the face;
+// open, symmetry and epsilon's walls add nothing (no flux).
+void FvSolver::add_scalar_face_terms(const ScalarRows& in, fv::StructSystem::Rows& m,
+                                     const bool (&edge)[3][2], long n0, long o0, long len) {
+  for (int d = 0; d < dims_; ++d)
+    for (int side = 0; side < 2; ++side) {
+      if (!edge[d][side]) continue;
+      const Face& f = faces_[static_cast<std::size_t>(2 * d + side)];
+      const bool wall = f.wall && in.wall_zero, inlet = f.kind == Face::dirichlet && !f.wall;
+      if (!wall && !inlet) continue;
+      const long s = side == 0 ? -stride(d) : stride(d);
+      const long first = d == 0 ? (side == 0 ? 0 : len - 1) : 0, last = d == 0 ? first + 1 : len;
+      for (long i = first; i < last; ++i) {
+        const long n = n0 + i;
+        const auto O = static_cast<std::size_t>(o0 + i);
+        if (in.fixed && in.fixed[n] > 0) continue;
+        const double D = (nu_ + (nut_[n] + nut_[n + s]) * in.half_sigma) * in.inv_h2[d];
+        if (wall) m.diag[O] += 2 * nu_ * in.inv_h2[d];
+        if (inlet) m.diag[O] += 2 * D, rhs_[O] += 2 * D * in.inlet;
+      }
+    }
 }
 
 // One step of k and epsilon with the new velocity (see the top of the file).

@@ -52,20 +52,66 @@ std::size_t SphereFractions::KeyHash::operator()(const Key& k) const {
 // Every cell of the box, in cell units, then the cut cells scaled so that the
 // sphere's cells add up to its volume exactly (wholly covered cells stay 1).
 std::vector<double> SphereFractions::stencil(const V& offset, double r, int m) const {
+  std::vector<double> f = octree_stencil(offset, r, m);
+  renormalise(f, r);
+  return f;
+}
+
+std::vector<double> SphereFractions::octree_stencil(const V& offset, double r, int m) const {
   const int n = 2 * m + 1;
   std::vector<double> f(static_cast<std::size_t>(n) * n * n, 0.0);
-  double full = 0.0, cut = 0.0;
   std::size_t at = 0;
   for (int k = -m; k <= m; ++k)
     for (int j = -m; j <= m; ++j)
-      for (int i = -m; i <= m; ++i, ++at) {
+      for (int i = -m; i <= m; ++i, ++at)
         f[at] = cube_fraction({double(i), double(j), double(k)}, 1.0, offset, r, levels_);
-        (f[at] >= 1.0 ? full : cut) += f[at];
-      }
+  return f;
+}
+
+void SphereFractions::renormalise(std::vector<double>& f, double r) {
+  double full = 0.0, cut = 0.0;
+  for (const double v : f) (v >= 1.0 ? full : cut) += v;
   const double volume = 4.0 / 3.0 * std::numbers::pi * r * r * r;
   const double scale = cut > 0.0 ? (volume - full) / cut : 1.0;
   for (double& v : f)
     if (v > 0.0 && v < 1.0) v = std::min(1.0, v * scale);
+}
+
+// Offset a / N along an axis and (N - a) / N are mirror images (the cell i of
+// one is the cell -i of the other), and the axes may be taken in any order:
+// the class's stencil at offsets c0 <= c1 <= c2 <= N / 2, computed once,
+// read back through the mirror and the permutation. With N a power of two the
+// octree's coordinates, squares and sums are exact binary fractions, so the
+// numbers are those of a direct computation (tests/unit/immersed).
+std::vector<double> SphereFractions::by_symmetry(double r, int m, int a, int b, int c) {
+  const int N = lattice_, want[3] = {a, b, c};
+  int folded[3], order[3] = {0, 1, 2};
+  bool mirror[3];
+  for (int d = 0; d < 3; ++d) {
+    mirror[d] = want[d] > N - want[d];
+    folded[d] = mirror[d] ? N - want[d] : want[d];
+  }
+  std::stable_sort(order, order + 3, [&](int x, int y) { return folded[x] < folded[y]; });
+  const Key key{std::bit_cast<std::uint64_t>(r), folded[order[0]], folded[order[1]], folded[order[2]]};
+  auto it = classes_.find(key);
+  if (it == classes_.end()) {
+    const double s = 1.0 / N;
+    it = classes_.emplace(key, octree_stencil({key.a * s, key.b * s, key.c * s}, r, m)).first;
+    bytes_ += it->second.size() * sizeof(double);
+    ++octree_;
+  }
+  const std::vector<double>& cls = it->second;
+  const int n = 2 * m + 1;
+  std::vector<double> f(cls.size());
+  std::size_t at = 0;
+  int x[3];
+  for (x[2] = -m; x[2] <= m; ++x[2])
+    for (x[1] = -m; x[1] <= m; ++x[1])
+      for (x[0] = -m; x[0] <= m; ++x[0], ++at) {
+        int i[3];  // the class's cell: axis e of the class is axis order[e] here
+        for (int e = 0; e < 3; ++e) i[e] = (mirror[order[e]] ? -x[order[e]] : x[order[e]]) + m;
+        f[at] = cls[(static_cast<std::size_t>(i[2]) * n + i[1]) * n + i[0]];
+      }
   return f;
 }
 
@@ -75,10 +121,14 @@ const std::vector<double>& SphereFractions::kept(double r, int m, int a, int b, 
   if (it != kept_.end()) return it->second;
   if (bytes_ > max_bytes_) {  // a pure function of the key: dropping them changes no result
     kept_.clear();
+    classes_.clear();
     bytes_ = 0;
   }
   const double s = 1.0 / lattice_;
-  auto f = stencil({a * s, b * s, c * s}, r, m);
+  const bool binary = std::has_single_bit(static_cast<unsigned>(lattice_)) && levels_ < 16;
+  std::vector<double> f = binary ? by_symmetry(r, m, a, b, c) : octree_stencil({a * s, b * s, c * s}, r, m);
+  if (!binary) ++octree_;
+  renormalise(f, r);
   bytes_ += f.size() * sizeof(double);
   ++computed_;
   return kept_.emplace(key, std::move(f)).first->second;

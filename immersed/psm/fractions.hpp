@@ -50,6 +50,11 @@ class SphereFractions {
   void cover(const std::array<double, 3>& c, double r, std::vector<std::pair<coupler::Index3, double>>& out);
 
   std::size_t stencils_computed() const { return computed_; }
+  // The stencils computed by the octree: on a lattice of 2^k offsets a kept
+  // stencil is its symmetry class's (offset a or N - a per axis, axes in any
+  // order: 35 classes of 729 offsets at N = 8) mirrored and permuted, the
+  // same numbers (the octree's arithmetic is exact on such offsets).
+  std::size_t octree_stencils() const { return octree_; }
 
  private:
   struct Key {
@@ -64,14 +69,20 @@ class SphereFractions {
   // radius r (in cells) whose centre is `offset` (in cells) from the base
   // cell's lower corner, renormalised to the sphere's volume.
   std::vector<double> stencil(const std::array<double, 3>& offset, double r, int m) const;
+  // The same before the renormalisation (octree fractions), and that step.
+  std::vector<double> octree_stencil(const std::array<double, 3>& offset, double r, int m) const;
+  static void renormalise(std::vector<double>& f, double r);
   const std::vector<double>& kept(double r, int m, int a, int b, int c);
+  // The octree stencil at lattice offset (a, b, c) from its symmetry class's.
+  std::vector<double> by_symmetry(double r, int m, int a, int b, int c);
 
   double h_;
   std::array<double, 3> lower_;
   int levels_, lattice_;
   std::vector<double> kept_radii_;
-  std::size_t max_bytes_, bytes_ = 0, computed_ = 0;
+  std::size_t max_bytes_, bytes_ = 0, computed_ = 0, octree_ = 0;
   std::unordered_map<Key, std::vector<double>, KeyHash> kept_;
+  std::unordered_map<Key, std::vector<double>, KeyHash> classes_;  // octree stencils of the symmetry classes
   std::vector<double> blend_;
 };
 

@@ -133,3 +133,33 @@ TEST_CASE("kept fractions move with the sphere by whole cells, and equal the exa
   CHECK(max_difference(a, e) <= 0.0);
   CHECK(kept.stencils_computed() == 9);
 }
+
+TEST_CASE("kept stencils taken from their symmetry class equal the octree's at every offset of the lattice",
+          "[immersed][psm]") {
+  using coflow::immersed::SphereFractions;
+  // Offsets a/8 and (8 - a)/8 are mirror images and the axes may be swapped:
+  // 35 classes hold the 9^3 = 729 offsets, and the fractions read back through
+  // the mirror and the permutation are the octree's own, bit for bit.
+  for (const double radius : {2.3, 3.5}) {
+    SphereFractions kept(1.0, {0, 0, 0}, 3, 8, {radius}), exact(1.0, {0, 0, 0}, 3, 0, {});
+    Cells a, e;
+    double worst = 0.0;
+    std::size_t compared = 0;
+    for (int i = 0; i <= 8; ++i)
+      for (int j = 0; j <= 8; ++j)
+        for (int k = 0; k <= 8; ++k) {
+          const V c{10 + i / 8.0, 20 + j / 8.0, 30 + k / 8.0};  // on the lattice: one kept stencil, weight 1
+          kept.cover(c, radius, a);
+          exact.cover(c, radius, e);
+          REQUIRE(a.size() == e.size());
+          worst = std::max(worst, max_difference(a, e));
+          compared += a.size();
+        }
+    INFO("radius " << radius << ": " << compared << " cells compared");
+    CHECK(worst <= 0.0);
+    // The offsets 8/8 along an axis are the next cell's 0/8: 512 kept stencils.
+    CHECK(kept.stencils_computed() == 512);
+    // Folded offsets 0..4 per axis, sorted: C(5 + 2, 3) = 35 octree stencils.
+    CHECK(kept.octree_stencils() == 35);
+  }
+}

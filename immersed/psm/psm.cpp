@@ -88,7 +88,9 @@ class PsmWindows final : public coupler::WindowParts {
   void save(const std::string&) override {}  // no state of its own: rebuilt every window
   void finish() override {
     to_fluid_.flush();
-    if (p_.centre_lattice > 0) log::info("psm: {} fraction stencils computed and kept", fractions_.stencils_computed());
+    if (p_.centre_lattice > 0)
+      log::info("psm: {} fraction stencils kept, {} of them computed by the octree (the others by symmetry)",
+                fractions_.stencils_computed(), fractions_.octree_stencils());
   }
 
  private:

@@ -125,6 +125,8 @@ const std::vector<double>& SphereFractions::kept(double r, int m, int a, int b, 
     bytes_ = 0;
   }
   const double s = 1.0 / lattice_;
+  // Exact binary arithmetic (by_symmetry): a 2^k lattice, and leaves of 2^-levels whose squares and sums
+  // stay within a double's 53 bits.
   const bool binary = std::has_single_bit(static_cast<unsigned>(lattice_)) && levels_ < 16;
   std::vector<double> f = binary ? by_symmetry(r, m, a, b, c) : octree_stencil({a * s, b * s, c * s}, r, m);
   if (!binary) ++octree_;

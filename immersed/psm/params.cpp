@@ -8,18 +8,14 @@ void PsmParams::visit(config::Visitor& v) {
     "radius 4 cells; 4: within 7e-5); the cut cells are then scaled so that the total is the sphere's volume",
     config::in_range(0, 8));
   v("centre_lattice", centre_lattice,
-    "the fractions depend only on a sphere's radius and its centre's offset in its cell: they are computed "
-    "once "
-    "for centres on a lattice of h/N per axis, kept, and interpolated trilinearly to the actual centre (8: a "
-    "moving sphere costs a few operations per cell, and the interpolation smooths the octree's leaf noise: "
-    "largest "
-    "cell error against 7 levels 0.020, exact centre 0.030, at radius 4 cells); 0: the octree at the exact "
-    "centre every window. With N a power of two the lattice's offsets fall into mirror and permutation "
-    "classes "
-    "(35 at N = 8) and only one stencil per class goes through the octree, with the same numbers. Only "
-    "species "
-    "of one diameter keep stencils; particles from a size distribution or "
-    "crushing take the exact centre",
+    "the fractions depend only on a sphere's radius and its centre's offset in its cell: they are "
+    "computed once for centres on a lattice of h/N per axis, kept, and interpolated trilinearly to the "
+    "actual centre (8: a moving sphere costs a few operations per cell, and the interpolation smooths "
+    "the octree's leaf noise: largest cell error against 7 levels 0.020, exact centre 0.030, at radius 4 "
+    "cells); 0: the octree at the exact centre every window. With N a power of two the lattice's offsets "
+    "fall into mirror and permutation classes (35 at N = 8) and only one stencil per class goes through "
+    "the octree, with the same numbers. Only species of one diameter keep stencils; particles from a "
+    "size distribution or crushing take the exact centre",
     config::in_range(0, 64));
   v("buoyancy", buoyancy,
     "add the buoyancy -rho_f V g to each particle (the fluid carries no hydrostatic pressure gradient)");

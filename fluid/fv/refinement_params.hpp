@@ -28,6 +28,7 @@ struct RefinementParams {
   int levels = 2;
   int patch = 8;
   int every = 10;
+  std::string diffusion = "explicit";  // or implicit (CompositeFlow::set_implicit_diffusion)
   std::vector<RefinementCriterion> criteria;
   void visit(config::Visitor& v);
   // Whole-configuration checks: the grid cuts into patches, the cells are

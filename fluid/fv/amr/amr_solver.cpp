@@ -81,6 +81,7 @@ ForestSpec AmrFvSolver::forest_spec() const {
 void AmrFvSolver::make_flow() {
   flow_ = std::make_unique<CompositeFlow>(*forest_, geometry_, nu_,
                                           IjSystem::Options{p_.tolerance, p_.max_iterations});
+  flow_->set_implicit_diffusion(p_.refinement.diffusion == "implicit");
   const auto& d = cfg_.domain;
   for (int f = 0; f < 6; ++f) {
     const int a = f / 2;
@@ -218,7 +219,8 @@ double AmrFvSolver::stable_step() {
   // Heun's method is stable for explicit diffusion up to nu dt / h^2 = 1 / (2 d): half of it. With
   // central advection its amplification is |G|^2 = 1 + C^4 / 4 - (damping by diffusion), so the
   // diffusion number must stay above about C^4 / 16: dt <= (16 nu h^2 / U^4)^(1/3), U = sum |u_d|.
-  if (nu_ > 0) limit = std::min(limit, h_ * h_ / (4.0 * dims_ * nu_));
+  if (nu_ > 0 && p_.refinement.diffusion != "implicit")
+    limit = std::min(limit, h_ * h_ / (4.0 * dims_ * nu_));
   const double speed = umax[0] + umax[1] + umax[2];
   if (speed > 0) limit = std::min(limit, std::cbrt(16.0 * nu_ * h_ * h_ / std::pow(speed, 4)));
   if (p_.max_step > 0) limit = std::min(limit, p_.max_step);

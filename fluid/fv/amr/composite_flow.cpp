@@ -1,5 +1,6 @@
 #include "fluid/fv/amr/composite_flow.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -60,16 +61,21 @@ void CompositeFlow::build() {
   if (pinned_ && grid_->first_cell() == 0 && !L.rows.empty()) L.rows[0] = {{0, 1.0}};
   poisson_.reset();
   poisson_ = std::make_unique<IjSystem>(forest_.comm(), grid_->first_cell(), L.rows, solve_);
+  viscous_.clear();  // the implicit diffusion's operators: again at the next step
   source_.clear();
   for (auto& p : phi_) p.clear();
 }
 
 void CompositeFlow::set_inlet(int face, Inflow inflow) {
   kinds_[static_cast<std::size_t>(face)] = Boundary::inlet;
+  viscous_.clear();
   inflow_[static_cast<std::size_t>(face)] = std::move(inflow);
 }
 
-void CompositeFlow::set_symmetry(int face) { kinds_[static_cast<std::size_t>(face)] = Boundary::symmetry; }
+void CompositeFlow::set_symmetry(int face) {
+  kinds_[static_cast<std::size_t>(face)] = Boundary::symmetry;
+  viscous_.clear();
+}
 
 void CompositeFlow::set_outlet(int face) {
   kinds_[static_cast<std::size_t>(face)] = Boundary::outlet;
@@ -172,29 +178,37 @@ void CompositeFlow::set_pressure(const std::vector<double>& p) {
     for (std::size_t c = 0; c < per; ++c) forest_.data(l)[c * nc + static_cast<std::size_t>(dims_)] = p[k++];
 }
 
-CompositeFlow::Field CompositeFlow::rates(const Field& u) {
+CompositeFlow::Field CompositeFlow::rates(const Field& u, Field* viscous) {
   const Field g = with_ghosts(u);
   Field r(u.size(), std::vector<double>(u[0].size(), 0.0));
+  if (viscous) *viscous = r;
   for (std::size_t c = 0; c < faces_.size(); ++c) {
     const double h = h_[c];
     for (std::size_t q = 0; q < u.size(); ++q) {
-      double sum = 0.0;
+      double carried = 0.0, stress = 0.0;
       for (std::size_t s = 0; s < faces_[c].size(); ++s) {
         const auto& f = faces_[c][s];
         if (f.wall && outlet(f)) {  // carried out at the cell's value; no viscous stress
-          sum -= f.fraction * f.side * mac_[c][s] * g[q][c];
+          carried -= f.fraction * f.side * mac_[c][s] * g[q][c];
           continue;
         }
         if (f.wall) {  // the imposed velocity half a cell away; carried in or out with it
           const auto ub = imposed(f, c, g);
-          sum += f.fraction *
-                 (nu_ * 2.0 * (ub[q] - g[q][c]) / h - f.side * ub[static_cast<std::size_t>(f.axis)] * ub[q]);
+          stress += f.fraction * nu_ * 2.0 * (ub[q] - g[q][c]) / h;
+          carried -= f.fraction * f.side * ub[static_cast<std::size_t>(f.axis)] * ub[q];
           continue;
         }
         const double outward = f.side * mac_[c][s];  // normal velocity out of the cell
-        sum += f.fraction * (nu_ * evaluate(f.gradient, g[q]) - outward * evaluate(f.value, g[q]));
+        stress += f.fraction * nu_ * evaluate(f.gradient, g[q]);
+        carried -= f.fraction * outward * evaluate(f.value, g[q]);
       }
-      r[q][c] = sum / h + (source_.empty() ? 0.0 : source_[q][c]);
+      const double source = source_.empty() ? 0.0 : source_[q][c];
+      if (viscous) {
+        r[q][c] = carried / h + source;
+        (*viscous)[q][c] = stress / h;
+      } else {
+        r[q][c] = (stress + carried) / h + source;
+      }
     }
   }
   return r;
@@ -251,6 +265,10 @@ void CompositeFlow::project_initial() {
 }
 
 void CompositeFlow::step(double dt) {
+  if (implicit_) {
+    step_implicit(dt);
+    return;
+  }
   const Field u0 = read_velocity();
   const Field r0 = rates(u0);
   Field u1 = u0;
@@ -269,6 +287,84 @@ void CompositeFlow::step(double dt) {
   std::vector<double> p(phi_[1].size());
   for (std::size_t k = 0; k < p.size(); ++k) p[k] = 0.5 * phi_[0][k] + phi_[1][k];
   set_pressure(p);
+}
+
+// Heun's step with the diffusion D implicit (A: advection and source):
+// predictor (1 - dt D) u1* = u0 + dt A(u0), forced and projected to u1;
+// corrector (1 - dt D / 2) u2* = u0 + dt (A(u0) + A(u1) + D u0) / 2 +
+// (u1 - u1*) / 2, forced and projected to u2. The last term is the
+// predictor's forcing and pressure gradient at half weight, as the explicit
+// step carries them in (u0 + u1) / 2, so that the step's pressure is again
+// phi_1 / 2 + phi_2. Second order in time: the trapezoidal rule for D,
+// Heun's for A.
+void CompositeFlow::step_implicit(double dt) {
+  const Field u0 = read_velocity();
+  Field d0;
+  const Field a0 = rates(u0, &d0);
+  Field b = u0, u1 = u0;
+  for (std::size_t q = 0; q < b.size(); ++q)
+    for (std::size_t c = 0; c < b[q].size(); ++c) b[q][c] += dt * a0[q][c];
+  solve_viscous(b, u1, dt, 0);
+  const Field predicted = u1;
+  if (forcing_) forcing_(u1, dt, 0);
+  project(u1, dt, 0);
+  Field unused;
+  const Field a1 = rates(u1, &unused);
+  Field u2 = u1;
+  for (std::size_t q = 0; q < b.size(); ++q)
+    for (std::size_t c = 0; c < b[q].size(); ++c)
+      b[q][c] = u0[q][c] + 0.5 * dt * (a0[q][c] + a1[q][c] + d0[q][c]) + 0.5 * (u1[q][c] - predicted[q][c]);
+  solve_viscous(b, u2, 0.5 * dt, 1);
+  if (forcing_) forcing_(u2, dt, 1);
+  project(u2, dt, 1);
+  std::vector<double> p(phi_[1].size());
+  for (std::size_t k = 0; k < p.size(); ++k) p[k] = 0.5 * phi_[0][k] + phi_[1][k];
+  set_pressure(p);
+}
+
+void CompositeFlow::solve_viscous(Field& b, Field& x, double theta_dt, std::size_t which) {
+  if (viscous_.empty()) {  // each component's conditions: walls and inlets give its value, outlets none
+    for (std::size_t q = 0; q < static_cast<std::size_t>(dims_); ++q) {
+      std::array<FaceCondition, 6> conditions;
+      for (std::size_t k = 0; k < 6; ++k) {
+        const bool given = kinds_[k] == Boundary::wall || kinds_[k] == Boundary::inlet ||
+                           (kinds_[k] == Boundary::symmetry && k / 2 == q);
+        conditions[k] = given ? FaceCondition::dirichlet : FaceCondition::neumann;
+      }
+      viscous_.push_back(assemble_laplacian(*grid_, conditions));
+    }
+    for (auto& pair : helmholtz_)
+      for (auto& sys : pair) sys.reset();
+  }
+  for (std::size_t q = 0; q < static_cast<std::size_t>(dims_); ++q) {
+    const auto& L = viscous_[q];
+    const double scale = theta_dt * nu_;
+    // Predictor and corrector keep a system each, rebuilt when the step changes.
+    auto& slot = helmholtz_[q][which];
+    auto& slot_dt = helmholtz_dt_[q][which];
+    if (!slot || slot_dt != theta_dt) {
+      std::vector<Stencil> rows = L.rows;
+      for (std::size_t c = 0; c < rows.size(); ++c) {
+        for (auto& e : rows[c]) e.second *= -scale;
+        const long self = grid_->first_cell() + static_cast<long>(c);
+        auto at =
+            std::find_if(rows[c].begin(), rows[c].end(), [&](const auto& e) { return e.first == self; });
+        if (at == rows[c].end()) at = rows[c].insert(rows[c].end(), {self, 0.0});
+        at->second += 1.0;
+      }
+      slot.reset();
+      slot = std::make_unique<IjSystem>(forest_.comm(), grid_->first_cell(), rows, solve_);
+      slot_dt = theta_dt;
+    }
+    for (const auto& f : L.boundary) {
+      const auto k = static_cast<std::size_t>(f.face);
+      double g = 0.0;  // outlets and symmetry faces: no gradient, no flow through
+      if (kinds_[k] == Boundary::wall) g = walls_[k][q];
+      if (kinds_[k] == Boundary::inlet) g = inflow_[k](f.point)[q];
+      b[q][static_cast<std::size_t>(f.cell)] += scale * f.coefficient * g;
+    }
+    slot->solve(b[q], x[q]);
+  }
 }
 
 namespace {

@@ -14,8 +14,12 @@
 // Boundaries: periodic, or on the non-periodic domain faces no-slip walls
 // (optionally moving tangentially: a lid), inlets (velocity given, dp/dn =
 // 0), outlets (p = 0, du/dn = 0) and symmetry faces (no flow through, no
-// shear). amr_solver.hpp maps fluid.boundaries onto them; diffusion is
-// explicit (no IMEX on the composite grid yet).
+// shear). amr_solver.hpp maps fluid.boundaries onto them. Diffusion is
+// explicit, or implicit (set_implicit_diffusion): an IMEX form of the same
+// Heun step, backward Euler in the predictor and the trapezoidal rule
+// (Crank-Nicolson) in the corrector, each a composite Helmholtz system per
+// velocity component (GMRES + BoomerAMG), so that the step is not held to the
+// explicit diffusive limit h^2 / (4 d nu) on the finest cells.
 #pragma once
 
 #include <array>
@@ -25,6 +29,7 @@
 #include <vector>
 
 #include "fluid/fv/amr/composite_faces.hpp"
+#include "fluid/fv/amr/composite_laplacian.hpp"
 #include "fluid/fv/amr/ij_system.hpp"
 
 namespace coflow::fluid::fv::amr {
@@ -61,6 +66,8 @@ class CompositeFlow {
   // the step as dU / 2 and one made in stage 1 as dU.
   using Field = std::vector<std::vector<double>>;  // per component, per local cell
   void set_forcing(std::function<void(Field& u, double dt, int stage)> forcing) { forcing_ = std::move(forcing); }
+  // Implicit diffusion (see above); set before the first step.
+  void set_implicit_diffusion(bool on) { implicit_ = on; }
   // Projects the velocity held by the forest (call once after setting it).
   void project_initial();
   // One step of length dt (Heun: two stages, each projected).
@@ -97,7 +104,14 @@ class CompositeFlow {
   Field read_velocity() const;
   void write(const Field& u);
   Field with_ghosts(const Field& u);  // per component, per slot
-  Field rates(const Field& u);        // advection and diffusion of u
+  // Advection and diffusion of u (and the source); with `viscous`, the
+  // diffusion goes there instead, for the implicit step.
+  Field rates(const Field& u, Field* viscous = nullptr);
+  void step_implicit(double dt);
+  // Solves (1 - theta dt nu L_q) x = b for each component q (x: the guess in,
+  // the solution out), b holding the right-hand side less the boundary values'
+  // part, which this adds; `which`: 0 predictor, 1 corrector (a system each).
+  void solve_viscous(Field& b, Field& x, double theta_dt, std::size_t which);
   void project(Field& u, double dt, int stage);
   double volume(long c) const;
   // The velocity component q at cell c's face f (fields with ghosts).
@@ -118,6 +132,13 @@ class CompositeFlow {
   std::vector<double> h_;                    // per local cell, its spacing
   std::vector<std::vector<double>> mac_;     // per local cell, per sub-face: the velocity along +axis
   std::unique_ptr<IjSystem> poisson_;
+  // Implicit diffusion: per component its Laplacian (the conditions its
+  // boundaries impose on it), and its Helmholtz systems for the predictor
+  // (theta 1) and the corrector (theta 1/2) at the step they were built for.
+  bool implicit_ = false;
+  std::vector<CompositeLaplacian> viscous_;
+  std::array<std::array<std::unique_ptr<IjSystem>, 2>, 3> helmholtz_;
+  std::array<std::array<double, 2>, 3> helmholtz_dt_{};
   std::vector<std::vector<double>> source_;
   std::array<std::array<double, 3>, 6> walls_{};
   std::array<Boundary, 6> kinds_{};  // all walls

@@ -236,9 +236,7 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
   iterations_ = poisson_->last_iterations();
   // The pressure into the forest's pressure component, exchanged with the velocity.
   set_pressure(phi);
-  forest_.exchange_ghosts();
-  std::vector<double> p;
-  grid_->gather(dims_, p);
+  const std::vector<double> p = gathered_pressure();
   for (std::size_t c = 0; c < n; ++c) {
     const double h = h_[c];
     for (std::size_t s = 0; s < faces_[c].size(); ++s) {
@@ -248,11 +246,27 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
         mac_[c][s] -= dt * f.side * evaluate(f.gradient, p);
       else if (outlet(f))
         mac_[c][s] -= dt * f.side * (-2.0 * p[c] / h);
+    }
+  }
+  subtract_gradient(u, p, dt);
+  write(u);
+}
+
+std::vector<double> CompositeFlow::gathered_pressure() {
+  forest_.exchange_ghosts();
+  std::vector<double> p;
+  grid_->gather(dims_, p);
+  return p;
+}
+
+void CompositeFlow::subtract_gradient(Field& u, const std::vector<double>& p, double dt) const {
+  for (std::size_t c = 0; c < faces_.size(); ++c) {
+    const double h = h_[c];
+    for (const auto& f : faces_[c]) {  // Gauss's theorem over the cell's faces
       const double face = !f.wall ? evaluate(f.value, p) : outlet(f) ? 0.0 : p[c];
       u[static_cast<std::size_t>(f.axis)][c] -= dt * f.fraction * f.side * face / h;
     }
   }
-  write(u);
 }
 
 void CompositeFlow::project_initial() {
@@ -289,36 +303,44 @@ void CompositeFlow::step(double dt) {
   set_pressure(p);
 }
 
-// Heun's step with the diffusion D implicit (A: advection and source):
-// predictor (1 - dt D) u1* = u0 + dt A(u0), forced and projected to u1;
-// corrector (1 - dt D / 2) u2* = u0 + dt (A(u0) + A(u1) + D u0) / 2 +
-// (u1 - u1*) / 2, forced and projected to u2. The last term is the
-// predictor's forcing and pressure gradient at half weight, as the explicit
-// step carries them in (u0 + u1) / 2, so that the step's pressure is again
-// phi_1 / 2 + phi_2. Second order in time: the trapezoidal rule for D,
-// Heun's for A.
+// Heun's step with the diffusion D implicit (A: advection and source), in
+// incremental pressure-correction form (G: the cells' pressure gradient,
+// p the last step's pressure): predictor (1 - dt D) u1* = u0 + dt (A(u0) -
+// G p), forced (by f1) and projected to u1 = u1* + f1 - dt G phi_1;
+// corrector (1 - dt D / 2) u2* = u0 + dt (A(u0) + A(u1) + D u0) / 2 + f1 / 2
+// - dt G (p + phi_1), forced and projected by phi_2. The predictor's forcing
+// enters at half weight, as in the explicit step, and the step's pressure is
+// p + phi_1 + phi_2. Second order in time: the trapezoidal rule for D,
+// Heun's for A. Without the old pressure in the predictor, the no-slip
+// condition of the implicit solve would act on its gradient: the steady
+// state would move with dt.
 void CompositeFlow::step_implicit(double dt) {
   const Field u0 = read_velocity();
+  const std::vector<double> p0 = pressure(), p0_slots = gathered_pressure();
   Field d0;
   const Field a0 = rates(u0, &d0);
-  Field b = u0, u1 = u0;
+  Field b = u0, predicted = u0;
   for (std::size_t q = 0; q < b.size(); ++q)
     for (std::size_t c = 0; c < b[q].size(); ++c) b[q][c] += dt * a0[q][c];
-  solve_viscous(b, u1, dt, 0);
-  const Field predicted = u1;
-  if (forcing_) forcing_(u1, dt, 0);
-  project(u1, dt, 0);
+  subtract_gradient(b, p0_slots, dt);
+  solve_viscous(b, predicted, dt, 0);
+  Field forced = predicted;
+  if (forcing_) forcing_(forced, dt, 0);
+  Field u1 = forced;
+  project(u1, dt, 0);  // u1 = forced - dt G phi_1
   Field unused;
   const Field a1 = rates(u1, &unused);
-  Field u2 = u1;
   for (std::size_t q = 0; q < b.size(); ++q)
     for (std::size_t c = 0; c < b[q].size(); ++c)
-      b[q][c] = u0[q][c] + 0.5 * dt * (a0[q][c] + a1[q][c] + d0[q][c]) + 0.5 * (u1[q][c] - predicted[q][c]);
+      b[q][c] = u0[q][c] + 0.5 * dt * (a0[q][c] + a1[q][c] + d0[q][c]) +
+                0.5 * (forced[q][c] - predicted[q][c]) + (u1[q][c] - forced[q][c]);
+  subtract_gradient(b, p0_slots, dt);
+  Field u2 = u1;
   solve_viscous(b, u2, 0.5 * dt, 1);
   if (forcing_) forcing_(u2, dt, 1);
   project(u2, dt, 1);
-  std::vector<double> p(phi_[1].size());
-  for (std::size_t k = 0; k < p.size(); ++k) p[k] = 0.5 * phi_[0][k] + phi_[1][k];
+  std::vector<double> p(p0.size());
+  for (std::size_t k = 0; k < p.size(); ++k) p[k] = p0[k] + phi_[0][k] + phi_[1][k];
   set_pressure(p);
 }
 

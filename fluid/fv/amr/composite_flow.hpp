@@ -108,6 +108,9 @@ class CompositeFlow {
   // diffusion goes there instead, for the implicit step.
   Field rates(const Field& u, Field* viscous = nullptr);
   void step_implicit(double dt);
+  std::vector<double> gathered_pressure();  // the forest's pressure, per slot (ghosts too)
+  // u -= dt G p at the cells, G by Gauss's theorem over their faces (p per slot).
+  void subtract_gradient(Field& u, const std::vector<double>& p, double dt) const;
   // Solves (1 - theta dt nu L_q) x = b for each component q (x: the guess in,
   // the solution out), b holding the right-hand side less the boundary values'
   // part, which this adds; `which`: 0 predictor, 1 corrector (a system each).

@@ -375,7 +375,13 @@ void CompositeFlow::solve_viscous(Field& b, Field& x, double theta_dt, std::size
         at->second += 1.0;
       }
       slot.reset();
-      slot = std::make_unique<IjSystem>(forest_.comm(), grid_->first_cell(), rows, solve_);
+      // The velocity itself is solved for (the Poisson gives a potential whose
+      // gradient times dt enters): a residual at the Poisson's tolerance would
+      // add its round-off step after step, so a hundredth of it (these systems
+      // are well conditioned: a few iterations more), above round-off.
+      IjSystem::Options tight = solve_;
+      tight.tolerance = std::max(1e-13, 0.01 * solve_.tolerance);
+      slot = std::make_unique<IjSystem>(forest_.comm(), grid_->first_cell(), rows, tight);
       slot_dt = theta_dt;
     }
     for (const auto& f : L.boundary) {

@@ -141,6 +141,9 @@ coflow_validation(fv_amr_vortex vortex fv_amr_vortex.yaml 1)
 # The same with the composite grid's diffusion implicit (fluid.fv.refinement.diffusion).
 coflow_validation(fv_amr_vortex_implicit vortex fv_amr_vortex.yaml 1 --set fluid.fv.refinement.diffusion=implicit
   --set run.end_time=0.25 --set run.output.every=0.25)
+coflow_validation(fv_amr_vortex_implicit_ranks compare fv_amr_vortex.yaml 2
+  "fluid.ranks=1 run.end_time=0.15 run.output.every=0.15 fluid.fv.refinement.diffusion=implicit"
+  "fluid.ranks=2 run.end_time=0.15 run.output.every=0.15 fluid.fv.refinement.diffusion=implicit")
 coflow_validation(fv_amr_vortex_ranks compare fv_amr_vortex.yaml 2
   "fluid.ranks=1 run.end_time=0.15 run.output.every=0.15" "fluid.ranks=2 run.end_time=0.15 run.output.every=0.15")
 coflow_validation(dpm_two_way_amr two_way dpm_two_way_amr.yaml 3)

@@ -310,10 +310,11 @@ void CompositeFlow::step(double dt) {
 // corrector (1 - dt D / 2) u2* = u0 + dt (A(u0) + A(u1) + D u0) / 2 + f1 / 2
 // - dt G (p + phi_1), forced and projected by phi_2. The predictor's forcing
 // enters at half weight, as in the explicit step, and the step's pressure is
-// p + phi_1 + phi_2. Second order in time: the trapezoidal rule for D,
-// Heun's for A. Without the old pressure in the predictor, the no-slip
-// condition of the implicit solve would act on its gradient: the steady
-// state would move with dt.
+// p + phi_1 + phi_2. Formally second order in time: the trapezoidal rule
+// for D, Heun's for A (on a fixed grid the approximate projection's error
+// per step stays: docs/validation.md). Without the old pressure in the
+// predictor, the no-slip condition of the implicit solve would act on its
+// gradient: the steady state would move with dt.
 void CompositeFlow::step_implicit(double dt) {
   const Field u0 = read_velocity();
   const std::vector<double> p0 = pressure(), p0_slots = gathered_pressure();

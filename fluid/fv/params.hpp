@@ -57,10 +57,9 @@ struct FvParams {
         "cells, refined and coarsened by the criteria every few steps. There the steps are Heun's "
         "second-order Runge-Kutta with central fluxes through the composite faces, diffusion explicit or "
         "implicit (refinement.diffusion; advection, form, time and multigrid are not used; the step is also "
-        "kept below (16 nu h^2 / U^4)^(1/3) on the finest cells, Heun's limit for central advection, and "
-        "with "
-        "explicit diffusion below h^2 / (4 d nu)), projected at each stage with hypre's GMRES + BoomerAMG to "
-        "the relative residual tolerance (at most max_iterations); "
+        "kept below (16 nu h^2 / U^4)^(1/3) on the finest cells, Heun's limit for central advection, "
+        "and with explicit diffusion below h^2 / (4 d nu)), projected at each stage with hypre's GMRES + "
+        "BoomerAMG to the relative residual tolerance (at most max_iterations); "
         "outflow and pressure faces are both p = 0 with du/dn = 0 (not fv's convective outflow)",
         [&](config::Visitor& s) {
           if (s.reading() && !refinement.on) return;

@@ -75,10 +75,9 @@ void RefinementParams::visit(config::Visitor& v) {
     config::greater(0.0));
   v("diffusion", diffusion,
     "explicit: Heun's step, held to h^2 / (4 d nu) on the finest cells; implicit: the same step with "
-    "backward "
-    "Euler in its predictor and Crank-Nicolson in its corrector for the viscous term, in incremental "
-    "pressure-correction form (a Helmholtz system per velocity component, GMRES + BoomerAMG), held to the "
-    "advective limit alone",
+    "backward Euler in its predictor and Crank-Nicolson in its corrector for the viscous term, in "
+    "incremental pressure-correction form (a Helmholtz system per velocity component, GMRES + "
+    "BoomerAMG), held to the advective limit alone",
     config::one_of({"explicit", "implicit"}));
   visit_criteria(v, criteria);
 }

@@ -178,10 +178,10 @@ void CompositeFlow::set_pressure(const std::vector<double>& p) {
     for (std::size_t c = 0; c < per; ++c) forest_.data(l)[c * nc + static_cast<std::size_t>(dims_)] = p[k++];
 }
 
-CompositeFlow::Field CompositeFlow::rates(const Field& u, Field* viscous) {
+CompositeFlow::Field CompositeFlow::rates(const Field& u, Viscous part, Field* viscous) {
   const Field g = with_ghosts(u);
   Field r(u.size(), std::vector<double>(u[0].size(), 0.0));
-  if (viscous) *viscous = r;
+  if (part == Viscous::apart) *viscous = r;
   for (std::size_t c = 0; c < faces_.size(); ++c) {
     const double h = h_[c];
     for (std::size_t q = 0; q < u.size(); ++q) {
@@ -194,16 +194,16 @@ CompositeFlow::Field CompositeFlow::rates(const Field& u, Field* viscous) {
         }
         if (f.wall) {  // the imposed velocity half a cell away; carried in or out with it
           const auto ub = imposed(f, c, g);
-          stress += f.fraction * nu_ * 2.0 * (ub[q] - g[q][c]) / h;
+          if (part != Viscous::none) stress += f.fraction * nu_ * 2.0 * (ub[q] - g[q][c]) / h;
           carried -= f.fraction * f.side * ub[static_cast<std::size_t>(f.axis)] * ub[q];
           continue;
         }
         const double outward = f.side * mac_[c][s];  // normal velocity out of the cell
-        stress += f.fraction * nu_ * evaluate(f.gradient, g[q]);
+        if (part != Viscous::none) stress += f.fraction * nu_ * evaluate(f.gradient, g[q]);
         carried -= f.fraction * outward * evaluate(f.value, g[q]);
       }
       const double source = source_.empty() ? 0.0 : source_[q][c];
-      if (viscous) {
+      if (part == Viscous::apart) {
         r[q][c] = carried / h + source;
         (*viscous)[q][c] = stress / h;
       } else {
@@ -236,7 +236,9 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
   iterations_ = poisson_->last_iterations();
   // The pressure into the forest's pressure component, exchanged with the velocity.
   set_pressure(phi);
-  const std::vector<double> p = gathered_pressure();
+  forest_.exchange_ghosts();
+  std::vector<double> p;
+  grid_->gather(dims_, p);
   for (std::size_t c = 0; c < n; ++c) {
     const double h = h_[c];
     for (std::size_t s = 0; s < faces_[c].size(); ++s) {
@@ -250,13 +252,6 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
   }
   subtract_gradient(u, p, dt);
   write(u);
-}
-
-std::vector<double> CompositeFlow::gathered_pressure() {
-  forest_.exchange_ghosts();
-  std::vector<double> p;
-  grid_->gather(dims_, p);
-  return p;
 }
 
 void CompositeFlow::subtract_gradient(Field& u, const std::vector<double>& p, double dt) const {
@@ -317,9 +312,12 @@ void CompositeFlow::step(double dt) {
 // gradient: the steady state would move with dt.
 void CompositeFlow::step_implicit(double dt) {
   const Field u0 = read_velocity();
-  const std::vector<double> p0 = pressure(), p0_slots = gathered_pressure();
   Field d0;
-  const Field a0 = rates(u0, &d0);
+  const Field a0 = rates(u0, Viscous::apart, &d0);
+  // rates() exchanged the forest's ghosts, the last step's pressure with them.
+  const std::vector<double> p0 = pressure();
+  std::vector<double> p0_slots;
+  grid_->gather(dims_, p0_slots);
   Field b = u0, predicted = u0;
   for (std::size_t q = 0; q < b.size(); ++q)
     for (std::size_t c = 0; c < b[q].size(); ++c) b[q][c] += dt * a0[q][c];
@@ -329,8 +327,7 @@ void CompositeFlow::step_implicit(double dt) {
   if (forcing_) forcing_(forced, dt, 0);
   Field u1 = forced;
   project(u1, dt, 0);  // u1 = forced - dt G phi_1
-  Field unused;
-  const Field a1 = rates(u1, &unused);
+  const Field a1 = rates(u1, Viscous::none);
   for (std::size_t q = 0; q < b.size(); ++q)
     for (std::size_t c = 0; c < b[q].size(); ++c)
       b[q][c] = u0[q][c] + 0.5 * dt * (a0[q][c] + a1[q][c] + d0[q][c]) +

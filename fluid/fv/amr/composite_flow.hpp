@@ -104,11 +104,11 @@ class CompositeFlow {
   Field read_velocity() const;
   void write(const Field& u);
   Field with_ghosts(const Field& u);  // per component, per slot
-  // Advection and diffusion of u (and the source); with `viscous`, the
-  // diffusion goes there instead, for the implicit step.
-  Field rates(const Field& u, Field* viscous = nullptr);
+  // Advection and diffusion of u (and the source); for the implicit step the
+  // diffusion goes to *viscous (apart), or is not computed (none).
+  enum class Viscous { included, apart, none };
+  Field rates(const Field& u, Viscous part = Viscous::included, Field* viscous = nullptr);
   void step_implicit(double dt);
-  std::vector<double> gathered_pressure();  // the forest's pressure, per slot (ghosts too)
   // u -= dt G p at the cells, G by Gauss's theorem over their faces (p per slot).
   void subtract_gradient(Field& u, const std::vector<double>& p, double dt) const;
   // Solves (1 - theta dt nu L_q) x = b for each component q (x: the guess in,

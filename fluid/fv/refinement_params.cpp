@@ -76,8 +76,8 @@ void RefinementParams::visit(config::Visitor& v) {
   v("diffusion", diffusion,
     "explicit: Heun's step, held to h^2 / (4 d nu) on the finest cells; implicit: the same step with "
     "backward Euler in its predictor and Crank-Nicolson in its corrector for the viscous term, in "
-    "incremental pressure-correction form (a Helmholtz system per velocity component, GMRES + "
-    "BoomerAMG), held to the advective limit alone",
+    "incremental pressure-correction form (non-incremental with immersed boundaries; a Helmholtz system "
+    "per velocity component, GMRES + BoomerAMG), held to the advective limit alone",
     config::one_of({"explicit", "implicit"}));
   visit_criteria(v, criteria);
 }

@@ -106,7 +106,6 @@ void AmrFvSolver::make_flow() {
       });
     }
   }
-  flow_->set_forcing([this](CompositeFlow::Field& u, double dt, int stage) { force(u, dt, stage); });
   view_ = std::make_unique<UniformView>(flow_->grid(), decomposition_, rank_);
   apply_source();
 }
@@ -349,6 +348,10 @@ void AmrFvSolver::load(const std::string& dir, long, double) {
 void AmrFvSolver::set_markers(ibm::MarkerSet markers) {
   const bool first = !markers_;
   markers_ = std::make_unique<ibm::MarkerSet>(std::move(markers));
+  // The flow is forced from now on (its implicit step then leaves out the
+  // incremental pressure: composite_flow.cpp).
+  if (first)
+    flow_->set_forcing([this](CompositeFlow::Field& u, double dt, int stage) { force(u, dt, stage); });
   // (A restarted run's forest is refined already: no pass, bit for bit.)
   for (int pass = 1; first && steps_ == 0 && pass < p_.refinement.levels; ++pass)
     if (flow_->regrid(marks())) {
@@ -394,15 +397,16 @@ void AmrFvSolver::make_forcing() {
 }
 
 // In each Heun stage, before its projection: u forced toward the markers'
-// velocities at the step's end. A change dU in stage 0 enters the step as
-// dU / 2, one in stage 1 as dU (composite_flow.hpp), so the loads take the
-// factors rho / dt and 2 rho / dt: their mean over the two calls is the
-// step's force, rho (dU_0 / 2 + dU_1) dV / dt (eq. 4.8).
+// velocities at the step's end. A change dU in stage s enters the step with
+// the weight w_s (composite_flow.hpp: 1/2 and 1 with explicit diffusion, 1
+// and 1 implicit), so the loads take the factors 2 w_s rho / dt: their mean
+// over the two calls is the step's force, rho (w_0 dU_0 + w_1 dU_1) dV / dt
+// (eq. 4.8).
 void AmrFvSolver::force(CompositeFlow::Field& u, double dt, int stage) {
   if (!ibm_ || ibm_->empty()) return;
   std::array<double*, 3> v{nullptr, nullptr, nullptr};
   for (std::size_t q = 0; q < u.size(); ++q) v[q] = u[q].data();
-  ibm_->apply(v, time_ + dt, velocity_scale_, (stage == 0 ? 1.0 : 2.0) * rho_ / dt, dt);
+  ibm_->apply(v, time_ + dt, velocity_scale_, 2.0 * flow_->stage_weight(stage) * rho_ / dt, dt);
 }
 
 std::vector<double> AmrFvSolver::take_body_loads() { return ibm_ ? ibm_->take_report() : std::vector<double>{}; }

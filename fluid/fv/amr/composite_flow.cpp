@@ -302,26 +302,31 @@ void CompositeFlow::step(double dt) {
 // incremental pressure-correction form (G: the cells' pressure gradient,
 // p the last step's pressure): predictor (1 - dt D) u1* = u0 + dt (A(u0) -
 // G p), forced (by f1) and projected to u1 = u1* + f1 - dt G phi_1;
-// corrector (1 - dt D / 2) u2* = u0 + dt (A(u0) + A(u1) + D u0) / 2 + f1 / 2
-// - dt G (p + phi_1), forced and projected by phi_2. The predictor's forcing
-// enters at half weight, as in the explicit step, and the step's pressure is
-// p + phi_1 + phi_2. Formally second order in time: the trapezoidal rule
-// for D, Heun's for A (on a fixed grid the approximate projection's error
-// per step stays: docs/validation.md). Without the old pressure in the
-// predictor, the no-slip condition of the implicit solve would act on its
-// gradient: the steady state would move with dt.
+// corrector (1 - dt D / 2) u2* = u0 + dt (A(u0) + A(u1) + D u0) / 2 + f1
+// - dt G (p + phi_1), forced and projected by phi_2; the step's pressure is
+// p + phi_1 + phi_2. The corrector takes the predictor's forcing in full,
+// as its pressure (stage_weight()). Formally second order in time: the
+// trapezoidal rule for D, Heun's for A (on a fixed grid the approximate
+// projection's error per step stays: docs/validation.md). Without the old
+// pressure in the predictor, the no-slip condition of the implicit solve
+// would act on its gradient: the steady state would move with dt. With an
+// immersed boundary's forcing the old pressure is left out (p = 0 above):
+// the forcing and the pressure carried from step to step fed each other, and
+// the cylinder at Re 20 blew up at steps of CFL 0.25 (docs/validation.md).
 void CompositeFlow::step_implicit(double dt) {
   const Field u0 = read_velocity();
   Field d0;
   const Field a0 = rates(u0, Viscous::apart, &d0);
   // rates() exchanged the forest's ghosts, the last step's pressure with them.
-  const std::vector<double> p0 = pressure();
+  const bool incremental = !forcing_;
+  std::vector<double> p0 = pressure();
+  if (!incremental) std::fill(p0.begin(), p0.end(), 0.0);
   std::vector<double> p0_slots;
-  grid_->gather(dims_, p0_slots);
+  if (incremental) grid_->gather(dims_, p0_slots);
   Field b = u0, predicted = u0;
   for (std::size_t q = 0; q < b.size(); ++q)
     for (std::size_t c = 0; c < b[q].size(); ++c) b[q][c] += dt * a0[q][c];
-  subtract_gradient(b, p0_slots, dt);
+  if (incremental) subtract_gradient(b, p0_slots, dt);
   solve_viscous(b, predicted, dt, 0);
   Field forced = predicted;
   if (forcing_) forcing_(forced, dt, 0);
@@ -330,9 +335,8 @@ void CompositeFlow::step_implicit(double dt) {
   const Field a1 = rates(u1, Viscous::none);
   for (std::size_t q = 0; q < b.size(); ++q)
     for (std::size_t c = 0; c < b[q].size(); ++c)
-      b[q][c] = u0[q][c] + 0.5 * dt * (a0[q][c] + a1[q][c] + d0[q][c]) +
-                0.5 * (forced[q][c] - predicted[q][c]) + (u1[q][c] - forced[q][c]);
-  subtract_gradient(b, p0_slots, dt);
+      b[q][c] = u0[q][c] + 0.5 * dt * (a0[q][c] + a1[q][c] + d0[q][c]) + (u1[q][c] - predicted[q][c]);
+  if (incremental) subtract_gradient(b, p0_slots, dt);
   Field u2 = u1;
   solve_viscous(b, u2, 0.5 * dt, 1);
   if (forcing_) forcing_(u2, dt, 1);

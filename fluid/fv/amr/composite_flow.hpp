@@ -63,9 +63,14 @@ class CompositeFlow {
   // local cell) before its projection: an immersed boundary's direct forcing
   // (seed 003 eqs. 4.8-4.11). Stage 0 predicts u1 = u0 + dt r0; stage 1 is
   // u2 = (u0 + u1 + dt r1) / 2, so a velocity change dU made in stage 0 enters
-  // the step as dU / 2 and one made in stage 1 as dU.
+  // the step as dU / 2 and one made in stage 1 as dU (explicit diffusion;
+  // implicit: stage_weight()).
   using Field = std::vector<std::vector<double>>;  // per component, per local cell
   void set_forcing(std::function<void(Field& u, double dt, int stage)> forcing) { forcing_ = std::move(forcing); }
+  // The weight a stage's velocity change has in the step: explicit, 1/2 for
+  // stage 0 and 1 for stage 1 (above); implicit, 1 for both (the corrector
+  // starts from the forced predictor's change in full, as from its pressure).
+  double stage_weight(int stage) const { return stage == 0 && !implicit_ ? 0.5 : 1.0; }
   // Implicit diffusion (see above); set before the first step.
   void set_implicit_diffusion(bool on) { implicit_ = on; }
   // Projects the velocity held by the forest (call once after setting it).

@@ -1,0 +1,83 @@
+# Seconds each long test took in a whole-suite run (ctest -j2, 2-core AMD
+# EPYC VM, 2026-11-27), as its COST: ctest starts the costliest tests first, so
+# that a fresh build directory (no Testing/Temporary/CTestCostData.txt yet)
+# does not end on a long test running alone. Ordering only; tests of 8 s or
+# more. Included by tests/CMakeLists.txt after every test is defined.
+set(coflow_test_costs
+  validation.two_phase_grain_interface_120 94
+  validation.two_phase_grain_interface_60 93
+  validation.ibm_cylinder_re20 80
+  validation.psm_settling_sphere_e4 65
+  validation.two_phase_capillary_bridge 65
+  validation.two_phase_laplace_3d 61
+  unit.amr 55
+  validation.ibm_cylinder_re100 51
+  validation.dpm_granular_gas_bidisperse 46
+  validation.fv_ke_channel 46
+  unit.mpi 46
+  validation.psm_settling_sphere_e3 45
+  validation.psm_settling_sphere_e2 42
+  validation.psm_settling_sphere_e1 42
+  validation.fv_cavity_re1000 40
+  validation.ibm_sphere_re100 34
+  validation.dpm_grid_turbulence_fv 32
+  unit.amr_cavity 50
+  validation.lbm_duct_3d_pressure 28
+  validation.dpm_grid_turbulence_ct026 28
+  validation.dpm_grid_turbulence 27
+  cluster.srun_quickstart 26
+  unit 25
+  validation.dem_gravity_pour 25
+  validation.ibm_cylinder_re20_lbm 24
+  validation.fv_cavity_re100 23
+  validation.ibm_cylinder_oscillating 23
+  validation.dpm_dispersion 23
+  validation.solids_sphere_array_tau 22
+  validation.solids_sphere_array_balance 21
+  validation.dpm_jet_plate 20
+  validation.solids_sphere_array 20
+  validation.dpm_mesh_vs_reference 19
+  validation.ibm_ranks_1_vs_16_moving 19
+  validation.dem_outlet_vs_reference 18
+  validation.psm_drag_array 17
+  validation.dpm_vs_reference 17
+  validation.dpm_granular_gas 17
+  validation.two_phase_washburn 16
+  validation.ibm_lbm_vs_reference_fixed 15
+  validation.ibm_cylinder_frames 14
+  validation.dem_damping_curve 14
+  validation.ibm_cylinder_amr 14
+  validation.ibm_cylinder_amr_implicit 15
+  restart.dem_2_ranks 14
+  restart.ibm_translating 13
+  validation.fv_amr_vortex 13
+  validation.two_phase_grain_interface_90 13
+  output.paraview_reads_quickstart 13
+  restart.fv_amr_implicit_2_ranks 11
+  validation.psm_rotating_sphere 11
+  restart.ibm_series 11
+  validation.two_phase_laplace_2d 11
+  validation.lbm_poiseuille_2d_pressure_order 11
+  validation.ibm_lbm_vs_reference_moving 10
+  restart.dpm_dispersion_series 10
+  restart.fluid_walls 9
+  restart.fv_amr_2_ranks 9
+  restart.ibm_with_particles 9
+  validation.ibm_ke_fv_vs_reference 9
+  restart.fv_k_epsilon_2_ranks 9
+  launcher.interrupt 9
+  validation.two_phase_colour_mass 9
+  validation.fv_ke_ranks_1_vs_2_channel 9
+  validation.dpm_two_way_amr 9
+  validation.two_phase_grains_vs_reference 8
+)
+list(LENGTH coflow_test_costs n)
+math(EXPR last "${n} - 1")
+foreach(i RANGE 0 ${last} 2)
+  math(EXPR j "${i} + 1")
+  list(GET coflow_test_costs ${i} t)
+  list(GET coflow_test_costs ${j} cost)
+  if(TEST ${t})
+    set_tests_properties(${t} PROPERTIES COST ${cost})
+  endif()
+endforeach()

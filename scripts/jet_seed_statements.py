@@ -14,7 +14,10 @@ the 5 mm bins of scripts/plot_jet_impacts.py:
   - the impact area: the bins hit at 1 % of the peak frequency or more, cm^2;
   - the peak frequency, impacts per second and cm^2;
   - the slope of the bins' mean angle along x (degrees per cm, weighted by
-    the bins' impacts): the seed's "the mean angle falls towards +x".
+    the bins' impacts): the seed's "the mean angle falls towards +x";
+  - the direct spot: each particle's first strike on the plate, its area as
+    4 pi sqrt(det C), C the covariance of those strikes' (x, z) (the area of
+    an ellipse struck uniformly; no bins), cm^2.
 Uses Debian's python3 with numpy.
 """
 import os
@@ -43,17 +46,28 @@ def summary(out, run):
             float(np.nanmin(mean)), float(np.nanmax(mean)), float(np.sum(hit)) * area_cm2, float(np.max(freq)), slope)
 
 
+def direct_spot_cm2(out, run):
+    """The area of the particles' first strikes on the plate: 4 pi sqrt(det C) (cm^2)."""
+    d = np.genfromtxt(f"{out}/{run}/events/impacts.csv", delimiter=",", names=True)
+    d = d[d["wall"] >= 6]
+    d = d[np.lexsort((d["time"], d["id"]))]
+    first = np.ones(len(d), dtype=bool)
+    first[1:] = d["id"][1:] != d["id"][:-1]
+    c = np.cov(np.vstack((d["x"][first], d["z"][first])) * 100)
+    return 4 * np.pi * np.sqrt(max(np.linalg.det(c), 0.0))
+
+
 def main():
     out = sys.argv[1]
     runs = sys.argv[2:] or ["no_pp", "spread_0", "spread_5", "spread_10", "spread_15", "nozzle_60", "nozzle_45",
                             "nozzle_30"]
     print("| run | impacts | mean angle | angle range | bins' mean angle range | area (cm^2) "
-          "| peak frequency (1/(s cm^2)) | d(mean angle)/dx (deg/cm) |")
-    print("|---|---|---|---|---|---|---|---|")
+          "| peak frequency (1/(s cm^2)) | d(mean angle)/dx (deg/cm) | direct spot (cm^2) |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for run in runs:
         c, m, lo, hi, blo, bhi, area, peak, slope = summary(out, run)
         print(f"| {run} | {c} | {m:.1f} | {lo:.1f}-{hi:.1f} | {blo:.1f}-{bhi:.1f} | {area:.1f} | {peak:.3g} "
-              f"| {slope:+.2f} |")
+              f"| {slope:+.2f} | {direct_spot_cm2(out, run):.3f} |")
 
 
 main()

@@ -69,6 +69,7 @@ set(coflow_test_costs
   validation.two_phase_colour_mass 9
   validation.fv_ke_ranks_1_vs_2_channel 9
   validation.dpm_two_way_amr 9
+  validation.dpm_two_way_amr_implicit 9
   validation.two_phase_grains_vs_reference 8
 )
 list(LENGTH coflow_test_costs n)

@@ -147,3 +147,8 @@ coflow_validation(fv_amr_vortex_implicit_ranks compare fv_amr_vortex.yaml 2
 coflow_validation(fv_amr_vortex_ranks compare fv_amr_vortex.yaml 2
   "fluid.ranks=1 run.end_time=0.15 run.output.every=0.15" "fluid.ranks=2 run.end_time=0.15 run.output.every=0.15")
 coflow_validation(dpm_two_way_amr two_way dpm_two_way_amr.yaml 3)
+# The same with implicit diffusion: the point particles' momentum source on
+# two levels through the implicit step (its advective part); momentum then to
+# the Helmholtz solves' tolerance, not round-off.
+coflow_validation(dpm_two_way_amr_implicit two_way dpm_two_way_amr.yaml 3
+  --set fluid.fv.refinement.diffusion=implicit)

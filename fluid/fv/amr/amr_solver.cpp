@@ -339,7 +339,14 @@ void AmrFvSolver::load(const std::string& dir, long, double) {
   view_.reset();
   forest_ = std::make_unique<Forest>(comm_, forest_spec(), dir + "/forest.p4est");
   make_flow();
+  if (markers_) install_forcing();
   flow_->load(dir);
+}
+
+// The flow is forced from the first markers on (its implicit step then
+// leaves out the incremental pressure: composite_flow.cpp).
+void AmrFvSolver::install_forcing() {
+  flow_->set_forcing([this](CompositeFlow::Field& u, double dt, int stage) { force(u, dt, stage); });
 }
 
 // The first markers: the leaves around them refine to the finest level
@@ -348,10 +355,7 @@ void AmrFvSolver::load(const std::string& dir, long, double) {
 void AmrFvSolver::set_markers(ibm::MarkerSet markers) {
   const bool first = !markers_;
   markers_ = std::make_unique<ibm::MarkerSet>(std::move(markers));
-  // The flow is forced from now on (its implicit step then leaves out the
-  // incremental pressure: composite_flow.cpp).
-  if (first)
-    flow_->set_forcing([this](CompositeFlow::Field& u, double dt, int stage) { force(u, dt, stage); });
+  if (first) install_forcing();
   // (A restarted run's forest is refined already: no pass, bit for bit.)
   for (int pass = 1; first && steps_ == 0 && pass < p_.refinement.levels; ++pass)
     if (flow_->regrid(marks())) {

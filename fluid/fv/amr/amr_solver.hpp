@@ -61,6 +61,7 @@ class AmrFvSolver final : public FluidSolver {
   // each axis (3^d points; no leaf of 4 or more cells lies between them).
   std::vector<std::array<double, 3>> marker_reach() const;
   void make_forcing();        // the forcing's stencils on the current leaves; checks they are all finest
+  void install_forcing();     // from the first markers on
   void force(CompositeFlow::Field& u, double dt, int stage);
   void regrid();
   double stable_step();    // collective; throws on a value that is not finite

@@ -2,8 +2,8 @@
 // at Re 100: 32^2 cells in the middle, 64^2-fine cells along the four walls
 // (2 levels), stepped to steady state with the viscous terms explicit and
 // implicit (at 2.6 times the explicit limit); the centre-line velocities against
-// Ghia, Ghia & Shin 1982 (Tables I and II), independent data; 1 rank (its
-// own ctest, unit.amr_cavity). Poiseuille flow from an inlet to an outlet
+// Ghia, Ghia & Shin 1982 (Tables I and II), independent data; 1 rank (their
+// own ctests, unit.amr_cavity and unit.amr_cavity_implicit). Poiseuille flow from an inlet to an outlet
 // with finer cells along the walls, against the exact solution (unit and
 // unit.mpi).
 #include <mpi.h>
@@ -100,7 +100,7 @@ TEST_CASE("amr cavity: Re 100 on 2 levels against Ghia, Ghia & Shin 1982", "[.][
   CHECK(r.worst <= 0.02);  // references.csv: amr_cavity_re100
 }
 
-TEST_CASE("amr cavity: Re 100 with implicit diffusion past the explicit limit", "[.][amr_cavity]") {
+TEST_CASE("amr cavity: Re 100 with implicit diffusion past the explicit limit", "[.][amr_cavity_implicit]") {
   // dt 0.016: nu dt / h^2 = 0.66 on the fine cells, 2.6 times the explicit
   // stability limit 1/4 (2D); CFL 1.0 at the lid. The moving lid is a
   // Dirichlet condition of the Helmholtz system for u.

@@ -10,11 +10,18 @@ coflow_validation(psm_layouts compare psm_momentum.yaml 2
 coflow_validation(psm_drag_array drag psm_drag_array.yaml 2)
 coflow_validation(psm_settling_sphere_e2 settling psm_settling_sphere_e2.yaml 2)
 # ten Cate et al.'s other three cases at full size (configs/cases, label long).
+# The check takes the largest speed of the run: E4's comes at 1.16 s, after
+# which the floor slows the sphere, so its test stops at 1.3 s (the case runs
+# to 1.6 s).
 foreach(e e1 e3 e4)
+  set(until "")
+  if(e STREQUAL "e4")
+    set(until --set run.end_time=1.3)
+  endif()
   add_test(NAME validation.psm_settling_sphere_${e}
     COMMAND ${validate} psm_settling_sphere_${e} ${CMAKE_BINARY_DIR}/bin ${CMAKE_CURRENT_BINARY_DIR}/val-settling-${e}
             settling ${PROJECT_SOURCE_DIR}/configs/cases/settling_sphere_${e}.yaml
-            --set fluid.ranks=2 --set "run.output.fields=[velocity]")
+            --set fluid.ranks=2 --set "run.output.fields=[velocity]" ${until})
   set_tests_properties(validation.psm_settling_sphere_${e} PROPERTIES LABELS "validation;mpi" PROCESSORS 4)
 endforeach()
 coflow_validation(psm_variants compare psm_momentum.yaml 2

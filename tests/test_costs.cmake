@@ -9,7 +9,7 @@ set(coflow_test_costs
   validation.two_phase_grain_interface_120 94
   validation.two_phase_grain_interface_60 93
   validation.ibm_cylinder_re20 80
-  validation.psm_settling_sphere_e4 65
+  validation.psm_settling_sphere_e4 55
   validation.two_phase_capillary_bridge 65
   validation.two_phase_laplace_3d 61
   unit.amr 55

@@ -6,8 +6,8 @@
 # validations, timed alone). Included by tests/CMakeLists.txt after every
 # test is defined; a name that is no test is reported.
 set(coflow_test_costs
-  validation.two_phase_grain_interface_120 94
-  validation.two_phase_grain_interface_60 93
+  validation.two_phase_grain_interface_120 50
+  validation.two_phase_grain_interface_60 50
   validation.ibm_cylinder_re20 80
   validation.psm_settling_sphere_e4 55
   validation.two_phase_capillary_bridge 65

@@ -10,7 +10,7 @@ set(coflow_test_costs
   validation.two_phase_grain_interface_60 50
   validation.ibm_cylinder_re20 80
   validation.psm_settling_sphere_e4 55
-  validation.two_phase_capillary_bridge 65
+  validation.two_phase_capillary_bridge 45
   validation.two_phase_laplace_3d 61
   unit.amr 55
   validation.ibm_cylinder_re100 51

@@ -3,7 +3,9 @@
 # that a fresh build directory (no Testing/Temporary/CTestCostData.txt yet)
 # does not end on a long test running alone. Ordering only; tests of 8 s or
 # more (the tests added since, unit.amr_cavity_implicit and the *_implicit
-# validations, timed alone). Included by tests/CMakeLists.txt after every
+# validations, and those shortened on 2026-11-28: unit.amr, the grain
+# interface, the capillary bridge and E4, timed alone or scaled by their
+# steps). Included by tests/CMakeLists.txt after every
 # test is defined; a name that is no test is reported.
 set(coflow_test_costs
   validation.two_phase_grain_interface_120 50
@@ -12,7 +14,7 @@ set(coflow_test_costs
   validation.psm_settling_sphere_e4 55
   validation.two_phase_capillary_bridge 45
   validation.two_phase_laplace_3d 61
-  unit.amr 55
+  unit.amr 15
   validation.ibm_cylinder_re100 51
   validation.dpm_granular_gas_bidisperse 46
   validation.fv_ke_channel 46

@@ -8,17 +8,16 @@
 # steps). Included by tests/CMakeLists.txt after every
 # test is defined; a name that is no test is reported.
 set(coflow_test_costs
+  validation.ibm_cylinder_re20 80
+  validation.two_phase_laplace_3d 61
+  validation.psm_settling_sphere_e4 55
+  validation.ibm_cylinder_re100 51
   validation.two_phase_grain_interface_120 50
   validation.two_phase_grain_interface_60 50
-  validation.ibm_cylinder_re20 80
-  validation.psm_settling_sphere_e4 55
-  validation.two_phase_capillary_bridge 45
-  validation.two_phase_laplace_3d 61
-  unit.amr 15
-  validation.ibm_cylinder_re100 51
   validation.dpm_granular_gas_bidisperse 46
   validation.fv_ke_channel 46
   unit.mpi 46
+  validation.two_phase_capillary_bridge 45
   validation.psm_settling_sphere_e3 45
   validation.psm_settling_sphere_e2 42
   validation.psm_settling_sphere_e1 42
@@ -26,7 +25,6 @@ set(coflow_test_costs
   validation.ibm_sphere_re100 34
   validation.dpm_grid_turbulence_fv 32
   unit.amr_cavity 30
-  unit.amr_cavity_implicit 20
   validation.lbm_duct_3d_pressure 28
   validation.dpm_grid_turbulence_ct026 28
   validation.dpm_grid_turbulence 27
@@ -39,6 +37,7 @@ set(coflow_test_costs
   validation.dpm_dispersion 23
   validation.solids_sphere_array_tau 22
   validation.solids_sphere_array_balance 21
+  unit.amr_cavity_implicit 20
   validation.dpm_jet_plate 20
   validation.solids_sphere_array 20
   validation.dpm_mesh_vs_reference 19
@@ -48,11 +47,12 @@ set(coflow_test_costs
   validation.dpm_vs_reference 17
   validation.dpm_granular_gas 17
   validation.two_phase_washburn 16
+  unit.amr 15
   validation.ibm_lbm_vs_reference_fixed 15
+  validation.ibm_cylinder_amr_implicit 15
   validation.ibm_cylinder_frames 14
   validation.dem_damping_curve 14
   validation.ibm_cylinder_amr 14
-  validation.ibm_cylinder_amr_implicit 15
   restart.dem_2_ranks 14
   restart.ibm_translating 13
   validation.fv_amr_vortex 13

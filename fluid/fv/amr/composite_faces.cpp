@@ -49,6 +49,13 @@ void fine_side(const CompositeGrid& g, const CompositeGrid::Cell& fine, int axis
   if (!g.value(fine.level, fine.index, f.value, 9.0 / 8.0) ||
       !g.value(fine.level, shifted(fine.index, axis, -side), f.value, -1.0 / 8.0))
     throw std::logic_error("refinement: a fine cell without its value");
+  Index3 coarse = shifted(fine.index, axis, side);
+  for (int d = 0; d < g.dims(); ++d)
+    coarse[static_cast<std::size_t>(d)] >>= 1;  // floor (periodic images: -1)
+  if (g.cover(fine.level - 1, coarse, &f.across) != CompositeGrid::Cover::leaf)
+    throw std::logic_error("refinement: a coarse-fine face without its coarse cell");
+  f.across_level = -1;
+  f.across_index = coarse;
 }
 
 // A coarse cell's face towards finer cells: one sub-face per fine face, the
@@ -67,8 +74,10 @@ void coarse_side(const CompositeGrid& g, const CompositeGrid::Cell& c, int axis,
     }
     SubFace from_fine;
     fine_side(g, fine, axis, -side, from_fine);
-    SubFace f{axis, side, 1.0 / pieces, false, {}, std::move(from_fine.value)};
+    SubFace f{axis, side, 1.0 / pieces, false, {}, std::move(from_fine.value), -1, -1, 1, fine.index};
     add(f.gradient, from_fine.gradient, -1.0);
+    if (g.cover(fine.level, fine.index, &f.across) != CompositeGrid::Cover::leaf)
+      throw std::logic_error("refinement: a coarse-fine face without its fine cell");
     out.push_back(std::move(f));
   }
 }
@@ -93,7 +102,11 @@ std::vector<std::vector<SubFace>> build_faces(const CompositeGrid& g) {
                            1.0,
                            false,
                            {{id, 1.0 / h}, {self, -1.0 / h}},
-                           same_level_value(g, cell, axis, side)});
+                           same_level_value(g, cell, axis, side),
+                           id,
+                           -1,
+                           0,
+                           shifted(cell.index, axis, side)});
             break;
           case CompositeGrid::Cover::coarser:
             out.push_back({axis, side, 1.0, false, {}, {}});

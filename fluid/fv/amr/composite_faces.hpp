@@ -22,6 +22,10 @@ struct SubFace {
   bool wall = false;      // on a non-periodic domain face: no stencils
   Stencil gradient;       // d phi / dn, outward (1 / length)
   Stencil value;          // phi at the face's centre
+  long across = -1;       // the one cell on the other side (global id; -1 on walls)
+  long across_slot = -1;  // where it is in fields gathered with ghosts (CompositeFlow sets it)
+  int across_level = 0;   // its level less this cell's: -1, 0 or +1
+  Index3 across_index{};  // and its index among its level's cells (periodic images not wrapped)
 };
 
 // Per local cell, its sub-faces (ids global).

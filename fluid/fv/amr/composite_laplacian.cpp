@@ -28,7 +28,8 @@ CompositeLaplacian assemble_laplacian(const CompositeGrid& g,
 }
 
 CompositeLaplacian assemble_laplacian(const CompositeGrid& g, const std::vector<std::vector<SubFace>>& faces,
-                                      const std::array<FaceCondition, 6>& conditions) {
+                                      const std::array<FaceCondition, 6>& conditions,
+                                      const std::vector<std::vector<double>>* coefficient) {
   CompositeLaplacian L;
   L.rows.resize(faces.size());
   for (std::size_t c = 0; c < faces.size(); ++c) {
@@ -36,19 +37,21 @@ CompositeLaplacian assemble_laplacian(const CompositeGrid& g, const std::vector<
     const double h = g.spacing(cell.level);
     const long self = g.first_cell() + static_cast<long>(c);
     Stencil& row = L.rows[c];
-    for (const auto& f : faces[c]) {
+    for (std::size_t s = 0; s < faces[c].size(); ++s) {
+      const auto& f = faces[c][s];
+      const double a = coefficient ? (*coefficient)[c][s] : 1.0;
       if (!f.wall) {
-        add(row, f.gradient, f.fraction / h);
+        add(row, f.gradient, a * f.fraction / h);
         continue;
       }
       const int face = 2 * f.axis + (f.side > 0);
       auto point = g.centre(cell);
       point[f.axis] += 0.5 * f.side * h;
       if (conditions[face] == FaceCondition::dirichlet) {  // ghost 2 g - phi
-        row.emplace_back(self, -2.0 / (h * h));
-        L.boundary.push_back({static_cast<long>(c), point, 2.0 / (h * h), face});
+        row.emplace_back(self, -2.0 * a / (h * h));
+        L.boundary.push_back({static_cast<long>(c), point, 2.0 * a / (h * h), face});
       } else {
-        L.boundary.push_back({static_cast<long>(c), point, 1.0 / h, face});
+        L.boundary.push_back({static_cast<long>(c), point, a / h, face});
       }
     }
     merge(row);

@@ -37,8 +37,12 @@ struct CompositeLaplacian {
 // each non-periodic domain face.
 CompositeLaplacian assemble_laplacian(const CompositeGrid& grid, const std::array<FaceCondition, 6>& faces);
 // The same from the grid's faces already built (build_faces, ids global).
+// With `coefficient` (per local cell, per sub-face in build_faces' order),
+// div(a grad phi): each face's flux, and a boundary face's known value,
+// times the face's a (the same number from both sides: conservative).
 CompositeLaplacian assemble_laplacian(const CompositeGrid& grid,
                                       const std::vector<std::vector<SubFace>>& faces,
-                                      const std::array<FaceCondition, 6>& conditions);
+                                      const std::array<FaceCondition, 6>& conditions,
+                                      const std::vector<std::vector<double>>* coefficient = nullptr);
 
 }  // namespace coflow::fluid::fv::amr

@@ -46,6 +46,9 @@ struct ForestSpec {
   int max_level = 0;   // no leaf finer
   int patch = 8;       // cells per patch edge (even, at least 4)
   int components = 0;  // field values per cell kept on the leaves (0: none)
+  // Components from this one on are positive (k, epsilon, nu_t): refining
+  // keeps them so (the transfer's slopes at a patch's edges are capped).
+  int positive_from = 1 << 30;
   int values_per_leaf() const { return components * patch * patch * (dims == 3 ? patch : 1); }
   // Refine the leaf at (level, patch) once more? Asked for every leaf below
   // max_level, recursively; the forest is then 2:1 balanced, so a few

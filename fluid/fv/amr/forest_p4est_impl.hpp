@@ -50,9 +50,11 @@ void zero_leaf(p4est_t* forest, p4est_topidx_t, p4est_quadrant_t* q) {
 // The limited slope (per parent cell) of component q of a parent patch along
 // `axis` at parent cell (i, j, k): minmod of the two one-sided differences
 // inside the patch; at the patch's edges (no neighbour values in p4est's
-// callback) the one-sided difference, unlimited.
+// callback) the one-sided difference, unlimited, or for a positive component
+// at most the centre's value (as minmod's slopes are: with a quarter cell's
+// offset along each of at most 3 axes a child keeps a quarter of it).
 double limited_slope(const double* parent, int n, int components, int q, const std::array<long, 3>& ijk,
-                     int axis) {
+                     int axis, bool positive) {
   auto at = [&](std::array<long, 3> c) { return parent[((c[2] * n + c[1]) * n + c[0]) * components + q]; };
   const double centre = at(ijk);
   std::array<long, 3> lo = ijk, hi = ijk;
@@ -60,8 +62,9 @@ double limited_slope(const double* parent, int n, int components, int q, const s
   ++hi[axis];
   const bool has_lo = lo[axis] >= 0, has_hi = hi[axis] < n;
   const double down = has_lo ? centre - at(lo) : 0.0, up = has_hi ? at(hi) - centre : 0.0;
-  if (!has_lo) return up;
-  if (!has_hi) return down;
+  auto capped = [&](double s) { return positive ? std::clamp(s, -centre, centre) : s; };
+  if (!has_lo) return capped(up);
+  if (!has_hi) return capped(down);
   if (down * up <= 0.0) return 0.0;
   return std::fabs(down) < std::fabs(up) ? down : up;
 }
@@ -88,7 +91,8 @@ void refine_cells(const BuildContext& ctx, const double* parent, double* child, 
     for (int q = 0; q < components; ++q) {
       double v = parent[parent_cell * components + q];
       for (int d = 0; d < dims; ++d)
-        v += offset[static_cast<std::size_t>(d)] * limited_slope(parent, n, components, q, p, d);
+        v += offset[static_cast<std::size_t>(d)] *
+             limited_slope(parent, n, components, q, p, d, q >= ctx.spec->positive_from);
       child[cell * components + q] = v;
     }
   }

@@ -57,9 +57,8 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
   if (variant == "lbm" || variant == "lbm-reference") c.provides = {f::velocity, f::pressure, f::solid_force};
   if (variant == "analytic") c.provides = {f::velocity, f::pressure, f::k, f::epsilon};
   if (variant == "fv" || variant == "fv-reference") c.provides = {f::velocity, f::pressure};
-  if ((variant == "fv" || variant == "fv-reference") && turbulent(cfg)) c.provides = {f::velocity, f::pressure, f::k, f::epsilon};
-  // On the adaptive grid (fluid.fv.refinement) fv has no k-epsilon yet.
-  if (variant == "fv" && refined(cfg)) c.provides = {f::velocity, f::pressure};
+  if ((variant == "fv" || variant == "fv-reference") && turbulent(cfg))
+    c.provides = {f::velocity, f::pressure, f::k, f::epsilon};
   if (variant == "fv" || variant == "fv-reference") c.provides.push_back(f::ibm_forcing);
   // lbm and lbm-reference force immersed boundaries with one fluid or two
   // (not beside interior solids: check_lbm_solids).
@@ -218,7 +217,7 @@ static void check_turbulence(config::Visitor& v, const config::Config& cfg, cons
 }
 
 // What fv's adaptive grid does not take yet (fluid/fv/amr, issue 25): the
-// uniform oracle, k-epsilon, ramps, a pressure face other than the reference
+// uniform oracle, ramps, a pressure face other than the reference
 // pressure 0; immersed boundaries need the `bodies` criterion.
 static void check_refinement(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
   if (!refined(cfg)) return;
@@ -227,12 +226,19 @@ static void check_refinement(config::Visitor& v, const config::Config& cfg, cons
     v.fail(key, fmt::format("solver {} is the uniform-grid oracle and does not refine; use solver: fv", variant));
     return;
   }
-  if (turbulent(cfg))
-    v.fail("fluid.turbulence", "k-epsilon does not run on the adaptive grid yet: remove fluid.fv.refinement (fv on "
-                               "the uniform grid has it) or fluid.turbulence");
   FluidParams p;
   config::Reader r(config::resolved_node(cfg, "fluid"), cfg.file, "fluid");
   p.visit(r, cfg);
+  if (turbulent(cfg) && config::resolved_text(cfg, {"fluid", "fv", "refinement", "diffusion"}) != "implicit")
+    v.fail(key + ".diffusion",
+           "k-epsilon on the adaptive grid needs `diffusion: implicit` (the eddy viscosity "
+           "nu_t, often 100 nu and more, would hold an explicit step to h^2 / (4 d nu_t))");
+  if (!turbulent(cfg))
+    for (const auto& c : config::resolved_node(cfg, "fluid.fv.refinement.criteria"))
+      if (c.IsMap() && c["k"])
+        v.fail(key + ".criteria",
+               "the criterion k needs the turbulence model: add fluid.turbulence (k-epsilon) "
+               "or refine by another criterion");
   for (int f = 0; f < 6; ++f) {
     const int a = f / 2;
     if (cfg.domain.periodic[a] || cfg.domain.cells[a] == 1) continue;

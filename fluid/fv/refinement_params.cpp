@@ -3,30 +3,39 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <functional>
 
 namespace coflow::fluid::fv {
 
 namespace {
 
+// A criterion on a value's size per cell (`kind`: vorticity, k).
+std::function<void(config::Visitor&)> magnitude(std::vector<RefinementCriterion>& out, const char* kind,
+                                                const char* refine_doc, const char* coarsen_doc) {
+  return [&out, kind, refine_doc, coarsen_doc](config::Visitor& s) {
+    auto& c = out.emplace_back();
+    c.kind = kind;
+    s.required("refine_above", c.refine_above, refine_doc, config::greater(0.0));
+    s.required("coarsen_below", c.coarsen_below, coarsen_doc, config::at_least(0.0));
+    if (s.reading() && c.coarsen_below >= c.refine_above)
+      s.fail("coarsen_below", fmt::format("{} is not below refine_above ({}): leaves would refine and "
+                                          "coarsen back at every regrid",
+                                          c.coarsen_below, c.refine_above));
+  };
+}
+
 void visit_criteria(config::Visitor& v, std::vector<RefinementCriterion>& out) {
   v.choices(
       "criteria",
-      "where the grid refines: a leaf refines where any criterion asks and coarsens where all allow (seed 003 "
-      "§4.1.1: vorticity, walls, particles)",
+      "where the grid refines: a leaf refines where any criterion asks and coarsens where all allow (seed "
+      "003 "
+      "§4.1.1: vorticity, turbulence, walls, particles)",
       {{"vorticity", "by the vorticity's magnitude |omega| in a cell (seed 003 Fig. 1.4)",
-        [&](config::Visitor& s) {
-          auto& c = out.emplace_back();
-          c.kind = "vorticity";
-          s.required("refine_above", c.refine_above, "1/s: a leaf refines where a cell's |omega| exceeds it",
-                     config::greater(0.0));
-          s.required("coarsen_below", c.coarsen_below,
-                     "1/s: a leaf may coarsen where all its cells are below it (less than refine_above)",
-                     config::at_least(0.0));
-          if (s.reading() && c.coarsen_below >= c.refine_above)
-            s.fail("coarsen_below", fmt::format("{} is not below refine_above ({}): leaves would refine and "
-                                                "coarsen back at every regrid",
-                                                c.coarsen_below, c.refine_above));
-        }},
+        magnitude(out, "vorticity", "1/s: a leaf refines where a cell's |omega| exceeds it",
+                  "1/s: a leaf may coarsen where all its cells are below it (less than refine_above)")},
+       {"k", "by the turbulence kinetic energy k in a cell (fluid.turbulence on)",
+        magnitude(out, "k", "m^2/s^2: a leaf refines where a cell's k exceeds it",
+                  "m^2/s^2: a leaf may coarsen where all its cells are below it (less than refine_above)")},
        {"walls", "near the non-periodic faces of the box",
         [&](config::Visitor& s) {
           auto& c = out.emplace_back();
@@ -51,10 +60,12 @@ void visit_criteria(config::Visitor& v, std::vector<RefinementCriterion>& out) {
                                             c.lower.values[d]));
         }},
        {"bodies",
-        "around immersed boundaries (immersed.method ibm): leaves within 2.5 finest cells of a marker refine to "
+        "around immersed boundaries (immersed.method ibm): leaves within 2.5 finest cells of a marker refine "
+        "to "
         "the finest level, where the forcing runs",
         [&](config::Visitor&) { out.emplace_back().kind = "bodies"; }},
-       {"particles", "where point particles are: the cells their momentum source reaches (immersed.method point)",
+       {"particles",
+        "where point particles are: the cells their momentum source reaches (immersed.method point)",
         [&](config::Visitor&) { out.emplace_back().kind = "particles"; }}});
 }
 
@@ -107,7 +118,8 @@ void RefinementParams::check(config::Visitor& v, const config::Config& cfg) cons
       return;
     }
   if (criteria.empty())
-    v.fail("refinement.criteria", "give at least one criterion (vorticity, walls, box, bodies or particles)");
+    v.fail("refinement.criteria",
+           "give at least one criterion (vorticity, k, walls, box, bodies or particles)");
 }
 
 }  // namespace coflow::fluid::fv

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 
 #include "coflow/log.hpp"
@@ -14,6 +15,7 @@
 #include "fluid/fv/amr/refinement_criteria.hpp"
 #include "fluid/fv/fv_solver.hpp"
 #include "fluid/fv/scheme.hpp"
+#include "fluid/fv/turbulence/wall_distance.hpp"
 #include "immersed/ibm/params.hpp"
 
 namespace coflow::fluid::fv::amr {
@@ -70,7 +72,8 @@ ForestSpec AmrFvSolver::forest_spec() const {
   }
   spec.max_level = p_.refinement.levels - 1;
   spec.patch = p_.refinement.patch;
-  spec.components = dims_ + 2;  // velocity, kinematic pressure, a criterion's field
+  spec.components = components();
+  spec.positive_from = turbulence_first();  // k, epsilon, nu_t (where kept)
   return spec;
 }
 
@@ -108,11 +111,19 @@ void AmrFvSolver::make_flow() {
   }
   view_ = std::make_unique<UniformView>(flow_->grid(), decomposition_, rank_);
   apply_source();
+  if (!fluid_.turbulence.on) return;
+  flow_->set_eddy_viscosity(turbulence_first() + 2);
+  turbulence_ =
+      std::make_unique<CompositeTurbulence>(*flow_, *forest_, fluid_.turbulence, nu_, turbulence_first(),
+                                            std::array<double, 3>{d.lower[0], d.lower[1], d.lower[2]},
+                                            std::array<double, 3>{d.upper[0], d.upper[1], d.upper[2]},
+                                            IjSystem::Options{p_.tolerance, p_.max_iterations});
 }
 
 double& AmrFvSolver::value(std::size_t cell, int q) const {
   const auto per = static_cast<std::size_t>(flow_->grid().cells_per_patch());
-  return forest_->data(cell / per)[(cell % per) * static_cast<std::size_t>(dims_ + 2) + static_cast<std::size_t>(q)];
+  return forest_->data(
+      cell / per)[(cell % per) * static_cast<std::size_t>(components()) + static_cast<std::size_t>(q)];
 }
 
 void AmrFvSolver::set_initial() {
@@ -126,11 +137,13 @@ void AmrFvSolver::set_initial() {
     for (int q = 0; q < dims_; ++q) value(C, q) = u[static_cast<std::size_t>(q)];
     value(C, dims_) = p / rho_;
   }
+  if (turbulence_) turbulence_->set_initial();
 }
 
 void AmrFvSolver::after_regrid() {
   view_ = std::make_unique<UniformView>(flow_->grid(), decomposition_, rank_);
   apply_source();
+  if (turbulence_) turbulence_->after_regrid();
   if (markers_) make_forcing();
 }
 
@@ -161,6 +174,8 @@ std::vector<int> AmrFvSolver::marks() {
     if (c.kind == "vorticity") {
       flow_->vorticity(scratch);
       all.push_back(mark_by_magnitude(*forest_, scratch, c.refine_above, c.coarsen_below));
+    } else if (c.kind == "k") {
+      all.push_back(mark_by_magnitude(*forest_, turbulence_first(), c.refine_above, c.coarsen_below));
     } else if (c.kind == "walls") {
       all.push_back(mark_near_walls(g, c.distance));
     } else if (c.kind == "box") {
@@ -229,9 +244,14 @@ double AmrFvSolver::stable_step() {
 void AmrFvSolver::advance(double window) {
   window_steps_ = 0;
   poisson_iterations_ = 0;
+  turbulence_substeps_ = 0;
   fv::step_window(time_, dt_prev_, window, [this] { return stable_step(); }, [this](double dt, double t) {
     const double start = MPI_Wtime();
     flow_->step(dt);
+    if (turbulence_) {
+      turbulence_->step(dt);
+      turbulence_substeps_ = std::max(turbulence_substeps_, turbulence_->last_substeps());
+    }
     const double stepped = MPI_Wtime();
     step_seconds_ += stepped - start;
     cell_steps_ += static_cast<double>(flow_->grid().global_cells());
@@ -272,15 +292,31 @@ std::vector<output::GridField> AmrFvSolver::fields(const config::StringList& nam
   if (asked("pressure")) view_->to_uniform(cell_values(dims_, 1, rho_), 1, out_p_);
   if (asked("divergence")) view_->to_uniform(flow_->divergence(), 1, out_div_);
   out_rho_.assign(N, rho_);
-  out_zero_.assign(N, 0.0);  // k, epsilon, nu_t, y_plus: no turbulence model on the adaptive grid
-  return FvSolver::named_fields(names, {out_u_, out_p_, out_rho_, out_div_, out_zero_, out_zero_, out_zero_,
-                                        out_zero_});
+  out_zero_.assign(N, 0.0);  // k, epsilon, nu_t, y_plus without the turbulence model
+  if (!turbulence_)
+    return FvSolver::named_fields(
+        names, {out_u_, out_p_, out_rho_, out_div_, out_zero_, out_zero_, out_zero_, out_zero_});
+  const char* turbulent[] = {"k", "epsilon", "nu_t"};
+  for (int q = 0; q < 3; ++q) {
+    auto& out = out_turbulence_[static_cast<std::size_t>(q)];
+    out.assign(N, 0.0);
+    if (asked(turbulent[q])) view_->to_uniform(cell_values(turbulence_first() + q, 1, 1.0), 1, out);
+  }
+  auto& y_plus = out_turbulence_[3];
+  y_plus.assign(N, 0.0);
+  if (asked("y_plus")) view_->to_uniform(turbulence_->y_plus(), 1, y_plus);
+  return FvSolver::named_fields(names, {out_u_, out_p_, out_rho_, out_div_, out_turbulence_[0],
+                                        out_turbulence_[1], out_turbulence_[2], y_plus});
 }
 
 void AmrFvSolver::write_levels(const std::string& dir, const std::string& stem, double time, long step) {
   flow_->vorticity(dims_ + 1);
-  write_composite(flow_->grid(), dir, stem, time, step,
-                  {{"velocity", 0, dims_}, {"kinematic_pressure", dims_, 1}, {"vorticity", dims_ + 1, 1}});
+  std::vector<CompositeField> out{
+      {"velocity", 0, dims_}, {"kinematic_pressure", dims_, 1}, {"vorticity", dims_ + 1, 1}};
+  if (turbulence_)
+    for (const auto& [name, q] : {std::pair{"k", 0}, std::pair{"epsilon", 1}, std::pair{"nu_t", 2}})
+      out.push_back({name, turbulence_first() + q, 1});
+  write_composite(flow_->grid(), dir, stem, time, step, out);
 }
 
 // Mass, momentum and kinetic energy over the leaf cells (each of its own
@@ -307,12 +343,30 @@ Diagnostics AmrFvSolver::diagnostics() {
   d.extra = {static_cast<double>(window_steps_),      last_dt_, static_cast<double>(poisson_iterations_),
              flow_->face_divergence(),                static_cast<double>(g.global_cells()),
              static_cast<double>(regrids_)};
+  if (turbulence_) {  // as fv's on the uniform grid, then the most sub-steps of k and epsilon in a step
+    const auto sum = turbulence_->totals();
+    const auto nut = turbulence_->largest_eddy_viscosity();
+    const auto y_plus = turbulence_->y_plus();
+    double y_plus_max = y_plus.empty() ? 0.0 : *std::max_element(y_plus.begin(), y_plus.end());
+    MPI_Allreduce(MPI_IN_PLACE, &y_plus_max, 1, MPI_DOUBLE, MPI_MAX, comm_);
+    d.extra.insert(d.extra.end(),
+                   {sum[0] / sum[2], sum[1] / sum[2], *std::max_element(nut.begin(), nut.end()), y_plus_max,
+                    static_cast<double>(turbulence_substeps_)});
+  }
   return d;
 }
 
 std::vector<output::Series::Column> AmrFvSolver::series_columns() const {
-  return {{"steps", "1"},          {"dt", "s"},    {"poisson_iterations", "1"},
-          {"max_divergence", "1/s"}, {"cells", "1"}, {"regrids", "1"}};
+  std::vector<output::Series::Column> c{
+      {"steps", "1"}, {"dt", "s"},     {"poisson_iterations", "1"}, {"max_divergence", "1/s"},
+      {"cells", "1"}, {"regrids", "1"}};
+  if (fluid_.turbulence.on)
+    c.insert(c.end(), {{"k_mean", "m^2/s^2"},
+                       {"epsilon_mean", "m^2/s^3"},
+                       {"nu_t_max", "m^2/s"},
+                       {"y_plus_max", "1"},
+                       {"turbulence_substeps", "1"}});
+  return c;
 }
 
 // The forest and the flow (composite_flow.hpp), then the solver's own state
@@ -362,7 +416,12 @@ void AmrFvSolver::set_markers(ibm::MarkerSet markers) {
       ++regrids_;
       view_ = std::make_unique<UniformView>(flow_->grid(), decomposition_, rank_);
       apply_source();
+      if (turbulence_) turbulence_->after_regrid();
     }
+  if (turbulence_)  // the bodies are walls too (seed 003 §3.1.2)
+    turbulence_->set_body_distance(
+        [body = std::make_shared<fv::BodyDistance>(*markers_, fv::BodyDistance::grid_of(cfg_))](
+            const std::array<double, 3>& x) { return (*body)(x); });
   make_forcing();
 }
 

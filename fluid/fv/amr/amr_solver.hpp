@@ -10,7 +10,8 @@
 // eq. 3.43) returns to the leaf cells as the mean over their fine cells, so
 // it lands in the finest cell holding the particle and sum V f is kept. Each
 // snapshot also writes the composite grid itself, one XDMF grid per level
-// (<snapshot>_levels.xmf).
+// (<snapshot>_levels.xmf). With fluid.turbulence the k-epsilon model runs on
+// the composite grid (composite_turbulence.hpp) after each step of the flow.
 #pragma once
 
 #include <memory>
@@ -18,6 +19,7 @@
 
 #include "fluid/fluid_solver.hpp"
 #include "fluid/fv/amr/composite_flow.hpp"
+#include "fluid/fv/amr/composite_turbulence.hpp"
 #include "fluid/fv/amr/uniform_view.hpp"
 #include "fluid/fv/params.hpp"
 #include "immersed/ibm/direct_forcing.hpp"
@@ -81,6 +83,11 @@ class AmrFvSolver final : public FluidSolver {
   GridGeometry geometry_;
   std::unique_ptr<Forest> forest_;
   std::unique_ptr<CompositeFlow> flow_;
+  std::unique_ptr<CompositeTurbulence> turbulence_;  // with fluid.turbulence
+  // Per leaf cell on the forest: the velocity, the kinematic pressure, a
+  // criterion's field, then with turbulence k, epsilon and nu_t.
+  int components() const { return dims_ + (fluid_.turbulence.on ? 5 : 2); }
+  int turbulence_first() const { return dims_ + 2; }
   std::unique_ptr<UniformView> view_;
   std::vector<double> source_fine_;   // N/m^3, 3 per owned fine cell: the last set_source
   std::vector<double> source_cells_;  // the same per local leaf cell
@@ -88,6 +95,7 @@ class AmrFvSolver final : public FluidSolver {
   double time_ = 0.0, dt_prev_ = 0.0, last_dt_ = 0.0;
   long steps_ = 0, window_steps_ = 0, regrids_ = 0;
   int poisson_iterations_ = 0;  // the most of a step in the window
+  int turbulence_substeps_ = 0;  // the most of a step in the window (k and epsilon's transport)
   // Where the time went, for the log (bench-amr reads it): the steps, the
   // regrids between them, and the cells summed over the steps.
   double step_seconds_ = 0.0, regrid_seconds_ = 0.0, cell_steps_ = 0.0;
@@ -95,6 +103,7 @@ class AmrFvSolver final : public FluidSolver {
   std::unique_ptr<ibm::MarkerSet> markers_;  // the last set, for the stencils after a regrid
   double velocity_scale_ = 0.0;              // the largest |u| at the last step's start
   std::vector<double> out_u_, out_p_, out_rho_, out_div_, out_zero_;
+  std::array<std::vector<double>, 4> out_turbulence_;  // k, epsilon, nu_t, y_plus
 };
 
 }  // namespace coflow::fluid::fv::amr

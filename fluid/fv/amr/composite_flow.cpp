@@ -53,6 +53,7 @@ void CompositeFlow::build() {
     for (auto& f : faces_[c]) {
       f.gradient = grid_->to_slots(f.gradient);
       f.value = grid_->to_slots(f.value);
+      if (f.across >= 0) f.across_slot = grid_->slot(f.across);
     }
   }
   // Without an outlet constants are the kernel; pin global cell 0 to zero.
@@ -62,6 +63,7 @@ void CompositeFlow::build() {
   poisson_.reset();
   poisson_ = std::make_unique<IjSystem>(forest_.comm(), grid_->first_cell(), L.rows, solve_);
   viscous_.clear();  // the implicit diffusion's operators: again at the next step
+  global_faces_.clear();
   source_.clear();
   for (auto& p : phi_) p.clear();
 }
@@ -108,17 +110,27 @@ bool CompositeFlow::regrid(std::vector<int> marks) {
   return true;
 }
 
-void CompositeFlow::vorticity(int component) {
-  const Field g = with_ghosts(read_velocity());
-  const auto per = static_cast<std::size_t>(grid_->cells_per_patch()), nc = static_cast<std::size_t>(nc_);
+std::vector<CompositeFlow::Gradient> CompositeFlow::gradients(const Field& g) const {
+  std::vector<Gradient> out(faces_.size(), Gradient{});
   for (std::size_t c = 0; c < faces_.size(); ++c) {
-    // Gradients by Gauss's theorem: d u_q / d x_axis.
-    std::array<std::array<double, 3>, 3> grad{};
+    auto& grad = out[c];  // d u_q / d x_axis
     const double h = h_[c];
     for (const auto& f : faces_[c])
-      for (std::size_t q = 0; q < g.size(); ++q) {
+      for (std::size_t q = 0; q < g.size(); ++q)
         grad[q][static_cast<std::size_t>(f.axis)] += f.fraction * f.side * face_velocity(f, c, g, q) / h;
-      }
+  }
+  return out;
+}
+
+std::vector<CompositeFlow::Gradient> CompositeFlow::velocity_gradients() {
+  return gradients(with_ghosts(read_velocity()));
+}
+
+void CompositeFlow::vorticity(int component) {
+  const auto all = velocity_gradients();
+  const auto per = static_cast<std::size_t>(grid_->cells_per_patch()), nc = static_cast<std::size_t>(nc_);
+  for (std::size_t c = 0; c < faces_.size(); ++c) {
+    const auto& grad = all[c];
     const double wz = grad[1][0] - grad[0][1];
     double w2 = wz * wz;
     if (dims_ == 3) w2 += std::pow(grad[2][1] - grad[1][2], 2) + std::pow(grad[0][2] - grad[2][0], 2);
@@ -178,40 +190,71 @@ void CompositeFlow::set_pressure(const std::vector<double>& p) {
     for (std::size_t c = 0; c < per; ++c) forest_.data(l)[c * nc + static_cast<std::size_t>(dims_)] = p[k++];
 }
 
+// The explicit rates: advection through the faces, the viscous stress
+// (molecular: in *viscous where the diffusion is implicit; eddy: always
+// here), the stress's transposed part and the source.
 CompositeFlow::Field CompositeFlow::rates(const Field& u, Viscous part, Field* viscous) {
   const Field g = with_ghosts(u);
   Field r(u.size(), std::vector<double>(u[0].size(), 0.0));
   if (part == Viscous::apart) *viscous = r;
+  std::vector<double> nut;
+  if (eddy_ >= 0) grid_->gather(eddy_, nut);
+  const Field transpose = eddy_ >= 0 && part != Viscous::none ? stress_transpose(g, nut) : Field{};
   for (std::size_t c = 0; c < faces_.size(); ++c) {
     const double h = h_[c];
     for (std::size_t q = 0; q < u.size(); ++q) {
-      double carried = 0.0, stress = 0.0;
+      double carried = 0.0, stress = 0.0, eddy = 0.0;
       for (std::size_t s = 0; s < faces_[c].size(); ++s) {
         const auto& f = faces_[c][s];
         if (f.wall && outlet(f)) {  // carried out at the cell's value; no viscous stress
           carried -= f.fraction * f.side * mac_[c][s] * g[q][c];
           continue;
         }
-        if (f.wall) {  // the imposed velocity half a cell away; carried in or out with it
+        if (f.wall) {  // the imposed velocity half a cell away; carried in or out with it (nu_t = 0 there)
           const auto ub = imposed(f, c, g);
           if (part != Viscous::none) stress += f.fraction * nu_ * 2.0 * (ub[q] - g[q][c]) / h;
           carried -= f.fraction * f.side * ub[static_cast<std::size_t>(f.axis)] * ub[q];
           continue;
         }
         const double outward = f.side * mac_[c][s];  // normal velocity out of the cell
-        if (part != Viscous::none) stress += f.fraction * nu_ * evaluate(f.gradient, g[q]);
+        if (part != Viscous::none) {
+          const double du = evaluate(f.gradient, g[q]);
+          stress += f.fraction * nu_ * du;
+          if (eddy_ >= 0) eddy += f.fraction * std::max(0.0, evaluate(f.value, nut)) * du;
+        }
         carried -= f.fraction * outward * evaluate(f.value, g[q]);
       }
-      const double source = source_.empty() ? 0.0 : source_[q][c];
-      if (part == Viscous::apart) {
+      double source = source_.empty() ? 0.0 : source_[q][c];
+      if (!transpose.empty()) source += transpose[q][c];
+      if (part == Viscous::apart) {  // the eddy stress implicit too (solve_viscous)
         r[q][c] = carried / h + source;
-        (*viscous)[q][c] = stress / h;
+        (*viscous)[q][c] = (stress + eddy) / h;
       } else {
-        r[q][c] = (stress + carried) / h + source;
+        r[q][c] = (stress + eddy + carried) / h + source;
       }
     }
   }
   return r;
+}
+
+// d/dx_d (nu_t d u_d / dx_c) = (d nu_t / dx_d)(d u_d / dx_c) where div u = 0:
+// both gradients by Gauss's theorem over the cell's faces, nu_t's face values
+// from the value stencils (0 on walls, the cell's own on inlets and outlets).
+CompositeFlow::Field CompositeFlow::stress_transpose(const Field& g, const std::vector<double>& nut) const {
+  const auto grad = gradients(g);
+  Field out(g.size(), std::vector<double>(faces_.size(), 0.0));
+  for (std::size_t c = 0; c < faces_.size(); ++c) {
+    std::array<double, 3> dnut{0.0, 0.0, 0.0};
+    for (const auto& f : faces_[c]) {
+      const double face = !f.wall                                ? std::max(0.0, evaluate(f.value, nut))
+                          : kinds_[face_of(f)] == Boundary::wall ? 0.0
+                                                                 : nut[c];
+      dnut[static_cast<std::size_t>(f.axis)] += f.fraction * f.side * face / h_[c];
+    }
+    for (std::size_t q = 0; q < g.size(); ++q)
+      for (std::size_t d = 0; d < g.size(); ++d) out[q][c] += dnut[d] * grad[c][d][q];
+  }
+  return out;
 }
 
 void CompositeFlow::project(Field& u, double dt, int stage) {
@@ -314,6 +357,7 @@ void CompositeFlow::step(double dt) {
 // the forcing and the pressure carried from step to step fed each other, and
 // the cylinder at Re 20 blew up at steps of CFL 0.25 (docs/validation.md).
 void CompositeFlow::step_implicit(double dt) {
+  if (eddy_ >= 0) viscous_.clear();  // nu_t changed: its operators again, held over the step
   const Field u0 = read_velocity();
   Field d0;
   const Field a0 = rates(u0, Viscous::apart, &d0);
@@ -346,8 +390,25 @@ void CompositeFlow::step_implicit(double dt) {
   set_pressure(p);
 }
 
+// Per local cell and sub-face, nu + nu_t at the face (nu_t's value stencil,
+// never below 0; nu on the domain's faces, where nu_t is 0 on walls).
+std::vector<std::vector<double>> CompositeFlow::face_viscosity() const {
+  std::vector<double> nut;
+  grid_->gather(eddy_, nut);  // the ghosts as the last exchange left them (nu_t holds over the step)
+  std::vector<std::vector<double>> out(faces_.size());
+  for (std::size_t c = 0; c < faces_.size(); ++c)
+    for (const auto& f : faces_[c])
+      out[c].push_back(nu_ + (f.wall ? 0.0 : std::max(0.0, evaluate(f.value, nut))));
+  return out;
+}
+
 void CompositeFlow::solve_viscous(Field& b, Field& x, double theta_dt, std::size_t which) {
   if (viscous_.empty()) {  // each component's conditions: walls and inlets give its value, outlets none
+    std::vector<std::vector<double>> a;
+    if (eddy_ >= 0) {
+      a = face_viscosity();
+      if (global_faces_.empty()) global_faces_ = build_faces(*grid_);
+    }
     for (std::size_t q = 0; q < static_cast<std::size_t>(dims_); ++q) {
       std::array<FaceCondition, 6> conditions;
       for (std::size_t k = 0; k < 6; ++k) {
@@ -355,14 +416,15 @@ void CompositeFlow::solve_viscous(Field& b, Field& x, double theta_dt, std::size
                            (kinds_[k] == Boundary::symmetry && k / 2 == q);
         conditions[k] = given ? FaceCondition::dirichlet : FaceCondition::neumann;
       }
-      viscous_.push_back(assemble_laplacian(*grid_, conditions));
+      viscous_.push_back(eddy_ >= 0 ? assemble_laplacian(*grid_, global_faces_, conditions, &a)
+                                    : assemble_laplacian(*grid_, conditions));
     }
     for (auto& pair : helmholtz_)
       for (auto& sys : pair) sys.reset();
   }
   for (std::size_t q = 0; q < static_cast<std::size_t>(dims_); ++q) {
     const auto& L = viscous_[q];
-    const double scale = theta_dt * nu_;
+    const double scale = eddy_ >= 0 ? theta_dt : theta_dt * nu_;  // the rows hold nu + nu_t, or 1
     // Predictor and corrector keep a system each, rebuilt when the step changes.
     auto& slot = helmholtz_[q][which];
     auto& slot_dt = helmholtz_dt_[q][which];

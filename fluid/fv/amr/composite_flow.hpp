@@ -97,6 +97,25 @@ class CompositeFlow {
   double face_divergence() const;
   // Per local cell, the divergence of its face velocities (1/s).
   std::vector<double> divergence() const;
+  // The eddy viscosity (k-epsilon, composite_turbulence.hpp) held in the
+  // forest's `component` (-1: none): the viscous stress through a face then
+  // takes nu + nu_t at the face (its value stencil, the same bits from both
+  // sides: conservative) and the cells take (grad u)^T . grad nu_t, the
+  // stress's transposed part d/dx_d (nu_t d u_d / dx_c) for a divergence-free
+  // u (seed 003 eq. 3.12), explicit. With implicit diffusion the Helmholtz
+  // systems take nu + nu_t per face, built again at each step. nu_t is zero
+  // on walls.
+  void set_eddy_viscosity(int component) { eddy_ = component; }
+  // The velocity gradient d u_q / d x_a per local cell ([q][a]), by Gauss's
+  // theorem over its faces (the walls' and inlets' imposed values on theirs).
+  using Gradient = std::array<std::array<double, 3>, 3>;
+  std::vector<Gradient> velocity_gradients();
+  // What the turbulence model reads: the faces (stencils as slots), the face-normal velocities of the last
+  // projection (along +axis), each local cell's spacing, and what holds on each domain face.
+  const std::vector<std::vector<SubFace>>& faces() const { return faces_; }
+  const std::vector<std::vector<double>>& face_velocities() const { return mac_; }
+  double spacing(std::size_t c) const { return h_[c]; }
+  Boundary boundary(int face) const { return kinds_[static_cast<std::size_t>(face)]; }
   // The total momentum sum V u along `axis` over all ranks.
   double momentum(int axis) const;
   int last_iterations() const { return iterations_; }
@@ -113,6 +132,9 @@ class CompositeFlow {
   // diffusion goes to *viscous (apart), or is not computed (none).
   enum class Viscous { included, apart, none };
   Field rates(const Field& u, Viscous part = Viscous::included, Field* viscous = nullptr);
+  std::vector<Gradient> gradients(const Field& g) const;  // g: the velocity with ghosts
+  // (grad u)^T . grad nu_t per cell and component (g: the velocity, nut: nu_t, both with ghosts).
+  Field stress_transpose(const Field& g, const std::vector<double>& nut) const;
   void step_implicit(double dt);
   // u -= dt G p at the cells, G by Gauss's theorem over their faces (p per slot).
   void subtract_gradient(Field& u, const std::vector<double>& p, double dt) const;
@@ -120,6 +142,7 @@ class CompositeFlow {
   // the solution out), b holding the right-hand side less the boundary values'
   // part, which this adds; `which`: 0 predictor, 1 corrector (a system each).
   void solve_viscous(Field& b, Field& x, double theta_dt, std::size_t which);
+  std::vector<std::vector<double>> face_viscosity() const;  // nu + nu_t per cell and sub-face
   void project(Field& u, double dt, int stage);
   double volume(long c) const;
   // The velocity component q at cell c's face f (fields with ghosts).
@@ -145,6 +168,7 @@ class CompositeFlow {
   // (theta 1) and the corrector (theta 1/2) at the step they were built for.
   bool implicit_ = false;
   std::vector<CompositeLaplacian> viscous_;
+  std::vector<std::vector<SubFace>> global_faces_;  // faces_ with ids, for the eddy viscosity's operators
   std::array<std::array<std::unique_ptr<IjSystem>, 2>, 3> helmholtz_;
   std::array<std::array<double, 2>, 3> helmholtz_dt_{};
   std::vector<std::vector<double>> source_;
@@ -160,6 +184,7 @@ class CompositeFlow {
   int nc_;              // values per cell on the forest
   IjSystem::Options solve_;  // where the Poisson solves stop
   bool pinned_ = true;  // no outlet: the pressure of global cell 0 is held at 0
+  int eddy_ = -1;       // the forest's component holding nu_t (-1: none)
   int iterations_ = 0;
 };
 

@@ -144,6 +144,7 @@ int outflow_reflection(const std::string& a, const std::string& b);
 // fv/turbulence_checks.cpp
 int ke_decay(const std::string& dir);
 int ke_grid(const std::string& dir);
+int ke_grid_levels(const std::string& dir);
 int ke_channel(const std::string& dir);
 // two_phase/checks.cpp
 int laplace(const std::string& dir);

@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
     if (what == "outflow_reflection" && argc == 4) return outflow_reflection(argv[2], argv[3]);
     if (what == "ke_decay" && argc == 3) return ke_decay(argv[2]);
     if (what == "ke_grid" && argc == 3) return ke_grid(argv[2]);
+    if (what == "ke_grid_levels" && argc == 3) return ke_grid_levels(argv[2]);
     if (what == "ke_channel" && argc == 3) return ke_channel(argv[2]);
     if (what == "ibm_steady" && argc == 3) return ibm_steady(argv[2]);
     if (what == "ibm_shedding" && argc == 3) return ibm_shedding(argv[2]);

@@ -146,6 +146,13 @@ coflow_validation(fv_amr_vortex_implicit_ranks compare fv_amr_vortex.yaml 2
   "fluid.ranks=2 run.end_time=0.15 run.output.every=0.15 fluid.fv.refinement.diffusion=implicit")
 coflow_validation(fv_amr_vortex_ranks compare fv_amr_vortex.yaml 2
   "fluid.ranks=1 run.end_time=0.15 run.output.every=0.15" "fluid.ranks=2 run.end_time=0.15 run.output.every=0.15")
+# k-epsilon on the adaptive grid (composite_turbulence.hpp): decaying
+# homogeneous turbulence across a coarse-fine box, the decay behind a grid
+# through fine-coarse-fine-coarse levels (every leaf cell against the exact
+# decay), and 1 rank against 2 with walls, an inlet, an outflow and a regrid.
+coflow_validation(fv_amr_ke_decay ke_decay fv_amr_ke_decay.yaml 1)
+coflow_validation(fv_amr_ke_grid_turbulence ke_grid_levels fv_amr_ke_grid_turbulence.yaml 1)
+coflow_validation(fv_amr_ke_ranks_1_vs_2 compare fv_amr_ke_inlet_walls.yaml 2 "fluid.ranks=1" "fluid.ranks=2")
 coflow_validation(dpm_two_way_amr two_way dpm_two_way_amr.yaml 3)
 # The same with implicit diffusion: the point particles' momentum source on
 # two levels through the implicit step (its advective part); momentum then to

@@ -235,8 +235,10 @@ double AmrFvSolver::stable_step() {
   // diffusion number must stay above about C^4 / 16: dt <= (16 nu h^2 / U^4)^(1/3), U = sum |u_d|.
   if (nu_ > 0 && p_.refinement.diffusion != "implicit")
     limit = std::min(limit, h_ * h_ / (4.0 * dims_ * nu_));
+  // With k-epsilon every cell is damped by nu + nu_t: the smallest nu_t counts.
+  const double damping = nu_ + (turbulence_ ? turbulence_->smallest_eddy_viscosity() : 0.0);
   const double speed = umax[0] + umax[1] + umax[2];
-  if (speed > 0) limit = std::min(limit, std::cbrt(16.0 * nu_ * h_ * h_ / std::pow(speed, 4)));
+  if (speed > 0) limit = std::min(limit, std::cbrt(16.0 * damping * h_ * h_ / std::pow(speed, 4)));
   if (p_.max_step > 0) limit = std::min(limit, p_.max_step);
   return limit;
 }

@@ -347,6 +347,13 @@ std::vector<double> CompositeTurbulence::largest_eddy_viscosity() const {
   return most;
 }
 
+double CompositeTurbulence::smallest_eddy_viscosity() const {
+  double least = std::numeric_limits<double>::infinity();
+  for (std::size_t c = 0; c < y_.size(); ++c) least = std::min(least, at(c, 2));
+  MPI_Allreduce(MPI_IN_PLACE, &least, 1, MPI_DOUBLE, MPI_MIN, forest_.comm());
+  return std::isfinite(least) ? least : 0.0;
+}
+
 // u_tau^2 = nu |d u_t / d n| from the cell's velocity gradient (Gauss's
 // theorem with the wall's velocity on its face), over the tangential
 // components; y+ at the centre, h / 2 from the wall.

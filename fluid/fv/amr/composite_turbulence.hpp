@@ -71,8 +71,9 @@ class CompositeTurbulence {
   void step(double dt);
   // Advection and diffusion alone (no sources): what the conservation test checks.
   void transport(double dt);
-  // The largest nu_t per level (for the flow's explicit stable step).
+  // The largest nu_t per level; the smallest nu_t anywhere (collective both).
   std::vector<double> largest_eddy_viscosity() const;
+  double smallest_eddy_viscosity() const;
   // y+ = y u_tau / nu at the centres of cells beside a wall (zero elsewhere),
   // u_tau from the wall shear nu |du_t| / (h / 2).
   std::vector<double> y_plus();

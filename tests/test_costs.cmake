@@ -5,18 +5,19 @@
 # more (the tests added since, unit.amr_cavity_implicit and the *_implicit
 # validations, and those shortened on 2026-11-28: unit.amr, the grain
 # interface, the capillary bridge and E4, timed alone or scaled by their
-# steps). Included by tests/CMakeLists.txt after every
+# steps; the k-epsilon tests of the adaptive grid and unit.mpi with them,
+# 2026-11-28, in ctest -j2 beside others). Included by tests/CMakeLists.txt after every
 # test is defined; a name that is no test is reported.
 set(coflow_test_costs
   validation.ibm_cylinder_re20 80
   validation.two_phase_laplace_3d 61
+  unit.mpi 60
   validation.psm_settling_sphere_e4 55
   validation.ibm_cylinder_re100 51
   validation.two_phase_grain_interface_120 50
   validation.two_phase_grain_interface_60 50
   validation.dpm_granular_gas_bidisperse 46
   validation.fv_ke_channel 46
-  unit.mpi 46
   validation.two_phase_capillary_bridge 45
   validation.psm_settling_sphere_e3 45
   validation.psm_settling_sphere_e2 42
@@ -50,6 +51,8 @@ set(coflow_test_costs
   unit.amr 15
   validation.ibm_lbm_vs_reference_fixed 15
   validation.ibm_cylinder_amr_implicit 15
+  validation.fv_amr_ke_grid_turbulence 15
+  validation.fv_amr_ke_decay 14
   validation.ibm_cylinder_frames 14
   validation.dem_damping_curve 14
   validation.ibm_cylinder_amr 14

@@ -345,7 +345,8 @@ Diagnostics AmrFvSolver::diagnostics() {
   d.extra = {static_cast<double>(window_steps_),      last_dt_, static_cast<double>(poisson_iterations_),
              flow_->face_divergence(),                static_cast<double>(g.global_cells()),
              static_cast<double>(regrids_)};
-  if (turbulence_) {  // as fv's on the uniform grid, then the most sub-steps of k and epsilon in a step
+  if (turbulence_) {  // fv's columns (y_plus from the cells' gradients), then the most sub-steps of k and
+                      // epsilon in a step
     const auto sum = turbulence_->totals();
     const auto nut = turbulence_->largest_eddy_viscosity();
     const auto y_plus = turbulence_->y_plus();

@@ -9,16 +9,6 @@
 #include "fluid/fv/amr/refinement_criteria.hpp"
 
 namespace coflow::fluid::fv::amr {
-namespace {
-
-double evaluate(const Stencil& s, const std::vector<double>& f) {
-  double v = 0.0;
-  for (const auto& [slot, w] : s) v += w * f[static_cast<std::size_t>(slot)];
-  return v;
-}
-
-}  // namespace
-
 CompositeFlow::CompositeFlow(Forest& forest, const GridGeometry& geometry, double viscosity,
                              IjSystem::Options solve)
     : forest_(forest),
@@ -191,15 +181,16 @@ void CompositeFlow::set_pressure(const std::vector<double>& p) {
 }
 
 // The explicit rates: advection through the faces, the viscous stress
-// (molecular: in *viscous where the diffusion is implicit; eddy: always
-// here), the stress's transposed part and the source.
+// (molecular and eddy; in *viscous where the diffusion is implicit, and not
+// computed with `none`), the stress's transposed part (always here: it is
+// explicit in either step) and the source.
 CompositeFlow::Field CompositeFlow::rates(const Field& u, Viscous part, Field* viscous) {
   const Field g = with_ghosts(u);
   Field r(u.size(), std::vector<double>(u[0].size(), 0.0));
   if (part == Viscous::apart) *viscous = r;
   std::vector<double> nut;
   if (eddy_ >= 0) grid_->gather(eddy_, nut);
-  const Field transpose = eddy_ >= 0 && part != Viscous::none ? stress_transpose(g, nut) : Field{};
+  const Field transpose = eddy_ >= 0 ? stress_transpose(g, nut) : Field{};
   for (std::size_t c = 0; c < faces_.size(); ++c) {
     const double h = h_[c];
     for (std::size_t q = 0; q < u.size(); ++q) {
@@ -210,9 +201,11 @@ CompositeFlow::Field CompositeFlow::rates(const Field& u, Viscous part, Field* v
           carried -= f.fraction * f.side * mac_[c][s] * g[q][c];
           continue;
         }
-        if (f.wall) {  // the imposed velocity half a cell away; carried in or out with it (nu_t = 0 there)
+        if (f.wall) {  // the imposed velocity half a cell away; carried in or out with it
           const auto ub = imposed(f, c, g);
           if (part != Viscous::none) stress += f.fraction * nu_ * 2.0 * (ub[q] - g[q][c]) / h;
+          if (part != Viscous::none && eddy_ >= 0)
+            eddy += f.fraction * boundary_eddy(f, c, nut) * 2.0 * (ub[q] - g[q][c]) / h;
           carried -= f.fraction * f.side * ub[static_cast<std::size_t>(f.axis)] * ub[q];
           continue;
         }
@@ -239,16 +232,14 @@ CompositeFlow::Field CompositeFlow::rates(const Field& u, Viscous part, Field* v
 
 // d/dx_d (nu_t d u_d / dx_c) = (d nu_t / dx_d)(d u_d / dx_c) where div u = 0:
 // both gradients by Gauss's theorem over the cell's faces, nu_t's face values
-// from the value stencils (0 on walls, the cell's own on inlets and outlets).
+// from the value stencils (on the domain's faces boundary_eddy's).
 CompositeFlow::Field CompositeFlow::stress_transpose(const Field& g, const std::vector<double>& nut) const {
   const auto grad = gradients(g);
   Field out(g.size(), std::vector<double>(faces_.size(), 0.0));
   for (std::size_t c = 0; c < faces_.size(); ++c) {
     std::array<double, 3> dnut{0.0, 0.0, 0.0};
     for (const auto& f : faces_[c]) {
-      const double face = !f.wall                                ? std::max(0.0, evaluate(f.value, nut))
-                          : kinds_[face_of(f)] == Boundary::wall ? 0.0
-                                                                 : nut[c];
+      const double face = !f.wall ? std::max(0.0, evaluate(f.value, nut)) : boundary_eddy(f, c, nut);
       dnut[static_cast<std::size_t>(f.axis)] += f.fraction * f.side * face / h_[c];
     }
     for (std::size_t q = 0; q < g.size(); ++q)
@@ -391,14 +382,14 @@ void CompositeFlow::step_implicit(double dt) {
 }
 
 // Per local cell and sub-face, nu + nu_t at the face (nu_t's value stencil,
-// never below 0; nu on the domain's faces, where nu_t is 0 on walls).
+// never below 0; on the domain's faces boundary_eddy's).
 std::vector<std::vector<double>> CompositeFlow::face_viscosity() const {
   std::vector<double> nut;
   grid_->gather(eddy_, nut);  // the ghosts as the last exchange left them (nu_t holds over the step)
   std::vector<std::vector<double>> out(faces_.size());
   for (std::size_t c = 0; c < faces_.size(); ++c)
     for (const auto& f : faces_[c])
-      out[c].push_back(nu_ + (f.wall ? 0.0 : std::max(0.0, evaluate(f.value, nut))));
+      out[c].push_back(nu_ + (f.wall ? boundary_eddy(f, c, nut) : std::max(0.0, evaluate(f.value, nut))));
   return out;
 }
 

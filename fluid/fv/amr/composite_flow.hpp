@@ -104,7 +104,7 @@ class CompositeFlow {
   // stress's transposed part d/dx_d (nu_t d u_d / dx_c) for a divergence-free
   // u (seed 003 eq. 3.12), explicit. With implicit diffusion the Helmholtz
   // systems take nu + nu_t per face, built again at each step. nu_t is zero
-  // on walls.
+  // on walls, the cell's own on the other domain faces (boundary_eddy).
   void set_eddy_viscosity(int component) { eddy_ = component; }
   // The velocity gradient d u_q / d x_a per local cell ([q][a]), by Gauss's
   // theorem over its faces (the walls' and inlets' imposed values on theirs).
@@ -143,6 +143,11 @@ class CompositeFlow {
   // part, which this adds; `which`: 0 predictor, 1 corrector (a system each).
   void solve_viscous(Field& b, Field& x, double theta_dt, std::size_t which);
   std::vector<std::vector<double>> face_viscosity() const;  // nu + nu_t per cell and sub-face
+  // nu_t on cell c's domain face f: 0 on a wall, the cell's own on inlets,
+  // outlets and symmetry faces (zero normal gradient; nut per slot).
+  double boundary_eddy(const SubFace& f, std::size_t c, const std::vector<double>& nut) const {
+    return kinds_[face_of(f)] == Boundary::wall ? 0.0 : nut[c];
+  }
   void project(Field& u, double dt, int stage);
   double volume(long c) const;
   // The velocity component q at cell c's face f (fields with ghosts).

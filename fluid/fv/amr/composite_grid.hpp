@@ -110,6 +110,13 @@ inline Index3 shifted(Index3 i, int axis, long by) {
   return i;
 }
 
+// The value of a stencil of slots on a field gathered with its ghosts.
+inline double evaluate(const Stencil& s, const std::vector<double>& field) {
+  double v = 0.0;
+  for (const auto& [slot, w] : s) v += w * field[static_cast<std::size_t>(slot)];
+  return v;
+}
+
 // Adds `w` times `s` to `out`.
 inline void add(Stencil& out, const Stencil& s, double w) {
   for (const auto& [id, v] : s) out.emplace_back(id, v * w);

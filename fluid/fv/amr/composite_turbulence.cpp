@@ -26,16 +26,6 @@ struct CompositeTurbulence::Link {
   double boundary[2] = {};   // k and epsilon beyond the face where slot is -1
 };
 
-namespace {
-
-double evaluate(const Stencil& s, const std::vector<double>& f) {
-  double v = 0.0;
-  for (const auto& [slot, w] : s) v += w * f[static_cast<std::size_t>(slot)];
-  return v;
-}
-
-}  // namespace
-
 // Each local cell's links (see Link) from the flow's faces and last face
 // velocities, nu_t per slot. Across a face between cells the distance is
 // the centres' (h, or 3/2 of the finer's across levels), nu_t the two
@@ -282,7 +272,12 @@ void CompositeTurbulence::diffuse(const std::vector<std::vector<Link>>& all, int
     }
     rows[c].emplace_back(self, diag);
   }
-  IjSystem system(forest_.comm(), first, rows, solve_);
+  // A hundredth of the flow's tolerance (as its viscous solves): the M-matrix
+  // keeps the exact solution positive, the iterate's error must stay below
+  // the smallest values.
+  IjSystem::Options tight = solve_;
+  tight.tolerance = std::max(1e-13, 0.01 * solve_.tolerance);
+  IjSystem system(forest_.comm(), first, rows, tight);
   system.solve(b, x);
   iterations_ = std::max(iterations_, system.last_iterations());
   for (std::size_t c = 0; c < all.size(); ++c) at(c, q) = x[c];
@@ -354,9 +349,11 @@ double CompositeTurbulence::smallest_eddy_viscosity() const {
   return std::isfinite(least) ? least : 0.0;
 }
 
-// u_tau^2 = nu |d u_t / d n| from the cell's velocity gradient (Gauss's
-// theorem with the wall's velocity on its face), over the tangential
-// components; y+ at the centre, h / 2 from the wall.
+// u_tau^2 = nu |d u_t / d n| from the cell's velocity gradient by Gauss's
+// theorem (the wall's velocity on its face, the interpolated one on the
+// opposite face: (u_face - U_wall) / h, below the wall's own shear, which fv
+// on its uniform grid takes from a parabola through the wall and two cells),
+// over the tangential components; y+ at the centre, h / 2 from the wall.
 std::vector<double> CompositeTurbulence::y_plus() {
   const auto grad = flow_.velocity_gradients();
   const auto& faces = flow_.faces();

@@ -75,7 +75,7 @@ class CompositeTurbulence {
   std::vector<double> largest_eddy_viscosity() const;
   double smallest_eddy_viscosity() const;
   // y+ = y u_tau / nu at the centres of cells beside a wall (zero elsewhere),
-  // u_tau from the wall shear nu |du_t| / (h / 2).
+  // u_tau from the cell's Gauss gradient of the tangential velocity (collective).
   std::vector<double> y_plus();
   // sum V k, sum V epsilon and sum V over all ranks.
   std::array<double, 3> totals() const;

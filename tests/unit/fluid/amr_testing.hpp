@@ -28,6 +28,21 @@ inline fluid::fv::amr::ForestSpec forest_2d(std::array<int, 3> trees, std::array
   return s;
 }
 
+// Refinement toward (2.5, 3.6) on a brick of trees of pi/2: a leaf of level
+// 0 refines within 1.2 of it, one of level 1 within 0.6 (the test vortex's
+// forest: its coarse-fine faces cross the flow).
+inline bool refine_near_vortex(int level, const fluid::fv::amr::Index3& p) {
+  const double size = 0.5 * 3.14159265358979323846 / (1 << level), c[2] = {2.5, 3.6};
+  double r2 = 0.0;
+  for (int d = 0; d < 2; ++d) {
+    const double lo = static_cast<double>(p[d]) * size;
+    const double q = std::clamp(c[d], lo, lo + size) - c[d];
+    r2 += q * q;
+  }
+  const double radius = level == 0 ? 1.2 : 0.6;
+  return r2 < radius * radius;
+}
+
 // The larger of a worst value so far and a new one; a NaN makes it infinite
 // (std::max would drop it), so that a bound check sees it.
 inline double worst_of(double so_far, double value) {

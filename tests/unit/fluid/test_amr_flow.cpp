@@ -38,18 +38,7 @@ ForestSpec vortex_forest(int levels, int patch) {
   s.max_level = levels - 1;
   s.patch = patch;
   s.components = 3;
-  s.refine = [](int level, const Index3& p) {
-    const double size = 0.5 * kPi / (1 << level);
-    const double c[2] = {2.5, 3.6};
-    double r2 = 0.0;
-    for (int d = 0; d < 2; ++d) {
-      const double lo = static_cast<double>(p[d]) * size;
-      const double q = std::clamp(c[d], lo, lo + size) - c[d];
-      r2 += q * q;
-    }
-    const double radius = level == 0 ? 1.2 : 0.6;
-    return r2 < radius * radius;
-  };
+  s.refine = coflow::test::refine_near_vortex;
   return s;
 }
 

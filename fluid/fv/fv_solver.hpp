@@ -51,6 +51,9 @@ class FvSolver final : public FluidSolver {
   static void reduce(Diagnostics& d, MPI_Comm comm);  // a rank's sums to the component's (collective)
   // The columns fv adds to series/fluid.csv (fv-reference adds the same).
   static std::vector<output::Series::Column> columns(bool turbulent = false);  // with k-epsilon's when turbulent
+  // k_mean, epsilon_mean, nu_t_max, y_plus_max and the model's effort per
+  // step (`effort`: its column's name), as fv and its adaptive variant write them.
+  static std::vector<output::Series::Column> turbulence_columns(const std::string& effort);
   void set_source(std::span<const double> force_density) override;
   void set_markers(ibm::MarkerSet markers) override;
   std::vector<double> take_body_loads() override;

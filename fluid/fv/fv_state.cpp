@@ -121,13 +121,19 @@ std::vector<output::Series::Column> FvSolver::columns(bool turbulent) {
                                         {"poisson_iterations", "1"},
                                         {"viscous_iterations", "1"},
                                         {"max_divergence", "1/s"}};
-  if (turbulent)
-    c.insert(c.end(), {{"k_mean", "m^2/s^2"},
-                       {"epsilon_mean", "m^2/s^3"},
-                       {"nu_t_max", "m^2/s"},
-                       {"y_plus_max", "1"},
-                       {"turbulence_iterations", "1"}});
+  if (turbulent) {
+    const auto t = turbulence_columns("turbulence_iterations");
+    c.insert(c.end(), t.begin(), t.end());
+  }
   return c;
+}
+
+std::vector<output::Series::Column> FvSolver::turbulence_columns(const std::string& effort) {
+  return {{"k_mean", "m^2/s^2"},
+          {"epsilon_mean", "m^2/s^3"},
+          {"nu_t_max", "m^2/s"},
+          {"y_plus_max", "1"},
+          {effort, "1"}};
 }
 
 // The point particles' momentum source at the cells (N/m^3), taken at the

@@ -363,12 +363,10 @@ std::vector<output::Series::Column> AmrFvSolver::series_columns() const {
   std::vector<output::Series::Column> c{
       {"steps", "1"}, {"dt", "s"},     {"poisson_iterations", "1"}, {"max_divergence", "1/s"},
       {"cells", "1"}, {"regrids", "1"}};
-  if (fluid_.turbulence.on)
-    c.insert(c.end(), {{"k_mean", "m^2/s^2"},
-                       {"epsilon_mean", "m^2/s^3"},
-                       {"nu_t_max", "m^2/s"},
-                       {"y_plus_max", "1"},
-                       {"turbulence_substeps", "1"}});
+  if (fluid_.turbulence.on) {
+    const auto t = FvSolver::turbulence_columns("turbulence_substeps");
+    c.insert(c.end(), t.begin(), t.end());
+  }
   return c;
 }
 

@@ -284,13 +284,13 @@ void CompositeTurbulence::diffuse(const std::vector<std::vector<Link>>& all, int
 }
 
 void CompositeTurbulence::transport(double dt) {
+  forest_.exchange_ghosts();
   const auto all = current_links();
   advect(all, dt);
   for (int q = 0; q < 2; ++q) diffuse(all, q, dt, {}, {}, nullptr);
 }
 
-std::vector<std::vector<CompositeTurbulence::Link>> CompositeTurbulence::current_links() {
-  forest_.exchange_ghosts();
+std::vector<std::vector<CompositeTurbulence::Link>> CompositeTurbulence::current_links() const {
   std::vector<double> nut;
   flow_.grid().gather(first_ + 2, nut);
   return links(nut);
@@ -315,7 +315,7 @@ void CompositeTurbulence::step(double dt) {
     production[c] = q.production, sink_k[c] = q.sink_k, sink_e[c] = q.sink_epsilon,
     source_e[c] = q.source_epsilon;
   }
-  const auto all = current_links();
+  const auto all = current_links();  // velocity_gradients() exchanged every component's ghosts
   iterations_ = 0;
   advect(all, dt);
   diffuse(all, 0, dt, sink_k, production, nullptr);

@@ -96,7 +96,7 @@ class CompositeTurbulence {
   std::vector<std::vector<Link>> links(const std::vector<double>& nut) const;
   void find_upstream();
   double face_value(const std::vector<double>& q, std::size_t c, const Link& l, double inlet) const;
-  std::vector<std::vector<Link>> current_links();  // after exchanging the ghosts
+  std::vector<std::vector<Link>> current_links() const;  // the forest's ghosts exchanged before
   void advect(const std::vector<std::vector<Link>>& all, double dt);
   void diffuse(const std::vector<std::vector<Link>>& all, int q, double dt, const std::vector<double>& sink,
                const std::vector<double>& source, const std::vector<char>* fixed);

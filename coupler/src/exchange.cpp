@@ -219,14 +219,19 @@ void FieldExchange::send_sparse(std::span<const Index3> cells, std::span<const d
   const std::size_t rec = sizeof(std::int64_t) + nc * sizeof(double);
   const auto shifts = mine_.image_shifts();
   const Index3 g = mine_.ghost(spec_.ghost);
-  for (auto& p : peers_) p.sparse.clear();
+  for (auto& p : peers_) p.sparse_used = 0;
   dst_boxes_.clear();
   if (!cons)
     for (const auto& p : peers_) dst_boxes_.push_back(remote_.clip(remote_.block(p.rank).grown(g)));
   auto append = [&](int peer, const Index3& cell, const double* v) {
-    auto& buf = peers_[peer].sparse;
-    const std::size_t at = buf.size();
-    buf.resize(at + rec);
+    auto& p = peers_[peer];
+    const std::size_t at = p.sparse_used;
+    // Grows by half at a time (never shrinks), so that the records are not
+    // zero-filled one by one.
+    if (at + rec > p.sparse.size())
+      p.sparse.resize(std::max(at + rec, p.sparse.size() + p.sparse.size() / 2));
+    p.sparse_used = at + rec;
+    auto& buf = p.sparse;
     const std::int64_t key = (static_cast<std::int64_t>(cell[2] + (1 << 20)) << 42) |
                              (static_cast<std::int64_t>(cell[1] + (1 << 20)) << 21) |
                              static_cast<std::int64_t>(cell[0] + (1 << 20));
@@ -256,9 +261,9 @@ void FieldExchange::send_sparse(std::span<const Index3> cells, std::span<const d
   sparse_requests_.resize(peers_.size());
   for (std::size_t i = 0; i < peers_.size(); ++i) {
     auto& p = peers_[i];
-    MPI_Isend(p.sparse.data(), static_cast<int>(p.sparse.size()), MPI_BYTE, p.rank, tag_ + 1, inter_,
+    MPI_Isend(p.sparse.data(), static_cast<int>(p.sparse_used), MPI_BYTE, p.rank, tag_ + 1, inter_,
               &sparse_requests_[i]);
-    trace().bytes_sent += p.sparse.size();
+    trace().bytes_sent += p.sparse_used;
   }
   ++trace().exchanges;
 }
@@ -276,6 +281,8 @@ void FieldExchange::receive_sparse(std::vector<long>& cells, std::vector<double>
     MPI_Recv(p.sparse.data(), bytes, MPI_BYTE, p.rank, tag_ + 1, inter_, MPI_STATUS_IGNORE);
     trace().bytes_received += bytes;
     const std::size_t n = bytes / rec;
+    cells.reserve(cells.size() + n);
+    values.reserve(values.size() + n * static_cast<std::size_t>(nc));
     for (std::size_t i = 0; i < n; ++i) {
       std::int64_t key = 0;
       std::memcpy(&key, p.sparse.data() + i * rec, sizeof key);

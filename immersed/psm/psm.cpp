@@ -38,8 +38,7 @@ struct Share {
 };
 
 struct Cell {
-  long local = 0;      // index in the owned block
-  Index3 global{};     // wrapped global cell
+  long local = 0;  // index in the owned block (x fastest)
   double fraction = 0.0;
   V weighted_velocity{0, 0, 0};  // sum of fraction x solid velocity
   double weighted_wetting = 0.0;  // sum of fraction x cos(contact angle)
@@ -160,7 +159,13 @@ void PsmWindows::receive_and_cover(long w) {
   const std::size_t n = c.owned_flags.size();
   c.rec.resize(n);
   if (n > 0) std::memcpy(c.rec.data(), c.records.data(), n * sizeof(protocol::ParticleRecord));
-  for (const Cell& cell : c.cells) c.slot_of[cell.local] = -1;
+  // Forget the last window's cells: one by one where they are few, else the
+  // whole map at once (a sweep of 4 bytes per owned cell instead of a read of
+  // every covered cell's record).
+  if (c.cells.size() * sizeof(Cell) < c.slot_of.size() * sizeof(std::int32_t))
+    for (const Cell& cell : c.cells) c.slot_of[cell.local] = -1;
+  else
+    std::fill(c.slot_of.begin(), c.slot_of.end(), -1);
   c.cells.clear();
   c.shares.clear();
   c.solid_volume = 0.0;
@@ -175,8 +180,10 @@ void PsmWindows::step(long w) {
   const Coverage& c = coverage_[pipelined_ ? w % 2 : 0];
   send_cells_.clear();
   send_values_.clear();
+  const long nx = owned_.extent(0), ny = owned_.extent(1);
   for (const Cell& cell : c.cells) {
-    send_cells_.push_back(cell.global);
+    send_cells_.push_back({owned_.lo[0] + cell.local % nx, owned_.lo[1] + cell.local / nx % ny,
+                           owned_.lo[2] + cell.local / (nx * ny)});
     send_values_.push_back(std::min(1.0, cell.fraction));
     for (int d = 0; d < 3; ++d) send_values_.push_back(cell.weighted_velocity[d] / cell.fraction);
     send_values_.push_back(cell.weighted_wetting / cell.fraction);
@@ -225,7 +232,7 @@ void PsmWindows::add_cell(Coverage& cov, std::size_t p, const Index3& cell, doub
   const long local = ((g[2] - owned_.lo[2]) * ny + (g[1] - owned_.lo[1])) * nx + (g[0] - owned_.lo[0]);
   if (cov.slot_of[local] < 0) {
     cov.slot_of[local] = static_cast<std::int32_t>(cov.cells.size());
-    cov.cells.push_back(Cell{local, g, 0.0, {0, 0, 0}, 0.0});
+    cov.cells.push_back(Cell{local, 0.0, {0, 0, 0}, 0.0});
   }
   Cell& c = cov.cells[cov.slot_of[local]];
   const V lever{centre[0] - r.x[0], centre[1] - r.x[1], centre[2] - r.x[2]};
@@ -250,12 +257,13 @@ void PsmWindows::share_forces(const Coverage& cov) {
   for (std::size_t m = 0; m < got_cells_.size(); ++m) {
     const long slot = cov.slot_of[got_cells_[m]];
     if (slot < 0) throw std::runtime_error("psm: the fluid returned a force for a cell that holds no solid");
-    for (int d = 0; d < 3; ++d) slot_force_[3 * slot + d] = got_values_[3 * m + d];
+    // The force per unit of fraction: a share takes its fraction of it.
+    const double per = 1.0 / cov.cells[static_cast<std::size_t>(slot)].fraction;
+    for (int d = 0; d < 3; ++d) slot_force_[3 * slot + d] = got_values_[3 * m + d] * per;
   }
   for (const Share& sh : cov.shares) {
-    const double part = sh.fraction / cov.cells[sh.slot].fraction;
     const double* got = &slot_force_[3 * sh.slot];
-    const V f{part * got[0], part * got[1], part * got[2]};
+    const V f{sh.fraction * got[0], sh.fraction * got[1], sh.fraction * got[2]};
     auto& l = loads_[sh.record];
     for (int d = 0; d < 3; ++d) l.force[d] += f[d];
     l.torque[0] += sh.lever[1] * f[2] - sh.lever[2] * f[1];

@@ -72,7 +72,8 @@ class FieldExchange {
     std::vector<long> cells;  // local cell indices in message order
     long contiguous = -1;     // first cell when `cells` is one contiguous run (zero-copy)
     std::vector<double> buffer;
-    std::vector<std::byte> sparse;
+    std::vector<std::byte> sparse;  // send_sparse: grows only; its first sparse_used bytes are the message
+    std::size_t sparse_used = 0;
     MPI_Request request = MPI_REQUEST_NULL;
   };
   void build(const Decomposition& mine, int my_rank, const Decomposition& remote);

@@ -281,8 +281,6 @@ void FieldExchange::receive_sparse(std::vector<long>& cells, std::vector<double>
     MPI_Recv(p.sparse.data(), bytes, MPI_BYTE, p.rank, tag_ + 1, inter_, MPI_STATUS_IGNORE);
     trace().bytes_received += bytes;
     const std::size_t n = bytes / rec;
-    cells.reserve(cells.size() + n);
-    values.reserve(values.size() + n * static_cast<std::size_t>(nc));
     for (std::size_t i = 0; i < n; ++i) {
       std::int64_t key = 0;
       std::memcpy(&key, p.sparse.data() + i * rec, sizeof key);

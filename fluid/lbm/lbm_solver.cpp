@@ -237,25 +237,58 @@ class Core final : public LbmCore {
 
   // Partially saturated cells (psm_kernel.hpp) on the cells of the step just
   // taken: pull the same streamed populations from the previous array (its
-  // ghosts still hold the halo and wall values) and collide them again.
+  // ghosts still hold the halo and wall values) and collide them again. Four
+  // cells that follow each other along x in the list (a grain's chord) take
+  // one four-lane collision (about three times faster than four single ones).
   void psm(std::span<const long> cells, std::span<const double> fraction, std::span<const double> us,
            std::span<double> gain) override {
-    for (std::size_t n = 0; n < cells.size(); ++n) {
+    for (std::size_t n = 0; n < cells.size();) {
       const long c = cells[n];
       const long i = c % lay_.extent[0], j = (c / lay_.extent[0]) % lay_.extent[1], k = c / (lay_.extent[0] * lay_.extent[1]);
       // Cells on an open face (pressure, velocity, outflow) keep their Zou-He /
       // outflow closure and stay fluid: a grain there is leaving the domain.
-      const long loc[3] = {i, j, k};
-      bool on_open = false;
-      for (int f = 0; f < 6; ++f) on_open = on_open || (open_[f] && loc[f / 2] == (f % 2 == 0 ? 0 : lay_.extent[f / 2] - 1));
-      if (on_open) continue;
+      if (on_open_face(i, j, k)) {
+        ++n;
+        continue;
+      }
+      // Lanes i + 1 and i + 2 lie inside the row: only i + 3 can be on an open x face.
+      const bool four = n + 4 <= cells.size() && i + 3 < lay_.extent[0] && cells[n + 1] == c + 1 &&
+                        cells[n + 2] == c + 2 && cells[n + 3] == c + 3 && !on_open_face(i + 3, j, k);
+      if (four) {
+        psm_lanes(idx(i, j, k), n, fraction, us, gain);
+        n += 4;
+        continue;
+      }
       const long x = idx(i, j, k);
       double f[L::Q], out[L::Q];
       for (int q = 0; q < L::Q; ++q) f[q] = pop_.next[q * lay_.stride + x - off_[q]];
       lbm::psm_collide<L, Incompressible>(f, s_.force.data(), collision_.omega, s_.tau, fraction[n], &us[3 * n], out,
                                           &gain[3 * n]);
       for (int q = 0; q < L::Q; ++q) pop_.f[q * lay_.stride + x] = out[q];
+      ++n;
     }
+  }
+
+  bool on_open_face(long i, long j, long k) const {
+    const long loc[3] = {i, j, k};
+    for (int f = 0; f < 6; ++f)
+      if (open_[f] && loc[f / 2] == (f % 2 == 0 ? 0 : lay_.extent[f / 2] - 1)) return true;
+    return false;
+  }
+
+  // psm() on the list's cells n .. n + 3, which are x .. x + 3 of one row.
+  void psm_lanes(long x, std::size_t n, std::span<const double> fraction, std::span<const double> us,
+                 std::span<double> gain) {
+    using lbm::Vec4;
+    Vec4 f[L::Q], out[L::Q], u[3], g[3] = {};
+    for (int q = 0; q < L::Q; ++q) f[q] = lbm::detail::get(&pop_.next[q * lay_.stride + x - off_[q]]);
+    for (int d = 0; d < 3; ++d)
+      u[d] = Vec4{us[3 * n + d], us[3 * n + 3 + d], us[3 * n + 6 + d], us[3 * n + 9 + d]};
+    lbm::psm_collide_lanes<L, Incompressible, Vec4>(f, s_.force.data(), collision_.omega, s_.tau,
+                                                    lbm::detail::get(&fraction[n]), u, out, g);
+    for (int q = 0; q < L::Q; ++q) __builtin_memcpy(&pop_.f[q * lay_.stride + x], &out[q], sizeof(Vec4));
+    for (int l = 0; l < 4; ++l)
+      for (int d = 0; d < 3; ++d) gain[3 * (n + l) + d] += g[d][l];
   }
 
   long first_nonfinite() const override {

@@ -18,52 +18,62 @@ namespace coflow::fluid::lbm {
 // density; out: the new populations; gain: += the fluid's momentum gain
 // sum_q B Omega^s_q e_q. Directions go in pairs (q, opp(q)), e_opp = -e_q:
 // each pair's equilibria share e.u and (e.u)^2 (collision.hpp's trt_pair
-// folds the cell's terms the same way).
-template <class L, bool Incompressible>
-inline void psm_collide(const double* f, const double* F, double omega, double tau, double eps, const double* us,
-                        double* out, double* gain) {
-  double dev = 0, jm[3] = {0, 0, 0};  // the density's deviation from 1 (zero-centred populations)
+// folds the cell's terms the same way). One cell (T = double) or four
+// neighbours along x (T = Vec4, each lane with its own fraction and solid
+// velocity: the same arithmetic per lane).
+template <class L, bool Incompressible, class T>
+[[gnu::always_inline]] inline void psm_collide_lanes(const T* f, const double* F, double omega, double tau,
+                                                     T eps, const T* us, T* out, T* gain) {
+  T dev = splat<T>(0.0),
+    jm[3] = {dev, dev, dev};  // the density's deviation from 1 (zero-centred populations)
   // Unrolled, so that the lattice's vectors are constants, not converted ints.
 #pragma GCC unroll 32
   for (int q = 0; q < L::Q; ++q) {
     dev += f[q];
     for (int d = 0; d < 3; ++d) jm[d] += L::e[q][d] * f[q];
   }
-  const double rho_m = Incompressible ? 1.0 : 1.0 + dev;
-  const double u[3] = {(jm[0] + 0.5 * F[0]) / rho_m, (jm[1] + 0.5 * F[1]) / rho_m, (jm[2] + 0.5 * F[2]) / rho_m};
-  const double B = eps * (tau - 0.5) / ((1.0 - eps) + (tau - 0.5));  // eq. 2.67
-  const double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2],
-               ss = us[0] * us[0] + us[1] * us[1] + us[2] * us[2];
-  const double uF = u[0] * F[0] + u[1] * F[1] + u[2] * F[2];
+  const T rho_m = Incompressible ? splat<T>(1.0) : 1.0 + dev;
+  const T u[3] = {(jm[0] + 0.5 * F[0]) / rho_m, (jm[1] + 0.5 * F[1]) / rho_m, (jm[2] + 0.5 * F[2]) / rho_m};
+  const T B = eps * (tau - 0.5) / ((1.0 - eps) + (tau - 0.5));  // eq. 2.67
+  const T uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2], ss = us[0] * us[0] + us[1] * us[1] + us[2] * us[2];
+  const T uF = u[0] * F[0] + u[1] * F[1] + u[2] * F[2];
   // feq_q(u) = w_q (e0 + c45 (e.u)^2 + c3 e.u), and the solid's with e0s, u_s.
-  const double e0 = dev - 1.5 * rho_m * uu, e0s = dev - 1.5 * rho_m * ss, c45 = 4.5 * rho_m, c3 = 3.0 * rho_m;
-  const double fluid = (1.0 - B) * omega, share = 1.0 - B, source = 1.0 - 0.5 * omega;
+  const T e0 = dev - 1.5 * rho_m * uu, e0s = dev - 1.5 * rho_m * ss, c45 = 4.5 * rho_m, c3 = 3.0 * rho_m;
+  const T fluid = (1.0 - B) * omega, share = 1.0 - B;
+  const double source = 1.0 - 0.5 * omega;
   // The rest population: Omega^s_0 = feq_0(u_s) - feq_0(u).
   out[0] = f[0] - fluid * (f[0] - L::w[0] * e0) + share * source * L::w[0] * (-3.0 * uF) +
            B * L::w[0] * (e0s - e0);
-  double g[3] = {0, 0, 0};
+  T g[3] = {splat<T>(0.0), splat<T>(0.0), splat<T>(0.0)};
 #pragma GCC unroll 32
   for (int q = 1; q < L::Q; ++q) {
     const int o = L::opp[q];
     if (o < q) continue;  // each pair once
     const double w = L::w[q];
-    double eu = 0, es = 0, eF = 0;
+    T eu = splat<T>(0.0), es = eu;
+    double eF = 0;
     for (int d = 0; d < 3; ++d) {
       eu += L::e[q][d] * u[d];
       es += L::e[q][d] * us[d];
       eF += L::e[q][d] * F[d];
     }
-    const double even = e0 + c45 * eu * eu, odd = c3 * eu, even_s = e0s + c45 * es * es, odd_s = c3 * es;
-    const double feq_q = w * (even + odd), feq_o = w * (even - odd);
-    const double fs_q = w * (even_s + odd_s), fs_o = w * (even_s - odd_s);
-    const double os_q = f[o] - feq_o + fs_q - f[q], os_o = f[q] - feq_q + fs_o - f[o];
-    const double s_even = 9.0 * eu * eF - 3.0 * uF, s_q = source * w * (s_even + 3.0 * eF),
-                 s_o = source * w * (s_even - 3.0 * eF);
+    const T even = e0 + c45 * eu * eu, odd = c3 * eu, even_s = e0s + c45 * es * es, odd_s = c3 * es;
+    const T feq_q = w * (even + odd), feq_o = w * (even - odd);
+    const T fs_q = w * (even_s + odd_s), fs_o = w * (even_s - odd_s);
+    const T os_q = f[o] - feq_o + fs_q - f[q], os_o = f[q] - feq_q + fs_o - f[o];
+    const T s_even = 9.0 * eF * eu - 3.0 * uF, s_q = source * w * (s_even + 3.0 * eF),
+            s_o = source * w * (s_even - 3.0 * eF);
     out[q] = f[q] - fluid * (f[q] - feq_q) + share * s_q + B * os_q;
     out[o] = f[o] - fluid * (f[o] - feq_o) + share * s_o + B * os_o;
     for (int d = 0; d < 3; ++d) g[d] += B * (os_q - os_o) * L::e[q][d];
   }
   for (int d = 0; d < 3; ++d) gain[d] += g[d];
+}
+
+template <class L, bool Incompressible>
+inline void psm_collide(const double* f, const double* F, double omega, double tau, double eps,
+                        const double* us, double* out, double* gain) {
+  psm_collide_lanes<L, Incompressible, double>(f, F, omega, tau, eps, us, out, gain);
 }
 
 // A partially saturated cell in two fluids (coflow's extension of eq. 2.66;

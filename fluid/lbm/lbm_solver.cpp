@@ -239,7 +239,8 @@ class Core final : public LbmCore {
   // taken: pull the same streamed populations from the previous array (its
   // ghosts still hold the halo and wall values) and collide them again. Four
   // cells that follow each other along x in the list (a grain's chord) take
-  // one four-lane collision (about three times faster than four single ones).
+  // one four-lane collision (docs/performance.md: the quickstart's wall fell
+  // by about a tenth).
   void psm(std::span<const long> cells, std::span<const double> fraction, std::span<const double> us,
            std::span<double> gain) override {
     for (std::size_t n = 0; n < cells.size();) {

@@ -61,7 +61,7 @@ template <class L, bool Incompressible, class T>
     const T feq_q = w * (even + odd), feq_o = w * (even - odd);
     const T fs_q = w * (even_s + odd_s), fs_o = w * (even_s - odd_s);
     const T os_q = f[o] - feq_o + fs_q - f[q], os_o = f[q] - feq_q + fs_o - f[o];
-    const T s_even = 9.0 * eF * eu - 3.0 * uF, s_q = source * w * (s_even + 3.0 * eF),
+    const T s_even = 9.0 * eu * eF - 3.0 * uF, s_q = source * w * (s_even + 3.0 * eF),
             s_o = source * w * (s_even - 3.0 * eF);
     out[q] = f[q] - fluid * (f[q] - feq_q) + share * s_q + B * os_q;
     out[o] = f[o] - fluid * (f[o] - feq_o) + share * s_o + B * os_o;

@@ -235,9 +235,27 @@ class Core final : public LbmCore {
           for (int q = 0; q < L::Q; ++q) pop_.f[q * lay_.stride + idx(i, j, k)] = in[o++];
   }
 
+  // The partially saturated cells of the next steps: the step leaves them to
+  // psm(), which collides them once (it would overwrite the step's result).
+  void set_psm(std::span<const long> cells, std::span<const double> fraction,
+               std::span<const double> wetting) override {
+    (void)fraction, (void)wetting;
+    const long nx = lay_.extent[0];
+    if (psm_cell_.empty()) {
+      psm_cell_.assign(static_cast<std::size_t>(nx * lay_.extent[1] * lay_.extent[2]), 0);
+      psm_row_.assign(static_cast<std::size_t>(lay_.extent[1] * lay_.extent[2]), 0);
+    }
+    for (long c : psm_cells_)
+      psm_cell_[static_cast<std::size_t>(c)] = 0, psm_row_[static_cast<std::size_t>(c / nx)] = 0;
+    psm_cells_.assign(cells.begin(), cells.end());
+    for (long c : psm_cells_)
+      psm_cell_[static_cast<std::size_t>(c)] = 1, psm_row_[static_cast<std::size_t>(c / nx)] = 1;
+  }
+
   // Partially saturated cells (psm_kernel.hpp) on the cells of the step just
   // taken: pull the same streamed populations from the previous array (its
-  // ghosts still hold the halo and wall values) and collide them again. Four
+  // ghosts still hold the halo and wall values) and collide them (the step
+  // left them, except those on open faces, which psm() leaves). Four
   // cells that follow each other along x in the list (a grain's chord) take
   // one four-lane collision (docs/performance.md: the quickstart's wall fell
   // by about a tenth).
@@ -263,8 +281,9 @@ class Core final : public LbmCore {
       const long x = idx(i, j, k);
       double f[L::Q], out[L::Q];
       for (int q = 0; q < L::Q; ++q) f[q] = pop_.next[q * lay_.stride + x - off_[q]];
-      lbm::psm_collide<L, Incompressible>(f, s_.force.data(), collision_.omega, s_.tau, fraction[n], &us[3 * n], out,
-                                          &gain[3 * n]);
+      const double uu = lbm::psm_collide<L, Incompressible>(f, s_.force.data(), collision_.omega, s_.tau,
+                                                            fraction[n], &us[3 * n], out, &gain[3 * n]);
+      max_u2_ = lbm::nan_max(max_u2_, uu);
       for (int q = 0; q < L::Q; ++q) pop_.f[q * lay_.stride + x] = out[q];
       ++n;
     }
@@ -285,8 +304,9 @@ class Core final : public LbmCore {
     for (int q = 0; q < L::Q; ++q) f[q] = lbm::detail::get(&pop_.next[q * lay_.stride + x - off_[q]]);
     for (int d = 0; d < 3; ++d)
       u[d] = Vec4{us[3 * n + d], us[3 * n + 3 + d], us[3 * n + 6 + d], us[3 * n + 9 + d]};
-    lbm::psm_collide_lanes<L, Incompressible, Vec4>(f, s_.force.data(), collision_.omega, s_.tau,
-                                                    lbm::detail::get(&fraction[n]), u, out, g);
+    const Vec4 uu = lbm::psm_collide_lanes<L, Incompressible, Vec4>(
+        f, s_.force.data(), collision_.omega, s_.tau, lbm::detail::get(&fraction[n]), u, out, g);
+    for (int l = 0; l < 4; ++l) max_u2_ = lbm::nan_max(max_u2_, uu[l]);
     for (int q = 0; q < L::Q; ++q) __builtin_memcpy(&pop_.f[q * lay_.stride + x], &out[q], sizeof(Vec4));
     for (int l = 0; l < 4; ++l)
       for (int d = 0; d < 3; ++d) gain[3 * (n + l) + d] += g[d][l];
@@ -335,8 +355,25 @@ class Core final : public LbmCore {
 
   // The hot loop: cells of one row that read only valid data. The compiler
   // vectorises over i: each population streams with a constant offset.
+  // Partially saturated cells are left to psm(): the runs between them.
   void fast_row(long i0, long i1, long j, long k) {
     if (i1 <= i0) return;
+    const long row = k * lay_.extent[1] + j;
+    if (psm_row_.empty() || !psm_row_[static_cast<std::size_t>(row)]) {
+      fluid_row(i0, i1, j, k);
+      return;
+    }
+    const char* psm = &psm_cell_[static_cast<std::size_t>(row * lay_.extent[0])];
+    for (long i = i0; i < i1;) {
+      long e = i + 1;
+      while (e < i1 && psm[e] == psm[i]) ++e;
+      if (!psm[i]) fluid_row(i, e, j, k);
+      i = e;
+    }
+  }
+
+  // Cells [i0, i1) of a row, none partially saturated.
+  void fluid_row(long i0, long i1, long j, long k) {
     const long row = k * lay_.extent[1] + j;
     if (!src_.empty() && src_row_[row]) {
       source_row(i0, i1, j, k);
@@ -482,6 +519,9 @@ class Core final : public LbmCore {
   std::vector<char> extra_cell_;  // cells with such a force
   std::vector<char> extra_row_;   // rows (j, k) holding one
   std::vector<long> extra_cells_;
+  // Partially saturated cells (set_psm), collided by psm() only.
+  std::vector<char> psm_cell_, psm_row_;
+  std::vector<long> psm_cells_;
   double max_u2_ = 0.0;
   double wall_momentum_[18] = {};  // lattice momentum each wall face took since the last take
   bool open_[6], wall_[6];

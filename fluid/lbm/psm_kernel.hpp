@@ -20,10 +20,11 @@ namespace coflow::fluid::lbm {
 // each pair's equilibria share e.u and (e.u)^2 (collision.hpp's trt_pair
 // folds the cell's terms the same way). One cell (T = double) or four
 // neighbours along x (T = Vec4, each lane with its own fraction and solid
-// velocity: the same arithmetic per lane).
+// velocity: the same arithmetic per lane). Returns u^2 of the cell (the
+// Mach check's).
 template <class L, bool Incompressible, class T>
-[[gnu::always_inline]] inline void psm_collide_lanes(const T* f, const double* F, double omega, double tau,
-                                                     T eps, const T* us, T* out, T* gain) {
+[[gnu::always_inline]] inline T psm_collide_lanes(const T* f, const double* F, double omega, double tau,
+                                                  T eps, const T* us, T* out, T* gain) {
   T dev = splat<T>(0.0),
     jm[3] = {dev, dev, dev};  // the density's deviation from 1 (zero-centred populations)
   // Unrolled, so that the lattice's vectors are constants, not converted ints.
@@ -68,12 +69,13 @@ template <class L, bool Incompressible, class T>
     for (int d = 0; d < 3; ++d) g[d] += B * (os_q - os_o) * L::e[q][d];
   }
   for (int d = 0; d < 3; ++d) gain[d] += g[d];
+  return uu;
 }
 
 template <class L, bool Incompressible>
-inline void psm_collide(const double* f, const double* F, double omega, double tau, double eps,
-                        const double* us, double* out, double* gain) {
-  psm_collide_lanes<L, Incompressible, double>(f, F, omega, tau, eps, us, out, gain);
+inline double psm_collide(const double* f, const double* F, double omega, double tau, double eps,
+                          const double* us, double* out, double* gain) {
+  return psm_collide_lanes<L, Incompressible, double>(f, F, omega, tau, eps, us, out, gain);
 }
 
 // A partially saturated cell in two fluids (coflow's extension of eq. 2.66;

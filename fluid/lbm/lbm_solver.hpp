@@ -29,9 +29,10 @@ class LbmCore {
   // Owned cells' populations, cell after cell (x fastest), q innermost.
   virtual void get_populations(std::vector<double>& out) const = 0;
   virtual void set_populations(const std::vector<double>& in) = 0;
-  // Re-collide the listed owned cells of the last step as partially saturated
+  // Collide the listed owned cells of the last step as partially saturated
   // cells (lattice units: us per cell), adding each cell's fluid momentum gain
-  // sum_q B Omega^s_q e_q to `gain` (3 per cell).
+  // sum_q B Omega^s_q e_q to `gain` (3 per cell). The step left these cells
+  // (set_psm) except those on open faces, which it collided and psm() leaves.
   virtual void psm(std::span<const long> cells, std::span<const double> fraction, std::span<const double> us,
                    std::span<double> gain) = 0;
   // The partially saturated cells of the next steps, before them, for a core

@@ -363,11 +363,20 @@ class Core final : public LbmCore {
       fluid_row(i0, i1, j, k);
       return;
     }
-    const char* psm = &psm_cell_[static_cast<std::size_t>(row * lay_.extent[0])];
+    for_runs(&psm_cell_[static_cast<std::size_t>(row * lay_.extent[0])], i0, i1,
+             [&](long a, long b, bool psm) {
+               if (!psm) fluid_row(a, b, j, k);
+             });
+  }
+
+  // The runs [a, b) of [i0, i1) over which mask (a row's) holds one value:
+  // run(a, b, mask[a] != 0) for each.
+  template <class Run>
+  static void for_runs(const char* mask, long i0, long i1, Run&& run) {
     for (long i = i0; i < i1;) {
       long e = i + 1;
-      while (e < i1 && psm[e] == psm[i]) ++e;
-      if (!psm[i]) fluid_row(i, e, j, k);
+      while (e < i1 && mask[e] == mask[i]) ++e;
+      run(i, e, mask[i] != 0);
       i = e;
     }
   }
@@ -399,15 +408,12 @@ class Core final : public LbmCore {
   // time, each with its force, the runs between them by the row kernel.
   void forced_row(long i0, long i1, long j, long k) {
     const char* forced = &extra_cell_[static_cast<std::size_t>((k * lay_.extent[1] + j) * lay_.extent[0])];
-    for (long i = i0; i < i1;) {
-      long e = i + 1;
-      while (e < i1 && forced[e] == forced[i]) ++e;
-      if (forced[i])
-        source_row(i, e, j, k);
+    for_runs(forced, i0, i1, [&](long a, long b, bool f) {
+      if (f)
+        source_row(a, b, j, k);
       else
-        plain_row(i, e, j, k);
-      i = e;
-    }
+        plain_row(a, b, j, k);
+    });
   }
 
   // Eight cells (one cache line per population) at a time with the lean

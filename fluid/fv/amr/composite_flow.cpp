@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <stdexcept>
 
 #include "coflow/output.hpp"
@@ -46,6 +48,7 @@ void CompositeFlow::build() {
       if (f.across >= 0) f.across_slot = grid_->slot(f.across);
     }
   }
+  flatten_faces();
   // Without an outlet constants are the kernel; pin global cell 0 to zero.
   // Its divergence is then zero too, as the divergences sum to zero.
   pinned_ = !any_outlet;
@@ -56,6 +59,33 @@ void CompositeFlow::build() {
   global_faces_.clear();
   source_.clear();
   for (auto& p : phi_) p.clear();
+}
+
+void CompositeFlow::flatten_faces() {
+  face_begin_.assign(1, 0);
+  flat_.clear();
+  stencil_slot_.clear();
+  stencil_weight_.clear();
+  auto append = [&](const Stencil& st) {
+    for (const auto& [slot, w] : st) {
+      stencil_slot_.push_back(static_cast<std::size_t>(slot));
+      stencil_weight_.push_back(w);
+    }
+    if (stencil_slot_.size() > std::numeric_limits<std::uint32_t>::max())
+      throw std::runtime_error("refinement: more than 2^32 stencil entries on one rank; run on more ranks");
+    return static_cast<std::uint32_t>(stencil_slot_.size());
+  };
+  for (const auto& cell : faces_) {
+    for (const auto& f : cell) {
+      FlatFace ff{f.axis, f.side, f.fraction, f.wall, 0, 0, 0, 0};
+      ff.value_begin = static_cast<std::uint32_t>(stencil_slot_.size());
+      ff.value_end = append(f.value);
+      ff.gradient_begin = ff.value_end;
+      ff.gradient_end = append(f.gradient);
+      flat_.push_back(ff);
+    }
+    face_begin_.push_back(flat_.size());
+  }
 }
 
 void CompositeFlow::set_inlet(int face, Inflow inflow) {
@@ -105,9 +135,14 @@ std::vector<CompositeFlow::Gradient> CompositeFlow::gradients(const Field& g) co
   for (std::size_t c = 0; c < faces_.size(); ++c) {
     auto& grad = out[c];  // d u_q / d x_axis
     const double h = h_[c];
-    for (const auto& f : faces_[c])
-      for (std::size_t q = 0; q < g.size(); ++q)
-        grad[q][static_cast<std::size_t>(f.axis)] += f.fraction * f.side * face_velocity(f, c, g, q) / h;
+    for (std::size_t k = face_begin_[c]; k < face_begin_[c + 1]; ++k) {
+      const FlatFace& f = flat_[k];
+      for (std::size_t q = 0; q < g.size(); ++q) {
+        const double face =
+            f.wall ? face_velocity(faces_[c][k - face_begin_[c]], c, g, q) : flat_value(f, g[q]);
+        grad[q][static_cast<std::size_t>(f.axis)] += f.fraction * f.side * face / h;
+      }
+    }
   }
   return out;
 }
@@ -191,39 +226,50 @@ CompositeFlow::Field CompositeFlow::rates(const Field& u, Viscous part, Field* v
   std::vector<double> nut;
   if (eddy_ >= 0) grid_->gather(eddy_, nut);
   const Field transpose = eddy_ >= 0 ? stress_transpose(g, nut) : Field{};
+  const std::size_t nq = u.size();
+  const bool viscous_part = part != Viscous::none;
   for (std::size_t c = 0; c < faces_.size(); ++c) {
     const double h = h_[c];
-    for (std::size_t q = 0; q < u.size(); ++q) {
-      double carried = 0.0, stress = 0.0, eddy = 0.0;
-      for (std::size_t s = 0; s < faces_[c].size(); ++s) {
-        const auto& f = faces_[c][s];
-        if (f.wall && outlet(f)) {  // carried out at the cell's value; no viscous stress
-          carried -= f.fraction * f.side * mac_[c][s] * g[q][c];
-          continue;
+    // Each face once for every component (each component's sums in the
+    // faces' order, as one component at a time would take them).
+    double carried[3] = {0.0, 0.0, 0.0}, stress[3] = {0.0, 0.0, 0.0}, eddy[3] = {0.0, 0.0, 0.0};
+    for (std::size_t s = 0; s < faces_[c].size(); ++s) {
+      const FlatFace& ff = flat_[face_begin_[c] + s];
+      if (!ff.wall) {                                 // the interior faces, most of them: flat stencils
+        const double outward = ff.side * mac_[c][s];  // normal velocity out of the cell
+        const double nut_face = viscous_part && eddy_ >= 0 ? std::max(0.0, flat_value(ff, nut)) : 0.0;
+        for (std::size_t q = 0; q < nq; ++q) {
+          if (viscous_part) {
+            const double du = flat_gradient(ff, g[q]);
+            stress[q] += ff.fraction * nu_ * du;
+            if (eddy_ >= 0) eddy[q] += ff.fraction * nut_face * du;
+          }
+          carried[q] -= ff.fraction * outward * flat_value(ff, g[q]);
         }
-        if (f.wall) {  // the imposed velocity half a cell away; carried in or out with it
-          const auto ub = imposed(f, c, g);
-          if (part != Viscous::none) stress += f.fraction * nu_ * 2.0 * (ub[q] - g[q][c]) / h;
-          if (part != Viscous::none && eddy_ >= 0)
-            eddy += f.fraction * boundary_eddy(f, c, nut) * 2.0 * (ub[q] - g[q][c]) / h;
-          carried -= f.fraction * f.side * ub[static_cast<std::size_t>(f.axis)] * ub[q];
-          continue;
-        }
-        const double outward = f.side * mac_[c][s];  // normal velocity out of the cell
-        if (part != Viscous::none) {
-          const double du = evaluate(f.gradient, g[q]);
-          stress += f.fraction * nu_ * du;
-          if (eddy_ >= 0) eddy += f.fraction * std::max(0.0, evaluate(f.value, nut)) * du;
-        }
-        carried -= f.fraction * outward * evaluate(f.value, g[q]);
+        continue;
       }
+      const auto& f = faces_[c][s];
+      if (outlet(f)) {  // carried out at the cell's value; no viscous stress
+        for (std::size_t q = 0; q < nq; ++q) carried[q] -= f.fraction * f.side * mac_[c][s] * g[q][c];
+        continue;
+      }
+      // The imposed velocity half a cell away; carried in or out with it.
+      const auto ub = imposed(f, c, g);
+      const double nut_wall = viscous_part && eddy_ >= 0 ? boundary_eddy(f, c, nut) : 0.0;
+      for (std::size_t q = 0; q < nq; ++q) {
+        if (viscous_part) stress[q] += f.fraction * nu_ * 2.0 * (ub[q] - g[q][c]) / h;
+        if (viscous_part && eddy_ >= 0) eddy[q] += f.fraction * nut_wall * 2.0 * (ub[q] - g[q][c]) / h;
+        carried[q] -= f.fraction * f.side * ub[static_cast<std::size_t>(f.axis)] * ub[q];
+      }
+    }
+    for (std::size_t q = 0; q < nq; ++q) {
       double source = source_.empty() ? 0.0 : source_[q][c];
       if (!transpose.empty()) source += transpose[q][c];
       if (part == Viscous::apart) {  // the eddy stress implicit too (solve_viscous)
-        r[q][c] = carried / h + source;
-        (*viscous)[q][c] = (stress + eddy) / h;
+        r[q][c] = carried[q] / h + source;
+        (*viscous)[q][c] = (stress[q] + eddy[q]) / h;
       } else {
-        r[q][c] = (stress + eddy + carried) / h + source;
+        r[q][c] = (stress[q] + eddy[q] + carried[q]) / h + source;
       }
     }
   }
@@ -258,9 +304,10 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
     const double h = h_[c];
     double div = 0.0;
     for (std::size_t s = 0; s < faces_[c].size(); ++s) {
-      const auto& f = faces_[c][s];
-      mac_[c][s] =
-          face_velocity(f, c, g, static_cast<std::size_t>(f.axis));  // an outlet's is corrected below
+      const FlatFace& f = flat_[face_begin_[c] + s];
+      const auto axis = static_cast<std::size_t>(f.axis);
+      mac_[c][s] = f.wall ? face_velocity(faces_[c][s], c, g, axis)  // an outlet's is corrected below
+                          : flat_value(f, g[axis]);
       div += f.fraction * f.side * mac_[c][s];
     }
     b[c] = div / (h * dt);
@@ -276,12 +323,12 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
   for (std::size_t c = 0; c < n; ++c) {
     const double h = h_[c];
     for (std::size_t s = 0; s < faces_[c].size(); ++s) {
-      const auto& f = faces_[c][s];
+      const FlatFace& ff = flat_[face_begin_[c] + s];
       // dp/dn outward: p = 0 on an outlet half a cell away, 0 on walls and inlets.
-      if (!f.wall)
-        mac_[c][s] -= dt * f.side * evaluate(f.gradient, p);
-      else if (outlet(f))
-        mac_[c][s] -= dt * f.side * (-2.0 * p[c] / h);
+      if (!ff.wall)
+        mac_[c][s] -= dt * ff.side * flat_gradient(ff, p);
+      else if (outlet(faces_[c][s]))
+        mac_[c][s] -= dt * ff.side * (-2.0 * p[c] / h);
     }
   }
   subtract_gradient(u, p, dt);
@@ -291,10 +338,16 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
 void CompositeFlow::subtract_gradient(Field& u, const std::vector<double>& p, double dt) const {
   for (std::size_t c = 0; c < faces_.size(); ++c) {
     const double h = h_[c];
-    for (const auto& f : faces_[c]) {  // Gauss's theorem over the cell's faces
-      const double face = !f.wall ? evaluate(f.value, p) : outlet(f) ? 0.0 : p[c];
-      u[static_cast<std::size_t>(f.axis)][c] -= dt * f.fraction * f.side * face / h;
+    // Gauss's theorem over the cell's faces, in their order, the cell's
+    // velocity held in registers meanwhile and stored once.
+    double v[3] = {0.0, 0.0, 0.0};
+    for (std::size_t q = 0; q < u.size(); ++q) v[q] = u[q][c];
+    for (std::size_t k = face_begin_[c]; k < face_begin_[c + 1]; ++k) {
+      const FlatFace& f = flat_[k];
+      const double face = !f.wall ? flat_value(f, p) : outlet(faces_[c][k - face_begin_[c]]) ? 0.0 : p[c];
+      v[f.axis] -= dt * f.fraction * f.side * face / h;
     }
+    for (std::size_t q = 0; q < u.size(); ++q) u[q][c] = v[q];
   }
 }
 

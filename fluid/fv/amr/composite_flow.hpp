@@ -160,6 +160,36 @@ class CompositeFlow {
   std::array<double, 3> imposed(const SubFace& f, std::size_t c, const Field& g) const;
   bool outlet(const SubFace& f) const { return kinds_[face_of(f)] == Boundary::outlet; }
   void build();  // the grid, faces and Poisson system of the forest as it is
+  void flatten_faces();
+
+  // faces_ laid out flat for the loops of every step (the same faces in the
+  // same order, their stencils in two arrays instead of a heap block each):
+  // the operators' arithmetic and bits are unchanged, the walk through memory
+  // is one pass. Cell c's faces are flat_[face_begin_[c]] .. [face_begin_[c + 1] - 1].
+  struct FlatFace {
+    int axis;
+    int side;
+    double fraction;
+    bool wall;
+    std::uint32_t value_begin, value_end, gradient_begin,
+        gradient_end;  // into stencil_slot_, stencil_weight_
+  };
+  double flat_value(const FlatFace& f, const std::vector<double>& field) const {
+    return flat_evaluate(f.value_begin, f.value_end, field);
+  }
+  double flat_gradient(const FlatFace& f, const std::vector<double>& field) const {
+    return flat_evaluate(f.gradient_begin, f.gradient_end, field);
+  }
+  // evaluate() (composite_grid.hpp) on the flat stencils: the same sum in the same order.
+  double flat_evaluate(std::uint32_t begin, std::uint32_t end, const std::vector<double>& field) const {
+    double v = 0.0;
+    for (std::uint32_t k = begin; k < end; ++k) v += stencil_weight_[k] * field[stencil_slot_[k]];
+    return v;
+  }
+  std::vector<std::size_t> face_begin_;
+  std::vector<FlatFace> flat_;
+  std::vector<std::size_t> stencil_slot_;
+  std::vector<double> stencil_weight_;
 
   Forest& forest_;
   GridGeometry geometry_;

@@ -34,6 +34,24 @@ using lbm::FaceType;
 
 namespace {
 
+// Some cells of a block marked: a flag per cell and per row (j, k), so that a
+// row without any is passed over at once, and the list that clears them.
+struct CellMask {
+  std::vector<char> cell, row;
+  std::vector<long> cells;
+  bool row_marked(long r) const { return !row.empty() && row[static_cast<std::size_t>(r)]; }
+  // Marks `list` (x fastest, rows of nx cells, `volume` cells in all) in place of the last one.
+  void mark(std::span<const long> list, long nx, long volume) {
+    if (cell.empty()) {
+      cell.assign(static_cast<std::size_t>(volume), 0);
+      row.assign(static_cast<std::size_t>(volume / nx), 0);
+    }
+    for (long c : cells) cell[static_cast<std::size_t>(c)] = 0, row[static_cast<std::size_t>(c / nx)] = 0;
+    cells.assign(list.begin(), list.end());
+    for (long c : cells) cell[static_cast<std::size_t>(c)] = 1, row[static_cast<std::size_t>(c / nx)] = 1;
+  }
+};
+
 template <class L, bool Incompressible>
 class Core final : public LbmCore {
  public:
@@ -166,23 +184,13 @@ class Core final : public LbmCore {
   }
 
   void set_cell_forces(std::span<const long> cells, std::span<const double> force) override {
-    const long nx = lay_.extent[0];
-    if (extra_.empty()) {
-      extra_.assign(static_cast<std::size_t>(3 * nx * lay_.extent[1] * lay_.extent[2]), 0.0);
-      extra_cell_.assign(static_cast<std::size_t>(nx * lay_.extent[1] * lay_.extent[2]), 0);
-      extra_row_.assign(static_cast<std::size_t>(lay_.extent[1] * lay_.extent[2]), 0);
-    }
-    for (long c : extra_cells_) {
+    const long nx = lay_.extent[0], volume = nx * lay_.extent[1] * lay_.extent[2];
+    if (extra_.empty()) extra_.assign(static_cast<std::size_t>(3 * volume), 0.0);
+    for (long c : forced_.cells)
       for (int d = 0; d < 3; ++d) extra_[static_cast<std::size_t>(3 * c + d)] = 0.0;
-      extra_cell_[static_cast<std::size_t>(c)] = 0;
-      extra_row_[static_cast<std::size_t>(c / nx)] = 0;
-    }
-    extra_cells_.assign(cells.begin(), cells.end());
-    for (std::size_t n = 0; n < cells.size(); ++n) {
+    forced_.mark(cells, nx, volume);
+    for (std::size_t n = 0; n < cells.size(); ++n)
       for (int d = 0; d < 3; ++d) extra_[static_cast<std::size_t>(3 * cells[n] + d)] = force[3 * n + d];
-      extra_cell_[static_cast<std::size_t>(cells[n])] = 1;
-      extra_row_[static_cast<std::size_t>(cells[n] / nx)] = 1;
-    }
   }
 
   void macroscopic(std::vector<double>& u, std::vector<double>& rho) const override {
@@ -240,16 +248,7 @@ class Core final : public LbmCore {
   void set_psm(std::span<const long> cells, std::span<const double> fraction,
                std::span<const double> wetting) override {
     (void)fraction, (void)wetting;
-    const long nx = lay_.extent[0];
-    if (psm_cell_.empty()) {
-      psm_cell_.assign(static_cast<std::size_t>(nx * lay_.extent[1] * lay_.extent[2]), 0);
-      psm_row_.assign(static_cast<std::size_t>(lay_.extent[1] * lay_.extent[2]), 0);
-    }
-    for (long c : psm_cells_)
-      psm_cell_[static_cast<std::size_t>(c)] = 0, psm_row_[static_cast<std::size_t>(c / nx)] = 0;
-    psm_cells_.assign(cells.begin(), cells.end());
-    for (long c : psm_cells_)
-      psm_cell_[static_cast<std::size_t>(c)] = 1, psm_row_[static_cast<std::size_t>(c / nx)] = 1;
+    psm_.mark(cells, lay_.extent[0], lay_.extent[0] * lay_.extent[1] * lay_.extent[2]);
   }
 
   // Partially saturated cells (psm_kernel.hpp) on the cells of the step just
@@ -359,11 +358,11 @@ class Core final : public LbmCore {
   void fast_row(long i0, long i1, long j, long k) {
     if (i1 <= i0) return;
     const long row = k * lay_.extent[1] + j;
-    if (psm_row_.empty() || !psm_row_[static_cast<std::size_t>(row)]) {
+    if (!psm_.row_marked(row)) {
       fluid_row(i0, i1, j, k);
       return;
     }
-    for_runs(&psm_cell_[static_cast<std::size_t>(row * lay_.extent[0])], i0, i1,
+    for_runs(&psm_.cell[static_cast<std::size_t>(row * lay_.extent[0])], i0, i1,
              [&](long a, long b, bool psm) {
                if (!psm) fluid_row(a, b, j, k);
              });
@@ -388,7 +387,7 @@ class Core final : public LbmCore {
       source_row(i0, i1, j, k);
       return;
     }
-    if (!extra_row_.empty() && extra_row_[row]) {
+    if (forced_.row_marked(row)) {
       forced_row(i0, i1, j, k);
       return;
     }
@@ -407,7 +406,7 @@ class Core final : public LbmCore {
   // A row through an immersed body's forcing: its forced cells one at a
   // time, each with its force, the runs between them by the row kernel.
   void forced_row(long i0, long i1, long j, long k) {
-    const char* forced = &extra_cell_[static_cast<std::size_t>((k * lay_.extent[1] + j) * lay_.extent[0])];
+    const char* forced = &forced_.cell[static_cast<std::size_t>((k * lay_.extent[1] + j) * lay_.extent[0])];
     for_runs(forced, i0, i1, [&](long a, long b, bool f) {
       if (f)
         source_row(a, b, j, k);
@@ -522,12 +521,8 @@ class Core final : public LbmCore {
   // Immersed boundaries: the hook, the forces of this step's forced cells.
   std::function<void()> hook_;
   std::vector<double> extra_;
-  std::vector<char> extra_cell_;  // cells with such a force
-  std::vector<char> extra_row_;   // rows (j, k) holding one
-  std::vector<long> extra_cells_;
-  // Partially saturated cells (set_psm), collided by psm() only.
-  std::vector<char> psm_cell_, psm_row_;
-  std::vector<long> psm_cells_;
+  CellMask forced_;  // the cells with such a force
+  CellMask psm_;     // partially saturated cells (set_psm), collided by psm() only
   double max_u2_ = 0.0;
   double wall_momentum_[18] = {};  // lattice momentum each wall face took since the last take
   bool open_[6], wall_[6];

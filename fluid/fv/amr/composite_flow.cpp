@@ -339,7 +339,7 @@ void CompositeFlow::subtract_gradient(Field& u, const std::vector<double>& p, do
   for (std::size_t c = 0; c < faces_.size(); ++c) {
     const double h = h_[c];
     // Gauss's theorem over the cell's faces, in their order, the cell's
-    // velocity held in registers meanwhile and stored once.
+    // velocity held in a local array meanwhile and stored once.
     double v[3] = {0.0, 0.0, 0.0};
     for (std::size_t q = 0; q < u.size(); ++q) v[q] = u[q][c];
     for (std::size_t k = face_begin_[c]; k < face_begin_[c + 1]; ++k) {

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -163,9 +164,12 @@ class CompositeFlow {
   void flatten_faces();
 
   // faces_ laid out flat for the loops of every step (the same faces in the
-  // same order, their stencils in two arrays instead of a heap block each):
-  // the operators' arithmetic and bits are unchanged, the walk through memory
-  // is one pass. Cell c's faces are flat_[face_begin_[c]] .. [face_begin_[c + 1] - 1].
+  // same order, their stencils in two arrays instead of a heap block each; a
+  // second copy of the stencils, kept beside faces_, which the turbulence
+  // model and the boundary faces read): the operators take the same
+  // operations in the same order (the bits may differ only where the compiler
+  // fuses a multiply-add differently). Cell c's faces are
+  // flat_[face_begin_[c]] .. [face_begin_[c + 1] - 1].
   struct FlatFace {
     int axis;
     int side;

@@ -37,10 +37,8 @@ void CompositeFlow::build() {
   }
   auto L = assemble_laplacian(*grid_, faces_, conditions);
   // Then the faces read fields gathered with their ghosts: ids to slots.
-  mac_.assign(faces_.size(), {});
   h_.resize(faces_.size());
   for (std::size_t c = 0; c < faces_.size(); ++c) {
-    mac_[c].assign(faces_[c].size(), 0.0);
     h_[c] = grid_->spacing(grid_->local_cell(static_cast<long>(c)).level);
     for (auto& f : faces_[c]) {
       f.gradient = grid_->to_slots(f.gradient);
@@ -49,6 +47,7 @@ void CompositeFlow::build() {
     }
   }
   flatten_faces();
+  mac_.assign(flat_.size(), 0.0);
   // Without an outlet constants are the kernel; pin global cell 0 to zero.
   // Its divergence is then zero too, as the divergences sum to zero.
   pinned_ = !any_outlet;
@@ -236,7 +235,7 @@ CompositeFlow::Field CompositeFlow::rates(const Field& u, Viscous part, Field* v
     for (std::size_t s = 0; s < faces_[c].size(); ++s) {
       const FlatFace& ff = flat_[face_begin_[c] + s];
       if (!ff.wall) {                                 // the interior faces, most of them: flat stencils
-        const double outward = ff.side * mac_[c][s];  // normal velocity out of the cell
+        const double outward = ff.side * mac_[face_begin_[c] + s];  // normal velocity out of the cell
         const double nut_face = viscous_part && eddy_ >= 0 ? std::max(0.0, flat_value(ff, nut)) : 0.0;
         for (std::size_t q = 0; q < nq; ++q) {
           if (viscous_part) {
@@ -250,7 +249,8 @@ CompositeFlow::Field CompositeFlow::rates(const Field& u, Viscous part, Field* v
       }
       const auto& f = faces_[c][s];
       if (outlet(f)) {  // carried out at the cell's value; no viscous stress
-        for (std::size_t q = 0; q < nq; ++q) carried[q] -= f.fraction * f.side * mac_[c][s] * g[q][c];
+        for (std::size_t q = 0; q < nq; ++q)
+          carried[q] -= f.fraction * f.side * mac_[face_begin_[c] + s] * g[q][c];
         continue;
       }
       // The imposed velocity half a cell away; carried in or out with it.
@@ -306,9 +306,10 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
     for (std::size_t s = 0; s < faces_[c].size(); ++s) {
       const FlatFace& f = flat_[face_begin_[c] + s];
       const auto axis = static_cast<std::size_t>(f.axis);
-      mac_[c][s] = f.wall ? face_velocity(faces_[c][s], c, g, axis)  // an outlet's is corrected below
-                          : flat_value(f, g[axis]);
-      div += f.fraction * f.side * mac_[c][s];
+      mac_[face_begin_[c] + s] =
+          f.wall ? face_velocity(faces_[c][s], c, g, axis)  // an outlet's is corrected below
+                 : flat_value(f, g[axis]);
+      div += f.fraction * f.side * mac_[face_begin_[c] + s];
     }
     b[c] = div / (h * dt);
   }
@@ -326,9 +327,9 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
       const FlatFace& ff = flat_[face_begin_[c] + s];
       // dp/dn outward: p = 0 on an outlet half a cell away, 0 on walls and inlets.
       if (!ff.wall)
-        mac_[c][s] -= dt * ff.side * flat_gradient(ff, p);
+        mac_[face_begin_[c] + s] -= dt * ff.side * flat_gradient(ff, p);
       else if (outlet(faces_[c][s]))
-        mac_[c][s] -= dt * ff.side * (-2.0 * p[c] / h);
+        mac_[face_begin_[c] + s] -= dt * ff.side * (-2.0 * p[c] / h);
     }
   }
   subtract_gradient(u, p, dt);
@@ -514,7 +515,8 @@ void CompositeFlow::save(const std::string& dir) {
   const auto n = faces_.size(), width = static_cast<std::size_t>(sub_faces_per_cell(dims_));
   std::vector<double> mac(n * width, 0.0), phi(n * 3, 0.0);
   for (std::size_t c = 0; c < n; ++c) {
-    std::copy(mac_[c].begin(), mac_[c].end(), mac.begin() + static_cast<std::ptrdiff_t>(c * width));
+    for (std::size_t s = face_begin_[c]; s < face_begin_[c + 1]; ++s)
+      mac[c * width + s - face_begin_[c]] = mac_[s];
     for (std::size_t k = 0; k < 3; ++k) phi[c * 3 + k] = phi_[k].empty() ? 0.0 : phi_[k][c];
   }
   output::write_tables(forest_.comm(), dir + "/flow.h5", 0.0, 0,
@@ -533,7 +535,8 @@ void CompositeFlow::load(const std::string& dir) {
   const auto first = static_cast<std::size_t>(grid_->first_cell());
   for (auto& p : phi_) p.assign(faces_.size(), 0.0);
   for (std::size_t c = 0; c < faces_.size(); ++c) {
-    for (std::size_t s = 0; s < mac_[c].size(); ++s) mac_[c][s] = mac[(first + c) * width + s];
+    for (std::size_t s = 0; s < faces_[c].size(); ++s)
+      mac_[face_begin_[c] + s] = mac[(first + c) * width + s];
     for (std::size_t k = 0; k < 3; ++k) phi_[k][c] = phi[(first + c) * 3 + k];
   }
 }
@@ -542,7 +545,7 @@ std::vector<double> CompositeFlow::divergence() const {
   std::vector<double> div(faces_.size(), 0.0);
   for (std::size_t c = 0; c < faces_.size(); ++c) {
     for (std::size_t s = 0; s < faces_[c].size(); ++s)
-      div[c] += faces_[c][s].fraction * faces_[c][s].side * mac_[c][s];
+      div[c] += faces_[c][s].fraction * faces_[c][s].side * mac_[face_begin_[c] + s];
     div[c] /= h_[c];
   }
   return div;

@@ -114,7 +114,9 @@ class CompositeFlow {
   // What the turbulence model reads: the faces (stencils as slots), the face-normal velocities of the last
   // projection (along +axis), each local cell's spacing, and what holds on each domain face.
   const std::vector<std::vector<SubFace>>& faces() const { return faces_; }
-  const std::vector<std::vector<double>>& face_velocities() const { return mac_; }
+  double normal_velocity(std::size_t c, std::size_t s) const {
+    return mac_[face_begin_[c] + s];
+  }  // cell c's sub-face s
   double spacing(std::size_t c) const { return h_[c]; }
   Boundary boundary(int face) const { return kinds_[static_cast<std::size_t>(face)]; }
   // The total momentum sum V u along `axis` over all ranks.
@@ -200,7 +202,7 @@ class CompositeFlow {
   std::unique_ptr<CompositeGrid> grid_;
   std::vector<std::vector<SubFace>> faces_;  // ids as slots
   std::vector<double> h_;                    // per local cell, its spacing
-  std::vector<std::vector<double>> mac_;     // per local cell, per sub-face: the velocity along +axis
+  std::vector<double> mac_;                  // per sub-face (flat_'s order): the velocity along +axis
   std::unique_ptr<IjSystem> poisson_;
   // Implicit diffusion: per component its Laplacian (the conditions its
   // boundaries impose on it), and its Helmholtz systems for the predictor

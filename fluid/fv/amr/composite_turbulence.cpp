@@ -35,7 +35,6 @@ struct CompositeTurbulence::Link {
 std::vector<std::vector<CompositeTurbulence::Link>> CompositeTurbulence::links(
     const std::vector<double>& nut) const {
   const auto& faces = flow_.faces();
-  const auto& mac = flow_.face_velocities();
   const double inv_sigma[2] = {1.0 / params_.constants.sigma_k, 1.0 / params_.constants.sigma_epsilon};
   std::vector<std::vector<Link>> out(faces.size());
   for (std::size_t c = 0; c < faces.size(); ++c) {
@@ -45,8 +44,8 @@ std::vector<std::vector<CompositeTurbulence::Link>> CompositeTurbulence::links(
       Link l;
       l.face = s;
       l.side = f.side;
-      l.velocity = mac[c][s];
-      l.flux = f.side * mac[c][s] * f.fraction / h;
+      l.velocity = flow_.normal_velocity(c, s);
+      l.flux = f.side * l.velocity * f.fraction / h;
       if (!f.wall) {
         l.slot = f.across_slot;
         l.id = f.across;

@@ -111,7 +111,7 @@ class CompositeFlow {
   // theorem over its faces (the walls' and inlets' imposed values on theirs).
   using Gradient = std::array<std::array<double, 3>, 3>;
   std::vector<Gradient> velocity_gradients();
-  // What the turbulence model reads: the faces (stencils as slots), the face-normal velocities of the last
+  // What the turbulence model reads: the faces, the face-normal velocities of the last
   // projection (along +axis), each local cell's spacing, and what holds on each domain face.
   const std::vector<std::vector<SubFace>>& faces() const { return faces_; }
   double normal_velocity(std::size_t c, std::size_t s) const {
@@ -167,8 +167,8 @@ class CompositeFlow {
 
   // faces_ laid out flat for the loops of every step (the same faces in the
   // same order, their stencils in two arrays instead of a heap block each; a
-  // second copy of the stencils, kept beside faces_, which the turbulence
-  // model and the boundary faces read): the operators take the same
+  // second copy of the stencils: the eddy viscosity's terms, stress_transpose
+  // and face_viscosity, still evaluate faces_'s own): the operators take the same
   // operations in the same order (the bits may differ only where the compiler
   // fuses a multiply-add differently). Cell c's faces are
   // flat_[face_begin_[c]] .. [face_begin_[c + 1] - 1].

@@ -74,14 +74,16 @@ void CompositeFlow::flatten_faces() {
       throw std::runtime_error("refinement: more than 2^32 stencil entries on one rank; run on more ranks");
     return static_cast<std::uint32_t>(stencil_slot_.size());
   };
-  for (const auto& cell : faces_) {
-    for (const auto& f : cell) {
+  for (auto& cell : faces_) {
+    for (auto& f : cell) {
       FlatFace ff{f.axis, f.side, f.fraction, f.wall, 0, 0, 0, 0};
       ff.value_begin = static_cast<std::uint32_t>(stencil_slot_.size());
       ff.value_end = append(f.value);
       ff.gradient_begin = ff.value_end;
       ff.gradient_end = append(f.gradient);
       flat_.push_back(ff);
+      f.value = Stencil{};  // held once: the flat copy is what the operators read
+      f.gradient = Stencil{};
     }
     face_begin_.push_back(flat_.size());
   }
@@ -138,7 +140,7 @@ std::vector<CompositeFlow::Gradient> CompositeFlow::gradients(const Field& g) co
       const FlatFace& f = flat_[k];
       for (std::size_t q = 0; q < g.size(); ++q) {
         const double face =
-            f.wall ? face_velocity(faces_[c][k - face_begin_[c]], c, g, q) : flat_value(f, g[q]);
+            f.wall ? wall_velocity(faces_[c][k - face_begin_[c]], c, g, q) : flat_value(f, g[q]);
         grad[q][static_cast<std::size_t>(f.axis)] += f.fraction * f.side * face / h;
       }
     }
@@ -193,8 +195,7 @@ CompositeFlow::Field CompositeFlow::with_ghosts(const Field& u) {
   return g;
 }
 
-double CompositeFlow::face_velocity(const SubFace& f, std::size_t c, const Field& g, std::size_t q) const {
-  if (!f.wall) return evaluate(f.value, g[q]);
+double CompositeFlow::wall_velocity(const SubFace& f, std::size_t c, const Field& g, std::size_t q) const {
   return outlet(f) ? g[q][c] : imposed(f, c, g)[q];  // an outlet carries the cell's value
 }
 
@@ -284,8 +285,9 @@ CompositeFlow::Field CompositeFlow::stress_transpose(const Field& g, const std::
   Field out(g.size(), std::vector<double>(faces_.size(), 0.0));
   for (std::size_t c = 0; c < faces_.size(); ++c) {
     std::array<double, 3> dnut{0.0, 0.0, 0.0};
-    for (const auto& f : faces_[c]) {
-      const double face = !f.wall ? std::max(0.0, evaluate(f.value, nut)) : boundary_eddy(f, c, nut);
+    for (std::size_t s = 0; s < faces_[c].size(); ++s) {
+      const FlatFace& f = flat_[face_begin_[c] + s];
+      const double face = !f.wall ? std::max(0.0, flat_value(f, nut)) : boundary_eddy(faces_[c][s], c, nut);
       dnut[static_cast<std::size_t>(f.axis)] += f.fraction * f.side * face / h_[c];
     }
     for (std::size_t q = 0; q < g.size(); ++q)
@@ -307,7 +309,7 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
       const FlatFace& f = flat_[face_begin_[c] + s];
       const auto axis = static_cast<std::size_t>(f.axis);
       mac_[face_begin_[c] + s] =
-          f.wall ? face_velocity(faces_[c][s], c, g, axis)  // an outlet's is corrected below
+          f.wall ? wall_velocity(faces_[c][s], c, g, axis)  // an outlet's is corrected below
                  : flat_value(f, g[axis]);
       div += f.fraction * f.side * mac_[face_begin_[c] + s];
     }
@@ -442,8 +444,11 @@ std::vector<std::vector<double>> CompositeFlow::face_viscosity() const {
   grid_->gather(eddy_, nut);  // the ghosts as the last exchange left them (nu_t holds over the step)
   std::vector<std::vector<double>> out(faces_.size());
   for (std::size_t c = 0; c < faces_.size(); ++c)
-    for (const auto& f : faces_[c])
-      out[c].push_back(nu_ + (f.wall ? boundary_eddy(f, c, nut) : std::max(0.0, evaluate(f.value, nut))));
+    for (std::size_t s = 0; s < faces_[c].size(); ++s) {
+      const FlatFace& f = flat_[face_begin_[c] + s];
+      out[c].push_back(nu_ +
+                       (f.wall ? boundary_eddy(faces_[c][s], c, nut) : std::max(0.0, flat_value(f, nut))));
+    }
   return out;
 }
 

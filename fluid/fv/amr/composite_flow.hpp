@@ -111,12 +111,12 @@ class CompositeFlow {
   // theorem over its faces (the walls' and inlets' imposed values on theirs).
   using Gradient = std::array<std::array<double, 3>, 3>;
   std::vector<Gradient> velocity_gradients();
-  // What the turbulence model reads: the faces, the face-normal velocities of the last
-  // projection (along +axis), each local cell's spacing, and what holds on each domain face.
+  // What the turbulence model reads: the faces (their stencils emptied: the
+  // flow holds them flat), the face-normal velocities of the last projection
+  // (along +axis), each local cell's spacing, and what holds on each domain face.
   const std::vector<std::vector<SubFace>>& faces() const { return faces_; }
-  double normal_velocity(std::size_t c, std::size_t s) const {
-    return mac_[face_begin_[c] + s];
-  }  // cell c's sub-face s
+  // At cell c's sub-face s.
+  double normal_velocity(std::size_t c, std::size_t s) const { return mac_[face_begin_[c] + s]; }
   double spacing(std::size_t c) const { return h_[c]; }
   Boundary boundary(int face) const { return kinds_[static_cast<std::size_t>(face)]; }
   // The total momentum sum V u along `axis` over all ranks.
@@ -153,8 +153,8 @@ class CompositeFlow {
   }
   void project(Field& u, double dt, int stage);
   double volume(long c) const;
-  // The velocity component q at cell c's face f (fields with ghosts).
-  double face_velocity(const SubFace& f, std::size_t c, const Field& g, std::size_t q) const;
+  // The velocity component q at cell c's domain face f (fields with ghosts).
+  double wall_velocity(const SubFace& f, std::size_t c, const Field& g, std::size_t q) const;
   std::vector<double> pressure() const;  // per local cell, from the forest
   void set_pressure(const std::vector<double>& p);
   static std::size_t face_of(const SubFace& f) { return static_cast<std::size_t>(2 * f.axis + (f.side > 0)); }
@@ -166,9 +166,8 @@ class CompositeFlow {
   void flatten_faces();
 
   // faces_ laid out flat for the loops of every step (the same faces in the
-  // same order, their stencils in two arrays instead of a heap block each; a
-  // second copy of the stencils: the eddy viscosity's terms, stress_transpose
-  // and face_viscosity, still evaluate faces_'s own): the operators take the same
+  // same order, their stencils in two arrays instead of a heap block each;
+  // faces_ keeps the rest, its stencils emptied once copied): the operators take the same
   // operations in the same order (the bits may differ only where the compiler
   // fuses a multiply-add differently). Cell c's faces are
   // flat_[face_begin_[c]] .. [face_begin_[c + 1] - 1].

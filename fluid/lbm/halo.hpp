@@ -3,7 +3,9 @@
 // populations a ghost is pulled for travel: towards direction d, those with
 // e_q,a = d_a on every axis where d_a != 0 (5 of 19 through a face of D3Q19, 1
 // through an edge, none through a corner). A periodic axis that is not split
-// is copied within the block.
+// is copied within the block. W values per cell and population (2 where the
+// red and blue populations of a cell sit side by side: value c of cell x's
+// population q at q * stride + W x + c).
 #pragma once
 
 #include <mpi.h>
@@ -20,7 +22,7 @@
 
 namespace coflow::fluid::lbm {
 
-template <class L>
+template <class L, int W = 1>
 class HaloExchange {
  public:
   HaloExchange() = default;
@@ -82,8 +84,8 @@ class HaloExchange {
 
 // The link to a neighbour of the fluid grid (grid/neighbours.hpp, one ghost
 // layer) with the populations that cross to it and back.
-template <class L>
-typename HaloExchange<L>::Link HaloExchange<L>::link_to(const grid::Neighbour& n) {
+template <class L, int W>
+typename HaloExchange<L, W>::Link HaloExchange<L, W>::link_to(const grid::Neighbour& n) {
   Link h;
   h.rank = n.rank;
   for (int a = 0; a < 3; ++a) h.d[a] = n.d[a];
@@ -95,10 +97,10 @@ typename HaloExchange<L>::Link HaloExchange<L>::link_to(const grid::Neighbour& n
 }
 
 // Buffers and persistent requests of a link to another rank.
-template <class L>
-void HaloExchange<L>::start(Link& h, MPI_Comm comm) {
-  h.send_buf.resize(h.send_box.volume() * h.send_q.size());
-  h.recv_buf.resize(h.recv_box.volume() * h.recv_q.size());
+template <class L, int W>
+void HaloExchange<L, W>::start(Link& h, MPI_Comm comm) {
+  h.send_buf.resize(W * h.send_box.volume() * h.send_q.size());
+  h.recv_buf.resize(W * h.recv_box.volume() * h.recv_q.size());
   const int tag_send = 500 + (h.d[0] + 1) + 3 * (h.d[1] + 1) + 9 * (h.d[2] + 1);
   const int tag_recv = 500 + (-h.d[0] + 1) + 3 * (-h.d[1] + 1) + 9 * (-h.d[2] + 1);
   MPI_Send_init(h.send_buf.data(), static_cast<int>(h.send_buf.size()), MPI_DOUBLE, h.rank, tag_send, comm, &h.send);
@@ -106,8 +108,9 @@ void HaloExchange<L>::start(Link& h, MPI_Comm comm) {
   ++remote_;
 }
 
-template <class L>
-void HaloExchange<L>::build(const Layout& lay, const coupler::Decomposition& dec, int rank, MPI_Comm comm) {
+template <class L, int W>
+void HaloExchange<L, W>::build(const Layout& lay, const coupler::Decomposition& dec, int rank,
+                               MPI_Comm comm) {
   lay_ = &lay;
   const long* g = lay.ghost;
   bool x_from_other = false;
@@ -122,8 +125,8 @@ void HaloExchange<L>::build(const Layout& lay, const coupler::Decomposition& dec
   requests_.resize(2 * remote_);
 }
 
-template <class L>
-void HaloExchange<L>::post(double* f, long stride) {
+template <class L, int W>
+void HaloExchange<L, W>::post(double* f, long stride) {
   coupler::Timer t(coupler::trace().halo_s);
   const long* n = lay_->extent;
   const long* P = lay_->padded;
@@ -133,12 +136,18 @@ void HaloExchange<L>::post(double* f, long stride) {
       // To this rank itself: the face cells land in the ghosts on the
       // opposite side, one period away.
       const long shift = h.d[0] * n[0] + P[0] * (h.d[1] * n[1] + P[1] * h.d[2] * n[2]);
-      for (const int q : h.send_q) for_box(h.send_box, [&](long x) { f[q * stride + x - shift] = f[q * stride + x]; });
+      for (const int q : h.send_q)
+        for_box(h.send_box, [&](long x) {
+          for (int c = 0; c < W; ++c) f[q * stride + W * (x - shift) + c] = f[q * stride + W * x + c];
+        });
       continue;
     }
     MPI_Start(&h.recv);
     double* out = h.send_buf.data();
-    for (const int q : h.send_q) for_box(h.send_box, [&](long x) { *out++ = f[q * stride + x]; });
+    for (const int q : h.send_q)
+      for_box(h.send_box, [&](long x) {
+        for (int c = 0; c < W; ++c) *out++ = f[q * stride + W * x + c];
+      });
     MPI_Start(&h.send);
     requests_[2 * m] = h.recv;
     requests_[2 * m + 1] = h.send;
@@ -146,15 +155,18 @@ void HaloExchange<L>::post(double* f, long stride) {
   }
 }
 
-template <class L>
-void HaloExchange<L>::finish(double* f, long stride) {
+template <class L, int W>
+void HaloExchange<L, W>::finish(double* f, long stride) {
   if (remote_ == 0) return;
   coupler::wait_all(requests_, "the fluid halo exchange", &coupler::trace().halo_s);
   coupler::Timer t(coupler::trace().halo_s);
   for (Link& h : links_) {
     if (h.recv == MPI_REQUEST_NULL) continue;
     const double* in = h.recv_buf.data();
-    for (const int q : h.recv_q) for_box(h.recv_box, [&](long x) { f[q * stride + x] = *in++; });
+    for (const int q : h.recv_q)
+      for_box(h.recv_box, [&](long x) {
+        for (int c = 0; c < W; ++c) f[q * stride + W * x + c] = *in++;
+      });
   }
 }
 

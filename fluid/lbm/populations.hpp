@@ -1,8 +1,9 @@
 // One set of populations of a block: the post-collision populations of the
-// last step (f) and of the step being computed (next), Layout::stride apart,
-// with the halo exchange that fills f's ghosts. The single-phase solver holds
-// one set; a two-phase (colour-gradient) solver holds two, red and blue, over
-// the same Layout, boundaries and kernels.
+// last step (f) and of the step being computed (next), W Layout::stride apart,
+// with the halo exchange that fills f's ghosts. W values per cell and
+// population: 1 in the single-phase solver; 2 in the two-phase
+// (colour-gradient) one, whose red and blue populations q of a cell sit side
+// by side, so that its kernels pull and store 19 streams, not 38.
 #pragma once
 
 #include <utility>
@@ -12,18 +13,19 @@
 
 namespace coflow::fluid::lbm {
 
-template <class L>
+template <class L, int W = 1>
 struct Populations {
   StridedArrays<double> f, next;
-  HaloExchange<L> halo;
+  HaloExchange<L, W> halo;
 
-  // Q arrays of `cells` values, `stride` apart; throws std::bad_alloc where
-  // the address space is refused (f is then released again).
-  void allocate(long stride, long cells) {
+  // Q arrays of `values` doubles (W per cell), `stride` apart; throws
+  // std::bad_alloc where the address space is refused (f is then released
+  // again).
+  void allocate(long stride, long values) {
     f = {};
     next = {};
-    f = StridedArrays<double>(L::Q, stride, cells);
-    next = StridedArrays<double>(L::Q, stride, cells);
+    f = StridedArrays<double>(L::Q, stride, values);
+    next = StridedArrays<double>(L::Q, stride, values);
   }
   void swap() { std::swap(f, next); }
 };

@@ -23,6 +23,30 @@ using coupler::Decomposition;
 
 constexpr std::uint8_t kWall = 255;  // a ghost cell beyond a wall face of the box
 
+// Four neighbouring cells' red and blue populations q, stored side by side
+// (lo = r0 b0 r1 b1, hi = r2 b2 r3 b3), as one colour per vector: red = r0 r2
+// r1 r3, blue = b0 b2 b1 b3 (two in-lane unpacks; the lanes keep the order 0
+// 2 1 3, and swap_middle takes a vector of the cells in order there and back).
+using LaneMask = long __attribute__((vector_size(32)));
+[[gnu::always_inline]] inline void split_pairs(Vec4 lo, Vec4 hi, Vec4& red, Vec4& blue) {
+  red = __builtin_shuffle(lo, hi, LaneMask{0, 4, 2, 6});
+  blue = __builtin_shuffle(lo, hi, LaneMask{1, 5, 3, 7});
+}
+[[gnu::always_inline]] inline void join_pairs(Vec4 red, Vec4 blue, Vec4& lo, Vec4& hi) {
+  lo = __builtin_shuffle(red, blue, LaneMask{0, 4, 2, 6});
+  hi = __builtin_shuffle(red, blue, LaneMask{1, 5, 3, 7});
+}
+[[gnu::always_inline]] inline Vec4 swap_middle(Vec4 v) {
+  return __builtin_shuffle(v, LaneMask{0, 2, 1, 3});
+}
+// The colour field rho_r - rho_b of four cells, in their order, from the sums
+// of their pairs over the velocities.
+[[gnu::always_inline]] inline Vec4 colour_of(Vec4 lo, Vec4 hi) {
+  Vec4 red, blue;
+  split_pairs(lo, hi, red, blue);
+  return swap_middle(red - blue);
+}
+
 template <class L, bool Incompressible>
 class TwoPhaseCore final : public LbmCore {
  public:
@@ -40,10 +64,8 @@ class TwoPhaseCore final : public LbmCore {
     lay_.stride = cells_;
     for (int q = 0; q < L::Q; ++q)
       off_[q] = L::e[q][0] + lay_.padded[0] * (L::e[q][1] + lay_.padded[1] * L::e[q][2]);
-    red_.allocate(cells_, cells_);
-    blue_.allocate(cells_, cells_);
-    red_.halo.build(lay_, dec_, rank, comm);
-    blue_.halo.build(lay_, dec_, rank, comm);
+    pop_.allocate(2 * cells_, 2 * cells_);
+    pop_.halo.build(lay_, dec_, rank, comm);
     phi_.assign(static_cast<std::size_t>(cells_), 0.0);
     mark_solids();
     solid_momentum_.assign(3 * (s.tp.solid_phase.size() - 1), 0.0);
@@ -60,10 +82,8 @@ class TwoPhaseCore final : public LbmCore {
   }
 
   void step() override {
-    red_.halo.post(red_.f.data(), cells_);
-    blue_.halo.post(blue_.f.data(), cells_);
-    red_.halo.finish(red_.f.data(), cells_);
-    blue_.halo.finish(blue_.f.data(), cells_);
+    pop_.halo.post(pop_.f.data(), 2 * cells_);
+    pop_.halo.finish(pop_.f.data(), 2 * cells_);
     stream();
     if (hook_) hook_();  // immersed boundaries: the streamed populations are in `next`
     colour_grains();
@@ -78,8 +98,7 @@ class TwoPhaseCore final : public LbmCore {
                [&](long x) { collide4<false>(x); }, one);
     else
       for_rows([&](long x) { return plain(x); }, [&](long x) { collide4<true>(x); }, one);
-    red_.swap();
-    blue_.swap();
+    pop_.swap();
   }
 
   void macroscopic(std::vector<double>& u, std::vector<double>& rho) const override {
@@ -90,7 +109,7 @@ class TwoPhaseCore final : public LbmCore {
       if (!solid_[x]) {
         double r = 0.0, j[3] = {0.0, 0.0, 0.0};
         for (int q = 0; q < L::Q; ++q) {
-          const double f = red_.f[q * cells_ + x] + blue_.f[q * cells_ + x];
+          const double f = pop_.f[at(q, x)] + pop_.f[at(q, x) + 1];
           r += f;
           for (int d = 0; d < 3; ++d) j[d] += L::e[q][d] * f;
         }
@@ -111,7 +130,7 @@ class TwoPhaseCore final : public LbmCore {
     for_owned([&](long, long, long, long x) {
       if (!solid_[x]) {
         double r = 0.0, b = 0.0;
-        for (int q = 0; q < L::Q; ++q) r += red_.f[q * cells_ + x], b += blue_.f[q * cells_ + x];
+        for (int q = 0; q < L::Q; ++q) r += pop_.f[at(q, x)], b += pop_.f[at(q, x) + 1];
         out[c] = (r - b) / (r + b);
       }
       ++c;
@@ -131,7 +150,7 @@ class TwoPhaseCore final : public LbmCore {
     long c = 0, found = -1;
     for_owned([&](long, long, long, long x) {
       for (int q = 0; q < L::Q && found < 0 && !solid_[x]; ++q)
-        if (!std::isfinite(red_.f[q * cells_ + x]) || !std::isfinite(blue_.f[q * cells_ + x])) found = c;
+        if (!std::isfinite(pop_.f[at(q, x)]) || !std::isfinite(pop_.f[at(q, x) + 1])) found = c;
       ++c;
     });
     return found;
@@ -140,15 +159,15 @@ class TwoPhaseCore final : public LbmCore {
   void get_populations(std::vector<double>& out) const override {
     out.clear();
     for_owned([&](long, long, long, long x) {
-      for (int q = 0; q < L::Q; ++q) out.push_back(red_.f[q * cells_ + x]);
-      for (int q = 0; q < L::Q; ++q) out.push_back(blue_.f[q * cells_ + x]);
+      for (int q = 0; q < L::Q; ++q) out.push_back(pop_.f[at(q, x)]);
+      for (int q = 0; q < L::Q; ++q) out.push_back(pop_.f[at(q, x) + 1]);
     });
   }
   void set_populations(const std::vector<double>& in) override {
     std::size_t o = 0;
     for_owned([&](long, long, long, long x) {
-      for (int q = 0; q < L::Q; ++q) red_.f[q * cells_ + x] = in[o++];
-      for (int q = 0; q < L::Q; ++q) blue_.f[q * cells_ + x] = in[o++];
+      for (int q = 0; q < L::Q; ++q) pop_.f[at(q, x)] = in[o++];
+      for (int q = 0; q < L::Q; ++q) pop_.f[at(q, x) + 1] = in[o++];
     });
   }
   // The grains' cells of the next steps: fluid cells (not in interior solids,
@@ -185,15 +204,15 @@ class TwoPhaseCore final : public LbmCore {
       for (int q = 0; q < L::Q; ++q) {
         const long src = x - off_[q];
         const bool back = solid_[src] != 0;
-        r[q] = back ? red_.next[L::opp[q] * cells_ + x] : red_.next[q * cells_ + src];
-        b[q] = back ? blue_.next[L::opp[q] * cells_ + x] : blue_.next[q * cells_ + src];
+        r[q] = back ? pop_.next[at(L::opp[q], x)] : pop_.next[at(q, src)];
+        b[q] = back ? pop_.next[at(L::opp[q], x) + 1] : pop_.next[at(q, src) + 1];
       }
       gradient(x, g);
       force(c, F);
       const double uu =
           psm_colour_collide<L, Incompressible>(r, b, g, colour_, F, fraction[n], &us[3 * n], &gain[3 * n]);
       max_u2_ = nan_max(max_u2_, uu);
-      for (int q = 0; q < L::Q; ++q) red_.f[q * cells_ + x] = r[q], blue_.f[q * cells_ + x] = b[q];
+      for (int q = 0; q < L::Q; ++q) pop_.f[at(q, x)] = r[q], pop_.f[at(q, x) + 1] = b[q];
     }
   }
   void set_source(std::span<const double> force) override {
@@ -215,7 +234,7 @@ class TwoPhaseCore final : public LbmCore {
       const long c = cells[n], x = block_index(c);
       double r = 0.0, j[3] = {0.0, 0.0, 0.0}, F[3];
       for (int q = 0; q < L::Q; ++q) {
-        const double f = red_.next[q * cells_ + x] + blue_.next[q * cells_ + x];
+        const double f = pop_.next[at(q, x)] + pop_.next[at(q, x) + 1];
         r += f;
         for (int d = 0; d < 3; ++d) j[d] += L::e[q][d] * f;
       }
@@ -435,8 +454,8 @@ class TwoPhaseCore final : public LbmCore {
       const double psi = s_.tp.on ? s_.tp.initial_phase(g[0], g[1], g[2]) : 1.0;
       for (int q = 0; q < L::Q; ++q) {
         const double feq = equilibrium<L, Incompressible>(q, rho, u) + L::w[q];
-        red_.f[q * cells_ + x] = 0.5 * (1.0 + psi) * feq;
-        blue_.f[q * cells_ + x] = 0.5 * (1.0 - psi) * feq;
+        pop_.f[at(q, x)] = 0.5 * (1.0 + psi) * feq;
+        pop_.f[at(q, x) + 1] = 0.5 * (1.0 - psi) * feq;
       }
     });
   }
@@ -488,47 +507,47 @@ class TwoPhaseCore final : public LbmCore {
     // Locals, not members: the stores below are byte copies, after which the
     // compiler would reload every member they might alias.
     const long n = cells_;
-    const double *rf = red_.f.data(), *bf = blue_.f.data();
-    Vec4 rr = splat<Vec4>(0.0), bb = rr;
+    const double* f = pop_.f.data();
+    Vec4 lo = splat<Vec4>(0.0), hi = lo;  // sums of r0 b0 r1 b1 and of r2 b2 r3 b3
 #pragma GCC unroll 32
     for (int q = 0; q < L::Q; ++q) {
-      const long at = q * n + x - off_[q];
-      rr += detail::get(rf + at);
-      bb += detail::get(bf + at);
-      prefetch_pulled(rf + at + prefetch_ahead);
-      prefetch_pulled(bf + at + prefetch_ahead);
+      const double* p = f + 2 * (q * n + x - off_[q]);
+      lo += detail::get(p);
+      hi += detail::get(p + 4);
+      prefetch_pulled(p + prefetch_ahead);  // the values ahead: eight cache lines, 32 cells
     }
-    detail::put<false>(&phi_[x], rr - bb);
+    detail::put<false>(&phi_[x], colour_of(lo, hi));
   }
 
   // Four plain cells pulled into `next` with their colour field (stream_cell's
   // arithmetic on four lanes), for a collision that reads them there.
   void stream4(long x) {
     const long n = cells_;  // locals: see colour4
-    const double *rf = red_.f.data(), *bf = blue_.f.data();
-    double *rn = red_.next.data(), *bn = blue_.next.data();
-    Vec4 rr = splat<Vec4>(0.0), bb = rr;
+    const double* f = pop_.f.data();
+    double* next = pop_.next.data();
+    Vec4 lo = splat<Vec4>(0.0), hi = lo;
 #pragma GCC unroll 32
     for (int q = 0; q < L::Q; ++q) {
-      const long at = q * n + x - off_[q];
-      const Vec4 r = detail::get(rf + at), b = detail::get(bf + at);
-      detail::put<false>(rn + q * n + x, r);
-      detail::put<false>(bn + q * n + x, b);
-      rr += r;
-      bb += b;
+      const double* p = f + 2 * (q * n + x - off_[q]);
+      const Vec4 a = detail::get(p), c = detail::get(p + 4);
+      detail::put<false>(next + 2 * (q * n + x), a);
+      detail::put<false>(next + 2 * (q * n + x) + 4, c);
+      lo += a;
+      hi += c;
     }
-    detail::put<false>(&phi_[x], rr - bb);
+    detail::put<false>(&phi_[x], colour_of(lo, hi));
   }
 
   // Four plain cells collided (collide_cell's arithmetic on four lanes), into
   // `next`: pulled from the current populations (Pulled), or already streamed
   // into `next` by stream4 (with immersed boundaries stream() stores every
-  // cell there, for the forcing to read; these cells take no cell force).
+  // cell there, for the forcing to read; these cells take no cell force). The
+  // lanes run in the order 0 2 1 3 of the cells (split_pairs).
   template <bool Pulled>
   void collide4(long x) {
     const long n = cells_;  // locals: see colour4
-    const double *rf = red_.f.data(), *bf = blue_.f.data(), *phi = phi_.data();
-    double *rn = red_.next.data(), *bn = blue_.next.data();
+    const double *f = pop_.f.data(), *phi = phi_.data();
+    double* next = pop_.next.data();
     const long* off = off_;
     Vec4 r[L::Q], b[L::Q], g[3];
     g[0] = g[1] = g[2] = splat<Vec4>(0.0);
@@ -537,19 +556,13 @@ class TwoPhaseCore final : public LbmCore {
       const Vec4 ph = detail::get(phi + x + off[q]);
       for (int d = 0; d < 3; ++d) g[d] += L::e[q][d] * ph;
     }
+    for (int d = 0; d < 3; ++d) g[d] = swap_middle(g[d]);
     const double F[3] = {s_.force[0] + 0.0, s_.force[1] + 0.0, s_.force[2] + 0.0};  // as force() without a source
 #pragma GCC unroll 32
     for (int q = 0; q < L::Q; ++q) {
-      if constexpr (Pulled) {
-        const long at = q * n + x - off[q];
-        r[q] = detail::get(rf + at);
-        b[q] = detail::get(bf + at);
-        prefetch_pulled(rf + at + prefetch_ahead);
-        prefetch_pulled(bf + at + prefetch_ahead);
-      } else {
-        r[q] = detail::get(rn + q * n + x);
-        b[q] = detail::get(bn + q * n + x);
-      }
+      const double* p = Pulled ? f + 2 * (q * n + x - off[q]) : next + 2 * (q * n + x);
+      split_pairs(detail::get(p), detail::get(p + 4), r[q], b[q]);
+      if constexpr (Pulled) prefetch_pulled(p + prefetch_ahead);
     }
     const Vec4 uu = colour_collide_lanes<L, Incompressible, Vec4>(r, b, g, colour_, F);
     double most = max_u2_;
@@ -557,9 +570,16 @@ class TwoPhaseCore final : public LbmCore {
     max_u2_ = most;
 #pragma GCC unroll 32
     for (int q = 0; q < L::Q; ++q) {
-      detail::put<false>(rn + q * n + x, r[q]);
-      detail::put<false>(bn + q * n + x, b[q]);
+      Vec4 lo, hi;
+      join_pairs(r[q], b[q], lo, hi);
+      detail::put<false>(next + 2 * (q * n + x), lo);
+      detail::put<false>(next + 2 * (q * n + x) + 4, hi);
     }
+  }
+
+  // Where red population q of cell x sits (blue: the next value).
+  long at(int q, long x) const {
+    return 2 * (q * cells_ + x);
   }
 
   // Pull streaming of one fluid cell (see stream()).
@@ -572,8 +592,8 @@ class TwoPhaseCore final : public LbmCore {
         unknown[q] = open_[src] != 0;
         any = any || unknown[q];
         if (solid_[src]) {
-          r = red_.f[L::opp[q] * cells_ + x];
-          b = blue_.f[L::opp[q] * cells_ + x];
+          r = pop_.f[at(L::opp[q], x)];
+          b = pop_.f[at(L::opp[q], x) + 1];
           // Ladd's momentum exchange, relative to the fluid at rest at the
           // reference density (whose push on a closed solid sums to zero).
           const double moved = r + b - L::w[q];
@@ -584,15 +604,15 @@ class TwoPhaseCore final : public LbmCore {
               solid_momentum_[3 * (solid_[src] - 1) + a] -= 2.0 * moved * L::e[q][a];
           }
         } else if (!unknown[q]) {
-          r = red_.f[q * cells_ + src];
-          b = blue_.f[q * cells_ + src];
+          r = pop_.f[at(q, src)];
+          b = pop_.f[at(q, src) + 1];
         }
-        red_.next[q * cells_ + x] = r;
-        blue_.next[q * cells_ + x] = b;
+        pop_.next[at(q, x)] = r;
+        pop_.next[at(q, x) + 1] = b;
       }
       if (any) close_cell(i, j, k, x, unknown);
       double rr = 0.0, bb = 0.0;
-      for (int q = 0; q < L::Q; ++q) rr += red_.next[q * cells_ + x], bb += blue_.next[q * cells_ + x];
+      for (int q = 0; q < L::Q; ++q) rr += pop_.next[at(q, x)], bb += pop_.next[at(q, x) + 1];
       phi_[x] = rr - bb;
     }
   }
@@ -606,7 +626,7 @@ class TwoPhaseCore final : public LbmCore {
   // regularized face rebuilds keep their own colour fractions.
   void close_cell(long i, long j, long k, long x, bool* unknown) {
     double r[L::Q], b[L::Q], f[L::Q], F[3];
-    for (int q = 0; q < L::Q; ++q) r[q] = red_.next[q * cells_ + x], b[q] = blue_.next[q * cells_ + x];
+    for (int q = 0; q < L::Q; ++q) r[q] = pop_.next[at(q, x)], b[q] = pop_.next[at(q, x) + 1];
     const long loc[3] = {lay_.origin[0] + i, lay_.origin[1] + j, lay_.origin[2] + k};
     drive((k * lay_.extent[1] + j) * lay_.extent[0] + i, F);  // this step's forcing comes after
     const auto on = [&](int face) {
@@ -622,7 +642,7 @@ class TwoPhaseCore final : public LbmCore {
       const int axis = face / 2, s = face % 2 == 0 ? 1 : -1;
       for (int q = 0; q < L::Q; ++q)
         if (s * L::e[q][axis] > 0) {
-          r[q] = red_.f[q * cells_ + inner(face)], b[q] = blue_.f[q * cells_ + inner(face)];
+          r[q] = pop_.f[at(q, inner(face))], b[q] = pop_.f[at(q, inner(face)) + 1];
           unknown[q] = false;
         }
     }
@@ -639,7 +659,7 @@ class TwoPhaseCore final : public LbmCore {
       if (fc.regularized) {
         double uin[3], rho_in = 0.0, m[3] = {0.0, 0.0, 0.0};
         for (int q = 0; q < L::Q; ++q) {
-          const double v = red_.f[q * cells_ + inner(face)] + blue_.f[q * cells_ + inner(face)];
+          const double v = pop_.f[at(q, inner(face))] + pop_.f[at(q, inner(face)) + 1];
           rho_in += v;
           for (int d = 0; d < 3; ++d) m[d] += L::e[q][d] * v;
         }
@@ -655,8 +675,8 @@ class TwoPhaseCore final : public LbmCore {
     for (int q = 0; q < L::Q; ++q) {
       const double total = f[q] + L::w[q];
       const double red = set[q] ? psi * total : rebuilt ? total * r[q] / (r[q] + b[q]) : r[q];
-      red_.next[q * cells_ + x] = set[q] || rebuilt ? red : r[q];
-      blue_.next[q * cells_ + x] = set[q] || rebuilt ? total - red : b[q];
+      pop_.next[at(q, x)] = set[q] || rebuilt ? red : r[q];
+      pop_.next[at(q, x) + 1] = set[q] || rebuilt ? total - red : b[q];
     }
   }
 
@@ -704,7 +724,7 @@ class TwoPhaseCore final : public LbmCore {
     if (s_.tp.geometric) return;
     for (const Grain& m : grains_) {
       double rho = 0.0;
-      for (int q = 0; q < L::Q; ++q) rho += red_.next[q * cells_ + m.x] + blue_.next[q * cells_ + m.x];
+      for (int q = 0; q < L::Q; ++q) rho += pop_.next[at(q, m.x)] + pop_.next[at(q, m.x) + 1];
       phi_[m.x] = (1.0 - m.eps) * phi_[m.x] + m.eps * rho * m.wetting;
     }
   }
@@ -713,10 +733,10 @@ class TwoPhaseCore final : public LbmCore {
     double g[3], r[L::Q], b[L::Q], F[3];
     gradient(x, g);
     force((k * lay_.extent[1] + j) * lay_.extent[0] + i, F);
-    for (int q = 0; q < L::Q; ++q) r[q] = red_.next[q * cells_ + x], b[q] = blue_.next[q * cells_ + x];
+    for (int q = 0; q < L::Q; ++q) r[q] = pop_.next[at(q, x)], b[q] = pop_.next[at(q, x) + 1];
     const double uu = colour_collide<L, Incompressible>(r, b, g, colour_, F);
     max_u2_ = nan_max(max_u2_, uu);
-    for (int q = 0; q < L::Q; ++q) red_.next[q * cells_ + x] = r[q], blue_.next[q * cells_ + x] = b[q];
+    for (int q = 0; q < L::Q; ++q) pop_.next[at(q, x)] = r[q], pop_.next[at(q, x) + 1] = b[q];
   }
 
   const Setup& s_;
@@ -726,7 +746,9 @@ class TwoPhaseCore final : public LbmCore {
   Layout lay_;
   long cells_ = 0;  // of the block with its ghosts
   long off_[L::Q];
-  Populations<L> red_, blue_;
+  // Red and blue side by side: red population q of cell x at at(q, x), blue
+  // right after it (one stream per velocity for both colours).
+  Populations<L, 2> pop_;
   std::vector<double> phi_;          // rho_r - rho_b of the pulled populations; solids: their colour
   std::vector<std::uint8_t> solid_;  // 0 fluid, solid id, or kWall
   struct Wet {

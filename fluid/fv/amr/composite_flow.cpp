@@ -76,10 +76,9 @@ void CompositeFlow::flatten_faces() {
   };
   for (auto& cell : faces_) {
     for (auto& f : cell) {
-      FlatFace ff{f.axis, f.side, f.fraction, f.wall, 0, 0, 0, 0};
+      FlatFace ff{f.axis, f.side, f.fraction, f.wall, 0, 0, 0};
       ff.value_begin = static_cast<std::uint32_t>(stencil_slot_.size());
       ff.value_end = append(f.value);
-      ff.gradient_begin = ff.value_end;
       ff.gradient_end = append(f.gradient);
       flat_.push_back(ff);
       f.value = Stencil{};  // held once: the flat copy is what the operators read

@@ -176,14 +176,15 @@ class CompositeFlow {
     int side;
     double fraction;
     bool wall;
-    std::uint32_t value_begin, value_end, gradient_begin,
-        gradient_end;  // into stencil_slot_, stencil_weight_
+    // Into stencil_slot_, stencil_weight_: the value's stencil, then the
+    // gradient's from value_end (32 bytes a face).
+    std::uint32_t value_begin, value_end, gradient_end;
   };
   double flat_value(const FlatFace& f, const std::vector<double>& field) const {
     return flat_evaluate(f.value_begin, f.value_end, field);
   }
   double flat_gradient(const FlatFace& f, const std::vector<double>& field) const {
-    return flat_evaluate(f.gradient_begin, f.gradient_end, field);
+    return flat_evaluate(f.value_end, f.gradient_end, field);
   }
   // evaluate() (composite_grid.hpp) on the flat stencils: the same sum in the same order.
   double flat_evaluate(std::uint32_t begin, std::uint32_t end, const std::vector<double>& field) const {

@@ -148,8 +148,9 @@ struct LineRef {
   [[gnu::always_inline]] double* out(long i) const { return dst + q * n + i; }
 };
 
-// How far ahead (in cells) the line kernels prefetch the populations they
-// pull: eight cache lines, measured best on a Zen 3 core (32-64 equal, 96 and
+// How far ahead (in values: cells here, half as many cells in the two-phase
+// core's pairs) the line kernels prefetch the populations they pull: eight
+// cache lines, measured best on a Zen 3 core (32-64 equal, 96 and
 // more slower; none 5 % slower).
 inline constexpr long prefetch_ahead = 64;
 

@@ -18,14 +18,14 @@ struct Populations {
   StridedArrays<double> f, next;
   HaloExchange<L, W> halo;
 
-  // Q arrays of `values` doubles (W per cell), `stride` apart; throws
-  // std::bad_alloc where the address space is refused (f is then released
-  // again).
-  void allocate(long stride, long values) {
+  // Q arrays of `cells` cells (W values each), W `stride` values apart;
+  // throws std::bad_alloc where the address space is refused (f is then
+  // released again).
+  void allocate(long stride, long cells) {
     f = {};
     next = {};
-    f = StridedArrays<double>(L::Q, stride, values);
-    next = StridedArrays<double>(L::Q, stride, values);
+    f = StridedArrays<double>(L::Q, W * stride, W * cells);
+    next = StridedArrays<double>(L::Q, W * stride, W * cells);
   }
   void swap() { std::swap(f, next); }
 };

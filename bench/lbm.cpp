@@ -208,13 +208,8 @@ double two_phase_pattern_mlups(long n, int steps) {
   HugeVector<double> a(2 * Q * N, 1e-3), b(2 * Q * N, 0.0), phi(N, 0.0);
   long off[Q];
   for (int q = 0; q < Q; ++q) off[q] = L::e[q][0] + P0 * (L::e[q][1] + P1 * L::e[q][2]);
-  using V = double __attribute__((vector_size(32)));
-  const auto get = [](const double* p) {
-    V v;
-    __builtin_memcpy(&v, p, sizeof v);
-    return v;
-  };
-  const auto put = [](double* p, V v) { __builtin_memcpy(p, &v, sizeof v); };
+  using fluid::lbm::Vec4, fluid::lbm::detail::get;
+  const auto put = fluid::lbm::detail::put<false>;
   double best = 0.0;
   for (int s = 0; s < steps; ++s) {
     const double t0 = coupler::now();
@@ -223,13 +218,13 @@ double two_phase_pattern_mlups(long n, int steps) {
         for (long j = 1; j <= n; ++j)
           for (long i = 1; i + 4 <= n + 1; i += 4) {
             const long x = (k * P1 + j) * P0 + i;
-            V sum = {0.0, 0.0, 0.0, 0.0};
+            Vec4 sum = {0.0, 0.0, 0.0, 0.0};
             if (pass == 1)
               for (int q = 1; q < Q; ++q) sum += get(phi.data() + x + off[q]);
 #pragma GCC unroll 19
             for (int q = 0; q < Q; ++q) {
               const double* p = a.data() + 2 * (q * N + x - off[q]);
-              const V lo = get(p), hi = get(p + 4);
+              const Vec4 lo = get(p), hi = get(p + 4);
               fluid::lbm::prefetch_pulled(p + fluid::lbm::prefetch_ahead);
               if (pass == 0) {
                 sum += lo - hi;

@@ -1,15 +1,16 @@
 #include "fluid/driver.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <memory>
 
-#include <fmt/format.h>
-
-#include "coflow/log.hpp"
-#include "coflow/output.hpp"
 #include "coflow/exchange.hpp"
 #include "coflow/impulse_series.hpp"
+#include "coflow/log.hpp"
+#include "coflow/output.hpp"
 #include "coflow/protocol.hpp"
+#include "coflow/run_config.hpp"
 #include "coflow/window_loop.hpp"
 #include "fluid/fluid_solver.hpp"
 #include "fluid/probes.hpp"
@@ -120,7 +121,7 @@ class FluidWindows final : public coupler::WindowParts {
     if (walls_) walls_->save(dir);
   }
   void finish() override {
-    if (force_out_) force_out_->flush();
+    if (solid_in_) solid_in_->flush();
     if (flow_out_) flow_out_->flush();
   }
 
@@ -144,10 +145,9 @@ class FluidWindows final : public coupler::WindowParts {
   Probes probes_;
   output::Series probes_series_;
   std::unique_ptr<coupler::ImpulseSeries> walls_;  // the fluid's force on its wall faces
-  std::unique_ptr<coupler::FieldExchange> solid_in_, force_out_, flow_out_, source_in_;
+  std::unique_ptr<coupler::FieldExchange> solid_in_, flow_out_, source_in_;
   std::vector<long> solid_cells_;
   std::vector<double> solid_values_, fraction_, velocity_, wetting_, force_;
-  std::vector<coupler::Index3> force_cells_;
   std::vector<double> flow_local_, source_local_, source_owned_;
 };
 
@@ -212,10 +212,10 @@ void FluidWindows::open_exchanges() {
                                            tag);
   };
   if (psm_) {
-    solid_in_ = open(FieldExchange::Role::receiver, {"solid", 5, coupler::Transfer::consistent, 0},
+    solid_in_ = open(FieldExchange::Role::receiver,
+                     {"solid", protocol::solid_values(config::two_phase_fluid(s_.config())),
+                      coupler::Transfer::consistent, 0},
                      protocol::kTagSolid);
-    force_out_ = open(FieldExchange::Role::sender, {"solid_force", 3, coupler::Transfer::consistent, 0},
-                      protocol::kTagSolidForce);
   }
   if (point_) {
     flow_out_ = open(FieldExchange::Role::sender, {"flow", 5, coupler::Transfer::consistent, 2}, protocol::kTagFlow);
@@ -231,27 +231,23 @@ void FluidWindows::receive_solids() {
   solid_values_.clear();
   solid_in_->receive_sparse(solid_cells_, solid_values_);
   const std::size_t n = solid_cells_.size();
+  const int nc = solid_in_->spec().components;  // one fluid: no wetting (0 here, unused)
   fraction_.resize(n);
   velocity_.resize(3 * n);
   wetting_.resize(n);
   for (std::size_t c = 0; c < n; ++c) {
-    fraction_[c] = solid_values_[5 * c];
-    for (int d = 0; d < 3; ++d) velocity_[3 * c + d] = solid_values_[5 * c + 1 + d];
-    wetting_[c] = solid_values_[5 * c + 4];
+    fraction_[c] = solid_values_[nc * c];
+    for (int d = 0; d < 3; ++d) velocity_[3 * c + d] = solid_values_[nc * c + 1 + d];
+    wetting_[c] = nc == 5 ? solid_values_[nc * c + 4] : 0.0;
   }
   solver_->set_solid(solid_cells_, fraction_, velocity_, wetting_);
 }
 
+// The force on the solid in each cell, back to the immersed rank that sent
+// the cell, in its order (a reply: no cell indices travel).
 void FluidWindows::send_solid_force() {
   solver_->take_solid_force(force_);
-  force_out_->flush();  // the previous window's message may still read force_cells_
-  force_cells_.resize(solid_cells_.size());
-  const long nx = owned_.extent(0), ny = owned_.extent(1);
-  for (std::size_t c = 0; c < solid_cells_.size(); ++c) {
-    const long l = solid_cells_[c];
-    force_cells_[c] = {owned_.lo[0] + l % nx, owned_.lo[1] + (l / nx) % ny, owned_.lo[2] + l / (nx * ny)};
-  }
-  force_out_->send_sparse(force_cells_, force_);
+  solid_in_->reply_sparse(force_, 3);
 }
 
 void FluidWindows::send_flow() {

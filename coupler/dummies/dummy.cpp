@@ -174,6 +174,7 @@ class FluidDummy final : public coupler::WindowParts {
   void save(const std::string&) override {}  // a component with no state still takes part
   void finish() override {
     for (auto& e : ex_.velocity) e->flush();
+    for (auto& e : ex_.source) e->flush();  // the replies
     s_.set_final("dummy.checked_windows", static_cast<double>(checked_));
   }
 
@@ -204,6 +205,9 @@ void FluidDummy::receive_source(long w) {
       ex.receive_sparse(got_cells_, got_values_);
       for (std::size_t n = 0; n < got_cells_.size(); ++n)
         for (int c = 0; c < 3; ++c) local_[got_cells_[n] * 3 + c] += got_values_[n * 3 + c];
+      // The sender checks that each cell's reply is its own value, negated.
+      for (double& x : got_values_) x = -x;
+      ex.reply_sparse(got_values_, 3);
     } else {
       ex.receive(local_);
     }
@@ -314,6 +318,7 @@ class ImmersedDummy final : public coupler::WindowParts {
   void send_source(long w);
   void receive_velocity();
   void check_velocity(int v, const Box& box);
+  void check_replies(int v);
 
   coupler::Session& s_;
   const DummyParams& p_;
@@ -325,6 +330,8 @@ class ImmersedDummy final : public coupler::WindowParts {
   std::vector<double> local_, values_, got_values_;
   std::vector<Index3> cells_;
   std::vector<long> got_cells_;
+  std::vector<Index3> sent_cells_[4];  // the last sparse sources, for their replies
+  std::vector<double> sent_values_[4], replies_;
 };
 
 void ImmersedDummy::answer_points() {
@@ -362,6 +369,30 @@ void ImmersedDummy::send_source(long w) {
       values_.insert(values_.end(), src.begin(), src.end());
     });
     ex.send_sparse(cells_, values_);
+    sent_cells_[v] = cells_;
+    sent_values_[v] = values_;
+  }
+  for (int v = 0; v < 4 && !ex_.source.empty(); ++v)
+    if (kVariants[v].sparse) check_replies(v);
+}
+
+// The fluid replies to each sparse source cell with its value negated; a cell
+// beyond a wall reaches no rank and gets zero.
+void ImmersedDummy::check_replies(int v) {
+  const auto& cells = sent_cells_[v];
+  const auto& values = sent_values_[v];
+  replies_.assign(values.size(), std::nan(""));
+  ex_.source[v]->receive_replies(replies_, 3);
+  for (std::size_t n = 0; n < cells.size(); ++n) {
+    const Index3& c = cells[n];
+    const bool beyond = mine_.clip(Box{c, {c[0] + 1, c[1] + 1, c[2] + 1}}).empty();
+    for (int k = 0; k < 3; ++k) {
+      const double expected = beyond ? 0.0 : -values[3 * n + k];
+      if (!(replies_[3 * n + k] == expected))
+        throw std::runtime_error(
+            fmt::format("immersed: reply for ({},{},{}) comp {} is {} not {} (variant {})", c[0], c[1], c[2],
+                        k, replies_[3 * n + k], expected, v));
+    }
   }
 }
 

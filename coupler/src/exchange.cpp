@@ -80,6 +80,10 @@ void FieldExchange::build(const Decomposition& mine, int my_rank, const Decompos
     const Box dst = cons ? rdec.block(r) : rdec.clip(rdec.block(r).grown(g));
     Peer peer;
     peer.rank = p;
+    peer.remote_local = rdec.block(r).grown(g);
+    if (peer.remote_local.volume() > INT32_MAX)
+      throw std::invalid_argument(fmt::format("field '{}': {} cells on rank {} (at most 2^31 - 1)",
+                                              spec_.name, peer.remote_local.volume(), r));
     for (const auto& sh : shifts) {
       // Consistent: region in receiver frame = src shifted ∩ dst.
       // Conservative: region in sender frame = src ∩ dst shifted.
@@ -129,6 +133,10 @@ void FieldExchange::flush() {
   if (!sparse_requests_.empty()) {
     wait_all(sparse_requests_, fmt::format("the delivery of sparse field '{}'", spec_.name));
     sparse_requests_.clear();
+  }
+  if (!reply_requests_.empty()) {
+    wait_all(reply_requests_, fmt::format("the delivery of the replies to sparse field '{}'", spec_.name));
+    reply_requests_.clear();
   }
 }
 
@@ -206,58 +214,20 @@ void FieldExchange::receive(std::span<double> local) {
   ++trace().exchanges;
 }
 
-// Sparse messages: a sequence of records {int64 receiver-frame cell; double values[nc]}.
+// Sparse messages: a sequence of records {int32 cell index in the receiver's
+// local array; double values[nc]}, per peer in the order of `cells`.
 void FieldExchange::send_sparse(std::span<const Index3> cells, std::span<const double> values) {
   if (role_ != Role::sender) throw std::logic_error("send_sparse() on the receiving side");
   const int nc = spec_.components;
   if (values.size() != cells.size() * nc)
     throw std::invalid_argument(fmt::format("field '{}': {} values for {} cells", spec_.name,
                                             values.size(), cells.size()));
+  if (cells.size() > static_cast<std::size_t>(INT32_MAX))
+    throw std::invalid_argument(
+        fmt::format("field '{}': {} sparse cells in one message", spec_.name, cells.size()));
   flush();
   Timer t(trace().exchange_s);
-  const bool cons = spec_.transfer == Transfer::conservative;
-  const std::size_t rec = sizeof(std::int64_t) + nc * sizeof(double);
-  const auto shifts = mine_.image_shifts();
-  const Index3 g = mine_.ghost(spec_.ghost);
-  for (auto& p : peers_) p.sparse_used = 0;
-  dst_boxes_.clear();
-  if (!cons)
-    for (const auto& p : peers_) dst_boxes_.push_back(remote_.clip(remote_.block(p.rank).grown(g)));
-  auto append = [&](int peer, const Index3& cell, const double* v) {
-    auto& p = peers_[peer];
-    const std::size_t at = p.sparse_used;
-    // Grows by half at a time (never shrinks), so that the records are not
-    // zero-filled one by one.
-    if (at + rec > p.sparse.size())
-      p.sparse.resize(std::max(at + rec, p.sparse.size() + p.sparse.size() / 2));
-    p.sparse_used = at + rec;
-    auto& buf = p.sparse;
-    const std::int64_t key = (static_cast<std::int64_t>(cell[2] + (1 << 20)) << 42) |
-                             (static_cast<std::int64_t>(cell[1] + (1 << 20)) << 21) |
-                             static_cast<std::int64_t>(cell[0] + (1 << 20));
-    std::memcpy(buf.data() + at, &key, sizeof key);
-    std::memcpy(buf.data() + at + sizeof key, v, nc * sizeof(double));
-  };
-  for (std::size_t n = 0; n < cells.size(); ++n) {
-    const Index3& c = cells[n];
-    const double* v = values.data() + n * nc;
-    if (!local_box_.contains(c))
-      throw std::invalid_argument(fmt::format("field '{}': sparse cell ({}, {}, {}) outside the local box",
-                                              spec_.name, c[0], c[1], c[2]));
-    if (cons) {
-      if (mine_.clip(Box{c, {c[0] + 1, c[1] + 1, c[2] + 1}}).empty()) continue;  // outside a wall
-      const Index3 w = mine_.wrap(c);
-      const int owner = remote_.owner(w);
-      if (owner >= 0 && peer_of_[owner] >= 0) append(peer_of_[owner], w, v);
-    } else {
-      if (!owned_.contains(c)) continue;  // consistent: only owned values are sent
-      for (std::size_t i = 0; i < peers_.size(); ++i)
-        for (const auto& sh : shifts) {
-          const Index3 img{c[0] + sh[0], c[1] + sh[1], c[2] + sh[2]};
-          if (dst_boxes_[i].contains(img)) append(peer_of_[peers_[i].rank], img, v);
-        }
-    }
-  }
+  pack_sparse(cells, values);
   sparse_requests_.resize(peers_.size());
   for (std::size_t i = 0; i < peers_.size(); ++i) {
     auto& p = peers_[i];
@@ -268,10 +238,59 @@ void FieldExchange::send_sparse(std::span<const Index3> cells, std::span<const d
   ++trace().exchanges;
 }
 
+// Each cell's record into the buffer of every peer it goes to (the buffers
+// only grow, so that they are not zero-filled record by record), and the
+// cells sent to each peer, for the replies.
+void FieldExchange::pack_sparse(std::span<const Index3> cells, std::span<const double> values) {
+  const int nc = spec_.components;
+  const bool cons = spec_.transfer == Transfer::conservative;
+  const std::size_t rec = sizeof(std::int32_t) + nc * sizeof(double);
+  const auto shifts = mine_.image_shifts();
+  const Index3 g = mine_.ghost(spec_.ghost);
+  for (auto& p : peers_) p.sparse_used = 0, p.sent.clear();
+  sparse_sent_ = cells.size();
+  dst_boxes_.clear();
+  if (!cons)
+    for (const auto& p : peers_) dst_boxes_.push_back(remote_.clip(remote_.block(p.rank).grown(g)));
+  auto append = [&](int peer, const Index3& cell, std::size_t n) {
+    auto& p = peers_[peer];
+    p.sent.push_back(static_cast<std::int32_t>(n));
+    const std::size_t at = p.sparse_used;
+    if (at + rec > p.sparse.size())
+      p.sparse.resize(std::max(at + rec, p.sparse.size() + p.sparse.size() / 2));
+    p.sparse_used = at + rec;
+    const Box& b = p.remote_local;  // the cell's index there, as the receiver's local_index()
+    const auto index = static_cast<std::int32_t>(
+        ((cell[2] - b.lo[2]) * b.extent(1) + (cell[1] - b.lo[1])) * b.extent(0) + (cell[0] - b.lo[0]));
+    std::memcpy(p.sparse.data() + at, &index, sizeof index);
+    std::memcpy(p.sparse.data() + at + sizeof index, values.data() + n * nc, nc * sizeof(double));
+  };
+  for (std::size_t n = 0; n < cells.size(); ++n) {
+    const Index3& c = cells[n];
+    if (!local_box_.contains(c))
+      throw std::invalid_argument(fmt::format("field '{}': sparse cell ({}, {}, {}) outside the local box",
+                                              spec_.name, c[0], c[1], c[2]));
+    if (cons) {
+      if (mine_.clip(Box{c, {c[0] + 1, c[1] + 1, c[2] + 1}}).empty()) continue;  // outside a wall
+      const Index3 w = mine_.wrap(c);
+      const int owner = remote_.owner(w);
+      if (owner >= 0 && peer_of_[owner] >= 0) append(peer_of_[owner], w, n);
+    } else {
+      if (!owned_.contains(c)) continue;  // consistent: only owned values are sent
+      for (std::size_t i = 0; i < peers_.size(); ++i)
+        for (const auto& sh : shifts) {
+          const Index3 img{c[0] + sh[0], c[1] + sh[1], c[2] + sh[2]};
+          if (dst_boxes_[i].contains(img)) append(static_cast<int>(i), img, n);
+        }
+    }
+  }
+}
+
 void FieldExchange::receive_sparse(std::vector<long>& cells, std::vector<double>& values) {
   if (role_ != Role::receiver) throw std::logic_error("receive_sparse() on the sending side");
   const int nc = spec_.components;
-  const std::size_t rec = sizeof(std::int64_t) + nc * sizeof(double);
+  const std::size_t rec = sizeof(std::int32_t) + nc * sizeof(double);
+  const long volume = local_box_.volume();
   for (auto& p : peers_) {
     MPI_Status st = wait_probe(p.rank, tag_ + 1, inter_, fmt::format("sparse field '{}'", spec_.name));
     Timer t(trace().exchange_s);
@@ -280,16 +299,82 @@ void FieldExchange::receive_sparse(std::vector<long>& cells, std::vector<double>
     p.sparse.resize(bytes);
     MPI_Recv(p.sparse.data(), bytes, MPI_BYTE, p.rank, tag_ + 1, inter_, MPI_STATUS_IGNORE);
     trace().bytes_received += bytes;
-    const std::size_t n = bytes / rec;
-    for (std::size_t i = 0; i < n; ++i) {
-      std::int64_t key = 0;
-      std::memcpy(&key, p.sparse.data() + i * rec, sizeof key);
-      const Index3 c{(key & ((1 << 21) - 1)) - (1 << 20), ((key >> 21) & ((1 << 21) - 1)) - (1 << 20),
-                     ((key >> 42) & ((1 << 21) - 1)) - (1 << 20)};
-      cells.push_back(local_index(c));
-      const std::size_t at = values.size();
-      values.resize(at + nc);
-      std::memcpy(values.data() + at, p.sparse.data() + i * rec + sizeof key, nc * sizeof(double));
+    const std::size_t n = bytes / rec, first = cells.size();
+    p.received = n;
+    cells.resize(first + n);
+    values.resize((first + n) * nc);
+    const std::byte* in = p.sparse.data();
+    for (std::size_t i = 0; i < n; ++i, in += rec) {
+      std::int32_t index = 0;
+      std::memcpy(&index, in, sizeof index);
+      if (index < 0 || index >= volume)
+        throw std::runtime_error(
+            fmt::format("sparse field '{}': cell index {} from rank {} outside the local "
+                        "array of {} cells (the two sides disagree on the layout)",
+                        spec_.name, index, p.rank, volume));
+      cells[first + i] = index;
+      std::memcpy(values.data() + (first + i) * nc, in + sizeof index, nc * sizeof(double));
+    }
+  }
+  ++trace().exchanges;
+}
+
+void FieldExchange::check_replies(const char* call, int components) const {
+  if (components < 1)
+    throw std::invalid_argument(
+        fmt::format("field '{}': {} with {} components", spec_.name, call, components));
+  if (spec_.transfer == Transfer::consistent && spec_.ghost > 0)
+    throw std::logic_error(
+        fmt::format("field '{}': {} on a consistent exchange with a ghost layer (a cell "
+                    "may reach several ranks)",
+                    spec_.name, call));
+}
+
+// One message per peer that sent a sparse message (empty ones too), tag + 2.
+void FieldExchange::reply_sparse(std::span<const double> results, int components) {
+  if (role_ != Role::receiver) throw std::logic_error("reply_sparse() on the sending side");
+  check_replies("reply_sparse()", components);
+  std::size_t total = 0;
+  for (const auto& p : peers_) total += p.received;
+  if (results.size() != total * components)
+    throw std::invalid_argument(
+        fmt::format("field '{}': {} reply values for {} cells received", spec_.name, results.size(), total));
+  flush();  // the last replies' buffers
+  Timer t(trace().exchange_s);
+  reply_requests_.resize(peers_.size());
+  const double* from = results.data();
+  for (std::size_t i = 0; i < peers_.size(); ++i) {
+    auto& p = peers_[i];
+    p.reply.assign(from, from + p.received * components);
+    from += p.received * components;
+    MPI_Isend(p.reply.data(), static_cast<int>(p.reply.size()), MPI_DOUBLE, p.rank, tag_ + 2, inter_,
+              &reply_requests_[i]);
+    trace().bytes_sent += p.reply.size() * sizeof(double);
+  }
+}
+
+void FieldExchange::receive_replies(std::span<double> results, int components) {
+  if (role_ != Role::sender) throw std::logic_error("receive_replies() on the receiving side");
+  check_replies("receive_replies()", components);
+  if (results.size() != sparse_sent_ * components)
+    throw std::invalid_argument(fmt::format("field '{}': room for {} reply values, {} cells sent", spec_.name,
+                                            results.size(), sparse_sent_));
+  std::vector<MPI_Request> requests(peers_.size(), MPI_REQUEST_NULL);
+  for (std::size_t i = 0; i < peers_.size(); ++i) {
+    auto& p = peers_[i];
+    p.reply.resize(p.sent.size() * components);
+    MPI_Irecv(p.reply.data(), static_cast<int>(p.reply.size()), MPI_DOUBLE, p.rank, tag_ + 2, inter_,
+              &requests[i]);
+  }
+  wait_all(requests, fmt::format("the replies to sparse field '{}'", spec_.name));
+  Timer t(trace().exchange_s);
+  std::fill(results.begin(), results.end(), 0.0);
+  for (const auto& p : peers_) {
+    trace().bytes_received += p.reply.size() * sizeof(double);
+    const double* in = p.reply.data();
+    for (const std::int32_t n : p.sent) {
+      std::copy(in, in + components, results.begin() + static_cast<std::ptrdiff_t>(n) * components);
+      in += components;
     }
   }
   ++trace().exchanges;

@@ -363,6 +363,11 @@ std::string resolved_text(const Config& cfg, const std::vector<std::string>& pat
   return n.IsScalar() ? n.Scalar() : "";
 }
 
+bool two_phase_fluid(const Config& cfg) {
+  const YAML::Node n = node_at(cfg.resolved, {"fluid", "two_phase"}, 0);
+  return n.IsMap();
+}
+
 bool point_coupling(const Config& cfg) {
   const std::string method = resolved_text(cfg, {"immersed", "method"});
   return method == "point" ||

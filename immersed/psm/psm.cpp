@@ -16,6 +16,7 @@
 #include "coflow/log.hpp"
 #include "coflow/output.hpp"
 #include "coflow/protocol.hpp"
+#include "coflow/run_config.hpp"
 #include "coflow/session.hpp"
 #include "coflow/trace.hpp"
 #include "coflow/window_loop.hpp"
@@ -52,6 +53,7 @@ struct Coverage {
   std::vector<protocol::ParticleRecord> rec;
   std::vector<std::int32_t> slot_of;  // owned cell -> index in cells, or -1 (4 bytes: half the cache misses)
   std::vector<Cell> cells;
+  std::vector<Index3> global;  // each cell's global index, for the fluid
   std::vector<Share> shares;  // particle by particle, cell by cell
   double solid_volume = 0.0;
 };
@@ -108,11 +110,10 @@ class PsmWindows final : public coupler::WindowParts {
   bool ahead_ = false;  // the coverage of the coming window is already in
   coupler::PointExchange points_[2];
   Coverage coverage_[2];
-  coupler::FieldExchange to_fluid_, from_fluid_;
+  coupler::FieldExchange to_fluid_;  // the solid's cells; the fluid's force comes back as the replies
   std::vector<std::byte> results_;
-  std::vector<Index3> send_cells_;
-  std::vector<double> send_values_, got_values_, slot_force_;
-  std::vector<long> got_cells_;
+  std::vector<double> send_values_,
+      slot_force_;  // slot_force_: the fluid's force per covered cell, then per unit of fraction
   std::vector<protocol::ParticleLoad> loads_;
   SphereFractions fractions_;
   std::vector<std::pair<Index3, double>> touched_;
@@ -132,10 +133,9 @@ PsmWindows::PsmWindows(coupler::Session& s, const PsmParams& p, int ghost, std::
       points_{particle_exchange(s, ghost), particle_exchange(s, ghost)},
       to_fluid_(s.partner("fluid"), coupler::FieldExchange::Role::sender, s.decomposition(), s.rank(),
                 s.decomposition_of("fluid", s.partner_ranks("fluid")),
-                coupler::FieldSpec{"solid", 5, coupler::Transfer::consistent, 0}, protocol::kTagSolid),
-      from_fluid_(s.partner("fluid"), coupler::FieldExchange::Role::receiver, s.decomposition(), s.rank(),
-                  s.decomposition_of("fluid", s.partner_ranks("fluid")),
-                  coupler::FieldSpec{"solid_force", 3, coupler::Transfer::consistent, 0}, protocol::kTagSolidForce),
+                coupler::FieldSpec{"solid", protocol::solid_values(config::two_phase_fluid(s.config())),
+                                   coupler::Transfer::consistent, 0},
+                protocol::kTagSolid),
       fractions_(h_, dom_.lower, p.refinement, p.centre_lattice, std::move(kept_radii)),
       series_(s) {
   const std::string angle = config::resolved_text(s.config(), {"fluid", "two_phase", "contact_angle"});
@@ -167,6 +167,7 @@ void PsmWindows::receive_and_cover(long w) {
   else
     std::fill(c.slot_of.begin(), c.slot_of.end(), -1);
   c.cells.clear();
+  c.global.clear();
   c.shares.clear();
   c.solid_volume = 0.0;
   for (std::size_t p = 0; p < c.rec.size(); ++p) cover(c, p);
@@ -178,25 +179,22 @@ void PsmWindows::before_step(long w) {
 
 void PsmWindows::step(long w) {
   const Coverage& c = coverage_[pipelined_ ? w % 2 : 0];
-  send_cells_.clear();
   send_values_.clear();
-  const long nx = owned_.extent(0), ny = owned_.extent(1);
+  const bool wetted = to_fluid_.spec().components == 5;  // a two-phase fluid: the grains' wetting too
   for (const Cell& cell : c.cells) {
-    send_cells_.push_back({owned_.lo[0] + cell.local % nx, owned_.lo[1] + cell.local / nx % ny,
-                           owned_.lo[2] + cell.local / (nx * ny)});
     send_values_.push_back(std::min(1.0, cell.fraction));
     for (int d = 0; d < 3; ++d) send_values_.push_back(cell.weighted_velocity[d] / cell.fraction);
-    send_values_.push_back(cell.weighted_wetting / cell.fraction);
+    if (wetted) send_values_.push_back(cell.weighted_wetting / cell.fraction);
   }
   to_fluid_.flush();
-  to_fluid_.send_sparse(send_cells_, send_values_);
+  to_fluid_.send_sparse(c.global, send_values_);
   // While the fluid steps: the next window's states, sent by the particles
   // once they have stepped this window.
   ahead_ = pipelined_ && w < s_.windows();
   if (ahead_) receive_and_cover(w + 1);
-  got_cells_.clear();
-  got_values_.clear();
-  from_fluid_.receive_sparse(got_cells_, got_values_);
+  // The fluid's force in each cell sent, in the order sent: cell n is slot n.
+  slot_force_.resize(3 * c.cells.size());
+  to_fluid_.receive_replies(slot_force_, 3);
 }
 
 // The fractions of every cell the sphere touches (owned or not, inside the
@@ -233,6 +231,7 @@ void PsmWindows::add_cell(Coverage& cov, std::size_t p, const Index3& cell, doub
   if (cov.slot_of[local] < 0) {
     cov.slot_of[local] = static_cast<std::int32_t>(cov.cells.size());
     cov.cells.push_back(Cell{local, 0.0, {0, 0, 0}, 0.0});
+    cov.global.push_back(g);
   }
   Cell& c = cov.cells[cov.slot_of[local]];
   const V lever{centre[0] - r.x[0], centre[1] - r.x[1], centre[2] - r.x[2]};
@@ -253,13 +252,10 @@ void PsmWindows::share_forces(const Coverage& cov) {
   // In the order of the shares (particle by particle, cell by cell), not of
   // the cells' arrival, so that the sums do not depend on the fluid's
   // decomposition (1 fluid rank = N, bit for bit).
-  slot_force_.assign(3 * cov.cells.size(), 0.0);
-  for (std::size_t m = 0; m < got_cells_.size(); ++m) {
-    const long slot = cov.slot_of[got_cells_[m]];
-    if (slot < 0) throw std::runtime_error("psm: the fluid returned a force for a cell that holds no solid");
+  for (std::size_t slot = 0; slot < cov.cells.size(); ++slot) {
     // The force per unit of fraction: a share takes its fraction of it.
-    const double per = 1.0 / cov.cells[static_cast<std::size_t>(slot)].fraction;
-    for (int d = 0; d < 3; ++d) slot_force_[3 * slot + d] = got_values_[3 * m + d] * per;
+    const double per = 1.0 / cov.cells[slot].fraction;
+    for (int d = 0; d < 3; ++d) slot_force_[3 * slot + d] *= per;
   }
   for (const Share& sh : cov.shares) {
     const double* got = &slot_force_[3 * sh.slot];

@@ -63,19 +63,35 @@ class FieldExchange {
   // Appends received cells (as local-array cell indices) and their values.
   void receive_sparse(std::vector<long>& cells, std::vector<double>& values);
 
+  // Replies to a sparse message, without cell indices (like PointExchange's
+  // results): the receiver answers `components` values per cell of its last
+  // receive_sparse(), in the order it got them (returns at once; `results`
+  // is copied), and the sender gets them back per cell of its last
+  // send_sparse(), in its order (zeros for a cell that went to no rank).
+  // Each cell must reach one rank at most: conservative, or consistent
+  // without a ghost layer.
+  void reply_sparse(std::span<const double> results, int components);
+  void receive_replies(std::span<double> results, int components);
+
   void flush();  // complete outstanding sends
   std::size_t peers() const { return peers_.size(); }
 
  private:
   struct Peer {
     int rank = 0;
+    Box remote_local;         // the receiving side's local box (its block grown by the ghost layer)
     std::vector<long> cells;  // local cell indices in message order
     long contiguous = -1;     // first cell when `cells` is one contiguous run (zero-copy)
     std::vector<double> buffer;
     std::vector<std::byte> sparse;  // send_sparse: grows only; its first sparse_used bytes are the message
     std::size_t sparse_used = 0;
+    std::vector<std::int32_t> sent;  // send_sparse: the input cells sent to this rank, in message order
+    std::size_t received = 0;        // receive_sparse: the cells that came from this rank
+    std::vector<double> reply;       // replies sent or received
     MPI_Request request = MPI_REQUEST_NULL;
   };
+  void check_replies(const char* call, int components) const;
+  void pack_sparse(std::span<const Index3> cells, std::span<const double> values);
   void build(const Decomposition& mine, int my_rank, const Decomposition& remote);
 
   MPI_Comm inter_;
@@ -90,6 +106,8 @@ class FieldExchange {
   std::vector<int> peer_of_;  // remote rank -> index in peers_, or -1
   std::vector<MPI_Request> requests_;
   std::vector<MPI_Request> sparse_requests_;
+  std::vector<MPI_Request> reply_requests_;
+  std::size_t sparse_sent_ = 0;  // cells given to the last send_sparse()
   std::vector<Box> dst_boxes_;  // send_sparse: each peer's block grown by the ghost layer, clipped
   bool sends_pending_ = false;
 };

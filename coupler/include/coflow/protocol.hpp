@@ -52,10 +52,17 @@ struct ParticleImpulse {
   double impulse[3];
 };
 
+// immersed -> fluid (method psm), per covered cell: the solid fraction, the
+// solid velocity (m/s) and, for a two-phase fluid, the grains' wetting (the
+// fraction-weighted cos of their contact angle).
+inline constexpr int solid_values(bool two_phase) {
+  return two_phase ? 5 : 4;
+}
+
 // Message tags on the intercommunicators.
 inline constexpr int kTagParticles = 1000;   // particles <-> immersed point exchange
-inline constexpr int kTagSolid = 1100;       // immersed -> fluid: fraction, solid velocity (4 per cell)
-inline constexpr int kTagSolidForce = 1200;  // fluid -> immersed: force on the solid (3 per cell)
+inline constexpr int kTagSolid = 1100;       // immersed -> fluid: solid_values() per cell; the
+                                             // replies: the force on the solid (3 per cell)
 inline constexpr int kTagFlow = 1300;        // fluid -> immersed: u[3], k, epsilon per cell (point)
 inline constexpr int kTagSource = 1400;      // immersed -> fluid: momentum source, N/m^3 (point)
 inline constexpr int kTagImpulse = 1500;     // particles -> immersed: impulses (point)

@@ -191,6 +191,8 @@ std::uint64_t hash_text(const std::string& text);
 // The scalar at a path of the resolved configuration, or "" where there is none.
 std::string resolved_text(const Config& cfg, const std::vector<std::string>& path);
 
+// The fluid carries two phases (fluid.two_phase is given).
+bool two_phase_fluid(const Config& cfg);
 // Whether the immersed component couples point particles to the fluid (the
 // point exchanges of docs/protocol.md): immersed.method point, or ibm with
 // immersed.ibm.particles: point (bodies and point particles in one run).

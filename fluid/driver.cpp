@@ -231,7 +231,7 @@ void FluidWindows::receive_solids() {
   solid_values_.clear();
   solid_in_->receive_sparse(solid_cells_, solid_values_);
   const std::size_t n = solid_cells_.size();
-  const int nc = solid_in_->spec().components;  // one fluid: no wetting (0 here, unused)
+  const int nc = solid_in_->spec().components;  // one fluid: no wetting sent (0 here: no interface to wet)
   fraction_.resize(n);
   velocity_.resize(3 * n);
   wetting_.resize(n);

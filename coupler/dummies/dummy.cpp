@@ -173,6 +173,9 @@ class FluidDummy final : public coupler::WindowParts {
   void output(long) override {}
   void save(const std::string&) override {}  // a component with no state still takes part
   void finish() override {
+    for (int v = 0; v < 4; ++v)
+      if (s_.has_partner("immersed") && kVariants[v].sparse && kVariants[v].ghost == 0 && checked_ > 0)
+        check_replies(v);  // to the last window's velocity
     for (auto& e : ex_.velocity) e->flush();
     for (auto& e : ex_.source) e->flush();  // the replies
     s_.set_final("dummy.checked_windows", static_cast<double>(checked_));
@@ -182,6 +185,7 @@ class FluidDummy final : public coupler::WindowParts {
   void receive_source(long w);
   void check_source(int v, long w);
   void send_velocity();
+  void check_replies(int v);
 
   coupler::Session& s_;
   const DummyParams& p_;
@@ -192,6 +196,7 @@ class FluidDummy final : public coupler::WindowParts {
   std::vector<Index3> cells_;
   std::vector<double> values_, got_values_;
   std::vector<long> got_cells_;
+  std::vector<double> sent_values_, replies_;  // the ghost-free sparse velocity, and its replies
   long checked_ = 0;  // windows whose received source was checked
 };
 
@@ -262,6 +267,7 @@ void FluidDummy::send_velocity() {
       ex.send(out);
       continue;
     }
+    if (kVariants[v].ghost == 0 && checked_ > 0) check_replies(v);  // to the last window's
     cells_.clear();
     values_.clear();
     for_cells(owned_, [&](const Index3& c) {
@@ -271,7 +277,19 @@ void FluidDummy::send_velocity() {
       values_.insert(values_.end(), u.begin(), u.end());
     });
     ex.send_sparse(cells_, values_);
+    if (kVariants[v].ghost == 0) sent_values_ = values_;
   }
+}
+
+// The immersed side answers each sparse velocity value of the ghost-free
+// variant with its negative: every owned cell reaches one rank.
+void FluidDummy::check_replies(int v) {
+  replies_.assign(sent_values_.size(), std::nan(""));
+  ex_.velocity[v]->receive_replies(replies_, 3);
+  for (std::size_t n = 0; n < replies_.size(); ++n)
+    if (!(replies_[n] == -sent_values_[n]))
+      throw std::runtime_error(fmt::format("fluid: velocity reply {} is {} not {} (variant {})", n,
+                                           replies_[n], -sent_values_[n], v));
 }
 
 void run_fluid(coupler::Session& s, const DummyParams& p) {
@@ -412,6 +430,11 @@ void ImmersedDummy::receive_velocity() {
       if (static_cast<long>(got_cells_.size()) != expected_count)
         throw std::runtime_error(
             fmt::format("immersed: {} sparse cells received, {} expected", got_cells_.size(), expected_count));
+      // A consistent exchange without ghosts can be answered: each value, negated.
+      if (kVariants[v].ghost == 0) {
+        for (double& x : got_values_) x = -x;
+        ex.reply_sparse(got_values_, 3);
+      }
     } else {
       ex.receive(local_);
     }

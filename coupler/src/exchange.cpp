@@ -298,6 +298,11 @@ void FieldExchange::receive_sparse(std::vector<long>& cells, std::vector<double>
     MPI_Get_count(&st, MPI_BYTE, &bytes);
     p.sparse.resize(bytes);
     MPI_Recv(p.sparse.data(), bytes, MPI_BYTE, p.rank, tag_ + 1, inter_, MPI_STATUS_IGNORE);
+    if (static_cast<std::size_t>(bytes) % rec != 0)
+      throw std::runtime_error(
+          fmt::format("sparse field '{}': {} bytes from rank {} are no whole number of {}-byte "
+                      "records (the two sides disagree on the values per cell)",
+                      spec_.name, bytes, p.rank, rec));
     trace().bytes_received += bytes;
     const std::size_t n = bytes / rec, first = cells.size();
     p.received = n;
@@ -351,6 +356,7 @@ void FieldExchange::reply_sparse(std::span<const double> results, int components
               &reply_requests_[i]);
     trace().bytes_sent += p.reply.size() * sizeof(double);
   }
+  ++trace().exchanges;
 }
 
 void FieldExchange::receive_replies(std::span<double> results, int components) {
@@ -359,14 +365,20 @@ void FieldExchange::receive_replies(std::span<double> results, int components) {
   if (results.size() != sparse_sent_ * components)
     throw std::invalid_argument(fmt::format("field '{}': room for {} reply values, {} cells sent", spec_.name,
                                             results.size(), sparse_sent_));
-  std::vector<MPI_Request> requests(peers_.size(), MPI_REQUEST_NULL);
-  for (std::size_t i = 0; i < peers_.size(); ++i) {
-    auto& p = peers_[i];
-    p.reply.resize(p.sent.size() * components);
-    MPI_Irecv(p.reply.data(), static_cast<int>(p.reply.size()), MPI_DOUBLE, p.rank, tag_ + 2, inter_,
-              &requests[i]);
+  for (auto& p : peers_) {  // each rank's reply, checked for its length
+    const MPI_Status st =
+        wait_probe(p.rank, tag_ + 2, inter_, fmt::format("the replies to sparse field '{}'", spec_.name));
+    Timer t(trace().exchange_s);
+    int count = 0;
+    MPI_Get_count(&st, MPI_DOUBLE, &count);
+    if (static_cast<std::size_t>(count) != p.sent.size() * components)
+      throw std::runtime_error(
+          fmt::format("sparse field '{}': rank {} replied with {} values for {} cells of {} "
+                      "values (the two sides disagree on the protocol)",
+                      spec_.name, p.rank, count, p.sent.size(), components));
+    p.reply.resize(static_cast<std::size_t>(count));
+    MPI_Recv(p.reply.data(), count, MPI_DOUBLE, p.rank, tag_ + 2, inter_, MPI_STATUS_IGNORE);
   }
-  wait_all(requests, fmt::format("the replies to sparse field '{}'", spec_.name));
   Timer t(trace().exchange_s);
   std::fill(results.begin(), results.end(), 0.0);
   for (const auto& p : peers_) {

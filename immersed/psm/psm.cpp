@@ -71,12 +71,11 @@ coupler::PointExchange particle_exchange(coupler::Session& s, int ghost) {
 
 // One window of psm: 1. the particle states arrive; 2. the coverage of the
 // owned cells; 3. the covered cells go to the fluid, fraction (clamped at 1),
-// velocity and wetting (cos of the contact angle); 4. the force on the solid in each of them comes back after the
-// fluid step; 5. each particle gets its shares, with buoyancy, and they go back.
-// parallel-explicit pipelines 1-2: the particles send the next window's states
-// as soon as they have stepped (on the previous window's loads), and this
-// component covers them while the fluid steps the current window, so that
-// neither the covering nor the particles sit between two fluid steps. Two
+// velocity and, for a two-phase fluid, wetting (cos of the contact angle); 4. the force on the solid in each
+// of them comes back after the fluid step, as the replies to 3; 5. each particle gets its shares, with
+// buoyancy, and they go back. parallel-explicit pipelines 1-2: the particles send the next window's states as
+// soon as they have stepped (on the previous window's loads), and this component covers them while the fluid
+// steps the current window, so that neither the covering nor the particles sit between two fluid steps. Two
 // coverages and two point exchanges alternate, window by window.
 class PsmWindows final : public coupler::WindowParts {
  public:
@@ -186,7 +185,6 @@ void PsmWindows::step(long w) {
     for (int d = 0; d < 3; ++d) send_values_.push_back(cell.weighted_velocity[d] / cell.fraction);
     if (wetted) send_values_.push_back(cell.weighted_wetting / cell.fraction);
   }
-  to_fluid_.flush();
   to_fluid_.send_sparse(c.global, send_values_);
   // While the fluid steps: the next window's states, sent by the particles
   // once they have stepped this window.

@@ -81,9 +81,6 @@ void FieldExchange::build(const Decomposition& mine, int my_rank, const Decompos
     Peer peer;
     peer.rank = p;
     peer.remote_local = rdec.block(r).grown(g);
-    if (peer.remote_local.volume() > INT32_MAX)
-      throw std::invalid_argument(fmt::format("field '{}': {} cells on rank {} (at most 2^31 - 1)",
-                                              spec_.name, peer.remote_local.volume(), r));
     for (const auto& sh : shifts) {
       // Consistent: region in receiver frame = src shifted ∩ dst.
       // Conservative: region in sender frame = src ∩ dst shifted.
@@ -247,7 +244,14 @@ void FieldExchange::pack_sparse(std::span<const Index3> cells, std::span<const d
   const std::size_t rec = sizeof(std::int32_t) + nc * sizeof(double);
   const auto shifts = mine_.image_shifts();
   const Index3 g = mine_.ghost(spec_.ghost);
-  for (auto& p : peers_) p.sparse_used = 0, p.sent.clear();
+  for (auto& p : peers_) {
+    if (p.remote_local.volume() > INT32_MAX)  // sparse records carry an int32 index there
+      throw std::invalid_argument(
+          fmt::format("sparse field '{}': {} cells on rank {} of the receiving side (at "
+                      "most 2^31 - 1): run it on more ranks",
+                      spec_.name, p.remote_local.volume(), p.rank));
+    p.sparse_used = 0, p.sent.clear();
+  }
   sparse_sent_ = cells.size();
   dst_boxes_.clear();
   if (!cons)

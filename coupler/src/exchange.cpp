@@ -13,6 +13,15 @@
 
 namespace coflow::coupler {
 
+int mpi_count(std::size_t n, std::string_view what, std::string_view name) {
+  if (n > static_cast<std::size_t>(INT_MAX))
+    throw std::runtime_error(
+        fmt::format("{}{}: {} elements in one MPI message, more than MPI's int count "
+                    "(2^31 - 1) allows: run the components on more ranks",
+                    what, name.empty() ? std::string() : fmt::format(" '{}'", name), n));
+  return static_cast<int>(n);
+}
+
 namespace {
 
 int remote_size_of(MPI_Comm inter) {
@@ -112,7 +121,7 @@ void FieldExchange::build(const Decomposition& mine, int my_rank, const Decompos
   for (std::size_t i = 0; i < peers_.size(); ++i) {
     auto& p = peers_[i];
     if (p.contiguous >= 0) continue;  // posted per call on the user's array
-    const int n = static_cast<int>(p.buffer.size());
+    const int n = mpi_count(p.buffer.size(), "field", spec_.name);
     if (sender)
       MPI_Send_init(p.buffer.data(), n, MPI_DOUBLE, p.rank, tag_, inter_, &p.request);
     else
@@ -149,8 +158,8 @@ void FieldExchange::send(std::span<const double> local) {
     const std::size_t n = p.cells.size() * nc;
     if (p.contiguous >= 0) {
       // The caller keeps `local` unchanged until the next send() or flush().
-      MPI_Isend(local.data() + p.contiguous * nc, static_cast<int>(n), MPI_DOUBLE, p.rank, tag_, inter_,
-                &p.request);
+      MPI_Isend(local.data() + p.contiguous * nc, mpi_count(n, "field", spec_.name), MPI_DOUBLE, p.rank, tag_,
+                inter_, &p.request);
     } else {
       double* out = p.buffer.data();
       for (long c : p.cells) {
@@ -177,8 +186,8 @@ void FieldExchange::receive(std::span<double> local) {
     for (std::size_t i = 0; i < peers_.size(); ++i) {
       auto& p = peers_[i];
       if (p.contiguous >= 0)
-        MPI_Irecv(local.data() + p.contiguous * nc, static_cast<int>(p.cells.size() * nc), MPI_DOUBLE, p.rank,
-                  tag_, inter_, &p.request);
+        MPI_Irecv(local.data() + p.contiguous * nc, mpi_count(p.cells.size() * nc, "field", spec_.name),
+                  MPI_DOUBLE, p.rank, tag_, inter_, &p.request);
       else
         MPI_Start(&p.request);
       requests_[i] = p.request;
@@ -228,8 +237,8 @@ void FieldExchange::send_sparse(std::span<const Index3> cells, std::span<const d
   sparse_requests_.resize(peers_.size());
   for (std::size_t i = 0; i < peers_.size(); ++i) {
     auto& p = peers_[i];
-    MPI_Isend(p.sparse.data(), static_cast<int>(p.sparse_used), MPI_BYTE, p.rank, tag_ + 1, inter_,
-              &sparse_requests_[i]);
+    MPI_Isend(p.sparse.data(), mpi_count(p.sparse_used, "sparse field (bytes)", spec_.name), MPI_BYTE, p.rank,
+              tag_ + 1, inter_, &sparse_requests_[i]);
     trace().bytes_sent += p.sparse_used;
   }
   ++trace().exchanges;
@@ -356,8 +365,8 @@ void FieldExchange::reply_sparse(std::span<const double> results, int components
     auto& p = peers_[i];
     p.reply.assign(from, from + p.received * components);
     from += p.received * components;
-    MPI_Isend(p.reply.data(), static_cast<int>(p.reply.size()), MPI_DOUBLE, p.rank, tag_ + 2, inter_,
-              &reply_requests_[i]);
+    MPI_Isend(p.reply.data(), mpi_count(p.reply.size(), "replies of field", spec_.name), MPI_DOUBLE, p.rank,
+              tag_ + 2, inter_, &reply_requests_[i]);
     trace().bytes_sent += p.reply.size() * sizeof(double);
   }
   ++trace().exchanges;
@@ -465,7 +474,7 @@ void prefix(const std::vector<int>& counts, std::vector<int>& displs) {
     displs[i] = static_cast<int>(total);
     total += counts[i];
   }
-  if (total > INT_MAX) throw std::overflow_error("point exchange message larger than 2 GiB");
+  mpi_count(static_cast<std::size_t>(total), "one point exchange, all peers together (bytes)");
 }
 
 long total_of(const std::vector<int>& counts) {
@@ -516,7 +525,8 @@ void PointExchange::send(std::span<const std::byte> records,
     }
   }
   const std::size_t rec = record_bytes_ + 1;
-  for (int r = 0; r < remote_size_; ++r) send_counts_[r] = static_cast<int>(routed_[r].size() * rec);
+  for (int r = 0; r < remote_size_; ++r)
+    send_counts_[r] = mpi_count(routed_[r].size() * rec, "point records (bytes)");
   prefix(send_counts_, send_displs_);
   out_.resize(total_of(send_counts_));
   for (int r = 0; r < remote_size_; ++r) {
@@ -568,7 +578,8 @@ void PointExchange::send_results(std::span<const std::byte> results) {
   if (results.size() != nrecords_ * result_bytes_)
     throw std::invalid_argument("point exchange: one result per received record is needed");
   ExchangeTimer t;
-  for (int r = 0; r < remote_size_; ++r) send_counts_[r] = static_cast<int>(routed_[r].size() * result_bytes_);
+  for (int r = 0; r < remote_size_; ++r)
+    send_counts_[r] = mpi_count(routed_[r].size() * result_bytes_, "point results (bytes)");
   prefix(send_counts_, send_displs_);
   out_.assign(results.begin(), results.end());
   std::fill(recv_counts_.begin(), recv_counts_.end(), 0);

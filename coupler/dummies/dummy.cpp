@@ -18,11 +18,14 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <random>
 #include <thread>
 
+#include "coflow/discovery.hpp"
 #include "coflow/exchange.hpp"
 #include "coflow/log.hpp"
 #include "coflow/session.hpp"
@@ -533,6 +536,9 @@ void run_particles(coupler::Session& s, const DummyParams& p) {
 
 int main(int argc, char** argv) {
   const std::string component = COFLOW_DUMMY;
+  // tests/coupler/discovery.sh: a component built with another protocol version.
+  if (const char* v = std::getenv("COFLOW_DUMMY_PROTOCOL"))
+    coupler::announce_protocol_version(static_cast<std::uint32_t>(std::stoul(v)));
   return coupler::run_component(component, argc, argv, [&](coupler::Session& s) {
     DummyParams p;
     YAML::Node section = s.config().resolved[component]["dummy"];

@@ -1,15 +1,16 @@
 #include "coflow/discovery.hpp"
 
-#include <cstdio>
+#include <fmt/format.h>
+
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <set>
 #include <stdexcept>
 #include <vector>
 
-#include <fmt/format.h>
-
+#include "coflow/protocol.hpp"
 #include "coflow/session.hpp"
 #include "coflow/wait.hpp"
 
@@ -24,11 +25,15 @@ const std::vector<std::pair<std::string, std::string>>& pairs() {
   return p;
 }
 
+std::uint32_t g_protocol = protocol::kVersion;
+
 // One rank's discovery record: which component it is, the MPI_APPNUM the
-// launcher gave it, and the hash of the configuration it read.
+// launcher gave it, the hash of the configuration it read and the protocol
+// version it was built with.
 struct Hello {
   char name[16];
   int appnum;
+  std::uint32_t protocol;
   std::uint64_t hash;
 };
 
@@ -41,6 +46,12 @@ std::string check_launch(const config::Config& cfg, const std::string& component
                          const std::map<std::string, int>& ranks_of) {
   std::map<std::string, std::set<int>> apps;  // component -> the appnums its ranks carry
   std::map<int, std::set<std::string>> names;  // appnum -> the components carrying it
+  for (const Hello& h : all)
+    if (h.protocol != g_protocol)
+      return fmt::format(
+          "coflow-{} speaks coupling protocol version {} and coflow-{} version {}: build every "
+          "component against the same coflow (docs/protocol.md)",
+          component, g_protocol, std::string(h.name), h.protocol);
   for (const Hello& h : all) {
     if (h.hash != cfg.hash)
       return fmt::format("components read different configurations ({} and {}): launch every component with the "
@@ -70,6 +81,10 @@ std::string check_launch(const config::Config& cfg, const std::string& component
 
 }  // namespace
 
+void announce_protocol_version(std::uint32_t version) {
+  g_protocol = version;
+}
+
 Discovery::Discovery(const std::string& component, const config::Config& cfg) : component_(component) {
   MPI_Comm_rank(MPI_COMM_WORLD, &world_rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &world_size_);
@@ -79,6 +94,7 @@ Discovery::Discovery(const std::string& component, const config::Config& cfg) : 
   Hello me{};
   std::snprintf(me.name, sizeof me.name, "%s", component_.c_str());
   me.appnum = flag ? *appnum_attr : 0;
+  me.protocol = g_protocol;
   me.hash = cfg.hash;
   std::vector<Hello> all(world_size_);
   // Non-blocking, so that a component that never joins (an executable that

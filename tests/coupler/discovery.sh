@@ -3,7 +3,7 @@
 # A wrong launch must stop every rank with a clear message and a non-zero exit,
 # quickly (never a hang): a component missing, a component launched twice,
 # components reading different configurations, rank counts that differ from
-# the YAML.
+# the YAML, components built with different protocol versions.
 set -u
 bin=$1 cfg=$2 out=$3
 if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
@@ -29,4 +29,6 @@ expect configs "components read different configurations" -- \
   -np 2 "$f" "$cfg" : -np 3 "$i" "$other" : -np 1 "$p" "$cfg"
 expect ranks "immersed.ranks is 3 in the configuration but 2 ranks were launched" -- \
   -np 2 "$f" "$cfg" : -np 2 "$i" "$cfg" : -np 1 "$p" "$cfg"
+expect protocol "coupling protocol version" -- \
+  -np 2 env COFLOW_DUMMY_PROTOCOL=1 "$f" "$cfg" : -np 3 "$i" "$cfg" : -np 1 "$p" "$cfg"
 exit $status

@@ -7,12 +7,17 @@
 
 #include <mpi.h>
 
+#include <cstdint>
 #include <map>
 #include <string>
 
 #include "coflow/run_config.hpp"
 
 namespace coflow::coupler {
+
+// The protocol version this process announces at discovery (protocol::kVersion).
+// Only tests set another, to check that a mixed launch is refused.
+void announce_protocol_version(std::uint32_t version);
 
 class Discovery {
  public:

@@ -8,6 +8,17 @@
 
 namespace coflow::protocol {
 
+// The version of what the components exchange (record layouts, tags, the
+// sparse messages and their replies). Discovery refuses a launch whose
+// components were built with different versions (an external component built
+// against another coflow). Raise it with every change a peer would misread.
+//   0: before versions existed (announced as 0);
+//   1: until 2026-11-28;
+//   2: since 2026-11-29, sparse records carry the receiver's int32 local index,
+//      the fluid's force on psm cells comes back as replies (tag + 2), one
+//      fluid gets 4 solid values a cell.
+inline constexpr std::uint32_t kVersion = 2;
+
 // particles -> immersed: one record per particle, routed by position.
 struct ParticleRecord {
   std::int64_t id;

@@ -123,6 +123,7 @@ const std::vector<double>& SphereFractions::kept(double r, int m, int a, int b, 
     kept_.clear();
     classes_.clear();
     bytes_ = 0;
+    cleared_ = true;
   }
   const double s = 1.0 / lattice_;
   // Exact binary arithmetic (by_symmetry): a 2^k lattice, and leaves of 2^-levels whose squares and sums
@@ -134,6 +135,23 @@ const std::vector<double>& SphereFractions::kept(double r, int m, int a, int b, 
   bytes_ += f.size() * sizeof(double);
   ++computed_;
   return kept_.emplace(key, std::move(f)).first->second;
+}
+
+const std::vector<double>& SphereFractions::kept_direct(double r, int m, int a, int b, int c) {
+  const std::uint64_t bits = std::bit_cast<std::uint64_t>(r);
+  const std::size_t n1 = static_cast<std::size_t>(lattice_) + 1;
+  const std::size_t at =
+      (static_cast<std::size_t>(a) * n1 + static_cast<std::size_t>(b)) * n1 + static_cast<std::size_t>(c);
+  for (const Direct& d : direct_)
+    if (d.radius_bits == bits && d.stencil[at]) return *d.stencil[at];
+  const std::vector<double>& s = kept(r, m, a, b, c);  // map elements keep their address until a clear
+  if (cleared_) direct_.clear(), cleared_ = false;
+  auto d =
+      std::find_if(direct_.begin(), direct_.end(), [&](const Direct& x) { return x.radius_bits == bits; });
+  if (d == direct_.end())
+    d = direct_.insert(direct_.end(), Direct{bits, std::vector<const std::vector<double>*>(n1 * n1 * n1)});
+  d->stencil[at] = &s;
+  return s;
 }
 
 void SphereFractions::cover(const V& c, double radius, std::vector<std::pair<coupler::Index3, double>>& out) {
@@ -177,7 +195,8 @@ void SphereFractions::cover(const V& c, double radius, std::vector<std::pair<cou
     double w = 1.0;
     for (int d = 0; d < 3; ++d) w *= (corner >> d & 1) ? t[d] : 1.0 - t[d];
     if (w <= 0.0) continue;
-    const auto& s = kept(r, m, a0[0] + (corner & 1), a0[1] + (corner >> 1 & 1), a0[2] + (corner >> 2 & 1));
+    const auto& s =
+        kept_direct(r, m, a0[0] + (corner & 1), a0[1] + (corner >> 1 & 1), a0[2] + (corner >> 2 & 1));
     double* b = blend_.data();
     for (int k = lo[2]; k <= hi[2]; ++k)
       for (int j = lo[1]; j <= hi[1]; ++j) {

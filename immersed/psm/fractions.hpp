@@ -73,6 +73,9 @@ class SphereFractions {
   std::vector<double> octree_stencil(const std::array<double, 3>& offset, double r, int m) const;
   static void renormalise(std::vector<double>& f, double r);
   const std::vector<double>& kept(double r, int m, int a, int b, int c);
+  // kept() through a table per radius, indexed by the lattice offset (the
+  // blend asks for eight stencils a sphere: no hashing).
+  const std::vector<double>& kept_direct(double r, int m, int a, int b, int c);
   // The octree stencil at lattice offset (a, b, c) from its symmetry class's.
   std::vector<double> by_symmetry(double r, int m, int a, int b, int c);
 
@@ -84,6 +87,12 @@ class SphereFractions {
   std::unordered_map<Key, std::vector<double>, KeyHash> kept_;
   std::unordered_map<Key, std::vector<double>, KeyHash> classes_;  // octree stencils of the symmetry classes
   std::vector<double> blend_;
+  struct Direct {
+    std::uint64_t radius_bits;
+    std::vector<const std::vector<double>*> stencil;  // (N + 1)^3 offsets; null: not looked up yet
+  };
+  std::vector<Direct> direct_;
+  bool cleared_ = false;  // kept() dropped its stencils: the tables point nowhere
 };
 
 }  // namespace coflow::immersed

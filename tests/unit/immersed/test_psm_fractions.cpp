@@ -1,9 +1,8 @@
 // psm's solid fractions (immersed/psm): exact cases of the octree (cells wholly
 // inside or outside, a plane through leaf boundaries), and the volume of a
 // sphere summed over the grid against 4/3 pi r^3 as the octree refines.
-#include <catch2/catch.hpp>
-
 #include <array>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -41,7 +40,8 @@ TEST_CASE("a sphere's summed fractions converge to its volume as the octree refi
     double sum = 0.0;
     for (int k = 0; k < 20; ++k)
       for (int j = 0; j < 20; ++j)
-        for (int i = 0; i < 20; ++i) sum += cube_fraction({double(i), double(j), double(k)}, 1.0, c, r, levels);
+        for (int i = 0; i < 20; ++i)
+          sum += cube_fraction({double(i), double(j), double(k)}, 1.0, c, r, levels);
     err[levels] = std::abs(sum / exact - 1.0);
     INFO("levels " << levels << ": relative volume error " << err[levels]);
     // Measured 5.0e-3, 9.2e-4, 1.3e-4, 4.2e-5, 3.3e-5 for this centre: about
@@ -80,7 +80,8 @@ double sum(const Cells& a) {
 
 }  // namespace
 
-TEST_CASE("fractions kept on a lattice of centre offsets stay within the octree's own error", "[immersed][psm]") {
+TEST_CASE("fractions kept on a lattice of centre offsets stay within the octree's own error",
+          "[immersed][psm]") {
   // Cells of 0.5 mm from an origin off zero; radius 4 and 8 cells; 12 centres
   // spread over the cell. The octree's own error per cell: 3 levels against 7
   // (the 'truth'), at the same exact centre.
@@ -105,7 +106,8 @@ TEST_CASE("fractions kept on a lattice of centre offsets stay within the octree'
       worst_apart = std::max(worst_apart, max_difference(k, e));
     }
     INFO("radius " << radius_cells << " cells, largest error of a cell's fraction against 7 levels: kept "
-                   << worst_kept << ", exact centre " << worst_octree << "; kept vs exact centre " << worst_apart);
+                   << worst_kept << ", exact centre " << worst_octree << "; kept vs exact centre "
+                   << worst_apart);
     INFO("relative volume error of the kept fractions " << worst_volume);
     CHECK(worst_kept < worst_octree);
     CHECK(worst_apart < 0.1);
@@ -132,6 +134,30 @@ TEST_CASE("kept fractions move with the sphere by whole cells, and equal the exa
   exact.cover({10.5625, 10.8125, 10.0625}, 3.25, e);
   CHECK(max_difference(a, e) <= 0.0);
   CHECK(kept.stencils_computed() == 9);
+}
+
+TEST_CASE("kept stencils dropped when their memory is full give the same fractions", "[immersed][psm]") {
+  using coflow::immersed::SphereFractions;
+  // Two kept radii; `tight` drops every stencil it keeps as soon as it holds more than one byte, so its
+  // lookup tables are emptied again and again between the eight corners of one sphere.
+  SphereFractions roomy(1.0, {0, 0, 0}, 3, 8, {2.0, 3.5}), tight(1.0, {0, 0, 0}, 3, 8, {2.0, 3.5}, 1);
+  Cells a, b;
+  double worst = 0.0;
+  std::size_t cells = 0;
+  for (int n = 0; n < 40; ++n) {
+    const double r = n % 2 ? 2.0 : 3.5;
+    const V c{10.0 + 0.137 * (n % 10), 11.0 + 0.291 * (n % 10),
+              9.0 + 0.053 * (n % 10)};  // each centre 4 times
+    roomy.cover(c, r, a);
+    tight.cover(c, r, b);
+    REQUIRE(a.size() == b.size());
+    worst = std::max(worst, max_difference(a, b));
+    cells += a.size();
+  }
+  CHECK(worst <= 0.0);
+  CHECK(cells > 40 * 30);
+  CHECK(tight.stencils_computed() >
+        2 * roomy.stencils_computed());  // the tight one recomputes what it dropped
 }
 
 TEST_CASE("kept stencils taken from their symmetry class equal the octree's at every offset of the lattice",

@@ -49,8 +49,21 @@ void BoundaryParams::visit(config::Visitor& v) {
     "t "
     "(s), e.g. `4*y*(1-y)` or `cos(2*pi*t/0.5)`; constants pi and e, muParser's functions (sin, cos, exp, "
     "sqrt, abs, min, max, ...) and `c ? a : b`; quote it in YAML");
+  v("k", k,
+    "velocity faces with fluid.turbulence (fv): k of the fluid entering here, m^2/s^2, with epsilon; 0: "
+    "turbulence.inlet's",
+    config::at_least(0.0));
+  v("epsilon", epsilon,
+    "velocity faces with fluid.turbulence (fv): the dissipation rate of the fluid entering here, m^2/s^3, "
+    "with k; "
+    "0: turbulence.inlet's",
+    config::at_least(0.0));
   if (!v.reading()) return;
   check_profile_keys(v);
+  if ((k > 0.0) != (epsilon > 0.0))
+    v.fail(k > 0.0 ? "k" : "epsilon", "give k and epsilon together (what enters through this face)");
+  if (k > 0.0 && type != "velocity")
+    v.fail("k", fmt::format("{} boundaries let no fluid in: k and epsilon are for velocity faces", type));
   const bool given = v.given("value");
   if (profile != "uniform" && type != "velocity")
     v.fail("profile", fmt::format("a {} boundary has no velocity profile; profile is for velocity faces", type));
@@ -312,6 +325,17 @@ double BoundaryParams::profile_factor(int face, const double s[3], const config:
   for (int a = 0; a < 3; ++a)
     if (a != face / 2 && !cfg.domain.periodic[a] && cfg.domain.cells[a] > 1) f *= 4 * s[a] * (1 - s[a]);
   return f;
+}
+
+FluidParams::FaceTurbulence FluidParams::inlet_turbulence(const config::Config& cfg) const {
+  FaceTurbulence t;
+  for (int f = 0; f < 6; ++f) {
+    const BoundaryParams b = boundary(f, cfg);
+    const bool own = b.k > 0.0;
+    t.k[static_cast<std::size_t>(f)] = own ? b.k : turbulence.inlet_k;
+    t.epsilon[static_cast<std::size_t>(f)] = own ? b.epsilon : turbulence.inlet_epsilon;
+  }
+  return t;
 }
 
 BoundaryParams FluidParams::boundary(int face, const config::Config& cfg) const {

@@ -2,6 +2,7 @@
 // initial state. Part of the fluid schema library.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <map>
 #include <string>
@@ -44,6 +45,7 @@ struct BoundaryParams {
   ProfileTable table;               // table: read from profile_file
   std::string profile_expression;   // expression: its text
   ProfileExpression formula;        // expression: parsed from profile_expression
+  double k = 0.0, epsilon = 0.0;    // velocity faces with k-epsilon: what enters here (0: turbulence.inlet's)
   void visit(config::Visitor& v);
   void check_profile_keys(config::Visitor& v);
   // The profile's factor at a point of the face at time t: 1 (uniform), the
@@ -90,6 +92,12 @@ struct FluidParams {
   void initial_state(const config::Config& cfg, const Vec3& x, Vec3& u, double& p) const;
   // The boundary of a face (a wall when not given); periodic faces have type "periodic".
   BoundaryParams boundary(int face, const config::Config& cfg) const;
+  // k and epsilon of the fluid entering through each face (x-, x+, y-, ...):
+  // a velocity face's own, else turbulence.inlet's; 0 where neither is given.
+  struct FaceTurbulence {
+    std::array<double, 6> k{}, epsilon{};
+  };
+  FaceTurbulence inlet_turbulence(const config::Config& cfg) const;
 };
 
 }  // namespace coflow::fluid

@@ -190,7 +190,12 @@ static void check_fv_blocks(config::Visitor& v, const config::Config& cfg, const
 // and epsilon.
 static void check_turbulence(config::Visitor& v, const config::Config& cfg, const config::ComponentInfo& info,
                              const FluidParams& p) {
-  if (!v.reading() || !p.turbulence.on) return;
+  if (!v.reading()) return;
+  for (int f = 0; f < 6; ++f)
+    if (!p.turbulence.on && p.boundary(f, cfg).k > 0.0)
+      v.fail("boundaries." + face_names()[f] + ".k",
+             "k and epsilon of a face are for the k-epsilon model: add fluid.turbulence or remove them");
+  if (!p.turbulence.on) return;
   if (info.variant.rfind("fv", 0) != 0) {
     v.fail("turbulence", fmt::format("solver {} has no turbulence model; k-epsilon runs on solver: fv", info.variant));
     return;
@@ -209,10 +214,12 @@ static void check_turbulence(config::Visitor& v, const config::Config& cfg, cons
              fmt::format("the velocity face {} lets fluid out, and with fluid.turbulence a velocity face is an inlet "
                          "(k and epsilon enter there): use an outflow or pressure face where the fluid leaves",
                          face_names()[f]));
-    if (normal != 0 && !p.turbulence.inlet_given)
-      v.fail("turbulence", fmt::format("face {} is a velocity face: give the k and epsilon of what enters there, "
-                                       "turbulence.inlet: {{k: ..., epsilon: ...}}",
-                                       face_names()[f]));
+    if (normal != 0 && !p.turbulence.inlet_given && !(b.k > 0.0))
+      v.fail("turbulence",
+             fmt::format("face {} is a velocity face: give the k and epsilon of what enters there, "
+                         "on the face (boundaries.{}: {{..., k: ..., epsilon: ...}}) or for every "
+                         "inlet (turbulence.inlet: {{k: ..., epsilon: ...}})",
+                         face_names()[f], face_names()[f]));
   }
 }
 
@@ -246,6 +253,10 @@ static void check_refinement(config::Visitor& v, const config::Config& cfg, cons
     const std::string at = "fluid.boundaries." + face_names()[f];
     if (b.ramp > 0)
       v.fail(at + ".ramp", "the adaptive grid's faces take their value from the start: remove ramp, or refinement");
+    if (b.k > 0)
+      v.fail(at + ".k",
+             "the adaptive grid takes turbulence.inlet's k and epsilon at every inlet: give them there, or "
+             "remove refinement");
     if (b.formula.uses_time())
       v.fail(at + ".profile_expression",
              "the adaptive grid's faces hold their values in time: give a formula "

@@ -152,14 +152,16 @@ class FvSolver final : public FluidSolver {
   void set_body_wall_distance(const ibm::MarkerSet& markers);  // wall_y_: the box's walls and the bodies
   void turbulence_step(double dt);
   double strain_rate2_at(long n) const;  // S^2 = 2 S_ij S_ij at a cell (seed 003 eqs. 3.15-3.16)
-  void advect_scalar(Field& q, double inlet, double wall_sign, double dt);
+  using FaceValues = std::array<double, 6>;  // per domain face: x-, x+, y-, y+, z-, z+
+  void advect_scalar(Field& q, const FaceValues& inlet, double wall_sign, double dt);
   void solve_scalar(fv::StructSystem& sys, Field& q, Field& change, const Field& sink, const Field& source,
-                    double sigma, double inlet, bool wall_zero, const Field* fixed, double dt);
+                    double sigma, const FaceValues& inlet, bool wall_zero, const Field* fixed, double dt);
   // What the rows of one scalar's system read (solve_scalar): padded fields
   // (fixed null without fixed cells) and the constants.
   struct ScalarRows {
     const double *q, *change, *sink, *source, *fixed;
-    double half_sigma, inv_dt, inlet;
+    double half_sigma, inv_dt;
+    FaceValues inlet;
     bool wall_zero;
     double inv_h2[3];
   };
@@ -169,7 +171,7 @@ class FvSolver final : public FluidSolver {
   static int diagonally_dominant(const fv::StructSystem::Rows& m, long o0, long len);
   void add_scalar_face_terms(const ScalarRows& in, fv::StructSystem::Rows& m, const bool (&edge)[3][2],
                              long n0, long o0, long len);
-  void fill_scalar_ghosts(Field& q, double inlet, double wall_sign, bool extrapolate);
+  void fill_scalar_ghosts(Field& q, const FaceValues& inlet, double wall_sign, bool extrapolate);
   void update_eddy_viscosity();
   // nu + nu_t on side `side` along d of u_c's control volume (u_c at index n,
   // the lower c-face of cell n): along c the cell below (n - s_c) or the cell
@@ -267,6 +269,7 @@ class FvSolver final : public FluidSolver {
   // and the immersed bodies' surfaces), the implicit systems of k and epsilon.
   bool turbulent_ = false;
   TurbulenceParams turb_;
+  FaceValues inlet_k_{}, inlet_eps_{};  // what enters through each face (FluidParams::inlet_turbulence)
   Field k_, eps_, nut_, wall_y_, box_wall_y_;
   Field k_change_, eps_change_;  // the last step's change by the k and epsilon solves (next first guesses)
   std::unique_ptr<fv::StructSystem> k_system_, eps_system_;

@@ -234,8 +234,8 @@ void FvSolver::load(const std::string& dir, long, double) {
       else
         std::fill(field->begin(), field->end(), 0.0);
     }
-    fill_scalar_ghosts(k_, turb_.inlet_k, 0.0, true);
-    fill_scalar_ghosts(eps_, turb_.inlet_epsilon, 1.0, true);
+    fill_scalar_ghosts(k_, inlet_k_, 0.0, true);
+    fill_scalar_ghosts(eps_, inlet_eps_, 1.0, true);
     update_eddy_viscosity();
   }
 }

@@ -91,15 +91,16 @@ class FvReference final : public FluidSolver {
   bool is_inlet(int face) const;  // a velocity face with flow through it (else a wall)
   void turbulence_init();
   void turbulence_step(double dt);
-  void scalar_ghosts(Field& q, double inlet, double wall_sign, bool extrapolate) const;
+  using FaceValues = std::array<double, 6>;  // per domain face: x-, x+, y-, y+, z-, z+
+  void scalar_ghosts(Field& q, const FaceValues& inlet, double wall_sign, bool extrapolate) const;
   void eddy_viscosity();
   double nu_at(int c, long n, int d, int side) const;  // nu + nu_t on a side of u_c's control volume
   double viscous_at(const Field& q, int c, long n) const;  // div((nu + nu_t) grad u_c)
   double stress_transpose_at(const Faces& u, int c, long n) const;
   double strain_rate2_at(long n) const;
-  void advect_scalar(Field& q, double inlet, double wall_sign, double dt) const;
-  void solve_scalar(Field& q, const Field& sink, const Field& source, double sigma, double inlet, bool wall_zero,
-                    const std::vector<char>* fixed, double dt, const char* what) const;
+  void advect_scalar(Field& q, const FaceValues& inlet, double wall_sign, double dt) const;
+  void solve_scalar(Field& q, const Field& sink, const Field& source, double sigma, const FaceValues& inlet,
+                    bool wall_zero, const std::vector<char>* fixed, double dt, const char* what) const;
   std::vector<double> y_plus() const;
   // Conjugate gradients for A x = b over the listed indices; A applied by `apply`.
   template <class Apply>
@@ -126,6 +127,7 @@ class FvReference final : public FluidSolver {
   std::vector<double> out_u_, out_p_, out_rho_, out_div_, out_k_, out_eps_, out_nut_, out_yplus_;
   bool turbulent_ = false;
   TurbulenceParams turb_;
+  FaceValues inlet_k_{}, inlet_eps_{};  // what enters through each face
   Field k_, eps_, nut_, wall_y_;  // cells, padded; wall_y_: distance to the nearest wall
   Field box_wall_y_;              // the same, the box's walls alone (immersed bodies are walls too)
 };

@@ -22,6 +22,9 @@ void FvReference::turbulence_init() {
   turbulent_ = fluid_.turbulence.on;
   if (!turbulent_) return;
   turb_ = fluid_.turbulence;
+  const FluidParams::FaceTurbulence inlets = fluid_.inlet_turbulence(cfg_);
+  inlet_k_ = inlets.k;
+  inlet_eps_ = inlets.epsilon;
   const std::size_t size = u_[0].size();
   k_.assign(size, turb_.initial_k);
   eps_.assign(size, turb_.initial_epsilon);
@@ -41,8 +44,8 @@ void FvReference::turbulence_init() {
         if (cl.one_equation(wall_y_[n], k_[n])) eps_[n] = cl.epsilon_near_wall(wall_y_[n], k_[n]);
       }
   box_wall_y_ = wall_y_;
-  scalar_ghosts(k_, turb_.inlet_k, 0.0, true);
-  scalar_ghosts(eps_, turb_.inlet_epsilon, 1.0, true);
+  scalar_ghosts(k_, inlet_k_, 0.0, true);
+  scalar_ghosts(eps_, inlet_eps_, 1.0, true);
   eddy_viscosity();
 }
 
@@ -50,7 +53,8 @@ void FvReference::turbulence_init() {
 // mirrored cell; beyond a symmetry face the mirrored cell; beyond an inlet or
 // an open face the inlet's value or the mirrored cell, or with `extrapolate`
 // the lines through the inlet's value or the last two cells, not below zero.
-void FvReference::scalar_ghosts(Field& q, double inlet, double wall_sign, bool extrapolate) const {
+void FvReference::scalar_ghosts(Field& q, const FaceValues& inlets, double wall_sign,
+                                bool extrapolate) const {
   for (int a = 0; a < dims_; ++a) {
     const long n = n_[a], s = step_of(a);
     for_lines(a, [&](long o, const long*) {
@@ -61,6 +65,7 @@ void FvReference::scalar_ghosts(Field& q, double inlet, double wall_sign, bool e
       }
       for (int side = 0; side < 2; ++side) {
         const int face = 2 * a + side;
+        const double inlet = inlets[static_cast<std::size_t>(face)];
         const long q0 = side == 0 ? 0 : n - 1, in = side == 0 ? 1 : -1;  // first cell, inwards
         const double v0 = Q(q0), v1 = Q(q0 + in);
         double g1 = v0, g2 = v1;
@@ -82,8 +87,10 @@ void FvReference::scalar_ghosts(Field& q, double inlet, double wall_sign, bool e
 void FvReference::eddy_viscosity() {
   const fv::Closure cl{turb_.constants, nu_, turb_.wall == "two-layer"};
   each_cell([&](const long*, std::size_t n) { nut_[n] = cl.nu_t(wall_y_[n], k_[n], eps_[n]); });
-  const double inlet =
-      turb_.inlet_given ? cl.nu_t(std::numeric_limits<double>::infinity(), turb_.inlet_k, turb_.inlet_epsilon) : 0.0;
+  FaceValues inlet{};  // the inlet's nu_t beyond each inlet face
+  for (std::size_t f = 0; f < 6; ++f)
+    if (inlet_k_[f] > 0.0)
+      inlet[f] = cl.nu_t(std::numeric_limits<double>::infinity(), inlet_k_[f], inlet_eps_[f]);
   scalar_ghosts(nut_, inlet, -1.0, false);
 }
 
@@ -146,7 +153,7 @@ double FvReference::strain_rate2_at(long n) const {
 
 // q <- q - dt (u . grad) q in sub-steps of Courant number <= 1/2, the inlet's
 // value on its face.
-void FvReference::advect_scalar(Field& q, double inlet, double wall_sign, double dt) const {
+void FvReference::advect_scalar(Field& q, const FaceValues& inlet, double wall_sign, double dt) const {
   double rate = 0.0;
   for (int d = 0; d < dims_; ++d) {
     double m = 0.0;
@@ -168,8 +175,8 @@ void FvReference::advect_scalar(Field& q, double inlet, double wall_sign, double
         const double up = v[n + static_cast<std::size_t>(s)], um = v[n];
         double qp = fv::face_value(true, Q(-s), Q(0), Q(s), Q(2 * s), up);
         double qm = fv::face_value(true, Q(-2 * s), Q(-s), Q(0), Q(s), um);
-        if (x[d] == n_[d] - 1 && is_inlet(2 * d + 1)) qp = inlet;
-        if (x[d] == 0 && is_inlet(2 * d)) qm = inlet;
+        if (x[d] == n_[d] - 1 && is_inlet(2 * d + 1)) qp = inlet[static_cast<std::size_t>(2 * d + 1)];
+        if (x[d] == 0 && is_inlet(2 * d)) qm = inlet[static_cast<std::size_t>(2 * d)];
         r -= (up * qp - um * qm - Q(0) * (up - um)) / h_[d];
       }
       next[n] = Q(0) + dt / sub * r;
@@ -182,8 +189,9 @@ void FvReference::advect_scalar(Field& q, double inlet, double wall_sign, double
 // (1/dt + sink) q' - div((nu + nu_t / sigma) grad q') = q / dt + source, q' =
 // 0 beyond walls (wall_zero) or no flux there, q' = inlet beyond inlets, the
 // cells marked in `fixed` keeping their values.
-void FvReference::solve_scalar(Field& q, const Field& sink, const Field& source, double sigma, double inlet,
-                               bool wall_zero, const std::vector<char>* fixed, double dt, const char* what) const {
+void FvReference::solve_scalar(Field& q, const Field& sink, const Field& source, double sigma,
+                               const FaceValues& inlet, bool wall_zero, const std::vector<char>* fixed,
+                               double dt, const char* what) const {
   std::vector<long> rows;
   Field rhs(q.size(), 0.0);
   each_cell([&](const long*, std::size_t n) {
@@ -194,7 +202,7 @@ void FvReference::solve_scalar(Field& q, const Field& sink, const Field& source,
   auto apply = [&](const Field& xf, Field& y, bool zero) {
     Field X(q.size(), 0.0);
     each_cell([&](const long*, std::size_t n) { X[n] = fixed && (*fixed)[n] ? (zero ? 0.0 : q[n]) : xf[n]; });
-    scalar_ghosts(X, 0.0, 0.0, false);  // periodic copies (the boundary ghosts are not read)
+    scalar_ghosts(X, FaceValues{}, 0.0, false);  // periodic copies (the boundary ghosts are not read)
     for (long i : rows) {
       const auto I = static_cast<std::size_t>(i);
       double v = (1.0 / dt + sink[I]) * X[I];
@@ -206,7 +214,8 @@ void FvReference::solve_scalar(Field& q, const Field& sink, const Field& source,
           const double D = (nu_ + 0.5 * (nut_[I] + nut_[NB]) / sigma) / (h_[d] * h_[d]);
           const int face = 2 * d + side;
           if (sides_[face].kind != Kind::periodic && x[d] == (side == 0 ? 0 : n_[d] - 1)) {
-            if (is_inlet(face)) v += 2 * D * (X[I] - (zero ? 0.0 : inlet));
+            if (is_inlet(face))
+              v += 2 * D * (X[I] - (zero ? 0.0 : inlet[static_cast<std::size_t>(face)]));
             else if (sides_[face].kind == Kind::wall && wall_zero) v += 2 * nu_ / (h_[d] * h_[d]) * X[I];
             continue;
           }
@@ -231,10 +240,10 @@ void FvReference::turbulence_step(double dt) {
     const fv::Sources q = fv::sources(c, nut_[n], strain_rate2_at(static_cast<long>(n)), k_[n], eps_[n]);
     production[n] = q.production, sink_k[n] = q.sink_k, sink_e[n] = q.sink_epsilon, source_e[n] = q.source_epsilon;
   });
-  advect_scalar(k_, turb_.inlet_k, 0.0, dt);
-  advect_scalar(eps_, turb_.inlet_epsilon, 1.0, dt);
-  solve_scalar(k_, sink_k, production, c.sigma_k, turb_.inlet_k, true, nullptr, dt, "k solve");
-  scalar_ghosts(k_, turb_.inlet_k, 0.0, true);
+  advect_scalar(k_, inlet_k_, 0.0, dt);
+  advect_scalar(eps_, inlet_eps_, 1.0, dt);
+  solve_scalar(k_, sink_k, production, c.sigma_k, inlet_k_, true, nullptr, dt, "k solve");
+  scalar_ghosts(k_, inlet_k_, 0.0, true);
   std::vector<char> fixed(k_.size(), 0);
   if (cl.two_layer)
     for (std::size_t n = 0; n < k_.size(); ++n)
@@ -242,8 +251,8 @@ void FvReference::turbulence_step(double dt) {
         fixed[n] = 1;
         eps_[n] = cl.epsilon_near_wall(wall_y_[n], k_[n]);
       }
-  solve_scalar(eps_, sink_e, source_e, c.sigma_epsilon, turb_.inlet_epsilon, false, &fixed, dt, "epsilon solve");
-  scalar_ghosts(eps_, turb_.inlet_epsilon, 1.0, true);
+  solve_scalar(eps_, sink_e, source_e, c.sigma_epsilon, inlet_eps_, false, &fixed, dt, "epsilon solve");
+  scalar_ghosts(eps_, inlet_eps_, 1.0, true);
   each_cell([&](const long*, std::size_t n) {
     if (!(k_[n] > 0 && eps_[n] > 0))
       throw std::runtime_error(fmt::format("fv-reference: k-epsilon lost positivity at t = {:.6g} s", next_time_));

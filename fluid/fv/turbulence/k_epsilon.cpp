@@ -35,6 +35,9 @@ void FvSolver::init_turbulence() {
   turbulent_ = fluid_.turbulence.on;
   if (!turbulent_) return;
   turb_ = fluid_.turbulence;
+  const FluidParams::FaceTurbulence inlets = fluid_.inlet_turbulence(cfg_);
+  inlet_k_ = inlets.k;
+  inlet_eps_ = inlets.epsilon;
   const std::size_t padded = ex_.field_size();
   k_.assign(padded, turb_.initial_k);
   eps_.assign(padded, turb_.initial_epsilon);
@@ -63,8 +66,8 @@ void FvSolver::init_turbulence() {
   for_padded([&](const long*, long n) {
     if (cl.one_equation(wall_y_[n], k_[n])) eps_[n] = cl.epsilon_near_wall(wall_y_[n], k_[n]);
   });
-  fill_scalar_ghosts(k_, turb_.inlet_k, 0.0, true);
-  fill_scalar_ghosts(eps_, turb_.inlet_epsilon, 1.0, true);
+  fill_scalar_ghosts(k_, inlet_k_, 0.0, true);
+  fill_scalar_ghosts(eps_, inlet_eps_, 1.0, true);
   update_eddy_viscosity();
 }
 
@@ -92,7 +95,7 @@ void FvSolver::set_body_wall_distance(const ibm::MarkerSet& markers) {
 // advection's upwind-biased face value reads them) the line through the
 // inlet's value and the cell inside, or through the last two cells, never
 // below zero; without it the inlet's value, or the mirrored cell.
-void FvSolver::fill_scalar_ghosts(Field& q, double inlet, double wall_sign, bool extrapolate) {
+void FvSolver::fill_scalar_ghosts(Field& q, const FaceValues& inlets, double wall_sign, bool extrapolate) {
   ex_.exchange(q);
   for (int a = 0; a < dims_; ++a)
     for (int side = 0; side < 2; ++side) {
@@ -100,6 +103,7 @@ void FvSolver::fill_scalar_ghosts(Field& q, double inlet, double wall_sign, bool
       if (!f.here || f.kind == Face::periodic) continue;
       const long n = blk_.extent[a];
       const bool in = f.kind == Face::dirichlet && !f.wall, open = f.kind == Face::open;
+      const double inlet = inlets[static_cast<std::size_t>(2 * a + side)];
       fv::for_lines(blk_, a, [&](auto along, const long*) {
         auto at = [&](long m) { return along(side == 0 ? m : n - 1 - m); };  // m: 0 the first cell in
         const double q0 = q[at(0)], q1 = q[at(1)];
@@ -119,9 +123,11 @@ void FvSolver::fill_scalar_ghosts(Field& q, double inlet, double wall_sign, bool
 void FvSolver::update_eddy_viscosity() {
   const fv::Closure cl{turb_.constants, nu_, turb_.wall == "two-layer"};
   for_owned([&](const long*, long n, long) { nut_[n] = cl.nu_t(wall_y_[n], k_[n], eps_[n]); });
-  const double inlet = turb_.inlet_given ? cl.nu_t(std::numeric_limits<double>::infinity(), turb_.inlet_k,
-                                                   turb_.inlet_epsilon)
-                                         : 0.0;
+  FaceValues inlet{};
+  for (std::size_t f = 0; f < 6; ++f)
+    inlet[f] = inlet_k_[f] > 0.0
+                   ? cl.nu_t(std::numeric_limits<double>::infinity(), inlet_k_[f], inlet_eps_[f])
+                   : 0.0;
   fill_scalar_ghosts(nut_, inlet, -1.0, false);
 }
 
@@ -149,7 +155,7 @@ double FvSolver::strain_rate2_at(long n) const {
 
 // q <- q - dt (u . grad) q in sub-steps of Courant number <= 1/2 (non-divergent
 // form: the face fluxes minus q times the cell's discrete divergence).
-void FvSolver::advect_scalar(Field& q, double inlet, double wall_sign, double dt) {
+void FvSolver::advect_scalar(Field& q, const FaceValues& inlet, double wall_sign, double dt) {
   double umax[3] = {0, 0, 0}, rate = 0.0;
   for (int d = 0; d < dims_; ++d)
     for_owned([&](const long*, long n, long) {
@@ -176,8 +182,9 @@ void FvSolver::advect_scalar(Field& q, double inlet, double wall_sign, double dt
       const Field& v = u_[static_cast<std::size_t>(d)];
       auto value = [&](long m) { return fv::face_value(true, q[m - 2 * s], q[m - s], q[m], q[m + s], v[m]); };
       for_owned([&](const long* at, long n, long) {
-        face[n] = inlet_side[2 * d] && at[d] == 0 ? inlet : value(n);  // the inlet's value on its face
-        if (at[d] == last) face[n + s] = inlet_side[2 * d + 1] ? inlet : value(n + s);
+        const auto lo = static_cast<std::size_t>(2 * d);
+        face[n] = inlet_side[lo] && at[d] == 0 ? inlet[lo] : value(n);  // the inlet's value on its face
+        if (at[d] == last) face[n + s] = inlet_side[lo + 1] ? inlet[lo + 1] : value(n + s);
       });
       for_owned([&](const long*, long n, long) {
         next[n] -= (v[n + s] * face[n + s] - v[n] * face[n] - q[n] * (v[n + s] - v[n])) * inv_h_[d];
@@ -200,8 +207,8 @@ void FvSolver::advect_scalar(Field& q, double inlet, double wall_sign, double dt
 // branch (assemble_scalar_row), the faces' terms added after
 // (add_scalar_face_terms).
 void FvSolver::solve_scalar(fv::StructSystem& sys, Field& q, Field& change, const Field& sink,
-                            const Field& source, double sigma, double inlet, bool wall_zero, const Field* fixed,
-                            double dt) {
+                            const Field& source, double sigma, const FaceValues& inlet, bool wall_zero,
+                            const Field* fixed, double dt) {
   fv::StructSystem::Rows& m = rows_;
   m.resize(static_cast<std::size_t>(blk_.owned_cells()));  // every entry written below
   ScalarRows in{q.data(),    change.data(), sink.data(), source.data(), fixed ? fixed->data() : nullptr,
@@ -334,7 +341,7 @@ void FvSolver::add_scalar_face_terms(const ScalarRows& in, fv::StructSystem::Row
         if (in.fixed && in.fixed[n] > 0) continue;
         const double D = (nu_ + (nut_[n] + nut_[n + s]) * in.half_sigma) * in.inv_h2[d];
         if (wall) m.diag[O] += 2 * nu_ * in.inv_h2[d];
-        if (inlet) m.diag[O] += 2 * D, rhs_[O] += 2 * D * in.inlet;
+        if (inlet) m.diag[O] += 2 * D, rhs_[O] += 2 * D * in.inlet[static_cast<std::size_t>(2 * d + side)];
       }
     }
 }
@@ -354,10 +361,10 @@ void FvSolver::turbulence_step(double dt) {
     const fv::Sources q = fv::sources(c, nut_[n], strain_rate2_at(n), k_[n], eps_[n]);
     production[n] = q.production, sink_k[n] = q.sink_k, sink_e[n] = q.sink_epsilon, source_e[n] = q.source_epsilon;
   });
-  advect_scalar(k_, turb_.inlet_k, 0.0, dt);
-  advect_scalar(eps_, turb_.inlet_epsilon, 1.0, dt);
-  solve_scalar(*k_system_, k_, k_change_, sink_k, production, c.sigma_k, turb_.inlet_k, true, nullptr, dt);
-  fill_scalar_ghosts(k_, turb_.inlet_k, 0.0, true);
+  advect_scalar(k_, inlet_k_, 0.0, dt);
+  advect_scalar(eps_, inlet_eps_, 1.0, dt);
+  solve_scalar(*k_system_, k_, k_change_, sink_k, production, c.sigma_k, inlet_k_, true, nullptr, dt);
+  fill_scalar_ghosts(k_, inlet_k_, 0.0, true);
   Field& fixed = scratch_[4];
   if (cl.two_layer) {
     fixed.assign(padded, 0.0);
@@ -367,9 +374,9 @@ void FvSolver::turbulence_step(double dt) {
       eps_[n] = cl.epsilon_near_wall(wall_y_[n], k_[n]);
     });
   }
-  solve_scalar(*eps_system_, eps_, eps_change_, sink_e, source_e, c.sigma_epsilon, turb_.inlet_epsilon, false,
+  solve_scalar(*eps_system_, eps_, eps_change_, sink_e, source_e, c.sigma_epsilon, inlet_eps_, false,
                cl.two_layer ? &fixed : nullptr, dt);
-  fill_scalar_ghosts(eps_, turb_.inlet_epsilon, 1.0, true);
+  fill_scalar_ghosts(eps_, inlet_eps_, 1.0, true);
   double low[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
   for_owned([&](const long*, long n, long) {
     low[0] = std::min(low[0], k_[n]);

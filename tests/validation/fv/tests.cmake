@@ -128,6 +128,15 @@ coflow_validation(fv_ke_vs_reference_channel compare fv_ke_channel.yaml 1
   "fluid.solver=fv ${fv_ke_ch_sets}" "fluid.solver=fv-reference ${fv_ke_ch_sets}")
 coflow_validation(fv_ke_ranks_1_vs_4 compare fv_ke_all_boundaries_3d.yaml 4
   "fluid.ranks=1" "fluid.ranks=4 fluid.decomposition=[2,2,1]")
+# k and epsilon per inlet face: two inlets bringing different ones (x- its
+# own, y+ turbulence.inlet's), fv against fv-reference; and a face's own
+# values, equal to the config's turbulence.inlet, with turbulence.inlet
+# changed, give the same run as turbulence.inlet alone (the face's are used).
+set(fv_ke_faces "fluid.boundaries.y+.value=[1.0e-3,-2.0e-4,5.0e-4] fluid.boundaries.x-.k=8.0e-6 fluid.boundaries.x-.epsilon=3.0e-7")
+coflow_validation(fv_ke_face_inlets_vs_reference compare fv_ke_all_boundaries_3d.yaml 1
+  "fluid.solver=fv ${fv_ke_faces}" "fluid.solver=fv-reference ${fv_ke_faces}")
+coflow_validation(fv_ke_face_inlet_used compare fv_ke_all_boundaries_3d.yaml 1 "fluid.solver=fv"
+  "fluid.solver=fv fluid.turbulence.inlet.k=9.0e-6 fluid.turbulence.inlet.epsilon=5.0e-7 fluid.boundaries.x-.k=4.0e-6 fluid.boundaries.x-.epsilon=2.0e-7")
 # The convective outflow face lets a vortex leave: against the same flow in a
 # box twice as long (issue 21), and a pressure face (zero gradient) for scale.
 coflow_validation(fv_outflow_vortex reflection fv_outflow_vortex.yaml 1 "fluid.boundaries.x+.type=outflow"

@@ -252,11 +252,8 @@ static void check_refinement(config::Visitor& v, const config::Config& cfg, cons
     const BoundaryParams b = p.boundary(f, cfg);
     const std::string at = "fluid.boundaries." + face_names()[f];
     if (b.ramp > 0)
-      v.fail(at + ".ramp", "the adaptive grid's faces take their value from the start: remove ramp, or refinement");
-    if (b.k > 0)
-      v.fail(at + ".k",
-             "the adaptive grid takes turbulence.inlet's k and epsilon at every inlet: give them there, or "
-             "remove refinement");
+      v.fail(at + ".ramp",
+             "the adaptive grid's faces take their value from the start: remove ramp, or refinement");
     if (b.formula.uses_time())
       v.fail(at + ".profile_expression",
              "the adaptive grid's faces hold their values in time: give a formula "

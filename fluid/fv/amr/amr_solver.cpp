@@ -118,6 +118,8 @@ void AmrFvSolver::make_flow() {
                                             std::array<double, 3>{d.lower[0], d.lower[1], d.lower[2]},
                                             std::array<double, 3>{d.upper[0], d.upper[1], d.upper[2]},
                                             IjSystem::Options{p_.tolerance, p_.max_iterations});
+  const FluidParams::FaceTurbulence inlets = fluid_.inlet_turbulence(cfg_);
+  turbulence_->set_inlets(inlets.k, inlets.epsilon);
 }
 
 double& AmrFvSolver::value(std::size_t cell, int q) const {

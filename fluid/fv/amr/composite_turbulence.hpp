@@ -57,6 +57,11 @@ class CompositeTurbulence {
   CompositeTurbulence(CompositeFlow& flow, Forest& forest, const TurbulenceParams& params, double nu,
                       int first, const std::array<double, 3>& lower, const std::array<double, 3>& upper,
                       IjSystem::Options solve);
+  // k and epsilon entering through each domain face (x-, x+, y-, ...; by
+  // default params.inlet's at every face).
+  void set_inlets(const std::array<double, 6>& k, const std::array<double, 6>& epsilon) {
+    inlet_ = {k, epsilon};
+  }
 
   // The initial k and epsilon on every leaf cell (epsilon of eq. 3.18 in
   // the one-equation layer), and nu_t.
@@ -91,11 +96,13 @@ class CompositeTurbulence {
   struct Upstream {
     enum Kind { none, stencil, inlet };
     Kind self_kind = none, across_kind = none;
+    int self_face = 0, across_face = 0;  // inlet: the domain face (x-, x+, y-, ...) beyond
     Stencil self, across;  // beyond this cell, beyond the cell across
   };
   std::vector<std::vector<Link>> links(const std::vector<double>& nut) const;
   void find_upstream();
-  double face_value(const std::vector<double>& q, std::size_t c, const Link& l, double inlet) const;
+  double face_value(const std::vector<double>& q, std::size_t c, const Link& l,
+                    const std::array<double, 6>& inlet) const;
   std::vector<std::vector<Link>> current_links() const;  // the forest's ghosts exchanged before
   void advect(const std::vector<std::vector<Link>>& all, double dt);
   void diffuse(const std::vector<std::vector<Link>>& all, int q, double dt, const std::vector<double>& sink,
@@ -108,6 +115,7 @@ class CompositeTurbulence {
   CompositeFlow& flow_;
   Forest& forest_;
   TurbulenceParams params_;
+  std::array<std::array<double, 6>, 2> inlet_;  // k and epsilon entering through each domain face
   double nu_;
   int first_;
   std::array<double, 3> lower_, upper_;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -33,9 +34,23 @@ std::uint32_t g_protocol = protocol::kVersion;
 struct Hello {
   char name[16];
   int appnum;
-  std::uint32_t protocol;
+  std::uint32_t protocol;  // where builds before version 2 left 4 bytes of padding
   std::uint64_t hash;
 };
+static_assert(
+    sizeof(Hello) == 32 && offsetof(Hello, protocol) == 20 && offsetof(Hello, hash) == 24,
+    "the discovery record's layout is part of the protocol: builds of every version must read it alike");
+
+// Components built with different protocol versions: "" or the problem.
+std::string check_versions(const std::string& component, const std::vector<Hello>& all) {
+  for (const Hello& h : all)
+    if (h.protocol != g_protocol)
+      return fmt::format(
+          "coflow-{} speaks coupling protocol version {} and coflow-{} version {}: build every "
+          "component against the same coflow (docs/protocol.md)",
+          component, g_protocol, std::string(h.name), h.protocol);
+  return "";
+}
 
 // Discovery by identity: each rank says which component it is (the name is
 // compiled into, or passed to, each executable) and the world is split by that
@@ -46,12 +61,6 @@ std::string check_launch(const config::Config& cfg, const std::string& component
                          const std::map<std::string, int>& ranks_of) {
   std::map<std::string, std::set<int>> apps;  // component -> the appnums its ranks carry
   std::map<int, std::set<std::string>> names;  // appnum -> the components carrying it
-  for (const Hello& h : all)
-    if (h.protocol != g_protocol)
-      return fmt::format(
-          "coflow-{} speaks coupling protocol version {} and coflow-{} version {}: build every "
-          "component against the same coflow (docs/protocol.md)",
-          component, g_protocol, std::string(h.name), h.protocol);
   for (const Hello& h : all) {
     if (h.hash != cfg.hash)
       return fmt::format("components read different configurations ({} and {}): launch every component with the "
@@ -120,10 +129,14 @@ Discovery::Discovery(const std::string& component, const config::Config& cfg) : 
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &size_);
   standalone_ = first_rank.size() == 1;
-  const std::string problem = check_launch(cfg, component_, all, ranks_of_);
+  // A build from before the version check does not reach this verdict and
+  // would go on into MPI_Intercomm_create: the launch is aborted, not finalised.
+  const std::string mixed = check_versions(component_, all);
+  const std::string problem = mixed.empty() ? check_launch(cfg, component_, all, ranks_of_) : mixed;
   if (!problem.empty()) {
     if (world_rank_ == 0) std::cerr << kFailedTag << " " << component_ << " " << rank_ << " " << problem << std::endl;
     if (rank_ == 0) std::cerr << "coflow-" << component_ << ": error: " << problem << std::endl;
+    if (!mixed.empty()) MPI_Abort(MPI_COMM_WORLD, 2);
     MPI_Finalize();
     std::exit(2);
   }

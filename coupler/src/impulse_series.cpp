@@ -1,9 +1,11 @@
 #include "coflow/impulse_series.hpp"
 
+#include <fmt/format.h>
+
 #include <fstream>
 #include <stdexcept>
 
-#include <fmt/format.h>
+#include "coflow/mpi_count.hpp"
 
 namespace coflow::coupler {
 
@@ -28,7 +30,8 @@ ImpulseSeries::ImpulseSeries(Session& s, const std::string& file, std::vector<st
 
 void ImpulseSeries::add(std::vector<double> window) {
   if (window.size() != sum_.size()) throw std::logic_error("wall impulses for another number of walls");
-  MPI_Allreduce(MPI_IN_PLACE, window.data(), static_cast<int>(window.size()), MPI_DOUBLE, MPI_SUM, s_.comm());
+  MPI_Allreduce(MPI_IN_PLACE, window.data(), mpi_count(window.size(), "wall impulses"), MPI_DOUBLE, MPI_SUM,
+                s_.comm());
   for (std::size_t k = 0; k < sum_.size(); ++k) sum_[k] += window[k];
 }
 

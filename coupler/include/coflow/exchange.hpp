@@ -16,13 +16,9 @@
 #include <vector>
 
 #include "coflow/decomposition.hpp"
+#include "coflow/mpi_count.hpp"
 
 namespace coflow::coupler {
-
-// An MPI count (int) for n elements of one message: past 2^31 - 1 it would
-// wrap, so it throws instead, naming the message (`what` and the field's
-// `name`, if any) and telling the user to spread the components over more ranks.
-int mpi_count(std::size_t n, std::string_view what, std::string_view name = {});
 
 // consistent: values are copied (velocity); the receiver's ghost layer is filled too.
 // conservative: sums are preserved (momentum sources); the sender's ghost layer

@@ -7,6 +7,8 @@
 #include <span>
 #include <vector>
 
+#include "coflow/mpi_count.hpp"
+
 namespace coflow::coupler {
 
 // Collective. On rank 0 returns all items and, if asked, each rank's count and
@@ -17,17 +19,21 @@ std::vector<T> gather_to_root(MPI_Comm comm, std::span<const T> local, MPI_Datat
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
+  // The total on every rank, so that all refuse an oversized gather together.
+  long total = static_cast<long>(local.size());
+  MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPI_LONG, MPI_SUM, comm);
+  mpi_count(static_cast<std::size_t>(total), "gather to rank 0 (items)");
   const int n = static_cast<int>(local.size());
   std::vector<int> c(rank == 0 ? size : 0), o(rank == 0 ? size : 0);
   MPI_Gather(&n, 1, MPI_INT, c.data(), 1, MPI_INT, 0, comm);
   std::vector<T> all;
   if (rank == 0) {
-    int total = 0;
+    int at = 0;
     for (int r = 0; r < size; ++r) {
-      o[r] = total;
-      total += c[r];
+      o[r] = at;
+      at += c[r];
     }
-    all.resize(total);
+    all.resize(static_cast<std::size_t>(total));
   }
   MPI_Gatherv(local.data(), n, type, all.data(), c.data(), o.data(), type, 0, comm);
   if (counts) *counts = c;
@@ -40,15 +46,18 @@ template <class T>
 std::vector<T> allgather(MPI_Comm comm, std::span<const T> local, MPI_Datatype type) {
   int size = 1;
   MPI_Comm_size(comm, &size);
+  long total = static_cast<long>(local.size());
+  MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPI_LONG, MPI_SUM, comm);
+  mpi_count(static_cast<std::size_t>(total), "gather to every rank (items)");
   const int n = static_cast<int>(local.size());
   std::vector<int> c(size), o(size);
   MPI_Allgather(&n, 1, MPI_INT, c.data(), 1, MPI_INT, comm);
-  int total = 0;
+  int at = 0;
   for (int r = 0; r < size; ++r) {
-    o[r] = total;
-    total += c[r];
+    o[r] = at;
+    at += c[r];
   }
-  std::vector<T> all(total);
+  std::vector<T> all(static_cast<std::size_t>(total));
   MPI_Allgatherv(local.data(), n, type, all.data(), c.data(), o.data(), type, comm);
   return all;
 }

@@ -12,11 +12,13 @@ namespace coflow::protocol {
 // sparse messages and their replies). Discovery refuses a launch whose
 // components were built with different versions (an external component built
 // against another coflow). Raise it with every change a peer would misread.
-//   0: before versions existed (announced as 0);
-//   1: until 2026-11-28;
+//   1: until 2026-11-28 (never announced: builds before the check leave
+//      padding, usually 0, where the version now sits, and do not check);
 //   2: since 2026-11-29, sparse records carry the receiver's int32 local index,
 //      the fluid's force on psm cells comes back as replies (tag + 2), one
 //      fluid gets 4 solid values a cell.
+// A mismatch aborts the whole launch (MPI_Abort): a build without the check
+// would not stop by itself.
 inline constexpr std::uint32_t kVersion = 2;
 
 // particles -> immersed: one record per particle, routed by position.

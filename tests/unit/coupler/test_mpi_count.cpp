@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "coflow/exchange.hpp"
+#include "coflow/mpi_count.hpp"
 
 using coflow::coupler::mpi_count;
 

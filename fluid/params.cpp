@@ -61,9 +61,14 @@ void BoundaryParams::visit(config::Visitor& v) {
   if (!v.reading()) return;
   check_profile_keys(v);
   if ((k > 0.0) != (epsilon > 0.0))
-    v.fail(k > 0.0 ? "k" : "epsilon", "give k and epsilon together (what enters through this face)");
+    v.fail(k > 0.0 ? "k" : "epsilon",
+           fmt::format("{} is given without {} (0 means turbulence.inlet's): give both above 0, or neither",
+                       k > 0.0 ? "k" : "epsilon", k > 0.0 ? "epsilon" : "k"));
   if (k > 0.0 && type != "velocity")
-    v.fail("k", fmt::format("{} boundaries let no fluid in: k and epsilon are for velocity faces", type));
+    v.fail("k",
+           fmt::format("k and epsilon are given on velocity faces (inlets) only; this {} face takes k and "
+                       "epsilon from the flow: remove them here",
+                       type));
   const bool given = v.given("value");
   if (profile != "uniform" && type != "velocity")
     v.fail("profile", fmt::format("a {} boundary has no velocity profile; profile is for velocity faces", type));

@@ -193,8 +193,10 @@ static void check_turbulence(config::Visitor& v, const config::Config& cfg, cons
   if (!v.reading()) return;
   for (int f = 0; f < 6; ++f)
     if (!p.turbulence.on && p.boundary(f, cfg).k > 0.0)
-      v.fail("boundaries." + face_names()[f] + ".k",
-             "k and epsilon of a face are for the k-epsilon model: add fluid.turbulence or remove them");
+      v.fail(
+          "boundaries." + face_names()[f] + ".k",
+          "k and epsilon of a face are for the k-epsilon model: add fluid.turbulence (solver fv) or remove "
+          "them");
   if (!p.turbulence.on) return;
   if (info.variant.rfind("fv", 0) != 0) {
     v.fail("turbulence", fmt::format("solver {} has no turbulence model; k-epsilon runs on solver: fv", info.variant));
@@ -214,6 +216,12 @@ static void check_turbulence(config::Visitor& v, const config::Config& cfg, cons
              fmt::format("the velocity face {} lets fluid out, and with fluid.turbulence a velocity face is an inlet "
                          "(k and epsilon enter there): use an outflow or pressure face where the fluid leaves",
                          face_names()[f]));
+    if (b.type == "velocity" && normal == 0 && b.k > 0.0)
+      v.fail(
+          "boundaries." + face_names()[f] + ".k",
+          fmt::format("face {} lets no fluid through (its velocity has no {} component): k and epsilon are "
+                      "for inlets; remove them here",
+                      face_names()[f], "xyz"[f / 2]));
     if (normal != 0 && !p.turbulence.inlet_given && !(b.k > 0.0))
       v.fail("turbulence",
              fmt::format("face {} is a velocity face: give the k and epsilon of what enters there, "

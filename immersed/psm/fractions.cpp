@@ -123,7 +123,7 @@ const std::vector<double>& SphereFractions::kept(double r, int m, int a, int b, 
     kept_.clear();
     classes_.clear();
     bytes_ = 0;
-    cleared_ = true;
+    direct_.clear();  // its tables pointed into kept_
   }
   const double s = 1.0 / lattice_;
   // Exact binary arithmetic (by_symmetry): a 2^k lattice, and leaves of 2^-levels whose squares and sums
@@ -145,7 +145,6 @@ const std::vector<double>& SphereFractions::kept_direct(double r, int m, int a, 
   for (const Direct& d : direct_)
     if (d.radius_bits == bits && d.stencil[at]) return *d.stencil[at];
   const std::vector<double>& s = kept(r, m, a, b, c);  // map elements keep their address until a clear
-  if (cleared_) direct_.clear(), cleared_ = false;
   auto d =
       std::find_if(direct_.begin(), direct_.end(), [&](const Direct& x) { return x.radius_bits == bits; });
   if (d == direct_.end())

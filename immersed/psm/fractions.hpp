@@ -44,6 +44,9 @@ class SphereFractions {
   // stencils' memory, cleared whole when it is passed.
   SphereFractions(double h, const std::array<double, 3>& lower, int levels, int lattice,
                   std::vector<double> kept_radii, std::size_t max_bytes = std::size_t{256} << 20);
+  // Not copied: the lookup tables point into this object's kept stencils.
+  SphereFractions(const SphereFractions&) = delete;
+  SphereFractions& operator=(const SphereFractions&) = delete;
 
   // The cells (global, unwrapped indices) sphere (c, r) covers and their
   // fractions (> 0), replacing `out`'s contents.
@@ -91,8 +94,7 @@ class SphereFractions {
     std::uint64_t radius_bits;
     std::vector<const std::vector<double>*> stencil;  // (N + 1)^3 offsets; null: not looked up yet
   };
-  std::vector<Direct> direct_;
-  bool cleared_ = false;  // kept() dropped its stencils: the tables point nowhere
+  std::vector<Direct> direct_;  // emptied whenever kept() drops its stencils
 };
 
 }  // namespace coflow::immersed

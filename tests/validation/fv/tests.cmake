@@ -162,9 +162,10 @@ coflow_validation(fv_amr_vortex_ranks compare fv_amr_vortex.yaml 2
 coflow_validation(fv_amr_ke_decay ke_decay fv_amr_ke_decay.yaml 1)
 coflow_validation(fv_amr_ke_grid_turbulence ke_grid_levels fv_amr_ke_grid_turbulence.yaml 1)
 coflow_validation(fv_amr_ke_ranks_1_vs_2 compare fv_amr_ke_inlet_walls.yaml 2 "fluid.ranks=1" "fluid.ranks=2")
-# The adaptive grid takes an inlet face's own k and epsilon (as fv_ke_face_inlet_used).
-coflow_validation(fv_amr_ke_face_inlet_used compare fv_amr_ke_inlet_walls.yaml 1 "fluid.ranks=1"
-  "fluid.ranks=1 fluid.turbulence.inlet.k=0.03 fluid.turbulence.inlet.epsilon=0.01 fluid.boundaries.x-.k=0.015 fluid.boundaries.x-.epsilon=0.006")
+# The adaptive grid takes an inlet face's own k and epsilon (as
+# fv_ke_face_inlet_used), the inlet on x+ (not the first face, index 0).
+coflow_validation(fv_amr_ke_face_inlet_used compare fv_amr_ke_inlet_x_plus.yaml 1 "fluid.ranks=1"
+  "fluid.ranks=1 fluid.turbulence.inlet.k=0.03 fluid.turbulence.inlet.epsilon=0.01 fluid.boundaries.x+.k=0.015 fluid.boundaries.x+.epsilon=0.006")
 coflow_validation(dpm_two_way_amr two_way dpm_two_way_amr.yaml 3)
 # The same with implicit diffusion: the point particles' momentum source on
 # two levels through the implicit step (its advective part); momentum then to

@@ -24,6 +24,16 @@ std::vector<double> series_column(const std::string& path, const std::string& na
   return v;
 }
 
+// The turbulence parameters with the inlet's k and epsilon those entering
+// through x- (the face's own, or turbulence.inlet's).
+fluid::TurbulenceParams inlet_x_minus(const fluid::FluidParams& fp, const config::Config& cfg) {
+  fluid::TurbulenceParams t = fp.turbulence;
+  const auto in = fp.inlet_turbulence(cfg);
+  t.inlet_k = in.k[0];
+  t.inlet_epsilon = in.epsilon[0];
+  return t;
+}
+
 }  // namespace
 
 // Homogeneous turbulence without mean flow: dk/dt = -epsilon, depsilon/dt =
@@ -64,7 +74,7 @@ int ke_decay(const std::string& dir) {
 int ke_grid(const std::string& dir) {
   const auto cfg = load(dir);
   const auto fp = fluid_params(cfg);
-  const auto& t = fp.turbulence;
+  const auto t = inlet_x_minus(fp, cfg);
   const auto& d = cfg.domain;
   const double h = d.spacing()[0], U = fp.boundary(0, cfg).value.values.at(0);
   const double c2 = t.constants.C_epsilon2, n = 1.0 / (c2 - 1.0);
@@ -101,7 +111,7 @@ int ke_grid(const std::string& dir) {
 int ke_grid_levels(const std::string& dir) {
   const auto cfg = load(dir);
   const auto fp = fluid_params(cfg);
-  const auto& t = fp.turbulence;
+  const auto t = inlet_x_minus(fp, cfg);
   const double U = fp.boundary(0, cfg).value.values.at(0), c2 = t.constants.C_epsilon2, n = 1.0 / (c2 - 1.0);
   std::string snap = last_snapshot(dir);
   snap = snap.substr(0, snap.size() - 3) + "_levels.h5";

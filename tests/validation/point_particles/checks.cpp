@@ -539,12 +539,15 @@ int grid_turbulence(const std::string& dir) {
 int grid_turbulence_fv(const std::string& dir) {
   const auto cfg = load(dir);
   const fluid::FluidParams fp = fluid_params(cfg);
-  const auto& t = fp.turbulence;
+  fluid::TurbulenceParams t = fp.turbulence;  // with the k and epsilon entering through the inlet (below)
   const auto disp = cfg.resolved["particles"]["dispersion"];
   const auto msd_cfg = disp["msd"];
   const int axis = msd_cfg["axis"].as<int>();
   const double U = fp.boundary(2 * axis, cfg).value.values.at(static_cast<std::size_t>(axis));
   const double x_in = cfg.domain.lower[axis], n = 1.0 / (t.constants.C_epsilon2 - 1.0);
+  const auto inlets = fp.inlet_turbulence(cfg);
+  t.inlet_k = inlets.k[static_cast<std::size_t>(2 * axis)];
+  t.inlet_epsilon = inlets.epsilon[static_cast<std::size_t>(2 * axis)];
   const double x0 = cfg.resolved["particles"]["injection"][0]["disk"]["center"][axis].as<double>();
   const double dtau = msd_cfg["interval"].as<double>();
   const int ntau = msd_cfg["samples"].as<int>();

@@ -19,22 +19,18 @@ std::vector<T> gather_to_root(MPI_Comm comm, std::span<const T> local, MPI_Datat
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
-  // The total on every rank, so that all refuse an oversized gather together.
-  long total = static_cast<long>(local.size());
-  MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPI_LONG, MPI_SUM, comm);
-  mpi_count(static_cast<std::size_t>(total), "gather to rank 0 (items)");
-  const int n = static_cast<int>(local.size());
-  std::vector<int> c(rank == 0 ? size : 0), o(rank == 0 ? size : 0);
-  MPI_Gather(&n, 1, MPI_INT, c.data(), 1, MPI_INT, 0, comm);
-  std::vector<T> all;
-  if (rank == 0) {
-    int at = 0;
-    for (int r = 0; r < size; ++r) {
-      o[r] = at;
-      at += c[r];
-    }
-    all.resize(static_cast<std::size_t>(total));
+  // Every rank's count on every rank, so that all refuse an oversized gather together.
+  const int n = mpi_count(local.size(), "gather to rank 0 (items of one rank)");
+  std::vector<int> c(size), o(size);
+  MPI_Allgather(&n, 1, MPI_INT, c.data(), 1, MPI_INT, comm);
+  long total = 0;
+  for (int r = 0; r < size; ++r) {
+    o[r] = static_cast<int>(total);
+    total += c[r];
   }
+  mpi_count(static_cast<std::size_t>(total), "gather to rank 0 (items)");
+  std::vector<T> all(rank == 0 ? static_cast<std::size_t>(total) : 0);
+  if (rank != 0) c.clear(), o.clear();
   MPI_Gatherv(local.data(), n, type, all.data(), c.data(), o.data(), type, 0, comm);
   if (counts) *counts = c;
   if (offsets) *offsets = o;
@@ -46,17 +42,15 @@ template <class T>
 std::vector<T> allgather(MPI_Comm comm, std::span<const T> local, MPI_Datatype type) {
   int size = 1;
   MPI_Comm_size(comm, &size);
-  long total = static_cast<long>(local.size());
-  MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPI_LONG, MPI_SUM, comm);
-  mpi_count(static_cast<std::size_t>(total), "gather to every rank (items)");
-  const int n = static_cast<int>(local.size());
+  const int n = mpi_count(local.size(), "gather to every rank (items of one rank)");
   std::vector<int> c(size), o(size);
   MPI_Allgather(&n, 1, MPI_INT, c.data(), 1, MPI_INT, comm);
-  int at = 0;
+  long total = 0;
   for (int r = 0; r < size; ++r) {
-    o[r] = at;
-    at += c[r];
+    o[r] = static_cast<int>(total);
+    total += c[r];
   }
+  mpi_count(static_cast<std::size_t>(total), "gather to every rank (items)");
   std::vector<T> all(static_cast<std::size_t>(total));
   MPI_Allgatherv(local.data(), n, type, all.data(), c.data(), o.data(), type, comm);
   return all;

@@ -91,8 +91,21 @@ class FieldExchange {
     std::vector<double> reply;       // replies sent or received
     MPI_Request request = MPI_REQUEST_NULL;
   };
+  // send_sparse, consistent: where an owned cell goes. A cell in `from` goes
+  // to peer `peer` as its image shifted by `shift` (the peer's block grown
+  // by the ghost layer, clipped, shifted back into this side's frame,
+  // intersected with the owned block); in the order peer, then image shift.
+  struct Route {
+    int peer;
+    Index3 shift;
+    Box from;
+  };
   void check_replies(const char* call, int components) const;
   void pack_sparse(std::span<const Index3> cells, std::span<const double> values);
+  void build_routes();
+  void append_sparse(Peer& p, const Index3& cell, std::size_t n, std::span<const double> values);
+  void pack_routes(Peer& p, std::span<const Route> routes, std::span<const Index3> cells,
+                   std::span<const double> values);
   void build(const Decomposition& mine, int my_rank, const Decomposition& remote);
 
   MPI_Comm inter_;
@@ -109,7 +122,8 @@ class FieldExchange {
   std::vector<MPI_Request> sparse_requests_;
   std::vector<MPI_Request> reply_requests_;
   std::size_t sparse_sent_ = 0;  // cells given to the last send_sparse()
-  std::vector<Box> dst_boxes_;  // send_sparse: each peer's block grown by the ghost layer, clipped
+  std::vector<Route> routes_;
+  bool routes_built_ = false;
   bool sends_pending_ = false;
 };
 

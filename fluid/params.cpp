@@ -58,17 +58,18 @@ void BoundaryParams::visit(config::Visitor& v) {
     "with k; "
     "0: turbulence.inlet's",
     config::at_least(0.0));
+  v("intensity", intensity,
+    "velocity faces with fluid.turbulence (fv), instead of k and epsilon: the turbulence intensity I of the "
+    "fluid entering here (r.m.s. fluctuation over speed, e.g. 0.05), with mixing_length; k = 3/2 (I |u|)^2 "
+    "with |u| the inlet's local speed (its profile and ramp included)",
+    config::at_least(0.0));
+  v("mixing_length", mixing_length,
+    "with intensity: the mixing length L of the fluid entering here, m (e.g. 0.07 of a duct's hydraulic "
+    "diameter); epsilon = C_mu^(3/4) k^(3/2) / L",
+    config::at_least(0.0));
   if (!v.reading()) return;
   check_profile_keys(v);
-  if ((k > 0.0) != (epsilon > 0.0))
-    v.fail(k > 0.0 ? "k" : "epsilon",
-           fmt::format("{} is given without {} (0 means turbulence.inlet's): give both above 0, or neither",
-                       k > 0.0 ? "k" : "epsilon", k > 0.0 ? "epsilon" : "k"));
-  if (k > 0.0 && type != "velocity")
-    v.fail("k",
-           fmt::format("k and epsilon are given on velocity faces (inlets) only; this {} face takes k and "
-                       "epsilon from the flow: remove them here",
-                       type));
+  check_inlet_turbulence_keys(v);
   const bool given = v.given("value");
   if (profile != "uniform" && type != "velocity")
     v.fail("profile", fmt::format("a {} boundary has no velocity profile; profile is for velocity faces", type));
@@ -118,6 +119,43 @@ void BoundaryParams::check_profile_keys(config::Visitor& v) {
       v.fail("profile_expression", e.what());
     }
   }
+}
+
+// k and epsilon, or intensity and mixing_length, in pairs, on velocity faces only.
+void BoundaryParams::check_inlet_turbulence_keys(config::Visitor& v) {
+  if ((k > 0.0) != (epsilon > 0.0))
+    v.fail(k > 0.0 ? "k" : "epsilon",
+           fmt::format("{} is given without {} (0 means turbulence.inlet's): give both above 0, or neither",
+                       k > 0.0 ? "k" : "epsilon", k > 0.0 ? "epsilon" : "k"));
+  if ((intensity > 0.0) != (mixing_length > 0.0))
+    v.fail(intensity > 0.0 ? "intensity" : "mixing_length",
+           fmt::format("{} is given without {}: give both above 0 (k and epsilon then follow the inlet's "
+                       "speed), or neither",
+                       intensity > 0.0 ? "intensity" : "mixing_length",
+                       intensity > 0.0 ? "mixing_length" : "intensity"));
+  if (intensity > 0.0 && k > 0.0)
+    v.fail("intensity",
+           "k and epsilon are given twice, as values and by intensity and mixing_length: keep one "
+           "pair");
+  const char* key = k > 0.0 ? "k" : intensity > 0.0 ? "intensity" : nullptr;
+  if (key && type != "velocity")
+    v.fail(key, fmt::format("{} are given on velocity faces (inlets) only; this {} face takes k and epsilon "
+                            "from the flow: remove them here",
+                            k > 0.0 ? "k and epsilon" : "intensity and mixing_length", type));
+}
+
+double FluidParams::FaceTurbulence::k_at(int f, double speed) const {
+  const auto i = static_cast<std::size_t>(f);
+  if (!from_speed(f)) return k[i];
+  const double fluctuation = intensity[i] * speed;
+  return 1.5 * fluctuation * fluctuation;
+}
+
+double FluidParams::FaceTurbulence::epsilon_at(int f, double speed) const {
+  const auto i = static_cast<std::size_t>(f);
+  if (!from_speed(f)) return epsilon[i];
+  const double kf = k_at(f, speed);
+  return std::pow(c_mu, 0.75) * kf * std::sqrt(kf) / length[i];
 }
 
 // An expression profile gives a number at the face's centre, corners and
@@ -334,11 +372,15 @@ double BoundaryParams::profile_factor(int face, const double s[3], const config:
 
 FluidParams::FaceTurbulence FluidParams::inlet_turbulence(const config::Config& cfg) const {
   FaceTurbulence t;
+  t.c_mu = turbulence.constants.C_mu;
   for (int f = 0; f < 6; ++f) {
     const BoundaryParams b = boundary(f, cfg);
-    const bool own = b.k > 0.0;
-    t.k[static_cast<std::size_t>(f)] = own ? b.k : turbulence.inlet_k;
-    t.epsilon[static_cast<std::size_t>(f)] = own ? b.epsilon : turbulence.inlet_epsilon;
+    const auto i = static_cast<std::size_t>(f);
+    const bool own = b.k > 0.0, speed = b.intensity > 0.0;
+    t.k[i] = own ? b.k : speed ? 0.0 : turbulence.inlet_k;
+    t.epsilon[i] = own ? b.epsilon : speed ? 0.0 : turbulence.inlet_epsilon;
+    t.intensity[i] = b.intensity;
+    t.length[i] = b.mixing_length;
   }
   return t;
 }

@@ -46,8 +46,10 @@ struct BoundaryParams {
   std::string profile_expression;   // expression: its text
   ProfileExpression formula;        // expression: parsed from profile_expression
   double k = 0.0, epsilon = 0.0;    // velocity faces with k-epsilon: what enters here (0: turbulence.inlet's)
+  double intensity = 0.0, mixing_length = 0.0;  // or k and epsilon from the local inlet speed (0: not)
   void visit(config::Visitor& v);
   void check_profile_keys(config::Visitor& v);
+  void check_inlet_turbulence_keys(config::Visitor& v);
   // The profile's factor at a point of the face at time t: 1 (uniform), the
   // product over the face's other axes that end in faces (not periodic, more
   // than one cell) of 4 s (1 - s), s the point's fraction of the box along
@@ -94,8 +96,18 @@ struct FluidParams {
   BoundaryParams boundary(int face, const config::Config& cfg) const;
   // k and epsilon of the fluid entering through each face (x-, x+, y-, ...):
   // a velocity face's own, else turbulence.inlet's; 0 where neither is given.
+  // A face with a turbulence intensity I and a mixing length L takes them
+  // from the inlet's local speed |u| instead (its k and epsilon here are 0):
+  // k = 3/2 (I |u|)^2 (isotropic fluctuations of r.m.s. I |u| per component)
+  // and epsilon = C_mu^(3/4) k^(3/2) / L (the mixing-length scale of eqs.
+  // 3.17 and 3.21 with l = L), as OpenFOAM's turbulentIntensityKinetic-
+  // EnergyInlet and turbulentMixingLengthDissipationRateInlet.
   struct FaceTurbulence {
-    std::array<double, 6> k{}, epsilon{};
+    std::array<double, 6> k{}, epsilon{}, intensity{}, length{};
+    double c_mu = 0.09;
+    bool from_speed(int f) const { return intensity[static_cast<std::size_t>(f)] > 0.0; }
+    double k_at(int f, double speed) const;
+    double epsilon_at(int f, double speed) const;
   };
   FaceTurbulence inlet_turbulence(const config::Config& cfg) const;
 };

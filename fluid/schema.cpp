@@ -191,12 +191,15 @@ static void check_fv_blocks(config::Visitor& v, const config::Config& cfg, const
 static void check_turbulence(config::Visitor& v, const config::Config& cfg, const config::ComponentInfo& info,
                              const FluidParams& p) {
   if (!v.reading()) return;
-  for (int f = 0; f < 6; ++f)
-    if (!p.turbulence.on && p.boundary(f, cfg).k > 0.0)
+  for (int f = 0; f < 6; ++f) {
+    const BoundaryParams b = p.boundary(f, cfg);
+    if (!p.turbulence.on && (b.k > 0.0 || b.intensity > 0.0))
       v.fail(
-          "boundaries." + face_names()[f] + ".k",
-          "k and epsilon of a face are for the k-epsilon model: add fluid.turbulence (solver fv) or remove "
-          "them");
+          "boundaries." + face_names()[f] + (b.k > 0.0 ? ".k" : ".intensity"),
+          fmt::format("{} of a face are for the k-epsilon model: add fluid.turbulence (solver fv) or remove "
+                      "them",
+                      b.k > 0.0 ? "k and epsilon" : "intensity and mixing_length"));
+  }
   if (!p.turbulence.on) return;
   if (info.variant.rfind("fv", 0) != 0) {
     v.fail("turbulence", fmt::format("solver {} has no turbulence model; k-epsilon runs on solver: fv", info.variant));
@@ -216,18 +219,20 @@ static void check_turbulence(config::Visitor& v, const config::Config& cfg, cons
              fmt::format("the velocity face {} lets fluid out, and with fluid.turbulence a velocity face is an inlet "
                          "(k and epsilon enter there): use an outflow or pressure face where the fluid leaves",
                          face_names()[f]));
-    if (b.type == "velocity" && normal == 0 && b.k > 0.0)
+    const bool own = b.k > 0.0 || b.intensity > 0.0;
+    if (b.type == "velocity" && normal == 0 && own)
+      v.fail("boundaries." + face_names()[f] + (b.k > 0.0 ? ".k" : ".intensity"),
+             fmt::format("face {} lets no fluid through (its velocity has no {} component): {} are "
+                         "for inlets; remove them here",
+                         face_names()[f], "xyz"[f / 2],
+                         b.k > 0.0 ? "k and epsilon" : "intensity and mixing_length"));
+    if (normal != 0 && !p.turbulence.inlet_given && !own)
       v.fail(
-          "boundaries." + face_names()[f] + ".k",
-          fmt::format("face {} lets no fluid through (its velocity has no {} component): k and epsilon are "
-                      "for inlets; remove them here",
-                      face_names()[f], "xyz"[f / 2]));
-    if (normal != 0 && !p.turbulence.inlet_given && !(b.k > 0.0))
-      v.fail("turbulence",
-             fmt::format("face {} is a velocity face: give the k and epsilon of what enters there, "
-                         "on the face (boundaries.{}: {{..., k: ..., epsilon: ...}}) or for every "
-                         "inlet (turbulence.inlet: {{k: ..., epsilon: ...}})",
-                         face_names()[f], face_names()[f]));
+          "turbulence",
+          fmt::format("face {} is a velocity face: give the k and epsilon of what enters there, "
+                      "on the face (boundaries.{}: {{..., k: ..., epsilon: ...}} or {{..., intensity: ..., "
+                      "mixing_length: ...}}) or for every inlet (turbulence.inlet: {{k: ..., epsilon: ...}})",
+                      face_names()[f], face_names()[f]));
   }
 }
 

@@ -152,16 +152,32 @@ class FvSolver final : public FluidSolver {
   void set_body_wall_distance(const ibm::MarkerSet& markers);  // wall_y_: the box's walls and the bodies
   void turbulence_step(double dt);
   double strain_rate2_at(long n) const;  // S^2 = 2 S_ij S_ij at a cell (seed 003 eqs. 3.15-3.16)
-  using FaceValues = std::array<double, 6>;  // per domain face: x-, x+, y-, y+, z-, z+
-  void advect_scalar(Field& q, const FaceValues& inlet, double wall_sign, double dt);
+  // A scalar entering through each domain face (x-, x+, y-, y+, z-, z+), per
+  // line of cells across it (fv::for_lines; at() reads the line's two
+  // coordinates across the face): one value where the face's k and epsilon
+  // are uniform, one per line where they follow the inlet's speed.
+  struct FaceLines {
+    std::array<std::vector<double>, 6> values;
+    std::array<long, 6> first{},
+        stride{};  // the index of line (0, 0) and the stride of the face's second axis
+    double at(int f, const long* line) const {
+      const auto i = static_cast<std::size_t>(f);
+      const std::vector<double>& v = values[i];
+      if (v.size() == 1) return v[0];
+      const int a = f / 2;
+      return v[static_cast<std::size_t>(first[i] + line[(a + 1) % 3] + line[(a + 2) % 3] * stride[i])];
+    }
+  };
+  void set_inlet_lines(double t);
+  void advect_scalar(Field& q, const FaceLines& inlet, double wall_sign, double dt);
   void solve_scalar(fv::StructSystem& sys, Field& q, Field& change, const Field& sink, const Field& source,
-                    double sigma, const FaceValues& inlet, bool wall_zero, const Field* fixed, double dt);
+                    double sigma, const FaceLines& inlet, bool wall_zero, const Field* fixed, double dt);
   // What the rows of one scalar's system read (solve_scalar): padded fields
   // (fixed null without fixed cells) and the constants.
   struct ScalarRows {
     const double *q, *change, *sink, *source, *fixed;
     double half_sigma, inv_dt;
-    FaceValues inlet;
+    const FaceLines* inlet;
     bool wall_zero;
     double inv_h2[3];
   };
@@ -170,8 +186,8 @@ class FvSolver final : public FluidSolver {
                            long o0, long len);
   static int diagonally_dominant(const fv::StructSystem::Rows& m, long o0, long len);
   void add_scalar_face_terms(const ScalarRows& in, fv::StructSystem::Rows& m, const bool (&edge)[3][2],
-                             long n0, long o0, long len);
-  void fill_scalar_ghosts(Field& q, const FaceValues& inlet, double wall_sign, bool extrapolate);
+                             const long* at, long n0, long o0, long len);
+  void fill_scalar_ghosts(Field& q, const FaceLines& inlet, double wall_sign, bool extrapolate);
   void update_eddy_viscosity();
   // nu + nu_t on side `side` along d of u_c's control volume (u_c at index n,
   // the lower c-face of cell n): along c the cell below (n - s_c) or the cell
@@ -269,7 +285,8 @@ class FvSolver final : public FluidSolver {
   // and the immersed bodies' surfaces), the implicit systems of k and epsilon.
   bool turbulent_ = false;
   TurbulenceParams turb_;
-  FaceValues inlet_k_{}, inlet_eps_{};  // what enters through each face (FluidParams::inlet_turbulence)
+  FluidParams::FaceTurbulence inlets_;  // what enters through each face (FluidParams::inlet_turbulence)
+  FaceLines inlet_k_, inlet_eps_, inlet_nut_;  // k, epsilon and nu_t entering, at the time of set_inlet_lines
   Field k_, eps_, nut_, wall_y_, box_wall_y_;
   Field k_change_, eps_change_;  // the last step's change by the k and epsilon solves (next first guesses)
   std::unique_ptr<fv::StructSystem> k_system_, eps_system_;

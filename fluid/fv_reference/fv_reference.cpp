@@ -606,8 +606,9 @@ void FvReference::load(const std::string& dir, long, double) {
     const auto e = grid::load_cell_field(dir + "/fv_turbulence.h5", "epsilon", cells, box_, 1);
     o = 0;
     each_cell([&](const long*, std::size_t n) { k_[n] = k[o], eps_[n] = e[o], ++o; });
-    scalar_ghosts(k_, inlet_k_, 0.0, true);
-    scalar_ghosts(eps_, inlet_eps_, 1.0, true);
+    inlet_time_ = time_;
+    scalar_ghosts(k_, inlet(0), 0.0, true);
+    scalar_ghosts(eps_, inlet(1), 1.0, true);
     eddy_viscosity();
   }
 }

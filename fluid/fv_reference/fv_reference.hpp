@@ -5,11 +5,13 @@
 // gradients on operators applied cell by cell (no matrix, no multigrid).
 #pragma once
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
+#include <functional>
 #include <memory>
 #include <stdexcept>
-#include <fmt/format.h>
 #include <vector>
 
 #include "fluid/fluid_solver.hpp"
@@ -91,7 +93,13 @@ class FvReference final : public FluidSolver {
   bool is_inlet(int face) const;  // a velocity face with flow through it (else a wall)
   void turbulence_init();
   void turbulence_step(double dt);
-  using FaceValues = std::array<double, 6>;  // per domain face: x-, x+, y-, y+, z-, z+
+  // What enters through face f (x-, x+, y-, ...) beside the cell x (x along
+  // f's axis not read): k, epsilon or nu_t (inlet_value).
+  using FaceValues = std::function<double(int f, const long* x)>;
+  FaceValues inlet(int q) const {
+    return [this, q](int f, const long* x) { return inlet_value(q, f, x); };
+  }
+  double inlet_value(int q, int face, const long* x) const;
   void scalar_ghosts(Field& q, const FaceValues& inlet, double wall_sign, bool extrapolate) const;
   void eddy_viscosity();
   double nu_at(int c, long n, int d, int side) const;  // nu + nu_t on a side of u_c's control volume
@@ -127,7 +135,8 @@ class FvReference final : public FluidSolver {
   std::vector<double> out_u_, out_p_, out_rho_, out_div_, out_k_, out_eps_, out_nut_, out_yplus_;
   bool turbulent_ = false;
   TurbulenceParams turb_;
-  FaceValues inlet_k_{}, inlet_eps_{};  // what enters through each face
+  FluidParams::FaceTurbulence inlets_;  // what enters through each face
+  double inlet_time_ = 0.0;             // the time of the inlets' velocity (ramps, profiles in t)
   Field k_, eps_, nut_, wall_y_;  // cells, padded; wall_y_: distance to the nearest wall
   Field box_wall_y_;              // the same, the box's walls alone (immersed bodies are walls too)
 };

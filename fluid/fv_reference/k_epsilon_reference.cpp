@@ -22,9 +22,8 @@ void FvReference::turbulence_init() {
   turbulent_ = fluid_.turbulence.on;
   if (!turbulent_) return;
   turb_ = fluid_.turbulence;
-  const FluidParams::FaceTurbulence inlets = fluid_.inlet_turbulence(cfg_);
-  inlet_k_ = inlets.k;
-  inlet_eps_ = inlets.epsilon;
+  inlets_ = fluid_.inlet_turbulence(cfg_);
+  inlet_time_ = time_;
   const std::size_t size = u_[0].size();
   k_.assign(size, turb_.initial_k);
   eps_.assign(size, turb_.initial_epsilon);
@@ -44,9 +43,28 @@ void FvReference::turbulence_init() {
         if (cl.one_equation(wall_y_[n], k_[n])) eps_[n] = cl.epsilon_near_wall(wall_y_[n], k_[n]);
       }
   box_wall_y_ = wall_y_;
-  scalar_ghosts(k_, inlet_k_, 0.0, true);
-  scalar_ghosts(eps_, inlet_eps_, 1.0, true);
+  scalar_ghosts(k_, inlet(0), 0.0, true);
+  scalar_ghosts(eps_, inlet(1), 1.0, true);
   eddy_viscosity();
+}
+
+// k (q 0), epsilon (1) or nu_t (2) entering through `face` beside the cell x
+// at inlet_time_: the face's values, or from its intensity and the inlet's
+// speed there (the face's velocity, ramp and profile factor at its centre).
+double FvReference::inlet_value(int q, int face, const long* x) const {
+  double speed = 0.0;
+  if (inlets_.from_speed(face)) {
+    const Vec3 U = side_velocity(face, inlet_time_);
+    long on[3] = {x[0], x[1], x[2]};
+    on[face / 2] = 0;  // fv's lines: 0 along the face's axis
+    speed = std::sqrt(U[0] * U[0] + U[1] * U[1] + U[2] * U[2]) *
+            std::abs(profile(face, face / 2, on, inlet_time_));
+  }
+  const double k = inlets_.k_at(face, speed), eps = inlets_.epsilon_at(face, speed);
+  if (q == 0) return k;
+  if (q == 1) return eps;
+  const fv::Closure cl{turb_.constants, nu_, turb_.wall == "two-layer"};
+  return k > 0.0 ? cl.nu_t(std::numeric_limits<double>::infinity(), k, eps) : 0.0;
 }
 
 // fv's fill_scalar_ghosts: periodic copies; beyond a wall wall_sign times the
@@ -57,7 +75,7 @@ void FvReference::scalar_ghosts(Field& q, const FaceValues& inlets, double wall_
                                 bool extrapolate) const {
   for (int a = 0; a < dims_; ++a) {
     const long n = n_[a], s = step_of(a);
-    for_lines(a, [&](long o, const long*) {
+    for_lines(a, [&](long o, const long* line) {
       auto Q = [&](long m) -> double& { return q[static_cast<std::size_t>(o + m * s)]; };
       if (sides_[2 * a].kind == Kind::periodic) {
         Q(-1) = Q(n - 1), Q(-2) = Q(n - 2), Q(n) = Q(0), Q(n + 1) = Q(1);
@@ -65,7 +83,7 @@ void FvReference::scalar_ghosts(Field& q, const FaceValues& inlets, double wall_
       }
       for (int side = 0; side < 2; ++side) {
         const int face = 2 * a + side;
-        const double inlet = inlets[static_cast<std::size_t>(face)];
+        const double inlet = is_inlet(face) ? inlets(face, line) : 0.0;
         const long q0 = side == 0 ? 0 : n - 1, in = side == 0 ? 1 : -1;  // first cell, inwards
         const double v0 = Q(q0), v1 = Q(q0 + in);
         double g1 = v0, g2 = v1;
@@ -87,11 +105,7 @@ void FvReference::scalar_ghosts(Field& q, const FaceValues& inlets, double wall_
 void FvReference::eddy_viscosity() {
   const fv::Closure cl{turb_.constants, nu_, turb_.wall == "two-layer"};
   each_cell([&](const long*, std::size_t n) { nut_[n] = cl.nu_t(wall_y_[n], k_[n], eps_[n]); });
-  FaceValues inlet{};  // the inlet's nu_t beyond each inlet face
-  for (std::size_t f = 0; f < 6; ++f)
-    if (inlet_k_[f] > 0.0)
-      inlet[f] = cl.nu_t(std::numeric_limits<double>::infinity(), inlet_k_[f], inlet_eps_[f]);
-  scalar_ghosts(nut_, inlet, -1.0, false);
+  scalar_ghosts(nut_, inlet(2), -1.0, false);  // the inlet's nu_t beyond each inlet face
 }
 
 double FvReference::nu_at(int c, long n, int d, int side) const {
@@ -175,8 +189,8 @@ void FvReference::advect_scalar(Field& q, const FaceValues& inlet, double wall_s
         const double up = v[n + static_cast<std::size_t>(s)], um = v[n];
         double qp = fv::face_value(true, Q(-s), Q(0), Q(s), Q(2 * s), up);
         double qm = fv::face_value(true, Q(-2 * s), Q(-s), Q(0), Q(s), um);
-        if (x[d] == n_[d] - 1 && is_inlet(2 * d + 1)) qp = inlet[static_cast<std::size_t>(2 * d + 1)];
-        if (x[d] == 0 && is_inlet(2 * d)) qm = inlet[static_cast<std::size_t>(2 * d)];
+        if (x[d] == n_[d] - 1 && is_inlet(2 * d + 1)) qp = inlet(2 * d + 1, x);
+        if (x[d] == 0 && is_inlet(2 * d)) qm = inlet(2 * d, x);
         r -= (up * qp - um * qm - Q(0) * (up - um)) / h_[d];
       }
       next[n] = Q(0) + dt / sub * r;
@@ -202,7 +216,9 @@ void FvReference::solve_scalar(Field& q, const Field& sink, const Field& source,
   auto apply = [&](const Field& xf, Field& y, bool zero) {
     Field X(q.size(), 0.0);
     each_cell([&](const long*, std::size_t n) { X[n] = fixed && (*fixed)[n] ? (zero ? 0.0 : q[n]) : xf[n]; });
-    scalar_ghosts(X, FaceValues{}, 0.0, false);  // periodic copies (the boundary ghosts are not read)
+    scalar_ghosts(
+        X, [](int, const long*) { return 0.0; }, 0.0,
+        false);  // periodic copies (the boundary ghosts are not read)
     for (long i : rows) {
       const auto I = static_cast<std::size_t>(i);
       double v = (1.0 / dt + sink[I]) * X[I];
@@ -215,7 +231,7 @@ void FvReference::solve_scalar(Field& q, const Field& sink, const Field& source,
           const int face = 2 * d + side;
           if (sides_[face].kind != Kind::periodic && x[d] == (side == 0 ? 0 : n_[d] - 1)) {
             if (is_inlet(face))
-              v += 2 * D * (X[I] - (zero ? 0.0 : inlet[static_cast<std::size_t>(face)]));
+              v += 2 * D * (X[I] - (zero ? 0.0 : inlet(face, x)));
             else if (sides_[face].kind == Kind::wall && wall_zero) v += 2 * nu_ / (h_[d] * h_[d]) * X[I];
             continue;
           }
@@ -235,15 +251,16 @@ void FvReference::solve_scalar(Field& q, const Field& sink, const Field& source,
 void FvReference::turbulence_step(double dt) {
   const fv::Closure cl{turb_.constants, nu_, turb_.wall == "two-layer"};
   const auto& c = turb_.constants;
+  inlet_time_ = next_time_;  // the velocity's faces at the new time
   Field production(k_.size(), 0.0), sink_k(k_.size(), 0.0), sink_e(k_.size(), 0.0), source_e(k_.size(), 0.0);
   each_cell([&](const long*, std::size_t n) {
     const fv::Sources q = fv::sources(c, nut_[n], strain_rate2_at(static_cast<long>(n)), k_[n], eps_[n]);
     production[n] = q.production, sink_k[n] = q.sink_k, sink_e[n] = q.sink_epsilon, source_e[n] = q.source_epsilon;
   });
-  advect_scalar(k_, inlet_k_, 0.0, dt);
-  advect_scalar(eps_, inlet_eps_, 1.0, dt);
-  solve_scalar(k_, sink_k, production, c.sigma_k, inlet_k_, true, nullptr, dt, "k solve");
-  scalar_ghosts(k_, inlet_k_, 0.0, true);
+  advect_scalar(k_, inlet(0), 0.0, dt);
+  advect_scalar(eps_, inlet(1), 1.0, dt);
+  solve_scalar(k_, sink_k, production, c.sigma_k, inlet(0), true, nullptr, dt, "k solve");
+  scalar_ghosts(k_, inlet(0), 0.0, true);
   std::vector<char> fixed(k_.size(), 0);
   if (cl.two_layer)
     for (std::size_t n = 0; n < k_.size(); ++n)
@@ -251,8 +268,8 @@ void FvReference::turbulence_step(double dt) {
         fixed[n] = 1;
         eps_[n] = cl.epsilon_near_wall(wall_y_[n], k_[n]);
       }
-  solve_scalar(eps_, sink_e, source_e, c.sigma_epsilon, inlet_eps_, false, &fixed, dt, "epsilon solve");
-  scalar_ghosts(eps_, inlet_eps_, 1.0, true);
+  solve_scalar(eps_, sink_e, source_e, c.sigma_epsilon, inlet(1), false, &fixed, dt, "epsilon solve");
+  scalar_ghosts(eps_, inlet(1), 1.0, true);
   each_cell([&](const long*, std::size_t n) {
     if (!(k_[n] > 0 && eps_[n] > 0))
       throw std::runtime_error(fmt::format("fv-reference: k-epsilon lost positivity at t = {:.6g} s", next_time_));

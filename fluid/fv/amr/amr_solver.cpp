@@ -118,8 +118,30 @@ void AmrFvSolver::make_flow() {
                                             std::array<double, 3>{d.lower[0], d.lower[1], d.lower[2]},
                                             std::array<double, 3>{d.upper[0], d.upper[1], d.upper[2]},
                                             IjSystem::Options{p_.tolerance, p_.max_iterations});
-  const FluidParams::FaceTurbulence inlets = fluid_.inlet_turbulence(cfg_);
-  turbulence_->set_inlets(inlets.k, inlets.epsilon);
+  set_turbulence_inlets();
+}
+
+// k and epsilon entering through each face: its values, or from its
+// intensity and the inlet's speed beside the point (the face's velocity and
+// profile factor there; the adaptive grid's faces have no ramp and no t).
+void AmrFvSolver::set_turbulence_inlets() {
+  std::array<BoundaryParams, 6> faces;
+  for (int f = 0; f < 6; ++f) faces[static_cast<std::size_t>(f)] = fluid_.boundary(f, cfg_);
+  turbulence_->set_inlets(
+      [this, faces, inlets = fluid_.inlet_turbulence(cfg_)](int f, const std::array<double, 3>& x) {
+        double speed = 0.0;
+        if (inlets.from_speed(f)) {
+          const BoundaryParams& b = faces[static_cast<std::size_t>(f)];
+          double s[3];
+          for (int e = 0; e < 3; ++e)
+            s[e] = (x[static_cast<std::size_t>(e)] - cfg_.domain.lower[e]) /
+                   (cfg_.domain.upper[e] - cfg_.domain.lower[e]);
+          const auto& v = b.value.values;
+          const double w = dims_ == 3 ? v[2] : 0.0;
+          speed = std::sqrt(v[0] * v[0] + v[1] * v[1] + w * w) * std::abs(b.profile_factor(f, s, cfg_));
+        }
+        return std::array<double, 2>{inlets.k_at(f, speed), inlets.epsilon_at(f, speed)};
+      });
 }
 
 double& AmrFvSolver::value(std::size_t cell, int q) const {

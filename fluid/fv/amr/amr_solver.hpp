@@ -58,6 +58,7 @@ class AmrFvSolver final : public FluidSolver {
   void set_initial();      // the configuration's initial velocity and pressure on the leaves
   void after_regrid();     // the uniform view and the source on the new leaves
   void apply_source();     // body force and particle source, as accelerations per leaf cell
+  void set_turbulence_inlets();  // k and epsilon entering through the faces (CompositeTurbulence::set_inlets)
   std::vector<int> marks();
   // Points a marker's kernel reaches: the marker and +-2.5 finest cells along
   // each axis (3^d points; no leaf of 4 or more cells lies between them).

@@ -59,9 +59,9 @@ std::vector<std::vector<CompositeTurbulence::Link>> CompositeTurbulence::links(
           l.diffusion[0] = 2.0 * nu_ / (h * h);  // k = 0 on the wall; epsilon: no flux
         } else if (kind == CompositeFlow::Boundary::inlet) {
           for (int q = 0; q < 2; ++q) l.diffusion[q] = 2.0 * (nu_ + nut[c] * inv_sigma[q]) / (h * h);
-          for (int q = 0; q < 2; ++q)
-            l.boundary[q] =
-                inlet_[static_cast<std::size_t>(q)][static_cast<std::size_t>(2 * f.axis + (f.side > 0))];
+          const auto in = inlet_(2 * f.axis + (f.side > 0),
+                                 flow_.grid().centre(flow_.grid().local_cell(static_cast<long>(c))));
+          l.boundary[0] = in[0], l.boundary[1] = in[1];
         } else {
           continue;  // outlet, symmetry: no diffusive flux, outflow at the cell's own value
         }
@@ -79,8 +79,8 @@ void CompositeTurbulence::find_upstream() {
   const auto& g = flow_.grid();
   const auto& faces = flow_.faces();
   upstream_.assign(faces.size(), {});
-  auto beyond = [&](int level, const Index3& index, int axis, int side, Upstream::Kind& kind, int& face,
-                    Stencil& out) {
+  auto beyond = [&](int level, const Index3& index, int axis, int side, Upstream::Kind& kind,
+                    std::array<double, 2>& inlet, Stencil& out) {
     const Index3 at = shifted(index, axis, side);
     if (g.value(level, at, out)) {
       out = g.to_slots(out);
@@ -88,7 +88,7 @@ void CompositeTurbulence::find_upstream() {
     } else if (g.cover(level, at) == CompositeGrid::Cover::outside &&
                flow_.boundary(2 * axis + (side > 0)) == CompositeFlow::Boundary::inlet) {
       kind = Upstream::inlet;
-      face = 2 * axis + (side > 0);
+      inlet = inlet_(2 * axis + (side > 0), g.centre({level, index}));  // beside the cell
     }
   };
   for (std::size_t c = 0; c < faces.size(); ++c) {
@@ -98,8 +98,8 @@ void CompositeTurbulence::find_upstream() {
       const auto& f = faces[c][s];
       if (f.wall) continue;
       auto& u = upstream_[c][s];
-      beyond(cell.level, cell.index, f.axis, -f.side, u.self_kind, u.self_face, u.self);
-      beyond(cell.level + f.across_level, f.across_index, f.axis, f.side, u.across_kind, u.across_face,
+      beyond(cell.level, cell.index, f.axis, -f.side, u.self_kind, u.self_inlet, u.self);
+      beyond(cell.level + f.across_level, f.across_index, f.axis, f.side, u.across_kind, u.across_inlet,
              u.across);
     }
   }
@@ -116,8 +116,9 @@ CompositeTurbulence::CompositeTurbulence(CompositeFlow& flow, Forest& forest, co
       lower_(lower),
       upper_(upper),
       solve_(solve) {
-  inlet_[0].fill(params.inlet_k);
-  inlet_[1].fill(params.inlet_epsilon);
+  inlet_ = [k = params.inlet_k, eps = params.inlet_epsilon](int, const std::array<double, 3>&) {
+    return std::array<double, 2>{k, eps};
+  };
   if (forest.spec().components < first + 3)
     throw std::invalid_argument("refinement: k-epsilon needs three components on the forest");
   find_upstream();
@@ -209,7 +210,6 @@ void CompositeTurbulence::advect(const std::vector<std::vector<Link>>& all, doub
     if (step > 0) forest_.exchange_ghosts();
     for (int q = 0; q < 2; ++q) {
       g.gather(first_ + q, value[q]);
-      const std::array<double, 6>& inlet = inlet_[static_cast<std::size_t>(q)];
       next[q].assign(all.size(), 0.0);
       for (std::size_t c = 0; c < all.size(); ++c) {
         const double here = value[q][c];
@@ -217,7 +217,7 @@ void CompositeTurbulence::advect(const std::vector<std::vector<Link>>& all, doub
         for (const auto& l : all[c]) {
           double face = here;  // outflow through a domain face: the cell's own value
           if (l.slot >= 0)
-            face = face_value(value[q], c, l, inlet);
+            face = face_value(value[q], q, c, l);
           else if (l.flux < 0)
             face = l.boundary[q];
           change -= l.flux * (face - here);
@@ -233,17 +233,18 @@ void CompositeTurbulence::advect(const std::vector<std::vector<Link>>& all, doub
 }
 
 // The limited upwind value on link l of cell c (q: one quantity, per slot).
-double CompositeTurbulence::face_value(const std::vector<double>& q, std::size_t c, const Link& l,
-                                       const std::array<double, 6>& inlet) const {
+double CompositeTurbulence::face_value(const std::vector<double>& q, int quantity, std::size_t c,
+                                       const Link& l) const {
   const Upstream& u = upstream_[c][l.face];
   const double self = q[c], across = q[static_cast<std::size_t>(l.slot)];
-  auto far = [&](Upstream::Kind kind, int face, const Stencil& s, double near) {
+  const auto k = static_cast<std::size_t>(quantity);
+  auto far = [&](Upstream::Kind kind, const std::array<double, 2>& inlet, const Stencil& s, double near) {
     if (kind == Upstream::stencil) return evaluate(s, q);
-    if (kind == Upstream::inlet) return std::max(0.0, 2.0 * inlet[static_cast<std::size_t>(face)] - near);
+    if (kind == Upstream::inlet) return std::max(0.0, 2.0 * inlet[k] - near);
     return near;  // first order
   };
-  const double far_self = far(u.self_kind, u.self_face, u.self, self),
-               far_across = far(u.across_kind, u.across_face, u.across, across);
+  const double far_self = far(u.self_kind, u.self_inlet, u.self, self),
+               far_across = far(u.across_kind, u.across_inlet, u.across, across);
   // Along +axis: a b | c d.
   return l.side > 0 ? fv::face_value(true, far_self, self, across, far_across, l.velocity)
                     : fv::face_value(true, far_across, across, self, far_self, l.velocity);

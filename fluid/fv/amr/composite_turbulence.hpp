@@ -57,10 +57,12 @@ class CompositeTurbulence {
   CompositeTurbulence(CompositeFlow& flow, Forest& forest, const TurbulenceParams& params, double nu,
                       int first, const std::array<double, 3>& lower, const std::array<double, 3>& upper,
                       IjSystem::Options solve);
-  // k and epsilon entering through each domain face (x-, x+, y-, ...; by
-  // default params.inlet's at every face).
-  void set_inlets(const std::array<double, 6>& k, const std::array<double, 6>& epsilon) {
-    inlet_ = {k, epsilon};
+  // k and epsilon entering through a domain face (x-, x+, y-, ...) beside
+  // the point x (a cell's centre); by default params.inlet's everywhere.
+  using Inlets = std::function<std::array<double, 2>(int face, const std::array<double, 3>& x)>;
+  void set_inlets(Inlets inlets) {
+    inlet_ = std::move(inlets);
+    find_upstream();  // it keeps the values beyond the inlets
   }
 
   // The initial k and epsilon on every leaf cell (epsilon of eq. 3.18 in
@@ -96,13 +98,12 @@ class CompositeTurbulence {
   struct Upstream {
     enum Kind { none, stencil, inlet };
     Kind self_kind = none, across_kind = none;
-    int self_face = 0, across_face = 0;  // inlet: the domain face (x-, x+, y-, ...) beyond
+    std::array<double, 2> self_inlet{}, across_inlet{};  // inlet: k and epsilon entering there
     Stencil self, across;  // beyond this cell, beyond the cell across
   };
   std::vector<std::vector<Link>> links(const std::vector<double>& nut) const;
   void find_upstream();
-  double face_value(const std::vector<double>& q, std::size_t c, const Link& l,
-                    const std::array<double, 6>& inlet) const;
+  double face_value(const std::vector<double>& q, int quantity, std::size_t c, const Link& l) const;
   std::vector<std::vector<Link>> current_links() const;  // the forest's ghosts exchanged before
   void advect(const std::vector<std::vector<Link>>& all, double dt);
   void diffuse(const std::vector<std::vector<Link>>& all, int q, double dt, const std::vector<double>& sink,
@@ -115,7 +116,7 @@ class CompositeTurbulence {
   CompositeFlow& flow_;
   Forest& forest_;
   TurbulenceParams params_;
-  std::array<std::array<double, 6>, 2> inlet_;  // k and epsilon entering through each domain face
+  Inlets inlet_;  // k and epsilon entering through the domain faces
   double nu_;
   int first_;
   std::array<double, 3> lower_, upper_;

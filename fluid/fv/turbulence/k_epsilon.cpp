@@ -35,9 +35,7 @@ void FvSolver::init_turbulence() {
   turbulent_ = fluid_.turbulence.on;
   if (!turbulent_) return;
   turb_ = fluid_.turbulence;
-  const FluidParams::FaceTurbulence inlets = fluid_.inlet_turbulence(cfg_);
-  inlet_k_ = inlets.k;
-  inlet_eps_ = inlets.epsilon;
+  inlets_ = fluid_.inlet_turbulence(cfg_);
   const std::size_t padded = ex_.field_size();
   k_.assign(padded, turb_.initial_k);
   eps_.assign(padded, turb_.initial_epsilon);
@@ -66,6 +64,7 @@ void FvSolver::init_turbulence() {
   for_padded([&](const long*, long n) {
     if (cl.one_equation(wall_y_[n], k_[n])) eps_[n] = cl.epsilon_near_wall(wall_y_[n], k_[n]);
   });
+  set_inlet_lines(time_);
   fill_scalar_ghosts(k_, inlet_k_, 0.0, true);
   fill_scalar_ghosts(eps_, inlet_eps_, 1.0, true);
   update_eddy_viscosity();
@@ -95,7 +94,7 @@ void FvSolver::set_body_wall_distance(const ibm::MarkerSet& markers) {
 // advection's upwind-biased face value reads them) the line through the
 // inlet's value and the cell inside, or through the last two cells, never
 // below zero; without it the inlet's value, or the mirrored cell.
-void FvSolver::fill_scalar_ghosts(Field& q, const FaceValues& inlets, double wall_sign, bool extrapolate) {
+void FvSolver::fill_scalar_ghosts(Field& q, const FaceLines& inlets, double wall_sign, bool extrapolate) {
   ex_.exchange(q);
   for (int a = 0; a < dims_; ++a)
     for (int side = 0; side < 2; ++side) {
@@ -103,9 +102,9 @@ void FvSolver::fill_scalar_ghosts(Field& q, const FaceValues& inlets, double wal
       if (!f.here || f.kind == Face::periodic) continue;
       const long n = blk_.extent[a];
       const bool in = f.kind == Face::dirichlet && !f.wall, open = f.kind == Face::open;
-      const double inlet = inlets[static_cast<std::size_t>(2 * a + side)];
-      fv::for_lines(blk_, a, [&](auto along, const long*) {
+      fv::for_lines(blk_, a, [&](auto along, const long* line) {
         auto at = [&](long m) { return along(side == 0 ? m : n - 1 - m); };  // m: 0 the first cell in
+        const double inlet = in ? inlets.at(2 * a + side, line) : 0.0;
         const double q0 = q[at(0)], q1 = q[at(1)];
         double g1 = q0, g2 = q1;  // mirrored
         if (f.wall) g1 = wall_sign * q0, g2 = wall_sign * q1;
@@ -123,12 +122,41 @@ void FvSolver::fill_scalar_ghosts(Field& q, const FaceValues& inlets, double wal
 void FvSolver::update_eddy_viscosity() {
   const fv::Closure cl{turb_.constants, nu_, turb_.wall == "two-layer"};
   for_owned([&](const long*, long n, long) { nut_[n] = cl.nu_t(wall_y_[n], k_[n], eps_[n]); });
-  FaceValues inlet{};
-  for (std::size_t f = 0; f < 6; ++f)
-    inlet[f] = inlet_k_[f] > 0.0
-                   ? cl.nu_t(std::numeric_limits<double>::infinity(), inlet_k_[f], inlet_eps_[f])
-                   : 0.0;
-  fill_scalar_ghosts(nut_, inlet, -1.0, false);
+  fill_scalar_ghosts(nut_, inlet_nut_, -1.0, false);
+}
+
+// k, epsilon and nu_t entering through each face at time t: the face's
+// uniform values, or per line from the inlet's speed there (the face's
+// velocity, ramp and profile factor at its centre) where it has an
+// intensity (FluidParams::FaceTurbulence).
+void FvSolver::set_inlet_lines(double t) {
+  const fv::Closure cl{turb_.constants, nu_, turb_.wall == "two-layer"};
+  auto nut_of = [&](double k, double eps) {
+    return k > 0.0 ? cl.nu_t(std::numeric_limits<double>::infinity(), k, eps) : 0.0;
+  };
+  for (int f = 0; f < 6; ++f) {
+    const auto i = static_cast<std::size_t>(f);
+    const Face& face = faces_[i];
+    const int a = f / 2, o1 = (a + 1) % 3, o2 = (a + 2) % 3;
+    auto &K = inlet_k_.values[i], &E = inlet_eps_.values[i], &N = inlet_nut_.values[i];
+    if (!inlets_.from_speed(f) || !face.here || a >= dims_) {
+      K.assign(1, inlets_.k[i]), E.assign(1, inlets_.epsilon[i]),
+          N.assign(1, nut_of(inlets_.k[i], inlets_.epsilon[i]));
+      continue;
+    }
+    const long stride = blk_.extent[o1] + 2 * blk_.ghost[o1];
+    const std::size_t size = static_cast<std::size_t>(stride * (blk_.extent[o2] + 2 * blk_.ghost[o2]));
+    const long first = blk_.ghost[o1] + blk_.ghost[o2] * stride;
+    K.resize(size), E.resize(size), N.resize(size);
+    for (FaceLines* l : {&inlet_k_, &inlet_eps_, &inlet_nut_}) l->first[i] = first, l->stride[i] = stride;
+    const Vec3 U = face.velocity_at(t);
+    const double speed = std::sqrt(U[0] * U[0] + U[1] * U[1] + U[2] * U[2]);
+    fv::for_lines(blk_, a, [&](auto, const long* line) {
+      const auto j = static_cast<std::size_t>(first + line[o1] + line[o2] * stride);
+      const double s = speed * std::abs(profile(f, a, line, t));
+      K[j] = inlets_.k_at(f, s), E[j] = inlets_.epsilon_at(f, s), N[j] = nut_of(K[j], E[j]);
+    });
+  }
 }
 
 // The strain rate S^2 = 2 S_ij S_ij (eqs. 3.15-3.16) at the cell n: the
@@ -155,7 +183,7 @@ double FvSolver::strain_rate2_at(long n) const {
 
 // q <- q - dt (u . grad) q in sub-steps of Courant number <= 1/2 (non-divergent
 // form: the face fluxes minus q times the cell's discrete divergence).
-void FvSolver::advect_scalar(Field& q, const FaceValues& inlet, double wall_sign, double dt) {
+void FvSolver::advect_scalar(Field& q, const FaceLines& inlet, double wall_sign, double dt) {
   double umax[3] = {0, 0, 0}, rate = 0.0;
   for (int d = 0; d < dims_; ++d)
     for_owned([&](const long*, long n, long) {
@@ -182,9 +210,10 @@ void FvSolver::advect_scalar(Field& q, const FaceValues& inlet, double wall_sign
       const Field& v = u_[static_cast<std::size_t>(d)];
       auto value = [&](long m) { return fv::face_value(true, q[m - 2 * s], q[m - s], q[m], q[m + s], v[m]); };
       for_owned([&](const long* at, long n, long) {
-        const auto lo = static_cast<std::size_t>(2 * d);
-        face[n] = inlet_side[lo] && at[d] == 0 ? inlet[lo] : value(n);  // the inlet's value on its face
-        if (at[d] == last) face[n + s] = inlet_side[lo + 1] ? inlet[lo + 1] : value(n + s);
+        const int lo = 2 * d;
+        face[n] =
+            inlet_side[lo] && at[d] == 0 ? inlet.at(lo, at) : value(n);  // the inlet's value on its face
+        if (at[d] == last) face[n + s] = inlet_side[lo + 1] ? inlet.at(lo + 1, at) : value(n + s);
       });
       for_owned([&](const long*, long n, long) {
         next[n] -= (v[n + s] * face[n + s] - v[n] * face[n] - q[n] * (v[n + s] - v[n])) * inv_h_[d];
@@ -207,12 +236,12 @@ void FvSolver::advect_scalar(Field& q, const FaceValues& inlet, double wall_sign
 // branch (assemble_scalar_row), the faces' terms added after
 // (add_scalar_face_terms).
 void FvSolver::solve_scalar(fv::StructSystem& sys, Field& q, Field& change, const Field& sink,
-                            const Field& source, double sigma, const FaceValues& inlet, bool wall_zero,
+                            const Field& source, double sigma, const FaceLines& inlet, bool wall_zero,
                             const Field* fixed, double dt) {
   fv::StructSystem::Rows& m = rows_;
   m.resize(static_cast<std::size_t>(blk_.owned_cells()));  // every entry written below
   ScalarRows in{q.data(),    change.data(), sink.data(), source.data(), fixed ? fixed->data() : nullptr,
-                0.5 / sigma, 1.0 / dt,      inlet,       wall_zero,     {0.0, 0.0, 0.0}};
+                0.5 / sigma, 1.0 / dt,      &inlet,      wall_zero,     {0.0, 0.0, 0.0}};
   for (int d = 0; d < dims_; ++d) in.inv_h2[d] = 1.0 / (h_[d] * h_[d]);
   int dominant = 1;  // every row's off-diagonal sum below 0.9 of its diagonal
   for_owned_rows([&](const long* at, long n0, long o0, long len) {
@@ -228,7 +257,7 @@ void FvSolver::solve_scalar(fv::StructSystem& sys, Field& q, Field& change, cons
     else
       in.fixed ? assemble_scalar_row<3, true>(in, m, edge, n0, o0, len)
                : assemble_scalar_row<3, false>(in, m, edge, n0, o0, len);
-    add_scalar_face_terms(in, m, edge, n0, o0, len);
+    add_scalar_face_terms(in, m, edge, at, n0, o0, len);
     dominant &= diagonally_dominant(m, o0, len);
   });
   // Jacobi when the diagonal dominates (a short step), a multigrid V-cycle else.
@@ -326,7 +355,7 @@ int FvSolver::diagonally_dominant(const fv::StructSystem::Rows& m, long o0, long
 // q' = 0 on the wall (nu_t = 0 there), beyond an inlet q' = inlet on the face;
 // open, symmetry and epsilon's walls add nothing (no flux).
 void FvSolver::add_scalar_face_terms(const ScalarRows& in, fv::StructSystem::Rows& m,
-                                     const bool (&edge)[3][2], long n0, long o0, long len) {
+                                     const bool (&edge)[3][2], const long* at, long n0, long o0, long len) {
   for (int d = 0; d < dims_; ++d)
     for (int side = 0; side < 2; ++side) {
       if (!edge[d][side]) continue;
@@ -340,8 +369,9 @@ void FvSolver::add_scalar_face_terms(const ScalarRows& in, fv::StructSystem::Row
         const auto O = static_cast<std::size_t>(o0 + i);
         if (in.fixed && in.fixed[n] > 0) continue;
         const double D = (nu_ + (nut_[n] + nut_[n + s]) * in.half_sigma) * in.inv_h2[d];
+        const long line[3] = {at[0] + i, at[1], at[2]};  // the cell's (the face's own axis not read)
         if (wall) m.diag[O] += 2 * nu_ * in.inv_h2[d];
-        if (inlet) m.diag[O] += 2 * D, rhs_[O] += 2 * D * in.inlet[static_cast<std::size_t>(2 * d + side)];
+        if (inlet) m.diag[O] += 2 * D, rhs_[O] += 2 * D * in.inlet->at(2 * d + side, line);
       }
     }
 }
@@ -357,6 +387,7 @@ void FvSolver::turbulence_step(double dt) {
   Field& sink_e = scratch_[2];
   Field& source_e = scratch_[3];
   for (auto& f : scratch_) f.resize(padded);
+  set_inlet_lines(next_time_);  // with the velocity's faces at the new time
   for_owned([&](const long*, long n, long) {
     const fv::Sources q = fv::sources(c, nut_[n], strain_rate2_at(n), k_[n], eps_[n]);
     production[n] = q.production, sink_k[n] = q.sink_k, sink_e[n] = q.sink_epsilon, source_e[n] = q.source_epsilon;

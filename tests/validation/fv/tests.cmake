@@ -137,6 +137,21 @@ coflow_validation(fv_ke_face_inlets_vs_reference compare fv_ke_all_boundaries_3d
   "fluid.solver=fv ${fv_ke_faces}" "fluid.solver=fv-reference ${fv_ke_faces}")
 coflow_validation(fv_ke_face_inlet_used compare fv_ke_all_boundaries_3d.yaml 1 "fluid.solver=fv"
   "fluid.solver=fv fluid.turbulence.inlet.k=9.0e-6 fluid.turbulence.inlet.epsilon=5.0e-7 fluid.boundaries.x-.k=4.0e-6 fluid.boundaries.x-.epsilon=2.0e-7")
+# k and epsilon from a turbulence intensity and a mixing length, following
+# the inlet's speed along its parabolic profile and ramp (x-): fv against
+# fv-reference, and 1 rank against 4; with a uniform, unramped inlet the
+# same run as the face's k and epsilon computed by hand from the two
+# formulas (k = 3/2 (I U)^2 = 1.5e-6 for I = 0.5, U = 2e-3 m/s; epsilon =
+# 0.09^(3/4) k^(3/2) / L = 3.0186917696247164e-7 for L = 1 mm).
+set(fv_ke_intensity "fluid.boundaries.x-.intensity=0.05 fluid.boundaries.x-.mixing_length=2.0e-3")
+coflow_validation(fv_ke_intensity_vs_reference compare fv_ke_all_boundaries_3d.yaml 1
+  "fluid.solver=fv ${fv_ke_intensity}" "fluid.solver=fv-reference ${fv_ke_intensity}")
+coflow_validation(fv_ke_intensity_ranks_1_vs_4 compare fv_ke_all_boundaries_3d.yaml 4
+  "fluid.ranks=1 ${fv_ke_intensity}" "fluid.ranks=4 fluid.decomposition=[2,2,1] ${fv_ke_intensity}")
+set(fv_ke_uniform_inlet "fluid.boundaries.x-.profile=uniform fluid.boundaries.x-.ramp=0")
+coflow_validation(fv_ke_intensity_used compare fv_ke_all_boundaries_3d.yaml 1
+  "${fv_ke_uniform_inlet} fluid.boundaries.x-.k=1.5e-6 fluid.boundaries.x-.epsilon=3.0186917696247164e-7"
+  "${fv_ke_uniform_inlet} fluid.boundaries.x-.intensity=0.5 fluid.boundaries.x-.mixing_length=1.0e-3")
 # The convective outflow face lets a vortex leave: against the same flow in a
 # box twice as long (issue 21), and a pressure face (zero gradient) for scale.
 coflow_validation(fv_outflow_vortex reflection fv_outflow_vortex.yaml 1 "fluid.boundaries.x+.type=outflow"
@@ -166,6 +181,15 @@ coflow_validation(fv_amr_ke_ranks_1_vs_2 compare fv_amr_ke_inlet_walls.yaml 2 "f
 # fv_ke_face_inlet_used), the inlet on x+ (not the first face, index 0).
 coflow_validation(fv_amr_ke_face_inlet_used compare fv_amr_ke_inlet_x_plus.yaml 1 "fluid.ranks=1"
   "fluid.ranks=1 fluid.turbulence.inlet.k=0.03 fluid.turbulence.inlet.epsilon=0.01 fluid.boundaries.x+.k=0.015 fluid.boundaries.x+.epsilon=0.006")
+# The same on the adaptive grid: the inlet's turbulence intensity 0.1 and
+# mixing length 0.05031152949374528 m give k = 1.5 (0.1 x 1 m/s)^2 = 0.015 and
+# epsilon = 0.09^(3/4) k^(3/2) / L = 0.006, this file's turbulence.inlet
+# (then changed); and with a parabolic inlet, 1 rank against 2.
+coflow_validation(fv_amr_ke_intensity_used compare fv_amr_ke_inlet_x_plus.yaml 1 "fluid.ranks=1"
+  "fluid.ranks=1 fluid.turbulence.inlet.k=0.03 fluid.turbulence.inlet.epsilon=0.01 fluid.boundaries.x+.intensity=0.1 fluid.boundaries.x+.mixing_length=0.05031152949374528")
+set(fv_amr_ke_intensity "fluid.boundaries.x-.profile=parabolic fluid.boundaries.x-.intensity=0.1 fluid.boundaries.x-.mixing_length=0.05")
+coflow_validation(fv_amr_ke_intensity_ranks_1_vs_2 compare fv_amr_ke_inlet_walls.yaml 2
+  "fluid.ranks=1 ${fv_amr_ke_intensity}" "fluid.ranks=2 ${fv_amr_ke_intensity}")
 coflow_validation(dpm_two_way_amr two_way dpm_two_way_amr.yaml 3)
 # The same with implicit diffusion: the point particles' momentum source on
 # two levels through the implicit step (its advective part); momentum then to

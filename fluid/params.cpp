@@ -67,6 +67,13 @@ void BoundaryParams::visit(config::Visitor& v) {
     "with intensity: the mixing length L of the fluid entering here, m (e.g. 0.07 of a duct's hydraulic "
     "diameter); epsilon = C_mu^(3/4) k^(3/2) / L",
     config::at_least(0.0));
+  v("turbulence_file", turbulence_file,
+    "velocity faces with fluid.turbulence (fv), instead of k and epsilon: a text file of rows `coordinate, "
+    "k, "
+    "epsilon` (m along profile_axis, m^2/s^2, m^2/s^3; k >= 0, epsilon > 0), what enters here across the "
+    "face (a "
+    "precursor run's profiles); linear between rows, the end rows' values beyond them; relative to this "
+    "file");
   if (!v.reading()) return;
   check_profile_keys(v);
   check_inlet_turbulence_keys(v);
@@ -137,25 +144,46 @@ void BoundaryParams::check_inlet_turbulence_keys(config::Visitor& v) {
     v.fail("intensity",
            "k and epsilon are given twice, as values and by intensity and mixing_length: keep one "
            "pair");
-  const char* key = k > 0.0 ? "k" : intensity > 0.0 ? "intensity" : nullptr;
+  const bool tabled = !turbulence_file.empty();
+  if (tabled && (k > 0.0 || intensity > 0.0))
+    v.fail("turbulence_file",
+           fmt::format("k and epsilon are given twice, by turbulence_file and by {}: keep one",
+                       k > 0.0 ? "k and epsilon" : "intensity and mixing_length"));
+  const char* key = k > 0.0 ? "k" : intensity > 0.0 ? "intensity" : tabled ? "turbulence_file" : nullptr;
   if (key && type != "velocity")
     v.fail(key, fmt::format("{} are given on velocity faces (inlets) only; this {} face takes k and epsilon "
                             "from the flow: remove them here",
-                            k > 0.0 ? "k and epsilon" : "intensity and mixing_length", type));
+                            k > 0.0           ? "k and epsilon"
+                            : intensity > 0.0 ? "intensity and mixing_length"
+                                              : "tables of k and epsilon",
+                            type));
+  if (!tabled) return;
+  try {
+    const auto t = read_profile_columns(turbulence_file.path, profile_axis[0] - 'x', {"k", "epsilon"});
+    k_table = t[0], epsilon_table = t[1];
+  } catch (const std::exception& e) {
+    v.fail("turbulence_file", e.what());
+    return;
+  }
+  for (std::size_t r = 0; r < k_table.at.size(); ++r)
+    if (!(k_table.factor[r] >= 0.0 && epsilon_table.factor[r] > 0.0)) {
+      v.fail("turbulence_file",
+             fmt::format("k {} and epsilon {} in the table's row {}: k must be 0 or more and "
+                         "epsilon above 0 ({})",
+                         k_table.factor[r], epsilon_table.factor[r], r + 1, turbulence_file.path));
+      return;
+    }
 }
 
-double FluidParams::FaceTurbulence::k_at(int f, double speed) const {
+std::array<double, 2> FluidParams::FaceTurbulence::at(int f, double speed, const double x[3]) const {
   const auto i = static_cast<std::size_t>(f);
-  if (!from_speed(f)) return k[i];
-  const double fluctuation = intensity[i] * speed;
-  return 1.5 * fluctuation * fluctuation;
-}
-
-double FluidParams::FaceTurbulence::epsilon_at(int f, double speed) const {
-  const auto i = static_cast<std::size_t>(f);
-  if (!from_speed(f)) return epsilon[i];
-  const double kf = k_at(f, speed);
-  return std::pow(c_mu, 0.75) * kf * std::sqrt(kf) / length[i];
+  if (from_table(f)) {
+    const int a = k_table[i].axis;
+    return {k_table[i](x[a]), epsilon_table[i](x[a])};
+  }
+  if (!from_speed(f)) return {k[i], epsilon[i]};
+  const double fluctuation = intensity[i] * speed, kf = 1.5 * fluctuation * fluctuation;
+  return {kf, std::pow(c_mu, 0.75) * kf * std::sqrt(kf) / length[i]};
 }
 
 // An expression profile gives a number at the face's centre, corners and
@@ -319,34 +347,60 @@ double ProfileTable::operator()(double coordinate) const {
 }
 
 ProfileTable read_profile_table(const std::string& path, int axis) {
+  return read_profile_columns(path, axis, {"factor"}).front();
+}
+
+// One row: the coordinate and one number per column, or nothing (blank, a
+// comment) when `row` holds no non-blank character; false when it is not that.
+static bool read_row(std::string line, double& x, std::vector<double>& values, bool& blank) {
+  line = line.substr(0, line.find('#'));
+  std::replace(line.begin(), line.end(), ',', ' ');
+  blank = line.find_first_not_of(" \t\r") == std::string::npos;
+  if (blank) return true;
+  std::istringstream row(line);
+  std::string rest;
+  if (!(row >> x)) return false;
+  for (double& v : values)
+    if (!(row >> v)) return false;
+  return !(row >> rest);
+}
+
+std::vector<ProfileTable> read_profile_columns(const std::string& path, int axis,
+                                               const std::vector<std::string>& names) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(fmt::format("cannot open the profile table {}", path));
-  ProfileTable t;
-  t.axis = axis;
-  std::string line;
+  std::vector<ProfileTable> t(names.size());
+  for (auto& c : t) c.axis = axis;
+  static const char* counts[] = {"one", "two", "three", "four", "five"};
+  std::string line, listed = names.back();
+  for (std::size_t c = names.size() - 1; c-- > 0;)
+    listed = names[c] + (c + 2 == names.size() ? " and " : ", ") + listed;
   bool header = false;
+  std::vector<double> values(names.size());
   for (int n = 1; std::getline(in, line); ++n) {
-    line = line.substr(0, line.find('#'));
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream row(line);
-    double x = 0.0, f = 0.0;
-    std::string rest;
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    if (!(row >> x >> f) || (row >> rest)) {
-      if (t.at.empty() && !header) {  // a header
+    double x = 0.0;
+    bool blank = false;
+    if (!read_row(line, x, values, blank)) {
+      if (t[0].at.empty() && !header) {  // a header
         header = true;
         continue;
       }
-      throw std::runtime_error(
-          fmt::format("a row must be two numbers, coordinate and factor (line {} of {})", n, path));
+      throw std::runtime_error(fmt::format("a row must be {} numbers, coordinate{} {} (line {} of {})",
+                                           counts[std::min<std::size_t>(names.size(), 4)],
+                                           names.size() == 1 ? " and" : ",", listed, n, path));
     }
-    if (!t.at.empty() && !(x > t.at.back()))
+    if (blank) continue;
+    if (!t[0].at.empty() && !(x > t[0].at.back()))
       throw std::runtime_error(fmt::format("the coordinates must increase row to row (line {} of {})", n, path));
-    if (!std::isfinite(f)) throw std::runtime_error(fmt::format("the factor is not a number (line {} of {})", n, path));
-    t.at.push_back(x);
-    t.factor.push_back(f);
+    for (std::size_t c = 0; c < names.size(); ++c) {
+      if (!std::isfinite(values[c]))
+        throw std::runtime_error(fmt::format("the {} is not a number (line {} of {})", names[c], n, path));
+      t[c].at.push_back(x);
+      t[c].factor.push_back(values[c]);
+    }
   }
-  if (t.at.size() < 2) throw std::runtime_error(fmt::format("a profile table needs two rows at least ({})", path));
+  if (t[0].at.size() < 2)
+    throw std::runtime_error(fmt::format("a profile table needs two rows at least ({})", path));
   return t;
 }
 
@@ -376,11 +430,13 @@ FluidParams::FaceTurbulence FluidParams::inlet_turbulence(const config::Config& 
   for (int f = 0; f < 6; ++f) {
     const BoundaryParams b = boundary(f, cfg);
     const auto i = static_cast<std::size_t>(f);
-    const bool own = b.k > 0.0, speed = b.intensity > 0.0;
-    t.k[i] = own ? b.k : speed ? 0.0 : turbulence.inlet_k;
-    t.epsilon[i] = own ? b.epsilon : speed ? 0.0 : turbulence.inlet_epsilon;
+    const bool own = b.k > 0.0, varies = b.intensity > 0.0 || b.k_table.axis >= 0;
+    t.k[i] = own ? b.k : varies ? 0.0 : turbulence.inlet_k;
+    t.epsilon[i] = own ? b.epsilon : varies ? 0.0 : turbulence.inlet_epsilon;
     t.intensity[i] = b.intensity;
     t.length[i] = b.mixing_length;
+    t.k_table[i] = b.k_table;
+    t.epsilon_table[i] = b.epsilon_table;
   }
   return t;
 }

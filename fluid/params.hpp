@@ -31,6 +31,10 @@ struct ProfileTable {
 // (line N of file)" for a row that is not two numbers, coordinates that do not
 // increase, or fewer than two rows.
 ProfileTable read_profile_table(const std::string& path, int axis);
+// The same with one column per name after the coordinate (rows
+// "coordinate, k, epsilon" for names {"k", "epsilon"}): one table per column.
+std::vector<ProfileTable> read_profile_columns(const std::string& path, int axis,
+                                               const std::vector<std::string>& names);
 
 // One face of the box: x-, x+, y-, y+, z-, z+.
 struct BoundaryParams {
@@ -47,6 +51,8 @@ struct BoundaryParams {
   ProfileExpression formula;        // expression: parsed from profile_expression
   double k = 0.0, epsilon = 0.0;    // velocity faces with k-epsilon: what enters here (0: turbulence.inlet's)
   double intensity = 0.0, mixing_length = 0.0;  // or k and epsilon from the local inlet speed (0: not)
+  config::FilePath turbulence_file;             // or k and epsilon tabulated across the face
+  ProfileTable k_table, epsilon_table;          // read from turbulence_file (axis -1: none)
   void visit(config::Visitor& v);
   void check_profile_keys(config::Visitor& v);
   void check_inlet_turbulence_keys(config::Visitor& v);
@@ -102,12 +108,18 @@ struct FluidParams {
   // and epsilon = C_mu^(3/4) k^(3/2) / L (the mixing-length scale of eqs.
   // 3.17 and 3.21 with l = L), as OpenFOAM's turbulentIntensityKinetic-
   // EnergyInlet and turbulentMixingLengthDissipationRateInlet.
+  // A face with a turbulence_file takes them from its tables at the point's
+  // coordinate along their axis.
   struct FaceTurbulence {
     std::array<double, 6> k{}, epsilon{}, intensity{}, length{};
+    std::array<ProfileTable, 6> k_table, epsilon_table;
     double c_mu = 0.09;
     bool from_speed(int f) const { return intensity[static_cast<std::size_t>(f)] > 0.0; }
-    double k_at(int f, double speed) const;
-    double epsilon_at(int f, double speed) const;
+    bool from_table(int f) const { return k_table[static_cast<std::size_t>(f)].axis >= 0; }
+    bool varies(int f) const { return from_speed(f) || from_table(f); }
+    // k and epsilon entering through face f at the point x (m) where the
+    // inlet's speed is `speed` (m/s; read with an intensity only).
+    std::array<double, 2> at(int f, double speed, const double x[3]) const;
   };
   FaceTurbulence inlet_turbulence(const config::Config& cfg) const;
 };

@@ -185,6 +185,14 @@ static void check_fv_blocks(config::Visitor& v, const config::Config& cfg, const
       }
 }
 
+// The key that gives a face's own inlet k and epsilon (null: none), and what it gives.
+static std::pair<const char*, const char*> inlet_turbulence_key(const BoundaryParams& b) {
+  if (b.k > 0.0) return {"k", "k and epsilon"};
+  if (b.intensity > 0.0) return {"intensity", "intensity and mixing_length"};
+  if (!b.turbulence_file.empty()) return {"turbulence_file", "tables of k and epsilon"};
+  return {nullptr, nullptr};
+}
+
 // k-epsilon runs on fv and fv-reference; without a wall model
 // the box has no walls; fluid entering through a velocity face brings its k
 // and epsilon.
@@ -192,13 +200,12 @@ static void check_turbulence(config::Visitor& v, const config::Config& cfg, cons
                              const FluidParams& p) {
   if (!v.reading()) return;
   for (int f = 0; f < 6; ++f) {
-    const BoundaryParams b = p.boundary(f, cfg);
-    if (!p.turbulence.on && (b.k > 0.0 || b.intensity > 0.0))
-      v.fail(
-          "boundaries." + face_names()[f] + (b.k > 0.0 ? ".k" : ".intensity"),
-          fmt::format("{} of a face are for the k-epsilon model: add fluid.turbulence (solver fv) or remove "
-                      "them",
-                      b.k > 0.0 ? "k and epsilon" : "intensity and mixing_length"));
+    const auto [key, what] = inlet_turbulence_key(p.boundary(f, cfg));
+    if (!p.turbulence.on && key)
+      v.fail("boundaries." + face_names()[f] + "." + key,
+             fmt::format(
+                 "{} of a face are for the k-epsilon model: add fluid.turbulence (solver fv) or remove them",
+                 what));
   }
   if (!p.turbulence.on) return;
   if (info.variant.rfind("fv", 0) != 0) {
@@ -219,20 +226,19 @@ static void check_turbulence(config::Visitor& v, const config::Config& cfg, cons
              fmt::format("the velocity face {} lets fluid out, and with fluid.turbulence a velocity face is an inlet "
                          "(k and epsilon enter there): use an outflow or pressure face where the fluid leaves",
                          face_names()[f]));
-    const bool own = b.k > 0.0 || b.intensity > 0.0;
-    if (b.type == "velocity" && normal == 0 && own)
-      v.fail("boundaries." + face_names()[f] + (b.k > 0.0 ? ".k" : ".intensity"),
+    const auto [key, what] = inlet_turbulence_key(b);
+    if (b.type == "velocity" && normal == 0 && key)
+      v.fail("boundaries." + face_names()[f] + "." + key,
              fmt::format("face {} lets no fluid through (its velocity has no {} component): {} are "
                          "for inlets; remove them here",
-                         face_names()[f], "xyz"[f / 2],
-                         b.k > 0.0 ? "k and epsilon" : "intensity and mixing_length"));
-    if (normal != 0 && !p.turbulence.inlet_given && !own)
-      v.fail(
-          "turbulence",
-          fmt::format("face {} is a velocity face: give the k and epsilon of what enters there, "
-                      "on the face (boundaries.{}: {{..., k: ..., epsilon: ...}} or {{..., intensity: ..., "
-                      "mixing_length: ...}}) or for every inlet (turbulence.inlet: {{k: ..., epsilon: ...}})",
-                      face_names()[f], face_names()[f]));
+                         face_names()[f], "xyz"[f / 2], what));
+    if (normal != 0 && !p.turbulence.inlet_given && !key)
+      v.fail("turbulence",
+             fmt::format("face {} is a velocity face: give the k and epsilon of what enters there, "
+                         "on the face (boundaries.{}: {{..., k: ..., epsilon: ...}}, {{..., intensity: ..., "
+                         "mixing_length: ...}} or {{..., turbulence_file: ...}}) or for every inlet "
+                         "(turbulence.inlet: {{k: ..., epsilon: ...}})",
+                         face_names()[f], face_names()[f]));
   }
 }
 

@@ -254,7 +254,7 @@ void FieldExchange::pack_sparse(std::span<const Index3> cells, std::span<const d
           fmt::format("sparse field '{}': {} cells on rank {} of the receiving side (at "
                       "most 2^31 - 1): run it on more ranks",
                       spec_.name, p.remote_local.volume(), p.rank));
-    p.sparse_used = 0, p.sent.clear();
+    p.sparse_used = 0, p.sent_count = 0;
   }
   sparse_sent_ = cells.size();
   bool outside = false;  // every cell tested without a branch; the first one outside named
@@ -289,7 +289,8 @@ void FieldExchange::append_sparse(Peer& p, const Index3& cell, std::size_t n,
                                   std::span<const double> values) {
   const int nc = spec_.components;
   const std::size_t rec = sizeof(std::int32_t) + nc * sizeof(double);
-  p.sent.push_back(static_cast<std::int32_t>(n));
+  if (p.sent_count == p.sent.size()) p.sent.resize(p.sent.size() + p.sent.size() / 2 + 16);
+  p.sent[p.sent_count++] = static_cast<std::int32_t>(n);
   const std::size_t at = p.sparse_used;
   if (at + rec > p.sparse.size()) p.sparse.resize(std::max(at + rec, p.sparse.size() + p.sparse.size() / 2));
   p.sparse_used = at + rec;
@@ -311,14 +312,13 @@ void FieldExchange::pack_routes(Peer& p, std::span<const Route> routes, std::spa
   const Box& b = p.remote_local;
   const long e0 = b.extent(0), e1 = b.extent(1);
   std::size_t used = 0, count = 0;
-  if (p.sent.size() < cells.size()) p.sent.resize(cells.size());
   for (std::size_t n = 0; n < cells.size(); ++n) {
     const Index3& c = cells[n];
     for (const Route& r : routes) {
       if (!r.from.contains(c)) continue;
       if (used + rec > p.sparse.size())
         p.sparse.resize(std::max(used + rec, p.sparse.size() + p.sparse.size() / 2));
-      if (count == p.sent.size()) p.sent.resize(count + count / 2 + 1);
+      if (count == p.sent.size()) p.sent.resize(std::max(cells.size(), count + count / 2 + 1));
       const auto index = static_cast<std::int32_t>(
           ((c[2] + r.shift[2] - b.lo[2]) * e1 + (c[1] + r.shift[1] - b.lo[1])) * e0 +
           (c[0] + r.shift[0] - b.lo[0]));
@@ -329,7 +329,7 @@ void FieldExchange::pack_routes(Peer& p, std::span<const Route> routes, std::spa
       used += rec;
     }
   }
-  p.sent.resize(count);
+  p.sent_count = count;
   p.sparse_used = used;
 }
 
@@ -434,11 +434,11 @@ void FieldExchange::receive_replies(std::span<double> results, int components) {
     Timer t(trace().exchange_s);
     int count = 0;
     MPI_Get_count(&st, MPI_DOUBLE, &count);
-    if (static_cast<std::size_t>(count) != p.sent.size() * components)
+    if (static_cast<std::size_t>(count) != p.sent_count * components)
       throw std::runtime_error(
           fmt::format("sparse field '{}': rank {} replied with {} values for {} cells of {} "
                       "values (the two sides disagree on the protocol)",
-                      spec_.name, p.rank, count, p.sent.size(), components));
+                      spec_.name, p.rank, count, p.sent_count, components));
     p.reply.resize(static_cast<std::size_t>(count));
     MPI_Recv(p.reply.data(), count, MPI_DOUBLE, p.rank, tag_ + 2, inter_, MPI_STATUS_IGNORE);
   }
@@ -447,7 +447,8 @@ void FieldExchange::receive_replies(std::span<double> results, int components) {
   for (const auto& p : peers_) {
     trace().bytes_received += p.reply.size() * sizeof(double);
     const double* in = p.reply.data();
-    for (const std::int32_t n : p.sent) {
+    for (std::size_t i = 0; i < p.sent_count; ++i) {
+      const std::int32_t n = p.sent[i];
       std::copy(in, in + components, results.begin() + static_cast<std::ptrdiff_t>(n) * components);
       in += components;
     }

@@ -158,12 +158,14 @@ class FvSolver final : public FluidSolver {
   // are uniform, one per line where they follow the inlet's speed.
   struct FaceLines {
     std::array<std::vector<double>, 6> values;
-    std::array<long, 6> first{},
-        stride{};  // the index of line (0, 0) and the stride of the face's second axis
+    // The index of line (0, 0) and the stride of the face's second axis;
+    // per_line false: values[f] holds the face's one value.
+    std::array<long, 6> first{}, stride{};
+    std::array<bool, 6> per_line{};
     double at(int f, const long* line) const {
       const auto i = static_cast<std::size_t>(f);
       const std::vector<double>& v = values[i];
-      if (v.size() == 1) return v[0];
+      if (!per_line[i]) return v[0];
       const int a = f / 2;
       return v[static_cast<std::size_t>(first[i] + line[(a + 1) % 3] + line[(a + 2) % 3] * stride[i])];
     }

@@ -49,18 +49,25 @@ void FvReference::turbulence_init() {
 }
 
 // k (q 0), epsilon (1) or nu_t (2) entering through `face` beside the cell x
-// at inlet_time_: the face's values, or from its intensity and the inlet's
-// speed there (the face's velocity, ramp and profile factor at its centre).
+// at inlet_time_: the face's values, or from its tables at the cell's centre
+// on the face, or from its intensity and the inlet's speed there (the
+// face's velocity, ramp and profile factor).
 double FvReference::inlet_value(int q, int face, const long* x) const {
+  const int a = face / 2;
   double speed = 0.0;
   if (inlets_.from_speed(face)) {
     const Vec3 U = side_velocity(face, inlet_time_);
+    const double w = dims_ == 3 ? U[2] : 0.0;  // in 2D the flow has no z component
     long on[3] = {x[0], x[1], x[2]};
-    on[face / 2] = 0;  // fv's lines: 0 along the face's axis
-    speed = std::sqrt(U[0] * U[0] + U[1] * U[1] + U[2] * U[2]) *
-            std::abs(profile(face, face / 2, on, inlet_time_));
+    on[a] = 0;  // the profile's place along the face's axis is not read (fv's lines pass 0 there too)
+    speed = std::sqrt(U[0] * U[0] + U[1] * U[1] + w * w) * std::abs(profile(face, a, on, inlet_time_));
   }
-  const double k = inlets_.k_at(face, speed), eps = inlets_.epsilon_at(face, speed);
+  const auto& d = cfg_.domain;
+  double p[3];  // the cell's centre on the face, m
+  for (int e = 0; e < 3; ++e) p[e] = d.lower[e] + (static_cast<double>(x[e]) + 0.5) * h_[e];
+  p[a] = face % 2 == 0 ? d.lower[a] : d.upper[a];
+  const auto in = inlets_.at(face, speed, p);
+  const double k = in[0], eps = in[1];
   if (q == 0) return k;
   if (q == 1) return eps;
   const fv::Closure cl{turb_.constants, nu_, turb_.wall == "two-layer"};

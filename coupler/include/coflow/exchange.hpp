@@ -87,6 +87,7 @@ class FieldExchange {
     std::vector<std::byte> sparse;  // send_sparse: grows only; its first sparse_used bytes are the message
     std::size_t sparse_used = 0;
     std::vector<std::int32_t> sent;  // send_sparse: the input cells sent to this rank, in message order
+    std::size_t sent_count = 0;      // (its first sent_count entries; it only grows)
     std::size_t received = 0;        // receive_sparse: the cells that came from this rank
     std::vector<double> reply;       // replies sent or received
     MPI_Request request = MPI_REQUEST_NULL;

@@ -121,9 +121,10 @@ void AmrFvSolver::make_flow() {
   set_turbulence_inlets();
 }
 
-// k and epsilon entering through each face: its values, or from its
-// intensity and the inlet's speed beside the point (the face's velocity and
-// profile factor there; the adaptive grid's faces have no ramp and no t).
+// k and epsilon entering through each face: its values, its tables at the
+// point, or from its intensity and the inlet's speed beside the point (the
+// face's velocity and profile factor there; the adaptive grid's faces have
+// no ramp and no t).
 void AmrFvSolver::set_turbulence_inlets() {
   std::array<BoundaryParams, 6> faces;
   for (int f = 0; f < 6; ++f) faces[static_cast<std::size_t>(f)] = fluid_.boundary(f, cfg_);
@@ -140,7 +141,8 @@ void AmrFvSolver::set_turbulence_inlets() {
           const double w = dims_ == 3 ? v[2] : 0.0;
           speed = std::sqrt(v[0] * v[0] + v[1] * v[1] + w * w) * std::abs(b.profile_factor(f, s, cfg_));
         }
-        return std::array<double, 2>{inlets.k_at(f, speed), inlets.epsilon_at(f, speed)};
+        const double point[3] = {x[0], x[1], x[2]};
+        return inlets.at(f, speed, point);
       });
 }
 

@@ -126,9 +126,9 @@ void FvSolver::update_eddy_viscosity() {
 }
 
 // k, epsilon and nu_t entering through each face at time t: the face's
-// uniform values, or per line from the inlet's speed there (the face's
-// velocity, ramp and profile factor at its centre) where it has an
-// intensity (FluidParams::FaceTurbulence).
+// uniform values, or per line (FluidParams::FaceTurbulence::at) from its
+// tables at the line's centre on the face, or from the inlet's speed there
+// (the face's velocity, ramp and profile factor) and its intensity.
 void FvSolver::set_inlet_lines(double t) {
   const fv::Closure cl{turb_.constants, nu_, turb_.wall == "two-layer"};
   auto nut_of = [&](double k, double eps) {
@@ -139,7 +139,8 @@ void FvSolver::set_inlet_lines(double t) {
     const Face& face = faces_[i];
     const int a = f / 2, o1 = (a + 1) % 3, o2 = (a + 2) % 3;
     auto &K = inlet_k_.values[i], &E = inlet_eps_.values[i], &N = inlet_nut_.values[i];
-    if (!inlets_.from_speed(f) || !face.here || a >= dims_) {
+    if (!inlets_.varies(f) || !face.here || a >= dims_) {
+      for (FaceLines* l : {&inlet_k_, &inlet_eps_, &inlet_nut_}) l->per_line[i] = false;
       K.assign(1, inlets_.k[i]), E.assign(1, inlets_.epsilon[i]),
           N.assign(1, nut_of(inlets_.k[i], inlets_.epsilon[i]));
       continue;
@@ -148,13 +149,21 @@ void FvSolver::set_inlet_lines(double t) {
     const std::size_t size = static_cast<std::size_t>(stride * (blk_.extent[o2] + 2 * blk_.ghost[o2]));
     const long first = blk_.ghost[o1] + blk_.ghost[o2] * stride;
     K.resize(size), E.resize(size), N.resize(size);
-    for (FaceLines* l : {&inlet_k_, &inlet_eps_, &inlet_nut_}) l->first[i] = first, l->stride[i] = stride;
+    for (FaceLines* l : {&inlet_k_, &inlet_eps_, &inlet_nut_})
+      l->first[i] = first, l->stride[i] = stride, l->per_line[i] = true;
     const Vec3 U = face.velocity_at(t);
-    const double speed = std::sqrt(U[0] * U[0] + U[1] * U[1] + U[2] * U[2]);
+    const double w = dims_ == 3 ? U[2] : 0.0;  // in 2D the flow has no z component
+    const double speed = std::sqrt(U[0] * U[0] + U[1] * U[1] + w * w);
+    const auto& d = cfg_.domain;
     fv::for_lines(blk_, a, [&](auto, const long* line) {
       const auto j = static_cast<std::size_t>(first + line[o1] + line[o2] * stride);
-      const double s = speed * std::abs(profile(f, a, line, t));
-      K[j] = inlets_.k_at(f, s), E[j] = inlets_.epsilon_at(f, s), N[j] = nut_of(K[j], E[j]);
+      const double s = inlets_.from_speed(f) ? speed * std::abs(profile(f, a, line, t)) : 0.0;
+      double x[3];  // the line's centre on the face, m
+      for (int e = 0; e < 3; ++e)
+        x[e] = d.lower[e] + (static_cast<double>(blk_.owned.lo[e] + line[e]) + 0.5) * h_[e];
+      x[a] = f % 2 == 0 ? d.lower[a] : d.upper[a];
+      const auto in = inlets_.at(f, s, x);
+      K[j] = in[0], E[j] = in[1], N[j] = nut_of(K[j], E[j]);
     });
   }
 }

@@ -43,3 +43,19 @@ TEST_CASE("profile table: a bad file names the line at fault", "[fluid]") {
   CHECK_THROWS_WITH(read_profile_table("/nonexistent/profile.csv", 1), Catch::Contains("cannot open"));
   for (const auto& p : {one, back, three}) std::remove(p.c_str());
 }
+
+TEST_CASE("profile columns: k and epsilon across an inlet, one table each", "[fluid]") {
+  const auto path = write("profile_ke.csv",
+                          "y, k, epsilon\n0.0, 1.0e-6, 5.0e-8\n0.5, 3.0e-6, 1.5e-7\n1.0, 2.0e-6, 1.0e-7\n");
+  const auto t = coflow::fluid::read_profile_columns(path, 1, {"k", "epsilon"});
+  REQUIRE(t.size() == 2);
+  CHECK(t[0].axis == 1);
+  CHECK(t[0](0.25) == Approx(2.0e-6).epsilon(1e-15));
+  CHECK(t[1](0.75) == Approx(1.25e-7).epsilon(1e-15));
+  CHECK(t[1](2.0) == 1.0e-7);
+  const auto two = write("profile_ke_two.csv", "0.0, 1.0e-6\n1.0, 2.0e-6\n");
+  CHECK_THROWS_WITH(
+      coflow::fluid::read_profile_columns(two, 1, {"k", "epsilon"}),
+      Catch::Contains("three numbers, coordinate, k and epsilon (line 2 of"));  // line 1: a header
+  for (const auto& p : {path, two}) std::remove(p.c_str());
+}

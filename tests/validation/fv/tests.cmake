@@ -152,6 +152,15 @@ set(fv_ke_uniform_inlet "fluid.boundaries.x-.profile=uniform fluid.boundaries.x-
 coflow_validation(fv_ke_intensity_used compare fv_ke_all_boundaries_3d.yaml 1
   "${fv_ke_uniform_inlet} fluid.boundaries.x-.k=1.5e-6 fluid.boundaries.x-.epsilon=3.0186917696247164e-7"
   "${fv_ke_uniform_inlet} fluid.boundaries.x-.intensity=0.5 fluid.boundaries.x-.mixing_length=1.0e-3")
+# k and epsilon tabulated across the inlet (turbulence_file, rows y, k,
+# epsilon): fv against fv-reference; and a table with the same values in every
+# row gives the run with those as the face's k and epsilon.
+set(fv_ke_table "fluid.boundaries.x-.turbulence_file=fv_ke_inlet_profile.csv")
+coflow_validation(fv_ke_table_vs_reference compare fv_ke_all_boundaries_3d.yaml 1
+  "fluid.solver=fv ${fv_ke_table}" "fluid.solver=fv-reference ${fv_ke_table}")
+coflow_validation(fv_ke_table_used compare fv_ke_all_boundaries_3d.yaml 1
+  "fluid.boundaries.x-.k=1.5e-6 fluid.boundaries.x-.epsilon=3.0186917696247164e-7"
+  "fluid.boundaries.x-.turbulence_file=fv_ke_inlet_constant.csv")
 # The convective outflow face lets a vortex leave: against the same flow in a
 # box twice as long (issue 21), and a pressure face (zero gradient) for scale.
 coflow_validation(fv_outflow_vortex reflection fv_outflow_vortex.yaml 1 "fluid.boundaries.x+.type=outflow"
@@ -190,6 +199,11 @@ coflow_validation(fv_amr_ke_intensity_used compare fv_amr_ke_inlet_x_plus.yaml 1
 set(fv_amr_ke_intensity "fluid.boundaries.x-.profile=parabolic fluid.boundaries.x-.intensity=0.1 fluid.boundaries.x-.mixing_length=0.05")
 coflow_validation(fv_amr_ke_intensity_ranks_1_vs_2 compare fv_amr_ke_inlet_walls.yaml 2
   "fluid.ranks=1 ${fv_amr_ke_intensity}" "fluid.ranks=2 ${fv_amr_ke_intensity}")
+coflow_validation(fv_amr_ke_table_used compare fv_amr_ke_inlet_x_plus.yaml 1 "fluid.ranks=1"
+  "fluid.ranks=1 fluid.turbulence.inlet.k=0.03 fluid.turbulence.inlet.epsilon=0.01 fluid.boundaries.x+.turbulence_file=fv_amr_ke_inlet_constant.csv")
+coflow_validation(fv_amr_ke_table_ranks_1_vs_2 compare fv_amr_ke_inlet_walls.yaml 2
+  "fluid.ranks=1 fluid.boundaries.x-.turbulence_file=fv_amr_ke_inlet_profile.csv"
+  "fluid.ranks=2 fluid.boundaries.x-.turbulence_file=fv_amr_ke_inlet_profile.csv")
 coflow_validation(dpm_two_way_amr two_way dpm_two_way_amr.yaml 3)
 # The same with implicit diffusion: the point particles' momentum source on
 # two levels through the implicit step (its advective part); momentum then to

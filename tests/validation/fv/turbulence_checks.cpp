@@ -25,10 +25,12 @@ std::vector<double> series_column(const std::string& path, const std::string& na
 }
 
 // The turbulence parameters with the inlet's k and epsilon those entering
-// through x- (the face's own, or turbulence.inlet's).
+// through x- (the face's own, or turbulence.inlet's; uniform values only:
+// the exact decays below start from one k and one epsilon).
 fluid::TurbulenceParams inlet_x_minus(const fluid::FluidParams& fp, const config::Config& cfg) {
   fluid::TurbulenceParams t = fp.turbulence;
   const auto in = fp.inlet_turbulence(cfg);
+  if (in.varies(0)) throw std::runtime_error("these checks need uniform k and epsilon at the x- inlet");
   t.inlet_k = in.k[0];
   t.inlet_epsilon = in.epsilon[0];
   return t;

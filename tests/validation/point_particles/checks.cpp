@@ -546,6 +546,8 @@ int grid_turbulence_fv(const std::string& dir) {
   const double U = fp.boundary(2 * axis, cfg).value.values.at(static_cast<std::size_t>(axis));
   const double x_in = cfg.domain.lower[axis], n = 1.0 / (t.constants.C_epsilon2 - 1.0);
   const auto inlets = fp.inlet_turbulence(cfg);
+  if (inlets.varies(2 * axis))
+    throw std::runtime_error("this check needs uniform k and epsilon at the inlet");
   t.inlet_k = inlets.k[static_cast<std::size_t>(2 * axis)];
   t.inlet_epsilon = inlets.epsilon[static_cast<std::size_t>(2 * axis)];
   const double x0 = cfg.resolved["particles"]["injection"][0]["disk"]["center"][axis].as<double>();

@@ -59,8 +59,7 @@ std::vector<std::vector<CompositeTurbulence::Link>> CompositeTurbulence::links(
           l.diffusion[0] = 2.0 * nu_ / (h * h);  // k = 0 on the wall; epsilon: no flux
         } else if (kind == CompositeFlow::Boundary::inlet) {
           for (int q = 0; q < 2; ++q) l.diffusion[q] = 2.0 * (nu_ + nut[c] * inv_sigma[q]) / (h * h);
-          const auto in = inlet_(2 * f.axis + (f.side > 0),
-                                 flow_.grid().centre(flow_.grid().local_cell(static_cast<long>(c))));
+          const auto& in = upstream_[c][s].own_inlet;
           l.boundary[0] = in[0], l.boundary[1] = in[1];
         } else {
           continue;  // outlet, symmetry: no diffusive flux, outflow at the cell's own value
@@ -96,8 +95,13 @@ void CompositeTurbulence::find_upstream() {
     upstream_[c].resize(faces[c].size());
     for (std::size_t s = 0; s < faces[c].size(); ++s) {
       const auto& f = faces[c][s];
-      if (f.wall) continue;
       auto& u = upstream_[c][s];
+      if (f.wall) {  // beyond a domain face: what enters there, if it is an inlet
+        const int face = 2 * f.axis + (f.side > 0);
+        if (flow_.boundary(face) == CompositeFlow::Boundary::inlet)
+          u.own_inlet = inlet_(face, g.centre(cell));
+        continue;
+      }
       beyond(cell.level, cell.index, f.axis, -f.side, u.self_kind, u.self_inlet, u.self);
       beyond(cell.level + f.across_level, f.across_index, f.axis, f.side, u.across_kind, u.across_inlet,
              u.across);

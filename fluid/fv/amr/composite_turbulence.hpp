@@ -99,6 +99,7 @@ class CompositeTurbulence {
     enum Kind { none, stencil, inlet };
     Kind self_kind = none, across_kind = none;
     std::array<double, 2> self_inlet{}, across_inlet{};  // inlet: k and epsilon entering there
+    std::array<double, 2> own_inlet{};  // a domain face's sub-face at an inlet: k and epsilon entering
     Stencil self, across;  // beyond this cell, beyond the cell across
   };
   std::vector<std::vector<Link>> links(const std::vector<double>& nut) const;

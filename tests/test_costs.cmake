@@ -73,6 +73,7 @@ set(coflow_test_costs
   restart.ibm_with_particles 9
   validation.ibm_ke_fv_vs_reference 9
   restart.fv_k_epsilon_2_ranks 9
+  restart.fv_k_epsilon_intensity 3
   launcher.interrupt 9
   validation.two_phase_colour_mass 9
   validation.fv_ke_ranks_1_vs_2_channel 9

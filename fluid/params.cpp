@@ -42,7 +42,8 @@ void BoundaryParams::visit(config::Visitor& v) {
   v("profile_file", profile_file,
     "profile: table (fv): a text file of rows `coordinate, factor`, the coordinate in m along profile_axis and the "
     "factor on `value` there; linear between rows, the end rows' factor beyond them; relative to this file");
-  v("profile_axis", profile_axis, "profile: table: the axis of the table's coordinate, across the face",
+  v("profile_axis", profile_axis,
+    "profile: table, and turbulence_file: the axis of the tables' coordinate, across the face",
     config::one_of({"x", "y", "z"}));
   v("profile_expression", profile_expression,
     "profile: expression (fv): the factor on `value` as a formula in x, y, z (m, the point on the face) and "
@@ -145,18 +146,22 @@ void BoundaryParams::check_inlet_turbulence_keys(config::Visitor& v) {
            "k and epsilon are given twice, as values and by intensity and mixing_length: keep one "
            "pair");
   const bool tabled = !turbulence_file.empty();
-  if (tabled && (k > 0.0 || intensity > 0.0))
+  if (tabled && (k > 0.0 || intensity > 0.0)) {
     v.fail("turbulence_file",
-           fmt::format("k and epsilon are given twice, by turbulence_file and by {}: keep one",
+           fmt::format("k and epsilon are given twice: in turbulence_file and as {}; keep one",
                        k > 0.0 ? "k and epsilon" : "intensity and mixing_length"));
+    return;
+  }
   const char* key = k > 0.0 ? "k" : intensity > 0.0 ? "intensity" : tabled ? "turbulence_file" : nullptr;
-  if (key && type != "velocity")
+  if (key && type != "velocity") {
     v.fail(key, fmt::format("{} are given on velocity faces (inlets) only; this {} face takes k and epsilon "
                             "from the flow: remove them here",
                             k > 0.0           ? "k and epsilon"
                             : intensity > 0.0 ? "intensity and mixing_length"
                                               : "tables of k and epsilon",
                             type));
+    return;
+  }
   if (!tabled) return;
   try {
     const auto t = read_profile_columns(turbulence_file.path, profile_axis[0] - 'x', {"k", "epsilon"});
@@ -167,10 +172,11 @@ void BoundaryParams::check_inlet_turbulence_keys(config::Visitor& v) {
   }
   for (std::size_t r = 0; r < k_table.at.size(); ++r)
     if (!(k_table.factor[r] >= 0.0 && epsilon_table.factor[r] > 0.0)) {
-      v.fail("turbulence_file",
-             fmt::format("k {} and epsilon {} in the table's row {}: k must be 0 or more and "
-                         "epsilon above 0 ({})",
-                         k_table.factor[r], epsilon_table.factor[r], r + 1, turbulence_file.path));
+      v.fail(
+          "turbulence_file",
+          fmt::format("k {} and epsilon {} in data row {} (headers, comments and blank lines not counted): k "
+                      "must be 0 or more and epsilon above 0 ({})",
+                      k_table.factor[r], epsilon_table.factor[r], r + 1, turbulence_file.path));
       return;
     }
 }
@@ -223,10 +229,17 @@ void FluidParams::visit(config::Visitor& v, const config::Config& cfg) {
           if (cfg.domain.cells[axis] == 1)
             s.fail("", fmt::format("axis {} has one cell (a 2D run): it takes no boundary", "xyz"[axis]));
           const auto& b = boundaries[face];
-          if (b.profile == "table" && b.table.axis == axis)
+          const bool tables = b.profile == "table" || !b.turbulence_file.empty();
+          const int across = b.profile_axis[0] - 'x';
+          if (tables && across == axis)
             s.fail("profile_axis", fmt::format("the table's axis {} is the face's normal; give an axis across "
                                                "the face",
                                                b.profile_axis));
+          else if (tables && cfg.domain.cells[across] == 1)
+            s.fail("profile_axis",
+                   fmt::format("the table's axis {} has one cell (a 2D run): give an axis across "
+                               "the face that has more",
+                               b.profile_axis));
           if (!b.formula.empty()) check_profile_on_face(s, cfg, b, 2 * axis + (face[1] == '+' ? 1 : 0));
         }
       },

@@ -8,7 +8,9 @@
 // it, on levels refined toward its walls, holds its exact steady profile;
 // and so does a shear flow whose nu_t varies along it, where the stress's
 // transposed part (grad u)^T . grad nu_t is what balances the flow.
-// unit.mpi runs these on 4 ranks (each 1-rank case on every rank).
+// And an inlet's k and epsilon are read at the centres of the cells beside
+// it, whatever their level. unit.mpi runs these on 4 ranks (each 1-rank case
+// on every rank).
 #include <mpi.h>
 
 #include <algorithm>
@@ -253,4 +255,87 @@ TEST_CASE(
   CHECK(held.coarsest == 0);
   CHECK(held.finest == 2);
   CHECK(held.error <= 2e-3);  // references.csv: amr_ke_eddy_shear_transpose
+}
+
+namespace {
+
+// Where an inlet's k and epsilon are read on the composite grid: the points
+// CompositeTurbulence asks its inlet function for, on a forest whose x-
+// inlet is lined by cells of three levels.
+struct InletPoints {
+  std::vector<std::array<double, 3>> asked;   // x- only
+  std::vector<std::array<double, 3>> beside;  // the centres of the leaf cells beside x- (all ranks')
+  std::vector<double> spacing;                // of those cells
+  bool other_face = false;                    // a face other than x- was asked for
+};
+
+InletPoints inlet_points(MPI_Comm comm) {
+  auto spec = coflow::test::forest_2d({2, 2, 1}, {false, false, false}, 2, 4, kComponents);
+  spec.refine = [](int level, const Index3& p) { return p[0] == 0 && p[1] >= (level == 0 ? 1 : 3); };
+  Forest forest(comm, spec);
+  CompositeFlow flow(forest, {{0.0, 0.0, 0.0}, 1.0}, 0.01);
+  flow.set_inlet(0, [](const std::array<double, 3>&) { return std::array<double, 3>{1.0, 0.0, 0.0}; });
+  flow.set_outlet(1);
+  coflow::fluid::TurbulenceParams params;
+  params.wall = "none";
+  params.inlet_k = params.inlet_epsilon = 1.0;
+  CompositeTurbulence turbulence(flow, forest, params, 0.01, kFirst, {0, 0, 0}, {2, 2, 0},
+                                 IjSystem::Options{1e-12, 100});
+  InletPoints r;
+  turbulence.set_inlets([&r](int face, const std::array<double, 3>& x) {
+    if (face == 0)
+      r.asked.push_back(x);
+    else
+      r.other_face = true;
+    return std::array<double, 2>{1.0, 1.0};
+  });
+  const auto& g = flow.grid();
+  std::vector<double> mine;  // x, y, spacing of this rank's cells beside x-; all ranks' below
+  for (long c = 0; c < g.local_cells(); ++c) {
+    const auto cell = g.local_cell(c);
+    if (cell.index[0] != 0) continue;
+    const auto x = g.centre(cell);
+    mine.insert(mine.end(), {x[0], x[1], g.spacing(cell.level)});
+  }
+  int ranks = 1, count = static_cast<int>(mine.size());
+  MPI_Comm_size(comm, &ranks);
+  std::vector<int> counts(static_cast<std::size_t>(ranks)), offsets(static_cast<std::size_t>(ranks), 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  for (int i = 1; i < ranks; ++i)
+    offsets[static_cast<std::size_t>(i)] =
+        offsets[static_cast<std::size_t>(i - 1)] + counts[static_cast<std::size_t>(i - 1)];
+  std::vector<double> all(static_cast<std::size_t>(offsets.back() + counts.back()));
+  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, comm);
+  for (std::size_t i = 0; i + 2 < all.size(); i += 3) {
+    r.beside.push_back({all[i], all[i + 1], 0.0});
+    r.spacing.push_back(all[i + 2]);
+  }
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("amr k-epsilon: an inlet's values are read at the centres of the cells beside it", "[amr][mpi]") {
+  const InletPoints p = inlet_points(MPI_COMM_WORLD);
+  CHECK_FALSE(p.other_face);
+  REQUIRE_FALSE(p.beside.empty());
+  // Every point asked is the centre of a leaf cell beside x- (half its
+  // spacing from the face), and every such cell is asked for.
+  for (const auto& x : p.asked) {
+    bool found = false;
+    for (const auto& c : p.beside) found = found || (x[0] == c[0] && x[1] == c[1]);
+    CHECK(found);
+  }
+  int asked_here = 0, asked_anywhere = 0;  // each cell beside x- asked for by some rank
+  for (std::size_t i = 0; i < p.beside.size(); ++i) {
+    CHECK(p.beside[i][0] == 0.5 * p.spacing[i]);
+    bool asked = false;
+    for (const auto& x : p.asked) asked = asked || (x[0] == p.beside[i][0] && x[1] == p.beside[i][1]);
+    asked_here = asked ? 1 : 0;
+    MPI_Allreduce(&asked_here, &asked_anywhere, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    CHECK(asked_anywhere == 1);
+  }
+  std::vector<double> h = p.spacing;
+  std::sort(h.begin(), h.end());
+  CHECK(std::unique(h.begin(), h.end()) - h.begin() == 3);  // three levels line the inlet
 }

@@ -20,6 +20,7 @@
 #include <map>
 
 #include "amr_testing.hpp"
+#include "coflow/gather.hpp"
 #include "fluid/fv/amr/composite_turbulence.hpp"
 
 using namespace coflow::fluid::fv::amr;
@@ -297,15 +298,7 @@ InletPoints inlet_points(MPI_Comm comm) {
     const auto x = g.centre(cell);
     mine.insert(mine.end(), {x[0], x[1], g.spacing(cell.level)});
   }
-  int ranks = 1, count = static_cast<int>(mine.size());
-  MPI_Comm_size(comm, &ranks);
-  std::vector<int> counts(static_cast<std::size_t>(ranks)), offsets(static_cast<std::size_t>(ranks), 0);
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  for (int i = 1; i < ranks; ++i)
-    offsets[static_cast<std::size_t>(i)] =
-        offsets[static_cast<std::size_t>(i - 1)] + counts[static_cast<std::size_t>(i - 1)];
-  std::vector<double> all(static_cast<std::size_t>(offsets.back() + counts.back()));
-  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, comm);
+  const auto all = coflow::coupler::allgather(comm, std::span<const double>(mine), MPI_DOUBLE);
   for (std::size_t i = 0; i + 2 < all.size(); i += 3) {
     r.beside.push_back({all[i], all[i + 1], 0.0});
     r.spacing.push_back(all[i + 2]);

@@ -112,7 +112,8 @@ class FvSolver final : public FluidSolver {
   double profile(int face, int c, const long* x, double t) const;
   // Momentum (momentum.cpp).
   void advection(const Faces& u, Faces& out) const;
-  double advection_at(const Faces& u, int c, long n) const;
+  template <int DIMS, bool UPWIND, bool DIVERGENT>
+  void advection_row(const Faces& u, int c, long n0, long len, double* out) const;
   // What lies beyond the side of the unknown u_c at `at` along d: another
   // unknown (inside the domain or across a periodic face), a wall's or velocity
   // face's value (on the face for d == c, a ghost for d != c; a symmetry face's
@@ -130,7 +131,9 @@ class FvSolver final : public FluidSolver {
     return kind == Face::dirichlet ? Neighbour::wall_tangential
                                    : Neighbour::open;  // open, symmetry: no gradient
   }
+  double rhs_terms(int c, long n, const fv::Imex& s, double dt, double w_now, double w_last) const;
   double viscous_rhs(int c, const long* at, long n, const fv::Imex& s, double dt) const;
+  void viscous_rhs_inside(int c, long n0, long o0, long len, const fv::Imex& s, double dt);
   void momentum(const fv::Imex& s, double dt);
   void set_viscous(int c, double diag, double theta);
   void viscous_rows_inside(int c, double diag_scale, const double (&w)[3], long n, long o, long len,

@@ -10,8 +10,9 @@
 # test is defined; a name that is no test is reported.
 set(coflow_test_costs
   validation.ibm_cylinder_re20 80
-  validation.two_phase_laplace_3d 61
-  unit.mpi 60
+  validation.two_phase_laplace_3d 50
+  unit.mpi 28
+  unit.mpi_4_ranks 16
   validation.psm_settling_sphere_e4 55
   validation.ibm_cylinder_re100 51
   validation.two_phase_grain_interface_120 50
@@ -37,7 +38,6 @@ set(coflow_test_costs
   validation.ibm_cylinder_oscillating 23
   validation.dpm_dispersion 23
   validation.solids_sphere_array_tau 22
-  validation.solids_sphere_array_balance 21
   unit.amr_cavity_implicit 20
   validation.dpm_jet_plate 20
   validation.solids_sphere_array 20

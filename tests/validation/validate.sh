@@ -3,6 +3,7 @@
 #   validate.sh CASE BIN_DIR OUT MODE CONFIG [ARGS...]
 # MODE:
 #   profile|decay|mass|ramp|...  run CONFIG once (ARGS: --set overrides), then coflow-check MODE
+#   MODE+MODE...        one run as above, then coflow-check with each MODE
 #   compare             ARGS: "A overrides" "B overrides" (each a space-separated list
 #                       of key=value; a first item config=FILE runs FILE, a file
 #                       beside CONFIG, instead); runs both and compares the last snapshots
@@ -51,7 +52,16 @@ sets() {  # "a=1 b=2" -> --set a=1 --set b=2
 }
 check() { "$bin/coflow-check" "$@" || { echo "FAIL: coflow-check $*"; exit 1; }; }
 
+# MODE+MODE...: one run of CONFIG, checked by each single-run mode in turn
+# (the same run read by two checks is not run twice).
+if [[ "$mode" == *+* ]]; then
+  run "$out/run" "$@"
+  for m in ${mode//+/ }; do check "$m" "$out/run" | tee -a "$metrics" || exit 1; done
+  mode=checked
+fi
+
 case "$mode" in
+  checked) ;;
   restart_from)
     every=$1; mapfile -t a < <(sets "$2"); mapfile -t b < <(sets "$3")
     run "$out/straight" "${b[@]}"

@@ -2,8 +2,8 @@
 // the Taylor-Green vortex, an exact solution, on periodic forests of 2 and 3
 // fixed levels: second order as every spacing halves, momentum conserved to
 // round-off across the coarse-fine faces, face velocities divergence-free to
-// the solver's tolerance, and 1 rank equal to N. `unit` runs these on 1 rank;
-// `unit.mpi` on 4.
+// the solver's tolerance, and 1 rank equal to N. They run on several ranks
+// only: `unit.mpi` on 2, the cases comparing 1 rank with N in `unit.mpi_4_ranks`.
 #include <fmt/format.h>
 #include <mpi.h>
 
@@ -489,7 +489,7 @@ TEST_CASE("amr flow: a restart continues bit for bit", "[amr][mpi]") {
   INFO("cells missing " << missing << ", largest difference " << worst);
   CHECK(missing == 0);
   CHECK(worst <= 0.0);  // references.csv: amr_restart
-  // On another rank count (every rank alone: unit.mpi runs 4), the same to
+  // On another rank count (every rank alone: unit.mpi runs 2), the same to
   // the Poisson solver's tolerance.
   const auto alone = vortex_with_restart(MPI_COMM_SELF, 0, 8, "", dir);
   long absent = 0;

@@ -1,8 +1,9 @@
 // fv's composite-grid Poisson operator on p4est forests with 2 and 3 fixed
 // levels (fluid/fv/amr): second order against an exact solution, conservative
 // to round-off across coarse-fine faces, and the same solution on 1 rank and
-// on N. `unit` runs these on 1 rank; `unit.mpi` on 4, where the forest is
-// partitioned and the ghost leaves come from other ranks.
+// on N. `unit.mpi` runs these on 2 ranks, `unit.mpi_4_ranks` the one comparing
+// 1 rank with N on 4, where the forest is partitioned and the ghost leaves
+// come from other ranks.
 #include <mpi.h>
 
 #include <algorithm>

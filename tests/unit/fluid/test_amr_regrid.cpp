@@ -3,7 +3,8 @@
 // flat; the field's integral is kept to round-off through every regrid
 // (conservative transfer), the leaves stay balanced over the ranks, the
 // ghost leaves carry their owners' values, and 1 rank equals N ranks bit for
-// bit. `unit` runs these on 1 rank, `unit.mpi` on 4.
+// bit. `unit.mpi` runs these on 2 ranks, `unit.mpi_4_ranks` the one comparing
+// 1 rank with N on 4.
 #include <mpi.h>
 
 #include <algorithm>

@@ -9,8 +9,8 @@
 // and so does a shear flow whose nu_t varies along it, where the stress's
 // transposed part (grad u)^T . grad nu_t is what balances the flow.
 // And an inlet's k and epsilon are read at the centres of the cells beside
-// it, whatever their level. unit.mpi runs these on 4 ranks (each 1-rank case
-// on every rank).
+// it, whatever their level. unit.mpi runs these on 2 ranks (each 1-rank case
+// on every rank), unit.mpi_4_ranks the one comparing 1 rank with N on 4.
 #include <mpi.h>
 
 #include <algorithm>

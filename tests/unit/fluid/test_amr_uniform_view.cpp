@@ -2,7 +2,7 @@
 // (fluid/fv/amr/uniform_view.hpp): each fine cell of a rank's box shows the
 // leaf cell that holds it, and a field on the fine cells returns to the leaf
 // cells as their mean, keeping sum V f (the particles' momentum source). On
-// 1 rank and on the 4 of unit.mpi, whose boxes and leaves do not coincide.
+// the 2 ranks of unit.mpi, whose boxes and leaves do not coincide.
 #include <catch2/catch.hpp>
 #include <mpi.h>
 

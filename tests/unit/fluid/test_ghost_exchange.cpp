@@ -2,7 +2,7 @@
 // ghost holds the value of the owned cell it stands for (periodic images
 // wrapped), corners and edges included, and ghosts beyond a wall are left
 // untouched. Runs on any rank count: `unit` runs it on 1 rank (periodic
-// copies within the block), `unit.mpi` on 4 (messages between ranks).
+// copies within the block), `unit.mpi_4_ranks` on 4 (messages between ranks).
 #include <catch2/catch.hpp>
 
 #include <mpi.h>

@@ -3,7 +3,7 @@
 // from the rule of FvSolver::set_poisson: the two solutions agree to the
 // solvers' tolerance, the preconditioned iterations do not grow with the grid
 // (O(N) per solve), and the residual of the solution, recomputed here, is
-// below the tolerance. Runs on any rank count (`unit` 1 rank, `unit.mpi` 4).
+// below the tolerance. Runs on any rank count (`unit` 1 rank, `unit.mpi_4_ranks` 4).
 #include <mpi.h>
 
 #include <catch2/catch.hpp>

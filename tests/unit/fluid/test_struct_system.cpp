@@ -5,7 +5,7 @@
 // matrix is within the tolerance, the solution agrees with the same matrix
 // solved by hypre's PCG + PFMG (the other path of the same class), and with
 // periodic axes the images are coupled. Runs on any rank count (`unit` 1
-// rank, `unit.mpi` 4).
+// rank, `unit.mpi_4_ranks` 4).
 #include <mpi.h>
 
 #include <catch2/catch.hpp>

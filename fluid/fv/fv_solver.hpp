@@ -230,6 +230,26 @@ class FvSolver final : public FluidSolver {
       for (at[1] = 0; at[1] < blk_.extent[1]; ++at[1], o += blk_.extent[0])
         f(static_cast<const long*>(at), blk_.idx(0, at[1], at[2]), o, blk_.extent[0]);
   }
+  // Over the owned rows of u_c's unknowns: cell(at, n, o) for each unknown
+  // that may see a domain face, inside(n0, o0, len) for the run of a row whose
+  // neighbours are all unknowns (along x only the first two and the last two
+  // can see one); with `split` false every unknown goes to cell.
+  template <class Cell, class Inside>
+  void for_unknown_rows(int c, bool split, Cell&& cell, Inside&& inside) const {
+    for_owned_rows([&](const long* at, long n0, long o0, long len) {
+      bool in = split && len > 4 && !(c > 0 && is_boundary_face(c, at[c]));
+      for (int d = 1; d < dims_ && in; ++d)
+        in = neighbour_kind(c, at, d, 0) == Neighbour::inside &&
+             neighbour_kind(c, at, d, 1) == Neighbour::inside;
+      const long first = in ? 2 : len, last = in ? len - 2 : len;
+      long here[3] = {0, at[1], at[2]};
+      for (here[0] = 0; here[0] < first; ++here[0])
+        cell(static_cast<const long*>(here), n0 + here[0], o0 + here[0]);
+      if (in) inside(n0 + first, o0 + first, last - first);
+      for (here[0] = last; here[0] < len; ++here[0])
+        cell(static_cast<const long*>(here), n0 + here[0], o0 + here[0]);
+    });
+  }
   template <class F>
   void for_padded(F&& f) const {
     long at[3];

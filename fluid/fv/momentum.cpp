@@ -54,13 +54,11 @@ void FvSolver::advection(const Faces& u, Faces& out) const {
         std::fill_n(o + n0, len, 0.0);
         return;
       }
-      // Along x only a row's ends can be a domain face (the last cannot: the
-      // owned faces are the owned cells' lower ones; checked all the same).
+      // Along x only a row's first face can be a domain face (the owned faces
+      // are the owned cells' lower ones).
       const long first = c == 0 && is_boundary_face(0, 0) ? 1 : 0;
-      const long last = c == 0 && len > first && is_boundary_face(0, len - 1) ? len - 1 : len;
-      for (long i = 0; i < first; ++i) o[n0 + i] = 0.0;
-      for (long i = last; i < len; ++i) o[n0 + i] = 0.0;
-      if (last > first) (this->*row)(u, c, n0 + first, last - first, o);
+      if (first == 1) o[n0] = 0.0;
+      if (len > first) (this->*row)(u, c, n0 + first, len - first, o);
     });
   }
 }
@@ -112,18 +110,8 @@ void FvSolver::set_viscous(int c, double diag_scale, double theta) {
       m.upper[static_cast<std::size_t>(d)][O] = hi[d] * scale;
     }
   };
-  for_owned_rows([&](const long* at, long n0, long o0, long len) {
-    // Along x only the first two and the last two can see a domain face.
-    bool inside = turbulent_ && len > 4 && !(c > 0 && is_boundary_face(c, at[c]));
-    for (int d = 1; d < dims_ && inside; ++d)
-      inside = neighbour_kind(c, at, d, 0) == Neighbour::inside &&
-               neighbour_kind(c, at, d, 1) == Neighbour::inside;
-    const long first = inside ? 2 : len, last = inside ? len - 2 : len;
-    long here[3] = {0, at[1], at[2]};
-    for (here[0] = 0; here[0] < first; ++here[0]) cell(here, n0 + here[0], o0 + here[0]);
-    if (inside) viscous_rows_inside(c, diag_scale, w, n0 + first, o0 + first, last - first, m);
-    for (here[0] = last; here[0] < len; ++here[0]) cell(here, n0 + here[0], o0 + here[0]);
-  });
+  for_unknown_rows(c, turbulent_, cell,
+                   [&](long n, long o, long len) { viscous_rows_inside(c, diag_scale, w, n, o, len, m); });
   viscous_[static_cast<std::size_t>(c)]->take(m);
 }
 
@@ -283,25 +271,13 @@ void FvSolver::momentum(const fv::Imex& s, double dt) {
       viscous_key_[C] = diag;
       viscous_theta_[C] = nu_theta;
     }
-    for_owned_rows([&](const long* at, long n0, long o0, long len) {
-      // As in set_viscous: along x only the first two and the last two can
-      // see a domain face.
-      bool inside = len > 4 && !(c > 0 && is_boundary_face(c, at[c]));
-      for (int d = 1; d < dims_ && inside; ++d)
-        inside = neighbour_kind(c, at, d, 0) == Neighbour::inside &&
-                 neighbour_kind(c, at, d, 1) == Neighbour::inside;
-      const long first = inside ? 2 : len, last = inside ? len - 2 : len;
-      long here[3] = {0, at[1], at[2]};
-      const auto cell = [&] {
-        const long n = n0 + here[0];
-        const auto o = static_cast<std::size_t>(o0 + here[0]);
-        rhs_[o] = viscous_rhs(c, here, n, s, dt);
-        x_[o] = u_[C][n];
-      };
-      for (here[0] = 0; here[0] < first; ++here[0]) cell();
-      if (inside) viscous_rhs_inside(c, n0 + first, o0 + first, last - first, s, dt);
-      for (here[0] = last; here[0] < len; ++here[0]) cell();
-    });
+    for_unknown_rows(
+        c, true,
+        [&](const long* at, long n, long o) {
+          rhs_[static_cast<std::size_t>(o)] = viscous_rhs(c, at, n, s, dt);
+          x_[static_cast<std::size_t>(o)] = u_[C][n];
+        },
+        [&](long n, long o, long len) { viscous_rhs_inside(c, n, o, len, s, dt); });
     const double start = MPI_Wtime();
     viscous_[C]->solve(rhs_, x_);
     viscous_seconds_ += MPI_Wtime() - start;

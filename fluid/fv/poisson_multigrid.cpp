@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "fluid/fv/row_sums.hpp"
 #include "fluid/fv/struct_system.hpp"
 #include "fluid/grid/ghost_exchange.hpp"
 
@@ -106,37 +107,67 @@ void mirror(const Level& L, std::vector<double>& v) {
     }
 }
 
+// A level's couplings and strides in locals: a store through a double* may
+// alias the level's own k, so a loop reading them through the level reloads
+// them after every store (and does not vectorise).
+struct Stencil {
+  double k0, k1, k2;
+  long sy, sz;
+};
+inline Stencil stencil(const Level& L) {
+  return {L.k[0], L.k[1], L.k[2], L.sy, L.sz};
+}
+
 template <int D>
-inline double neighbours(const Level& L, const double* x, long c) {
-  double s = L.k[0] * (x[c - 1] + x[c + 1]) + L.k[1] * (x[c - L.sy] + x[c + L.sy]);
-  if constexpr (D == 3) s += L.k[2] * (x[c - L.sz] + x[c + L.sz]);
-  return s;
+inline double neighbours(const Stencil& s, const double* x, long c) {
+  double n = s.k0 * (x[c - 1] + x[c + 1]) + s.k1 * (x[c - s.sy] + x[c + s.sy]);
+  if constexpr (D == 3) n += s.k2 * (x[c - s.sz] + x[c + s.sz]);
+  return n;
 }
 
 // One colour of red-black Gauss-Seidel: the cells whose global i + j + k has
 // the colour's parity.
 template <int D>
 void relax(Level& L, int colour) {
-  double* x = L.x.data();
-  const double* b = L.b.data();
-  const double* inv = L.inv_diag.data();
-  const long nx = L.blk.extent[0];
+  double* __restrict x = L.x.data();
+  const double* __restrict b = L.b.data();
+  const double* __restrict inv = L.inv_diag.data();
+  const Stencil s = stencil(L);
+  const long nx = L.blk.extent[0], first = colour + L.parity;
   for_rows(L, [&](long row, long j, long k) {
-    for (long i = (colour + L.parity + j + k) & 1; i < nx; i += 2)
-      x[row + i] = (b[row + i] + neighbours<D>(L, x, row + i)) * inv[row + i];
+    for (long i = (first + j + k) & 1; i < nx; i += 2)
+      x[row + i] = (b[row + i] + neighbours<D>(s, x, row + i)) * inv[row + i];
   });
 }
 
-// r = b - A x on the owned cells, then r's ghosts (exchange and mirror).
+// The first colour's sweep from x = 0: its neighbours are all 0, so x = b / diag.
+void relax_from_zero(Level& L) {
+  double* __restrict x = L.x.data();
+  const double* __restrict b = L.b.data();
+  const double* __restrict inv = L.inv_diag.data();
+  const long nx = L.blk.extent[0];
+  for_rows(L, [&](long row, long j, long k) {
+    for (long i = (L.parity + j + k) & 1; i < nx; i += 2) x[row + i] = b[row + i] * inv[row + i];
+  });
+}
+
+// r = b - A x on the owned cells after a sweep of the first colour and then
+// of the second, then r's ghosts (exchange and mirror). The second colour's
+// cells have just solved their own equations, so their residual is 0 (up to
+// rounding, taken as exactly 0): only the first colour's is computed.
 template <int D>
 void residual(Level& L) {
   L.ex.exchange(L.x);
-  const double* x = L.x.data();
+  const double* __restrict x = L.x.data();
+  const double* __restrict b = L.b.data();
+  const double* __restrict dg = L.diag.data();
+  double* __restrict r = L.r.data();
+  const Stencil s = stencil(L);
   const long nx = L.blk.extent[0];
-  for_rows(L, [&](long row, long, long) {
-    for (long c = row; c < row + nx; ++c)
-      L.r[static_cast<std::size_t>(c)] = L.b[static_cast<std::size_t>(c)] -
-                                         L.diag[static_cast<std::size_t>(c)] * x[c] + neighbours<D>(L, x, c);
+  for_rows(L, [&](long row, long j, long k) {
+    std::fill_n(r + row, nx, 0.0);
+    for (long c = row + ((L.parity + j + k) & 1); c < row + nx; c += 2)
+      r[c] = b[c] - dg[c] * x[c] + neighbours<D>(s, x, c);
   });
   L.ex.exchange(L.r);
   mirror(L, L.r);
@@ -149,20 +180,23 @@ constexpr double kRestrict[4] = {0.125, 0.375, 0.375, 0.125};
 // Coarse b = R (fine r): the 4^D fine cells around each coarse cell's children.
 template <int D>
 void restrict_residual(const Level& F, Level& C) {
-  const double* r = F.r.data();
+  const double* __restrict r = F.r.data();
+  double* __restrict cb = C.b.data();
+  const long fy = F.sy, fz = F.sz, nx = C.blk.extent[0];
   for_rows(C, [&](long row, long J, long K) {
-    for (long I = 0; I < C.blk.extent[0]; ++I) {
+    // The fine cell below and left of the first coarse cell's children.
+    const long first = F.blk.idx(-1, 2 * J - 1, D == 3 ? 2 * K - 1 : 0);
+    for (long I = 0; I < nx; ++I) {
       double s = 0.0;
       for (int c = 0; c < (D == 3 ? 4 : 1); ++c) {
-        const long k = D == 3 ? 2 * K + c - 1 : 0;
         const double wz = D == 3 ? kRestrict[c] : 1.0;
         for (int b = 0; b < 4; ++b) {
-          const long base = F.blk.idx(2 * I - 1, 2 * J + b - 1, k);
+          const long base = first + 2 * I + b * fy + (D == 3 ? c * fz : 0);
           const double w = wz * kRestrict[b];
           s += w * (0.125 * (r[base] + r[base + 3]) + 0.375 * (r[base + 1] + r[base + 2]));
         }
       }
-      C.b[static_cast<std::size_t>(row + I)] = s;
+      cb[row + I] = s;
     }
   });
 }
@@ -173,17 +207,19 @@ template <int D>
 void prolong_add(Level& C, Level& F) {
   C.ex.exchange(C.x);
   mirror(C, C.x);
-  const double* xc = C.x.data();
-  double* xf = F.x.data();
+  const double* __restrict xc = C.x.data();
+  double* __restrict xf = F.x.data();
+  const long cy = C.sy, cz = C.sz, fy = F.sy, fz = F.sz, nx = C.blk.extent[0];
   for_rows(C, [&](long row, long J, long K) {
-    for (long I = 0; I < C.blk.extent[0]; ++I) {
+    const long first = F.blk.idx(0, 2 * J, D == 3 ? 2 * K : 0);
+    for (long I = 0; I < nx; ++I) {
       const long c = row + I;
-      for (int cz = 0; cz < (D == 3 ? 2 : 1); ++cz)
-        for (int cy = 0; cy < 2; ++cy) {
-          const long oz = D == 3 ? (cz ? C.sz : -C.sz) : 0, oy = cy ? C.sy : -C.sy;
-          const long f = F.blk.idx(2 * I, 2 * J + cy, D == 3 ? 2 * K + cz : 0);
-          for (int cx = 0; cx < 2; ++cx) {
-            const long ox = cx ? 1 : -1;
+      for (int z = 0; z < (D == 3 ? 2 : 1); ++z)
+        for (int y = 0; y < 2; ++y) {
+          const long oz = D == 3 ? (z ? cz : -cz) : 0, oy = y ? cy : -cy;
+          const long f = first + 2 * I + y * fy + (D == 3 ? z * fz : 0);
+          for (int x = 0; x < 2; ++x) {
+            const long ox = x ? 1 : -1;
             double v = 0.75 * (0.75 * xc[c] + 0.25 * xc[c + oy]) +
                        0.25 * (0.75 * xc[c + ox] + 0.25 * xc[c + ox + oy]);
             if constexpr (D == 3) {
@@ -191,7 +227,7 @@ void prolong_add(Level& C, Level& F) {
                                0.25 * (0.75 * xc[c + oz + ox] + 0.25 * xc[c + oz + ox + oy]);
               v = 0.75 * v + 0.25 * w;
             }
-            xf[f + cx] += v;
+            xf[f + x] += v;
           }
         }
     }
@@ -224,10 +260,10 @@ bool halves(const coupler::Decomposition& dec, coupler::Decomposition& coarse) {
 
 double dot(const Level& L, const std::vector<double>& a, const std::vector<double>& b, MPI_Comm comm) {
   double s = 0.0;
+  const double* __restrict u = a.data(), * __restrict v = b.data();
   const long nx = L.blk.extent[0];
   for_rows(L, [&](long row, long, long) {
-    for (long c = row; c < row + nx; ++c)
-      s += a[static_cast<std::size_t>(c)] * b[static_cast<std::size_t>(c)];
+    row_sums(nx, &s, 1, [&](long i, double* p) { p[0] += u[row + i] * v[row + i]; });
   });
   MPI_Allreduce(MPI_IN_PLACE, &s, 1, MPI_DOUBLE, MPI_SUM, comm);
   return s;
@@ -333,7 +369,7 @@ void PoissonMultigrid::cycle(std::size_t l) {
   }
   Level& C = *levels_[l + 1];
   const bool three = dims_ == 3;
-  three ? relax<3>(L, 0) : relax<2>(L, 0);  // x = 0: no ghosts to exchange
+  relax_from_zero(L);  // x = 0: no ghosts to exchange
   L.ex.exchange(L.x);
   three ? relax<3>(L, 1) : relax<2>(L, 1);
   three ? residual<3>(L) : residual<2>(L);
@@ -346,21 +382,33 @@ void PoissonMultigrid::cycle(std::size_t l) {
   three ? relax<3>(L, 0) : relax<2>(L, 0);
 }
 
+namespace {
+
+// ap = A v on a level's owned cells; returns v . A v (this rank's part).
+template <int D>
+double apply_rows(const Level& L, const double* __restrict v, double* __restrict ap) {
+  const double* __restrict dg = L.diag.data();
+  const Stencil s = stencil(L);
+  const long nx = L.blk.extent[0];
+  double sum = 0.0;
+  for_rows(L, [&](long row, long, long) {
+    row_sums(nx, &sum, 1, [&](long i, double* a) {
+      const long c = row + i;
+      ap[c] = dg[c] * v[c] - neighbours<D>(s, v, c);
+      a[0] += v[c] * ap[c];
+    });
+  });
+  return sum;
+}
+
+}  // namespace
+
 // ap = A v on the finest level (v's ghosts exchanged; beyond walls they stay
 // 0); returns v . A v.
 double PoissonMultigrid::apply(std::vector<double>& v) {
   Level& L = *levels_[0];
   L.ex.exchange(v);
-  const long nx = L.blk.extent[0];
-  double s = 0.0;
-  for_rows(L, [&](long row, long, long) {
-    for (long c = row; c < row + nx; ++c) {
-      const auto C = static_cast<std::size_t>(c);
-      ap_[C] =
-          L.diag[C] * v[C] - (dims_ == 3 ? neighbours<3>(L, v.data(), c) : neighbours<2>(L, v.data(), c));
-      s += v[C] * ap_[C];
-    }
-  });
+  double s = dims_ == 3 ? apply_rows<3>(L, v.data(), ap_.data()) : apply_rows<2>(L, v.data(), ap_.data());
   MPI_Allreduce(MPI_IN_PLACE, &s, 1, MPI_DOUBLE, MPI_SUM, comm_);
   return s;
 }
@@ -397,18 +445,22 @@ void PoissonMultigrid::solve(std::span<const double> b, std::span<double> x) {
       p_ = L.x;
     } else {
       const double beta = rz_new / rz;
-      for (std::size_t c = 0; c < p_.size(); ++c) p_[c] = L.x[c] + beta * p_[c];
+      double* __restrict ps = p_.data();
+      const double* __restrict z = L.x.data();
+      for (std::size_t c = 0; c < p_.size(); ++c) ps[c] = z[c] + beta * ps[c];
     }
     rz = rz_new;
     const double alpha = rz / apply(p_);
     rr = 0.0;
+    double* __restrict xs = x_.data(), * __restrict rs = r.data();
+    const double* __restrict ps = p_.data(), * __restrict aps = ap_.data();
     for_rows(L, [&](long row, long, long) {
-      for (long c = row; c < row + nx; ++c) {
-        const auto C = static_cast<std::size_t>(c);
-        x_[C] += alpha * p_[C];
-        r[C] -= alpha * ap_[C];
-        rr += r[C] * r[C];
-      }
+      row_sums(nx, &rr, 1, [&](long i, double* a) {
+        const long c = row + i;
+        xs[c] += alpha * ps[c];
+        rs[c] -= alpha * aps[c];
+        a[0] += rs[c] * rs[c];
+      });
     });
     MPI_Allreduce(MPI_IN_PLACE, &rr, 1, MPI_DOUBLE, MPI_SUM, comm_);
     ++iterations_;

@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "fluid/fv/row_sums.hpp"
+
 namespace coflow::fluid::fv {
 
 struct StructSystem::Hypre {
@@ -168,22 +170,6 @@ void StructSystem::sync_hypre() {
   HYPRE_StructMatrixAssemble(h_->A);
   stale_ = false;
 }
-
-namespace {
-
-// Sums over one row of n cells with four partial sums (independent chains:
-// one chain waits four cycles per add).
-template <class Term>
-void row_sums(long n, double* sum, int count, Term term) {
-  double part[4][2] = {};
-  long i = 0;
-  for (; i + 4 <= n; i += 4)
-    for (int l = 0; l < 4; ++l) term(i + l, part[l]);
-  for (; i < n; ++i) term(i, part[0]);
-  for (int c = 0; c < count; ++c) sum[c] += (part[0][c] + part[1][c]) + (part[2][c] + part[3][c]);
-}
-
-}  // namespace
 
 // s = A p, p in hypre's storage (its ghost cells filled from the neighbours
 // first), s and the matrix in owned cells. A coupling across a wall is zero

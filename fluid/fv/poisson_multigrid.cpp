@@ -177,32 +177,35 @@ void residual(Level& L) {
 // the prolongation's transpose over 2^D.
 constexpr double kRestrict[4] = {0.125, 0.375, 0.375, 0.125};
 
-// Coarse b = R (fine r): the 4^D fine cells around each coarse cell's children.
+// Coarse b = R (fine r): the 4^D fine cells around each coarse cell's
+// children, taken one fine row at a time for a whole coarse row (the coarse
+// cells innermost, so that the loops vectorise; each cell's terms are added in
+// the same order as one cell at a time).
 template <int D>
 void restrict_residual(const Level& F, Level& C) {
   const double* __restrict r = F.r.data();
   double* __restrict cb = C.b.data();
   const long fy = F.sy, fz = F.sz, nx = C.blk.extent[0];
   for_rows(C, [&](long row, long J, long K) {
+    double* __restrict out = cb + row;
+    std::fill_n(out, nx, 0.0);
     // The fine cell below and left of the first coarse cell's children.
     const long first = F.blk.idx(-1, 2 * J - 1, D == 3 ? 2 * K - 1 : 0);
-    for (long I = 0; I < nx; ++I) {
-      double s = 0.0;
-      for (int c = 0; c < (D == 3 ? 4 : 1); ++c) {
-        const double wz = D == 3 ? kRestrict[c] : 1.0;
-        for (int b = 0; b < 4; ++b) {
-          const long base = first + 2 * I + b * fy + (D == 3 ? c * fz : 0);
-          const double w = wz * kRestrict[b];
-          s += w * (0.125 * (r[base] + r[base + 3]) + 0.375 * (r[base + 1] + r[base + 2]));
-        }
+    for (int c = 0; c < (D == 3 ? 4 : 1); ++c) {
+      const double wz = D == 3 ? kRestrict[c] : 1.0;
+      for (int b = 0; b < 4; ++b) {
+        const double* __restrict f = r + first + b * fy + (D == 3 ? c * fz : 0);
+        const double w = wz * kRestrict[b];
+        for (long I = 0; I < nx; ++I)
+          out[I] += w * (0.125 * (f[2 * I] + f[2 * I + 3]) + 0.375 * (f[2 * I + 1] + f[2 * I + 2]));
       }
-      cb[row + I] = s;
     }
   });
 }
 
 // Fine x += P (coarse x): each child from the 2^D coarse cells nearest to it
-// (weights 3/4 and 1/4 per axis), the coarse ghosts exchanged and mirrored.
+// (weights 3/4 and 1/4 per axis), the coarse ghosts exchanged and mirrored;
+// one fine row at a time for a whole coarse row (coarse cells innermost).
 template <int D>
 void prolong_add(Level& C, Level& F) {
   C.ex.exchange(C.x);
@@ -212,25 +215,24 @@ void prolong_add(Level& C, Level& F) {
   const long cy = C.sy, cz = C.sz, fy = F.sy, fz = F.sz, nx = C.blk.extent[0];
   for_rows(C, [&](long row, long J, long K) {
     const long first = F.blk.idx(0, 2 * J, D == 3 ? 2 * K : 0);
-    for (long I = 0; I < nx; ++I) {
-      const long c = row + I;
-      for (int z = 0; z < (D == 3 ? 2 : 1); ++z)
-        for (int y = 0; y < 2; ++y) {
-          const long oz = D == 3 ? (z ? cz : -cz) : 0, oy = y ? cy : -cy;
-          const long f = first + 2 * I + y * fy + (D == 3 ? z * fz : 0);
+    const double* __restrict a = xc + row;
+    for (int z = 0; z < (D == 3 ? 2 : 1); ++z)
+      for (int y = 0; y < 2; ++y) {
+        const long oz = D == 3 ? (z ? cz : -cz) : 0, oy = y ? cy : -cy;
+        double* __restrict f = xf + first + y * fy + (D == 3 ? z * fz : 0);
+        for (long I = 0; I < nx; ++I)
           for (int x = 0; x < 2; ++x) {
-            const long ox = x ? 1 : -1;
-            double v = 0.75 * (0.75 * xc[c] + 0.25 * xc[c + oy]) +
-                       0.25 * (0.75 * xc[c + ox] + 0.25 * xc[c + ox + oy]);
+            const long ox = x ? 1 : -1, c = I;
+            double v =
+                0.75 * (0.75 * a[c] + 0.25 * a[c + oy]) + 0.25 * (0.75 * a[c + ox] + 0.25 * a[c + ox + oy]);
             if constexpr (D == 3) {
-              const double w = 0.75 * (0.75 * xc[c + oz] + 0.25 * xc[c + oz + oy]) +
-                               0.25 * (0.75 * xc[c + oz + ox] + 0.25 * xc[c + oz + ox + oy]);
+              const double w = 0.75 * (0.75 * a[c + oz] + 0.25 * a[c + oz + oy]) +
+                               0.25 * (0.75 * a[c + oz + ox] + 0.25 * a[c + oz + ox + oy]);
               v = 0.75 * v + 0.25 * w;
             }
-            xf[f + x] += v;
+            f[2 * I + x] += v;
           }
-        }
-    }
+      }
   });
 }
 
@@ -263,7 +265,7 @@ double dot(const Level& L, const std::vector<double>& a, const std::vector<doubl
   const double* __restrict u = a.data(), * __restrict v = b.data();
   const long nx = L.blk.extent[0];
   for_rows(L, [&](long row, long, long) {
-    row_sums(nx, &s, 1, [&](long i, double* p) { p[0] += u[row + i] * v[row + i]; });
+    row_sums(nx, &s, 1, [&](long i, auto p) { p[0] += u[row + i] * v[row + i]; });
   });
   MPI_Allreduce(MPI_IN_PLACE, &s, 1, MPI_DOUBLE, MPI_SUM, comm);
   return s;
@@ -392,7 +394,7 @@ double apply_rows(const Level& L, const double* __restrict v, double* __restrict
   const long nx = L.blk.extent[0];
   double sum = 0.0;
   for_rows(L, [&](long row, long, long) {
-    row_sums(nx, &sum, 1, [&](long i, double* a) {
+    row_sums(nx, &sum, 1, [&](long i, auto a) {
       const long c = row + i;
       ap[c] = dg[c] * v[c] - neighbours<D>(s, v, c);
       a[0] += v[c] * ap[c];
@@ -455,7 +457,7 @@ void PoissonMultigrid::solve(std::span<const double> b, std::span<double> x) {
     double* __restrict xs = x_.data(), * __restrict rs = r.data();
     const double* __restrict ps = p_.data(), * __restrict aps = ap_.data();
     for_rows(L, [&](long row, long, long) {
-      row_sums(nx, &rr, 1, [&](long i, double* a) {
+      row_sums(nx, &rr, 1, [&](long i, auto a) {
         const long c = row + i;
         xs[c] += alpha * ps[c];
         rs[c] -= alpha * aps[c];

@@ -226,8 +226,8 @@ void StructSystem::solve_diagonal(std::span<const double> b, std::span<double> x
   matvec(P, S);
   double sums[3] = {0.0, 0.0, 0.0};  // b.b, then r.r and r.z (z = r / diag)
   each_row([&](long o, double* p, const double* s) {
-    row_sums(nx, sums, 1, [&](long i, double* a) { a[0] += b[o + i] * b[o + i]; });
-    row_sums(nx, sums + 1, 2, [&](long i, double* a) {
+    row_sums(nx, sums, 1, [&](long i, auto a) { a[0] += b[o + i] * b[o + i]; });
+    row_sums(nx, sums + 1, 2, [&](long i, auto a) {
       const double ri = b[o + i] - s[i], zi = ri * id[o + i];
       r[o + i] = ri, p[i] = zi, a[0] += ri * ri, a[1] += ri * zi;
     });
@@ -246,14 +246,14 @@ void StructSystem::solve_diagonal(std::span<const double> b, std::span<double> x
     matvec(P, S);
     double ps = 0.0;
     each_row([&](long, double* p, const double* s) {
-      row_sums(nx, &ps, 1, [&](long i, double* a) { a[0] += p[i] * s[i]; });
+      row_sums(nx, &ps, 1, [&](long i, auto a) { a[0] += p[i] * s[i]; });
     });
     MPI_Allreduce(MPI_IN_PLACE, &ps, 1, MPI_DOUBLE, MPI_SUM, h_->comm);
     if (ps == 0.0) break;  // p = 0 (a breakdown): judged below by the residual
     const double alpha = rz / ps;
     double next[2] = {0.0, 0.0};  // r.r, r.z
     each_row([&](long o, double* p, const double* s) {
-      row_sums(nx, next, 2, [&](long i, double* a) {
+      row_sums(nx, next, 2, [&](long i, auto a) {
         x[o + i] += alpha * p[i];
         const double ri = r[o + i] - alpha * s[i];
         r[o + i] = ri, a[0] += ri * ri, a[1] += ri * ri * id[o + i];

@@ -10,7 +10,7 @@
 // coefficients per cell, so a 3D V-cycle visits about twice the fine grid and
 // reads 56 bytes of matrix per cell per sweep; this cycle visits 8/7 of it and
 // reads no matrix (the Laplacian of a uniform grid has constant couplings).
-// bench-fv's 128^3 cavity: a solve 1.95x faster, 41 % of the step against 58 %
+// bench-fv's 128^3 cavity: a solve 1.91x faster, 48 % of the step against 65 %
 // (docs/performance.md). It needs every rank's block even along every axis
 // with more than one cell and cells of aspect ratio at most 2 (suits()); fv
 // uses hypre's PCG + PFMG elsewhere.

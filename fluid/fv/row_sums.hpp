@@ -1,7 +1,8 @@
-// Sums over one row of n cells in eight partial sums, lane i mod 8 (eight
-// independent chains of adds where one chain waits four cycles per add, held
-// side by side so that they fill one 512-bit or two 256-bit registers), added
-// pairwise at the end: the order is fixed by the row's length alone.
+// Sums over one row of n cells in eight partial sums, lane i mod 8 for the
+// first n - n mod 8 cells and lane 0 for the rest (eight independent chains of
+// adds where one chain waits four cycles per add, held side by side so that
+// they fill one 512-bit or two 256-bit registers), added pairwise at the end:
+// the order is fixed by the row's length alone.
 #pragma once
 
 namespace coflow::fluid::fv {

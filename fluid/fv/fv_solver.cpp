@@ -170,12 +170,21 @@ std::vector<double> FvSolver::owned_of(const Field& f) const {
 double FvSolver::stable_step() {
   double umax[4] = {0, 0, 0, 0};  // and 1 where a value is not finite
   for (int c = 0; c < dims_; ++c) {
-    const auto& q = u_[static_cast<std::size_t>(c)];
-    for_owned([&](const long*, long n, long) {
-      const double a = std::abs(q[n]), b = std::abs(q[n + stride(c)]);
-      if (!(a <= std::numeric_limits<double>::max() && b <= std::numeric_limits<double>::max())) umax[3] = 1;
-      umax[c] = std::max({umax[c], a, b});
+    const double* __restrict q = u_[static_cast<std::size_t>(c)].data();
+    const long sc = stride(c);
+    // By rows, the row's largest |u| and a sum of 0 x u (NaN where any value
+    // is not finite) in locals, so that the loop vectorises.
+    double m = 0.0, nan = 0.0;
+    for_owned_rows([&](const long*, long n0, long, long len) {
+      for (long n = n0; n < n0 + len; ++n) {
+        const double a = std::abs(q[n]), b = std::abs(q[n + sc]);
+        nan += 0.0 * a + 0.0 * b;
+        m = a > m ? a : m;
+        m = b > m ? b : m;
+      }
     });
+    umax[c] = m;
+    if (nan != 0.0) umax[3] = 1;
   }
   MPI_Allreduce(MPI_IN_PLACE, umax, 4, MPI_DOUBLE, MPI_MAX, comm_);
   if (umax[3] > 0)

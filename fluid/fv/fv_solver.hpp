@@ -154,7 +154,8 @@ class FvSolver final : public FluidSolver {
   void init_turbulence();
   void set_body_wall_distance(const ibm::MarkerSet& markers);  // wall_y_: the box's walls and the bodies
   void turbulence_step(double dt);
-  double strain_rate2_at(long n) const;  // S^2 = 2 S_ij S_ij at a cell (seed 003 eqs. 3.15-3.16)
+  template <int DIMS>
+  void source_row(double* const (&out)[4], long n0, long len) const;
   // A scalar entering through each domain face (x-, x+, y-, y+, z-, z+), per
   // line of cells across it (fv::for_lines; at() reads the line's two
   // coordinates across the face): one value where the face's k and epsilon
@@ -174,7 +175,14 @@ class FvSolver final : public FluidSolver {
     }
   };
   void set_inlet_lines(double t);
-  void advect_scalar(Field& q, const FaceLines& inlet, double wall_sign, double dt);
+  // Advection of k and epsilon (turbulence/scalar_advection.cpp).
+  int scalar_substeps(double dt) const;
+  void scalar_faces(const Field& q, const FaceLines& inlet, const bool (&inflow)[6], int d,
+                    Field& face) const;
+  template <int DIMS>
+  void advect_scalar_row(const double* q, const double* const (&face)[3], double h, double* next, long n0,
+                         long len) const;
+  void advect_scalar(Field& q, const FaceLines& inlet, double wall_sign, double dt, int sub);
   void solve_scalar(fv::StructSystem& sys, Field& q, Field& change, const Field& sink, const Field& source,
                     double sigma, const FaceLines& inlet, bool wall_zero, const Field* fixed, double dt);
   // What the rows of one scalar's system read (solve_scalar): padded fields
@@ -194,6 +202,7 @@ class FvSolver final : public FluidSolver {
                              const long* at, long n0, long o0, long len);
   void fill_scalar_ghosts(Field& q, const FaceLines& inlet, double wall_sign, bool extrapolate);
   void update_eddy_viscosity();
+  void check_positive() const;
   // nu + nu_t on side `side` along d of u_c's control volume (u_c at index n,
   // the lower c-face of cell n): along c the cell below (n - s_c) or the cell
   // n itself; along another axis the edge between the four cells around it.
@@ -206,6 +215,8 @@ class FvSolver final : public FluidSolver {
     return nu_ + 0.25 * (nut_[n] + nut_[n - sc] + nut_[n + e] + nut_[n + e - sc]);
   }
   double diffusion_at(const Field& u, int c, long n) const;
+  template <int DIMS>
+  void stress_transpose_row(const Faces& u, int c, long n0, long len, double* out) const;
   void add_stress_transpose(const Faces& u, Faces& out) const;
   std::vector<double> y_plus() const;
   void add_turbulence_diagnostics(Diagnostics& d);
@@ -317,7 +328,8 @@ class FvSolver final : public FluidSolver {
   std::unique_ptr<fv::StructSystem> k_system_, eps_system_;
   int turbulence_iterations_ = 0;
   double turbulence_seconds_ = 0.0, scalar_solve_seconds_ = 0.0;  // wall time, this rank
-  std::array<Field, 7> scratch_;  // the turbulence step's work fields
+  std::array<Field, 8> scratch_;                                  // the turbulence step's work fields
+  std::vector<double> row_work_;  // a row's work space (fv::Closure::nu_t_row)
   fv::StructSystem::Rows rows_;   // a matrix being assembled (momentum, k, epsilon)
 
   // immersed.method ibm: the multi-direct forcing, made at the first markers.

@@ -20,31 +20,49 @@ double FvSolver::diffusion_at(const Field& u, int c, long n) const {
   return l;
 }
 
-// out_c += d/dx_d (nu_t d u_d / dx_c) at the unknown faces: the fluxes through
-// the control volume's sides, nu_t d u_d / dx_c at a cell (d = c) or an edge.
+// out_c += d/dx_d (nu_t d u_d / dx_c) at u_c's faces n0 + i, i < len, along x:
+// the fluxes through the control volume's sides, nu_t d u_d / dx_c at a cell
+// (d = c) or an edge. Plain pointers and the dimension a template argument,
+// so that the loop vectorises.
+template <int DIMS>
+void FvSolver::stress_transpose_row(const Faces& u, int c, long n0, long len, double* out) const {
+  const double* __restrict nut = nut_.data() + n0;
+  const double* __restrict V[3] = {u[0].data() + n0, u[1].data() + n0, u[DIMS - 1].data() + n0};
+  const long s[3] = {stride(0), stride(1), stride(2)}, sc = s[c];
+  const double ih[3] = {inv_h_[0], inv_h_[1], inv_h_[2]};
+  double* __restrict o = out + n0;
+  for (long i = 0; i < len; ++i) {
+    double r = 0.0;
+    for (int d = 0; d < DIMS; ++d) {
+      const double* __restrict v = V[d];
+      const long sd = s[d];
+      if (d == c) {
+        const double up = nut[i] * (v[i + sc] - v[i]) * ih[c];
+        const double dn = nut[i - sc] * (v[i] - v[i - sc]) * ih[c];
+        r += (up - dn) * ih[c];
+        continue;
+      }
+      const double nu_up = 0.25 * (nut[i] + nut[i - sc] + nut[i + sd] + nut[i + sd - sc]);
+      const double nu_dn = 0.25 * (nut[i] + nut[i - sc] + nut[i - sd] + nut[i - sd - sc]);
+      const double up = nu_up * (v[i + sd] - v[i + sd - sc]) * ih[c];
+      const double dn = nu_dn * (v[i] - v[i - sc]) * ih[c];
+      r += (up - dn) * ih[d];
+    }
+    o[i] += r;
+  }
+}
+
+// out_c += d/dx_d (nu_t d u_d / dx_c) at the unknown faces (the domain faces
+// are not unknowns: along x only a row's first face can be one).
 void FvSolver::add_stress_transpose(const Faces& u, Faces& out) const {
   for (int c = 0; c < dims_; ++c) {
-    auto& o = out[static_cast<std::size_t>(c)];
-    const long sc = stride(c);
-    for_owned([&](const long* at, long n, long) {
-      if (is_boundary_face(c, at[c])) return;
-      double r = 0.0;
-      for (int d = 0; d < dims_; ++d) {
-        const Field& v = u[static_cast<std::size_t>(d)];
-        const long sd = stride(d);
-        if (d == c) {
-          const double up = nut_[n] * (v[n + sc] - v[n]) * inv_h_[c];
-          const double dn = nut_[n - sc] * (v[n] - v[n - sc]) * inv_h_[c];
-          r += (up - dn) * inv_h_[c];
-          continue;
-        }
-        const double nu_up = 0.25 * (nut_[n] + nut_[n - sc] + nut_[n + sd] + nut_[n + sd - sc]);
-        const double nu_dn = 0.25 * (nut_[n] + nut_[n - sc] + nut_[n - sd] + nut_[n - sd - sc]);
-        const double up = nu_up * (v[n + sd] - v[n + sd - sc]) * inv_h_[c];
-        const double dn = nu_dn * (v[n] - v[n - sc]) * inv_h_[c];
-        r += (up - dn) * inv_h_[d];
-      }
-      o[n] += r;
+    double* o = out[static_cast<std::size_t>(c)].data();
+    for_owned_rows([&](const long* at, long n0, long, long len) {
+      if (c > 0 && is_boundary_face(c, at[c])) return;
+      const long first = c == 0 && is_boundary_face(0, 0) ? 1 : 0;
+      if (len <= first) return;
+      dims_ == 2 ? stress_transpose_row<2>(u, c, n0 + first, len - first, o)
+                 : stress_transpose_row<3>(u, c, n0 + first, len - first, o);
     });
   }
 }

@@ -121,7 +121,11 @@ void FvSolver::fill_scalar_ghosts(Field& q, const FaceLines& inlets, double wall
 // (zero on it), the inlet's beyond an inlet, mirrored beyond open faces.
 void FvSolver::update_eddy_viscosity() {
   const fv::Closure cl{turb_.constants, nu_, turb_.wall == "two-layer"};
-  for_owned([&](const long*, long n, long) { nut_[n] = cl.nu_t(wall_y_[n], k_[n], eps_[n]); });
+  row_work_.resize(static_cast<std::size_t>(3 * blk_.extent[0]));
+  for_owned_rows([&](const long*, long n0, long, long len) {
+    cl.nu_t_row(wall_y_.data() + n0, k_.data() + n0, eps_.data() + n0, nut_.data() + n0, len,
+                row_work_.data());
+  });
   fill_scalar_ghosts(nut_, inlet_nut_, -1.0, false);
 }
 
@@ -168,69 +172,37 @@ void FvSolver::set_inlet_lines(double t) {
   }
 }
 
-// The strain rate S^2 = 2 S_ij S_ij (eqs. 3.15-3.16) at the cell n: the
-// normal rates from the cell's faces, the shear rates from the centre values
-// of the cells beside (a wall's ghosts carry its parabola: the wall's shear).
-double FvSolver::strain_rate2_at(long n) const {
-  double g[3][3] = {};  // g[c][d] = d u_c / d x_d
-  for (int c = 0; c < dims_; ++c) {
-    const Field& q = u_[static_cast<std::size_t>(c)];
-    const long sc = stride(c);
-    for (int d = 0; d < dims_; ++d) {
-      const long sd = stride(d);
-      g[c][d] = d == c ? (q[n + sc] - q[n]) * inv_h_[c]
-                       : 0.25 * ((q[n + sd] + q[n + sd + sc]) - (q[n - sd] + q[n - sd + sc])) * inv_h_[d];
+// The source terms (fv::sources) at the cells n0 + i, i < len, into
+// out = {production, sink_k, sink_epsilon, source_epsilon}, with the strain
+// rate S^2 = 2 S_ij S_ij (eqs. 3.15-3.16): the normal rates from the cell's
+// faces, the shear rates from the centre values of the cells beside (a
+// wall's ghosts carry its parabola: the wall's shear). By rows with plain
+// pointers, so that the loop vectorises.
+template <int DIMS>
+void FvSolver::source_row(double* const (&out)[4], long n0, long len) const {
+  const TurbulenceConstants& con = turb_.constants;
+  const double* __restrict U[3] = {u_[0].data() + n0, u_[1].data() + n0, u_[DIMS - 1].data() + n0};
+  const double* __restrict nut = nut_.data() + n0, * __restrict k = k_.data() + n0, * __restrict eps = eps_.data() + n0;
+  double* __restrict P = out[0] + n0, * __restrict sink_k = out[1] + n0, * __restrict sink_e = out[2] + n0, * __restrict source_e = out[3] + n0;
+  const long s[3] = {stride(0), stride(1), stride(2)};
+  const double ih[3] = {inv_h_[0], inv_h_[1], inv_h_[2]};
+  for (long i = 0; i < len; ++i) {
+    double g[3][3] = {};  // g[c][d] = d u_c / d x_d
+    for (int c = 0; c < DIMS; ++c)
+      for (int d = 0; d < DIMS; ++d)
+        g[c][d] =
+            d == c
+                ? (U[c][i + s[c]] - U[c][i]) * ih[c]
+                : 0.25 *
+                      ((U[c][i + s[d]] + U[c][i + s[d] + s[c]]) - (U[c][i - s[d]] + U[c][i - s[d] + s[c]])) *
+                      ih[d];
+    double s2 = 0.0;
+    for (int c = 0; c < DIMS; ++c) {
+      s2 += 2.0 * g[c][c] * g[c][c];
+      for (int d = c + 1; d < DIMS; ++d) s2 += (g[c][d] + g[d][c]) * (g[c][d] + g[d][c]);
     }
-  }
-  double s2 = 0.0;
-  for (int c = 0; c < dims_; ++c) {
-    s2 += 2.0 * g[c][c] * g[c][c];
-    for (int d = c + 1; d < dims_; ++d) s2 += (g[c][d] + g[d][c]) * (g[c][d] + g[d][c]);
-  }
-  return s2;
-}
-
-// q <- q - dt (u . grad) q in sub-steps of Courant number <= 1/2 (non-divergent
-// form: the face fluxes minus q times the cell's discrete divergence).
-void FvSolver::advect_scalar(Field& q, const FaceLines& inlet, double wall_sign, double dt) {
-  double umax[3] = {0, 0, 0}, rate = 0.0;
-  for (int d = 0; d < dims_; ++d)
-    for_owned([&](const long*, long n, long) {
-      umax[d] = std::max({umax[d], std::abs(u_[static_cast<std::size_t>(d)][n]),
-                          std::abs(u_[static_cast<std::size_t>(d)][n + stride(d)])});
-    });
-  MPI_Allreduce(MPI_IN_PLACE, umax, 3, MPI_DOUBLE, MPI_MAX, comm_);
-  for (int d = 0; d < dims_; ++d) rate += umax[d] * inv_h_[d];
-  const int sub = std::max(1, static_cast<int>(std::ceil(2.0 * rate * dt * (1 - 1e-12))));
-  const double h = dt / sub;
-  bool inlet_side[6];
-  for (int f = 0; f < 6; ++f) {
-    const Face& face = faces_[static_cast<std::size_t>(f)];
-    inlet_side[f] = face.here && face.kind == Face::dirichlet && !face.wall;
-  }
-  Field& next = scratch_[5];
-  Field& face = scratch_[6];  // the carried value on the lower face of each cell (and the last upper ones)
-  next = q;
-  face.resize(q.size());
-  for (int step = 0; step < sub; ++step) {
-    for_owned([&](const long*, long n, long) { next[n] = 0.0; });
-    for (int d = 0; d < dims_; ++d) {
-      const long s = stride(d), last = blk_.extent[d] - 1;
-      const Field& v = u_[static_cast<std::size_t>(d)];
-      auto value = [&](long m) { return fv::face_value(true, q[m - 2 * s], q[m - s], q[m], q[m + s], v[m]); };
-      for_owned([&](const long* at, long n, long) {
-        const int lo = 2 * d;
-        face[n] =
-            inlet_side[lo] && at[d] == 0 ? inlet.at(lo, at) : value(n);  // the inlet's value on its face
-        if (at[d] == last) face[n + s] = inlet_side[lo + 1] ? inlet.at(lo + 1, at) : value(n + s);
-      });
-      for_owned([&](const long*, long n, long) {
-        next[n] -= (v[n + s] * face[n + s] - v[n] * face[n] - q[n] * (v[n + s] - v[n])) * inv_h_[d];
-      });
-    }
-    for_owned([&](const long*, long n, long) { next[n] = q[n] + h * next[n]; });
-    std::swap(q, next);
-    fill_scalar_ghosts(q, inlet, wall_sign, true);
+    const fv::Sources q = fv::sources(con, nut[i], s2, k[i], eps[i]);
+    P[i] = q.production, sink_k[i] = q.sink_k, sink_e[i] = q.sink_epsilon, source_e[i] = q.source_epsilon;
   }
 }
 
@@ -397,38 +369,56 @@ void FvSolver::turbulence_step(double dt) {
   Field& source_e = scratch_[3];
   for (auto& f : scratch_) f.resize(padded);
   set_inlet_lines(next_time_);  // with the velocity's faces at the new time
-  for_owned([&](const long*, long n, long) {
-    const fv::Sources q = fv::sources(c, nut_[n], strain_rate2_at(n), k_[n], eps_[n]);
-    production[n] = q.production, sink_k[n] = q.sink_k, sink_e[n] = q.sink_epsilon, source_e[n] = q.source_epsilon;
+  double* const out[4] = {production.data(), sink_k.data(), sink_e.data(), source_e.data()};
+  for_owned_rows([&](const long*, long n0, long, long len) {
+    dims_ == 2 ? source_row<2>(out, n0, len) : source_row<3>(out, n0, len);
   });
-  advect_scalar(k_, inlet_k_, 0.0, dt);
-  advect_scalar(eps_, inlet_eps_, 1.0, dt);
+  const int sub = scalar_substeps(dt);
+  advect_scalar(k_, inlet_k_, 0.0, dt, sub);
+  advect_scalar(eps_, inlet_eps_, 1.0, dt, sub);
   solve_scalar(*k_system_, k_, k_change_, sink_k, production, c.sigma_k, inlet_k_, true, nullptr, dt);
   fill_scalar_ghosts(k_, inlet_k_, 0.0, true);
   Field& fixed = scratch_[4];
   if (cl.two_layer) {
-    fixed.assign(padded, 0.0);
-    for_padded([&](const long*, long n) {
-      if (!cl.one_equation(wall_y_[n], k_[n])) return;
-      fixed[n] = 1.0;
-      eps_[n] = cl.epsilon_near_wall(wall_y_[n], k_[n]);
-    });
+    row_work_.resize(std::max(row_work_.size(), 2 * padded));
+    cl.near_wall_row(wall_y_.data(), k_.data(), eps_.data(), fixed.data(), static_cast<long>(padded),
+                     row_work_.data());  // every cell, ghosts too: the padded fields as one row
   }
   solve_scalar(*eps_system_, eps_, eps_change_, sink_e, source_e, c.sigma_epsilon, inlet_eps_, false,
                cl.two_layer ? &fixed : nullptr, dt);
   fill_scalar_ghosts(eps_, inlet_eps_, 1.0, true);
-  double low[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
-  for_owned([&](const long*, long n, long) {
-    low[0] = std::min(low[0], k_[n]);
-    low[1] = std::min(low[1], eps_[n]);
-  });
-  MPI_Allreduce(MPI_IN_PLACE, low, 2, MPI_DOUBLE, MPI_MIN, comm_);
-  if (!(low[0] > 0 && low[1] > 0))
-    throw std::runtime_error(fmt::format("fv: k-epsilon lost positivity at t = {:.6g} s (min k {:.3g}, min epsilon "
-                                         "{:.3g}); this is a bug: please report it with the configuration",
-                                         next_time_, low[0], low[1]));
+  check_positive();
   update_eddy_viscosity();
   turbulence_seconds_ += MPI_Wtime() - start;
+}
+
+// Stops the run where k or epsilon is not positive, or not a number: the
+// smallest values by rows into locals (a NaN found by a sum of 0 x q, which
+// the comparisons would pass over), so that the loop vectorises.
+void FvSolver::check_positive() const {
+  double low[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), 0.0};
+  const double* __restrict K = k_.data(), * __restrict E = eps_.data();
+  for_owned_rows([&](const long*, long n0, long, long len) {
+    double lk = low[0], le = low[1], nan = 0.0;
+    for (long n = n0; n < n0 + len; ++n) {
+      lk = K[n] < lk ? K[n] : lk;
+      le = E[n] < le ? E[n] : le;
+      nan += 0.0 * K[n] + 0.0 * E[n];
+    }
+    low[0] = lk, low[1] = le, low[2] += nan;
+  });
+  low[2] = low[2] == 0.0 ? 0.0 : -1.0;  // -1 where a value is not finite
+  MPI_Allreduce(MPI_IN_PLACE, low, 3, MPI_DOUBLE, MPI_MIN, comm_);
+  if (low[2] < 0)
+    throw std::runtime_error(
+        fmt::format("fv: k or epsilon is not finite at t = {:.6g} s; lower fluid.fv.cfl or "
+                    "fluid.fv.max_step",
+                    next_time_));
+  if (!(low[0] > 0 && low[1] > 0))
+    throw std::runtime_error(
+        fmt::format("fv: k-epsilon lost positivity at t = {:.6g} s (min k {:.3g}, min epsilon "
+                    "{:.3g}); this is a bug: please report it with the configuration",
+                    next_time_, low[0], low[1]));
 }
 
 }  // namespace coflow::fluid

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "fluid/fv/turbulence/closure.hpp"
 
@@ -50,4 +51,37 @@ TEST_CASE("without walls, or without the wall model, nu_t = C_mu k^2 / epsilon (
   CHECK(plain.nu_t(1e-4, 2.0, 3.0) == Approx(0.09 * 4.0 / 3.0));
   CHECK_FALSE(plain.one_equation(1e-6, 1e-8));
   CHECK(walls.one_equation(1e-6, 1e-8));
+}
+
+// The row forms that fv's loops call (vectorised around the exponentials)
+// give the per-cell numbers to the bit: cells across the blending layer, in
+// the one-equation layer, beyond 20 blending widths, at a wall distance of
+// infinity (no walls), and with the standard model alone.
+TEST_CASE("nu_t_row and near_wall_row equal nu_t, one_equation and epsilon_near_wall per cell", "[fv][turbulence]") {
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> y, k, eps;
+  for (int i = 0; i < 203; ++i) {  // not a multiple of a vector's width: the loops' tails too
+    y.push_back(i % 17 == 5 ? inf : 1e-5 * std::pow(1.09, i));
+    k.push_back(1e-3 * (1.0 + 0.3 * std::sin(0.7 * i)));
+    eps.push_back(2e-3 * (1.0 + 0.5 * std::cos(0.3 * i)));
+  }
+  const long n = static_cast<long>(y.size());
+  for (bool two_layer : {true, false}) {
+    const Closure cl{{}, 1.5e-5, two_layer};
+    std::vector<double> nut(y.size()), e = eps, fixed(y.size()), work(3 * y.size());
+    cl.nu_t_row(y.data(), k.data(), eps.data(), nut.data(), n, work.data());
+    cl.near_wall_row(y.data(), k.data(), e.data(), fixed.data(), n, work.data());
+    int blended = 0, one_equation = 0;
+    for (std::size_t i = 0; i < y.size(); ++i) {
+      CHECK(std::abs(nut[i] - cl.nu_t(y[i], k[i], eps[i])) <= 0);
+      CHECK(fixed[i] == (cl.one_equation(y[i], k[i]) ? 1.0 : 0.0));
+      CHECK(std::abs(e[i] - (fixed[i] > 0 ? cl.epsilon_near_wall(y[i], k[i]) : eps[i])) <= 0);
+      blended += nut[i] != cl.c.C_mu * k[i] * k[i] / eps[i];
+      one_equation += fixed[i] > 0;
+    }
+    // The cases the loop must cover are there (with the wall model).
+    CHECK((blended > 20) == two_layer);
+    CHECK((one_equation > 20) == two_layer);
+    CHECK(one_equation < n - 20);
+  }
 }

@@ -20,6 +20,12 @@ std::pair<double, double> largest_difference(const std::vector<double>& a, const
 // Particle snapshots of two runs: largest position difference over the diameter.
 int compare_particles(const std::string& a, const std::string& b) {
   const auto sa = snapshots(a, "particles"), sb = snapshots(b, "particles");
+  for (const auto& [dir, list] : {std::pair{&a, &sa}, std::pair{&b, &sb}})
+    if (list->empty())
+      throw std::runtime_error(
+          fmt::format("{}: no fluid or particle snapshots to compare (run.output.every "
+                      "writes them)",
+                      *dir));
   const std::string fa = a + "/particles/" + output::snapshot_name(sa.back().first);
   const std::string fb = b + "/particles/" + output::snapshot_name(sb.back().first);
   // Snapshots of different rank counts hold the particles in different orders:

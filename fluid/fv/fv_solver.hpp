@@ -211,8 +211,11 @@ class FvSolver final : public FluidSolver {
     if (!turbulent_) return nu_;
     const long sc = stride(c);
     if (d == c) return nu_ + nut_[side == 0 ? n - sc : n];
-    const long e = side == 0 ? -stride(d) : stride(d);
-    return nu_ + 0.25 * (nut_[n] + nut_[n - sc] + nut_[n + e] + nut_[n + e - sc]);
+    // The edge's four cells summed in one order whichever side it is seen
+    // from (a the pair below it along d, b the pair above): the matrix is
+    // symmetric to the bit (StructSystem's matvec reads half the couplings).
+    const long a = side == 0 ? n - stride(d) : n, b = a + stride(d);
+    return nu_ + 0.25 * ((nut_[a] + nut_[a - sc]) + (nut_[b] + nut_[b - sc]));
   }
   double diffusion_at(const Field& u, int c, long n) const;
   template <int DIMS>

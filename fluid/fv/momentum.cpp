@@ -144,10 +144,10 @@ void FvSolver::viscous_rows_inside(int c, double diag_scale, const double (&w)[3
       for (int d = 0; d < DIMS; ++d) {
         const double k_lo =
             d == C ? w[d] * (nu + nut[i - sc])
-                   : w[d] * (nu + 0.25 * (nut[i] + nut[i - sc] + nut[i - s[d]] + nut[i - s[d] - sc]));
+                   : w[d] * (nu + 0.25 * ((nut[i - s[d]] + nut[i - s[d] - sc]) + (nut[i] + nut[i - sc])));
         const double k_hi =
             d == C ? w[d] * (nu + nut[i])
-                   : w[d] * (nu + 0.25 * (nut[i] + nut[i - sc] + nut[i + s[d]] + nut[i + s[d] - sc]));
+                   : w[d] * (nu + 0.25 * ((nut[i] + nut[i - sc]) + (nut[i + s[d]] + nut[i + s[d] - sc])));
         diag += k_lo;
         diag += k_hi;
         lo[d][i] = -k_lo;

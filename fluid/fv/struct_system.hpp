@@ -90,7 +90,8 @@ class StructSystem {
   void changed();
   void sync_hypre();
   void solve_diagonal(std::span<const double> b, std::span<double> x);
-  void matvec(const double* p, std::vector<double>& s);
+  double matvec(const double* p, std::vector<double>& s);  // s = A p; returns p . s on this rank
+  bool symmetric_in_block() const;
   void free_solver();
   struct Hypre;
   Hypre* h_ = nullptr;
@@ -104,6 +105,10 @@ class StructSystem {
   Rows rows_;
   std::vector<double> inv_diag_;
   bool stale_ = false, inv_stale_ = false;
+  // Every coupling to a lower neighbour in this rank's block equals that
+  // neighbour's coupling back, to the bit (sym_stale_: not yet checked):
+  // matvec then reads the lower couplings from the upper ones.
+  bool symmetric_ = false, sym_stale_ = false;
   int iterations_ = 0;
   double residual_ = 0.0;
   double floor_ = 0.0;

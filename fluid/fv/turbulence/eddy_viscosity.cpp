@@ -42,8 +42,9 @@ void FvSolver::stress_transpose_row(const Faces& u, int c, long n0, long len, do
         r += (up - dn) * ih[c];
         continue;
       }
-      const double nu_up = 0.25 * (nut[i] + nut[i - sc] + nut[i + sd] + nut[i + sd - sc]);
-      const double nu_dn = 0.25 * (nut[i] + nut[i - sc] + nut[i - sd] + nut[i - sd - sc]);
+      // An edge's four cells in one order from either side (as nu_face).
+      const double nu_up = 0.25 * ((nut[i] + nut[i - sc]) + (nut[i + sd] + nut[i + sd - sc]));
+      const double nu_dn = 0.25 * ((nut[i - sd] + nut[i - sd - sc]) + (nut[i] + nut[i - sc]));
       const double up = nu_up * (v[i + sd] - v[i + sd - sc]) * ih[c];
       const double dn = nu_dn * (v[i] - v[i - sc]) * ih[c];
       r += (up - dn) * ih[d];

@@ -218,8 +218,8 @@ class FvSolver final : public FluidSolver {
     return nu_ + 0.25 * ((nut_[a] + nut_[a - sc]) + (nut_[b] + nut_[b - sc]));
   }
   double diffusion_at(const Field& u, int c, long n) const;
-  template <int DIMS>
-  void stress_transpose_row(const Faces& u, int c, long n0, long len, double* out) const;
+  template <int DIMS, int C>
+  void stress_transpose_row(const Faces& u, long n0, long len, double* out) const;
   void add_stress_transpose(const Faces& u, Faces& out) const;
   std::vector<double> y_plus() const;
   void add_turbulence_diagnostics(Diagnostics& d);

@@ -24,8 +24,9 @@ double FvSolver::diffusion_at(const Field& u, int c, long n) const {
 // the fluxes through the control volume's sides, nu_t d u_d / dx_c at a cell
 // (d = c) or an edge. Plain pointers and the dimension a template argument,
 // so that the loop vectorises.
-template <int DIMS>
-void FvSolver::stress_transpose_row(const Faces& u, int c, long n0, long len, double* out) const {
+template <int DIMS, int C>
+void FvSolver::stress_transpose_row(const Faces& u, long n0, long len, double* out) const {
+  constexpr int c = C;
   const double* __restrict nut = nut_.data() + n0;
   const double* __restrict V[3] = {u[0].data() + n0, u[1].data() + n0, u[DIMS - 1].data() + n0};
   const long s[3] = {stride(0), stride(1), stride(2)}, sc = s[c];
@@ -33,6 +34,7 @@ void FvSolver::stress_transpose_row(const Faces& u, int c, long n0, long len, do
   double* __restrict o = out + n0;
   for (long i = 0; i < len; ++i) {
     double r = 0.0;
+#pragma GCC unroll 3
     for (int d = 0; d < DIMS; ++d) {
       const double* __restrict v = V[d];
       const long sd = s[d];
@@ -62,8 +64,12 @@ void FvSolver::add_stress_transpose(const Faces& u, Faces& out) const {
       if (c > 0 && is_boundary_face(c, at[c])) return;
       const long first = c == 0 && is_boundary_face(0, 0) ? 1 : 0;
       if (len <= first) return;
-      dims_ == 2 ? stress_transpose_row<2>(u, c, n0 + first, len - first, o)
-                 : stress_transpose_row<3>(u, c, n0 + first, len - first, o);
+      using Row = void (FvSolver::*)(const Faces&, long, long, double*) const;
+      static constexpr Row rows[2][3] = {
+          {&FvSolver::stress_transpose_row<2, 0>, &FvSolver::stress_transpose_row<2, 1>, nullptr},
+          {&FvSolver::stress_transpose_row<3, 0>, &FvSolver::stress_transpose_row<3, 1>,
+           &FvSolver::stress_transpose_row<3, 2>}};
+      (this->*rows[dims_ == 3][c])(u, n0 + first, len - first, o);
     });
   }
 }

@@ -23,6 +23,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <type_traits>
 
 #include "fluid/fv/fv_solver.hpp"
 #include "fluid/fv/lines.hpp"
@@ -54,12 +55,12 @@ void FvSolver::init_turbulence() {
   });
   box_wall_y_ = wall_y_;
   const std::array<bool, 3> per{periodic_[0], periodic_[1], periodic_[2]};
-  k_system_ = std::make_unique<fv::StructSystem>(comm_, blk_.owned, cells_, per,
-                                                 fv::StructSystem::Options{p_.multigrid, p_.tolerance,
-                                                                           p_.max_iterations, "k solve"});
-  eps_system_ = std::make_unique<fv::StructSystem>(comm_, blk_.owned, cells_, per,
-                                                   fv::StructSystem::Options{p_.multigrid, p_.tolerance,
-                                                                             p_.max_iterations, "epsilon solve"});
+  k_system_ = std::make_unique<fv::StructSystem>(
+      comm_, blk_.owned, cells_, per,
+      fv::StructSystem::Options{p_.multigrid, p_.tolerance, p_.max_iterations, "k solve"});
+  eps_system_ = std::make_unique<fv::StructSystem>(
+      comm_, blk_.owned, cells_, per,
+      fv::StructSystem::Options{p_.multigrid, p_.tolerance, p_.max_iterations, "epsilon solve"});
   fv::Closure cl{turb_.constants, nu_, turb_.wall == "two-layer"};
   for_padded([&](const long*, long n) {
     if (cl.one_equation(wall_y_[n], k_[n])) eps_[n] = cl.epsilon_near_wall(wall_y_[n], k_[n]);
@@ -176,33 +177,46 @@ void FvSolver::set_inlet_lines(double t) {
 // out = {production, sink_k, sink_epsilon, source_epsilon}, with the strain
 // rate S^2 = 2 S_ij S_ij (eqs. 3.15-3.16): the normal rates from the cell's
 // faces, the shear rates from the centre values of the cells beside (a
-// wall's ghosts carry its parabola: the wall's shear). By rows with plain
-// pointers, so that the loop vectorises.
+// wall's ghosts carry its parabola: the wall's shear). Written out with plain
+// pointers and values so that the loops vectorise: a loop over the axes, one
+// loop for both parts, or fv::sources's struct kept GCC's loops scalar.
 template <int DIMS>
 void FvSolver::source_row(double* const (&out)[4], long n0, long len) const {
-  const TurbulenceConstants& con = turb_.constants;
-  const double* __restrict U[3] = {u_[0].data() + n0, u_[1].data() + n0, u_[DIMS - 1].data() + n0};
+  const double ce1 = turb_.constants.C_epsilon1, ce2 = turb_.constants.C_epsilon2;
+  const double *__restrict u0 = u_[0].data() + n0, *__restrict u1 = u_[1].data() + n0,
+               *__restrict u2 = u_[DIMS - 1].data() + n0;
   const double* __restrict nut = nut_.data() + n0, * __restrict k = k_.data() + n0, * __restrict eps = eps_.data() + n0;
   double* __restrict P = out[0] + n0, * __restrict sink_k = out[1] + n0, * __restrict sink_e = out[2] + n0, * __restrict source_e = out[3] + n0;
-  const long s[3] = {stride(0), stride(1), stride(2)};
-  const double ih[3] = {inv_h_[0], inv_h_[1], inv_h_[2]};
-  for (long i = 0; i < len; ++i) {
-    double g[3][3] = {};  // g[c][d] = d u_c / d x_d
-    for (int c = 0; c < DIMS; ++c)
-      for (int d = 0; d < DIMS; ++d)
-        g[c][d] =
-            d == c
-                ? (U[c][i + s[c]] - U[c][i]) * ih[c]
-                : 0.25 *
-                      ((U[c][i + s[d]] + U[c][i + s[d] + s[c]]) - (U[c][i - s[d]] + U[c][i - s[d] + s[c]])) *
-                      ih[d];
+  const long s0 = stride(0), s1 = stride(1), sz = stride(2);
+  const double h0 = inv_h_[0], h1 = inv_h_[1], h2 = inv_h_[2];
+  // d u_c / d x_d at cell i (u = u_c, sc and sd the strides, inv = 1 / h_d).
+  auto along = [](const double* u, long sc, double inv, long i) __attribute__((always_inline)) {
+    return (u[i + sc] - u[i]) * inv;
+  };
+  auto across = [](const double* u, long sc, long sd, double inv, long i) __attribute__((always_inline)) {
+    return 0.25 * ((u[i + sd] + u[i + sd + sc]) - (u[i - sd] + u[i - sd + sc])) * inv;
+  };
+  for (long i = 0; i < len; ++i) {  // S^2 into P, its terms in the order of a loop over c < d
+    const double g00 = along(u0, s0, h0, i), g11 = along(u1, s1, h1, i);
+    const double s01 = across(u0, s0, s1, h1, i) + across(u1, s1, s0, h0, i);
     double s2 = 0.0;
-    for (int c = 0; c < DIMS; ++c) {
-      s2 += 2.0 * g[c][c] * g[c][c];
-      for (int d = c + 1; d < DIMS; ++d) s2 += (g[c][d] + g[d][c]) * (g[c][d] + g[d][c]);
+    s2 += 2.0 * g00 * g00;
+    s2 += s01 * s01;
+    if constexpr (DIMS == 3) {
+      const double s02 = across(u0, s0, sz, h2, i) + across(u2, sz, s0, h0, i);
+      s2 += s02 * s02;
     }
-    const fv::Sources q = fv::sources(con, nut[i], s2, k[i], eps[i]);
-    P[i] = q.production, sink_k[i] = q.sink_k, sink_e[i] = q.sink_epsilon, source_e[i] = q.source_epsilon;
+    s2 += 2.0 * g11 * g11;
+    if constexpr (DIMS == 3) {
+      const double g22 = along(u2, sz, h2, i), s12 = across(u1, s1, sz, h2, i) + across(u2, sz, s1, h1, i);
+      s2 += s12 * s12;
+      s2 += 2.0 * g22 * g22;
+    }
+    P[i] = s2;
+  }
+  for (long i = 0; i < len; ++i) {  // fv::sources, the same numbers
+    const double production = nut[i] * P[i], rate = eps[i] / k[i];
+    P[i] = production, sink_k[i] = rate, sink_e[i] = ce2 * rate, source_e[i] = ce1 * rate * production;
   }
 }
 

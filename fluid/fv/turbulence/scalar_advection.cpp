@@ -83,6 +83,7 @@ void FvSolver::advect_scalar_row(const double* q, const double* const (&face)[3]
   double* __restrict N = next + n0;
   for (long i = 0; i < len; ++i) {
     double rate = 0.0;
+#pragma GCC unroll 3
     for (int d = 0; d < DIMS; ++d) {
       const double* __restrict v = V[d];
       const double* __restrict f = F[d];

@@ -155,7 +155,7 @@ class FvSolver final : public FluidSolver {
   void set_body_wall_distance(const ibm::MarkerSet& markers);  // wall_y_: the box's walls and the bodies
   void turbulence_step(double dt);
   template <int DIMS>
-  void source_row(double* const (&out)[4], long n0, long len) const;
+  void source_row(double* const (&out)[4], long n0, long len, double (&umax)[3]) const;
   // A scalar entering through each domain face (x-, x+, y-, y+, z-, z+), per
   // line of cells across it (fv::for_lines; at() reads the line's two
   // coordinates across the face): one value where the face's k and epsilon
@@ -176,7 +176,7 @@ class FvSolver final : public FluidSolver {
   };
   void set_inlet_lines(double t);
   // Advection of k and epsilon (turbulence/scalar_advection.cpp).
-  int scalar_substeps(double dt) const;
+  int scalar_substeps(double (&umax)[3], double dt) const;
   void scalar_faces(const Field& q, const FaceLines& inlet, const bool (&inflow)[6], int d,
                     Field& face) const;
   template <int DIMS>

@@ -181,7 +181,7 @@ void FvSolver::set_inlet_lines(double t) {
 // pointers and values so that the loops vectorise: a loop over the axes, one
 // loop for both parts, or fv::sources's struct kept GCC's loops scalar.
 template <int DIMS>
-void FvSolver::source_row(double* const (&out)[4], long n0, long len) const {
+void FvSolver::source_row(double* const (&out)[4], long n0, long len, double (&umax)[3]) const {
   const double ce1 = turb_.constants.C_epsilon1, ce2 = turb_.constants.C_epsilon2;
   const double *__restrict u0 = u_[0].data() + n0, *__restrict u1 = u_[1].data() + n0,
                *__restrict u2 = u_[DIMS - 1].data() + n0;
@@ -214,6 +214,19 @@ void FvSolver::source_row(double* const (&out)[4], long n0, long len) const {
     }
     P[i] = s2;
   }
+  // The largest |u_d| on the cells' faces, for the advection's sub-steps,
+  // while the row is in cache (a loop of its own: in the one above it kept
+  // GCC from vectorising).
+  auto largest = [len](const double* __restrict u, long sd, double m) {
+    for (long i = 0; i < len; ++i) {
+      const double a = std::abs(u[i]), b = std::abs(u[i + sd]);
+      m = a > m ? a : m;
+      m = b > m ? b : m;
+    }
+    return m;
+  };
+  umax[0] = largest(u0, s0, umax[0]), umax[1] = largest(u1, s1, umax[1]);
+  if constexpr (DIMS == 3) umax[2] = largest(u2, sz, umax[2]);
   for (long i = 0; i < len; ++i) {  // fv::sources, the same numbers
     const double production = nut[i] * P[i], rate = eps[i] / k[i];
     P[i] = production, sink_k[i] = rate, sink_e[i] = ce2 * rate, source_e[i] = ce1 * rate * production;
@@ -263,8 +276,11 @@ void FvSolver::solve_scalar(fv::StructSystem& sys, Field& q, Field& change, cons
   sys.solve(rhs_, x_);
   scalar_solve_seconds_ += MPI_Wtime() - start;
   turbulence_iterations_ = std::max(turbulence_iterations_, sys.last_iterations());
-  for_owned([&](const long*, long n, long o) { change[n] = x_[static_cast<std::size_t>(o)] - q[n]; });
-  set_owned(q, x_);
+  for_owned_rows([&](const long*, long n0, long o0, long len) {  // one pass, by rows
+    double* __restrict dq = change.data() + n0, * __restrict Q = q.data() + n0;
+    const double* __restrict X = x_.data() + o0;
+    for (long i = 0; i < len; ++i) dq[i] = X[i] - Q[i], Q[i] = X[i];
+  });
 }
 
 // The rows of the cells n0 + i (owned o0 + i), i < len, along x, as if every
@@ -384,10 +400,11 @@ void FvSolver::turbulence_step(double dt) {
   for (auto& f : scratch_) f.resize(padded);
   set_inlet_lines(next_time_);  // with the velocity's faces at the new time
   double* const out[4] = {production.data(), sink_k.data(), sink_e.data(), source_e.data()};
+  double umax[3] = {0.0, 0.0, 0.0};
   for_owned_rows([&](const long*, long n0, long, long len) {
-    dims_ == 2 ? source_row<2>(out, n0, len) : source_row<3>(out, n0, len);
+    dims_ == 2 ? source_row<2>(out, n0, len, umax) : source_row<3>(out, n0, len, umax);
   });
-  const int sub = scalar_substeps(dt);
+  const int sub = scalar_substeps(umax, dt);
   advect_scalar(k_, inlet_k_, 0.0, dt, sub);
   advect_scalar(eps_, inlet_eps_, 1.0, dt, sub);
   solve_scalar(*k_system_, k_, k_change_, sink_k, production, c.sigma_k, inlet_k_, true, nullptr, dt);

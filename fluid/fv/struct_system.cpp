@@ -174,7 +174,7 @@ void StructSystem::sync_hypre() {
 // s = A p, p in hypre's storage (its ghost cells filled from the neighbours
 // first), s and the matrix in owned cells. A coupling across a wall is zero
 // and the ghost cells there stay zero. With a matrix symmetric in the block
-// (symmetric_in_block) a cell's couplings to its lower neighbours inside the
+// (symmetric_, row_asymmetries) a cell's couplings to its lower neighbours inside the
 // block are read as those neighbours' upper ones: the same numbers in the
 // same sums, two of the seven streams of the loop fewer (in bench-fv's k-epsilon
 // channel the viscous, k and epsilon solves are a third of the step). Returns
@@ -188,7 +188,10 @@ double StructSystem::matvec(const double* p, std::vector<double>& s) {
   const long rows = static_cast<long>(h_->p_rows.size());
   const long sy = h_->p_stride[1], sz = dims_ == 3 ? h_->p_stride[2] : 0;
   const Rows& m = rows_;
-  const bool sym = symmetric_;
+  // The first product with a new matrix takes the general path and checks
+  // the symmetry row by row, the rows in cache.
+  const bool check = sym_stale_, sym = symmetric_ && !check;
+  long differ = 0;
   double ps = 0.0;
   for (long j = 0; j < rows; ++j) {
     const double* __restrict pr = p + h_->p_rows[static_cast<std::size_t>(j)];
@@ -211,35 +214,33 @@ double StructSystem::matvec(const double* p, std::vector<double>& s) {
       for (long i = 0; i < nx; ++i) out[i] += l2[i] * pr[i - sz] + u2[i] * pr[i + sz];
     }
     row_sums(nx, &ps, 1, [&](long i, auto a) { a[0] += pr[i] * out[i]; });
+    if (check) differ += row_asymmetries(j);
   }
+  if (check) symmetric_ = differ == 0, sym_stale_ = false;
   return ps;
 }
 
-// Whether lower[d] of every cell with a lower neighbour along d inside the
-// block equals upper[d] of that neighbour, to the bit (a NaN is not equal).
-bool StructSystem::symmetric_in_block() const {
+// How many cells of owned row j have a coupling to a lower neighbour inside
+// the block that differs from that neighbour's coupling back (a NaN differs).
+long StructSystem::row_asymmetries(long j) const {
   const long nx = h_->hi[0] - h_->lo[0] + 1, ny = h_->hi[1] - h_->lo[1] + 1;
-  const long rows = static_cast<long>(h_->p_rows.size());
   const Rows& m = rows_;
+  const auto o = static_cast<std::size_t>(j * nx);
   long differ = 0;
-  for (long j = 0; j < rows; ++j) {
-    const auto o = static_cast<std::size_t>(j * nx);
-    const double* __restrict l0 = m.lower[0].data() + o, * __restrict u0 = m.upper[0].data() + o;
-    for (long i = 1; i < nx; ++i) differ += l0[i] != u0[i - 1];
-    for (int d = 1; d < dims_; ++d) {
-      const long below = d == 1 ? nx : nx * ny;  // the neighbour's offset in owned cells
-      if (d == 1 ? j % ny == 0 : j / ny == 0) continue;
-      const double* __restrict l = m.lower[static_cast<std::size_t>(d)].data() + o, * __restrict u =
-                                                                                        m.upper
-                                                                                            [static_cast<
-                                                                                                 std::size_t>(
-                                                                                                 d)]
-                                                                                                .data() +
-                                                                                        o - below;
-      for (long i = 0; i < nx; ++i) differ += l[i] != u[i];
-    }
+  const double* __restrict l0 = m.lower[0].data() + o, * __restrict u0 = m.upper[0].data() + o;
+  for (long i = 1; i < nx; ++i) differ += l0[i] != u0[i - 1];
+  for (int d = 1; d < dims_; ++d) {
+    const long below = d == 1 ? nx : nx * ny;  // the neighbour's offset in owned cells
+    if (d == 1 ? j % ny == 0 : j / ny == 0) continue;
+    const double* __restrict l = m.lower[static_cast<std::size_t>(d)].data() + o, * __restrict u =
+                                                                                      m
+                                                                                          .upper[static_cast<
+                                                                                              std::size_t>(d)]
+                                                                                          .data() +
+                                                                                      o - below;
+    for (long i = 0; i < nx; ++i) differ += l[i] != u[i];
   }
-  return differ == 0;
+  return differ;
 }
 
 // Conjugate gradients preconditioned by the diagonal (Jacobi), written out
@@ -262,7 +263,6 @@ void StructSystem::solve_diagonal(std::span<const double> b, std::span<double> x
     for (std::size_t i = 0; i < inv_diag_.size(); ++i) inv_diag_[i] = 1.0 / rows_.diag[i];
     inv_stale_ = false;
   }
-  if (sym_stale_) symmetric_ = symmetric_in_block(), sym_stale_ = false;
   const double* id = inv_diag_.data();
   auto each_row = [&](auto&& f) {
     for (long j = 0; j < rows; ++j) f(j * nx, P + h_->p_rows[static_cast<std::size_t>(j)], S.data() + j * nx);

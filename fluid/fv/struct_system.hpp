@@ -91,7 +91,7 @@ class StructSystem {
   void sync_hypre();
   void solve_diagonal(std::span<const double> b, std::span<double> x);
   double matvec(const double* p, std::vector<double>& s);  // s = A p; returns p . s on this rank
-  bool symmetric_in_block() const;
+  long row_asymmetries(long j) const;
   void free_solver();
   struct Hypre;
   Hypre* h_ = nullptr;

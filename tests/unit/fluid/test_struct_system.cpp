@@ -245,9 +245,9 @@ double rows_residual(const Global& G, const coflow::coupler::Box& box, const Ass
 }
 
 // The product reads a symmetric matrix's lower couplings from the upper ones
-// (the same numbers, symmetric_in_block); a matrix that is not symmetric,
-// here one cell's lower couplings on every rank a tenth larger than their
-// partners, takes the general product. Each solves to the tolerance with the
+// (the same numbers; checked in the first product with each matrix); a
+// matrix that is not symmetric, here one cell's lower couplings on every rank
+// a tenth larger than their partners, takes the general product. Each solves to the tolerance with the
 // residual recomputed from its own rows (the skewed one would miss by about
 // 1e-3 if its product read the partners).
 TEST_CASE("struct system: a matrix symmetric to the bit and one that is not", "[fv][mpi]") {

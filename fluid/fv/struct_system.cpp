@@ -198,16 +198,18 @@ double StructSystem::matvec(const double* p, std::vector<double>& s) {
     const auto o = static_cast<std::size_t>(j * nx);
     const double *__restrict dg = m.diag.data() + o, *__restrict u0 = m.upper[0].data() + o,
                              *__restrict u1 = m.upper[1].data() + o;
-    // lower[0][o + i] is upper[0][o + i - 1] from the row's second cell on.
-    const double* __restrict l0 = sym ? u0 - 1 : m.lower[0].data() + o;
+    // lower[0][o + i] is upper[0][o + i - 1] from the row's second cell on
+    // (w0[i - shift]: no pointer before the array's start).
+    const double* __restrict w0 = sym ? u0 : m.lower[0].data() + o;
+    const long shift = sym ? 1 : 0;
     const double* __restrict l1 = sym && j % ny > 0 ? u1 - nx : m.lower[1].data() + o;
     double* __restrict out = s.data() + o;
     const long first = sym ? 1 : 0;
     if (sym)
       out[0] = dg[0] * pr[0] + m.lower[0][o] * pr[-1] + u0[0] * pr[1] + l1[0] * pr[-sy] + u1[0] * pr[sy];
     for (long i = first; i < nx; ++i)
-      out[i] =
-          dg[i] * pr[i] + l0[i] * pr[i - 1] + u0[i] * pr[i + 1] + l1[i] * pr[i - sy] + u1[i] * pr[i + sy];
+      out[i] = dg[i] * pr[i] + w0[i - shift] * pr[i - 1] + u0[i] * pr[i + 1] + l1[i] * pr[i - sy] +
+               u1[i] * pr[i + sy];
     if (sz > 0) {
       const double* __restrict u2 = m.upper[2].data() + o;
       const double* __restrict l2 = sym && j / ny > 0 ? u2 - nx * ny : m.lower[2].data() + o;

@@ -423,9 +423,9 @@ void FvSolver::turbulence_step(double dt) {
   turbulence_seconds_ += MPI_Wtime() - start;
 }
 
-// Stops the run where k or epsilon is not positive, or not a number: the
-// smallest values by rows into locals (a NaN found by a sum of 0 x q, which
-// the comparisons would pass over), so that the loop vectorises.
+// Stops the run where k or epsilon is not positive, or not finite: the
+// smallest values by rows into locals, a NaN or an infinity found by a sum
+// of 0 x q (the comparisons would pass over a NaN).
 void FvSolver::check_positive() const {
   double low[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), 0.0};
   const double* __restrict K = k_.data(), * __restrict E = eps_.data();

@@ -20,3 +20,12 @@ endfunction()
 foreach(physics flow fv granular immersed_boundary point_particles resolved_particles two_phase)
   include(${CMAKE_CURRENT_LIST_DIR}/${physics}/tests.cmake)
 endforeach()
+
+# coflow-check compare on run directories that hold no snapshots (output
+# without run.output.every): a message and exit 1, not a crash (it read past
+# an empty list before 2026-12-02).
+add_test(NAME check.compare_without_snapshots
+  COMMAND sh -c "d=$(mktemp -d) && cp '${PROJECT_SOURCE_DIR}/configs/quickstart.yaml' \"$d/config.yaml\" && \
+'${CMAKE_BINARY_DIR}/bin/coflow-check' compare \"$d\" \"$d\"; rc=$?; rm -rf \"$d\"; echo \"exit $rc\"; test $rc -eq 1")
+set_tests_properties(check.compare_without_snapshots PROPERTIES PASS_REGULAR_EXPRESSION
+  "no fluid or particle snapshots to compare.*exit 1")

@@ -174,11 +174,12 @@ void StructSystem::sync_hypre() {
 // s = A p, p in hypre's storage (its ghost cells filled from the neighbours
 // first), s and the matrix in owned cells. A coupling across a wall is zero
 // and the ghost cells there stay zero. With a matrix symmetric in the block
-// (symmetric_, row_asymmetries) a cell's couplings to its lower neighbours inside the
-// block are read as those neighbours' upper ones: the same numbers in the
-// same sums, two of the seven streams of the loop fewer (in bench-fv's k-epsilon
-// channel the viscous, k and epsilon solves are a third of the step). Returns
-// p . s on this rank, each row's part added (row_sums) while it is in cache.
+// (symmetric_, row_asymmetries) a cell's couplings to its lower neighbours
+// inside the block are read as those neighbours' upper ones: the same
+// numbers in the same sums, two of the seven streams of the loop fewer (in
+// bench-fv's k-epsilon channel the viscous, k and epsilon solves are a third
+// of the step). Returns p . s on this rank, each row's part added
+// (row_sums) while it is in cache.
 double StructSystem::matvec(const double* p, std::vector<double>& s) {
   hypre_CommHandle* handle = nullptr;
   auto* data = hypre_StructVectorData(reinterpret_cast<hypre_StructVector*>(h_->p));
@@ -234,12 +235,9 @@ long StructSystem::row_asymmetries(long j) const {
   for (int d = 1; d < dims_; ++d) {
     const long below = d == 1 ? nx : nx * ny;  // the neighbour's offset in owned cells
     if (d == 1 ? j % ny == 0 : j / ny == 0) continue;
-    const double* __restrict l = m.lower[static_cast<std::size_t>(d)].data() + o, * __restrict u =
-                                                                                      m
-                                                                                          .upper[static_cast<
-                                                                                              std::size_t>(d)]
-                                                                                          .data() +
-                                                                                      o - below;
+    const auto D = static_cast<std::size_t>(d);
+    const double* __restrict l = m.lower[D].data() + o;
+    const double* __restrict u = m.upper[D].data() + o - below;
     for (long i = 0; i < nx; ++i) differ += l[i] != u[i];
   }
   return differ;

@@ -185,8 +185,13 @@ void FvSolver::source_row(double* const (&out)[4], long n0, long len, double (&u
   const double ce1 = turb_.constants.C_epsilon1, ce2 = turb_.constants.C_epsilon2;
   const double *__restrict u0 = u_[0].data() + n0, *__restrict u1 = u_[1].data() + n0,
                *__restrict u2 = u_[DIMS - 1].data() + n0;
-  const double* __restrict nut = nut_.data() + n0, * __restrict k = k_.data() + n0, * __restrict eps = eps_.data() + n0;
-  double* __restrict P = out[0] + n0, * __restrict sink_k = out[1] + n0, * __restrict sink_e = out[2] + n0, * __restrict source_e = out[3] + n0;
+  const double* __restrict nut = nut_.data() + n0;
+  const double* __restrict k = k_.data() + n0;
+  const double* __restrict eps = eps_.data() + n0;
+  double* __restrict P = out[0] + n0;
+  double* __restrict sink_k = out[1] + n0;
+  double* __restrict sink_e = out[2] + n0;
+  double* __restrict source_e = out[3] + n0;
   const long s0 = stride(0), s1 = stride(1), sz = stride(2);
   const double h0 = inv_h_[0], h1 = inv_h_[1], h2 = inv_h_[2];
   // d u_c / d x_d at cell i (u = u_c, sc and sd the strides, inv = 1 / h_d).

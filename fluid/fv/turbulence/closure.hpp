@@ -3,12 +3,21 @@
 // the wall distance, and epsilon in the one-equation layer near a wall.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "fluid/turbulence_params.hpp"
 
 namespace coflow::fluid::fv {
+
+// a[i] = exp(a[i]) for i < n, by glibc's vector exp (exponentials.cpp): within
+// a few ulps of std::exp, not the same bits.
+void exp_in_place(double* a, long n);
+// The rows' exponents are held above this: exp(-700) is a normal number
+// (the vector exp would take its slow scalar path for an underflow), and
+// 1 - exp(-700) and 1 / (1 + exp(-700)) are 1, as they are with exp of less.
+inline constexpr double kLowestExponent = -700.0;
 
 // The source terms of one cell (seed 003 eqs. 3.13-3.14) from the old nu_t,
 // S^2, k and epsilon: production P = nu_t S^2 (explicit), the destruction
@@ -55,9 +64,9 @@ struct Closure {
     return l > 0 ? k * std::sqrt(k) / l : 2.0 * nu * k / (y * y);
   }
   // Over n cells: fixed 1 in the one-equation layer, with epsilon set to
-  // epsilon_near_wall there, and 0 elsewhere (the same numbers as
-  // one_equation and epsilon_near_wall per cell), in three passes so that the
-  // outer two vectorise around the exponentials (work: 2 n doubles).
+  // epsilon_near_wall there, and 0 elsewhere (one_equation and
+  // epsilon_near_wall per cell, the exponentials by the vector exp), in three
+  // vectorised passes (work: 2 n doubles).
   void near_wall_row(const double* y, const double* k, double* eps, double* fixed, long n,
                      double* work) const {
     double* __restrict rey = work, * __restrict e = work + n;
@@ -65,8 +74,8 @@ struct Closure {
       rey[i] = re_y(y[i], k[i]);
       fixed[i] = two_layer && rey[i] < c.Re_y_star ? 1.0 : 0.0;
     }
-    for (long i = 0; i < n; ++i)
-      if (fixed[i] > 0) e[i] = std::exp(-rey[i] / A_epsilon);
+    for (long i = 0; i < n; ++i) e[i] = std::max(-rey[i] / A_epsilon, kLowestExponent);
+    exp_in_place(e, n);  // every cell (a vector exp is cheaper than a test)
     for (long i = 0; i < n; ++i) {
       const double l = y[i] * C_l * (1.0 - e[i]);
       const double near = l > 0 ? k[i] * std::sqrt(k[i]) / l : 2.0 * nu * k[i] / (y[i] * y[i]);
@@ -85,10 +94,9 @@ struct Closure {
     const double lambda = blend(rey);
     return lambda * standard + (1.0 - lambda) * c.C_mu * l_mu(y, rey) * std::sqrt(k);
   }
-  // nu_t() of the n cells of a row into out, the same numbers, in three
-  // passes so that the two outer ones vectorise: the exponentials' arguments
-  // where the blend is needed, the exponentials (scalar calls), the blend
-  // (work: 3 n doubles).
+  // nu_t() of the n cells of a row into out (the exponentials by the vector
+  // exp), in three vectorised passes: the exponentials' arguments and where
+  // the blend is needed, the exponentials, the blend (work: 3 n doubles).
   void nu_t_row(const double* y, const double* k, const double* eps, double* out, long n,
                 double* work) const {
     double* __restrict near = work, * __restrict ea = work + n, * __restrict eb = work + 2 * n;
@@ -98,11 +106,11 @@ struct Closure {
       const double rey = re_y(y[i], k[i]);
       const bool blended = two_layer && y[i] < inf && !((rey - c.Re_y_star) * kAtanh098 > cut);
       near[i] = blended ? 1.0 : 0.0;
-      ea[i] = -2.0 * (rey - c.Re_y_star) / A;
-      eb[i] = -rey / c.A_mu;
+      ea[i] = std::max(-2.0 * (rey - c.Re_y_star) / A, kLowestExponent);
+      eb[i] = std::max(-rey / c.A_mu, kLowestExponent);
     }
-    for (long i = 0; i < n; ++i)
-      if (near[i] > 0) ea[i] = std::exp(ea[i]), eb[i] = std::exp(eb[i]);
+    exp_in_place(ea, n);  // every cell (a vector exp is cheaper than a test)
+    exp_in_place(eb, n);
     for (long i = 0; i < n; ++i) {
       const double standard = c.C_mu * k[i] * k[i] / eps[i];
       const double lambda = 1.0 / (1.0 + ea[i]), l_mu = y[i] * C_l * (1.0 - eb[i]);

@@ -20,7 +20,9 @@
 // are inlets only: one that lets fluid out is refused at validation.
 #include <fmt/format.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <type_traits>
@@ -173,6 +175,36 @@ void FvSolver::set_inlet_lines(double t) {
   }
 }
 
+namespace {
+
+// The largest of m (>= 0) and |a[i]|, |b[i]|, i < n, the same number when
+// they are finite (NaN: a NaN). A non-negative double's bits, read as an
+// unsigned integer, order as the number does, and GCC vectorises an integer
+// maximum (a double one only under -ffast-math).
+double largest_magnitude(const double* __restrict a, const double* __restrict b, long n, double m) {
+  constexpr std::uint64_t magnitude = ~(std::uint64_t{1} << 63);  // all but the sign bit
+  std::uint64_t top = std::bit_cast<std::uint64_t>(m);
+  for (long i = 0; i < n; ++i) {
+    const std::uint64_t x = std::bit_cast<std::uint64_t>(a[i]) & magnitude;
+    const std::uint64_t y = std::bit_cast<std::uint64_t>(b[i]) & magnitude;
+    top = x > top ? x : top;
+    top = y > top ? y : top;
+  }
+  return std::bit_cast<double>(top);
+}
+
+// fv::sources over n cells, the same numbers (P: S^2 in, the production out).
+void sources_row(const double* __restrict nut, const double* __restrict k, const double* __restrict eps,
+                 double ce1, double ce2, double* __restrict P, double* __restrict sink_k,
+                 double* __restrict sink_e, double* __restrict source_e, long n) {
+  for (long i = 0; i < n; ++i) {
+    const double production = nut[i] * P[i], rate = eps[i] / k[i];
+    P[i] = production, sink_k[i] = rate, sink_e[i] = ce2 * rate, source_e[i] = ce1 * rate * production;
+  }
+}
+
+}  // namespace
+
 // The source terms (fv::sources) at the cells n0 + i, i < len, into
 // out = {production, sink_k, sink_epsilon, source_epsilon}, with the strain
 // rate S^2 = 2 S_ij S_ij (eqs. 3.15-3.16): the normal rates from the cell's
@@ -222,20 +254,10 @@ void FvSolver::source_row(double* const (&out)[4], long n0, long len, double (&u
   // The largest |u_d| on the cells' faces, for the advection's sub-steps,
   // while the row is in cache (a loop of its own: in the one above it kept
   // GCC from vectorising).
-  auto largest = [len](const double* __restrict u, long sd, double m) {
-    for (long i = 0; i < len; ++i) {
-      const double a = std::abs(u[i]), b = std::abs(u[i + sd]);
-      m = a > m ? a : m;
-      m = b > m ? b : m;
-    }
-    return m;
-  };
-  umax[0] = largest(u0, s0, umax[0]), umax[1] = largest(u1, s1, umax[1]);
-  if constexpr (DIMS == 3) umax[2] = largest(u2, sz, umax[2]);
-  for (long i = 0; i < len; ++i) {  // fv::sources, the same numbers
-    const double production = nut[i] * P[i], rate = eps[i] / k[i];
-    P[i] = production, sink_k[i] = rate, sink_e[i] = ce2 * rate, source_e[i] = ce1 * rate * production;
-  }
+  umax[0] = largest_magnitude(u0, u0 + s0, len, umax[0]);
+  umax[1] = largest_magnitude(u1, u1 + s1, len, umax[1]);
+  if constexpr (DIMS == 3) umax[2] = largest_magnitude(u2, u2 + sz, len, umax[2]);
+  sources_row(nut, k, eps, ce1, ce2, P, sink_k, sink_e, source_e, len);
 }
 
 // Solve (1/dt + sink) q' - div((nu + nu_t / sigma) grad q') = q / dt + source

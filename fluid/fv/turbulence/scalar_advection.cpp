@@ -21,6 +21,8 @@ int FvSolver::scalar_substeps(double (&umax)[3], double dt) const {
   double rate = 0.0;
   MPI_Allreduce(MPI_IN_PLACE, umax, 3, MPI_DOUBLE, MPI_MAX, comm_);
   for (int d = 0; d < dims_; ++d) rate += umax[d] * inv_h_[d];
+  if (!std::isfinite(rate))
+    return 1;  // a velocity that is not finite: k and epsilon catch it (check_positive)
   return std::max(1, static_cast<int>(std::ceil(2.0 * rate * dt * (1 - 1e-12))));
 }
 

@@ -3,8 +3,8 @@
 // the log layer, where the one-equation layer must give Prandtl's mixing
 // length nu_t = kappa u_tau y and epsilon = u_tau^3 / (kappa y) for the
 // equilibrium k = u_tau^2 / sqrt(C_mu) (Pope 2000 §7.3, §10.4).
+#include <algorithm>
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -53,11 +53,19 @@ TEST_CASE("without walls, or without the wall model, nu_t = C_mu k^2 / epsilon (
   CHECK(walls.one_equation(1e-6, 1e-8));
 }
 
-// The row forms that fv's loops call (vectorised around the exponentials)
-// give the per-cell numbers to the bit: cells across the blending layer, in
-// the one-equation layer, beyond 20 blending widths, at a wall distance of
-// infinity (no walls), and with the standard model alone.
-TEST_CASE("nu_t_row and near_wall_row equal nu_t, one_equation and epsilon_near_wall per cell", "[fv][turbulence]") {
+// The row forms that fv's loops call (vectorised, the exponentials by
+// glibc's vector exp, which passes a 4-ulp criterion) give the per-cell
+// numbers (std::exp) within the exponentials' error as the formulas carry it:
+// a relative error r in exp(-x) becomes r exp(-x) / (1 - exp(-x)) in the
+// length scales' 1 - exp(-x), large near a wall (x = Re_y / A small), and
+// at most r in the blend's 1 / (1 + exp(x)). Cells across the blending
+// layer, in the one-equation layer, beyond 20 blending widths, at a wall
+// distance of infinity (no walls), and with the standard model alone; the
+// one-equation layer's cells are the same cells (a comparison, no
+// exponential), and far from walls the numbers are the same bits. Measured:
+// at most 0.13 of that bound (the bound 8 ulp amplified, about 8x).
+TEST_CASE("nu_t_row and near_wall_row agree with nu_t, one_equation and epsilon_near_wall per cell",
+          "[fv][turbulence]") {
   const double inf = std::numeric_limits<double>::infinity();
   std::vector<double> y, k, eps;
   for (int i = 0; i < 203; ++i) {  // not a multiple of a vector's width: the loops' tails too
@@ -72,13 +80,25 @@ TEST_CASE("nu_t_row and near_wall_row equal nu_t, one_equation and epsilon_near_
     cl.nu_t_row(y.data(), k.data(), eps.data(), nut.data(), n, work.data());
     cl.near_wall_row(y.data(), k.data(), e.data(), fixed.data(), n, work.data());
     int blended = 0, one_equation = 0;
+    double worst = 0.0;  // the largest difference over its bound
     for (std::size_t i = 0; i < y.size(); ++i) {
-      CHECK(std::abs(nut[i] - cl.nu_t(y[i], k[i], eps[i])) <= 0);
+      const double rey = cl.re_y(y[i], k[i]);
+      const double ulps = 8 * std::numeric_limits<double>::epsilon();  // 4 ulp, and the rounding after
+      const auto amplified = [&](double x) { return ulps * (1.0 + std::exp(-x) / -std::expm1(-x)); };
+      const double nut_cell = cl.nu_t(y[i], k[i], eps[i]);
+      const double e_cell = fixed[i] > 0 ? cl.epsilon_near_wall(y[i], k[i]) : eps[i];
+      const double dn = std::abs(nut[i] - nut_cell) / (amplified(rey / cl.c.A_mu) * nut_cell);
+      const double de = std::abs(e[i] - e_cell) / (amplified(rey / cl.A_epsilon) * e_cell);
+      worst = std::max({worst, dn, de});
+      CHECK(dn <= 1.0);
+      CHECK(de <= 1.0);
+      if (!(y[i] < inf) || !two_layer) CHECK(std::abs(nut[i] - nut_cell) <= 0);
       CHECK(fixed[i] == (cl.one_equation(y[i], k[i]) ? 1.0 : 0.0));
-      CHECK(std::abs(e[i] - (fixed[i] > 0 ? cl.epsilon_near_wall(y[i], k[i]) : eps[i])) <= 0);
       blended += nut[i] != cl.c.C_mu * k[i] * k[i] / eps[i];
       one_equation += fixed[i] > 0;
     }
+    INFO("largest difference over its bound " << worst);
+    CHECK(worst < 1.0);
     // The cases the loop must cover are there (with the wall model).
     CHECK((blended > 20) == two_layer);
     CHECK((one_equation > 20) == two_layer);

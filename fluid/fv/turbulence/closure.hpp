@@ -7,13 +7,11 @@
 #include <cmath>
 #include <limits>
 
+#include "fluid/fv/turbulence/exponentials.hpp"
 #include "fluid/turbulence_params.hpp"
 
 namespace coflow::fluid::fv {
 
-// a[i] = exp(a[i]) for i < n, by glibc's vector exp (exponentials.cpp): within
-// a few ulps of std::exp, not the same bits.
-void exp_in_place(double* a, long n);
 // The rows' exponents are held above this: exp(-700) is a normal number
 // (the vector exp would take its slow scalar path for an underflow), and
 // 1 - exp(-700) and 1 / (1 + exp(-700)) are 1, as they are with exp of less.

@@ -177,20 +177,23 @@ void FvSolver::set_inlet_lines(double t) {
 
 namespace {
 
-// The largest of m (>= 0) and |a[i]|, |b[i]|, i < n, the same number when
-// they are finite (NaN: a NaN). A non-negative double's bits, read as an
-// unsigned integer, order as the number does, and GCC vectorises an integer
-// maximum (a double one only under -ffast-math).
+// The largest of |m| and |a[i]|, |b[i]|, i < n: the same number as a
+// maximum of doubles when they are finite, infinity where one is not (a
+// NaN too: every rank then reduces to infinity and stops alike). A
+// non-negative double's bits, read as an unsigned integer, order as the
+// number does, and GCC vectorises an integer maximum (a double one only
+// under -ffast-math).
 double largest_magnitude(const double* __restrict a, const double* __restrict b, long n, double m) {
   constexpr std::uint64_t magnitude = ~(std::uint64_t{1} << 63);  // all but the sign bit
-  std::uint64_t top = std::bit_cast<std::uint64_t>(m);
+  constexpr auto infinity = std::bit_cast<std::uint64_t>(std::numeric_limits<double>::infinity());
+  std::uint64_t top = std::bit_cast<std::uint64_t>(m) & magnitude;
   for (long i = 0; i < n; ++i) {
     const std::uint64_t x = std::bit_cast<std::uint64_t>(a[i]) & magnitude;
     const std::uint64_t y = std::bit_cast<std::uint64_t>(b[i]) & magnitude;
     top = x > top ? x : top;
     top = y > top ? y : top;
   }
-  return std::bit_cast<double>(top);
+  return std::bit_cast<double>(std::min(top, infinity));  // a NaN's bits lie above infinity's
 }
 
 // fv::sources over n cells, the same numbers (P: S^2 in, the production out).

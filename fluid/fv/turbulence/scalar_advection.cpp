@@ -6,8 +6,11 @@
 // axis's faces first (scalar_faces), then one pass for the update
 // (advect_scalar_row); the sums are those of a loop per cell, in the same
 // order.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "fluid/fv/fv_solver.hpp"
 #include "fluid/fv/scheme.hpp"
@@ -18,12 +21,17 @@ namespace coflow::fluid {
 // from this rank's largest |u_d| on its cells' faces (source_row finds them
 // while it reads the velocity for the strain rates).
 int FvSolver::scalar_substeps(double (&umax)[3], double dt) const {
+  constexpr double kMaxSubsteps = 1e4;  // the step's CFL limit allows about 2 x fluid.fv.cfl
   double rate = 0.0;
   MPI_Allreduce(MPI_IN_PLACE, umax, 3, MPI_DOUBLE, MPI_MAX, comm_);
   for (int d = 0; d < dims_; ++d) rate += umax[d] * inv_h_[d];
-  if (!std::isfinite(rate))
-    return 1;  // a velocity that is not finite: k and epsilon catch it (check_positive)
-  return std::max(1, static_cast<int>(std::ceil(2.0 * rate * dt * (1 - 1e-12))));
+  const double sub = std::ceil(2.0 * rate * dt * (1 - 1e-12));  // the same on every rank (reduced)
+  if (!(sub <= kMaxSubsteps))  // a velocity that is not finite (infinity, or NaN: see source_row), or blew up
+    throw std::runtime_error(fmt::format(
+        "fv: k and epsilon would need {:.3g} advection sub-steps at t = {:.6g} s (the velocity is {}); "
+        "lower fluid.fv.cfl or fluid.fv.max_step",
+        sub, next_time_, std::isfinite(sub) ? "far above the step's CFL limit" : "not finite"));
+  return std::max(1, static_cast<int>(sub));
 }
 
 // The carried value of q on the lower d-face of each owned cell, and on the

@@ -57,13 +57,15 @@ TEST_CASE("without walls, or without the wall model, nu_t = C_mu k^2 / epsilon (
 // glibc's vector exp, which passes a 4-ulp criterion) give the per-cell
 // numbers (std::exp) within the exponentials' error as the formulas carry it:
 // a relative error r in exp(-x) becomes r exp(-x) / (1 - exp(-x)) in the
-// length scales' 1 - exp(-x), large near a wall (x = Re_y / A small), and
-// at most r in the blend's 1 / (1 + exp(x)). Cells across the blending
-// layer, in the one-equation layer, beyond 20 blending widths, at a wall
-// distance of infinity (no walls), and with the standard model alone; the
-// one-equation layer's cells are the same cells (a comparison, no
-// exponential), and far from walls the numbers are the same bits. Measured:
-// at most 0.13 of that bound (the bound 8 ulp amplified, about 8x).
+// length scales' 1 - exp(-x), large near a wall (x = Re_y / A small); in the
+// blend lambda = 1 / (1 + exp(x)) it moves lambda by at most r / 4, or by
+// half an ulp where 1 + exp(x) rounds the other way, and nu_t by that times
+// |standard - two-layer| (the two viscosities lambda blends). Cells across
+// the blending layer, in the one-equation layer, beyond 20 blending widths,
+// at a wall distance of infinity (no walls), and with the standard model
+// alone; where no exponential is used (the standard model alone, epsilon
+// outside the one-equation layer, which cells are in it) the same bits.
+// Measured: at most 0.12 of that bound (the bound takes 8 ulp for r).
 TEST_CASE("nu_t_row and near_wall_row agree with nu_t, one_equation and epsilon_near_wall per cell",
           "[fv][turbulence]") {
   const double inf = std::numeric_limits<double>::infinity();
@@ -87,12 +89,18 @@ TEST_CASE("nu_t_row and near_wall_row agree with nu_t, one_equation and epsilon_
       const auto amplified = [&](double x) { return ulps * (1.0 + std::exp(-x) / -std::expm1(-x)); };
       const double nut_cell = cl.nu_t(y[i], k[i], eps[i]);
       const double e_cell = fixed[i] > 0 ? cl.epsilon_near_wall(y[i], k[i]) : eps[i];
-      const double dn = std::abs(nut[i] - nut_cell) / (amplified(rey / cl.c.A_mu) * nut_cell);
+      const double standard = cl.c.C_mu * k[i] * k[i] / eps[i];
+      const double layer = cl.c.C_mu * cl.l_mu(y[i], rey) * std::sqrt(k[i]);
+      const double blend_error = ulps * std::abs(standard - layer) / nut_cell;
+      const double dn = std::abs(nut[i] - nut_cell) / ((amplified(rey / cl.c.A_mu) + blend_error) * nut_cell);
       const double de = std::abs(e[i] - e_cell) / (amplified(rey / cl.A_epsilon) * e_cell);
       worst = std::max({worst, dn, de});
       CHECK(dn <= 1.0);
       CHECK(de <= 1.0);
-      if (!(y[i] < inf) || !two_layer) CHECK(std::abs(nut[i] - nut_cell) <= 0);
+      const bool standard_alone = !two_layer || !(y[i] < inf) ||
+                                  (rey - cl.c.Re_y_star) * Closure::kAtanh098 > 20 * 0.2 * cl.c.Re_y_star;
+      if (standard_alone) CHECK(std::abs(nut[i] - nut_cell) <= 0);
+      if (fixed[i] == 0.0) CHECK(std::abs(e[i] - eps[i]) <= 0);
       CHECK(fixed[i] == (cl.one_equation(y[i], k[i]) ? 1.0 : 0.0));
       blended += nut[i] != cl.c.C_mu * k[i] * k[i] / eps[i];
       one_equation += fixed[i] > 0;

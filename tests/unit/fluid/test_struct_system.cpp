@@ -244,8 +244,10 @@ TEST_CASE("struct system: a right-hand side of zero gives x = 0", "[fv]") {
 // matrix that is not symmetric, here one cell's lower couplings on every rank
 // a tenth larger than their partners, takes the general product. Each solves to the tolerance with the
 // residual recomputed from its own rows: both within the solve's tolerance,
-// 1e-12 (measured 8.1e-13 to 9.3e-13 on 1, 2 and 4 ranks); the skewed one
-// would miss by about 1e-3 if its product read the partners.
+// 1e-12, and the rounding of the recomputed residual, 2e-12 as the other
+// residual checks in this file (measured 8.1e-13 to 9.3e-13 on 1, 2 and 4
+// ranks); the skewed one would miss by about 1e-3 if its product read the
+// partners.
 TEST_CASE("struct system: a matrix symmetric to the bit and one that is not", "[fv][mpi]") {
   for (const Global G :
        {Global{{24, 20, 1}, {false, false, false}, 2}, Global{{12, 10, 8}, {true, false, false}, 3}}) {
@@ -264,7 +266,7 @@ TEST_CASE("struct system: a matrix symmetric to the bit and one that is not", "[
     s.solve(skew.b, y);
     const double rs = rows_residual(G, box, a, x), rn = rows_residual(G, box, skew, y);
     INFO(G.dims << "D: residual " << rs << " (symmetric), " << rn << " (not symmetric)");
-    CHECK(rs <= 1e-12);
-    CHECK(rn <= 1e-12);
+    CHECK(rs <= 2e-12);
+    CHECK(rn <= 2e-12);
   }
 }

@@ -197,6 +197,7 @@ class FvSolver final : public FluidSolver {
   template <int DIMS, bool FIXED>
   void assemble_scalar_row(const ScalarRows& in, fv::StructSystem::Rows& m, const bool (&edge)[3][2], long n0,
                            long o0, long len);
+  template <int DIMS>
   static int diagonally_dominant(const fv::StructSystem::Rows& m, long o0, long len);
   void add_scalar_face_terms(const ScalarRows& in, fv::StructSystem::Rows& m, const bool (&edge)[3][2],
                              const long* at, long n0, long o0, long len);

@@ -287,7 +287,8 @@ void FvSolver::solve_scalar(fv::StructSystem& sys, Field& q, Field& change, cons
                             const Field& source, double sigma, const FaceLines& inlet, bool wall_zero,
                             const Field* fixed, double dt) {
   fv::StructSystem::Rows& m = rows_;
-  m.resize(static_cast<std::size_t>(blk_.owned_cells()));  // every entry written below
+  // Every entry that is read is written below (in 2D the third axis's are not read).
+  m.resize(static_cast<std::size_t>(blk_.owned_cells()));
   ScalarRows in{q.data(),    change.data(), sink.data(), source.data(), fixed ? fixed->data() : nullptr,
                 0.5 / sigma, 1.0 / dt,      &inlet,      wall_zero,     {0.0, 0.0, 0.0}};
   for (int d = 0; d < dims_; ++d) in.inv_h2[d] = 1.0 / (h_[d] * h_[d]);
@@ -306,7 +307,7 @@ void FvSolver::solve_scalar(fv::StructSystem& sys, Field& q, Field& change, cons
       in.fixed ? assemble_scalar_row<3, true>(in, m, edge, n0, o0, len)
                : assemble_scalar_row<3, false>(in, m, edge, n0, o0, len);
     add_scalar_face_terms(in, m, edge, at, n0, o0, len);
-    dominant &= diagonally_dominant(m, o0, len);
+    dominant &= dims_ == 2 ? diagonally_dominant<2>(m, o0, len) : diagonally_dominant<3>(m, o0, len);
   });
   // Jacobi when the diagonal dominates (a short step), a multigrid V-cycle else.
   MPI_Allreduce(MPI_IN_PLACE, &dominant, 1, MPI_INT, MPI_MIN, comm_);
@@ -378,10 +379,9 @@ void FvSolver::assemble_scalar_row(const ScalarRows& in, fv::StructSystem::Rows&
     axis(i, 1, i != first_beyond ? 1.0 : 0.0, i != last_beyond ? 1.0 : 0.0, in.inv_h2[0], lower[0], upper[0],
          diag, r, fixed);
     axis(i, s1, inside[1][0], inside[1][1], in.inv_h2[1], lower[1], upper[1], diag, r, fixed);
+    // In 2D the third axis's couplings are not read (StructSystem, diagonally_dominant).
     if constexpr (DIMS == 3)
       axis(i, s2, inside[2][0], inside[2][1], in.inv_h2[2], lower[2], upper[2], diag, r, fixed);
-    else
-      lower[2][i] = upper[2][i] = 0.0;
     diag_out[i] = diag * (1.0 - fixed) + fixed;  // exactly 1 (fixed) or diag
     rhs[i] = r * (1.0 - fixed) + q[i] * fixed;
     x[i] = q[i] + (1.0 - fixed) * change[i];
@@ -389,14 +389,16 @@ void FvSolver::assemble_scalar_row(const ScalarRows& in, fv::StructSystem::Rows&
 }
 
 // Whether every row o0 + i, i < len, has its off-diagonal sum below 0.9 of
-// its diagonal (the entries of unused axes are 0).
+// its diagonal (DIMS axes: in 2D the third axis's entries are not written).
+template <int DIMS>
 int FvSolver::diagonally_dominant(const fv::StructSystem::Rows& m, long o0, long len) {
   const double *lo0 = m.lower[0].data() + o0, *lo1 = m.lower[1].data() + o0, *lo2 = m.lower[2].data() + o0;
   const double *up0 = m.upper[0].data() + o0, *up1 = m.upper[1].data() + o0, *up2 = m.upper[2].data() + o0;
   const double* diag = m.diag.data() + o0;
   int all = 1;
   for (long i = 0; i < len; ++i) {
-    const double off = -((lo0[i] + up0[i]) + (lo1[i] + up1[i]) + (lo2[i] + up2[i]));
+    double off = -((lo0[i] + up0[i]) + (lo1[i] + up1[i]));
+    if constexpr (DIMS == 3) off -= lo2[i] + up2[i];
     all &= off < 0.9 * diag[i] ? 1 : 0;
   }
   return all;

@@ -68,12 +68,15 @@ struct Closure {
   void near_wall_row(const double* y, const double* k, double* eps, double* fixed, long n,
                      double* work) const {
     double* __restrict rey = work, * __restrict e = work + n;
+    long layer = 0;  // cells in the one-equation layer (an integer sum: it vectorises)
     for (long i = 0; i < n; ++i) {
       rey[i] = re_y(y[i], k[i]);
       fixed[i] = two_layer && rey[i] < c.Re_y_star ? 1.0 : 0.0;
+      layer += two_layer && rey[i] < c.Re_y_star ? 1 : 0;
     }
+    if (layer == 0) return;  // eps as it is: no exponential needed
     for (long i = 0; i < n; ++i) e[i] = std::max(-rey[i] / A_epsilon, kLowestExponent);
-    exp_in_place(e, n);  // every cell (a vector exp is cheaper than a test)
+    exp_in_place(e, n);  // every cell of a row that needs some (a vector exp is cheaper than a test)
     for (long i = 0; i < n; ++i) {
       const double l = y[i] * C_l * (1.0 - e[i]);
       const double near = l > 0 ? k[i] * std::sqrt(k[i]) / l : 2.0 * nu * k[i] / (y[i] * y[i]);
@@ -100,15 +103,19 @@ struct Closure {
     double* __restrict near = work, * __restrict ea = work + n, * __restrict eb = work + 2 * n;
     const double A = 0.2 * c.Re_y_star / kAtanh098, cut = 20 * 0.2 * c.Re_y_star;
     const double inf = std::numeric_limits<double>::infinity();
+    long blend_cells = 0;  // an integer sum: it vectorises
     for (long i = 0; i < n; ++i) {
       const double rey = re_y(y[i], k[i]);
       const bool blended = two_layer && y[i] < inf && !((rey - c.Re_y_star) * kAtanh098 > cut);
       near[i] = blended ? 1.0 : 0.0;
+      blend_cells += blended ? 1 : 0;
       ea[i] = std::max(-2.0 * (rey - c.Re_y_star) / A, kLowestExponent);
       eb[i] = std::max(-rey / c.A_mu, kLowestExponent);
     }
-    exp_in_place(ea, n);  // every cell (a vector exp is cheaper than a test)
-    exp_in_place(eb, n);
+    if (blend_cells > 0) {  // every cell of a row that needs some (a vector exp is cheaper than a test)
+      exp_in_place(ea, n);
+      exp_in_place(eb, n);
+    }
     for (long i = 0; i < n; ++i) {
       const double standard = c.C_mu * k[i] * k[i] / eps[i];
       const double lambda = 1.0 / (1.0 + ea[i]), l_mu = y[i] * C_l * (1.0 - eb[i]);

@@ -38,6 +38,16 @@ struct TurbulenceConstants {
 };
 
 struct TurbulenceParams {
+  // nu_t = C_mu k^2 / epsilon (eq. 3.17) of a k and epsilon just read must be
+  // a finite number: a huge k or a tiny epsilon overflows it.
+  void finite_eddy_viscosity(config::Visitor& s, double k, double epsilon) const {
+    if (!s.reading() || std::isfinite(constants.C_mu * k * k / epsilon)) return;
+    s.fail("epsilon",
+           fmt::format("nu_t = C_mu k^2 / epsilon = {} * {:g}^2 / {:g} is not a finite number; give "
+                       "k and epsilon of a real flow (nu_t = C_mu k^2 / epsilon, m^2/s)",
+                       constants.C_mu, k, epsilon));
+  }
+
   bool on = false;  // the section is given
   std::string model = "k-epsilon";
   std::string wall = "two-layer";
@@ -56,6 +66,7 @@ struct TurbulenceParams {
     v.section("initial", "uniform initial turbulence", [&](config::Visitor& s) {
       s.required("k", initial_k, "turbulence kinetic energy, m^2/s^2", config::greater(0.0));
       s.required("epsilon", initial_epsilon, "its dissipation rate, m^2/s^3", config::greater(0.0));
+      finite_eddy_viscosity(s, initial_k, initial_epsilon);
     });
     v.section(
         "inlet", "k and epsilon of the fluid entering through velocity faces (Dirichlet)",
@@ -63,6 +74,7 @@ struct TurbulenceParams {
           if (s.reading() && !inlet_given) return;
           s.required("k", inlet_k, "m^2/s^2", config::greater(0.0));
           s.required("epsilon", inlet_epsilon, "m^2/s^3", config::greater(0.0));
+          finite_eddy_viscosity(s, inlet_k, inlet_epsilon);
         },
         &inlet_given);
   }

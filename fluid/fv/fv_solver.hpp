@@ -203,7 +203,7 @@ class FvSolver final : public FluidSolver {
                              const long* at, long n0, long o0, long len);
   void fill_scalar_ghosts(Field& q, const FaceLines& inlet, double wall_sign, bool extrapolate);
   void update_eddy_viscosity();
-  void check_positive() const;
+  void check_positive(double t, const char* hint) const;
   // nu + nu_t on side `side` along d of u_c's control volume (u_c at index n,
   // the lower c-face of cell n): along c the cell below (n - s_c) or the cell
   // n itself; along another axis the edge between the four cells around it.

@@ -71,6 +71,8 @@ void FvSolver::init_turbulence() {
   fill_scalar_ghosts(k_, inlet_k_, 0.0, true);
   fill_scalar_ghosts(eps_, inlet_eps_, 1.0, true);
   update_eddy_viscosity();
+  check_positive(time_,
+                 "fluid.turbulence.initial gives them; nu_t = C_mu k^2 / epsilon must be a finite number");
 }
 
 // Immersed bodies are walls too (seed 003 §3.1.2 takes y to the nearest
@@ -460,23 +462,26 @@ void FvSolver::turbulence_step(double dt) {
   solve_scalar(*eps_system_, eps_, eps_change_, sink_e, source_e, c.sigma_epsilon, inlet_eps_, false,
                cl.two_layer ? &fixed : nullptr, dt);
   fill_scalar_ghosts(eps_, inlet_eps_, 1.0, true);
-  check_positive();
   update_eddy_viscosity();
+  check_positive(next_time_, "lower fluid.fv.cfl or fluid.fv.max_step");
   turbulence_seconds_ += MPI_Wtime() - start;
 }
 
-// Stops the run where k or epsilon is not positive, or not finite: the
-// smallest values by rows into locals, a NaN or an infinity found by a sum
-// of 0 x q (the comparisons would pass over a NaN).
-void FvSolver::check_positive() const {
+// Stops the run where k or epsilon is not positive, or where k, epsilon or
+// nu_t is not finite at time t (`hint`: what to change): the smallest values by rows
+// into locals, a NaN or an infinity found by a sum of 0 x q (the comparisons
+// would pass over a NaN). nu_t = C_mu k^2 / epsilon overflows for a huge k
+// or a tiny epsilon where both are finite; the momentum solves would then
+// take an infinite viscosity.
+void FvSolver::check_positive(double t, const char* hint) const {
   double low[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), 0.0};
-  const double* __restrict K = k_.data(), * __restrict E = eps_.data();
+  const double* __restrict K = k_.data(), * __restrict E = eps_.data(), * __restrict N = nut_.data();
   for_owned_rows([&](const long*, long n0, long, long len) {
     double lk = low[0], le = low[1], nan = 0.0;
     for (long n = n0; n < n0 + len; ++n) {
       lk = K[n] < lk ? K[n] : lk;
       le = E[n] < le ? E[n] : le;
-      nan += 0.0 * K[n] + 0.0 * E[n];
+      nan += 0.0 * K[n] + 0.0 * E[n] + 0.0 * N[n];
     }
     low[0] = lk, low[1] = le, low[2] += nan;
   });
@@ -484,14 +489,12 @@ void FvSolver::check_positive() const {
   MPI_Allreduce(MPI_IN_PLACE, low, 3, MPI_DOUBLE, MPI_MIN, comm_);
   if (low[2] < 0)
     throw std::runtime_error(
-        fmt::format("fv: k or epsilon is not finite at t = {:.6g} s; lower fluid.fv.cfl or "
-                    "fluid.fv.max_step",
-                    next_time_));
+        fmt::format("fv: k, epsilon or nu_t is not finite at t = {:.6g} s; {}", t, hint));
   if (!(low[0] > 0 && low[1] > 0))
     throw std::runtime_error(
         fmt::format("fv: k-epsilon lost positivity at t = {:.6g} s (min k {:.3g}, min epsilon "
                     "{:.3g}); this is a bug: please report it with the configuration",
-                    next_time_, low[0], low[1]));
+                    t, low[0], low[1]));
 }
 
 }  // namespace coflow::fluid

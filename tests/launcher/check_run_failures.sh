@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# check_run_failures.sh BIN_DIR CASES_DIR OUT
+# A component that fails in the middle of a run must end the whole run with
+# its message, a non-zero exit status and summary.json's status "failed" with
+# the same reason, within seconds (not hang). Each case of CASES_DIR names
+# the message it must give in the table below.
+set -u
+bin=$1 cases=$2 out=$3
+rm -rf "$out"; mkdir -p "$out"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+fail() { echo "FAIL: $*"; exit 1; }
+check() {  # case, the message it must give
+  local name=$1 msg=$2 dir="$out/$1"
+  timeout 60 "$bin/coflow" run "$cases/$name.yaml" --set run.output.dir="$dir" >"$out/$name.log" 2>&1
+  local rc=$?
+  grep "coflow: run failed" "$out/$name.log"
+  [ $rc -ne 124 ] || fail "$name: hung (killed after 60 s)"
+  [ $rc -ne 0 ] || fail "$name: exit status 0"
+  grep -qF "$msg" "$out/$name.log" || fail "$name: no message '$msg' in $out/$name.log"
+  grep -q '"status": "failed"' "$dir/summary.json" || fail "$name: summary.json status is not failed"
+  grep -qF "$msg" "$dir/summary.json" || fail "$name: summary.json reason lacks '$msg'"
+}
+check fv_k_epsilon_blow_up \
+  "fv: k and epsilon would need 3.2e+09 advection sub-steps at t = 0.01 s (the velocity is far above the step's CFL limit); lower fluid.fv.cfl or fluid.fv.max_step"
+echo "ok"

@@ -218,7 +218,7 @@ static void check_turbulence(config::Visitor& v, const config::Config& cfg, cons
     if (b.type == "wall" && p.turbulence.wall == "none")
       v.fail("turbulence.wall", fmt::format("face {} is a wall, and the standard k-epsilon model needs a wall "
                                             "treatment there: use wall: two-layer (with the first cells at y+ of "
-                                            "about 1)",
+                                            "about 1) or log-law (the first cell centres at y+ of 30 to 100)",
                                             face_names()[f]));
     const double normal = b.type == "velocity" && b.value.values.size() == 3 ? b.value.values[static_cast<std::size_t>(f / 2)] : 0.0;
     if (f % 2 == 0 ? normal < 0 : normal > 0)
@@ -339,7 +339,21 @@ static void check_lbm_solids(config::Visitor& v, const config::Config& cfg, cons
          "an interior solid (fluid.solids takes STL meshes)");
 }
 
+// The wall functions (turbulence.wall: log-law) act at the box's walls of
+// the uniform grid alone.
+static void check_wall_functions(config::Visitor& v, const config::Config& cfg) {
+  if (config::resolved_text(cfg, {"fluid", "turbulence", "wall"}) != "log-law") return;
+  if (refined(cfg))
+    v.fail("fluid.turbulence.wall", "the adaptive grid (fluid.fv.refinement) has no wall functions: use wall: "
+                                    "two-layer there, or remove fluid.fv.refinement");
+  if (cfg.has("immersed") && cfg.component("immersed").variant == "ibm")
+    v.fail("fluid.turbulence.wall", "the wall functions (log-law) act at the box's walls only, and immersed.method "
+                                    "ibm makes the bodies walls too: use wall: two-layer (its wall distance counts "
+                                    "the bodies)");
+}
+
 static void check(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
+  check_wall_functions(v, cfg);
   check_refinement(v, cfg, variant);
   check_lbm_window(v, cfg, variant);
   check_lbm_solids(v, cfg, variant);

@@ -18,6 +18,9 @@ struct TurbulenceConstants {
   // The two-layer model (eqs. 3.19-3.25): C_l = kappa C_mu^-3/4 with kappa
   // 0.4187, A_mu = 70, A_epsilon = 2 C_l, Re_y* = 200.
   double kappa = 0.4187, A_mu = 70.0, Re_y_star = 200.0;
+  // The wall functions (wall: log-law): the log law's kappa and E (Launder &
+  // Spalding 1974; 0.41 and 9.8, as OpenFOAM's nutkWallFunction).
+  double log_kappa = 0.41, log_E = 9.8;
   double C_l() const { return kappa * std::pow(C_mu, -0.75); }
   double A_epsilon() const { return 2.0 * C_l(); }
   void visit(config::Visitor& v) {
@@ -30,6 +33,10 @@ struct TurbulenceConstants {
     v("C_mu", C_mu, "eddy-viscosity coefficient (eq. 3.17)", config::greater(0.0));
     v("kappa", kappa, "two-layer: C_l = kappa C_mu^(-3/4) (eqs. 3.19, 3.22)", config::greater(0.0));
     v("A_mu", A_mu, "two-layer: damping Reynolds number of l_mu (eq. 3.22)", config::greater(0.0));
+    v("log_kappa", log_kappa, "log-law: von Karman's constant of u+ = ln(E y+) / kappa",
+      config::greater(0.0));
+    v("log_E", log_E, "log-law: the constant E of u+ = ln(E y+) / kappa (smooth walls)",
+      config::greater(1.0));
     v("Re_y_star", Re_y_star,
       "two-layer: the wall-distance Reynolds number that parts the one-equation layer from the k-epsilon region "
       "(eqs. 3.20, 3.24)",
@@ -59,8 +66,11 @@ struct TurbulenceParams {
     v("model", model, "the closure: k-epsilon (standard, eqs. 3.13-3.17)", config::one_of({"k-epsilon"}));
     v("wall", wall,
       "near-wall treatment: two-layer (Wolfshtein's one-equation layer blended by Re_y, eqs. 3.18-3.25; the "
-      "first cells at y+ of about 1) or none (a box without walls)",
-      config::one_of({"two-layer", "none"}));
+      "first cells at y+ of about 1), log-law (wall functions of Launder & Spalding 1974, not the seed's: "
+      "the "
+      "wall's shear, epsilon and the production of k in the cells next to a wall from the log law with y* = "
+      "C_mu^1/4 k^1/2 y / nu; the first cell centres at y+ of 30 to 100) or none (a box without walls)",
+      config::one_of({"two-layer", "log-law", "none"}));
     v.section("constants", "model constants (Launder & Sharma 1974; seed 003 §3.1.1)",
               [&](config::Visitor& s) { constants.visit(s); });
     v.section("initial", "uniform initial turbulence", [&](config::Visitor& s) {

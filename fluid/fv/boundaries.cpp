@@ -68,6 +68,9 @@ void FvSolver::fill_face_ghosts(Field& u, int c, int a, int side, const Face& f,
         u[at(0)] = v;
         u[at(-1)] = 2 * v - u[at(1)];
         u[at(-2)] = 2 * v - u[at(2)];
+      } else if (log_law_ && f.wall && c != a) {  // the wall functions' line through the wall's value
+        u[at(side == 0 ? -1 : n)] = 2 * v - u[at(side == 0 ? 0 : n - 1)];
+        u[at(side == 0 ? -2 : n + 1)] = 2 * v - u[at(side == 0 ? 1 : n - 2)];
       } else if (side == 0) {
         u[at(-1)] = fv::wall_ghost(v, u[at(0)], u[at(1)]);
         u[at(-2)] = fv::wall_ghost2(v, u[at(0)], u[at(1)]);

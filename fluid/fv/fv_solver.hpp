@@ -204,6 +204,13 @@ class FvSolver final : public FluidSolver {
   void fill_scalar_ghosts(Field& q, const FaceLines& inlet, double wall_sign, bool extrapolate);
   void update_eddy_viscosity();
   void check_positive(double t, const char* hint) const;
+  // wall: log-law (turbulence/wall_functions.cpp).
+  template <class F>
+  void for_wall_cells(F&& f) const;
+  double wall_speed(int f, const long* at, long n, double t) const;
+  void wall_function_ghosts();
+  void wall_function_production(Field& production) const;
+  void wall_function_epsilon(Field& fixed);
   // nu + nu_t on side `side` along d of u_c's control volume (u_c at index n,
   // the lower c-face of cell n): along c the cell below (n - s_c) or the cell
   // n itself; along another axis the edge between the four cells around it.
@@ -324,6 +331,7 @@ class FvSolver final : public FluidSolver {
   // distance to the nearest wall (infinite without walls; the box's walls
   // and the immersed bodies' surfaces), the implicit systems of k and epsilon.
   bool turbulent_ = false;
+  bool log_law_ = false;  // wall: log-law, the wall functions
   TurbulenceParams turb_;
   FluidParams::FaceTurbulence inlets_;  // what enters through each face (FluidParams::inlet_turbulence)
   FaceLines inlet_k_, inlet_eps_, inlet_nut_;  // k, epsilon and nu_t entering, at the time of set_inlet_lines

@@ -89,6 +89,10 @@ void FvSolver::set_viscous(int c, double diag_scale, double theta) {
               coupling -= k;
               break;
             case Neighbour::wall_tangential:  // ghost = (8U - 6 u0 + u1) / 3
+              if (log_law_ && faces_[static_cast<std::size_t>(2 * d + side)].wall) {
+                diag += 2 * k;  // the wall functions' ghost 2U - u0: the flux nu_w (u0 - U) / (h/2)
+                break;
+              }
               diag += 3 * k;
               if (turbulent_) break;  // u1's part on the right-hand side (viscous_rhs)
               opposite -= k / 3;
@@ -213,7 +217,10 @@ double FvSolver::viscous_rhs(int c, const long* at, long n, const fv::Imex& s, d
       const double U = faces_[static_cast<std::size_t>(2 * d + side)].velocity_at(t1)[c] *
                        profile(2 * d + side, c, at, t1);
       if (kind == Neighbour::wall_normal) r += k * U;
-      if (kind == Neighbour::wall_tangential && turbulent_) {  // u1 extrapolated to the new time
+      if (kind == Neighbour::wall_tangential && log_law_ &&
+          faces_[static_cast<std::size_t>(2 * d + side)].wall) {
+        r += 2 * k * U;                                               // the wall functions' ghost 2U - u0
+      } else if (kind == Neighbour::wall_tangential && turbulent_) {  // u1 extrapolated to the new time
         const long in = side == 0 ? stride(d) : -stride(d);
         r += (8.0 * U + s.b0 * u_[C][n + in] + s.b1 * u_old_[C][n + in]) * k / 3.0;
       } else if (kind == Neighbour::wall_tangential) {

@@ -119,6 +119,10 @@ void FvReference::velocity_ghosts(Faces& u, double t, bool keep_open, bool zero)
             q(f, face) = v;
             q(f, face + dir) = 2 * v - q(f, face - dir);
             if (side == 0) q(f, -2) = 2 * v - q(f, 2);
+          } else if (sd.kind == Kind::wall && log_law_ &&
+                     !is_inlet(2 * a + side)) {  // the wall functions' line
+            q(f, b + dir) = 2 * v - q(f, b);
+            q(f, b + 2 * dir) = 2 * v - q(f, b - dir);
           } else if (sd.kind == Kind::wall) {
             q(f, b + dir) = fv::wall_ghost(v, q(f, b), q(f, b - dir));
             q(f, b + 2 * dir) = fv::wall_ghost2(v, q(f, b), q(f, b - dir));
@@ -231,6 +235,7 @@ double FvReference::deferred_wall(int c, const long x[3], long n, double theta, 
     if (d == c) continue;
     for (int side = 0; side < 2; ++side) {
       if (x[d] != (side == 0 ? 0 : n_[d] - 1) || sides_[2 * d + side].kind != Kind::wall) continue;
+      if (log_law_ && !is_inlet(2 * d + side)) continue;  // the wall functions' ghost has no u1 part
       const long in = side == 0 ? step_of(d) : -step_of(d);
       r += theta * nu_at(c, n, d, side) / (h_[d] * h_[d]) * value(n + in) / 3.0;
     }

@@ -110,6 +110,12 @@ class FvReference final : public FluidSolver {
   void solve_scalar(Field& q, const Field& sink, const Field& source, double sigma, const FaceValues& inlet,
                     bool wall_zero, const std::vector<char>* fixed, double dt, const char* what) const;
   std::vector<double> y_plus() const;
+  // wall: log-law (fv's turbulence/wall_functions.cpp): f(face, x, n) over
+  // the cells next to each wall; the speed there along the wall at time t.
+  template <class F>
+  void for_wall_cells(F&& f) const;
+  double wall_speed(int face, const long* x, std::size_t n, double t) const;
+  void wall_function_epsilon(std::vector<char>& fixed);
   // Conjugate gradients for A x = b over the listed indices; A applied by `apply`.
   template <class Apply>
   void conjugate_gradients(Apply&& apply, const std::vector<long>& rows, Field& x, const Field& b,
@@ -134,6 +140,7 @@ class FvReference final : public FluidSolver {
   std::unique_ptr<ibm::DirectForcing> ibm_;  // immersed.method ibm: made at the first markers
   std::vector<double> out_u_, out_p_, out_rho_, out_div_, out_k_, out_eps_, out_nut_, out_yplus_;
   bool turbulent_ = false;
+  bool log_law_ = false;  // wall: log-law
   TurbulenceParams turb_;
   FluidParams::FaceTurbulence inlets_;  // what enters through each face
   double inlet_time_ = 0.0;             // the time of the inlets' velocity (ramps, profiles in t)

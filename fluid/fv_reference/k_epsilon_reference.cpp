@@ -22,6 +22,7 @@ void FvReference::turbulence_init() {
   turbulent_ = fluid_.turbulence.on;
   if (!turbulent_) return;
   turb_ = fluid_.turbulence;
+  log_law_ = turb_.wall == "log-law";
   inlets_ = fluid_.inlet_turbulence(cfg_);
   inlet_time_ = time_;
   const std::size_t size = u_[0].size();
@@ -43,7 +44,9 @@ void FvReference::turbulence_init() {
         if (cl.one_equation(wall_y_[n], k_[n])) eps_[n] = cl.epsilon_near_wall(wall_y_[n], k_[n]);
       }
   box_wall_y_ = wall_y_;
-  scalar_ghosts(k_, inlet(0), 0.0, true);
+  std::vector<char> fixed(k_.size(), 0);
+  if (log_law_) wall_function_epsilon(fixed);
+  scalar_ghosts(k_, inlet(0), log_law_ ? 1.0 : 0.0, true);
   scalar_ghosts(eps_, inlet(1), 1.0, true);
   eddy_viscosity();
 }
@@ -113,6 +116,54 @@ void FvReference::eddy_viscosity() {
   const fv::Closure cl{turb_.constants, nu_, turb_.wall == "two-layer"};
   each_cell([&](const long*, std::size_t n) { nut_[n] = cl.nu_t(wall_y_[n], k_[n], eps_[n]); });
   scalar_ghosts(nut_, inlet(2), -1.0, false);  // the inlet's nu_t beyond each inlet face
+  if (!log_law_) return;
+  // The wall functions: nu_t beyond a wall such that the wall face's nu + nu_t is nu_w.
+  const fv::WallFunction wf{turb_.constants, nu_};
+  for (int f = 0; f < 2 * dims_; ++f) {
+    if (sides_[f].kind != Kind::wall || is_inlet(f)) continue;
+    const int a = f / 2;
+    const long s = step_of(a), first = f % 2 == 0 ? 0 : n_[a] - 1, out = f % 2 == 0 ? -1 : 1;
+    for_lines(a, [&](long o, const long*) {
+      const auto in = static_cast<std::size_t>(o + first * s);
+      const double g = 2.0 * (wf.nu_wall(0.5 * h_[a], std::max(k_[in], 0.0)) - nu_) - nut_[in];
+      nut_[static_cast<std::size_t>(o + (first + out) * s)] = g;
+      nut_[static_cast<std::size_t>(o + (first + 2 * out) * s)] = g;
+    });
+  }
+}
+
+template <class F>
+void FvReference::for_wall_cells(F&& f) const {
+  for (int face = 0; face < 2 * dims_; ++face) {
+    if (sides_[face].kind != Kind::wall || is_inlet(face)) continue;
+    const int a = face / 2;
+    each_cell([&](const long* x, std::size_t n) {
+      if (x[a] == (face % 2 == 0 ? 0 : n_[a] - 1)) f(face, x, n);
+    });
+  }
+}
+
+double FvReference::wall_speed(int face, const long* x, std::size_t n, double t) const {
+  double s2 = 0.0;
+  for (int c = 0; c < dims_; ++c) {
+    if (c == face / 2) continue;
+    const Field& q = u_[static_cast<std::size_t>(c)];
+    const double U = side_velocity(face, t)[c] * profile(face, c, x, t);
+    const double u = 0.5 * (q[n] + q[n + static_cast<std::size_t>(step_of(c))]) - U;
+    s2 += u * u;
+  }
+  return std::sqrt(s2);
+}
+
+// epsilon in the cells next to walls: the wall function's (the larger of two
+// walls'), fixed.
+void FvReference::wall_function_epsilon(std::vector<char>& fixed) {
+  const fv::WallFunction wf{turb_.constants, nu_};
+  for_wall_cells([&](int f, const long*, std::size_t n) {
+    const double e = wf.epsilon(0.5 * h_[f / 2], k_[n]);
+    eps_[n] = fixed[n] ? std::max(eps_[n], e) : e;
+    fixed[n] = 1;
+  });
 }
 
 double FvReference::nu_at(int c, long n, int d, int side) const {
@@ -264,11 +315,20 @@ void FvReference::turbulence_step(double dt) {
     const fv::Sources q = fv::sources(c, nut_[n], strain_rate2_at(static_cast<long>(n)), k_[n], eps_[n]);
     production[n] = q.production, sink_k[n] = q.sink_k, sink_e[n] = q.sink_epsilon, source_e[n] = q.source_epsilon;
   });
-  advect_scalar(k_, inlet(0), 0.0, dt);
+  if (log_law_) {  // the wall functions' production, summed over a cell's walls
+    const fv::WallFunction wf{turb_.constants, nu_};
+    for_wall_cells([&](int, const long*, std::size_t n) { production[n] = 0.0; });
+    for_wall_cells([&](int f, const long* x, std::size_t n) {
+      production[n] += wf.production(0.5 * h_[f / 2], k_[n], wall_speed(f, x, n, next_time_));
+    });
+  }
+  const double k_wall = log_law_ ? 1.0 : 0.0;  // beyond a wall: 0, or mirrored (no flux)
+  advect_scalar(k_, inlet(0), k_wall, dt);
   advect_scalar(eps_, inlet(1), 1.0, dt);
-  solve_scalar(k_, sink_k, production, c.sigma_k, inlet(0), true, nullptr, dt, "k solve");
-  scalar_ghosts(k_, inlet(0), 0.0, true);
+  solve_scalar(k_, sink_k, production, c.sigma_k, inlet(0), !log_law_, nullptr, dt, "k solve");
+  scalar_ghosts(k_, inlet(0), k_wall, true);
   std::vector<char> fixed(k_.size(), 0);
+  if (log_law_) wall_function_epsilon(fixed);
   if (cl.two_layer)
     for (std::size_t n = 0; n < k_.size(); ++n)
       if (cl.one_equation(wall_y_[n], k_[n])) {
@@ -293,8 +353,12 @@ std::vector<double> FvReference::y_plus() const {
     const int a = f / 2;
     const long in = f % 2 == 0 ? step_of(a) : -step_of(a);
     std::size_t o = 0;
+    const fv::WallFunction wf{turb_.constants, nu_};
     each_cell([&](const long* x, std::size_t n) {
-      if (x[a] == (f % 2 == 0 ? 0 : n_[a] - 1)) {
+      if (x[a] == (f % 2 == 0 ? 0 : n_[a] - 1) && log_law_) {  // u_tau from the wall functions' shear
+        const double y = 0.5 * h_[a];
+        out[o] = y * std::sqrt(wf.nu_wall(y, k_[n]) * wall_speed(f, x, n, time_) / y) / nu_;
+      } else if (x[a] == (f % 2 == 0 ? 0 : n_[a] - 1)) {
         double shear2 = 0.0;
         for (int c = 0; c < dims_; ++c) {
           if (c == a) continue;

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "fluid/fv/fv_solver.hpp"
+#include "fluid/fv/turbulence/closure.hpp"
 
 namespace coflow::fluid {
 
@@ -77,10 +78,12 @@ void FvSolver::add_stress_transpose(const Faces& u, Faces& out) const {
 // y+ = y u_tau / nu (seed 003 eqs. 3.26-3.27) at the centres of the cells next
 // to a wall, u_tau from the wall's shear (the slope at the wall of the
 // parabola through the wall's velocity and the first two cells); zero in the
-// other cells (a cell in a corner shows its last wall's).
+// other cells (a cell in a corner shows its last wall's). With the wall
+// functions (wall: log-law) u_tau from their shear, sqrt(nu_w U / y).
 std::vector<double> FvSolver::y_plus() const {
   std::vector<double> out(static_cast<std::size_t>(blk_.owned_cells()), 0.0);
   if (!turbulent_) return out;
+  const fv::WallFunction wf{turb_.constants, nu_};
   for (int f = 0; f < 2 * dims_; ++f) {
     const Face& face = faces_[static_cast<std::size_t>(f)];
     if (!face.wall || !face.here) continue;
@@ -88,6 +91,13 @@ std::vector<double> FvSolver::y_plus() const {
     const long in = side == 0 ? stride(a) : -stride(a);
     for_owned([&](const long* at, long n, long o) {
       if (at[a] != (side == 0 ? 0 : blk_.extent[a] - 1)) return;
+      const double y = 0.5 * h_[a];
+      if (log_law_) {
+        const double utau =
+            std::sqrt(wf.nu_wall(y, k_[static_cast<std::size_t>(n)]) * wall_speed(f, at, n, time_) / y);
+        out[static_cast<std::size_t>(o)] = y * utau / nu_;
+        return;
+      }
       double shear2 = 0.0;
       for (int c = 0; c < dims_; ++c) {
         if (c == a) continue;

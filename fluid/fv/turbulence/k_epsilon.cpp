@@ -38,6 +38,7 @@ void FvSolver::init_turbulence() {
   turbulent_ = fluid_.turbulence.on;
   if (!turbulent_) return;
   turb_ = fluid_.turbulence;
+  log_law_ = turb_.wall == "log-law";
   inlets_ = fluid_.inlet_turbulence(cfg_);
   const std::size_t padded = ex_.field_size();
   k_.assign(padded, turb_.initial_k);
@@ -67,8 +68,9 @@ void FvSolver::init_turbulence() {
   for_padded([&](const long*, long n) {
     if (cl.one_equation(wall_y_[n], k_[n])) eps_[n] = cl.epsilon_near_wall(wall_y_[n], k_[n]);
   });
+  if (log_law_) wall_function_epsilon(scratch_[4]);
   set_inlet_lines(time_);
-  fill_scalar_ghosts(k_, inlet_k_, 0.0, true);
+  fill_scalar_ghosts(k_, inlet_k_, log_law_ ? 1.0 : 0.0, true);
   fill_scalar_ghosts(eps_, inlet_eps_, 1.0, true);
   update_eddy_viscosity();
   check_positive(time_,
@@ -132,6 +134,7 @@ void FvSolver::update_eddy_viscosity() {
                 row_work_.data());
   });
   fill_scalar_ghosts(nut_, inlet_nut_, -1.0, false);
+  if (log_law_) wall_function_ghosts();
 }
 
 // k, epsilon and nu_t entering through each face at time t: the face's
@@ -448,19 +451,22 @@ void FvSolver::turbulence_step(double dt) {
   for_owned_rows([&](const long*, long n0, long, long len) {
     dims_ == 2 ? source_row<2>(out, n0, len, umax) : source_row<3>(out, n0, len, umax);
   });
+  if (log_law_) wall_function_production(production);
   const int sub = scalar_substeps(umax, dt);
-  advect_scalar(k_, inlet_k_, 0.0, dt, sub);
+  const double k_wall = log_law_ ? 1.0 : 0.0;  // k's ghosts beyond a wall: 0, or mirrored (no flux)
+  advect_scalar(k_, inlet_k_, k_wall, dt, sub);
   advect_scalar(eps_, inlet_eps_, 1.0, dt, sub);
-  solve_scalar(*k_system_, k_, k_change_, sink_k, production, c.sigma_k, inlet_k_, true, nullptr, dt);
-  fill_scalar_ghosts(k_, inlet_k_, 0.0, true);
+  solve_scalar(*k_system_, k_, k_change_, sink_k, production, c.sigma_k, inlet_k_, !log_law_, nullptr, dt);
+  fill_scalar_ghosts(k_, inlet_k_, k_wall, true);
   Field& fixed = scratch_[4];
+  if (log_law_) wall_function_epsilon(fixed);
   if (cl.two_layer) {
     row_work_.resize(std::max(row_work_.size(), 2 * padded));
     cl.near_wall_row(wall_y_.data(), k_.data(), eps_.data(), fixed.data(), static_cast<long>(padded),
                      row_work_.data());  // every cell, ghosts too: the padded fields as one row
   }
   solve_scalar(*eps_system_, eps_, eps_change_, sink_e, source_e, c.sigma_epsilon, inlet_eps_, false,
-               cl.two_layer ? &fixed : nullptr, dt);
+               cl.two_layer || log_law_ ? &fixed : nullptr, dt);
   fill_scalar_ghosts(eps_, inlet_eps_, 1.0, true);
   update_eddy_viscosity();
   check_positive(next_time_, "lower fluid.fv.cfl or fluid.fv.max_step");

@@ -113,3 +113,34 @@ TEST_CASE("nu_t_row and near_wall_row agree with nu_t, one_equation and epsilon_
     CHECK(one_equation < n - 20);
   }
 }
+
+// The wall functions (wall: log-law) against the log law they encode (Pope
+// 2000 §7.1.4, §10.4; Launder & Spalding 1974): for the equilibrium k =
+// u_tau^2 / sqrt(C_mu) and the log law's speed U = u_tau ln(E y+) / kappa the
+// wall's shear is u_tau^2, the production tau_w dU/dy equals epsilon = u_tau^3
+// / (kappa y), and nu_t = C_mu k^2 / epsilon is kappa u_tau y; below y*_lam
+// the shear is the viscous nu U / y.
+TEST_CASE("wall functions: the log law's shear, production and epsilon; y*_lam", "[fv][turbulence]") {
+  using coflow::fluid::fv::WallFunction;
+  const WallFunction wf{{}, 1e-5};
+  // y*_lam solves y = ln(E y) / kappa: 11.53 for kappa 0.41, E 9.8.
+  CHECK(std::log(wf.c.log_E * wf.y_lam) / wf.c.log_kappa == Approx(wf.y_lam).epsilon(1e-14));
+  CHECK(wf.y_lam == Approx(11.53).margin(0.01));
+  const double utau = 0.2, k = utau * utau / std::sqrt(wf.c.C_mu);
+  for (double yplus : {30.0, 100.0, 500.0}) {
+    const double y = yplus * wf.nu / utau;
+    CHECK(wf.y_star(y, k) == Approx(yplus).epsilon(1e-14));
+    const double U = utau * std::log(wf.c.log_E * yplus) / wf.c.log_kappa;
+    CHECK(wf.nu_wall(y, k) * U / y == Approx(utau * utau).epsilon(1e-13));
+    const double eps = utau * utau * utau / (wf.c.log_kappa * y);
+    CHECK(wf.epsilon(y, k) == Approx(eps).epsilon(1e-13));
+    CHECK(wf.production(y, k, U) == Approx(eps).epsilon(1e-13));
+    CHECK(wf.c.C_mu * k * k / wf.epsilon(y, k) == Approx(wf.c.log_kappa * utau * y).epsilon(1e-13));
+  }
+  // In the viscous sublayer: nu_w = nu, so the shear is nu U / y, and epsilon 2 nu k / y^2.
+  const double y = 5.0 * wf.nu / utau, U = 5.0 * utau;
+  REQUIRE(wf.y_star(y, k) < wf.y_lam);
+  CHECK(wf.nu_wall(y, k) == wf.nu);
+  CHECK(wf.production(y, k, U) == Approx(wf.nu * (U / y) * (U / y)).epsilon(1e-14));
+  CHECK(wf.epsilon(y, k) == Approx(2 * wf.nu * k / (y * y)).epsilon(1e-14));
+}

@@ -19,6 +19,7 @@ set(coflow_test_costs
   validation.two_phase_grain_interface_60 50
   validation.dpm_granular_gas_bidisperse 46
   validation.fv_ke_channel 46
+  validation.fv_ke_backward_step 40
   validation.two_phase_capillary_bridge 45
   validation.psm_settling_sphere_e3 45
   validation.psm_settling_sphere_e2 42

@@ -141,6 +141,11 @@ coflow_validation(fv_ke_log_law_vs_reference compare fv_ke_all_boundaries_3d.yam
   "fluid.solver=fv fluid.turbulence.wall=log-law" "fluid.solver=fv-reference fluid.turbulence.wall=log-law")
 coflow_validation(fv_ke_log_law_ranks_1_vs_4 compare fv_ke_all_boundaries_3d.yaml 4
   "fluid.ranks=1 fluid.turbulence.wall=log-law" "fluid.ranks=4 fluid.decomposition=[2,2,1] fluid.turbulence.wall=log-law")
+# The backward-facing step of Driver & Seegmiller (1985) with wall
+# functions: the reattachment length (the config's grid, to t = 100 H/U:
+# x_r moves by 0.1 % from t = 100 to 150).
+coflow_validation(fv_ke_backward_step ke_backward_step fv_ke_backward_step.yaml 1
+  --set run.end_time=100.0 --set run.output.every=100.0)
 # k and epsilon per inlet face: two inlets bringing different ones (x- its
 # own, y+ turbulence.inlet's), fv against fv-reference; and a face's own
 # values, equal to the config's turbulence.inlet, with turbulence.inlet

@@ -198,4 +198,36 @@ int ke_channel(const std::string& dir) {
   return 0;
 }
 
+// A backward-facing step at x = domain.lower (the step's edge; the floor
+// behind it the y- wall, the step's height `height`): the reattachment
+// length x_r / H, where the velocity along x of the floor's first cells turns
+// from upstream to downstream for the last time (linear between cell
+// centres; the mean over z), against Driver & Seegmiller's 6.26 (1985; NASA
+// Turbulence Modeling Resource, 2DBFS: 6.26 +/- 0.10). NaN where the flow
+// never separates or never reattaches.
+int ke_backward_step(const std::string& dir, double height) {
+  const auto cfg = load(dir);
+  const auto& d = cfg.domain;
+  const double dx = d.spacing()[0];
+  std::vector<std::size_t> dims;
+  const auto u = output::read_dataset(last_snapshot(dir), "velocity", &dims);
+  const long nz = static_cast<long>(dims[0]), ny = static_cast<long>(dims[1]),
+             nx = static_cast<long>(dims[2]);
+  std::vector<double> floor(static_cast<std::size_t>(nx), 0.0);
+  for (long k = 0; k < nz; ++k)
+    for (long i = 0; i < nx; ++i)
+      floor[static_cast<std::size_t>(i)] +=
+          u[static_cast<std::size_t>(((k * ny) * nx + i) * 3)] / static_cast<double>(nz);
+  double xr = std::numeric_limits<double>::quiet_NaN(), umin = 0.0;
+  for (long i = 0; i + 1 < nx; ++i) {
+    const double a = floor[static_cast<std::size_t>(i)], b = floor[static_cast<std::size_t>(i + 1)];
+    umin = std::min(umin, a);
+    if (a < 0.0 && b >= 0.0) xr = (static_cast<double>(i) + 0.5 + a / (a - b)) * dx;  // the last crossing
+  }
+  const double ref = 6.26;
+  std::printf("floor_u_min=%.4f\nx_r_over_h=%.4f\nx_r_reference=%.2f\nx_r_error=%.4e\n", umin, xr / height,
+              ref, std::abs(xr / height / ref - 1.0));
+  return 0;
+}
+
 }  // namespace coflow::check

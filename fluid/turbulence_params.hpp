@@ -22,6 +22,17 @@ struct TurbulenceConstants {
   // Spalding 1974; 0.41 and 9.8, as OpenFOAM's nutkWallFunction).
   double log_kappa = 0.41, log_E = 9.8;
   double C_l() const { return kappa * std::pow(C_mu, -0.75); }
+  // The log law's y*_lam, where the linear and log laws meet: the root of
+  // y = ln(E y) / kappa above 1 / kappa (11.53 for kappa 0.41, E 9.8), by
+  // fixed-point iteration from 11, which contracts there (the slope 1 /
+  // (kappa y) is below 1). NaN where there is none (E below e kappa) or the
+  // iteration has not settled.
+  double log_law_y_lam() const {
+    double y = 11.0;
+    for (int i = 0; i < 200 && y > 0; ++i) y = std::log(log_E * y) / log_kappa;
+    const bool root = y > 1.0 / log_kappa && std::abs(std::log(log_E * y) / log_kappa - y) <= 1e-12 * y;
+    return root ? y : std::nan("");
+  }
   double A_epsilon() const { return 2.0 * C_l(); }
   void visit(config::Visitor& v) {
     v("sigma_k", sigma_k, "turbulent Prandtl number of k (eq. 3.13)", config::greater(0.0));
@@ -71,8 +82,16 @@ struct TurbulenceParams {
       "wall's shear, epsilon and the production of k in the cells next to a wall from the log law with y* = "
       "C_mu^1/4 k^1/2 y / nu; the first cell centres at y+ of 30 to 100) or none (a box without walls)",
       config::one_of({"two-layer", "log-law", "none"}));
-    v.section("constants", "model constants (Launder & Sharma 1974; seed 003 §3.1.1)",
-              [&](config::Visitor& s) { constants.visit(s); });
+    v.section(
+        "constants", "model constants (Launder & Sharma 1974; seed 003 §3.1.1)", [&](config::Visitor& s) {
+          constants.visit(s);
+          if (s.reading() && wall == "log-law" && !std::isfinite(constants.log_law_y_lam()))
+            s.fail("log_E",
+                   fmt::format("the log law u+ = ln(E y+) / kappa with E = {} and kappa = {} never meets "
+                               "u+ = y+ (E must exceed e kappa = {:.3g}); the usual values are E 9.8, "
+                               "kappa 0.41",
+                               constants.log_E, constants.log_kappa, std::exp(1.0) * constants.log_kappa));
+        });
     v.section("initial", "uniform initial turbulence", [&](config::Visitor& s) {
       s.required("k", initial_k, "turbulence kinetic energy, m^2/s^2", config::greater(0.0));
       s.required("epsilon", initial_epsilon, "its dissipation rate, m^2/s^3", config::greater(0.0));

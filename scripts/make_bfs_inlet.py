@@ -13,8 +13,7 @@ epsilon`: in the boundary layers k = u_tau^2 / sqrt(C_mu) (1 - d / delta)
 plus the free stream's k_inf = 3/2 (I U)^2, d the distance to the wall;
 epsilon = C_mu^(3/4) k^(3/2) / l with Escudier's mixing length l = min(kappa
 d, 0.09 delta) (0.09 delta in the free stream); below the step's edge the
-free stream's k and epsilon with the wall distance 0 taken as the cell size
-(nothing enters there). delta = 1.5 H is Driver & Seegmiller's 1.9 cm at
+free stream's k and epsilon (nothing enters there). delta = 1.5 H is Driver & Seegmiller's 1.9 cm at
 x = -4 H (H = 1.27 cm); u_tau = 0.0374 U from their Cf of about 0.0028
 upstream (Cf = 2 (u_tau / U)^2). Needs only the standard library.
 """

@@ -235,7 +235,7 @@ void FvSolver::load(const std::string& dir, long, double) {
         std::fill(field->begin(), field->end(), 0.0);
     }
     set_inlet_lines(time_);
-    fill_scalar_ghosts(k_, inlet_k_, 0.0, true);
+    fill_scalar_ghosts(k_, inlet_k_, log_law_ ? 1.0 : 0.0, true);
     fill_scalar_ghosts(eps_, inlet_eps_, 1.0, true);
     update_eddy_viscosity();
   }

@@ -612,7 +612,7 @@ void FvReference::load(const std::string& dir, long, double) {
     o = 0;
     each_cell([&](const long*, std::size_t n) { k_[n] = k[o], eps_[n] = e[o], ++o; });
     inlet_time_ = time_;
-    scalar_ghosts(k_, inlet(0), 0.0, true);
+    scalar_ghosts(k_, inlet(0), log_law_ ? 1.0 : 0.0, true);
     scalar_ghosts(eps_, inlet(1), 1.0, true);
     eddy_viscosity();
   }

@@ -136,14 +136,7 @@ struct WallFunction {
   TurbulenceConstants c;
   double nu = 1e-6;  // molecular kinematic viscosity, m^2/s
   double C_mu_quarter = std::pow(c.C_mu, 0.25);
-  double y_lam = laminar_limit(c.log_kappa, c.log_E);
-  // y*_lam: y* = ln(E y*) / kappa (11.53 for kappa 0.41, E 9.8), by fixed-point
-  // iteration from 11 (it contracts: the slope 1 / (kappa y*) is below 1/4).
-  static double laminar_limit(double kappa, double E) {
-    double y = 11.0;
-    for (int i = 0; i < 60; ++i) y = std::log(E * y) / kappa;
-    return y;
-  }
+  double y_lam = c.log_law_y_lam();  // 11.53 for kappa 0.41, E 9.8 (validated finite)
   double y_star(double y, double k) const { return C_mu_quarter * std::sqrt(k) * y / nu; }
   // The wall face's viscosity nu_w = tau_w y / U: the wall's shear is
   // nu_w U / y whatever U (the k-based law is linear in U).
@@ -159,12 +152,12 @@ struct WallFunction {
       return C_mu_quarter * C_mu_quarter * C_mu_quarter * k * std::sqrt(k) / (c.log_kappa * y);
     return 2.0 * nu * k / (y * y);
   }
-  // The production of k in the cell, tau_w dU/dy: the log law's slope
-  // C_mu^1/4 k^1/2 / (kappa y) above y*_lam, U / y below it.
+  // The production of k in the cell, tau_w dU/dy with the log law's slope
+  // C_mu^1/4 k^1/2 / (kappa y), tau_w the wall's shear of either law (as the
+  // G of OpenFOAM's epsilonLowReWallFunction: (nu_t,w + nu) |dU/dn|_w C_mu^1/4
+  // k^1/2 / (kappa y) in both).
   double production(double y, double k, double U) const {
-    const double tau = nu_wall(y, k) * U / y;
-    const double slope = y_star(y, k) > y_lam ? C_mu_quarter * std::sqrt(k) / (c.log_kappa * y) : U / y;
-    return tau * slope;
+    return nu_wall(y, k) * U / y * (C_mu_quarter * std::sqrt(k) / (c.log_kappa * y));
   }
 };
 

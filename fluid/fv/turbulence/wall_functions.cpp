@@ -34,7 +34,8 @@ void FvSolver::for_wall_cells(F&& f) const {
 }
 
 // The speed of the fluid at cell n's centre relative to wall `f` (its
-// velocity at time t), along the wall (the mean of each tangential
+// velocity at time t, a profile's factor read where u_c's lower face meets
+// the wall, as y_plus reads it), along the wall (the mean of each tangential
 // component's two faces).
 double FvSolver::wall_speed(int f, const long* at, long n, double t) const {
   const Face& w = faces_[static_cast<std::size_t>(f)];
@@ -81,16 +82,25 @@ void FvSolver::wall_function_production(Field& production) const {
 }
 
 // epsilon of the cells next to a wall (the larger over their walls), marked
-// fixed (1) for the epsilon solve; every other cell 0.
+// fixed (1) for the epsilon solve, every other cell 0. On every padded line:
+// a fixed cell in the halo (a neighbour's wall cell, or a periodic image)
+// must be fixed on this side too, so that the rows beside it take it to the
+// right-hand side and the matrix stays symmetric (k there is exchanged).
 void FvSolver::wall_function_epsilon(Field& fixed) {
   const fv::WallFunction wf{turb_.constants, nu_};
   fixed.assign(k_.size(), 0.0);
-  for_wall_cells([&](int f, const long*, long n) {
-    const auto N = static_cast<std::size_t>(n);
-    const double e = wf.epsilon(0.5 * h_[f / 2], k_[N]);
-    eps_[N] = fixed[N] > 0 ? std::max(eps_[N], e) : e;
-    fixed[N] = 1.0;
-  });
+  for (int f = 0; f < 2 * dims_; ++f) {
+    const Face& w = faces_[static_cast<std::size_t>(f)];
+    if (!w.here || !w.wall) continue;
+    const long n = blk_.extent[f / 2];
+    const double y = 0.5 * h_[f / 2];
+    fv::for_lines(blk_, f / 2, [&](auto at, const long*) {
+      const std::size_t c = at(f % 2 == 0 ? 0 : n - 1);
+      const double e = wf.epsilon(y, std::max(k_[c], 0.0));
+      eps_[c] = fixed[c] > 0 ? std::max(eps_[c], e) : e;
+      fixed[c] = 1.0;
+    });
+  }
 }
 
 }  // namespace coflow::fluid

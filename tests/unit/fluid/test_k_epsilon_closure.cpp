@@ -137,10 +137,12 @@ TEST_CASE("wall functions: the log law's shear, production and epsilon; y*_lam",
     CHECK(wf.production(y, k, U) == Approx(eps).epsilon(1e-13));
     CHECK(wf.c.C_mu * k * k / wf.epsilon(y, k) == Approx(wf.c.log_kappa * utau * y).epsilon(1e-13));
   }
-  // In the viscous sublayer: nu_w = nu, so the shear is nu U / y, and epsilon 2 nu k / y^2.
+  // In the viscous sublayer: nu_w = nu, so the shear is nu U / y, k's
+  // production that shear times the log law's slope C_mu^1/4 k^1/2 / (kappa
+  // y) (OpenFOAM's epsilonLowReWallFunction), and epsilon 2 nu k / y^2.
   const double y = 5.0 * wf.nu / utau, U = 5.0 * utau;
   REQUIRE(wf.y_star(y, k) < wf.y_lam);
   CHECK(wf.nu_wall(y, k) == wf.nu);
-  CHECK(wf.production(y, k, U) == Approx(wf.nu * (U / y) * (U / y)).epsilon(1e-14));
+  CHECK(wf.production(y, k, U) == Approx(wf.nu * (U / y) * utau / (wf.c.log_kappa * y)).epsilon(1e-14));
   CHECK(wf.epsilon(y, k) == Approx(2 * wf.nu * k / (y * y)).epsilon(1e-14));
 }

@@ -146,7 +146,7 @@ int ke_decay(const std::string& dir);
 int ke_grid(const std::string& dir);
 int ke_grid_levels(const std::string& dir);
 int ke_channel(const std::string& dir);
-int ke_backward_step(const std::string& dir, double height);
+int ke_backward_step(const std::string& dir);
 // two_phase/checks.cpp
 int laplace(const std::string& dir);
 int contact_angle(const std::string& dir);

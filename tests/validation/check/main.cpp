@@ -65,8 +65,7 @@ int main(int argc, char** argv) {
     if (what == "ke_grid" && argc == 3) return ke_grid(argv[2]);
     if (what == "ke_grid_levels" && argc == 3) return ke_grid_levels(argv[2]);
     if (what == "ke_channel" && argc == 3) return ke_channel(argv[2]);
-    if (what == "ke_backward_step" && argc == 3)
-      return ke_backward_step(argv[2], 1.0);  // H = 1 m (its config)
+    if (what == "ke_backward_step" && argc == 3) return ke_backward_step(argv[2]);
     if (what == "ibm_steady" && argc == 3) return ibm_steady(argv[2]);
     if (what == "ibm_shedding" && argc == 3) return ibm_shedding(argv[2]);
     if (what == "ibm_frames" && argc == 4) return ibm_frames(argv[2], argv[3]);

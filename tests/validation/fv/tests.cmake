@@ -130,20 +130,26 @@ coflow_validation(fv_ke_ranks_1_vs_4 compare fv_ke_all_boundaries_3d.yaml 4
   "fluid.ranks=1" "fluid.ranks=4 fluid.decomposition=[2,2,1]")
 # The wall functions (wall: log-law): the channel at Re_tau 392 with 12
 # cells against the DNS and Dean's skin friction; fv against fv-reference
-# (the channel and every face kind in 3D) and 1 rank against 2 and 4.
+# and 1 rank against 2 and 4: the channel, a duct with a sliding wall and
+# corners (the log law's branch in 3D), every face kind in 3D (its wall cells
+# in the viscous branch, y* below 11.53).
 coflow_validation(fv_ke_log_law_channel ke_channel fv_ke_channel_log_law.yaml 1)
 set(fv_ke_ll_sets "run.end_time=4.0 run.output.every=4.0 fluid.fv.tolerance=1e-13")
 coflow_validation(fv_ke_log_law_vs_reference_channel compare fv_ke_channel_log_law.yaml 1
   "fluid.solver=fv ${fv_ke_ll_sets}" "fluid.solver=fv-reference ${fv_ke_ll_sets}")
 coflow_validation(fv_ke_log_law_ranks_1_vs_2_channel compare fv_ke_channel_log_law.yaml 2
   "fluid.ranks=1 ${fv_ke_ll_sets}" "fluid.ranks=2 fluid.decomposition=[1,2,1] ${fv_ke_ll_sets}")
+coflow_validation(fv_ke_log_law_duct_vs_reference compare fv_ke_duct_log_law.yaml 1
+  "fluid.solver=fv" "fluid.solver=fv-reference")
+coflow_validation(fv_ke_log_law_duct_ranks_1_vs_4 compare fv_ke_duct_log_law.yaml 4
+  "fluid.ranks=1" "fluid.ranks=4 fluid.decomposition=[1,2,2]")
 coflow_validation(fv_ke_log_law_vs_reference compare fv_ke_all_boundaries_3d.yaml 1
   "fluid.solver=fv fluid.turbulence.wall=log-law" "fluid.solver=fv-reference fluid.turbulence.wall=log-law")
 coflow_validation(fv_ke_log_law_ranks_1_vs_4 compare fv_ke_all_boundaries_3d.yaml 4
   "fluid.ranks=1 fluid.turbulence.wall=log-law" "fluid.ranks=4 fluid.decomposition=[2,2,1] fluid.turbulence.wall=log-law")
 # The backward-facing step of Driver & Seegmiller (1985) with wall
 # functions: the reattachment length (the config's grid, to t = 100 H/U:
-# x_r moves by 0.1 % from t = 100 to 150).
+# x_r moves by 0.1 % from t = 100 to 160).
 coflow_validation(fv_ke_backward_step ke_backward_step fv_ke_backward_step.yaml 1
   --set run.end_time=100.0 --set run.output.every=100.0)
 # k and epsilon per inlet face: two inlets bringing different ones (x- its

@@ -23,13 +23,14 @@ struct TurbulenceConstants {
   double log_kappa = 0.41, log_E = 9.8;
   double C_l() const { return kappa * std::pow(C_mu, -0.75); }
   // The log law's y*_lam, where the linear and log laws meet: the root of
-  // y = ln(E y) / kappa above 1 / kappa (11.53 for kappa 0.41, E 9.8), by
-  // fixed-point iteration from 11, which contracts there (the slope 1 /
-  // (kappa y) is below 1). NaN where there is none (E below e kappa) or the
-  // iteration has not settled.
+  // g(y) = ln(E y) / kappa - y above 1 / kappa (11.53 for kappa 0.41, E 9.8).
+  // g is concave and falls beyond 1 / kappa, so Newton's method from y = 1e4
+  // (where g < 0) falls monotonically onto that root. NaN where there is none
+  // (E at most e kappa: g < 0 everywhere) or Newton has not settled.
   double log_law_y_lam() const {
-    double y = 11.0;
-    for (int i = 0; i < 200 && y > 0; ++i) y = std::log(log_E * y) / log_kappa;
+    double y = 1e4;
+    for (int i = 0; i < 100 && y > 1.0 / log_kappa; ++i)
+      y -= (std::log(log_E * y) / log_kappa - y) / (1.0 / (log_kappa * y) - 1.0);
     const bool root = y > 1.0 / log_kappa && std::abs(std::log(log_E * y) / log_kappa - y) <= 1e-12 * y;
     return root ? y : std::nan("");
   }

@@ -160,7 +160,7 @@ double FvReference::wall_speed(int face, const long* x, std::size_t n, double t)
 void FvReference::wall_function_epsilon(std::vector<char>& fixed) {
   const fv::WallFunction wf{turb_.constants, nu_};
   for_wall_cells([&](int f, const long*, std::size_t n) {
-    const double e = wf.epsilon(0.5 * h_[f / 2], k_[n]);
+    const double e = wf.epsilon(0.5 * h_[f / 2], std::max(k_[n], 0.0));
     eps_[n] = fixed[n] ? std::max(eps_[n], e) : e;
     fixed[n] = 1;
   });

@@ -158,7 +158,7 @@ const MkmRow kMkm395[] = {{29.858, 13.479}, {39.744, 14.290}, {50.958, 14.902}, 
 // u_tau = sqrt(f delta / rho) (the force balance). u+ (the mean over x and over
 // the two halves) against MKM's at y+ 30-300, linear between the cell centres
 // (the DNS's points below the first cell centre, as with wall functions, not
-// compared);
+// compared; NaN with fewer than 5 of the 9 points);
 // the skin friction Cf = 2 / U_b+^2 against Dean's (1978) 0.073 Re_b^-1/4,
 // Re_b = U_b 2 delta / nu.
 int ke_channel(const std::string& dir) {
@@ -187,18 +187,23 @@ int ke_channel(const std::string& dir) {
     };
     return ((1 - w) * half(j) + w * half(j + 1)) / utau;
   };
+  if (ny < 4) throw std::runtime_error("ke_channel needs at least 4 cells across the channel");
   double worst = 0.0;
+  int compared = 0;
   const double first = 0.5 * dy * utau / nu;  // y+ of the first cell centre
   for (const auto& r : kMkm395) {
     if (r.y_plus < first) {  // wall functions: the law itself below the first centre, not compared
       std::printf("y+ %7.2f: below the first cell centre (y+ %.2f), not compared\n", r.y_plus, first);
       continue;
     }
+    ++compared;
     const double e = std::abs(u_plus_at(r.y_plus) / r.u_plus - 1.0);
     std::printf("y+ %7.2f: u+ %.4f (DNS %.3f, %+.2f %%)\n", r.y_plus, u_plus_at(r.y_plus), r.u_plus,
                 100 * (u_plus_at(r.y_plus) / r.u_plus - 1.0));
-    worst = e <= worst ? worst : e;  // NaN sticks
+    worst = std::isnan(worst) || e <= worst ? worst : e;  // a NaN sticks
   }
+  if (compared < 5) worst = std::numeric_limits<double>::quiet_NaN();  // too few of the DNS's points to judge
+  std::printf("u_plus_points=%d\n", compared);
   const double ub = bulk / utau, cf = 2.0 / (ub * ub), re_b = bulk * 2 * delta / nu;
   const double dean = 0.073 * std::pow(re_b, -0.25);
   std::printf("re_tau=%.3f\nbulk_u_plus=%.4f\nu_plus_error=%.4e\ncf=%.5e\ncf_dean=%.5e\ncf_error=%.4e\n",

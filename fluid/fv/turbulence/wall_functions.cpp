@@ -19,7 +19,8 @@
 
 namespace coflow::fluid {
 
-// f(face, at, n) for each owned cell next to a wall face of this rank.
+// f(face, at, n) for each owned cell next to a wall face of this rank (the
+// face's owned lines only).
 template <class F>
 void FvSolver::for_wall_cells(F&& f) const {
   for (int face = 0; face < 2 * dims_; ++face) {
@@ -27,8 +28,12 @@ void FvSolver::for_wall_cells(F&& f) const {
     if (!w.here || !w.wall) continue;
     const int a = face / 2;
     const long first = face % 2 == 0 ? 0 : blk_.extent[a] - 1;
-    for_owned([&](const long* at, long n, long) {
-      if (at[a] == first) f(face, at, n);
+    fv::for_lines(blk_, a, [&](auto index, const long* line) {
+      long at[3] = {line[0], line[1], line[2]};
+      for (int b = 0; b < 3; ++b)
+        if (b != a && (at[b] < 0 || at[b] >= blk_.extent[b])) return;  // a halo line
+      at[a] = first;
+      f(face, static_cast<const long*>(at), static_cast<long>(index(first)));
     });
   }
 }

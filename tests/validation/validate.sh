@@ -27,6 +27,9 @@
 #                       incompressible; prints both profile errors and their ratio
 #   address_limit       ARGS: a limit (KiB) on address space; runs CONFIG with
 #                       and without it and compares (lbm's layout fallback)
+#   openfoam_backward_step  ARGS: NX NY ITERATIONS, then --set overrides: the
+#                       step on NX x NY cells against OpenFOAM's simpleFoam
+#                       with the same model (scripts/openfoam_backward_step.sh)
 #   restart_from        ARGS: EVERY, "A overrides", "B overrides": run B straight,
 #                       run A with a checkpoint every EVERY seconds, restart B from
 #                       A's first checkpoint; compares B restarted with B straight
@@ -199,6 +202,24 @@ case "$mode" in
       prev=$e
     done
     echo "restitution_decreasing=$mono" | tee -a "$metrics" || exit 1 ;;
+  openfoam_backward_step)
+    # ARGS: NX NY ITERATIONS [--set ...]: CONFIG (the backward-facing step) on
+    # NX x NY cells, coflow-check ke_backward_step, and the same case through
+    # OpenFOAM's simpleFoam (scripts/openfoam_backward_step.sh, ITERATIONS
+    # SIMPLE iterations): the two reattachment lengths, their relative
+    # difference, and how far simpleFoam's moved over its second half.
+    nx=$1 ny=$2 its=$3; shift 3
+    run "$out/run" --set "domain.cells=[$nx,$ny,1]" "$@"
+    check ke_backward_step "$out/run" | tee -a "$metrics" || exit 1
+    rm -rf "$out/openfoam"
+    "$here/../../scripts/openfoam_backward_step.sh" "$nx" "$ny" "$its" "$out/openfoam" | sed 's/^/openfoam_/' |
+      tee -a "$metrics" || { echo "FAIL: scripts/openfoam_backward_step.sh (its log: $out/openfoam/simpleFoam.log)"; exit 1; }
+    awk -F= 'function off(a, b) { d = a / b - 1; return d < 0 ? -d : d }  # |a / b - 1|
+      { v[$1] = $2 } END {
+      printf "x_r_vs_openfoam=%.4e\nfloor_u_min_vs_openfoam=%.4e\nfloor_k_vs_openfoam=%.4e\nopenfoam_x_r_settled=%.4e\n",
+        off(v["x_r_over_h"], v["openfoam_x_r_over_h"]), off(v["floor_u_min"], v["openfoam_floor_u_min"]),
+        off(v["floor_k_20h"], v["openfoam_floor_k_20h"]), off(v["openfoam_half_x_r_over_h"], v["openfoam_x_r_over_h"]) }' \
+      "$metrics" | tee -a "$metrics" || exit 1 ;;
   *) echo "FAIL: unknown mode $mode"; exit 1 ;;
 esac
 

@@ -152,6 +152,11 @@ coflow_validation(fv_ke_log_law_ranks_1_vs_4 compare fv_ke_all_boundaries_3d.yam
 # x_r moves by 0.1 % from t = 100 to 160).
 coflow_validation(fv_ke_backward_step ke_backward_step fv_ke_backward_step.yaml 1
   --set run.end_time=100.0 --set run.output.every=100.0)
+# The same step on 160 x 72 cells against OpenFOAM's simpleFoam with the
+# same model on the same grid (scripts/openfoam_backward_step.sh, 600 SIMPLE
+# iterations): a second implementation of the standard k-epsilon model and
+# its wall functions.
+coflow_validation(fv_ke_backward_step_openfoam openfoam_backward_step fv_ke_backward_step.yaml 1 160 72 600)
 # k and epsilon per inlet face: two inlets bringing different ones (x- its
 # own, y+ turbulence.inlet's), fv against fv-reference; and a face's own
 # values, equal to the config's turbulence.inlet, with turbulence.inlet

@@ -19,16 +19,22 @@
 // (c) k-epsilon: a 2D channel from an inlet at 256 x 64 and 512 x 128 (--quick:
 //     the first): fv's k-epsilon step against its laminar step (the model's
 //     cost; the two solvers step in turns, a fifth of the timed steps at a
-//     time, so that the host's drift falls on both) and against OpenFOAM's pimpleFoam with kEpsilon (same
-//     grid, step and tolerances; OpenFOAM's walls take wall functions). --channel: (c) alone;
+//     time, so that the host's drift falls on both), with the seed's
+//     two-layer model and with wall functions (wall: log-law, each against
+//     a laminar run of its own), and against OpenFOAM's pimpleFoam with
+//     kEpsilon (same grid, step and tolerances; OpenFOAM's walls take wall
+//     functions, so its like is fv's log-law step). --channel: (c) alone;
 //     --cavity: (a) and (b) alone.
 //
 // Last line: RESULT fv_s_per_step=... icofoam_s_per_step=... ratio=... (512^2)
-// k_epsilon_cost=... k_epsilon_vs_pimplefoam=... (the largest channel).
+// k_epsilon_cost=... k_epsilon_vs_pimplefoam=... k_epsilon_log_law_cost=...
+// k_epsilon_log_law_vs_pimplefoam=... (the largest channel; the first two
+// the two-layer model's).
 #include <fmt/format.h>
 #include <mpi.h>
 #include <unistd.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -102,8 +108,9 @@ Result run_fv(int n, int dims, double dt, long steps, const std::string& multigr
 
 // (c) A 2D channel 8 x 2 (half height 1) from a uniform inlet (U = 1 m/s,
 // nu = 1e-4 m^2/s: Re_b = 20000; k 3.75e-3, epsilon 2.69e-4) to a pressure
-// face, walls at y- and y+; laminar or with k-epsilon (two-layer).
-std::string channel_yaml(int nx, int ny, double dt, bool turbulent) {
+// face, walls at y- and y+; laminar (wall null) or with k-epsilon and that
+// wall treatment (two-layer, log-law).
+std::string channel_yaml(int nx, int ny, double dt, const char* wall) {
   std::string y = fmt::format(R"(
 run: {{name: bench-fv-channel, end_time: 1.0}}
 domain: {{lower: [0, 0, 0], upper: [8, 2, {dz:.9g}], cells: [{nx}, {ny}, 1], periodic: [false, false, false]}}
@@ -118,9 +125,11 @@ fluid:
   fv: {{advection: upwind, time: sbdf2, cfl: 1.0, max_step: {dt:.17g}, tolerance: 1.0e-10}}
 )",
                               fmt::arg("dz", 8.0 / nx), fmt::arg("nx", nx), fmt::arg("ny", ny), fmt::arg("dt", dt));
-  if (turbulent)
-    y += "  turbulence: {model: k-epsilon, wall: two-layer, initial: {k: 3.75e-3, epsilon: 2.69e-4}, "
-         "inlet: {k: 3.75e-3, epsilon: 2.69e-4}}\n";
+  if (wall)
+    y += fmt::format(
+        "  turbulence: {{model: k-epsilon, wall: {}, initial: {{k: 3.75e-3, epsilon: 2.69e-4}}, "
+        "inlet: {{k: 3.75e-3, epsilon: 2.69e-4}}}}\n",
+        wall);
   return y;
 }
 
@@ -319,25 +328,30 @@ std::pair<double, double> run_fv_pair(const std::string& yaml_a, const std::stri
 }
 
 // (c): fv with k-epsilon against fv laminar (the cost of the model, timed in
-// turns) and against pimpleFoam with kEpsilon, same grid, step and tolerances.
-void report_channel(int nx, int ny, long steps, double& ratio_laminar, double& ratio_foam) {
+// turns), with the two-layer model and with wall functions, and against
+// pimpleFoam with kEpsilon, same grid, step and tolerances. ratio_laminar,
+// ratio_foam: the two-layer model's, then the log-law's.
+void report_channel(int nx, int ny, long steps, std::array<double, 2>& ratio_laminar,
+                    std::array<double, 2>& ratio_foam) {
   const double dt = 0.4 * 8.0 / nx;  // Courant about 0.5 at the channel's core
-  const auto [lam, ke] =
-      run_fv_pair(channel_yaml(nx, ny, dt, false), channel_yaml(nx, ny, dt, true), dt, steps);
   std::string note;
   const double foam = run_openfoam(
       "pimpleFoam", fmt::format("ke{}", nx), [&](const auto& dir) { write_pimple_case(dir, nx, ny, dt, steps); },
       steps, note);
-  ratio_laminar = ke / lam;
-  ratio_foam = foam > 0 ? foam / ke : std::nan("");
-  std::printf(
-      "(c) channel %dx%d: fv laminar %.4f s/step, fv k-epsilon %.4f s/step (%.2fx the laminar step, timed in "
-      "turns)",
-      nx, ny, lam, ke, ratio_laminar);
-  if (foam > 0)
-    std::printf("; pimpleFoam kEpsilon %.4f s/step: fv %.2fx faster\n", foam, ratio_foam);
-  else
-    std::printf("; %s\n", note.c_str());
+  std::printf("(c) channel %dx%d:", nx, ny);
+  const char* walls[2] = {"two-layer", "log-law"};
+  for (std::size_t w = 0; w < 2; ++w) {
+    const auto [lam, ke] =
+        run_fv_pair(channel_yaml(nx, ny, dt, nullptr), channel_yaml(nx, ny, dt, walls[w]), dt, steps);
+    ratio_laminar[w] = ke / lam;
+    ratio_foam[w] = foam > 0 ? foam / ke : std::nan("");
+    std::printf(
+        "%s fv laminar %.4f s/step, fv k-epsilon (%s) %.4f s/step (%.2fx the laminar step, timed in turns)",
+        w ? ";" : "", lam, walls[w], ke, ratio_laminar[w]);
+    if (foam > 0) std::printf(", pimpleFoam kEpsilon %.4f s/step: fv %.2fx faster", foam, ratio_foam[w]);
+  }
+  if (foam <= 0) std::printf("; %s", note.c_str());
+  std::printf("\n");
   std::fflush(stdout);
 }
 
@@ -365,14 +379,16 @@ int main(int argc, char** argv) {
     foam512 = foam;
   }
   if (!channel_only) report("(b) 3D", quick ? 64 : 128, 3, std::max(2L, steps / 5), fv, foam);
-  double ke_cost = 0.0, ke_vs_foam = 0.0;
+  std::array<double, 2> ke_cost{}, ke_vs_foam{};
   for (int nx : {256, 512}) {
     if ((quick && nx > 256) || cavity_only) break;
     report_channel(nx, nx / 4, steps, ke_cost, ke_vs_foam);
   }
-  std::printf("RESULT fv_s_per_step=%.4g icofoam_s_per_step=%.4g ratio=%.3f k_epsilon_cost=%.3f "
-              "k_epsilon_vs_pimplefoam=%.3f\n",
-              fv512, foam512, foam512 > 0 ? foam512 / fv512 : std::nan(""), ke_cost, ke_vs_foam);
+  std::printf(
+      "RESULT fv_s_per_step=%.4g icofoam_s_per_step=%.4g ratio=%.3f k_epsilon_cost=%.3f "
+      "k_epsilon_vs_pimplefoam=%.3f k_epsilon_log_law_cost=%.3f k_epsilon_log_law_vs_pimplefoam=%.3f\n",
+      fv512, foam512, foam512 > 0 ? foam512 / fv512 : std::nan(""), ke_cost[0], ke_vs_foam[0], ke_cost[1],
+      ke_vs_foam[1]);
   MPI_Finalize();
   return 0;
 }

@@ -5,13 +5,14 @@
 # functions (nutkWallFunction, kqRWallFunction, epsilonWallFunction), the
 # same box (40 H x 9 H, the step's edge at x = 0), grid, inlet tables
 # (configs/validation/bfs_inlet_*.csv, linear between rows at the face
-# centres, as fv reads them), pressure outlet and van Leer's limiter on every
-# advected field. It is the peer of fv's wall functions: a second
-# implementation of the same model on the same grid. simpleFoam finds the
-# steady state (fv runs in time to it).
+# centres, as fv reads them), pressure outlet and van Leer's limiter (k and
+# epsilon per component; U by vanLeerV, limited along the direction of its
+# steepest change). It is the peer of fv's wall functions: a second
+# implementation of the same model family on the same grid. simpleFoam finds
+# the steady state (fv runs in time to it).
 #
 #   scripts/openfoam_backward_step.sh [NX NY [ITERATIONS [DIR]]]
-#   (default 320 144, 4000 SIMPLE iterations, a temporary directory)
+#   (default 320 144, 4000 SIMPLE iterations (an even number), a temporary directory)
 #
 # Prints, as coflow-check ke_backward_step does, x_r_over_h: where the x
 # velocity of the floor's first cells turns from upstream to downstream for
@@ -23,19 +24,20 @@ nx=${1:-320}
 ny=${2:-144}
 here=$(cd "$(dirname "$0")/.." && pwd)
 iterations=${3:-4000}
+[ $((iterations % 2)) -eq 0 ] && [ "$iterations" -ge 2 ] || { echo "ITERATIONS must be even (it writes after half of them)" >&2; exit 1; }
 dir=${4:-$(mktemp -d /tmp/coflow-openfoam-bfs.XXXXXX)}
 command -v simpleFoam >/dev/null || { echo "simpleFoam not found (Debian package openfoam; scripts/setup installs it)" >&2; exit 1; }
 export WM_PROJECT_DIR=${WM_PROJECT_DIR:-/usr/share/openfoam} FOAM_ETC=${FOAM_ETC:-/usr/share/openfoam/etc} OMP_NUM_THREADS=1
 mkdir -p "$dir/system" "$dir/constant" "$dir/0"
 cd "$dir"
-head() { echo "FoamFile { version 2.0; format ascii; class $1; object $2; }"; }
+foam_header() { echo "FoamFile { version 2.0; format ascii; class $1; object $2; }"; }
 
 # The inlet's values at the ny face centres, y = (j + 1/2) 9 / ny: the
 # tables' rows, linear between them (awk reads the tables; `#` lines and the
 # header skipped).
 inlet_list() {  # $1: table, $2: column (2, 3), $3: vector or scalar
   awk -F, -v ny="$ny" -v col="$2" -v kind="$3" '
-    /^#/ || $1 ~ /[a-z]/ { next }
+    /^#/ || $1 !~ /^[-+0-9.]/ { next }  # comments and the header
     { n++; y[n] = $1 + 0; v[n] = $col + 0 }
     END {
       printf "nonuniform List<%s> %d (\n", kind, ny
@@ -54,7 +56,7 @@ inlet_k=$(inlet_list "$tables/bfs_inlet_turbulence.csv" 2 scalar)
 inlet_eps=$(inlet_list "$tables/bfs_inlet_turbulence.csv" 3 scalar)
 
 cat > system/blockMeshDict <<EOF
-$(head dictionary blockMeshDict)
+$(foam_header dictionary blockMeshDict)
 convertToMeters 1;
 vertices ((0 0 0) (40 0 0) (40 9 0) (0 9 0) (0 0 0.125) (40 0 0.125) (40 9 0.125) (0 9 0.125));
 blocks (hex (0 1 2 3 4 5 6 7) ($nx $ny 1) simpleGrading (1 1 1));
@@ -70,52 +72,52 @@ walls() {  # $1: the walls' boundary condition
   echo "lowerWall { type $1; value \$internalField; } upperWall { type $1; value \$internalField; } frontAndBack { type empty; }"
 }
 cat > 0/U <<EOF
-$(head volVectorField U)
+$(foam_header volVectorField U)
 dimensions [0 1 -1 0 0 0 0]; internalField uniform (1 0 0);
 boundaryField { inlet { type fixedValue; value $inlet_u; }
   outlet { type inletOutlet; inletValue uniform (0 0 0); value \$internalField; }
   lowerWall { type noSlip; } upperWall { type noSlip; } frontAndBack { type empty; } }
 EOF
 cat > 0/p <<EOF
-$(head volScalarField p)
+$(foam_header volScalarField p)
 dimensions [0 2 -2 0 0 0 0]; internalField uniform 0;
 boundaryField { inlet { type zeroGradient; } outlet { type fixedValue; value uniform 0; }
   lowerWall { type zeroGradient; } upperWall { type zeroGradient; } frontAndBack { type empty; } }
 EOF
 cat > 0/k <<EOF
-$(head volScalarField k)
+$(foam_header volScalarField k)
 dimensions [0 2 -2 0 0 0 0]; internalField uniform 1.5e-4;
 boundaryField { inlet { type fixedValue; value $inlet_k; }
   outlet { type inletOutlet; inletValue uniform 1.5e-4; value \$internalField; } $(walls kqRWallFunction) }
 EOF
 cat > 0/epsilon <<EOF
-$(head volScalarField epsilon)
+$(foam_header volScalarField epsilon)
 dimensions [0 2 -3 0 0 0 0]; internalField uniform 2.2e-6;
 boundaryField { inlet { type fixedValue; value $inlet_eps; }
   outlet { type inletOutlet; inletValue uniform 2.2e-6; value \$internalField; } $(walls epsilonWallFunction) }
 EOF
 cat > 0/nut <<EOF
-$(head volScalarField nut)
+$(foam_header volScalarField nut)
 dimensions [0 2 -1 0 0 0 0]; internalField uniform 0;
 boundaryField { inlet { type calculated; value uniform 0; } outlet { type calculated; value uniform 0; }
   $(walls nutkWallFunction) }
 EOF
 cat > constant/transportProperties <<EOF
-$(head dictionary transportProperties)
+$(foam_header dictionary transportProperties)
 transportModel Newtonian; nu 2.7777778e-5;
 EOF
 cat > constant/turbulenceProperties <<EOF
-$(head dictionary turbulenceProperties)
+$(foam_header dictionary turbulenceProperties)
 simulationType RAS; RAS { RASModel kEpsilon; turbulence on; printCoeffs on; }
 EOF
 cat > system/controlDict <<EOF
-$(head dictionary controlDict)
+$(foam_header dictionary controlDict)
 application simpleFoam; startFrom startTime; startTime 0; stopAt endTime; endTime $iterations; deltaT 1;
 writeControl timeStep; writeInterval $((iterations / 2)); purgeWrite 0; writeFormat ascii; writePrecision 12;
 runTimeModifiable false;
 EOF
 cat > system/fvSchemes <<EOF
-$(head dictionary fvSchemes)
+$(foam_header dictionary fvSchemes)
 ddtSchemes { default steadyState; } gradSchemes { default Gauss linear; }
 divSchemes { default none; div(phi,U) bounded Gauss vanLeerV; div(phi,k) bounded Gauss vanLeer;
   div(phi,epsilon) bounded Gauss vanLeer; div((nuEff*dev2(T(grad(U))))) Gauss linear; }
@@ -123,7 +125,7 @@ laplacianSchemes { default Gauss linear corrected; } interpolationSchemes { defa
 snGradSchemes { default corrected; } wallDist { method meshWave; }
 EOF
 cat > system/fvSolution <<EOF
-$(head dictionary fvSolution)
+$(foam_header dictionary fvSolution)
 solvers { p { solver GAMG; smoother GaussSeidel; tolerance 1e-9; relTol 0.05; }
   "(U|k|epsilon)" { solver smoothSolver; smoother symGaussSeidel; tolerance 1e-10; relTol 0.1; } }
 SIMPLE { nNonOrthogonalCorrectors 0; consistent yes; }
@@ -135,16 +137,22 @@ echo "case=$dir"
 echo "iterations=$(grep -c '^Time = ' simpleFoam.log)"
 # The floor's first cells: the first nx cells of U and k (x fastest, then y).
 first_row() {  # $1: a field file; the x component (or value) of its first nx cells
+  [ -f "$1" ] || { echo "$1: not written" >&2; return 1; }
   awk -v nx="$nx" '
+    /^internalField/ && !/nonuniform/ { bad = 1; exit }  # a uniform field: no cells listed
     /^internalField/ { on = 1; next }
     on == 1 && /^\(/ { on = 2; next }
-    on == 2 && i < nx { gsub(/[()]/, ""); print $1; i++ }' "$1"
+    on == 2 && i < nx { gsub(/[()]/, ""); print $1; i++ }
+    END { if (bad || i < nx) { print "'"$1"': fewer than " nx " cells in internalField" > "/dev/stderr"; exit 1 } }' "$1"
 }
 reattachment() {  # $1: a time directory, $2: a prefix for the names printed
-  paste <(first_row "$1/U") <(first_row "$1/k") | awk -v nx="$nx" -v dx="$(awk -v nx="$nx" 'BEGIN { print 40.0 / nx }')" -v pre="$2" '
+  local u k
+  u=$(first_row "$1/U") && k=$(first_row "$1/k") || exit 1
+  paste <(echo "$u") <(echo "$k") | awk -v nx="$nx" -v pre="$2" '
     { u[NR - 1] = $1 + 0; k[NR - 1] = $2 + 0 }
     END {
-      xr = "nan"; umin = 0
+      if (NR != nx) exit 1
+      dx = 40.0 / nx; xr = "nan"; umin = 0
       for (i = 0; i + 1 < nx; i++) {
         if (u[i] < umin) umin = u[i]
         if (u[i] < 0 && u[i + 1] >= 0) xr = sprintf("%.4f", (i + 0.5 + u[i] / (u[i] - u[i + 1])) * dx)

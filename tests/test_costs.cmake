@@ -20,7 +20,7 @@ set(coflow_test_costs
   validation.dpm_granular_gas_bidisperse 46
   validation.fv_ke_channel 46
   validation.fv_ke_backward_step 40
-  validation.fv_ke_backward_step_openfoam 30
+  validation.fv_ke_backward_step_openfoam 28
   validation.two_phase_capillary_bridge 45
   validation.psm_settling_sphere_e3 45
   validation.psm_settling_sphere_e2 42

@@ -245,6 +245,8 @@ int ke_backward_step(const std::string& dir) {
   // k of the floor's first cells at x = 20 H (linear between cell centres;
   // the mean over z): where the wall function sets the wall cells' k.
   const auto k = output::read_dataset(last_snapshot(dir), "k", &dims);
+  if (k.size() != static_cast<std::size_t>(nz * ny * nx))
+    throw std::runtime_error("ke_backward_step: the snapshot's k and velocity differ in shape");
   const double at = 20.0 * height / dx - 0.5;
   const auto i0 = static_cast<long>(std::floor(at));
   double k20 = std::numeric_limits<double>::quiet_NaN();

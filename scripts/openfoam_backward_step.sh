@@ -9,7 +9,9 @@
 # epsilon per component; U by vanLeerV, limited along the direction of its
 # steepest change). It is the peer of fv's wall functions: a second
 # implementation of the same model family on the same grid. simpleFoam finds
-# the steady state (fv runs in time to it).
+# the steady state (fv runs in time to it). The box, viscosity and initial k
+# and epsilon below are the config's, written again here: change both
+# together.
 #
 #   scripts/openfoam_backward_step.sh [NX NY [ITERATIONS [DIR]]]
 #   (default 320 144, 4000 SIMPLE iterations (an even number), a temporary directory)
@@ -84,18 +86,16 @@ dimensions [0 2 -2 0 0 0 0]; internalField uniform 0;
 boundaryField { inlet { type zeroGradient; } outlet { type fixedValue; value uniform 0; }
   lowerWall { type zeroGradient; } upperWall { type zeroGradient; } frontAndBack { type empty; } }
 EOF
-cat > 0/k <<EOF
-$(foam_header volScalarField k)
-dimensions [0 2 -2 0 0 0 0]; internalField uniform 1.5e-4;
-boundaryField { inlet { type fixedValue; value $inlet_k; }
-  outlet { type inletOutlet; inletValue uniform 1.5e-4; value \$internalField; } $(walls kqRWallFunction) }
+turbulence_field() {  # $1: k or epsilon, $2: its dimensions, $3: its initial value, $4: the inlet's list, $5: the walls' condition
+  cat > "0/$1" <<EOF
+$(foam_header volScalarField "$1")
+dimensions $2; internalField uniform $3;
+boundaryField { inlet { type fixedValue; value $4; }
+  outlet { type inletOutlet; inletValue uniform $3; value \$internalField; } $(walls "$5") }
 EOF
-cat > 0/epsilon <<EOF
-$(foam_header volScalarField epsilon)
-dimensions [0 2 -3 0 0 0 0]; internalField uniform 2.2e-6;
-boundaryField { inlet { type fixedValue; value $inlet_eps; }
-  outlet { type inletOutlet; inletValue uniform 2.2e-6; value \$internalField; } $(walls epsilonWallFunction) }
-EOF
+}
+turbulence_field k "[0 2 -2 0 0 0 0]" 1.5e-4 "$inlet_k" kqRWallFunction
+turbulence_field epsilon "[0 2 -3 0 0 0 0]" 2.2e-6 "$inlet_eps" epsilonWallFunction
 cat > 0/nut <<EOF
 $(foam_header volScalarField nut)
 dimensions [0 2 -1 0 0 0 0]; internalField uniform 0;

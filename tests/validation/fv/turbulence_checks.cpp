@@ -231,34 +231,32 @@ int ke_backward_step(const std::string& dir) {
   const auto u = output::read_dataset(last_snapshot(dir), "velocity", &dims);
   const long nz = static_cast<long>(dims[0]), ny = static_cast<long>(dims[1]),
              nx = static_cast<long>(dims[2]);
-  std::vector<double> floor(static_cast<std::size_t>(nx), 0.0);
-  for (long k = 0; k < nz; ++k)
-    for (long i = 0; i < nx; ++i)
-      floor[static_cast<std::size_t>(i)] +=
-          u[static_cast<std::size_t>(((k * ny) * nx + i) * 3)] / static_cast<double>(nz);
+  // The floor's first cells along x (the mean over z) of component 0 of a
+  // field of `comps` values per cell.
+  auto floor_row = [&](const std::vector<double>& f, std::size_t comps) {
+    if (f.size() != static_cast<std::size_t>(nz * ny * nx) * comps)
+      throw std::runtime_error("ke_backward_step: the snapshot's fields differ in shape");
+    std::vector<double> row(static_cast<std::size_t>(nx), 0.0);
+    for (long z = 0; z < nz; ++z)
+      for (long i = 0; i < nx; ++i)
+        row[static_cast<std::size_t>(i)] +=
+            f[static_cast<std::size_t>((z * ny) * nx + i) * comps] / static_cast<double>(nz);
+    return row;
+  };
+  const auto floor = floor_row(u, 3);
   double xr = std::numeric_limits<double>::quiet_NaN(), umin = 0.0;
   for (long i = 0; i + 1 < nx; ++i) {
     const double a = floor[static_cast<std::size_t>(i)], b = floor[static_cast<std::size_t>(i + 1)];
     umin = std::min(umin, a);
     if (a < 0.0 && b >= 0.0) xr = (static_cast<double>(i) + 0.5 + a / (a - b)) * dx;  // the last crossing
   }
-  // k of the floor's first cells at x = 20 H (linear between cell centres;
-  // the mean over z): where the wall function sets the wall cells' k.
-  const auto k = output::read_dataset(last_snapshot(dir), "k", &dims);
-  if (k.size() != static_cast<std::size_t>(nz * ny * nx))
-    throw std::runtime_error("ke_backward_step: the snapshot's k and velocity differ in shape");
-  const double at = 20.0 * height / dx - 0.5;
-  const auto i0 = static_cast<long>(std::floor(at));
-  double k20 = std::numeric_limits<double>::quiet_NaN();
-  if (i0 >= 0 && i0 + 1 < nx) {
-    k20 = 0.0;
-    for (long z = 0; z < nz; ++z) {
-      const double* row = k.data() + (z * ny) * nx;
-      k20 +=
-          ((1.0 - (at - static_cast<double>(i0))) * row[i0] + (at - static_cast<double>(i0)) * row[i0 + 1]) /
-          static_cast<double>(nz);
-    }
-  }
+  // k of the floor's first cells at x = 20 H (linear between cell centres):
+  // where the wall function sets the wall cells' k.
+  const auto floor_k = floor_row(output::read_dataset(last_snapshot(dir), "k"), 1);
+  const double at = 20.0 * height / dx - 0.5, w = at - std::floor(at);
+  const auto i0 = static_cast<std::size_t>(std::max(0.0, std::floor(at)));
+  const double k20 = i0 + 1 < floor_k.size() ? (1.0 - w) * floor_k[i0] + w * floor_k[i0 + 1]
+                                             : std::numeric_limits<double>::quiet_NaN();
   const double ref = 6.26;
   std::printf("floor_u_min=%.4f\nx_r_over_h=%.4f\nx_r_reference=%.2f\nx_r_error=%.4e\nfloor_k_20h=%.6e\n",
               umin, xr / height, ref, std::abs(xr / height / ref - 1.0), k20);

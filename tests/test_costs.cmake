@@ -26,7 +26,7 @@ set(coflow_test_costs
   validation.psm_settling_sphere_e2 42
   validation.psm_settling_sphere_e1 42
   validation.fv_cavity_re1000 40
-  validation.ibm_sphere_re100 34
+  validation.ibm_sphere_re100 43
   validation.dpm_grid_turbulence_fv 32
   unit.amr_cavity 30
   validation.lbm_duct_3d_pressure 28

@@ -18,12 +18,13 @@
 #include <vector>
 
 #include "fluid/fluid_solver.hpp"
+#include "fluid/fv/lines.hpp"
 #include "fluid/fv/params.hpp"
 #include "fluid/fv/poisson_multigrid.hpp"
 #include "fluid/fv/scheme.hpp"
 #include "fluid/fv/struct_system.hpp"
-#include "fluid/turbulence_params.hpp"
 #include "fluid/grid/ghost_exchange.hpp"
+#include "fluid/turbulence_params.hpp"
 #include "immersed/ibm/direct_forcing.hpp"
 
 namespace coflow::fluid {
@@ -204,9 +205,25 @@ class FvSolver final : public FluidSolver {
   void fill_scalar_ghosts(Field& q, const FaceLines& inlet, double wall_sign, bool extrapolate);
   void update_eddy_viscosity();
   void check_positive(double t, const char* hint) const;
-  // wall: log-law (turbulence/wall_functions.cpp).
+  // f(face, at, n) for each owned cell next to a wall face of this rank (the
+  // face's owned lines only): y+ and the wall functions.
   template <class F>
-  void for_wall_cells(F&& f) const;
+  void for_wall_cells(F&& f) const {
+    for (int face = 0; face < 2 * dims_; ++face) {
+      const Face& w = faces_[static_cast<std::size_t>(face)];
+      if (!w.here || !w.wall) continue;
+      const int a = face / 2;
+      const long first = face % 2 == 0 ? 0 : blk_.extent[a] - 1;
+      fv::for_lines(blk_, a, [&](auto index, const long* line) {
+        long at[3] = {line[0], line[1], line[2]};
+        for (int b = 0; b < 3; ++b)
+          if (b != a && (at[b] < 0 || at[b] >= blk_.extent[b])) return;  // a halo line
+        at[a] = first;
+        f(face, static_cast<const long*>(at), static_cast<long>(index(first)));
+      });
+    }
+  }
+  // wall: log-law (turbulence/wall_functions.cpp).
   double wall_speed(int f, const long* at, long n, double t) const;
   void wall_function_ghosts();
   void wall_function_production(Field& production) const;

@@ -84,35 +84,32 @@ std::vector<double> FvSolver::y_plus() const {
   std::vector<double> out(static_cast<std::size_t>(blk_.owned_cells()), 0.0);
   if (!turbulent_) return out;
   const fv::WallFunction wf{turb_.constants, nu_};
-  for (int f = 0; f < 2 * dims_; ++f) {
+  for_wall_cells([&](int f, const long* at, long n) {
+    const int a = f / 2;
+    const long in = f % 2 == 0 ? stride(a) : -stride(a);
+    const long o = at[0] + blk_.extent[0] * (at[1] + blk_.extent[1] * at[2]);
+    const double y = 0.5 * h_[a];
+    if (log_law_) {
+      const double utau =
+          std::sqrt(wf.nu_wall(y, k_[static_cast<std::size_t>(n)]) * wall_speed(f, at, n, time_) / y);
+      out[static_cast<std::size_t>(o)] = y * utau / nu_;
+      return;
+    }
     const Face& face = faces_[static_cast<std::size_t>(f)];
-    if (!face.wall || !face.here) continue;
-    const int a = f / 2, side = f % 2;
-    const long in = side == 0 ? stride(a) : -stride(a);
-    for_owned([&](const long* at, long n, long o) {
-      if (at[a] != (side == 0 ? 0 : blk_.extent[a] - 1)) return;
-      const double y = 0.5 * h_[a];
-      if (log_law_) {
-        const double utau =
-            std::sqrt(wf.nu_wall(y, k_[static_cast<std::size_t>(n)]) * wall_speed(f, at, n, time_) / y);
-        out[static_cast<std::size_t>(o)] = y * utau / nu_;
-        return;
-      }
-      double shear2 = 0.0;
-      for (int c = 0; c < dims_; ++c) {
-        if (c == a) continue;
-        const Field& q = u_[static_cast<std::size_t>(c)];
-        const long sc = stride(c);
-        const double u0 = 0.5 * (q[n] + q[n + sc]), u1 = 0.5 * (q[n + in] + q[n + in + sc]);
-        const double U =
-            face.velocity_at(time_)[c] * profile(f, c, at, time_);  // the wall's own velocity there
-        const double slope = (9 * (u0 - U) - (u1 - U)) / (3 * h_[a]);
-        shear2 += slope * slope;
-      }
-      const double utau = std::sqrt(nu_ * std::sqrt(shear2));
-      out[static_cast<std::size_t>(o)] = 0.5 * h_[a] * utau / nu_;
-    });
-  }
+    double shear2 = 0.0;
+    for (int c = 0; c < dims_; ++c) {
+      if (c == a) continue;
+      const Field& q = u_[static_cast<std::size_t>(c)];
+      const long sc = stride(c);
+      const double u0 = 0.5 * (q[n] + q[n + sc]), u1 = 0.5 * (q[n + in] + q[n + in + sc]);
+      const double U =
+          face.velocity_at(time_)[c] * profile(f, c, at, time_);  // the wall's own velocity there
+      const double slope = (9 * (u0 - U) - (u1 - U)) / (3 * h_[a]);
+      shear2 += slope * slope;
+    }
+    const double utau = std::sqrt(nu_ * std::sqrt(shear2));
+    out[static_cast<std::size_t>(o)] = 0.5 * h_[a] * utau / nu_;
+  });
   return out;
 }
 

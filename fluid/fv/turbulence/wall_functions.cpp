@@ -19,25 +19,6 @@
 
 namespace coflow::fluid {
 
-// f(face, at, n) for each owned cell next to a wall face of this rank (the
-// face's owned lines only).
-template <class F>
-void FvSolver::for_wall_cells(F&& f) const {
-  for (int face = 0; face < 2 * dims_; ++face) {
-    const Face& w = faces_[static_cast<std::size_t>(face)];
-    if (!w.here || !w.wall) continue;
-    const int a = face / 2;
-    const long first = face % 2 == 0 ? 0 : blk_.extent[a] - 1;
-    fv::for_lines(blk_, a, [&](auto index, const long* line) {
-      long at[3] = {line[0], line[1], line[2]};
-      for (int b = 0; b < 3; ++b)
-        if (b != a && (at[b] < 0 || at[b] >= blk_.extent[b])) return;  // a halo line
-      at[a] = first;
-      f(face, static_cast<const long*>(at), static_cast<long>(index(first)));
-    });
-  }
-}
-
 // The speed of the fluid at cell n's centre relative to wall `f` (its
 // velocity at time t, a profile's factor read where u_c's lower face meets
 // the wall, as y_plus reads it), along the wall (the mean of each tangential

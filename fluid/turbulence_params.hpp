@@ -57,14 +57,22 @@ struct TurbulenceConstants {
 };
 
 struct TurbulenceParams {
-  // nu_t = C_mu k^2 / epsilon (eq. 3.17) of a k and epsilon just read must be
-  // a finite number: a huge k or a tiny epsilon overflows it.
+  // nu_t = C_mu k^2 / epsilon (eq. 3.17) and the rate epsilon / k of the
+  // destruction terms (eqs. 3.13-3.14) of a k and epsilon just read must be
+  // finite numbers: a huge k or a tiny epsilon overflows the first, a tiny k
+  // beside a large epsilon the second (the first step would then stop on a
+  // value that is not finite).
   void finite_eddy_viscosity(config::Visitor& s, double k, double epsilon) const {
-    if (!s.reading() || std::isfinite(constants.C_mu * k * k / epsilon)) return;
-    s.fail("epsilon",
-           fmt::format("nu_t = C_mu k^2 / epsilon = {} * {:g}^2 / {:g} is not a finite number; give "
-                       "k and epsilon of a real flow (nu_t = C_mu k^2 / epsilon, m^2/s)",
-                       constants.C_mu, k, epsilon));
+    if (!s.reading()) return;
+    if (!std::isfinite(constants.C_mu * k * k / epsilon))
+      s.fail("epsilon",
+             fmt::format("nu_t = C_mu k^2 / epsilon = {} * {:g}^2 / {:g} is not a finite number; give "
+                         "k and epsilon of a real flow (nu_t = C_mu k^2 / epsilon, m^2/s)",
+                         constants.C_mu, k, epsilon));
+    if (!std::isfinite(epsilon / k))
+      s.fail("epsilon", fmt::format("the rate epsilon / k = {:g} / {:g} is not a finite number; give k and "
+                                    "epsilon of a real flow (epsilon / k is 1 / the eddies' time scale, 1/s)",
+                                    epsilon, k));
   }
 
   bool on = false;  // the section is given

@@ -38,7 +38,10 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 iterations=${3:-4000}
 model=${MODEL:-kEpsilon} grade=${GRADE:-1}
 case $model in kEpsilon | LaunderSharmaKE | kOmegaSST) ;; *) echo "MODEL must be kEpsilon, LaunderSharmaKE or kOmegaSST" >&2; exit 1 ;; esac
-awk -v g="$grade" -v ny="$ny" 'BEGIN { exit !(g >= 1 && (g == 1 || ny % 2 == 0)) }' || { echo "GRADE must be at least 1 (and NY even when it is not 1)" >&2; exit 1; }
+[[ $grade =~ ^[0-9]+([.][0-9]*)?([eE][-+]?[0-9]+)?$ ]] || { echo "GRADE must be a number (given $grade)" >&2; exit 1; }
+graded=$(awk -v g="$grade" 'BEGIN { print (g == 1 ? 0 : 1) }')
+awk -v g="$grade" -v ny="$ny" 'BEGIN { exit !(g >= 1 && (g == 1 || (ny % 2 == 0 && ny >= 4))) }' ||
+  { echo "GRADE must be at least 1 (and NY even and at least 4 when it is not 1)" >&2; exit 1; }
 [ $((iterations % 2)) -eq 0 ] && [ "$iterations" -ge 2 ] || { echo "ITERATIONS must be even (it writes after half of them)" >&2; exit 1; }
 dir=${4:-$(mktemp -d /tmp/coflow-openfoam-bfs.XXXXXX)}
 command -v simpleFoam >/dev/null || { echo "simpleFoam not found (Debian package openfoam; scripts/setup installs it)" >&2; exit 1; }
@@ -77,7 +80,7 @@ inlet_k=$(inlet_list "$tables/bfs_inlet_turbulence.csv" 2 scalar)
 inlet_eps=$(inlet_list "$tables/bfs_inlet_turbulence.csv" 3 scalar)
 
 y_grading=1
-[ "$grade" = 1 ] || y_grading="((0.5 0.5 $grade) (0.5 0.5 $(awk -v g="$grade" 'BEGIN { printf "%.12g", 1 / g }')))"
+[ "$graded" = 0 ] || y_grading="((0.5 0.5 $grade) (0.5 0.5 $(awk -v g="$grade" 'BEGIN { printf "%.12g", 1 / g }')))"
 cat > system/blockMeshDict <<EOF
 $(foam_header dictionary blockMeshDict)
 convertToMeters 1;

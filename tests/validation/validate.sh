@@ -212,10 +212,10 @@ case "$mode" in
     # ITERATIONS SIMPLE iterations): the two reattachment lengths at the end,
     # their relative difference, and how far each code's moved. Skipped (77)
     # where OpenFOAM is not installed.
-    command -v simpleFoam >/dev/null || { echo "SKIP: simpleFoam not found (Debian package openfoam; scripts/setup installs it)"; exit 77; }
     nx=$1 ny=$2 its=$3 t1=$4 t2=$5; shift 5
-    awk -v a="$t1" -v b="$t2" 'BEGIN { exit !(a > 0 && b > a) }' ||
-      { echo "FAIL: openfoam_backward_step needs 0 < T1 < T2 (given $t1, $t2)"; exit 1; }
+    awk -v a="$t1" -v b="$t2" 'BEGIN { exit !(a + 0 == a && b + 0 == b && a > 0 && b > a) }' ||
+      { echo "FAIL: openfoam_backward_step needs numbers 0 < T1 < T2 (given $t1, $t2)"; exit 1; }
+    command -v simpleFoam >/dev/null || { echo "SKIP: simpleFoam not found (Debian package openfoam; scripts/setup installs it)"; exit 77; }
     run "$out/early" --set "domain.cells=[$nx,$ny,1]" --set run.end_time="$t1" --set run.output.every="$t1" "$@"
     check ke_backward_step "$out/early" | sed 's/^/early_/' | tee -a "$metrics" || exit 1
     run "$out/run" --set "domain.cells=[$nx,$ny,1]" --set run.end_time="$t2" --set run.output.every="$t2" "$@"

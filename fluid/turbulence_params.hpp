@@ -63,7 +63,7 @@ struct TurbulenceParams {
   // beside a large epsilon the second (the first step would then stop on a
   // value that is not finite).
   void finite_eddy_viscosity(config::Visitor& s, double k, double epsilon) const {
-    if (!s.reading()) return;
+    if (!s.reading() || !(k > 0 && epsilon > 0)) return;  // a value that is not positive has its own message
     if (!std::isfinite(constants.C_mu * k * k / epsilon))
       s.fail("epsilon",
              fmt::format("nu_t = C_mu k^2 / epsilon = {} * {:g}^2 / {:g} is not a finite number; give "

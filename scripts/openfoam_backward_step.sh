@@ -39,8 +39,10 @@ iterations=${3:-4000}
 model=${MODEL:-kEpsilon} grade=${GRADE:-1}
 case $model in kEpsilon | LaunderSharmaKE | kOmegaSST) ;; *) echo "MODEL must be kEpsilon, LaunderSharmaKE or kOmegaSST" >&2; exit 1 ;; esac
 [[ $grade =~ ^[0-9]+([.][0-9]*)?([eE][-+]?[0-9]+)?$ ]] || { echo "GRADE must be a number (given $grade)" >&2; exit 1; }
-graded=$(awk -v g="$grade" 'BEGIN { print (g == 1 ? 0 : 1) }')
-awk -v g="$grade" -v ny="$ny" 'BEGIN { exit !(g >= 1 && (g == 1 || (ny % 2 == 0 && ny >= 4))) }' ||
+# blockMesh's grading along y: 1, or each half towards its wall.
+y_grading=$(awk -v g="$grade" -v ny="$ny" 'BEGIN {
+  if (!(g >= 1 && (g == 1 || (ny % 2 == 0 && ny >= 4)))) exit 1
+  if (g == 1) print 1; else printf "((0.5 0.5 %s) (0.5 0.5 %.12g))\n", g, 1 / g }') ||
   { echo "GRADE must be at least 1 (and NY even and at least 4 when it is not 1)" >&2; exit 1; }
 [ $((iterations % 2)) -eq 0 ] && [ "$iterations" -ge 2 ] || { echo "ITERATIONS must be even (it writes after half of them)" >&2; exit 1; }
 dir=${4:-$(mktemp -d /tmp/coflow-openfoam-bfs.XXXXXX)}
@@ -79,8 +81,6 @@ inlet_u=$(inlet_list "$tables/bfs_inlet_velocity.csv" 2 vector)
 inlet_k=$(inlet_list "$tables/bfs_inlet_turbulence.csv" 2 scalar)
 inlet_eps=$(inlet_list "$tables/bfs_inlet_turbulence.csv" 3 scalar)
 
-y_grading=1
-[ "$graded" = 0 ] || y_grading="((0.5 0.5 $grade) (0.5 0.5 $(awk -v g="$grade" 'BEGIN { printf "%.12g", 1 / g }')))"
 cat > system/blockMeshDict <<EOF
 $(foam_header dictionary blockMeshDict)
 convertToMeters 1;

@@ -14,7 +14,7 @@ set(coflow_test_costs
   unit.mpi 28
   unit.mpi_4_ranks 16
   validation.psm_settling_sphere_e4 55
-  validation.ibm_cylinder_re100 51
+  validation.ibm_cylinder_re100 45
   validation.two_phase_grain_interface_120 50
   validation.two_phase_grain_interface_60 50
   validation.dpm_granular_gas_bidisperse 46

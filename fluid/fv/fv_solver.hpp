@@ -15,6 +15,7 @@
 
 #include <array>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "fluid/fluid_solver.hpp"
@@ -204,7 +205,9 @@ class FvSolver final : public FluidSolver {
                              const long* at, long n0, long o0, long len);
   void fill_scalar_ghosts(Field& q, const FaceLines& inlet, double wall_sign, bool extrapolate);
   void update_eddy_viscosity();
-  void check_positive(double t, const char* hint) const;
+  // `stepped`: the values came from a step (a loss of positivity is then a
+  // bug), else from the input or a checkpoint (`hint` names it).
+  void check_positive(double t, const std::string& hint, bool stepped) const;
   // f(face, at, n) for each owned cell next to a wall face of this rank (the
   // face's owned lines only): y+ and the wall functions.
   template <class F>

@@ -238,6 +238,9 @@ void FvSolver::load(const std::string& dir, long, double) {
     fill_scalar_ghosts(k_, inlet_k_, log_law_ ? 1.0 : 0.0, true);
     fill_scalar_ghosts(eps_, inlet_eps_, 1.0, true);
     update_eddy_viscosity();
+    check_positive(time_,
+                   fmt::format("{} holds them: the checkpoint is damaged; restart from another one", tpath),
+                   false);
   }
 }
 

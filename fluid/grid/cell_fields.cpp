@@ -1,8 +1,9 @@
 #include "fluid/grid/cell_fields.hpp"
 
-#include <stdexcept>
-
 #include <fmt/format.h>
+
+#include <cmath>
+#include <stdexcept>
 
 namespace coflow::fluid::grid {
 
@@ -10,6 +11,28 @@ void save_cell_fields(MPI_Comm comm, const std::string& path, double time, long 
                       const coupler::Box& owned, const std::vector<output::GridField>& fields) {
   output::write_grid(comm, path, time, step, cells, owned, owned, fields);
 }
+
+namespace {
+
+// Names the first owned value of `name` that is not finite (out: the owned
+// block, x fastest, `components` per cell).
+[[noreturn]] void refuse_not_finite(const std::string& path, const std::string& name,
+                                    const coupler::Box& owned, int components,
+                                    const std::vector<double>& out) {
+  std::size_t n = 0;
+  while (n < out.size() && std::isfinite(out[n])) ++n;
+  const auto C = static_cast<std::size_t>(components), cell = n / C;
+  const auto nx = static_cast<std::size_t>(owned.extent(0)), ny = static_cast<std::size_t>(owned.extent(1));
+  const long i = owned.lo[0] + static_cast<long>(cell % nx),
+             j = owned.lo[1] + static_cast<long>(cell / nx % ny),
+             k = owned.lo[2] + static_cast<long>(cell / (nx * ny));
+  throw std::runtime_error(fmt::format(
+      "{}: '{}' holds a value that is not finite ({}) at cell ({}, {}, {}){}: the checkpoint is damaged; "
+      "restart from another one (run.checkpoint.keep sets how many a run keeps)",
+      path, name, n < out.size() ? out[n] : 0.0, i, j, k, C > 1 ? fmt::format(", component {}", n % C) : ""));
+}
+
+}  // namespace
 
 std::vector<double> load_cell_field(const std::string& path, const std::string& name, const coupler::Index3& cells,
                                     const coupler::Box& owned, int components) {
@@ -26,10 +49,16 @@ std::vector<double> load_cell_field(const std::string& path, const std::string& 
   const long C = components;
   std::vector<double> out;
   out.reserve(static_cast<std::size_t>(owned.volume() * C));
+  double sum = 0.0;  // 0 x value: 0, or NaN where a value is not finite
   for (long k = owned.lo[2]; k < owned.hi[2]; ++k)
     for (long j = owned.lo[1]; j < owned.hi[1]; ++j)
       for (long i = owned.lo[0]; i < owned.hi[0]; ++i)
-        for (long q = 0; q < C; ++q) out.push_back(all[static_cast<std::size_t>(((k * cells[1] + j) * cells[0] + i) * C + q)]);
+        for (long q = 0; q < C; ++q) {
+          const double v = all[static_cast<std::size_t>(((k * cells[1] + j) * cells[0] + i) * C + q)];
+          out.push_back(v);
+          sum += 0.0 * v;
+        }
+  if (sum != 0.0) refuse_not_finite(path, name, owned, components, out);
   return out;
 }
 

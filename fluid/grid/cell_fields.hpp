@@ -21,7 +21,9 @@ void save_cell_fields(MPI_Comm comm, const std::string& path, double time, long 
 
 // The owned block (x fastest, `components` per cell) of field `name` of a file
 // written by save_cell_fields with any rank count. Throws, naming the file,
-// when its grid or its components differ from `cells` and `components`.
+// when its grid or its components differ from `cells` and `components`, and
+// naming the cell, when one of the owned values is not finite (a damaged
+// checkpoint: a run would stop later with a message that blames its step).
 std::vector<double> load_cell_field(const std::string& path, const std::string& name, const coupler::Index3& cells,
                                     const coupler::Box& owned, int components);
 

@@ -1,5 +1,7 @@
 #include "fluid/fv/amr/composite_flow.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -536,6 +538,13 @@ void CompositeFlow::load(const std::string& dir) {
   const auto cells = static_cast<std::size_t>(grid_->global_cells());
   if (mac.size() != cells * width || phi.size() != cells * 3)
     throw std::runtime_error("refinement: " + dir + "/flow.h5 does not match its forest");
+  for (const auto* v : {&mac, &phi})
+    for (double x : *v)
+      if (!std::isfinite(x))
+        throw std::runtime_error(
+            fmt::format("refinement: {}/flow.h5 holds a value that is not finite in '{}': the "
+                        "checkpoint is damaged; restart from another one",
+                        dir, v == &mac ? "mac" : "phi"));
   const auto first = static_cast<std::size_t>(grid_->first_cell());
   for (auto& p : phi_) p.assign(faces_.size(), 0.0);
   for (std::size_t c = 0; c < faces_.size(); ++c) {

@@ -73,8 +73,8 @@ void FvSolver::init_turbulence() {
   fill_scalar_ghosts(k_, inlet_k_, log_law_ ? 1.0 : 0.0, true);
   fill_scalar_ghosts(eps_, inlet_eps_, 1.0, true);
   update_eddy_viscosity();
-  check_positive(time_,
-                 "fluid.turbulence.initial gives them; nu_t = C_mu k^2 / epsilon must be a finite number");
+  check_positive(
+      time_, "fluid.turbulence.initial gives them; nu_t = C_mu k^2 / epsilon must be a finite number", false);
 }
 
 // Immersed bodies are walls too (seed 003 §3.1.2 takes y to the nearest
@@ -469,17 +469,18 @@ void FvSolver::turbulence_step(double dt) {
                cl.two_layer || log_law_ ? &fixed : nullptr, dt);
   fill_scalar_ghosts(eps_, inlet_eps_, 1.0, true);
   update_eddy_viscosity();
-  check_positive(next_time_, "lower fluid.fv.cfl or fluid.fv.max_step");
+  check_positive(next_time_, "lower fluid.fv.cfl or fluid.fv.max_step", true);
   turbulence_seconds_ += MPI_Wtime() - start;
 }
 
 // Stops the run where k or epsilon is not positive, or where k, epsilon or
-// nu_t is not finite at time t (`hint`: what to change): the smallest values by rows
+// nu_t is not finite at time t (`hint`: what to change; `stepped`: after a
+// step, where a loss of positivity is a bug): the smallest values by rows
 // into locals, a NaN or an infinity found by a sum of 0 x q (the comparisons
 // would pass over a NaN). nu_t = C_mu k^2 / epsilon overflows for a huge k
 // or a tiny epsilon where both are finite; the momentum solves would then
 // take an infinite viscosity.
-void FvSolver::check_positive(double t, const char* hint) const {
+void FvSolver::check_positive(double t, const std::string& hint, bool stepped) const {
   double low[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), 0.0};
   const double* __restrict K = k_.data(), * __restrict E = eps_.data(), * __restrict N = nut_.data();
   for_owned_rows([&](const long*, long n0, long, long len) {
@@ -496,11 +497,15 @@ void FvSolver::check_positive(double t, const char* hint) const {
   if (low[2] < 0)
     throw std::runtime_error(
         fmt::format("fv: k, epsilon or nu_t is not finite at t = {:.6g} s; {}", t, hint));
-  if (!(low[0] > 0 && low[1] > 0))
+  if (!(low[0] > 0 && low[1] > 0) && stepped)
     throw std::runtime_error(
         fmt::format("fv: k-epsilon lost positivity at t = {:.6g} s (min k {:.3g}, min epsilon "
                     "{:.3g}); this is a bug: please report it with the configuration",
                     t, low[0], low[1]));
+  if (!(low[0] > 0 && low[1] > 0))
+    throw std::runtime_error(fmt::format(
+        "fv: k and epsilon must be positive at t = {:.6g} s (min k {:.3g}, min epsilon {:.3g}); {}", t,
+        low[0], low[1], hint));
 }
 
 }  // namespace coflow::fluid

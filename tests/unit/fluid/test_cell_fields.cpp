@@ -1,11 +1,13 @@
 // fluid/grid cell fields: a checkpoint written from blocks is read back into
 // any other blocks (restart on another rank count), and a file of another
-// grid or another number of components is refused, naming the file.
+// grid or another number of components is refused, naming the file; a value
+// that is not finite (a damaged checkpoint), naming the cell.
 #include <mpi.h>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -48,5 +50,33 @@ TEST_CASE("cell fields: saved whole, loaded by any block; another grid is refuse
                     Catch::Contains(path) && Catch::Contains("another grid"));
   CHECK_THROWS_WITH(fluid::grid::load_cell_field(path, "populations", cells, whole, 19),
                     Catch::Contains("19 per cell"));
+  std::filesystem::remove(path);
+}
+
+TEST_CASE("cell fields: a value that is not finite is refused, naming the cell", "[fluid][grid]") {
+  const Index3 cells{5, 4, 3};
+  const Box whole{{0, 0, 0}, {5, 4, 3}};
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("coflow-cell-fields-nan-" + std::to_string(::getpid()) + ".h5"))
+                               .string();
+  std::vector<double> populations = block_values(whole, 2), k = block_values(whole, 1);
+  populations[2 * ((2 * 4 + 1) * 5 + 3) + 1] =
+      std::numeric_limits<double>::quiet_NaN();                       // cell (3, 1, 2), q = 1
+  k[(1 * 4 + 3) * 5 + 4] = -std::numeric_limits<double>::infinity();  // cell (4, 3, 1)
+  fluid::grid::save_cell_fields(MPI_COMM_SELF, path, 1.5, 7, cells, whole,
+                                {{"populations", 2, populations}, {"k", 1, k}});
+  CHECK_THROWS_WITH(fluid::grid::load_cell_field(path, "populations", cells, whole, 2),
+                    Catch::Contains(path) &&
+                        Catch::Contains("'populations' holds a value that is not finite (nan)") &&
+                        Catch::Contains("at cell (3, 1, 2), component 1: the checkpoint is damaged"));
+  CHECK_THROWS_WITH(fluid::grid::load_cell_field(path, "populations", cells, Box{{2, 1, 1}, {5, 4, 3}}, 2),
+                    Catch::Contains("at cell (3, 1, 2), component 1"));
+  CHECK_THROWS_WITH(
+      fluid::grid::load_cell_field(path, "k", cells, whole, 1),
+      Catch::Contains("'k' holds a value that is not finite (-inf) at cell (4, 3, 1): the checkpoint"));
+  // A block without the damaged cells reads its own as they are.
+  const Box clean{{0, 0, 0}, {3, 4, 3}};
+  CHECK(fluid::grid::load_cell_field(path, "populations", cells, clean, 2) == block_values(clean, 2));
+  CHECK(fluid::grid::load_cell_field(path, "k", cells, clean, 1) == block_values(clean, 1));
   std::filesystem::remove(path);
 }

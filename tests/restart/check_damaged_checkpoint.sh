@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# check_damaged_checkpoint.sh BIN_DIR CONFIGS_DIR OUT
+# A restart from a damaged checkpoint (a value that is not finite, a k or an
+# epsilon that is not positive, a k so large that nu_t overflows) must stop
+# before the first step with a message that names the checkpoint's file, a
+# non-zero exit status and summary.json's status "failed" with the same
+# reason: not run on, and not blame the step ("lower fluid.fv.cfl") or call
+# it a bug. The checkpoints are damaged with Debian's h5py.
+set -u
+bin=$1 cfgs=$2 out=$3
+rm -rf "$out"; mkdir -p "$out"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+fail() { echo "FAIL: $*"; exit 1; }
+# checkpointed NAME CONFIG [--set ...]: a short run that keeps its checkpoints.
+checkpointed() {
+  local name=$1 cfg=$2; shift 2
+  "$bin/coflow" run "$cfgs/$cfg" --set run.output.dir="$out/$name" "$@" >"$out/$name.log" 2>&1 ||
+    { tail -n 20 "$out/$name.log"; fail "$name: the run that writes the checkpoints failed"; }
+}
+first() { ls -d "$out/$1"/checkpoints/window_* | head -n 1; }
+# damage FROM TO FILE DATASET INDEX VALUE: a copy of checkpoint FROM as TO,
+# with the value at flat INDEX of FILE's DATASET replaced.
+damage() {
+  local from=$1 to=$2 file=$3 dataset=$4 index=$5 value=$6
+  rm -rf "$to"; cp -r "$from" "$to"
+  /usr/bin/python3 - "$to/fluid/$file" "$dataset" "$index" "$value" <<'PY' || fail "cannot damage $to/fluid/$file"
+import sys, h5py
+path, name, index, value = sys.argv[1], sys.argv[2], int(sys.argv[3]), float(sys.argv[4])
+with h5py.File(path, "r+") as f:
+    a = f[name][...]
+    a.flat[index] = value
+    f[name][...] = a
+PY
+}
+# restart NAME CONFIG CHECKPOINT MESSAGE [--set ...]
+restart() {
+  local name=$1 cfg=$2 ckpt=$3 msg=$4 dir="$out/$1"; shift 4
+  timeout 60 "$bin/coflow" run "$cfgs/$cfg" --set run.output.dir="$dir" --restart "$ckpt" "$@" >"$dir.log" 2>&1
+  local rc=$?
+  [ $rc -ne 124 ] || fail "$name: hung (killed after 60 s)"
+  [ $rc -ne 0 ] || fail "$name: exit status 0"
+  grep -qF "$msg" "$dir.log" || { tail -n 20 "$dir.log"; fail "$name: no message '$msg' in $dir.log"; }
+  grep -q '"status": "failed"' "$dir/summary.json" || fail "$name: summary.json status is not failed"
+  grep -qF "$msg" "$dir/summary.json" || fail "$name: summary.json reason lacks '$msg'"
+  ! grep -qE "lower fluid.fv.cfl|this is a bug" "$dir.log" || fail "$name: the message blames the step"
+  echo "ok: $name: $msg"
+}
+
+# fv with k-epsilon (4 x 4 cells), and fv-reference on the same case.
+ke=(--set run.end_time=1.0 --set run.checkpoint.every=0.5)
+for solver in fv fv-reference; do
+  checkpointed "$solver" fv_ke_decay.yaml "${ke[@]}" --set fluid.solver=$solver
+done
+ck=$(first fv) ckr=$(first fv-reference)
+damage "$ck" "$out/nan_velocity" fv.h5 velocity_faces 7 nan
+restart fv_nan_velocity fv_ke_decay.yaml "$out/nan_velocity" \
+  "$out/nan_velocity/fluid/fv.h5: 'velocity_faces' holds a value that is not finite (nan) at cell (2, 0, 0), component 1: the checkpoint is damaged" \
+  "${ke[@]}"
+damage "$ck" "$out/negative_k" fv_turbulence.h5 k 5 -1.0
+restart fv_negative_k fv_ke_decay.yaml "$out/negative_k" \
+  "fv: k and epsilon must be positive at t = 0.5 s (min k -1, min epsilon" "${ke[@]}"
+grep -qF "$out/negative_k/fluid/fv_turbulence.h5 holds them: the checkpoint is damaged" "$out/fv_negative_k.log" ||
+  fail "fv_negative_k: the message does not name the checkpoint's file"
+damage "$ck" "$out/huge_k" fv_turbulence.h5 k 5 1e200
+restart fv_huge_k fv_ke_decay.yaml "$out/huge_k" \
+  "fv: k, epsilon or nu_t is not finite at t = 0.5 s; $out/huge_k/fluid/fv_turbulence.h5 holds them: the checkpoint is damaged" \
+  "${ke[@]}"
+damage "$ckr" "$out/negative_epsilon" fv_turbulence.h5 epsilon 3 0.0
+restart fv_reference_negative_epsilon fv_ke_decay.yaml "$out/negative_epsilon" \
+  "fv-reference: $out/negative_epsilon/fluid/fv_turbulence.h5 holds a k or an epsilon that is not positive: the checkpoint is damaged" \
+  "${ke[@]}" --set fluid.solver=fv-reference
+
+# lbm (the plane Couette flow, 4 x 32 cells).
+checkpointed lbm lbm_couette.yaml --set run.end_time=100 --set run.checkpoint.every=50
+damage "$(first lbm)" "$out/inf_population" lbm.h5 populations 40 inf
+restart lbm_inf_population lbm_couette.yaml "$out/inf_population" \
+  "$out/inf_population/fluid/lbm.h5: 'populations' holds a value that is not finite (inf) at cell (0, 1, 0), component 4: the checkpoint is damaged" \
+  --set run.end_time=100
+
+# fv on the adaptive grid (the vortex on 3 levels): the flow's face velocities.
+checkpointed amr fv_amr_vortex.yaml --set run.end_time=0.04 --set run.checkpoint.every=0.02
+damage "$(first amr)" "$out/nan_mac" flow.h5 mac 10 nan
+restart amr_nan_mac fv_amr_vortex.yaml "$out/nan_mac" \
+  "refinement: $out/nan_mac/fluid/flow.h5 holds a value that is not finite in 'mac': the checkpoint is damaged" \
+  --set run.end_time=0.04
+echo "ok"

@@ -1,7 +1,9 @@
 #include "fluid/fv/amr/forest.hpp"
 
+#include <fmt/format.h>
 #include <p4est_base.h>
 
+#include <cmath>
 #include <mutex>
 #include <stdexcept>
 
@@ -33,6 +35,21 @@ Forest::Forest(MPI_Comm comm, const ForestSpec& spec, const std::string& path) :
   engine_ =
       spec.dims == 2 ? make_forest_engine_2d(comm, spec, path) : make_forest_engine_3d(comm, spec, path);
   engine_->collect(*this);
+  if (!path.empty()) refuse_not_finite(path);
+}
+
+// A loaded forest's cell values, all finite on every rank, or every rank
+// throws (a damaged checkpoint; a run would stop later, blaming its step).
+void Forest::refuse_not_finite(const std::string& path) const {
+  int bad = 0;
+  for (std::size_t l = 0; l < leaves_.size(); ++l)
+    for (double v : data(l)) bad |= std::isfinite(v) ? 0 : 1;
+  MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_INT, MPI_MAX, comm_);
+  if (bad)
+    throw std::runtime_error(
+        fmt::format("refinement: {} holds a cell value that is not finite: the checkpoint is "
+                    "damaged; restart from another one",
+                    path));
 }
 
 Forest::~Forest() = default;

@@ -61,7 +61,8 @@ class Forest {
   Forest(MPI_Comm comm, const ForestSpec& spec);
   // A forest saved by save(), on any rank count (its leaves and values; the
   // spec must be the one it was built with: its refine function is not
-  // called). Collective.
+  // called). Collective; every rank throws, naming the file, when a value
+  // is not finite (a damaged checkpoint).
   Forest(MPI_Comm comm, const ForestSpec& spec, const std::string& path);
   // Writes the leaves and their values to one file (p4est's format). Collective.
   void save(const std::string& path) { engine_->save(path); }
@@ -117,6 +118,7 @@ class Forest {
 
  private:
   friend struct EngineAccess;
+  void refuse_not_finite(const std::string& path) const;
   ForestSpec spec_;
   MPI_Comm comm_;
   std::unique_ptr<Engine> engine_;

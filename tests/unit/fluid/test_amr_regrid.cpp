@@ -2,15 +2,20 @@
 // followed by refinement where the field varies and coarsening where it is
 // flat; the field's integral is kept to round-off through every regrid
 // (conservative transfer), the leaves stay balanced over the ranks, the
-// ghost leaves carry their owners' values, and 1 rank equals N ranks bit for
-// bit. `unit.mpi` runs these on 2 ranks, `unit.mpi_4_ranks` the one comparing
-// 1 rank with N on 4.
+// ghost leaves carry their owners' values, 1 rank equals N ranks bit for
+// bit, and a saved forest whose values are damaged is refused on loading.
+// `unit.mpi` runs these on 2 ranks, `unit.mpi_4_ranks` the one comparing 1
+// rank with N on 4.
 #include <mpi.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <filesystem>
+#include <limits>
 #include <map>
+#include <string>
 #include <vector>
 
 #include "amr_testing.hpp"
@@ -192,4 +197,29 @@ TEST_CASE("amr regrid: geometric criteria (box, walls, points) refine where they
   MPI_Allreduce(MPI_IN_PLACE, &fine, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
   // x in [0.25, 0.375), [0.375, 0.5), [0.5, 0.625) (not [0.625, 0.75)); y in [0, 0.125), [0.125, 0.25).
   CHECK(fine == 6);
+}
+
+// A saved forest loads with its values; one whose values hold a NaN (a
+// damaged checkpoint) is refused on every rank, naming the file.
+TEST_CASE("amr regrid: a loaded forest with a value that is not finite is refused", "[amr][mpi]") {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  long id = rank == 0 ? static_cast<long>(::getpid()) : 0;
+  MPI_Bcast(&id, 1, MPI_LONG, 0, MPI_COMM_WORLD);
+  for (int dims : {2, 3}) {
+    const std::string path = (std::filesystem::temp_directory_path() /
+                              ("coflow-forest-" + std::to_string(id) + "-" + std::to_string(dims) + ".p4est"))
+                                 .string();
+    Forest forest(MPI_COMM_WORLD, moving_bump_spec(dims));
+    fill(forest, {0.4, 0.45, 0.5});
+    forest.save(path);
+    CHECK_NOTHROW(Forest(MPI_COMM_WORLD, moving_bump_spec(dims), path));
+    if (rank == 0 && !forest.leaves().empty()) forest.data(0)[3] = std::numeric_limits<double>::quiet_NaN();
+    forest.save(path);
+    CHECK_THROWS_WITH(Forest(MPI_COMM_WORLD, moving_bump_spec(dims), path),
+                      Catch::Contains(path) && Catch::Contains("holds a cell value that is not finite") &&
+                          Catch::Contains("the checkpoint is damaged"));
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (rank == 0) std::filesystem::remove(path);
+  }
 }

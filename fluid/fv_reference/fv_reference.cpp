@@ -614,9 +614,8 @@ void FvReference::load(const std::string& dir, long, double) {
     each_cell([&](const long*, std::size_t n) {
       if (!(k_[n] > 0 && eps_[n] > 0))
         throw std::runtime_error(
-            fmt::format("fv-reference: {}/fv_turbulence.h5 holds a k or an epsilon that is not positive: the "
-                        "checkpoint is "
-                        "damaged; restart from another one",
+            fmt::format("fv-reference: {}/fv_turbulence.h5 holds a k or an epsilon that is not positive: "
+                        "the checkpoint is damaged; restart from another one",
                         dir));
     });
     inlet_time_ = time_;

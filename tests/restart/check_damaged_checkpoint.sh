@@ -56,6 +56,10 @@ damage "$ck" "$out/nan_velocity" fv.h5 velocity_faces 7 nan
 restart fv_nan_velocity fv_ke_decay.yaml "$out/nan_velocity" \
   "$out/nan_velocity/fluid/fv.h5: 'velocity_faces' holds a value that is not finite (nan) at cell (2, 0, 0), component 1: the checkpoint is damaged" \
   "${ke[@]}"
+# On 2 ranks: one rank finds the value, the other is brought down with it.
+restart fv_nan_velocity_2_ranks fv_ke_decay.yaml "$out/nan_velocity" \
+  "fv.h5: 'velocity_faces' holds a value that is not finite (nan) at cell (2, 0, 0), component 1" \
+  "${ke[@]}" --set fluid.ranks=2
 damage "$ck" "$out/negative_k" fv_turbulence.h5 k 5 -1.0
 restart fv_negative_k fv_ke_decay.yaml "$out/negative_k" \
   "fv: k and epsilon must be positive at t = 0.5 s (min k -1, min epsilon" "${ke[@]}"

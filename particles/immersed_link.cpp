@@ -1,12 +1,13 @@
 #include "particles/immersed_link.hpp"
 
+#include <fmt/format.h>
+
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <unordered_map>
-
-#include <fmt/format.h>
 
 #include "coflow/gather.hpp"
 #include "coflow/protocol.hpp"
@@ -148,6 +149,12 @@ void ImmersedLink::load(const std::string& dir) {
     while (std::getline(in, cell, ',')) rows.push_back(std::stod(cell));
   }
   if (rows.size() % 7 != 0) throw std::runtime_error(dir + "/hydrodynamic.csv: malformed");
+  for (std::size_t k = 0; k < rows.size(); ++k)  // every rank reads all rows: all throw alike
+    if (!std::isfinite(rows[k]))
+      throw std::runtime_error(
+          fmt::format("{}/hydrodynamic.csv: the load on particle {} is not finite: the "
+                      "checkpoint is damaged; restart from another one",
+                      dir, rows[k - k % 7]));
   // Every rank read all rows: keep those of its own particles.
   const ParticleArrays& p = solver_.particles();
   std::unordered_map<std::int64_t, std::size_t> slot;

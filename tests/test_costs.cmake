@@ -59,7 +59,7 @@ set(coflow_test_costs
   validation.dem_damping_curve 14
   validation.ibm_cylinder_amr 14
   restart.dem_2_ranks 14
-  restart.damaged_checkpoints 14
+  restart.damaged_checkpoints 27
   restart.ibm_translating 13
   validation.fv_amr_vortex 13
   validation.two_phase_grain_interface_90 13

@@ -611,17 +611,18 @@ void FvReference::load(const std::string& dir, long, double) {
     const auto e = grid::load_cell_field(dir + "/fv_turbulence.h5", "epsilon", cells, box_, 1);
     o = 0;
     each_cell([&](const long*, std::size_t n) { k_[n] = k[o], eps_[n] = e[o], ++o; });
-    each_cell([&](const long*, std::size_t n) {
-      if (!(k_[n] > 0 && eps_[n] > 0))
-        throw std::runtime_error(
-            fmt::format("fv-reference: {}/fv_turbulence.h5 holds a k or an epsilon that is not positive: "
-                        "the checkpoint is damaged; restart from another one",
-                        dir));
-    });
     inlet_time_ = time_;
     scalar_ghosts(k_, inlet(0), log_law_ ? 1.0 : 0.0, true);
     scalar_ghosts(eps_, inlet(1), 1.0, true);
     eddy_viscosity();
+    each_cell([&](const long*, std::size_t n) {
+      if (!(k_[n] > 0 && eps_[n] > 0 && std::isfinite(nut_[n])))
+        throw std::runtime_error(
+            fmt::format("fv-reference: {}/fv_turbulence.h5 holds a k or an epsilon that is not positive, or "
+                        "a nu_t that is "
+                        "not finite: the checkpoint is damaged; restart from another one",
+                        dir));
+    });
   }
 }
 

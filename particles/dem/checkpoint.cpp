@@ -1,7 +1,11 @@
 #include "particles/dem/checkpoint.hpp"
 
+#include <fmt/format.h>
+
+#include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <tuple>
 
 #include "coflow/output.hpp"
 
@@ -26,6 +30,23 @@ void save_state(MPI_Comm comm, const std::string& dir, double time, long steps, 
                        {{"partner", 1, partner}, {"shear", 3, shear}});
 }
 
+namespace {
+
+// A damaged checkpoint (a value that is not finite; a radius or a mass that is
+// not positive) is refused, naming the file and the particle (`per` values
+// each). Every rank reads the whole file, so every rank throws alike.
+void refuse_damaged(const std::string& file, const std::vector<double>& id, const char* name,
+                    const std::vector<double>& v, std::size_t per, bool positive) {
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (!std::isfinite(v[i]) || (positive && !(v[i] > 0.0)))
+      throw std::runtime_error(fmt::format(
+          "{}: particle {} has a {} that is {} ({}): the checkpoint is damaged; restart from another one",
+          file, i / per < id.size() ? static_cast<long long>(id[i / per]) : -1LL, name,
+          std::isfinite(v[i]) ? "not positive" : "not finite", v[i]));
+}
+
+}  // namespace
+
 void load_state(const std::string& dir, const ParticleParams& params, ParticleArrays& p,
                 std::vector<SavedContact>& contacts) {
   const std::string pf = dir + "/particles.h5", cf = dir + "/contacts.h5";
@@ -40,6 +61,12 @@ void load_state(const std::string& dir, const ParticleParams& params, ParticleAr
   // Stored, not recomputed: a restart must continue bit for bit.
   p.mass = output::read_dataset(pf, "mass");
   p.inertia = output::read_dataset(pf, "inertia");
+  for (const auto& [name, v, per, positive] :
+       {std::tuple{"position", &p.x, 3, false}, std::tuple{"velocity", &p.v, 3, false},
+        std::tuple{"angular velocity", &p.w, 3, false}, std::tuple{"radius", &p.radius, 1, true},
+        std::tuple{"force", &p.force, 3, false}, std::tuple{"mass", &p.mass, 1, true},
+        std::tuple{"moment of inertia", &p.inertia, 1, false}})
+    refuse_damaged(pf, id, name, *v, static_cast<std::size_t>(per), positive);
   for (std::size_t i = 0; i < id.size(); ++i) {
     p.id.push_back(static_cast<std::int64_t>(id[i]));
     const auto s = static_cast<std::size_t>(sp[i]);
@@ -50,6 +77,7 @@ void load_state(const std::string& dir, const ParticleParams& params, ParticleAr
   const auto bonded = output::read_dataset(cf, "species");
   const auto partner = output::read_dataset(cf, "partner");
   const auto shear = output::read_dataset(cf, "shear");
+  refuse_damaged(cf, a, "contact history (tangential spring)", shear, 3, false);
   contacts.clear();
   for (std::size_t k = 0; k < a.size(); ++k)
     contacts.push_back({static_cast<std::int64_t>(a[k]), static_cast<std::int64_t>(partner[k]),

@@ -9,11 +9,15 @@ rm -rf "$out"; mkdir -p "$out"
 fail() { echo "FAIL: $*"; tail -n 20 "$out/run.log"; exit 1; }
 "$bin/coflow" run "$cfg" --set run.output.dir="$out/run" --set run.checkpoint.every=0.05 >"$out/run.log" 2>&1 &
 pid=$!
+# A finished checkpoint: window_NNNNNN, not the window_NNNNNN.partial it is
+# renamed from (a listing made during the rename may see neither name, so
+# the loop looks again rather than checking once after a .partial was seen).
+written=0
 for i in $(seq 1 600); do
-  ls -d "$out"/run/checkpoints/window_* >/dev/null 2>&1 && break
+  ls -d "$out"/run/checkpoints/window_*[0-9] >/dev/null 2>&1 && { written=1; break; }
   sleep 0.1
 done
-ls -d "$out"/run/checkpoints/window_* >/dev/null 2>&1 || { kill "$pid"; fail "no checkpoint written"; }
+[ $written -eq 1 ] || { kill "$pid"; fail "no checkpoint written"; }
 sleep 0.5
 kill -INT "$pid"
 wait "$pid"; rc=$?

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # check_damaged_checkpoint.sh BIN_DIR CONFIGS_DIR OUT
 # A restart from a damaged checkpoint (a value that is not finite, a k or an
-# epsilon that is not positive, a k so large that nu_t overflows) must stop
+# epsilon that is not positive, a k so large that nu_t overflows, a particle's
+# radius that is not positive) must stop
 # before the first step with a message that names the checkpoint's file, a
 # non-zero exit status and summary.json's status "failed" with the same
 # reason: not run on, and not blame the step ("lower fluid.fv.cfl") or call
@@ -19,11 +20,13 @@ checkpointed() {
 }
 first() { ls -d "$out/$1"/checkpoints/window_* | head -n 1; }
 # damage FROM TO FILE DATASET INDEX VALUE: a copy of checkpoint FROM as TO,
-# with the value at flat INDEX of FILE's DATASET replaced.
+# with the value at flat INDEX of FILE's DATASET replaced (FILE in the
+# fluid's part, or a path under the checkpoint such as particles/particles.h5).
 damage() {
   local from=$1 to=$2 file=$3 dataset=$4 index=$5 value=$6
+  case $file in */*) ;; *) file=fluid/$file ;; esac
   rm -rf "$to"; cp -r "$from" "$to"
-  /usr/bin/python3 - "$to/fluid/$file" "$dataset" "$index" "$value" <<'PY' || fail "cannot damage $to/fluid/$file"
+  /usr/bin/python3 - "$to/$file" "$dataset" "$index" "$value" <<'PY' || fail "cannot damage $to/$file"
 import sys, h5py
 path, name, index, value = sys.argv[1], sys.argv[2], int(sys.argv[3]), float(sys.argv[4])
 with h5py.File(path, "r+") as f:
@@ -71,7 +74,12 @@ restart fv_huge_k fv_ke_decay.yaml "$out/huge_k" \
   "${ke[@]}"
 damage "$ckr" "$out/negative_epsilon" fv_turbulence.h5 epsilon 3 0.0
 restart fv_reference_negative_epsilon fv_ke_decay.yaml "$out/negative_epsilon" \
-  "fv-reference: $out/negative_epsilon/fluid/fv_turbulence.h5 holds a k or an epsilon that is not positive: the checkpoint is damaged" \
+  "fv-reference: $out/negative_epsilon/fluid/fv_turbulence.h5 holds a k or an epsilon that is not positive, or a nu_t that is not finite: the checkpoint is damaged" \
+  "${ke[@]}" --set fluid.solver=fv-reference
+
+damage "$ckr" "$out/huge_k_reference" fv_turbulence.h5 k 5 1e200
+restart fv_reference_huge_k fv_ke_decay.yaml "$out/huge_k_reference" \
+  "fv-reference: $out/huge_k_reference/fluid/fv_turbulence.h5 holds a k or an epsilon that is not positive, or a nu_t that is not finite: the checkpoint is damaged" \
   "${ke[@]}" --set fluid.solver=fv-reference
 
 # lbm (the plane Couette flow, 4 x 32 cells).
@@ -81,10 +89,64 @@ restart lbm_inf_population lbm_couette.yaml "$out/inf_population" \
   "$out/inf_population/fluid/lbm.h5: 'populations' holds a value that is not finite (inf) at cell (0, 1, 0), component 4: the checkpoint is damaged" \
   --set run.end_time=100
 
+# The particles (DEM, 5000 grains in a box): every rank reads the whole file.
+dem=(--set run.end_time=2.0e-4 --set run.checkpoint.every=1.0e-4 --set run.output.every=2.0e-4)
+checkpointed dem dem_ranks.yaml "${dem[@]}"
+damage "$(first dem)" "$out/nan_position" particles/particles.h5 position 11 nan
+restart dem_nan_position dem_ranks.yaml "$out/nan_position" \
+  "$out/nan_position/particles/particles.h5: particle" "${dem[@]}" --set particles.ranks=2
+grep -qF "has a position that is not finite (nan): the checkpoint is damaged" "$out/dem_nan_position.log" ||
+  fail "dem_nan_position: the message does not name the position"
+damage "$(first dem)" "$out/negative_radius" particles/particles.h5 radius 4 -1.0
+restart dem_negative_radius dem_ranks.yaml "$out/negative_radius" \
+  "has a radius that is not positive (-1): the checkpoint is damaged" "${dem[@]}"
+damage "$(first dem)" "$out/inf_shear" particles/contacts.h5 shear 0 inf
+restart dem_inf_shear dem_ranks.yaml "$out/inf_shear" \
+  "contacts.h5: particle" "${dem[@]}"
+grep -qF "has a contact history (tangential spring) that is not finite (inf)" "$out/dem_inf_shear.log" ||
+  fail "dem_inf_shear: the message does not name the contact history"
+
+# A parallel-explicit psm run: the load in flight that the particles keep
+# (particles/hydrodynamic.csv), one of its values replaced by nan.
+psm=(--set coupling.scheme=parallel-explicit --set run.end_time=0.1 --set run.checkpoint.every=0.05)
+checkpointed psm psm_momentum.yaml "${psm[@]}"
+rm -rf "$out/nan_load"; cp -r "$(first psm)" "$out/nan_load"
+sed -i '2s/,[^,]*$/,nan/' "$out/nan_load/particles/hydrodynamic.csv"
+restart psm_nan_load psm_momentum.yaml "$out/nan_load" \
+  "$out/nan_load/particles/hydrodynamic.csv: the load on particle" "${psm[@]}"
+grep -qF "is not finite: the checkpoint is damaged" "$out/psm_nan_load.log" || fail "psm_nan_load: no 'not finite'"
+
 # fv on the adaptive grid (the vortex on 3 levels): the flow's face velocities.
 checkpointed amr fv_amr_vortex.yaml --set run.end_time=0.04 --set run.checkpoint.every=0.02
 damage "$(first amr)" "$out/nan_mac" flow.h5 mac 10 nan
 restart amr_nan_mac fv_amr_vortex.yaml "$out/nan_mac" \
   "refinement: $out/nan_mac/fluid/flow.h5 holds a value that is not finite in 'mac': the checkpoint is damaged" \
   --set run.end_time=0.04
+
+# fv on the adaptive grid with k-epsilon (homogeneous decay on 2 levels): the
+# forest's k. The p4est file holds the cells' values as raw doubles; the bits
+# of one k are taken from the snapshot written with the checkpoint (t = 0.1)
+# and every copy of them replaced.
+amrke=(--set run.end_time=0.2 --set run.checkpoint.every=0.1 --set run.output.every=0.1)
+checkpointed amr_ke fv_amr_ke_decay.yaml "${amrke[@]}"
+for value in -1.0 1e200; do
+  to="$out/amr_k_$value"
+  rm -rf "$to"; cp -r "$(first amr_ke)" "$to"
+  /usr/bin/python3 - "$out/amr_ke/fluid/step_000001_levels.h5" "$to/fluid/forest.p4est" "$value" <<'PY' ||
+import struct, sys, h5py
+k = float(h5py.File(sys.argv[1], "r")["level0_k"][0, 0])
+old, new = struct.pack("<d", k), struct.pack("<d", float(sys.argv[3]))
+data = open(sys.argv[2], "rb").read()
+if data.count(old) == 0:
+    sys.exit("the k of the snapshot is not in the forest's file")
+open(sys.argv[2], "wb").write(data.replace(old, new))
+PY
+    fail "cannot damage $to/fluid/forest.p4est"
+done
+restart amr_negative_k fv_amr_ke_decay.yaml "$out/amr_k_-1.0" \
+  "fv (refinement): k and epsilon must be positive and C_mu k^2 / epsilon finite in $out/amr_k_-1.0/fluid/forest.p4est (min k -1," \
+  "${amrke[@]}"
+restart amr_huge_k fv_amr_ke_decay.yaml "$out/amr_k_1e200" \
+  "fv (refinement): k and epsilon must be positive and C_mu k^2 / epsilon finite in $out/amr_k_1e200/fluid/forest.p4est" \
+  "${amrke[@]}"
 echo "ok"

@@ -422,6 +422,7 @@ void AmrFvSolver::load(const std::string& dir, long, double) {
   make_flow();
   if (markers_) install_forcing();
   flow_->load(dir);
+  if (turbulence_) turbulence_->check_loaded(dir + "/forest.p4est");
 }
 
 // The flow is forced from the first markers on (its implicit step then

@@ -193,6 +193,22 @@ void CompositeTurbulence::check_positive() const {
                     low[0], low[1]));
 }
 
+void CompositeTurbulence::check_loaded(const std::string& file) const {
+  double low[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), 0.0};
+  for (std::size_t c = 0; c < y_.size(); ++c) {
+    const double k = at(c, 0), eps = at(c, 1);
+    low[0] = std::min(low[0], k);
+    low[1] = std::min(low[1], eps);
+    if (!std::isfinite(params_.constants.C_mu * k * k / eps)) low[2] = -1.0;
+  }
+  MPI_Allreduce(MPI_IN_PLACE, low, 3, MPI_DOUBLE, MPI_MIN, forest_.comm());
+  if (!(low[0] > 0 && low[1] > 0 && low[2] == 0.0))
+    throw std::runtime_error(fmt::format(
+        "fv (refinement): k and epsilon must be positive and C_mu k^2 / epsilon finite in {} (min k {:.3g}, "
+        "min epsilon {:.3g}): the checkpoint is damaged; restart from another one",
+        file, low[0], low[1]));
+}
+
 // Advection alone, in explicit sub-steps of sum |flux| dt <= 1, the face
 // values limited upwind (fv::face_value, van Leer) from the four values
 // along the face's axis, the same bits from either side. Each sub-step's

@@ -73,8 +73,10 @@ void FvSolver::init_turbulence() {
   fill_scalar_ghosts(k_, inlet_k_, log_law_ ? 1.0 : 0.0, true);
   fill_scalar_ghosts(eps_, inlet_eps_, 1.0, true);
   update_eddy_viscosity();
-  check_positive(
-      time_, "fluid.turbulence.initial gives them; nu_t = C_mu k^2 / epsilon must be a finite number", false);
+  check_positive(time_,
+                 "fluid.turbulence.initial gives them (k and epsilon positive, nu_t = C_mu k^2 / epsilon a "
+                 "finite number)",
+                 false);
 }
 
 // Immersed bodies are walls too (seed 003 §3.1.2 takes y to the nearest

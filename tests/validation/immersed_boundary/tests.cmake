@@ -73,7 +73,7 @@ coflow_validation(ibm_two_phase_lbm_vs_reference compare ibm_two_phase_lbm.yaml 
 # (coflow/wait.hpp backs off to sleeping; the forcing runs in the fluid):
 # these runs take one core, and ctest may run another test beside them.
 set_tests_properties(validation.ibm_cylinder_re20 validation.ibm_cylinder_re20_lbm validation.ibm_cylinder_frames
-  validation.ibm_cylinder_re100 validation.ibm_sphere_re100 validation.ibm_ke_fv_vs_reference
+  validation.ibm_ke_fv_vs_reference
   validation.ibm_cylinder_mdf_slip validation.ibm_fv_vs_reference_fixed validation.ibm_fv_vs_reference_moving
   validation.ibm_two_phase_lbm validation.ibm_lbm_vs_reference_fixed validation.ibm_lbm_vs_reference_moving
   validation.ibm_two_phase_lbm_vs_reference PROPERTIES PROCESSORS 1)

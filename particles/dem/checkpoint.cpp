@@ -45,6 +45,17 @@ void refuse_damaged(const std::string& file, const std::vector<double>& id, cons
           std::isfinite(v[i]) ? "not positive" : "not finite", v[i]));
 }
 
+// Identifiers read as doubles (ids, species indices, partners): whole
+// numbers, at least `least` and below 2^62 in size, before they are cast to
+// integers (a cast of a NaN or of one out of range is undefined).
+void refuse_not_whole(const std::string& file, const char* name, const std::vector<double>& v, double least) {
+  for (double x : v)
+    if (!(std::isfinite(x) && x == std::floor(x) && x >= least && std::abs(x) < 0x1p62))
+      throw std::runtime_error(fmt::format(
+          "{}: the {} {} is not a valid whole number: the checkpoint is damaged; restart from another one",
+          file, name, x));
+}
+
 }  // namespace
 
 void load_state(const std::string& dir, const ParticleParams& params, ParticleArrays& p,
@@ -67,6 +78,8 @@ void load_state(const std::string& dir, const ParticleParams& params, ParticleAr
         std::tuple{"force", &p.force, 3, false}, std::tuple{"mass", &p.mass, 1, true},
         std::tuple{"moment of inertia", &p.inertia, 1, false}})
     refuse_damaged(pf, id, name, *v, static_cast<std::size_t>(per), positive);
+  refuse_not_whole(pf, "particle id", id, -0x1p62);
+  refuse_not_whole(pf, "species index", sp, 0.0);
   for (std::size_t i = 0; i < id.size(); ++i) {
     p.id.push_back(static_cast<std::int64_t>(id[i]));
     const auto s = static_cast<std::size_t>(sp[i]);
@@ -78,6 +91,8 @@ void load_state(const std::string& dir, const ParticleParams& params, ParticleAr
   const auto partner = output::read_dataset(cf, "partner");
   const auto shear = output::read_dataset(cf, "shear");
   refuse_damaged(cf, a, "contact history (tangential spring)", shear, 3, false);
+  refuse_not_whole(cf, "particle id", a, -0x1p62);
+  refuse_not_whole(cf, "partner (a particle id, or -1 - a wall's index)", partner, -0x1p62);
   contacts.clear();
   for (std::size_t k = 0; k < a.size(); ++k)
     contacts.push_back({static_cast<std::int64_t>(a[k]), static_cast<std::int64_t>(partner[k]),

@@ -105,6 +105,12 @@ restart dem_inf_shear dem_ranks.yaml "$out/inf_shear" \
   "contacts.h5: particle" "${dem[@]}"
 grep -qF "has a contact history (tangential spring) that is not finite (inf)" "$out/dem_inf_shear.log" ||
   fail "dem_inf_shear: the message does not name the contact history"
+damage "$(first dem)" "$out/negative_species" particles/particles.h5 species 2 -1
+restart dem_negative_species dem_ranks.yaml "$out/negative_species" \
+  "particles.h5: the species index -1 is not a valid whole number: the checkpoint is damaged" "${dem[@]}"
+damage "$(first dem)" "$out/nan_partner" particles/contacts.h5 partner 0 nan
+restart dem_nan_partner dem_ranks.yaml "$out/nan_partner" \
+  "contacts.h5: the partner (a particle id, or -1 - a wall's index) nan is not a valid whole number" "${dem[@]}"
 
 # A parallel-explicit psm run: the load in flight that the particles keep
 # (particles/hydrodynamic.csv), one of its values replaced by nan.
@@ -129,24 +135,24 @@ restart amr_nan_mac fv_amr_vortex.yaml "$out/nan_mac" \
 # and every copy of them replaced.
 amrke=(--set run.end_time=0.2 --set run.checkpoint.every=0.1 --set run.output.every=0.1)
 checkpointed amr_ke fv_amr_ke_decay.yaml "${amrke[@]}"
-for value in -1.0 1e200; do
-  to="$out/amr_k_$value"
+for case in k:-1.0 k:1e200 nu_t:-1.0; do
+  field=${case%%:*} value=${case#*:} to="$out/amr_${case/:/_}"
   rm -rf "$to"; cp -r "$(first amr_ke)" "$to"
-  /usr/bin/python3 - "$out/amr_ke/fluid/step_000001_levels.h5" "$to/fluid/forest.p4est" "$value" <<'PY' ||
+  /usr/bin/python3 - "$out/amr_ke/fluid/step_000001_levels.h5" "$to/fluid/forest.p4est" "$field" "$value" <<'PY' ||
 import struct, sys, h5py
-k = float(h5py.File(sys.argv[1], "r")["level0_k"][0, 0])
-old, new = struct.pack("<d", k), struct.pack("<d", float(sys.argv[3]))
+q = float(h5py.File(sys.argv[1], "r")["level0_" + sys.argv[3]][0, 0])
+old, new = struct.pack("<d", q), struct.pack("<d", float(sys.argv[4]))
 data = open(sys.argv[2], "rb").read()
 if data.count(old) == 0:
-    sys.exit("the k of the snapshot is not in the forest's file")
+    sys.exit("the snapshot's " + sys.argv[3] + " is not in the forest's file")
 open(sys.argv[2], "wb").write(data.replace(old, new))
 PY
     fail "cannot damage $to/fluid/forest.p4est"
 done
+message="fv (refinement): k and epsilon must be positive, C_mu k^2 / epsilon finite and nu_t finite and not negative in"
 restart amr_negative_k fv_amr_ke_decay.yaml "$out/amr_k_-1.0" \
-  "fv (refinement): k and epsilon must be positive and C_mu k^2 / epsilon finite in $out/amr_k_-1.0/fluid/forest.p4est (min k -1," \
-  "${amrke[@]}"
-restart amr_huge_k fv_amr_ke_decay.yaml "$out/amr_k_1e200" \
-  "fv (refinement): k and epsilon must be positive and C_mu k^2 / epsilon finite in $out/amr_k_1e200/fluid/forest.p4est" \
-  "${amrke[@]}"
+  "$message $out/amr_k_-1.0/fluid/forest.p4est (min k -1," "${amrke[@]}"
+restart amr_huge_k fv_amr_ke_decay.yaml "$out/amr_k_1e200" "$message $out/amr_k_1e200/fluid/forest.p4est" "${amrke[@]}"
+restart amr_negative_nu_t fv_amr_ke_decay.yaml "$out/amr_nu_t_-1.0" \
+  "$message $out/amr_nu_t_-1.0/fluid/forest.p4est" "${amrke[@]}"
 echo "ok"

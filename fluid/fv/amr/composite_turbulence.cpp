@@ -200,12 +200,14 @@ void CompositeTurbulence::check_loaded(const std::string& file) const {
     low[0] = std::min(low[0], k);
     low[1] = std::min(low[1], eps);
     if (!std::isfinite(params_.constants.C_mu * k * k / eps)) low[2] = -1.0;
+    if (!(at(c, 2) >= 0.0 && std::isfinite(at(c, 2)))) low[2] = -1.0;  // the stored nu_t, used as it is
   }
   MPI_Allreduce(MPI_IN_PLACE, low, 3, MPI_DOUBLE, MPI_MIN, forest_.comm());
   if (!(low[0] > 0 && low[1] > 0 && low[2] == 0.0))
     throw std::runtime_error(fmt::format(
-        "fv (refinement): k and epsilon must be positive and C_mu k^2 / epsilon finite in {} (min k {:.3g}, "
-        "min epsilon {:.3g}): the checkpoint is damaged; restart from another one",
+        "fv (refinement): k and epsilon must be positive, C_mu k^2 / epsilon finite and nu_t finite and not "
+        "negative in {} (min k {:.3g}, min epsilon {:.3g}): the checkpoint is damaged; restart from another "
+        "one",
         file, low[0], low[1]));
 }
 

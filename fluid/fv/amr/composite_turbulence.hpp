@@ -75,9 +75,10 @@ class CompositeTurbulence {
   // A distance to immersed bodies, taken with the box's walls (seed 003
   // §3.1.2: y to the nearest wall); nu_t again.
   void set_body_distance(std::function<double(const std::array<double, 3>&)> distance);
-  // After a restart from `file`: k and epsilon positive and C_mu k^2 /
-  // epsilon finite in every cell, or every rank throws, naming the file (a
-  // damaged checkpoint). Collective.
+  // After a restart from `file`: k and epsilon positive, C_mu k^2 /
+  // epsilon finite and the stored nu_t finite and not negative in every
+  // cell, or every rank throws, naming the file (a damaged checkpoint).
+  // Collective.
   void check_loaded(const std::string& file) const;
   // One step of length dt with the flow's new velocity (see the top).
   void step(double dt);

@@ -92,25 +92,27 @@ restart lbm_inf_population lbm_couette.yaml "$out/inf_population" \
 # The particles (DEM, 5000 grains in a box): every rank reads the whole file.
 dem=(--set run.end_time=2.0e-4 --set run.checkpoint.every=1.0e-4 --set run.output.every=2.0e-4)
 checkpointed dem dem_ranks.yaml "${dem[@]}"
-damage "$(first dem)" "$out/nan_position" particles/particles.h5 position 11 nan
-restart dem_nan_position dem_ranks.yaml "$out/nan_position" \
-  "$out/nan_position/particles/particles.h5: particle" "${dem[@]}" --set particles.ranks=2
+# dem_case NAME FILE DATASET INDEX VALUE MESSAGE [--set ...]: the first
+# checkpoint's particles/FILE damaged, the restart refused with MESSAGE.
+dem_case() {
+  local name=$1 file=$2 dataset=$3 index=$4 value=$5 msg=$6; shift 6
+  damage "$(first dem)" "$out/$name" "particles/$file" "$dataset" "$index" "$value"
+  restart "dem_$name" dem_ranks.yaml "$out/$name" "$msg" "${dem[@]}" "$@"
+}
+# (The particle's id sits in the middle of some messages: their tails are
+# checked after.)
+dem_case nan_position particles.h5 position 11 nan "$out/nan_position/particles/particles.h5: particle" \
+  --set particles.ranks=2
 grep -qF "has a position that is not finite (nan): the checkpoint is damaged" "$out/dem_nan_position.log" ||
   fail "dem_nan_position: the message does not name the position"
-damage "$(first dem)" "$out/negative_radius" particles/particles.h5 radius 4 -1.0
-restart dem_negative_radius dem_ranks.yaml "$out/negative_radius" \
-  "has a radius that is not positive (-1): the checkpoint is damaged" "${dem[@]}"
-damage "$(first dem)" "$out/inf_shear" particles/contacts.h5 shear 0 inf
-restart dem_inf_shear dem_ranks.yaml "$out/inf_shear" \
-  "contacts.h5: particle" "${dem[@]}"
+dem_case negative_radius particles.h5 radius 4 -1.0 "has a radius that is not positive (-1): the checkpoint is damaged"
+dem_case inf_shear contacts.h5 shear 0 inf "contacts.h5: particle"
 grep -qF "has a contact history (tangential spring) that is not finite (inf)" "$out/dem_inf_shear.log" ||
   fail "dem_inf_shear: the message does not name the contact history"
-damage "$(first dem)" "$out/negative_species" particles/particles.h5 species 2 -1
-restart dem_negative_species dem_ranks.yaml "$out/negative_species" \
-  "particles.h5: the species index -1 is not a valid whole number: the checkpoint is damaged" "${dem[@]}"
-damage "$(first dem)" "$out/nan_partner" particles/contacts.h5 partner 0 nan
-restart dem_nan_partner dem_ranks.yaml "$out/nan_partner" \
-  "contacts.h5: the partner (a particle id, or -1 - a wall's index) nan is not a valid whole number" "${dem[@]}"
+dem_case negative_species particles.h5 species 2 -1 \
+  "particles.h5: the species index -1 is not a valid whole number: the checkpoint is damaged"
+dem_case nan_partner contacts.h5 partner 0 nan \
+  "contacts.h5: the partner (a particle id, or -1 - a wall's index) nan is not a valid whole number"
 
 # A parallel-explicit psm run: the load in flight that the particles keep
 # (particles/hydrodynamic.csv), one of its values replaced by nan.

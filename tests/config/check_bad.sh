@@ -4,11 +4,14 @@
 # the test report itself skipped (exit 77, ctest's SKIP_RETURN_CODE), not passed.
 # The config must be rejected by `coflow validate` with exit status 2 and the
 # message of its first line ("# expect: :LINE:COL: key.path: message"), and the
-# launcher must neither crash nor trip a sanitizer.
+# launcher must neither crash nor trip a sanitizer. Lines "# also: TEXT" right
+# after it name more text the message must hold (past a part that varies, such
+# as an absolute path).
 set -u
 cfg=$1; shift
 expect=$(head -n 1 "$cfg" | sed -n 's/^# expect: //p')
 [ -n "$expect" ] || { echo "FAIL: $cfg has no '# expect:' first line"; exit 1; }
+mapfile -t also < <(sed -n '2,/^[^#]/s/^# also: //p' "$cfg")
 dir=$(dirname "$cfg"); base=$(basename "$cfg")
 export ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 status=0
@@ -21,6 +24,12 @@ for bin in "$@"; do
     *"$base$expect"*) ;;
     *) echo "FAIL ($bin): message not found"; echo "  expected: $base$expect"; echo "  got:      $out"; status=1 ;;
   esac
+  for text in "${also[@]}"; do
+    case "$out" in
+      *"$text"*) ;;
+      *) echo "FAIL ($bin): message lacks '$text'"; echo "  got:      $out"; status=1 ;;
+    esac
+  done
   case "$out" in *Sanitizer*|*"runtime error"*|*terminate*) echo "FAIL ($bin): crash or sanitizer report"; echo "$out"; status=1 ;; esac
 done
 [ $status -eq 0 ] && [ $skipped -eq 1 ] && exit 77

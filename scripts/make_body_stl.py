@@ -4,20 +4,25 @@
     scripts/make_body_stl.py cylinder OUT.stl [--diameter 1] [--segments 128] [--length 1]
                              [--center 0 0 0]
     scripts/make_body_stl.py sphere OUT.stl [--diameter 1] [--level 4] [--center 0 0 0]
+    scripts/make_body_stl.py tube OUT.stl --diameter 2.5 --inner-diameter 2 [--segments 256] [--length 1]
 
 cylinder: a prism of `segments` sides along z (a 2D fluid's circle; its length
 does not matter there), its two end caps fanned from their centres. sphere: an
 icosahedron split `level` times, its vertices pushed onto the sphere (20 4^level
-triangles). Normals point out. Needs only the standard library.
+triangles). tube: a cylinder with a coaxial bore of `inner-diameter` (an
+annular prism: the outer and the bore's surfaces, annular end caps); its bore
+holds fluid (the outer wall of a Couette cell). Normals point out of the solid
+(into the bore on the bore's surface). Needs only the standard library.
 """
 import argparse
 import math
 import struct
 
 ap = argparse.ArgumentParser()
-ap.add_argument("shape", choices=["cylinder", "sphere"])
+ap.add_argument("shape", choices=["cylinder", "sphere", "tube"])
 ap.add_argument("out")
 ap.add_argument("--diameter", type=float, default=1.0)
+ap.add_argument("--inner-diameter", type=float, default=0.0)
 ap.add_argument("--segments", type=int, default=128)
 ap.add_argument("--length", type=float, default=1.0)
 ap.add_argument("--level", type=int, default=4)
@@ -37,6 +42,25 @@ def cylinder():
         p0, p1 = (x0, y0, c[2] - h), (x1, y1, c[2] - h)
         q0, q1 = (x0, y0, c[2] + h), (x1, y1, c[2] + h)
         tris += [(p0, p1, q1), (p0, q1, q0), (lo, p1, p0), (hi, q0, q1)]
+    return tris
+
+
+def tube():
+    n, h, ri = a.segments, 0.5 * a.length, 0.5 * a.inner_diameter
+    if not 0 < ri < r:
+        raise SystemExit("tube: --inner-diameter must lie between 0 and --diameter")
+    def at(rad, k, z):
+        t = 2 * math.pi * (k % n) / n
+        return (c[0] + rad * math.cos(t), c[1] + rad * math.sin(t), c[2] + z)
+
+    tris = []
+    for k in range(n):
+        o0, o1, O0, O1 = at(r, k, -h), at(r, k + 1, -h), at(r, k, h), at(r, k + 1, h)
+        i0, i1, I0, I1 = at(ri, k, -h), at(ri, k + 1, -h), at(ri, k, h), at(ri, k + 1, h)
+        tris += [(o0, o1, O1), (o0, O1, O0)]  # outer surface, normals away from the axis
+        tris += [(i0, I1, i1), (i0, I0, I1)]  # the bore's surface, normals towards the axis
+        tris += [(i0, o1, o0), (i0, i1, o1)]  # lower cap, normals -z
+        tris += [(I0, O0, O1), (I0, O1, I1)]  # upper cap, normals +z
     return tris
 
 
@@ -67,7 +91,7 @@ def sphere():
     return [(p[i], p[j], p[k]) for i, j, k in f]
 
 
-tris = cylinder() if a.shape == "cylinder" else sphere()
+tris = {"cylinder": cylinder, "sphere": sphere, "tube": tube}[a.shape]()
 with open(a.out, "wb") as out:
     out.write(b"coflow immersed-boundary body".ljust(80, b" "))
     out.write(struct.pack("<I", len(tris)))

@@ -2,6 +2,8 @@
 // number and recirculation length of a body from series/immersed.csv and the
 // last fluid snapshot, and the slip the forcing left.
 #include <array>
+#include <limits>
+#include <utility>
 
 #include "fluid/lbm/params.hpp"
 #include "fluid/lbm/units.hpp"
@@ -451,6 +453,86 @@ int ibm_balance(const std::string& dir) {
     }
   }
   std::printf("momentum_drift=%.6e\ndrive_share=%.6e\n", drift, held / span / (fp.body_force[0] * V));
+  return 0;
+}
+
+}  // namespace coflow::check
+
+namespace coflow::check {
+
+namespace {
+
+// The smallest and largest distance of a mesh's vertices from the axis along
+// z through (cx, cy): a cylinder's radius, a tube's bore and outer radius.
+std::pair<double, double> radii(const stl::TriangleMesh& m, double cx, double cy) {
+  double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+  for (const auto& v : m.vertices) {
+    const double r = std::hypot(v[0] - cx, v[1] - cy);
+    lo = std::min(lo, r), hi = std::max(hi, r);
+  }
+  return {lo, hi};
+}
+
+// The mean of series column k over the rows of the last quarter.
+double late_mean(const std::vector<std::vector<double>>& rows, std::size_t k) {
+  const auto v = column(rows, k, 0.75 * rows.back().at(0));
+  if (v.size() < 2) throw std::runtime_error("too few rows in series/immersed.csv");
+  double s = 0.0;
+  for (double x : v) s += x;
+  return s / static_cast<double>(v.size());
+}
+
+}  // namespace
+
+// Circular Couette flow (2D) between a rotor (body 0, a cylinder of radius
+// R1 turning at omega about z) and a fixed tube (body 1, its bore of radius
+// R2), coaxial: the steady flow u_theta = A r + B / r, A = -omega R1^2 / (R2^2
+// - R1^2), B = omega R1^2 R2^2 / (R2^2 - R1^2), an exact solution of the
+// Navier-Stokes equations in 2D, and the torque per unit length on each
+// cylinder T = 4 pi mu omega R1^2 R2^2 / (R2^2 - R1^2) (Landau & Lifshitz,
+// Fluid Mechanics, §18), on the rotor against its turning (-T), on the tube
+// with it (+T). Prints both torques' errors (the mean of the last quarter of
+// the rows; the run's slab: T times its thickness), their sum over T (the
+// fluid's angular momentum is steady), the L2 error of u_theta over the
+// cells at least 3 cells from both surfaces (the kernels' spread), relative
+// to the exact profile's L2 norm there, the largest radial velocity there
+// over omega R1, and the slip left over omega R1.
+int ibm_couette(const std::string& dir) {
+  const auto cfg = load(dir);
+  const immersed::IbmParams ibm = immersed::read_ibm_params(cfg);
+  if (ibm.bodies.size() != 2 || !cfg.domain.two_dimensional())
+    throw std::runtime_error(dir + ": ibm_couette needs a 2D run with two bodies (the rotor, then the tube)");
+  const stl::MeshSummary rotor = stl::summarize(immersed::load_body_mesh(ibm.bodies[0]));
+  const double cx = 0.5 * (rotor.lower[0] + rotor.upper[0]), cy = 0.5 * (rotor.lower[1] + rotor.upper[1]);
+  const double r1 = radii(immersed::load_body_mesh(ibm.bodies[0]), cx, cy).second;
+  const double r2 = radii(immersed::load_body_mesh(ibm.bodies[1]), cx, cy).first;
+  const double omega = ibm.bodies[0].motion.angular_velocity[2];
+  const auto fp = fluid_params(cfg);
+  const double slab = cfg.domain.upper[2] - cfg.domain.lower[2], k = r1 * r1 * r2 * r2 / (r2 * r2 - r1 * r1);
+  const double torque = 4 * std::numbers::pi * fp.density * fp.viscosity * omega * k * slab;
+  const auto rows = read_series(dir + "/series/immersed.csv");
+  const double on_rotor = late_mean(rows, 6), on_tube = late_mean(rows, 12);  // the bodies' _tz
+  std::vector<std::size_t> dims;
+  const auto u = output::read_dataset(last_snapshot(dir), "velocity", &dims);
+  const auto h = cfg.domain.spacing();
+  double err2 = 0.0, ref2 = 0.0, radial = 0.0;
+  for (std::size_t j = 0; j < dims[1]; ++j)
+    for (std::size_t i = 0; i < dims[2]; ++i) {
+      const double x = cfg.domain.lower[0] + (static_cast<double>(i) + 0.5) * h[0] - cx;
+      const double y = cfg.domain.lower[1] + (static_cast<double>(j) + 0.5) * h[1] - cy, r = std::hypot(x, y);
+      if (r < r1 + 3 * h[0] || r > r2 - 3 * h[0]) continue;
+      const double ux = u[3 * (j * dims[2] + i)], uy = u[3 * (j * dims[2] + i) + 1];
+      const double exact = omega * k * (1.0 / r - r / (r2 * r2));  // A r + B / r
+      err2 += std::pow((x * uy - y * ux) / r - exact, 2), ref2 += exact * exact;
+      radial = nan_max(radial, std::abs(x * ux + y * uy) / r);
+    }
+  const double speed = std::abs(omega) * r1;
+  std::printf(
+      "rotor_torque=%.6e\ntube_torque=%.6e\nexact_torque=%.6e\nrotor_torque_error=%.6e\n"
+      "tube_torque_error=%.6e\ntorque_balance=%.6e\nprofile_error=%.6e\nradial_velocity=%.6e\nslip=%.6e\n",
+      on_rotor, on_tube, torque, std::abs(-on_rotor - torque) / torque, std::abs(on_tube - torque) / torque,
+      std::abs(on_rotor + on_tube) / torque, ref2 > 0 ? std::sqrt(err2 / ref2) : std::nan(""), radial / speed,
+      LastRow(dir + "/series/immersed.csv")("slip") / speed);
   return 0;
 }
 

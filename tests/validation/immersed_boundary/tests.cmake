@@ -9,6 +9,13 @@ coflow_validation(ibm_cylinder_re20 pair ibm_cylinder_re20.yaml 1 ibm_extrapolat
 coflow_validation(ibm_cylinder_mdf_slip ibm_steady ibm_cylinder_fixed_frame.yaml 1
   --set immersed.ibm.iteration=mdf --set immersed.ibm.max_iterations=20)
 coflow_validation(ibm_cylinder_frames pair ibm_cylinder_translating.yaml 1 ibm_frames "" "config=ibm_cylinder_fixed_frame.yaml")
+# Circular Couette flow between a turning rotor (a prescribed rotation) and a
+# fixed tube: both bodies' torques and the profile across the gap against the
+# exact solution, with each kernel (peskin4, 4 cells wide, on the finer grid).
+coflow_validation(ibm_couette ibm_couette ibm_couette.yaml 1)
+coflow_validation(ibm_couette_hat ibm_couette ibm_couette.yaml 1 --set immersed.ibm.kernel=hat)
+coflow_validation(ibm_couette_peskin4 ibm_couette ibm_couette.yaml 1 --set immersed.ibm.kernel=peskin4
+  --set domain.cells=[192,192,1])
 # The in-line oscillating cylinder of Dütsch et al. (1998) at Re 100, KC 5:
 # Morison's coefficients fitted to the in-line force of the last period.
 coflow_validation(ibm_cylinder_oscillating ibm_oscillating ibm_cylinder_oscillating.yaml 1)
@@ -73,7 +80,7 @@ coflow_validation(ibm_two_phase_lbm_vs_reference compare ibm_two_phase_lbm.yaml 
 # (coflow/wait.hpp backs off to sleeping; the forcing runs in the fluid):
 # these runs take one core, and ctest may run another test beside them.
 set_tests_properties(validation.ibm_cylinder_re20 validation.ibm_cylinder_re20_lbm validation.ibm_cylinder_frames
-  validation.ibm_ke_fv_vs_reference
+  validation.ibm_ke_fv_vs_reference validation.ibm_couette validation.ibm_couette_hat validation.ibm_couette_peskin4
   validation.ibm_cylinder_mdf_slip validation.ibm_fv_vs_reference_fixed validation.ibm_fv_vs_reference_moving
   validation.ibm_two_phase_lbm validation.ibm_lbm_vs_reference_fixed validation.ibm_lbm_vs_reference_moving
   validation.ibm_two_phase_lbm_vs_reference PROPERTIES PROCESSORS 1)

@@ -295,7 +295,7 @@ static void check_refinement(config::Visitor& v, const config::Config& cfg, cons
       const YAML::Node& body = all;
       const YAML::Node m = body[i]["motion"];
       bool moves = false;
-      for (const char* k : {"velocity", "angular_velocity", "amplitude"}) {
+      for (const char* k : {"velocity", "angular_velocity", "amplitude", "angular_amplitude"}) {
         const YAML::Node& motion = m;
         if (motion.IsMap() && motion[k].IsSequence())
           for (const auto& x : motion[k]) moves = moves || x.as<double>() != 0.0;

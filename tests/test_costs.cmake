@@ -57,6 +57,7 @@ set(coflow_test_costs
   validation.fv_amr_ke_decay 14
   validation.ibm_cylinder_frames 14
   validation.ibm_couette_peskin4 15
+  validation.ibm_couette_oscillating 13
   validation.ibm_couette 6
   validation.ibm_couette_hat 6
   validation.dem_damping_curve 14

@@ -25,33 +25,61 @@ using V3 = Eigen::Vector3d;
 V3 vec(const Vec3& v) { return {v[0], v[1], v[2]}; }
 
 // A body: its surface points relative to its reference point at t = 0, and
-// its motion (params.hpp).
+// its motion (params.hpp): a translation plus an oscillation of its
+// reference point, a rotation about it (a constant rate plus a rotary
+// oscillation about the same axis: the angle phi(t) = omega t + Theta sin(w t)).
 struct Body {
   std::string name;
   std::vector<ibm::SurfacePoint> points;  // x relative to the centre at t = 0
   V3 centre0 = V3::Zero();
   BodyMotion motion;
-  double volume = 0.0;  // m^3 (in 2D: of the slab)
+  double volume = 0.0;      // m^3 (in 2D: of the slab)
+  V3 offset0 = V3::Zero();  // centroid - reference point at t = 0
+  Eigen::Matrix3d inertia0 =
+      Eigen::Matrix3d::Zero();  // m^5: about the reference point at t = 0, per unit density
 
+  double w() const { return 2 * std::numbers::pi * motion.frequency; }
   V3 centre(double t) const {
-    const double w = 2 * std::numbers::pi * motion.frequency;
-    return centre0 + vec(motion.velocity) * t + vec(motion.amplitude) * std::sin(w * t);
+    return centre0 + vec(motion.velocity) * t + vec(motion.amplitude) * std::sin(w() * t);
   }
   V3 centre_velocity(double t) const {
-    const double w = 2 * std::numbers::pi * motion.frequency;
-    return vec(motion.velocity) + vec(motion.amplitude) * w * std::cos(w * t);
+    return vec(motion.velocity) + vec(motion.amplitude) * w() * std::cos(w() * t);
   }
-  V3 centre_acceleration(double t) const {
-    const double w = 2 * std::numbers::pi * motion.frequency;
-    return -vec(motion.amplitude) * w * w * std::sin(w * t);
+  V3 centre_acceleration(double t) const { return -vec(motion.amplitude) * w() * w() * std::sin(w() * t); }
+  V3 angular_velocity(double t) const {
+    return vec(motion.angular_velocity) + vec(motion.angular_amplitude) * w() * std::cos(w() * t);
+  }
+  V3 angular_acceleration(double t) const {
+    return -vec(motion.angular_amplitude) * w() * w() * std::sin(w() * t);
   }
   Eigen::Matrix3d rotation(double t) const {
-    const V3 om = vec(motion.angular_velocity);
-    const double angle = om.norm() * t;
+    const V3 phi = vec(motion.angular_velocity) * t + vec(motion.angular_amplitude) * std::sin(w() * t);
+    const double angle = phi.norm();
     if (angle == 0.0) return Eigen::Matrix3d::Identity();
-    return Eigen::AngleAxisd(angle, om.normalized()).toRotationMatrix();
+    return Eigen::AngleAxisd(angle, phi / angle).toRotationMatrix();
+  }
+  // The momentum and the angular momentum about the reference point of the
+  // fluid the body holds (moving with it rigidly), per unit density.
+  V3 held_momentum(double t) const {
+    return volume * (centre_velocity(t) + angular_velocity(t).cross(rotation(t) * offset0));
+  }
+  V3 held_angular_momentum(double t) const {
+    const Eigen::Matrix3d R = rotation(t);
+    return volume * (R * offset0).cross(centre_velocity(t)) +
+           R * inertia0 * R.transpose() * angular_velocity(t);
   }
 };
+
+// The inertia tensor about p of a body of unit density whose second moments
+// about the origin are S (mesh_volume), volume V and centroid c.
+Eigen::Matrix3d inertia_about(const ibm::MeshVolume& mv, const V3& p) {
+  Eigen::Matrix3d S;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) S(i, j) = mv.second[static_cast<std::size_t>(3 * i + j)];
+  const V3 first = mv.volume * V3(mv.centroid[0], mv.centroid[1], mv.centroid[2]);
+  S += -p * first.transpose() - first * p.transpose() + mv.volume * p * p.transpose();
+  return S.trace() * Eigen::Matrix3d::Identity() - S;
+}
 
 Body make_body(const BodyParams& p, const ibm::GridGeometry& g, double spacing, double retraction) {
   const stl::TriangleMesh mesh = load_body_mesh(p);
@@ -62,10 +90,14 @@ Body make_body(const BodyParams& p, const ibm::GridGeometry& g, double spacing, 
   const auto& cv = p.motion.centre.values;
   b.centre0 = cv.size() == 3 ? V3(cv[0], cv[1], cv[2]) : V3(mv.centroid[0], mv.centroid[1], mv.centroid[2]);
   b.volume = std::abs(mv.volume);
-  if (g.dims == 2) {
+  b.inertia0 = inertia_about(mv, b.centre0);
+  b.offset0 = V3(mv.centroid[0], mv.centroid[1], mv.centroid[2]) - b.centre0;
+  if (g.dims == 2) {  // the slab of the prism: moments about z scale with its length
     const stl::MeshSummary m = stl::summarize(mesh);
     b.volume *= g.h[2] / (m.upper[2] - m.lower[2]);
+    b.inertia0 *= g.h[2] / (m.upper[2] - m.lower[2]);
     b.centre0[2] = g.lower[2] + 0.5 * g.h[2];
+    b.offset0[2] = 0.0;
   }
   b.points = ibm::sample_surface(mesh, g, spacing);
   const double inward = retraction * g.shell();
@@ -130,12 +162,13 @@ ibm::MarkerSet IbmWindows::markers(double t) const {
   for (std::size_t n = 0; n < bodies_.size(); ++n) {
     const Body& b = bodies_[n];
     const V3 c = b.centre(t), vc = b.centre_velocity(t), ac = b.centre_acceleration(t);
-    const V3 om = vec(b.motion.angular_velocity);
+    const V3 om = b.angular_velocity(t), al = b.angular_acceleration(t);
     const Eigen::Matrix3d R = b.rotation(t);
     set.bodies.push_back({{c[0], c[1], c[2]}, {vc[0], vc[1], vc[2]}, {ac[0], ac[1], ac[2]}});
     for (const auto& p : b.points) {
-      // A constant rotation: the centripetal acceleration om x (om x r).
-      const V3 r = R * V3(p.x[0], p.x[1], p.x[2]), x = c + r, u = vc + om.cross(r), a = ac + om.cross(om.cross(r));
+      // A rotation about a fixed axis: the tangential and centripetal accelerations.
+      const V3 r = R * V3(p.x[0], p.x[1], p.x[2]), x = c + r, u = vc + om.cross(r),
+               a = ac + al.cross(r) + om.cross(om.cross(r));
       const V3 nr = R * V3(p.normal[0], p.normal[1], p.normal[2]);
       set.markers.push_back({{x[0], x[1], x[2]},
                              {u[0], u[1], u[2]},
@@ -158,15 +191,25 @@ void IbmWindows::before_step(long w) {
 }
 
 // The fluid's loads (the forcing's reaction), plus the rate of change of the
-// momentum of the fluid the body holds: rho V a of its reference point (the
-// rigid fluid inside moves with the body; Uhlmann 2005).
+// momentum and angular momentum of the fluid the body holds (it moves
+// rigidly with the body; Uhlmann 2005): over the window, rho (P(t1) -
+// P(t0)) / window, and about the reference point rho (L(t1) - L(t0)) /
+// window + v_ref x rho P (a moving reference point; the window's mean of the
+// ends).
 void IbmWindows::after_step(long w) {
   if (s_.rank() != 0) return;
   ibm::receive_loads(s_.partner("fluid"), loads_);
   const double t0 = (w - 1) * s_.window(), t1 = w * s_.window();
   for (std::size_t n = 0; n < bodies_.size(); ++n) {
-    const V3 a = (bodies_[n].centre_velocity(t1) - bodies_[n].centre_velocity(t0)) / s_.window();
-    for (int d = 0; d < 3; ++d) loads_[6 * n + static_cast<std::size_t>(d)] += rho_ * bodies_[n].volume * a[d];
+    const Body& b = bodies_[n];
+    const V3 f = (b.held_momentum(t1) - b.held_momentum(t0)) / s_.window();
+    const V3 moving = 0.5 * (b.centre_velocity(t0).cross(b.held_momentum(t0)) +
+                             b.centre_velocity(t1).cross(b.held_momentum(t1)));
+    const V3 tq = (b.held_angular_momentum(t1) - b.held_angular_momentum(t0)) / s_.window() + moving;
+    for (int d = 0; d < 3; ++d) {
+      loads_[6 * n + static_cast<std::size_t>(d)] += rho_ * f[d];
+      loads_[6 * n + 3 + static_cast<std::size_t>(d)] += rho_ * tq[d];
+    }
   }
   const std::size_t m = 6 * bodies_.size();
   for (std::size_t k = 0; k < m; ++k) row_[k] += loads_[k] * s_.window();

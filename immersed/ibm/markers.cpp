@@ -138,7 +138,12 @@ MeshVolume mesh_volume(const stl::TriangleMesh& mesh) {
                   &c = mesh.vertices[static_cast<std::size_t>(t[2])];
     const double v = a.dot(b.cross(c)) / 6.0;  // the tetrahedron with the origin
     m.volume += v;
-    moment += v * (a + b + c) / 4.0;
+    const stl::V3 sum = a + b + c;
+    moment += v * sum / 4.0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        m.second[static_cast<std::size_t>(3 * i + j)] +=
+            v / 20.0 * (a[i] * a[j] + b[i] * b[j] + c[i] * c[j] + sum[i] * sum[j]);
   }
   if (m.volume != 0.0)
     for (int d = 0; d < 3; ++d) m.centroid[d] = moment[d] / m.volume;

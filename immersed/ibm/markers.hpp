@@ -44,11 +44,15 @@ struct SurfacePoint {
 // mesh's area exactly.
 std::vector<SurfacePoint> sample_surface(const stl::TriangleMesh& mesh, const GridGeometry& g, double spacing);
 
-// The volume and centroid of a closed mesh (divergence theorem; outward
-// normals give a positive volume).
+// The volume, centroid and second moments of a closed mesh (divergence
+// theorem; outward normals give a positive volume): second[3 i + j] = the
+// integral of x_i x_j over the body, x from the origin (each triangle's
+// tetrahedron with the origin: V / 20 (sum_k p_k p_k^T + s s^T), s the sum
+// of its vertices p_k; Tonon 2004, J. Math. Stat. 1:8).
 struct MeshVolume {
   double volume = 0.0;
   Vec centroid{0, 0, 0};
+  std::array<double, 9> second{};
 };
 MeshVolume mesh_volume(const stl::TriangleMesh& mesh);
 

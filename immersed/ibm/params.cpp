@@ -11,8 +11,25 @@ namespace coflow::immersed {
 
 bool BodyMotion::moves() const {
   for (int d = 0; d < 3; ++d)
-    if (velocity[d] != 0.0 || angular_velocity[d] != 0.0 || (amplitude[d] != 0.0 && frequency != 0.0)) return true;
+    if (velocity[d] != 0.0 || (amplitude[d] != 0.0 && frequency != 0.0)) return true;
+  return turns();
+}
+
+bool BodyMotion::turns() const {
+  for (int d = 0; d < 3; ++d)
+    if (angular_velocity[d] != 0.0 || (angular_amplitude[d] != 0.0 && frequency != 0.0)) return true;
   return false;
+}
+
+// The rotation keeps one axis: a constant rotation and a rotary oscillation
+// about different axes would need the composition of the two, not their sum.
+static void check_axes(config::Visitor& s, const BodyMotion& m) {
+  const Vec3 &w = m.angular_velocity, &a = m.angular_amplitude;
+  const double cross[3] = {w[1] * a[2] - w[2] * a[1], w[2] * a[0] - w[0] * a[2], w[0] * a[1] - w[1] * a[0]};
+  const double wn = std::hypot(w[0], w[1], w[2]), an = std::hypot(a[0], a[1], a[2]);
+  if (std::hypot(cross[0], cross[1], cross[2]) > 1e-12 * wn * an)
+    s.fail("angular_amplitude",
+           "not parallel to angular_velocity: a body turns about one axis; give both along it");
 }
 
 void BodyParams::visit(config::Visitor& v) {
@@ -33,7 +50,12 @@ void BodyParams::visit(config::Visitor& v) {
     s("angular_velocity", motion.angular_velocity, "rad/s: a constant rotation about the reference point");
     s("amplitude", motion.amplitude,
       "m: a periodic oscillation, displacement amplitude sin(2 pi frequency t), added to the translation");
-    s("frequency", motion.frequency, "Hz: of the oscillation", config::at_least(0.0));
+    s("angular_amplitude", motion.angular_amplitude,
+      "rad: a periodic rotation about the reference point, angle |a| sin(2 pi frequency t) about a's "
+      "direction, "
+      "added to the constant rotation (about the same axis)");
+    s("frequency", motion.frequency, "Hz: of the oscillations", config::at_least(0.0));
+    if (s.reading()) check_axes(s, motion);
   });
 }
 
@@ -131,7 +153,7 @@ void swept_box(const BodyParams& b, const stl::MeshSummary& m, const stl::Triang
   const auto& cv = mo.centre.values;
   const ibm::MeshVolume mv = ibm::mesh_volume(mesh);  // the reference point by default (ibm.cpp)
   const stl::V3 c = cv.size() == 3 ? stl::V3(cv[0], cv[1], cv[2]) : stl::V3(mv.centroid[0], mv.centroid[1], mv.centroid[2]);
-  const bool turns = mo.angular_velocity[0] != 0 || mo.angular_velocity[1] != 0 || mo.angular_velocity[2] != 0;
+  const bool turns = mo.turns();
   double reach = 0.0;
   if (turns)
     for (const auto& x : mesh.vertices) reach = std::max(reach, (x - c).norm());

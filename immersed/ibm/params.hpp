@@ -23,8 +23,10 @@ struct BodyMotion {
   Vec3 velocity{0, 0, 0};
   Vec3 angular_velocity{0, 0, 0};
   Vec3 amplitude{0, 0, 0};
+  Vec3 angular_amplitude{0, 0, 0};  // rad, about its direction (parallel to angular_velocity)
   double frequency = 0.0;
   bool moves() const;
+  bool turns() const;
 };
 
 struct BodyParams {

@@ -77,6 +77,13 @@ TEST_CASE("markers sample a mesh with its area, outward normals, about a cell ap
   const ibm::MeshVolume v = ibm::mesh_volume(cube(a));
   CHECK(v.volume == Approx(a * a * a).epsilon(1e-12));
   CHECK(v.centroid[0] == Approx(a / 2).epsilon(1e-12));
+  // Second moments about the origin, exact for a polyhedron: the integral of
+  // x^2 over [0, a]^3 is a^5 / 3, of x y a^5 / 4.
+  CHECK(v.second[0] == Approx(std::pow(a, 5) / 3).epsilon(1e-12));
+  CHECK(v.second[4] == Approx(std::pow(a, 5) / 3).epsilon(1e-12));
+  CHECK(v.second[1] == Approx(std::pow(a, 5) / 4).epsilon(1e-12));
+  CHECK(v.second[5] == Approx(std::pow(a, 5) / 4).epsilon(1e-12));
+  CHECK(v.second[6] == v.second[2]);
 }
 
 TEST_CASE("a 2D fluid sees a prism by its outline: perimeter times the slab", "[immersed][ibm]") {

@@ -166,6 +166,7 @@ int ibm_oscillating(const std::string& dir);
 int ibm_particles(const std::string& dir);
 int ibm_balance(const std::string& dir);
 int ibm_couette(const std::string& dir);
+int ibm_couette_oscillating(const std::string& dir);
 // compare.cpp
 int compare(const std::string& a, const std::string& b);
 

@@ -74,6 +74,7 @@ int main(int argc, char** argv) {
     if (what == "ibm_particles" && argc == 3) return ibm_particles(argv[2]);
     if (what == "ibm_balance" && argc == 3) return ibm_balance(argv[2]);
     if (what == "ibm_couette" && argc == 3) return ibm_couette(argv[2]);
+    if (what == "ibm_couette_oscillating" && argc == 3) return ibm_couette_oscillating(argv[2]);
     std::fprintf(stderr, "usage: coflow-check profile|decay|mass RUN_DIR | compare RUN_A RUN_B\n");
     return 2;
   } catch (const std::exception& e) {

@@ -482,15 +482,39 @@ double late_mean(const std::vector<std::vector<double>>& rows, std::size_t k) {
   return s / static_cast<double>(v.size());
 }
 
+// The Couette cell of a run: a rotor (body 0, a cylinder of radius r1 turning
+// about z) inside the bore (radius r2) of a fixed tube (body 1), coaxial, in
+// a 2D run; k = r1^2 r2^2 / (r2^2 - r1^2), the slab's thickness, mu.
+struct CouetteCell {
+  double cx = 0, cy = 0, r1 = 0, r2 = 0, k = 0, slab = 0, mu = 0, rho = 0;
+  immersed::BodyMotion rotor;
+};
+
+CouetteCell couette_cell(const config::Config& cfg, const std::string& dir) {
+  const immersed::IbmParams ibm = immersed::read_ibm_params(cfg);
+  if (ibm.bodies.size() != 2 || !cfg.domain.two_dimensional())
+    throw std::runtime_error(dir + ": a Couette cell is a 2D run with two bodies (the rotor, then the tube)");
+  const stl::MeshSummary m = stl::summarize(immersed::load_body_mesh(ibm.bodies[0]));
+  CouetteCell c;
+  c.cx = 0.5 * (m.lower[0] + m.upper[0]), c.cy = 0.5 * (m.lower[1] + m.upper[1]);
+  c.r1 = radii(immersed::load_body_mesh(ibm.bodies[0]), c.cx, c.cy).second;
+  c.r2 = radii(immersed::load_body_mesh(ibm.bodies[1]), c.cx, c.cy).first;
+  c.k = c.r1 * c.r1 * c.r2 * c.r2 / (c.r2 * c.r2 - c.r1 * c.r1);
+  c.slab = cfg.domain.upper[2] - cfg.domain.lower[2];
+  const auto fp = fluid_params(cfg);
+  c.rho = fp.density, c.mu = fp.density * fp.viscosity;
+  c.rotor = ibm.bodies[0].motion;
+  return c;
+}
+
 }  // namespace
 
-// Circular Couette flow (2D) between a rotor (body 0, a cylinder of radius
-// R1 turning at omega about z) and a fixed tube (body 1, its bore of radius
-// R2), coaxial: the steady flow u_theta = A r + B / r, A = -omega R1^2 / (R2^2
-// - R1^2), B = omega R1^2 R2^2 / (R2^2 - R1^2), an exact solution of the
+// Circular Couette flow (2D) in a Couette cell, the rotor turning at a
+// constant omega: the steady flow u_theta = A r + B / r, A = -omega R1^2 /
+// (R2^2 - R1^2), B = omega R1^2 R2^2 / (R2^2 - R1^2), an exact solution of the
 // Navier-Stokes equations in 2D, and the torque per unit length on each
 // cylinder T = 4 pi mu omega R1^2 R2^2 / (R2^2 - R1^2) (Landau & Lifshitz,
-// Fluid Mechanics, §18), on the rotor against its turning (-T), on the tube
+// Fluid Mechanics, §18, flow between rotating cylinders), on the rotor against its turning (-T), on the tube
 // with it (+T). Prints both torques' errors (the mean of the last quarter of
 // the rows; the run's slab: T times its thickness), their sum over T (the
 // fluid's angular momentum is steady), the L2 error of u_theta over the
@@ -499,17 +523,10 @@ double late_mean(const std::vector<std::vector<double>>& rows, std::size_t k) {
 // over omega R1, and the slip left over omega R1.
 int ibm_couette(const std::string& dir) {
   const auto cfg = load(dir);
-  const immersed::IbmParams ibm = immersed::read_ibm_params(cfg);
-  if (ibm.bodies.size() != 2 || !cfg.domain.two_dimensional())
-    throw std::runtime_error(dir + ": ibm_couette needs a 2D run with two bodies (the rotor, then the tube)");
-  const stl::MeshSummary rotor = stl::summarize(immersed::load_body_mesh(ibm.bodies[0]));
-  const double cx = 0.5 * (rotor.lower[0] + rotor.upper[0]), cy = 0.5 * (rotor.lower[1] + rotor.upper[1]);
-  const double r1 = radii(immersed::load_body_mesh(ibm.bodies[0]), cx, cy).second;
-  const double r2 = radii(immersed::load_body_mesh(ibm.bodies[1]), cx, cy).first;
-  const double omega = ibm.bodies[0].motion.angular_velocity[2];
-  const auto fp = fluid_params(cfg);
-  const double slab = cfg.domain.upper[2] - cfg.domain.lower[2], k = r1 * r1 * r2 * r2 / (r2 * r2 - r1 * r1);
-  const double torque = 4 * std::numbers::pi * fp.density * fp.viscosity * omega * k * slab;
+  const CouetteCell cell = couette_cell(cfg, dir);
+  const double cx = cell.cx, cy = cell.cy, r1 = cell.r1, r2 = cell.r2, k = cell.k;
+  const double omega = cell.rotor.angular_velocity[2];
+  const double torque = 4 * std::numbers::pi * cell.mu * omega * k * cell.slab;
   const auto rows = read_series(dir + "/series/immersed.csv");
   const double on_rotor = late_mean(rows, 6), on_tube = late_mean(rows, 12);  // the bodies' _tz
   std::vector<std::size_t> dims;
@@ -533,6 +550,84 @@ int ibm_couette(const std::string& dir) {
       on_rotor, on_tube, torque, std::abs(-on_rotor - torque) / torque, std::abs(on_tube - torque) / torque,
       std::abs(on_rotor + on_tube) / torque, ref2 > 0 ? std::sqrt(err2 / ref2) : std::nan(""), radial / speed,
       LastRow(dir + "/series/immersed.csv")("slip") / speed);
+  return 0;
+}
+
+namespace {
+
+// Least squares of series column k over the rows of [from, end] against the
+// window means of cos(w t), sin(w t) and 1 (a row holds the mean over the
+// span since the row before): the coefficients of cos and sin.
+std::array<double, 2> harmonic_fit(const std::vector<std::vector<double>>& rows, std::size_t k, double w,
+                                   double from) {
+  double M[3][3] = {}, r[3] = {};
+  for (std::size_t n = 1; n < rows.size(); ++n) {
+    const double t = rows[n].at(0), span = t - rows[n - 1].at(0);
+    if (t < from) continue;
+    const double b[3] = {(std::sin(w * t) - std::sin(w * (t - span))) / (w * span),
+                         (std::cos(w * (t - span)) - std::cos(w * t)) / (w * span), 1.0};
+    for (int i = 0; i < 3; ++i) {
+      r[i] += b[i] * rows[n].at(k);
+      for (int j = 0; j < 3; ++j) M[i][j] += b[i] * b[j];
+    }
+  }
+  // Cramer's rule on the 3 x 3 normal equations.
+  auto det = [](const double A[3][3]) {
+    return A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
+           A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+           A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+  };
+  const double d = det(M);
+  std::array<double, 2> out{};
+  for (int c = 0; c < 2; ++c) {
+    double A[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) A[i][j] = j == c ? r[i] : M[i][j];
+    out[static_cast<std::size_t>(c)] = det(A) / d;
+  }
+  return out;
+}
+
+}  // namespace
+
+// The Couette cell with the rotor in rotary oscillation, angular velocity
+// Omega0 cos(w t) (angular_amplitude Theta, Omega0 = Theta w), slowly: the
+// gap's viscous time (R2 - R1)^2 / (pi^2 nu) a small part of 1 / w, so that
+// the flow is the steady Couette flow at each instant to that order. Over
+// the last period, the torques' parts in phase with cos and sin (fitted to
+// the rows' window means): the rotor's in phase with Omega against the
+// Couette torque -4 pi mu Omega0 k (per unit length; Landau & Lifshitz §18),
+// and the sum of both bodies' torques, -dL/dt by the conservation of angular
+// momentum (the fluid outside the tube at rest), against the quasi-steady
+// angular momentum of the gap, L = 2 pi rho k Omega [(R2^2 - R1^2) / 2 -
+// (R2^4 - R1^4) / (4 R2^2)] per unit length: its sin part C w Omega0. The
+// fluid the rotor holds turns with it, and the loads add its angular
+// momentum's rate (rho pi R1^4 / 2 per unit length times the angular
+// acceleration): without that the sum would read (C + rho pi R1^4 / 2) w
+// Omega0 (printed as held_share, its part of C).
+int ibm_couette_oscillating(const std::string& dir) {
+  const auto cfg = load(dir);
+  const CouetteCell cell = couette_cell(cfg, dir);
+  const double w = 2 * std::numbers::pi * cell.rotor.frequency, omega0 = cell.rotor.angular_amplitude[2] * w;
+  if (!(w > 0.0) || omega0 == 0.0 || cell.rotor.angular_velocity[2] != 0.0)
+    throw std::runtime_error(
+        dir + ": the rotor must oscillate about z (angular_amplitude, frequency), no steady turn");
+  const auto rows = read_series(dir + "/series/immersed.csv");
+  const double from = rows.back().at(0) - 2 * std::numbers::pi / w * (1 + 1e-9);
+  const auto rotor = harmonic_fit(rows, 6, w, from), tube = harmonic_fit(rows, 12, w, from);
+  const double torque = 4 * std::numbers::pi * cell.mu * omega0 * cell.k * cell.slab;
+  const double r1 = cell.r1, r2 = cell.r2;
+  const double gap = 2 * std::numbers::pi * cell.rho * cell.slab * cell.k *
+                     ((r2 * r2 - r1 * r1) / 2 - (std::pow(r2, 4) - std::pow(r1, 4)) / (4 * r2 * r2));
+  const double held = cell.rho * cell.slab * std::numbers::pi * std::pow(r1, 4) / 2;
+  const double sum_sin = rotor[1] + tube[1], expected = gap * w * omega0;
+  std::printf(
+      "rotor_in_phase=%.6e\nrotor_quadrature=%.6e\ntube_in_phase=%.6e\ntube_quadrature=%.6e\n"
+      "couette_torque=%.6e\nrotor_in_phase_error=%.6e\nsum_quadrature=%.6e\ngap_angular_momentum_rate=%.6e\n"
+      "angular_momentum_error=%.6e\nheld_share=%.6e\nviscous_time_ratio=%.6e\n",
+      rotor[0], rotor[1], tube[0], tube[1], torque, std::abs(-rotor[0] - torque) / torque, sum_sin, expected,
+      std::abs(sum_sin - expected) / expected, held / gap,
+      w * (r2 - r1) * (r2 - r1) / (std::numbers::pi * std::numbers::pi * cell.mu / cell.rho));
   return 0;
 }
 

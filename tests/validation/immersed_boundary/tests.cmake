@@ -16,6 +16,10 @@ coflow_validation(ibm_couette ibm_couette ibm_couette.yaml 1)
 coflow_validation(ibm_couette_hat ibm_couette ibm_couette.yaml 1 --set immersed.ibm.kernel=hat)
 coflow_validation(ibm_couette_peskin4 ibm_couette ibm_couette.yaml 1 --set immersed.ibm.kernel=peskin4
   --set domain.cells=[192,192,1])
+# The rotor in slow rotary oscillation: its torque in phase with its turning
+# against the Couette torque, and both torques' sum against the gap's
+# angular momentum (with the fluid the rotor holds accounted by the loads).
+coflow_validation(ibm_couette_oscillating ibm_couette_oscillating ibm_couette_oscillating.yaml 1)
 # The in-line oscillating cylinder of Dütsch et al. (1998) at Re 100, KC 5:
 # Morison's coefficients fitted to the in-line force of the last period.
 coflow_validation(ibm_cylinder_oscillating ibm_oscillating ibm_cylinder_oscillating.yaml 1)
@@ -81,6 +85,7 @@ coflow_validation(ibm_two_phase_lbm_vs_reference compare ibm_two_phase_lbm.yaml 
 # these runs take one core, and ctest may run another test beside them.
 set_tests_properties(validation.ibm_cylinder_re20 validation.ibm_cylinder_re20_lbm validation.ibm_cylinder_frames
   validation.ibm_ke_fv_vs_reference validation.ibm_couette validation.ibm_couette_hat validation.ibm_couette_peskin4
+  validation.ibm_couette_oscillating
   validation.ibm_cylinder_mdf_slip validation.ibm_fv_vs_reference_fixed validation.ibm_fv_vs_reference_moving
   validation.ibm_two_phase_lbm validation.ibm_lbm_vs_reference_fixed validation.ibm_lbm_vs_reference_moving
   validation.ibm_two_phase_lbm_vs_reference PROPERTIES PROCESSORS 1)

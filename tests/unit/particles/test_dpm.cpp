@@ -101,6 +101,9 @@ TEST_CASE("swept sphere against a triangle: face, edge, vertex, miss, receding, 
   CHECK(sweep_triangle(V3(0.2, 0.2, 1.0), V3(0, 0, -2), R, 0.4, a, b, c, p) == inf);
   CHECK(sweep_triangle(V3(0.8, 0.8, 1.0), V3(0, 0, -2), R, 1.0, a, b, c, p) == inf);  // beyond the hypotenuse
   CHECK(sweep_triangle(V3(0.2, 0.2, 0.5), V3(0, 0, 1), R, 1.0, a, b, c, p) == inf);
+  // Within R of the line of edge ab but beyond b, drifting slowly: no contact
+  // within the step (the edge's quadratic has a root at t = -50, over the edge).
+  CHECK(sweep_triangle(V3(1.2, 0.05, 0.0), V3(0.005, -0.001, 0), R, 1.0, a, b, c, p) == inf);
   // Already touching and approaching: t = 0; touching and leaving: none.
   CHECK(sweep_triangle(V3(0.2, 0.2, 0.05), V3(0, 0, -1), R, 1.0, a, b, c, p) == 0.0);
   CHECK(sweep_triangle(V3(0.2, 0.2, 0.05), V3(0, 0, 1), R, 1.0, a, b, c, p) == inf);

@@ -305,6 +305,10 @@ static void check_refinement(config::Visitor& v, const config::Config& cfg, cons
                "moving bodies do not run on fv's adaptive grid yet (its leaves refine where the markers are set): "
                "remove fluid.fv.refinement, or the motion");
     }
+    if (config::resolved_text(cfg, {"immersed", "ibm", "stage"}) == "in_predictor")
+      v.fail("immersed.ibm.stage",
+             "the adaptive grid forces after its predictor only: use stage: after_predictor, or remove "
+             "fluid.fv.refinement");
   }
 }
 

@@ -205,7 +205,7 @@ void FvSolver::step(double dt) {
                      : p_.time == "cnab2" ? fv::Imex::cnab2(omega)
                                           : fv::Imex::sbdf2(omega);
   momentum(s, dt);
-  force_immersed(s, dt);
+  if (!ibm_in_predictor_) force_immersed(s, dt);
   project(s, dt, steps_ > 0);
   std::swap(u_old_, u_);
   std::swap(u_, ustar_);

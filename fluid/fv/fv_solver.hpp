@@ -149,8 +149,11 @@ class FvSolver final : public FluidSolver {
   void project(const fv::Imex& s, double dt, bool incremental);
   double max_divergence(const Faces& u) const;  // collective
 
-  // Immersed boundaries (immersed_boundary.cpp).
+  // Immersed boundaries (immersed_boundary.cpp): u* forced after the
+  // predictor (immersed.ibm.stage after_predictor), or the force found on the
+  // explicit estimate of u* and added to the predictor's rows (in_predictor).
   void force_immersed(const fv::Imex& s, double dt);
+  void force_in_predictor(const fv::Imex& s, double dt);
 
   // Turbulence, k-epsilon with the two-layer wall model (turbulence/*.cpp).
   void init_turbulence();
@@ -366,6 +369,9 @@ class FvSolver final : public FluidSolver {
 
   // immersed.method ibm: the multi-direct forcing, made at the first markers.
   std::unique_ptr<ibm::DirectForcing> ibm_;
+  bool ibm_in_predictor_ = false;  // immersed.ibm.stage in_predictor
+  bool ibm_in_rhs_ = false;        // rhs_terms adds a0/dt ibm_du_ (the force of this step)
+  Faces ibm_du_;                   // in_predictor: the forcing's change of the estimate of u*
   double ibm_seconds_ = 0.0;  // wall time, this rank
 };
 

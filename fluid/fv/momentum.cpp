@@ -188,11 +188,48 @@ inline double FvSolver::rhs_terms(int c, long n, const fv::Imex& s, double dt, d
   if (steps_ > 0)
     r -= (p_field_[n] - p_field_[n - stride(c)]) / (rho_ * h_[c]);  // the first step: projection
   r += fluid_.body_force[c] / rho_;
+  if (ibm_in_rhs_) r += s.a0 / dt * ibm_du_[C][n];  // the immersed boundary's force (force_in_predictor)
   if (have_source_)  // the source as an exact impulse (fv::source_weights)
     r += (w_now * (source_[C][n] + source_[C][n - stride(c)]) +
           w_last * (source_old_[C][n] + source_old_[C][n - stride(c)])) /
          (2 * rho_);
   return r;
+}
+
+// Stage in_predictor, before the predictor's solves: ibm_du_ = the forcing's
+// change of u~ on the unknowns off the domain's faces (the boundary faces
+// hold their values and the forcing does not index them).
+void FvSolver::force_in_predictor(const fv::Imex& s, double dt) {
+  ibm_in_rhs_ = false;
+  if (!ibm_in_predictor_ || !ibm_ || ibm_->empty()) return;
+  const double start = MPI_Wtime();
+  const auto [w_now, w_last] = fv::source_weights(s, dt, dt_prev_);
+  std::array<double*, 3> u{nullptr, nullptr, nullptr};
+  for (int c = 0; c < dims_; ++c) {
+    const auto C = static_cast<std::size_t>(c);
+    ustar_[C] = u_[C];
+    auto estimate = [&](long n) {
+      ustar_[C][n] =
+          dt / s.a0 * (rhs_terms(c, n, s, dt, w_now, w_last) + s.theta * diffusion_at(u_[C], c, n));
+    };
+    for_unknown_rows(
+        c, true,
+        [&](const long* at, long n, long) {
+          if (!is_boundary_face(c, at[c])) estimate(n);
+        },
+        [&](long n, long, long len) {
+          for (long i = 0; i < len; ++i) estimate(n + i);
+        });
+    ibm_du_[C] = ustar_[C];
+    u[C] = ustar_[C].data();
+  }
+  ibm_->apply(u, next_time_, velocity_scale_, s.a0 * rho_ / dt, dt);
+  for (int c = 0; c < dims_; ++c) {
+    const auto C = static_cast<std::size_t>(c);
+    for (std::size_t n = 0; n < ibm_du_[C].size(); ++n) ibm_du_[C][n] = ustar_[C][n] - ibm_du_[C][n];
+  }
+  ibm_in_rhs_ = true;
+  ibm_seconds_ += MPI_Wtime() - start;
 }
 
 // The right-hand side of component c's row at `at`: rhs_terms and the faces'
@@ -258,6 +295,7 @@ void FvSolver::viscous_rhs_inside(int c, long n0, long o0, long len, const fv::I
 void FvSolver::momentum(const fv::Imex& s, double dt) {
   advection(u_, adv_);
   if (turbulent_) add_stress_transpose(u_, adv_);
+  force_in_predictor(s, dt);
   const double diag = s.a0 / dt, nu_theta = s.theta * nu_;
   double nu_max = nu_;  // the largest nu + nu_t: with turbulence the matrices change every step
   if (turbulent_) {
@@ -291,6 +329,7 @@ void FvSolver::momentum(const fv::Imex& s, double dt) {
     viscous_iterations_ = std::max(viscous_iterations_, viscous_[C]->last_iterations());
     set_owned(ustar_[C], x_);
   }
+  ibm_in_rhs_ = false;
 }
 
 }  // namespace coflow::fluid

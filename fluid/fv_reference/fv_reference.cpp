@@ -243,10 +243,37 @@ double FvReference::deferred_wall(int c, const long x[3], long n, double theta, 
   return r;
 }
 
+// Row c of the momentum predictor's right-hand side at face n (x: its cell),
+// before the wall weight: the history, the advection, the explicit part of
+// the diffusion, the old pressure, the body force, the source's impulse;
+// with an eddy viscosity, deferred: the wall closures' u1 part.
+double FvReference::predictor_rhs(int c, const long* x, long n, const fv::Imex& s, double dt,
+                                  bool with_pressure, bool deferred) const {
+  const auto C = static_cast<std::size_t>(c);
+  const auto N = static_cast<std::size_t>(n);
+  const long sc = step_of(c);
+  double r = (s.a1 * u_[C][N] - s.a2 * u_old_[C][N]) / dt + s.b0 * adv_[C][N] + s.b1 * adv_old_[C][N];
+  if (s.theta < 1) r += (1 - s.theta) * viscous_at(u_[C], c, n);
+  if (with_pressure) r -= (p_[N] - p_[static_cast<std::size_t>(n - sc)]) / (rho_ * h_[c]);
+  r += fluid_.body_force[c] / rho_;
+  const auto [w_now, w_last] = fv::source_weights(s, dt, dt_prev_);  // the source's impulse, exactly
+  const auto below = static_cast<std::size_t>(n - sc);
+  r += (w_now * (source_[C][N] + source_[C][below]) + w_last * (source_old_[C][N] + source_old_[C][below])) /
+       (2 * rho_);
+  if (turbulent_ && deferred)
+    r += deferred_wall(c, x, n, s.theta, [&](long m) {
+      return s.b0 * u_[C][static_cast<std::size_t>(m)] + s.b1 * u_old_[C][static_cast<std::size_t>(m)];
+    });
+  return r;
+}
+
 // u* to the advection's, diffusion's and old pressure's provisional velocity,
-// each component's implicit system solved by conjugate gradients.
+// each component's implicit system solved by conjugate gradients. The
+// immersed boundary forces u* after the solve (stage after_predictor, seed
+// 003 eqs. 4.7-4.11) or adds its force to the right-hand sides, the force
+// found on the explicit estimate of u* (stage in_predictor: fv's
+// force_in_predictor).
 void FvReference::momentum(const fv::Imex& s, double dt, bool with_pressure) {
-  const double t1 = next_time_;
   for (int c = 0; c < dims_; ++c)
     each_cell([&](const long* x, std::size_t n) {
       adv_[static_cast<std::size_t>(c)][n] =
@@ -254,59 +281,81 @@ void FvReference::momentum(const fv::Imex& s, double dt, bool with_pressure) {
                                  (turbulent_ ? stress_transpose_at(u_, c, static_cast<long>(n)) : 0.0)
                            : 0.0;
     });
-  Faces star = u_;
+  Faces rhs;
   for (int c = 0; c < dims_; ++c) {
-    const auto C = static_cast<std::size_t>(c);
-    const long sc = step_of(c);
-    std::vector<long> rows;
-    Field rhs(u_[C].size(), 0.0), weight(u_[C].size(), 0.0);
+    rhs[static_cast<std::size_t>(c)].assign(u_[0].size(), 0.0);
     each_cell([&](const long* x, std::size_t n) {
-      if (!unknown(c, x[c])) return;
-      const long N = static_cast<long>(n);
-      rows.push_back(N);
-      weight[n] = wall_weight(c, x, N);
-      double r = (s.a1 * u_[C][n] - s.a2 * u_old_[C][n]) / dt + s.b0 * adv_[C][n] + s.b1 * adv_old_[C][n];
-      if (s.theta < 1) r += (1 - s.theta) * viscous_at(u_[C], c, N);
-      if (with_pressure) r -= (p_[n] - p_[static_cast<std::size_t>(N - sc)]) / (rho_ * h_[c]);
-      r += fluid_.body_force[c] / rho_;
-      const auto [w_now, w_last] = fv::source_weights(s, dt, dt_prev_);  // the source's impulse, exactly
-      const auto below = static_cast<std::size_t>(N - sc);
-      r += (w_now * (source_[C][n] + source_[C][below]) +
-            w_last * (source_old_[C][n] + source_old_[C][below])) /
-           (2 * rho_);
-      if (turbulent_) r += deferred_wall(c, x, N, s.theta, [&](long m) {
-        return s.b0 * u_[C][static_cast<std::size_t>(m)] + s.b1 * u_old_[C][static_cast<std::size_t>(m)];
-      });
-      rhs[n] = weight[n] * r;
+      if (unknown(c, x[c]))
+        rhs[static_cast<std::size_t>(c)][n] =
+            predictor_rhs(c, x, static_cast<long>(n), s, dt, with_pressure, true);
     });
-    // A x = weight (a0/dt x - theta nu lap x); the faces' values make it affine:
-    // A(x) = A_lin(x) + A(0), so A_lin x = rhs - A(0).
-    auto apply = [&](const Field& xf, Field& y, bool zero) {
-      Faces X;
-      for (auto& f : X) f.assign(xf.size(), 0.0);
-      for (long i : rows) X[C][static_cast<std::size_t>(i)] = xf[static_cast<std::size_t>(i)];
-      velocity_ghosts(X, t1, false, zero);
-      for (long i : rows) {
-        const auto I = static_cast<std::size_t>(i);
-        y[I] = weight[I] * (s.a0 / dt * X[C][I] - s.theta * viscous_at(X[C], c, i));
-        if (turbulent_) {  // the ghosts' u1 part is not the operator's (on the right-hand side)
-          const long xi[3] = {i % m_[0] - g_[0], (i / m_[0]) % m_[1] - g_[1], i / (m_[0] * m_[1]) - g_[2]};
-          y[I] += deferred_wall(c, xi, i, s.theta, [&](long m) { return X[C][static_cast<std::size_t>(m)]; });
-        }
-      }
-    };
-    Field zero(rhs.size(), 0.0), affine(rhs.size(), 0.0);
-    apply(zero, affine, false);
-    for (long i : rows) rhs[static_cast<std::size_t>(i)] -= affine[static_cast<std::size_t>(i)];
-    Field x = u_[C];
-    conjugate_gradients([&](const Field& a, Field& y) { apply(a, y, true); }, rows, x, rhs, "viscous solve");
-    for (long i : rows) star[C][static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(i)];
   }
-  force_immersed(star, s, dt);
-  velocity_ghosts(star, t1, false, false);  // walls' values, open faces extrapolated
-  if (convect_outflow(star, dt)) velocity_ghosts(star, t1, true, false);
+  const bool in_predictor = ibm_ && !ibm_->empty() && ibm_stage_ == "in_predictor";
+  if (in_predictor) {  // u* estimated with the implicit diffusion at u^n (its ghosts), forced; the force to
+                       // the rows
+    Faces estimate = u_;
+    for (int c = 0; c < dims_; ++c)
+      each_cell([&](const long* x, std::size_t n) {
+        const auto C = static_cast<std::size_t>(c);
+        const long N = static_cast<long>(n);
+        if (unknown(c, x[c]))
+          estimate[C][n] =
+              dt / s.a0 *
+              (predictor_rhs(c, x, N, s, dt, with_pressure, false) + s.theta * viscous_at(u_[C], c, N));
+      });
+    Faces forced = estimate;
+    force_immersed(forced, s, dt);
+    for (int c = 0; c < dims_; ++c)
+      each_cell([&](const long* x, std::size_t n) {
+        const auto C = static_cast<std::size_t>(c);
+        if (unknown(c, x[c])) rhs[C][n] += s.a0 / dt * (forced[C][n] - estimate[C][n]);
+      });
+  }
+  Faces star = u_;
+  for (int c = 0; c < dims_; ++c) solve_predictor(c, s, dt, rhs[static_cast<std::size_t>(c)], star);
+  if (!in_predictor) force_immersed(star, s, dt);
+  velocity_ghosts(star, next_time_, false, false);  // walls' values, open faces extrapolated
+  if (convect_outflow(star, dt)) velocity_ghosts(star, next_time_, true, false);
   u_old_.swap(u_);
   u_.swap(star);  // u_ holds u* until the projection
+}
+
+// Component c of u* into star: weight (a0/dt x - theta div((nu + nu_t) grad
+// x)) = weight rhs, by conjugate gradients.
+void FvReference::solve_predictor(int c, const fv::Imex& s, double dt, Field rhs, Faces& star) {
+  const double t1 = next_time_;
+  const auto C = static_cast<std::size_t>(c);
+  std::vector<long> rows;
+  Field weight(u_[C].size(), 0.0);
+  each_cell([&](const long* x, std::size_t n) {
+    if (!unknown(c, x[c])) return;
+    const long N = static_cast<long>(n);
+    rows.push_back(N);
+    weight[n] = wall_weight(c, x, N);
+    rhs[n] *= weight[n];
+  });
+  // A x = weight (a0/dt x - theta nu lap x); the faces' values make it affine:
+  // A(x) = A_lin(x) + A(0), so A_lin x = rhs - A(0).
+  auto apply = [&](const Field& xf, Field& y, bool zero) {
+    Faces X;
+    for (auto& f : X) f.assign(xf.size(), 0.0);
+    for (long i : rows) X[C][static_cast<std::size_t>(i)] = xf[static_cast<std::size_t>(i)];
+    velocity_ghosts(X, t1, false, zero);
+    for (long i : rows) {
+      const auto I = static_cast<std::size_t>(i);
+      y[I] = weight[I] * (s.a0 / dt * X[C][I] - s.theta * viscous_at(X[C], c, i));
+      if (turbulent_) {  // the ghosts' u1 part is not the operator's (on the right-hand side)
+        const long xi[3] = {i % m_[0] - g_[0], (i / m_[0]) % m_[1] - g_[1], i / (m_[0] * m_[1]) - g_[2]};
+        y[I] += deferred_wall(c, xi, i, s.theta, [&](long m) { return X[C][static_cast<std::size_t>(m)]; });
+      }
+    }
+  };
+  Field zero(rhs.size(), 0.0), affine(rhs.size(), 0.0);
+  apply(zero, affine, false);
+  for (long i : rows) rhs[static_cast<std::size_t>(i)] -= affine[static_cast<std::size_t>(i)];
+  Field x = u_[C];
+  conjugate_gradients([&](const Field& a, Field& y) { apply(a, y, true); }, rows, x, rhs, "viscous solve");
+  for (long i : rows) star[C][static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(i)];
 }
 
 // An outflow face's normal velocity before the projection: du/dt + U du/dn = 0

@@ -82,7 +82,10 @@ class FvReference final : public FluidSolver {
   bool convect_outflow(Faces& star, double dt) const;
   double advection_at(const Faces& u, int c, long n) const;
   double laplacian_at(const Field& q, long n) const;
+  double predictor_rhs(int c, const long* x, long n, const fv::Imex& s, double dt, bool with_pressure,
+                       bool deferred) const;
   void momentum(const fv::Imex& s, double dt, bool with_pressure);
+  void solve_predictor(int c, const fv::Imex& s, double dt, Field rhs, Faces& star);
   void project(const fv::Imex& s, double dt, bool incremental);
   void force_immersed(Faces& star, const fv::Imex& s, double dt);  // immersed_boundary_reference.cpp
   double wall_weight(int c, const long x[3], long n) const;
@@ -138,6 +141,7 @@ class FvReference final : public FluidSolver {
   long steps_ = 0, window_steps_ = 0;
   int poisson_iterations_ = 0;
   std::unique_ptr<ibm::DirectForcing> ibm_;  // immersed.method ibm: made at the first markers
+  std::string ibm_stage_;                    // immersed.ibm.stage: after_predictor | in_predictor
   std::vector<double> out_u_, out_p_, out_rho_, out_div_, out_k_, out_eps_, out_nut_, out_yplus_;
   bool turbulent_ = false;
   bool log_law_ = false;  // wall: log-law

@@ -1,7 +1,8 @@
 // fv-reference's part of the immersed boundary: fv's (fluid/fv/
 // immersed_boundary.cpp) on the serial grid, the same direct forcing
 // (ibm/direct_forcing.hpp) on u* at the end of the momentum step, before its
-// ghosts are filled.
+// ghosts are filled, or on the explicit estimate of u* in the momentum step
+// (immersed.ibm.stage in_predictor).
 #include "fluid/fv/turbulence/wall_distance.hpp"
 #include "fluid/fv_reference/fv_reference.hpp"
 #include "immersed/ibm/params.hpp"
@@ -18,6 +19,7 @@ void FvReference::set_markers(ibm::MarkerSet markers) {
     const std::array<bool, 3> periodic{sides_[0].kind == Kind::periodic, sides_[2].kind == Kind::periodic,
                                        sides_[4].kind == Kind::periodic};
     ibm_ = immersed::staggered_forcing(cfg_, periodic, index, comm_);
+    ibm_stage_ = immersed::read_ibm_params(cfg_).stage;
   }
   if (turbulent_) {  // the bodies are walls for k-epsilon too: fv's distance (turbulence/wall_distance.hpp)
     const fv::BodyDistance body(markers, fv::BodyDistance::grid_of(cfg_));

@@ -77,6 +77,18 @@ void IbmParams::visit(config::Visitor& v) {
     "a Richardson iteration, slow on fine marker sets); cg: the same forcing equations for all markers at once "
     "by conjugate gradients (the same work per iteration, far fewer iterations)",
     config::one_of({"mdf", "cg"}));
+  v("stage", stage,
+    "fv: where the forcing acts in the step. after_predictor: the seed's (seed 003 eqs. 4.7-4.11), on u* "
+    "after the implicit momentum predictor; that step's implicit diffusion never sees the force, so a steady "
+    "state depends on nu dt / h^2 (circular Couette at nu dt / h^2 = 7.3: torque 27 % low). in_predictor: "
+    "the "
+    "force found on an explicit estimate of u* (the implicit diffusion taken at the old velocity) and added "
+    "to "
+    "the implicit predictor's right-hand side (the force then enters the momentum balance it corrects; a "
+    "steady state has no slip whatever the step). lbm: either (its collision is explicit); the adaptive "
+    "grid: "
+    "after_predictor only",
+    config::one_of({"after_predictor", "in_predictor"}));
   v("max_iterations", max_iterations, "the most forcing iterations in a step", config::in_range(1, 1000));
   v("tolerance", tolerance,
     "multi-direct forcing: iterate until the largest slip |U_b - U| at the markers is below this fraction of "

@@ -43,6 +43,7 @@ struct IbmParams {
   double spacing = 1.0;     // cells between markers
   double retraction = 0.0;  // cells: markers moved into the body along the normal
   std::string iteration = "cg";
+  std::string stage = "after_predictor";  // fv: where the forcing acts on the momentum step
   int max_iterations = 50;
   double tolerance = 1e-4;
   std::string particles = "none";  // none | point: point particles coupled in the same windows

@@ -55,6 +55,11 @@ for i in range(n):
 
 w_axis = "xyz".index(a.normal)
 u_axis, v_axis = [k for k in range(3) if k != w_axis]
+# (u, v, w) -> (x, z, y) for --normal y is a mirror: each triangle's order is
+# reversed there, so that the triangles stay counter-clockwise seen from
+# outside (outward normals; coflow validate refuses a mesh facing inward).
+if (u_axis, v_axis, w_axis) == (0, 2, 1):
+    tris = [(p, r, q) for p, q, r in tris]
 c, s = math.cos(math.radians(a.tilt)), math.sin(math.radians(a.tilt))
 
 

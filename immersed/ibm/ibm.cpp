@@ -70,15 +70,10 @@ struct Body {
   }
 };
 
-// The inertia tensor about p of a body of unit density whose second moments
-// about the origin are S (mesh_volume), volume V and centroid c.
+// ibm::inertia_about as a matrix.
 Eigen::Matrix3d inertia_about(const ibm::MeshVolume& mv, const V3& p) {
-  Eigen::Matrix3d S;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) S(i, j) = mv.second[static_cast<std::size_t>(3 * i + j)];
-  const V3 first = mv.volume * V3(mv.centroid[0], mv.centroid[1], mv.centroid[2]);
-  S += -p * first.transpose() - first * p.transpose() + mv.volume * p * p.transpose();
-  return S.trace() * Eigen::Matrix3d::Identity() - S;
+  const std::array<double, 9> I = ibm::inertia_about(mv, {p[0], p[1], p[2]});
+  return Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(I.data());
 }
 
 Body make_body(const BodyParams& p, const ibm::GridGeometry& g, double spacing, double retraction) {
@@ -89,15 +84,19 @@ Body make_body(const BodyParams& p, const ibm::GridGeometry& g, double spacing, 
   const ibm::MeshVolume mv = ibm::mesh_volume(mesh);
   const auto& cv = p.motion.centre.values;
   b.centre0 = cv.size() == 3 ? V3(cv[0], cv[1], cv[2]) : V3(mv.centroid[0], mv.centroid[1], mv.centroid[2]);
-  b.volume = std::abs(mv.volume);
-  b.inertia0 = inertia_about(mv, b.centre0);
+  b.volume = std::abs(mv.volume);  // validate refuses meshes that face inward (a negative volume)
   b.offset0 = V3(mv.centroid[0], mv.centroid[1], mv.centroid[2]) - b.centre0;
   if (g.dims == 2) {  // the slab of the prism: moments about z scale with its length
     const stl::MeshSummary m = stl::summarize(mesh);
-    b.volume *= g.h[2] / (m.upper[2] - m.lower[2]);
-    b.inertia0 *= g.h[2] / (m.upper[2] - m.lower[2]);
+    const double slab = g.h[2] / (m.upper[2] - m.lower[2]);
+    // About the point in the prism's middle plane: a centre given off it in z
+    // would bring the products x z and y z, which the slab does not have.
+    b.inertia0 = slab * inertia_about(mv, V3(b.centre0[0], b.centre0[1], 0.5 * (m.lower[2] + m.upper[2])));
+    b.volume *= slab;
     b.centre0[2] = g.lower[2] + 0.5 * g.h[2];
     b.offset0[2] = 0.0;
+  } else {
+    b.inertia0 = inertia_about(mv, b.centre0);
   }
   b.points = ibm::sample_surface(mesh, g, spacing);
   const double inward = retraction * g.shell();

@@ -150,6 +150,18 @@ MeshVolume mesh_volume(const stl::TriangleMesh& mesh) {
   return m;
 }
 
+std::array<double, 9> inertia_about(const MeshVolume& v, const Vec& p) {
+  std::array<double, 9> S{};
+  for (std::size_t i = 0; i < 3; ++i)
+    for (std::size_t j = 0; j < 3; ++j) {
+      const double mi = v.volume * v.centroid[i], mj = v.volume * v.centroid[j];
+      S[3 * i + j] = v.second[3 * i + j] - p[i] * mj - mi * p[j] + v.volume * p[i] * p[j];
+    }
+  const double trace = S[0] + S[4] + S[8];
+  for (std::size_t k = 0; k < 9; ++k) S[k] = (k % 4 == 0 ? trace : 0.0) - S[k];
+  return S;
+}
+
 std::vector<double> MarkerSet::pack() const {
   std::vector<double> f{time, static_cast<double>(bodies.size()), static_cast<double>(markers.size())};
   f.reserve(3 + 9 * bodies.size() + 14 * markers.size());

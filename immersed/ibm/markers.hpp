@@ -55,6 +55,10 @@ struct MeshVolume {
   std::array<double, 9> second{};
 };
 MeshVolume mesh_volume(const stl::TriangleMesh& mesh);
+// The inertia tensor at unit density about the point p (row-major): tr(S_p)
+// 1 - S_p, S_p = S - p m^T - m p^T + V p p^T the second moments about p
+// (m = V x centroid, the first moment).
+std::array<double, 9> inertia_about(const MeshVolume& v, const Vec& p);
 
 // What goes to the fluid: per marker its position, velocity and acceleration
 // at the window's start, Delta V_Gamma over the cell volume, its body and its

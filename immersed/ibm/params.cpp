@@ -1,11 +1,13 @@
 #include "immersed/ibm/params.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <set>
 #include <stdexcept>
 
-#include <fmt/format.h>
+#include "immersed/ibm/markers.hpp"
 
 namespace coflow::immersed {
 
@@ -201,6 +203,12 @@ void IbmParams::check(config::Visitor& v, const config::Config& cfg) const {
         v.fail("bodies", fmt::format("bodies[{}] ({}): the mesh {} is open ({} edges of one triangle); a body needs a "
                                      "closed surface (every edge shared by two triangles), whose inside is the body",
                                      n, b.name, b.mesh.path, m.open_edges));
+      if (m.closed && ibm::mesh_volume(mesh).volume < 0.0)
+        v.fail("bodies",
+               fmt::format("bodies[{}] ({}): the mesh's triangles face inward (their winding encloses a "
+                           "negative volume), so its markers would retract into the fluid and its "
+                           "inertia change sign: reverse the order of each triangle's vertices",
+                           n, b.name));
       if (dims == 2 && !(m.upper[2] > m.lower[2]))
         v.fail("bodies", fmt::format("bodies[{}] ({}): the fluid is 2D and this mesh is flat in z; give a prism "
                                      "along z (any length)",

@@ -132,14 +132,14 @@ inline double sweep_triangle(const V3& x, const V3& u, double R, double dt, cons
       if (beta >= 0.0 && gamma >= 0.0 && beta + gamma <= 1.0) consider(t, q);
     }
   }
-  // Smallest root in [0, dt) of A t^2 + 2 B t + C = 0 with C > 0 (outside now).
-  // C <= 0 about an edge: the centre is already within R of the edge's line
+  // Smallest root in [0, dt) of A t^2 + 2 B t + C = 0 with C >= 0 (outside now,
+  // or touching: t = 0). C < 0 about an edge: the centre is already within R of the edge's line
   // but not of the edge (the check above), beyond one of its ends; it can
   // reach the edge only past that end's vertex, which the vertices' test
   // finds. (Its root here is negative: it once logged an impact 0.056 s
   // before its step, a slow particle beside the plate's corner in the jet.)
   auto first_root = [&](double A, double B, double C) {
-    if (A <= 0.0 || B >= 0.0 || C <= 0.0) return inf;
+    if (A <= 0.0 || B >= 0.0 || C < 0.0) return inf;
     const double disc = B * B - A * C;
     if (disc < 0.0) return inf;
     const double t = C / (-B + std::sqrt(disc));

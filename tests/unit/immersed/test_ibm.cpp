@@ -84,6 +84,21 @@ TEST_CASE("markers sample a mesh with its area, outward normals, about a cell ap
   CHECK(v.second[1] == Approx(std::pow(a, 5) / 4).epsilon(1e-12));
   CHECK(v.second[5] == Approx(std::pow(a, 5) / 4).epsilon(1e-12));
   CHECK(v.second[6] == v.second[2]);
+  // The inertia about a corner (the origin): a^5 (2/3, 2/3, 2/3) on the
+  // diagonal, -a^5 / 4 off it; about any point p, the parallel axes from the
+  // centroid's a^5 / 6: I_c + V (|r|^2 1 - r r^T), r = centroid - p.
+  const auto corner = ibm::inertia_about(v, {0, 0, 0});
+  CHECK(corner[0] == Approx(2 * std::pow(a, 5) / 3).epsilon(1e-12));
+  CHECK(corner[1] == Approx(-std::pow(a, 5) / 4).epsilon(1e-12));
+  const ibm::Vec p{0.3, -0.2, 0.7};
+  const auto at_p = ibm::inertia_about(v, p);
+  const double r[3] = {a / 2 - p[0], a / 2 - p[1], a / 2 - p[2]},
+               r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const double expected = (i == j ? std::pow(a, 5) / 6 + v.volume * r2 : 0.0) - v.volume * r[i] * r[j];
+      CHECK(at_p[static_cast<std::size_t>(3 * i + j)] == Approx(expected).epsilon(1e-12).margin(1e-15));
+    }
 }
 
 TEST_CASE("a 2D fluid sees a prism by its outline: perimeter times the slab", "[immersed][ibm]") {

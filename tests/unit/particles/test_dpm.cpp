@@ -104,6 +104,11 @@ TEST_CASE("swept sphere against a triangle: face, edge, vertex, miss, receding, 
   // Within R of the line of edge ab but beyond b, drifting slowly: no contact
   // within the step (the edge's quadratic has a root at t = -50, over the edge).
   CHECK(sweep_triangle(V3(1.2, 0.05, 0.0), V3(0.005, -0.001, 0), R, 1.0, a, b, c, p) == inf);
+  // The same start moving towards b: it reaches b's vertex, where
+  // (0.2 - t)^2 + 0.05^2 = R^2, t = 0.2 - sqrt(0.0075).
+  CHECK(sweep_triangle(V3(1.2, 0.05, 0.0), V3(-1, 0, 0), R, 1.0, a, b, c, p) ==
+        Approx(0.2 - std::sqrt(0.0075)).epsilon(1e-13));
+  CHECK((p - b).norm() < 1e-14);
   // Already touching and approaching: t = 0; touching and leaving: none.
   CHECK(sweep_triangle(V3(0.2, 0.2, 0.05), V3(0, 0, -1), R, 1.0, a, b, c, p) == 0.0);
   CHECK(sweep_triangle(V3(0.2, 0.2, 0.05), V3(0, 0, 1), R, 1.0, a, b, c, p) == inf);

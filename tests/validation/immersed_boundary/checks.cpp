@@ -547,8 +547,9 @@ int ibm_couette(const std::string& dir) {
   std::printf(
       "rotor_torque=%.6e\ntube_torque=%.6e\nexact_torque=%.6e\nrotor_torque_error=%.6e\n"
       "tube_torque_error=%.6e\ntorque_balance=%.6e\nprofile_error=%.6e\nradial_velocity=%.6e\nslip=%.6e\n",
-      on_rotor, on_tube, torque, std::abs(-on_rotor - torque) / torque, std::abs(on_tube - torque) / torque,
-      std::abs(on_rotor + on_tube) / torque, ref2 > 0 ? std::sqrt(err2 / ref2) : std::nan(""), radial / speed,
+      on_rotor, on_tube, torque, std::abs(-on_rotor - torque) / std::abs(torque),
+      std::abs(on_tube - torque) / std::abs(torque), std::abs(on_rotor + on_tube) / std::abs(torque),
+      ref2 > 0 ? std::sqrt(err2 / ref2) : std::nan(""), radial / speed,
       LastRow(dir + "/series/immersed.csv")("slip") / speed);
   return 0;
 }
@@ -613,7 +614,8 @@ int ibm_couette_oscillating(const std::string& dir) {
     throw std::runtime_error(
         dir + ": the rotor must oscillate about z (angular_amplitude, frequency), no steady turn");
   const auto rows = read_series(dir + "/series/immersed.csv");
-  const double from = rows.back().at(0) - 2 * std::numbers::pi / w * (1 + 1e-9);
+  // The last period's rows: the row at its start holds the window before it.
+  const double from = rows.back().at(0) - 2 * std::numbers::pi / w * (1 - 1e-9);
   const auto rotor = harmonic_fit(rows, 6, w, from), tube = harmonic_fit(rows, 12, w, from);
   const double torque = 4 * std::numbers::pi * cell.mu * omega0 * cell.k * cell.slab;
   const double r1 = cell.r1, r2 = cell.r2;
@@ -625,8 +627,8 @@ int ibm_couette_oscillating(const std::string& dir) {
       "rotor_in_phase=%.6e\nrotor_quadrature=%.6e\ntube_in_phase=%.6e\ntube_quadrature=%.6e\n"
       "couette_torque=%.6e\nrotor_in_phase_error=%.6e\nsum_quadrature=%.6e\ngap_angular_momentum_rate=%.6e\n"
       "angular_momentum_error=%.6e\nheld_share=%.6e\nviscous_time_ratio=%.6e\n",
-      rotor[0], rotor[1], tube[0], tube[1], torque, std::abs(-rotor[0] - torque) / torque, sum_sin, expected,
-      std::abs(sum_sin - expected) / expected, held / gap,
+      rotor[0], rotor[1], tube[0], tube[1], torque, std::abs(-rotor[0] - torque) / std::abs(torque), sum_sin,
+      expected, std::abs(sum_sin - expected) / std::abs(expected), held / gap,
       w * (r2 - r1) * (r2 - r1) / (std::numbers::pi * std::numbers::pi * cell.mu / cell.rho));
   return 0;
 }

@@ -152,6 +152,8 @@ class CompositeFlow {
     return kinds_[face_of(f)] == Boundary::wall ? 0.0 : nut[c];
   }
   void project(Field& u, double dt, int stage);
+  void solve_pressure(const std::vector<double>& b, std::vector<double>& phi, double dt, int stage,
+                      bool solved_before);
   double volume(long c) const;
   // The velocity component q at cell c's domain face f (fields with ghosts).
   double wall_velocity(const SubFace& f, std::size_t c, const Field& g, std::size_t q) const;
@@ -218,8 +220,11 @@ class CompositeFlow {
   std::array<Inflow, 6> inflow_;
   std::function<void(Field&, double, int)> forcing_;
   // Per local cell, the last pressure of each stage and of the initial
-  // projection: each solve's initial guess.
+  // projection; and each stage's rate of change between its last two solves
+  // (empty until a stage has been solved twice on this grid). A stage's
+  // guess is phi_ + dt phi_rate_: its pressure extrapolated linearly in time.
   std::array<std::vector<double>, 3> phi_;
+  std::array<std::vector<double>, 2> phi_rate_;
   double nu_;
   int dims_;
   int nc_;              // values per cell on the forest

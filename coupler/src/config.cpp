@@ -244,11 +244,26 @@ Rule each_one_of(std::vector<std::string> names) {
 
 namespace {
 
+// A finite number: YAML's .inf and .nan are refused (an infinite end time or
+// timeout would pass "> 0" and then overflow the window count or disable
+// every deadline).
 bool scalar_double(const YAML::Node& n, double& out) {
   if (!n.IsScalar()) return false;
   try {
-    out = n.as<double>();
+    const double x = n.as<double>();
+    if (!std::isfinite(x)) return false;
+    out = x;
     return true;
+  } catch (const YAML::Exception&) {
+    return false;
+  }
+}
+
+// Whether a scalar is YAML's .inf, -.inf or .nan (a number, but not a finite one).
+bool non_finite(const YAML::Node& n) {
+  if (!n.IsScalar()) return false;
+  try {
+    return !std::isfinite(n.as<double>());
   } catch (const YAML::Exception&) {
     return false;
   }
@@ -292,7 +307,9 @@ std::string parse_array(const YAML::Node& n, std::array<T, N>& out, Parse parse,
 struct Parser {
   const YAML::Node& n;
   std::string operator()(double* p) const {
-    return scalar_double(n, *p) ? "" : fmt::format("expected a number (got '{}')", text());
+    return scalar_double(n, *p)
+               ? ""
+               : fmt::format("expected a {}number (got '{}')", non_finite(n) ? "finite " : "", text());
   }
   std::string operator()(int* p) const {
     return scalar_int(n, *p) ? "" : fmt::format("expected an integer (got '{}')", text());
@@ -358,7 +375,8 @@ struct Parser {
       return {};
     }
     double v = 0;
-    if (!scalar_double(n, v)) return fmt::format("expected a number or 'auto' (got '{}')", text());
+    if (!scalar_double(n, v))
+      return fmt::format("expected a {}number or 'auto' (got '{}')", non_finite(n) ? "finite " : "", text());
     p->is_auto = false;
     p->value = v;
     return {};

@@ -470,6 +470,14 @@ void prepare_run_directory(const Config& cfg, const std::string& dir, const std:
   if (restart.empty()) {
     std::error_code ec;
     for (const char* sub : {"fluid", "particles", "immersed", "series", "events", "logs"}) fs::remove_all(dir + "/" + sub, ec);
+    // An earlier run's checkpoints would be counted with this run's (and
+    // pruned in their place), and --restart latest would take them.
+    if (const auto old = coflow::coupler::complete_checkpoints(dir); !old.empty())
+      std::printf(
+          "coflow: a fresh run: the %zu checkpoint(s) of the run before it in %s/checkpoints are removed "
+          "(use --restart to go on from one)\n",
+          old.size(), dir.c_str());
+    fs::remove_all(dir + "/checkpoints", ec);
     fs::remove(dir + "/summary.json", ec);
     fs::remove(dir + "/run.xdmf", ec);
   } else if (const std::string said = coflow::launcher::rewind_run_directory(cfg, dir, restart); !said.empty()) {
@@ -765,5 +773,10 @@ int main(int argc, char** argv) {
     std::cout << YAML::Dump(cfg.resolved) << std::endl;
     return rc;
   }
-  return run(cfg, o);
+  try {
+    return run(cfg, o);
+  } catch (const std::exception& e) {  // the run directory, a foreign checkpoint.yaml, fork or pipe
+    std::cerr << "coflow: " << e.what() << std::endl;
+    return 1;
+  }
 }

@@ -87,6 +87,8 @@ std::string rewind_run_directory(const config::Config& cfg, const std::string& d
   const double tol = 1e-9 * std::max(1.0, std::abs(t));
   std::string said;
   std::error_code ec;
+  // The failure reason of the run being restarted would be read as this one's.
+  fs::remove(dir + "/logs/FAILED", ec);
   for (const char* sub : {"series", "events"})
     for (const auto& e : fs::directory_iterator(dir + "/" + sub, ec))
       if (e.path().extension() == ".csv")
@@ -110,7 +112,7 @@ std::string rewind_run_directory(const config::Config& cfg, const std::string& d
     if (gone > 0) said += fmt::format("  {}: {} snapshots after t = {} s removed\n", index.parent_path().string(), gone, t);
   }
   for (const auto& cp : coupler::complete_checkpoints(dir))
-    if (fs::path(cp).filename().string() > fmt::format("window_{:06d}", w)) {
+    if (coupler::checkpoint_window(cp) > w) {
       fs::remove_all(cp, ec);
       said += fmt::format("  {}: a later checkpoint, removed\n", cp);
     }

@@ -15,15 +15,28 @@ namespace coflow::coupler {
 
 namespace fs = std::filesystem;
 
-std::vector<std::string> complete_checkpoints(const std::string& run_dir) {
-  std::vector<std::string> all;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(run_dir + "/checkpoints", ec)) {
-    const std::string n = e.path().filename().string();
-    if (e.is_directory() && n.rfind("window_", 0) == 0 && n.find(".partial") == std::string::npos)
-      all.push_back(e.path().string());
+long checkpoint_window(const std::string& path) {
+  const std::string n = fs::path(path).filename().string();
+  if (n.rfind("window_", 0) != 0 || n.size() == 7) return -1;
+  long w = 0;
+  for (std::size_t i = 7; i < n.size(); ++i) {
+    if (n[i] < '0' || n[i] > '9' || w > 100000000000L) return -1;
+    w = 10 * w + (n[i] - '0');
   }
-  std::sort(all.begin(), all.end());
+  return w;
+}
+
+std::vector<std::string> complete_checkpoints(const std::string& run_dir) {
+  std::vector<std::pair<long, std::string>> found;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(run_dir + "/checkpoints", ec))
+    if (const long w = checkpoint_window(e.path().string()); e.is_directory() && w >= 0)
+      found.emplace_back(w, e.path().string());
+  // By window number: window_1000000 comes after window_999999 (the names'
+  // six digits grow to seven there, so their text order would not).
+  std::sort(found.begin(), found.end());
+  std::vector<std::string> all;
+  for (auto& [w, path] : found) all.push_back(std::move(path));
   return all;
 }
 

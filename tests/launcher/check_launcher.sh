@@ -63,6 +63,10 @@ printf '%s\n' "$vars" | grep -q "fluid.lbm.tau" || fail "variants lacks the opti
 [ $rc -eq 2 ] || fail "bad --set value: exit $rc, expected 2"
 "$bin/coflow" run --dry-run --exe fluid=/nonexistent "$cfg" >/dev/null 2>&1; rc=$?
 [ $rc -eq 2 ] || fail "missing --exe file: exit $rc, expected 2"
+# A run directory that cannot be made: a message and exit 1, not an abort.
+msg=$("$bin/coflow" run "$cfgs/quickstart.yaml" --set run.output.dir=/proc/coflow-no-such-dir 2>&1); rc=$?
+[ $rc -eq 1 ] || fail "unwritable run.output.dir: exit $rc, expected 1: $msg"
+printf '%s\n' "$msg" | grep -q "^coflow: .*/proc/coflow-no-such-dir" || fail "unwritable run.output.dir: message: $msg"
 "$bin/coflow" frobnicate >/dev/null 2>&1; rc=$?
 [ $rc -eq 2 ] || fail "unknown subcommand: exit $rc, expected 2"
 [ $status -eq 0 ] && echo "launcher checks passed"

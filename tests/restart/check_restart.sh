@@ -48,3 +48,16 @@ same_series "restart into the finished run's directory"
 run "$out/checkpointed" --restart latest --set run.checkpoint.every="$every" --set run.checkpoint.keep=2 "$@"
 same_series "--restart latest"
 echo "restart into the same directory keeps one history; --restart latest: ok"
+# A restart clears the failure reason of the run it goes on from (the
+# launcher would report a stale logs/FAILED as this run's).
+echo "fluid: a failure of an earlier run" >"$out/checkpointed/logs/FAILED"
+run "$out/checkpointed" --restart latest --set run.checkpoint.every="$every" --set run.checkpoint.keep=2 "$@"
+[ ! -e "$out/checkpointed/logs/FAILED" ] || { echo "FAIL: the restart kept the earlier run's logs/FAILED"; exit 1; }
+# A fresh run into the directory removes the earlier run's checkpoints and
+# says so (they would be pruned in place of its own, and be its `latest`).
+run "$out/checkpointed" "$@"
+grep -q "checkpoint(s) of the run before it in $out/checkpointed/checkpoints are removed" "$out/checkpointed.log" ||
+  { echo "FAIL: a fresh run did not report the earlier checkpoints' removal"; exit 1; }
+left=$(ls -d "$out"/checkpointed/checkpoints/window_* 2>/dev/null | wc -l)
+[ "$left" -eq 0 ] || { echo "FAIL: a fresh run left $left checkpoints of the run before it"; exit 1; }
+echo "a restart clears logs/FAILED; a fresh run removes the earlier checkpoints: ok"

@@ -14,8 +14,11 @@
 namespace coflow::coupler {
 
 // The complete checkpoints of a run directory (checkpoints/window_NNNNNN, not
-// .partial), oldest first.
+// .partial), oldest first (by window number).
 std::vector<std::string> complete_checkpoints(const std::string& run_dir);
+// The window number of a checkpoint's directory (window_NNNNNN), -1 for any
+// other name (a .partial one among them).
+long checkpoint_window(const std::string& path);
 
 class RunDirectory {
  public:

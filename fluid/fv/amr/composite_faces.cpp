@@ -11,12 +11,14 @@ namespace {
 // a coarse-fine face the gradient stays first order (the coarse face's value
 // is the mean of its fine faces', docs/validation.md).
 Stencil same_level_value(const CompositeGrid& g, const CompositeGrid::Cell& c, int axis, int side) {
-  const Index3 near = c.index, far = shifted(c.index, axis, side);
+  // Built from the lower cell whichever of the two asks, so that both list
+  // the same entries in the same order and their sums have the same bits.
+  const Index3 near = side > 0 ? c.index : shifted(c.index, axis, -1), far = shifted(near, axis, 1);
   Stencil a, b, out;
   g.value(c.level, near, out, 0.5);
   g.value(c.level, far, out, 0.5);
-  const bool before = g.value(c.level, shifted(near, axis, -side), a);
-  const bool after = g.value(c.level, shifted(far, axis, side), b);
+  const bool before = g.value(c.level, shifted(near, axis, -1), a);
+  const bool after = g.value(c.level, shifted(far, axis, 1), b);
   if (before && after) {
     for (auto& e : out) e.second = 9.0 / 16.0;
     add(out, a, -1.0 / 16.0);

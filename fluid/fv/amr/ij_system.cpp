@@ -5,6 +5,7 @@
 #include <HYPRE_parcsr_ls.h>
 #include <fmt/format.h>
 
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 
@@ -21,6 +22,17 @@ struct IjSystem::Hypre {
 
 IjSystem::IjSystem(MPI_Comm comm, long first_row, const std::vector<Stencil>& rows, Options opt)
     : h_(new Hypre), opt_(opt), first_(first_row), count_(static_cast<long>(rows.size())) {
+  // Debian's hypre numbers rows with int (HYPRE_BigInt): more cells would
+  // wrap. Every rank learns the largest row, so all throw or none.
+  long last = first_row + count_ - 1;
+  MPI_Allreduce(MPI_IN_PLACE, &last, 1, MPI_LONG, MPI_MAX, comm);
+  if (last > static_cast<long>(std::numeric_limits<HYPRE_BigInt>::max())) {
+    delete h_;
+    throw std::runtime_error(fmt::format(
+        "refinement: {} cells are more than this hypre numbers ({}, HYPRE_BigInt of {} bytes); use fewer "
+        "levels or larger coarse cells, or a hypre built with 64-bit integers",
+        last + 1, std::numeric_limits<HYPRE_BigInt>::max(), sizeof(HYPRE_BigInt)));
+  }
   const auto lo = static_cast<HYPRE_BigInt>(first_row),
              hi = static_cast<HYPRE_BigInt>(first_row + count_ - 1);
   HYPRE_IJMatrixCreate(comm, lo, hi, lo, hi, &h_->A);

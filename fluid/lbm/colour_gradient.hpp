@@ -130,10 +130,20 @@ struct ColourParams {
 // viscosities interpolated harmonically, 1/nu = (1 + psi)/(2 nu_r) +
 // (1 - psi)/(2 nu_b) (Leclaire et al. 2017 eq. 13; it keeps the stress
 // continuous across a layered interface), nu = (tau - 1/2)/3.
-// Per cell (T = double) or per lane (Vec4).
+// Per cell (T = double) or per lane (Vec4). psi is held to [-1, 1]: a colour
+// whose density dips below zero (axis links against the gradient at beta
+// near 1) would otherwise take the mean past either viscosity, and at a
+// viscosity ratio M its denominator reaches zero at psi = -1 - 2 / (M - 1).
 template <class T>
 inline T mixed_tau(T psi, double tau_red, double tau_blue) {
   const double hr = 0.5 / (tau_red - 0.5), hb = 0.5 / (tau_blue - 0.5);
+  if constexpr (std::is_same_v<T, double>) {
+    psi = std::clamp(psi, -1.0, 1.0);
+  } else {
+    const T one = {1.0, 1.0, 1.0, 1.0};
+    psi = psi > one ? one : psi;
+    psi = psi < -one ? -one : psi;
+  }
   return 0.5 + 1.0 / ((1.0 + psi) * hr + (1.0 - psi) * hb);
 }
 

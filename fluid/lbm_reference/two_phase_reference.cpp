@@ -302,8 +302,10 @@ void LbmReference::turn(double g[3], double ns[3], double cos_theta) const {
 }
 
 // The relaxation time at colour fraction psi = (rho_r - rho_b) / rho: the
-// viscosities interpolated harmonically across the interface, nu = (tau - 1/2)/3.
+// viscosities interpolated harmonically across the interface, nu = (tau - 1/2)/3;
+// psi held to [-1, 1] (a colour's density may dip below zero).
 double LbmReference::colour_tau(double psi) const {
+  psi = std::clamp(psi, -1.0, 1.0);
   const double nu_r = (s_.tau - 0.5) / 3.0, nu_b = ((s_.tp.on ? s_.tp.tau_blue : s_.tau) - 0.5) / 3.0;
   const double nu = 1.0 / ((1.0 + psi) / (2.0 * nu_r) + (1.0 - psi) / (2.0 * nu_b));
   return 0.5 + 3.0 * nu;

@@ -1,13 +1,14 @@
 #include "coflow/clock.hpp"
 
+#include <fmt/format.h>
+#include <mpi.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include <fmt/format.h>
-#include <mpi.h>
-
 #include "coflow/log.hpp"
+#include "coflow/wait.hpp"
 
 namespace coflow::coupler {
 
@@ -39,7 +40,17 @@ double output_window(double step, const config::Config& cfg) {
 double Clock::negotiate(double preferred) {
   const double offer = preferred > 0 ? preferred : std::numeric_limits<double>::infinity();
   double w = offer;
-  MPI_Allreduce(&offer, &w, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+  // Through wait_all, so that a component that never comes (stuck in its
+  // set-up, or an executable that skips negotiate_window) ends the run after
+  // coupling.timeout; its time stays out of the trace's coupling wait, as
+  // the blocking reduction's did.
+  MPI_Request r;
+  MPI_Iallreduce(&offer, &w, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD, &r);
+  double start_wait = 0.0;
+  wait_all({&r, 1},
+           "every component to offer its time step (negotiate_window): one is still setting up after "
+           "coupling.timeout, or never asks",
+           &start_wait);
   if (!cfg_.coupling.window.is_auto)
     w = cfg_.coupling.window.value;
   else if (std::isfinite(w))

@@ -84,7 +84,9 @@ void RunDirectory::end_checkpoint(long w, double window) const {
     for (std::size_t i = 0; i + keep < all.size(); ++i) fs::remove_all(all[i]);
     log::info("checkpoint written: {}", base);
   }
-  MPI_Barrier(MPI_COMM_WORLD);
+  MPI_Request done;
+  MPI_Ibarrier(MPI_COMM_WORLD, &done);
+  wait_one(done, "world rank 0 to complete the checkpoint");
 }
 
 void RunDirectory::write_xdmf() const {

@@ -136,6 +136,17 @@ void Session::finish() {
   if (finished_) return;
   finished_ = true;
   const std::string entry = summary_entry();
+  // Every component here before the blocking gather (wait_all: a component
+  // still stepping, or one that ended without finish(), ends the run after
+  // coupling.timeout instead of hanging it); kept out of the trace's wait.
+  double end_wait = 0.0;
+  const auto all_here = [&end_wait](const char* what) {
+    MPI_Request r;
+    MPI_Ibarrier(MPI_COMM_WORLD, &r);
+    wait_all({&r, 1}, what, &end_wait);
+  };
+  all_here(
+      "every component to finish: one is still stepping after coupling.timeout, or ended without finishing");
   // Gather the component entries on world rank 0.
   std::vector<int> lens, displs;
   const std::vector<char> gathered =
@@ -153,7 +164,7 @@ void Session::finish() {
         windows() - restart_window(), now() - start_,
         output::json_quote(config::scheme_name(cfg_.coupling.scheme)), comps));
   }
-  MPI_Barrier(MPI_COMM_WORLD);
+  all_here("world rank 0 to write summary.json");
 }
 
 void Session::fail(const std::string& reason, int code) {

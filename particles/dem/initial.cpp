@@ -62,7 +62,8 @@ void add_lattice(ParticleArrays& a, const ParticleParams& p, const InitialItem& 
 }
 
 // Random sequential addition: draw a size and a position, keep it if it
-// overlaps nothing placed before (checked on a cell grid).
+// overlaps nothing placed before, by this item or an earlier one (checked on
+// a cell grid).
 void add_random(ParticleArrays& a, const ParticleParams& p, const InitialItem& it, int s, std::mt19937_64& rng) {
   const auto& sp = p.species[s].second;
   const V3 lo(it.lower.data()), hi(it.upper.data());
@@ -70,18 +71,30 @@ void add_random(ParticleArrays& a, const ParticleParams& p, const InitialItem& i
   const double target_volume = it.volume_fraction * volume;
   double placed_volume = 0.0;
   long placed = 0;
-  const std::size_t first = a.size();
-  double dmax = sp.diameter.kind == config::Distribution::Kind::uniform ? sp.diameter.b : sp.diameter.a * 3.0;
+  const double dmax =
+      sp.diameter.kind == config::Distribution::Kind::uniform ? sp.diameter.b : sp.diameter.a * 3.0;
+  // Overlap search grid: cells of at least the largest diameter here (this
+  // item's or an earlier particle's), at most 128 per axis; the particles of
+  // earlier items within reach of the region go in first (those outside it
+  // into its edge cells, no farther in cells from a new one than their own).
+  double cell = dmax;
+  for (double r : a.radius) cell = std::max(cell, 2.0 * r);
   std::vector<std::vector<long>> grid;
   std::array<long, 3> nc{};
-  // Overlap search grid: cells of at least the largest diameter, at most 128 per axis.
-  for (int d = 0; d < 3; ++d) nc[d] = std::clamp(static_cast<long>((hi[d] - lo[d]) / dmax), 1L, 128L);
+  for (int d = 0; d < 3; ++d) nc[d] = std::clamp(static_cast<long>((hi[d] - lo[d]) / cell), 1L, 128L);
   grid.resize(nc[0] * nc[1] * nc[2]);
   auto cell_of = [&](const V3& x) {
     std::array<long, 3> c{};
     for (int d = 0; d < 3; ++d) c[d] = std::clamp(static_cast<long>((x[d] - lo[d]) / (hi[d] - lo[d]) * nc[d]), 0L, nc[d] - 1);
     return c;
   };
+  for (std::size_t q = 0; q < a.size(); ++q) {
+    const V3 y(&a.x[3 * q]);
+    if (((y.array() >= lo.array() - cell) && (y.array() <= hi.array() + cell)).all()) {
+      const auto c = cell_of(y);
+      grid[(c[2] * nc[1] + c[1]) * nc[0] + c[0]].push_back(static_cast<long>(q));
+    }
+  }
   std::normal_distribution<double> vel(0.0, it.velocity_std);
   long attempts = 0;
   while ((it.count > 0 && placed < it.count) || (it.count == 0 && placed_volume < target_volume)) {
@@ -117,7 +130,6 @@ void add_random(ParticleArrays& a, const ParticleParams& p, const InitialItem& i
     placed_volume += std::numbers::pi * diam * diam * diam / 6.0;
     ++placed;
   }
-  (void)first;
 }
 
 // Particles from an HDF5 snapshot written by coflow.

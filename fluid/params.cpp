@@ -421,8 +421,12 @@ double BoundaryParams::profile_factor(int face, const double s[3], const config:
                                       double t) const {
   const auto& d = cfg.domain;
   if (profile == "expression") {  // at the point's place across the face, on the face along its normal
+    // Ghost lines beyond the other faces ask too (their values are replaced by
+    // those faces' conditions): they take the formula on the box's edge, so
+    // that one valid inside (sqrt(y), y^(1/7)) is not evaluated outside it.
     double x[3];
-    for (int a = 0; a < 3; ++a) x[a] = d.lower[a] + s[a] * (d.upper[a] - d.lower[a]);
+    for (int a = 0; a < 3; ++a)
+      x[a] = d.lower[a] + (d.periodic[a] ? s[a] : std::clamp(s[a], 0.0, 1.0)) * (d.upper[a] - d.lower[a]);
     x[face / 2] = face % 2 == 0 ? d.lower[face / 2] : d.upper[face / 2];
     return formula(x, t);
   }

@@ -23,6 +23,9 @@ void FvReference::set_markers(ibm::MarkerSet markers) {
   }
   if (turbulent_) {  // the bodies are walls for k-epsilon too: fv's distance (turbulence/wall_distance.hpp)
     const fv::BodyDistance body(markers, fv::BodyDistance::grid_of(cfg_));
+    double floor = h_[0];  // as fv: no closer than a quarter of the smallest spacing (y = 0: infinite epsilon)
+    for (int a = 1; a < dims_; ++a) floor = std::min(floor, h_[a]);
+    floor *= 0.25;
     for (long k = -g_[2]; k < n_[2] + g_[2]; ++k)
       for (long j = -g_[1]; j < n_[1] + g_[1]; ++j)
         for (long i = -g_[0]; i < n_[0] + g_[0]; ++i) {
@@ -32,7 +35,7 @@ void FvReference::set_markers(ibm::MarkerSet markers) {
             c[static_cast<std::size_t>(a)] =
                 cfg_.domain.lower[static_cast<std::size_t>(a)] + (x[a] + 0.5) * h_[a];
           const auto n = static_cast<std::size_t>(at(x));
-          wall_y_[n] = std::min(box_wall_y_[n], body(c));
+          wall_y_[n] = std::min(box_wall_y_[n], std::max(body(c), floor));
         }
     eddy_viscosity();  // nu_t of the two-layer model near the bodies
   }

@@ -86,12 +86,18 @@ void FvSolver::init_turbulence() {
 void FvSolver::set_body_wall_distance(const ibm::MarkerSet& markers) {
   const fv::BodyDistance body(markers, fv::BodyDistance::grid_of(cfg_));
   const auto& lower = cfg_.domain.lower;
+  // A centre on a body's surface would be at y = 0 (epsilon = 2 nu k / y^2
+  // infinite there, and in its neighbours' rows): no closer than a quarter
+  // of the smallest spacing, inside the forcing's diffuse surface.
+  double floor = h_[0];
+  for (int a = 1; a < dims_; ++a) floor = std::min(floor, h_[a]);
+  floor *= 0.25;
   for_padded([&](const long* at, long n) {
     std::array<double, 3> x{0, 0, 0};
     for (int a = 0; a < dims_; ++a)
       x[static_cast<std::size_t>(a)] =
           lower[static_cast<std::size_t>(a)] + (static_cast<double>(blk_.owned.lo[a] + at[a]) + 0.5) * h_[a];
-    wall_y_[n] = std::min(box_wall_y_[n], body(x));
+    wall_y_[n] = std::min(box_wall_y_[n], std::max(body(x), floor));
   });
   update_eddy_viscosity();  // nu_t of the two-layer model near the bodies
 }

@@ -259,7 +259,7 @@ double FvSolver::viscous_rhs(int c, const long* at, long n, const fv::Imex& s, d
         r += 2 * k * U;                                               // the wall functions' ghost 2U - u0
       } else if (kind == Neighbour::wall_tangential && turbulent_) {  // u1 extrapolated to the new time
         const long in = side == 0 ? stride(d) : -stride(d);
-        r += (8.0 * U + s.b0 * u_[C][n + in] + s.b1 * u_old_[C][n + in]) * k / 3.0;
+        r += (8.0 * U + s.e0 * u_[C][n + in] + s.e1 * u_old_[C][n + in]) * k / 3.0;
       } else if (kind == Neighbour::wall_tangential) {
         r += 8.0 / 3.0 * k * U;
         scale *= fv::wall_row_scale;

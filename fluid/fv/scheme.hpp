@@ -46,13 +46,22 @@ inline constexpr double wall_row_scale = 0.75;
 // sbdf2: the variable-step SBDF2 of Wang & Ruuth 2008 (BDF2 with omega, N
 // extrapolated linearly; Ascher, Ruuth & Wetton 1995 for the constant step). cnab2: Crank-Nicolson on L,
 // Adams-Bashforth 2 on N. first: IMEX Euler (the first step of both).
+// e0 u^n + e1 u^{n-1}: a value extrapolated linearly to t^{n+1} (the implicit
+// term's wall closure reads one so; for cnab2 b0, b1 reach only t^{n+1/2}).
 struct Imex {
-  double a0 = 1, a1 = 1, a2 = 0, b0 = 1, b1 = 0, theta = 1;
+  double a0 = 1, a1 = 1, a2 = 0, b0 = 1, b1 = 0, theta = 1, e0 = 1, e1 = 0;
   static Imex first() { return {}; }
   static Imex sbdf2(double omega) {
-    return {(1 + 2 * omega) / (1 + omega), 1 + omega, omega * omega / (1 + omega), 1 + omega, -omega, 1.0};
+    return {(1 + 2 * omega) / (1 + omega),
+            1 + omega,
+            omega * omega / (1 + omega),
+            1 + omega,
+            -omega,
+            1.0,
+            1 + omega,
+            -omega};
   }
-  static Imex cnab2(double omega) { return {1, 1, 0, 1 + 0.5 * omega, -0.5 * omega, 0.5}; }
+  static Imex cnab2(double omega) { return {1, 1, 0, 1 + 0.5 * omega, -0.5 * omega, 0.5, 1 + omega, -omega}; }
 };
 
 // The weights of the momentum source of this step (f, piecewise constant: the

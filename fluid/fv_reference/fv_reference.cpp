@@ -262,7 +262,7 @@ double FvReference::predictor_rhs(int c, const long* x, long n, const fv::Imex& 
        (2 * rho_);
   if (turbulent_ && deferred)
     r += deferred_wall(c, x, n, s.theta, [&](long m) {
-      return s.b0 * u_[C][static_cast<std::size_t>(m)] + s.b1 * u_old_[C][static_cast<std::size_t>(m)];
+      return s.e0 * u_[C][static_cast<std::size_t>(m)] + s.e1 * u_old_[C][static_cast<std::size_t>(m)];
     });
   return r;
 }

@@ -130,6 +130,10 @@ coflow_validation(fv_ke_vs_reference compare fv_ke_all_boundaries_3d.yaml 1
 set(fv_ke_ch_sets "domain.cells=[4,100,1] run.end_time=4.0 run.output.every=4.0 fluid.fv.tolerance=1e-13")
 coflow_validation(fv_ke_vs_reference_channel compare fv_ke_channel.yaml 1
   "fluid.solver=fv ${fv_ke_ch_sets}" "fluid.solver=fv-reference ${fv_ke_ch_sets}")
+# The same with Crank-Nicolson / Adams-Bashforth: the walls' deferred u1 is
+# extrapolated to the new time in both (Imex::e0, e1).
+coflow_validation(fv_ke_vs_reference_channel_cnab2 compare fv_ke_channel.yaml 1
+  "fluid.solver=fv ${fv_ke_ch_sets} fluid.fv.time=cnab2" "fluid.solver=fv-reference ${fv_ke_ch_sets} fluid.fv.time=cnab2")
 coflow_validation(fv_ke_ranks_1_vs_4 compare fv_ke_all_boundaries_3d.yaml 4
   "fluid.ranks=1" "fluid.ranks=4 fluid.decomposition=[2,2,1]")
 # The wall functions (wall: log-law): the channel at Re_tau 392 with 12

@@ -313,6 +313,19 @@ std::vector<double> read_dataset(const std::string& path, const std::string& nam
   return out;
 }
 
+long read_step(const std::string& path) {
+  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) throw std::runtime_error(fmt::format("cannot open HDF5 file '{}'", path));
+  long step = -1;
+  if (H5Aexists(f, "step") > 0) {
+    hid_t a = H5Aopen(f, "step", H5P_DEFAULT);
+    H5Aread(a, H5T_NATIVE_LONG, &step);
+    H5Aclose(a);
+  }
+  H5Fclose(f);
+  return step;
+}
+
 double read_time(const std::string& path) {
   hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (f < 0) throw std::runtime_error(fmt::format("cannot open HDF5 file '{}'", path));

@@ -2,18 +2,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <map>
-#include <unordered_map>
 #include <numbers>
+#include <sstream>
 #include <stdexcept>
+#include <unordered_map>
 
+#include "coflow/gather.hpp"
 #include "coflow/log.hpp"
+#include "coflow/output.hpp"
 #include "particles/dem/checkpoint.hpp"
 #include "particles/dem/initial.hpp"
 #include "particles/dpm/state.hpp"
-#include "coflow/gather.hpp"
-#include <fstream>
-#include <sstream>
 
 namespace coflow::particles {
 
@@ -603,7 +604,11 @@ void DpmSolver::load(const std::string& dir, long steps, double time) {
       turbulent_[i] = it->second.started ? 1 : 0;
     }
   if (msd_.on()) load_msd(dir);
-  steps_ = steps;
+  // The steps taken, as the checkpoint counted them: the windows' sub-steps
+  // and eq. 4.15's extra ones (the Langevin draws are keyed by it, so a count
+  // from the windows alone would draw used numbers again).
+  const long saved = coflow::output::read_step(dir + "/particles.h5");
+  steps_ = saved >= 0 ? saved : steps;
 }
 
 }  // namespace coflow::particles

@@ -99,6 +99,8 @@ bool has_dataset(const std::string& path, const std::string& name);
 std::vector<double> read_dataset(const std::string& path, const std::string& name,
                                  std::vector<std::size_t>* dims = nullptr);
 double read_time(const std::string& path);
+// The "step" attribute of a file written by write_points or write_fields; -1 without one.
+long read_step(const std::string& path);
 
 // The snapshot index of one component, kept in <dir>/<component>/index.csv, and
 // the ParaView index <dir>/run.xdmf rebuilt from every component's index.

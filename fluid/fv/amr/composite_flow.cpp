@@ -347,15 +347,21 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
 // from this solve. The initial projection (stage 2) keeps its last pressure.
 void CompositeFlow::solve_pressure(const std::vector<double>& b, std::vector<double>& phi, double dt,
                                    int stage, bool solved_before) {
-  std::vector<double>* rate = stage < 2 ? &phi_rate_[static_cast<std::size_t>(stage)] : nullptr;
-  const std::vector<double> last = rate && solved_before ? phi : std::vector<double>{};
+  std::vector<double>* rate =
+      stage < 2 && solved_before ? &phi_rate_[static_cast<std::size_t>(stage)] : nullptr;
+  // The rate's storage holds the last pressure over the solve (no copy).
   if (rate && rate->size() == phi.size())
-    for (std::size_t c = 0; c < phi.size(); ++c) phi[c] += dt * (*rate)[c];
+    for (std::size_t c = 0; c < phi.size(); ++c) {
+      const double last = phi[c];
+      phi[c] += dt * (*rate)[c];
+      (*rate)[c] = last;
+    }
+  else if (rate)
+    *rate = phi;
   poisson_->solve(b, phi);
   iterations_ = poisson_->last_iterations();
-  if (last.empty()) return;
-  rate->resize(phi.size());
-  for (std::size_t c = 0; c < phi.size(); ++c) (*rate)[c] = (phi[c] - last[c]) / dt;
+  if (rate)
+    for (std::size_t c = 0; c < phi.size(); ++c) (*rate)[c] = (phi[c] - (*rate)[c]) / dt;
 }
 
 void CompositeFlow::subtract_gradient(Field& u, const std::vector<double>& p, double dt) const {

@@ -64,7 +64,15 @@ double Clock::negotiate(double preferred) {
       if (e > 0) w = std::min(w, e);
   }
   window_ = w;
-  windows_ = std::max(1L, static_cast<long>(std::ceil(cfg_.run.end_time / w - kReach)));
+  const double count = std::ceil(cfg_.run.end_time / w - kReach);
+  // Every rank has the same window, so every rank throws.
+  if (!(count <= kMostWindows))
+    throw config::ConfigError({config::Problem{
+        cfg_.file, 0, 0, "run.end_time",
+        fmt::format("{:.6g} s is {:.3g} coupling windows of {:.6g} s, more than the {:.0e} a run can count: "
+                    "shorten run.end_time or lengthen the window",
+                    cfg_.run.end_time, count, w, kMostWindows)}});
+  windows_ = std::max(1L, static_cast<long>(count));
   if (restart_window_ > 0 && std::abs(window_ - restart_window_length_) > 1e-12 * window_)
     throw config::ConfigError({config::Problem{
         restart_file_, 0, 0, "window_length",

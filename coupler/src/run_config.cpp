@@ -1,13 +1,16 @@
 #include "coflow/run_config.hpp"
 
-#include "coflow/decomposition.hpp"
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
-#include <fmt/format.h>
-#include <fmt/ranges.h>
+
+#include "coflow/clock.hpp"
+#include "coflow/decomposition.hpp"
+#include "coflow/report.hpp"
 
 namespace coflow::config {
 
@@ -217,6 +220,18 @@ static void check_decompositions(Reader& r, const Config& cfg) {
   }
 }
 
+// A window given in the file must leave a count of windows a run can hold.
+static void check_window_count(Reader& r, const Config& cfg) {
+  if (cfg.coupling.window.is_auto || !(cfg.coupling.window.value > 0)) return;
+  const double count = cfg.run.end_time / cfg.coupling.window.value;
+  if (count <= coupler::kMostWindows) return;
+  r.fail(
+      "run.end_time",
+      fmt::format("{} s is {:.3g} coupling windows of {} s, more than the {:.0e} a run can "
+                  "count: shorten run.end_time or lengthen coupling.window",
+                  number(cfg.run.end_time), count, number(cfg.coupling.window.value), coupler::kMostWindows));
+}
+
 // Probes and pressure drops sample the fluid inside the domain; their names
 // are unique column prefixes.
 static void check_probes(Reader& r, const Config& cfg, const Catalog& catalog) {
@@ -326,6 +341,7 @@ Config parse_config_node(YAML::Node root, const std::string& file, const Catalog
   if (r.problems().empty()) check_output_fields(r, cfg, catalog);
   if (r.problems().empty()) check_probes(r, cfg, catalog);
   if (r.problems().empty()) check_decompositions(r, cfg);
+  if (r.problems().empty()) check_window_count(r, cfg);
   cfg.resolved = r.resolved();
   if (r.problems().empty()) check_contracts(r, cfg, catalog);
   for (const auto& schema : catalog)

@@ -22,4 +22,6 @@ check() {  # case, the message it must give
 }
 check fv_k_epsilon_blow_up \
   "fv: k and epsilon would need 3.2e+09 advection sub-steps at t = 0.01 s (the velocity is far above the step's CFL limit); lower fluid.fv.cfl or fluid.fv.max_step"
+check lbm_too_many_windows \
+  "run.end_time: 1e+300 s is 2.56e+300 coupling windows of"
 echo "ok"

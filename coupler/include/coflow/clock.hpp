@@ -18,6 +18,10 @@ namespace coflow::coupler {
 // step that already makes `every` in a whole number, to 1e-6, is kept.
 double output_window(double step, const config::Config& cfg);
 
+// The most windows a run may have: their count and each window's number
+// stay exact in a double and far inside a long.
+inline constexpr double kMostWindows = 1e15;
+
 class Clock {
  public:
   // restart_window, restart_window_length: of the checkpoint restarted from (0: none).

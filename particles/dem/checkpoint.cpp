@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <stdexcept>
 #include <tuple>
@@ -12,22 +13,31 @@
 namespace coflow::particles::dem {
 
 void save_state(MPI_Comm comm, const std::string& dir, double time, long steps, const ParticleArrays& p,
-                const std::vector<SavedContact>& contacts) {
+                const std::vector<SavedContact>& contacts, long broken_bonds) {
   output::write_points(comm, dir + "/particles.h5", time, steps, p.size(), p.id, p.species,
                        {{"position", 3, p.x}, {"velocity", 3, p.v}, {"angular_velocity", 3, p.w},
                         {"radius", 1, p.radius}, {"force", 3, p.force}, {"mass", 1, p.mass},
                         {"inertia", 1, p.inertia}});
   std::vector<std::int64_t> a;
   std::vector<std::int32_t> bonded;
-  std::vector<double> partner, shear;
+  std::vector<double> partner, shear, normal;
   for (const auto& c : contacts) {
     a.push_back(c.a);
     bonded.push_back(c.bonded ? 1 : 0);
     partner.push_back(static_cast<double>(c.b));
     shear.insert(shear.end(), c.shear.begin(), c.shear.end());
+    normal.insert(normal.end(), c.normal.begin(), c.normal.end());
   }
   output::write_points(comm, dir + "/contacts.h5", time, steps, contacts.size(), a, bonded,
-                       {{"partner", 1, partner}, {"shear", 3, shear}});
+                       {{"partner", 1, partner}, {"shear", 3, shear}, {"normal", 3, normal}});
+  long total = 0;
+  MPI_Allreduce(&broken_bonds, &total, 1, MPI_LONG, MPI_SUM, comm);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  const double value = static_cast<double>(total);
+  const std::size_t rows = rank == 0 ? 1 : 0;
+  output::write_tables(comm, dir + "/counters.h5", time, steps,
+                       {{"broken_bonds", 1, rows, false, {&value, rows}, {}}});
 }
 
 namespace {
@@ -56,10 +66,18 @@ void refuse_not_whole(const std::string& file, const char* name, const std::vect
           file, name, x));
 }
 
+// The count of failed bonds a checkpoint saved; 0 from one before they were kept.
+long read_broken_bonds(const std::string& file) {
+  if (!std::filesystem::exists(file)) return 0;
+  const auto v = output::read_dataset(file, "broken_bonds");
+  refuse_not_whole(file, "count of failed bonds", v, 0.0);
+  return v.empty() ? 0 : static_cast<long>(v[0]);
+}
+
 }  // namespace
 
 void load_state(const std::string& dir, const ParticleParams& params, ParticleArrays& p,
-                std::vector<SavedContact>& contacts) {
+                std::vector<SavedContact>& contacts, long* broken_bonds) {
   const std::string pf = dir + "/particles.h5", cf = dir + "/contacts.h5";
   const auto id = output::read_dataset(pf, "id");
   const auto sp = output::read_dataset(pf, "species");
@@ -90,13 +108,21 @@ void load_state(const std::string& dir, const ParticleParams& params, ParticleAr
   const auto bonded = output::read_dataset(cf, "species");
   const auto partner = output::read_dataset(cf, "partner");
   const auto shear = output::read_dataset(cf, "shear");
+  // Checkpoints before the directions were kept have none (zero).
+  const auto normal = output::has_dataset(cf, "normal") ? output::read_dataset(cf, "normal")
+                                                        : std::vector<double>(shear.size(), 0.0);
   refuse_damaged(cf, a, "contact history (tangential spring)", shear, 3, false);
+  refuse_damaged(cf, a, "contact history (direction)", normal, 3, false);
   refuse_not_whole(cf, "particle id", a, -0x1p62);
   refuse_not_whole(cf, "partner (a particle id, or -1 - a wall's index)", partner, -0x1p62);
   contacts.clear();
   for (std::size_t k = 0; k < a.size(); ++k)
-    contacts.push_back({static_cast<std::int64_t>(a[k]), static_cast<std::int64_t>(partner[k]),
-                        {shear[3 * k], shear[3 * k + 1], shear[3 * k + 2]}, bonded[k] != 0});
+    contacts.push_back({static_cast<std::int64_t>(a[k]),
+                        static_cast<std::int64_t>(partner[k]),
+                        {shear[3 * k], shear[3 * k + 1], shear[3 * k + 2]},
+                        bonded[k] != 0,
+                        {normal[3 * k], normal[3 * k + 1], normal[3 * k + 2]}});
+  if (broken_bonds) *broken_bonds = read_broken_bonds(dir + "/counters.h5");
 }
 
 }  // namespace coflow::particles::dem

@@ -127,29 +127,32 @@ void DemSolver::migrate() {
       leaving[p_.id[i]] = owner[i];
       owned_[i] = 0;
     }
-  // Contact histories travel with the particles that leave.
+  // Contact histories travel with the particles that leave: the pair (a
+  // partner < 0: -1 - the wall's key), the spring, the bond, the direction.
+  constexpr std::size_t kRow = 9;
   std::vector<std::vector<double>> hist(size_);
+  const auto send = [&](int to, double a, double b, const dem::ContactState& c) {
+    hist[to].insert(hist[to].end(), {a, b, c.shear[0], c.shear[1], c.shear[2], double(c.bonded), c.normal[0],
+                                     c.normal[1], c.normal[2]});
+  };
   for (const auto& [k, c] : contacts_)
     for (const std::int64_t id : {static_cast<std::int64_t>(k >> 32), static_cast<std::int64_t>(k & 0xffffffffu)}) {
       auto it = leaving.find(id);
-      if (it == leaving.end()) continue;
-      hist[it->second].insert(hist[it->second].end(),
-                              {double(k >> 32), double(k & 0xffffffffu), c.shear[0], c.shear[1], c.shear[2], double(c.bonded)});
+      if (it != leaving.end()) send(it->second, double(k >> 32), double(k & 0xffffffffu), c);
     }
   for (const auto& [k, c] : walls_) {
     auto it = leaving.find(static_cast<std::int64_t>(k >> 32));
-    if (it == leaving.end()) continue;
-    hist[it->second].insert(hist[it->second].end(),
-                            {double(k >> 32), -1.0 - double(k & 0xffffffffu), c.shear[0], c.shear[1], c.shear[2], double(c.bonded)});
+    if (it != leaving.end()) send(it->second, double(k >> 32), -1.0 - double(k & 0xffffffffu), c);
   }
   std::vector<double> in;
   store::exchange(comm_, hist, in);
   drop_ghosts();  // drops the leavers (and histories no particle here needs)
   store_.unpack_all(received, store::migrates);  // owned_ 1
-  for (std::size_t k = 0; k + 6 <= in.size(); k += 6) {
+  for (std::size_t k = 0; k + kRow <= in.size(); k += kRow) {
     dem::ContactState st;
     st.shear = V3(in[k + 2], in[k + 3], in[k + 4]);
     st.bonded = in[k + 5] != 0;
+    st.normal = V3(in[k + 6], in[k + 7], in[k + 8]);
     const auto a = static_cast<std::int64_t>(in[k]);
     if (in[k + 1] >= 0)
       contacts_.emplace(key(a, static_cast<std::int64_t>(in[k + 1])), st);
@@ -477,20 +480,28 @@ void DemSolver::save(const std::string& dir) {
   if (list_valid_) sync_contacts();
   std::vector<dem::SavedContact> list;
   for (const auto& [k, c] : contacts_)
-    list.push_back({static_cast<std::int64_t>(k >> 32), static_cast<std::int64_t>(k & 0xffffffffu),
-                    {c.shear[0], c.shear[1], c.shear[2]}, c.bonded});
+    list.push_back({static_cast<std::int64_t>(k >> 32),
+                    static_cast<std::int64_t>(k & 0xffffffffu),
+                    {c.shear[0], c.shear[1], c.shear[2]},
+                    c.bonded,
+                    {c.normal[0], c.normal[1], c.normal[2]}});
   for (const auto& [k, c] : walls_)
-    list.push_back({static_cast<std::int64_t>(k >> 32), -1 - static_cast<std::int64_t>(k & 0xffffffffu),
-                    {c.shear[0], c.shear[1], c.shear[2]}, c.bonded});
+    list.push_back({static_cast<std::int64_t>(k >> 32),
+                    -1 - static_cast<std::int64_t>(k & 0xffffffffu),
+                    {c.shear[0], c.shear[1], c.shear[2]},
+                    c.bonded,
+                    {c.normal[0], c.normal[1], c.normal[2]}});
   // Canonical order, so that a checkpoint does not depend on hashing.
   std::sort(list.begin(), list.end(), [](const auto& x, const auto& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
-  dem::save_state(comm_, dir, time_, steps_, p_, list);
+  dem::save_state(comm_, dir, time_, steps_, p_, list, broken_);
 }
 
 void DemSolver::load(const std::string& dir, long steps, double time) {
   list_valid_ = false;
   std::vector<dem::SavedContact> list;
-  dem::load_state(dir, params_, p_, list);
+  long broken = 0;
+  dem::load_state(dir, params_, p_, list, &broken);
+  broken_ = rank_ == 0 ? broken : 0;  // stats() sums the ranks' counts
   contacts_.clear();
   walls_.clear();
   for (const auto& c : list) {

@@ -222,16 +222,20 @@ const ParticleArrays& DemReference::particles() const {
 
 void DemReference::save(const std::string& dir) {
   std::vector<dem::SavedContact> list;
-  for (const auto& [k, c] : contacts_) list.push_back({k.first, k.second, {c.shear[0], c.shear[1], c.shear[2]}, c.bonded});
-  for (const auto& [k, c] : walls_) list.push_back({k.first, -1 - k.second, {c.shear[0], c.shear[1], c.shear[2]}, c.bonded});
+  const auto saved = [](std::int64_t a, std::int64_t b, const dem::ContactState& c) {
+    return dem::SavedContact{
+        a, b, {c.shear[0], c.shear[1], c.shear[2]}, c.bonded, {c.normal[0], c.normal[1], c.normal[2]}};
+  };
+  for (const auto& [k, c] : contacts_) list.push_back(saved(k.first, k.second, c));
+  for (const auto& [k, c] : walls_) list.push_back(saved(k.first, -1 - k.second, c));
   std::sort(list.begin(), list.end(), [](const auto& x, const auto& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
-  dem::save_state(comm_, dir, time_, steps_, particles(), list);
+  dem::save_state(comm_, dir, time_, steps_, particles(), list, broken_);
 }
 
 void DemReference::load(const std::string& dir, long steps, double time) {
   ParticleArrays a;
   std::vector<dem::SavedContact> list;
-  dem::load_state(dir, params_, a, list);
+  dem::load_state(dir, params_, a, list, &broken_);
   p_.clear();
   for (std::size_t i = 0; i < a.size(); ++i)
     p_.push_back({a.id[i], a.species[i], V3(&a.x[3 * i]), V3(&a.v[3 * i]), V3(&a.w[3 * i]), a.radius[i], a.mass[i],

@@ -21,6 +21,10 @@ coflow_validation(dem_ranks_1_vs_4 compare dem_ranks.yaml 2
 coflow_validation(dem_mesh_vs_face compare dem_mesh_wall.yaml 1
   "particles.solver=dem" "particles.walls=[] particles.boundaries.z-=wall domain.lower=[0,0,0.001]")
 coflow_validation(dem_mesh_vs_reference compare dem_mesh_wall.yaml 1 "particles.solver=dem" "particles.solver=dem-reference")
+# The sphere slides across x = 10 mm, the cut between the two ranks, while it
+# touches the mesh: its contact history (spring and direction) moves with it.
+coflow_validation(dem_mesh_ranks_1_vs_2 compare dem_mesh_wall.yaml 2
+  "particles.ranks=1" "particles.ranks=2 particles.decomposition=[2,1,1]")
 coflow_validation(dem_outlet_vs_reference compare dem_outlet.yaml 1 "particles.solver=dem" "particles.solver=dem-reference")
 coflow_validation(dem_outlet_1_vs_3 compare dem_outlet.yaml 2
   "particles.ranks=1" "particles.ranks=3 particles.decomposition=[1,1,3]")

@@ -187,18 +187,21 @@ void ImmersedLink::receive_fluid() {
   solver_.set_fluid(samples_);
 }
 
+// The window's impulses of the particles here, then of those that left
+// through an outlet (at their last position inside).
 void ImmersedLink::send_impulses() {
   solver_.take_impulse(impulse_);
+  solver_.take_departed(departed_);
   const ParticleArrays& p = solver_.particles();
-  const std::size_t n = p.size();
-  impulse_records_.resize(n * sizeof(protocol::ParticleImpulse));
-  positions_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
+  const std::size_t n = p.size(), m = n + departed_.size();
+  impulse_records_.resize(m * sizeof(protocol::ParticleImpulse));
+  positions_.resize(m);
+  for (std::size_t i = 0; i < m; ++i) {
     protocol::ParticleImpulse rec{};
-    rec.id = p.id[i];
+    rec.id = i < n ? p.id[i] : departed_[i - n].id;
     for (int d = 0; d < 3; ++d) {
-      rec.x[d] = p.x[3 * i + d];
-      rec.impulse[d] = impulse_[3 * i + d];
+      rec.x[d] = i < n ? p.x[3 * i + d] : departed_[i - n].x[d];
+      rec.impulse[d] = i < n ? impulse_[3 * i + d] : departed_[i - n].impulse[d];
       positions_[i][d] = rec.x[d];
     }
     std::memcpy(impulse_records_.data() + i * sizeof rec, &rec, sizeof rec);

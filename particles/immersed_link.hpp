@@ -52,6 +52,7 @@ class ImmersedLink {
   std::unique_ptr<coupler::PointExchange> to_immersed_[2], impulse_out_;
   std::vector<std::byte> records_, loads_, fluid_bytes_, impulse_records_;
   std::vector<std::array<double, 3>> positions_;
+  std::vector<DepartedImpulse> departed_;  // left through an outlet this window
   std::vector<double> hforce_, htorque_, samples_, impulse_, pending_;
   std::vector<std::int64_t> sent_ids_[2];
 };

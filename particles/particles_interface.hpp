@@ -205,6 +205,14 @@ struct ParticleEvents {
   std::vector<BondEvent> bonds;
 };
 
+// A particle that left through an outlet: its window's fluid impulse, and
+// where it was last inside (ParticleSolver::take_departed).
+struct DepartedImpulse {
+  std::int64_t id = 0;
+  std::array<double, 3> x{};
+  std::array<double, 3> impulse{};
+};
+
 class ParticleSolver {
  public:
   struct Setup {
@@ -236,6 +244,11 @@ class ParticleSolver {
     throw std::runtime_error("this particle solver takes forces, not the fluid at the particles (use psm)");
   }
   virtual void take_impulse(std::vector<double>& impulse) { impulse.clear(); }
+  // The particles that left through an outlet since the last call, each with
+  // the impulse of the fluid forces on it over the window until it left (N s)
+  // and its last position inside the domain: the fluid takes that impulse
+  // back there (point coupling; two-way momentum with outlets).
+  virtual void take_departed(std::vector<DepartedImpulse>& departed) { departed.clear(); }
   virtual ParticleStats stats() = 0;  // collective; resets the event counters
   // The impulse (N s) this rank's particles gave each wall since the last
   // call (wall_impulse.hpp: 3 per wall, the six faces then the mesh walls).

@@ -340,7 +340,8 @@ void DpmSolver::apply_events() {
 }
 
 // 3. New states (eqs 4.30-4.31 after a collision), then the faces: particles
-// that leave through an outlet are dropped, order kept.
+// that leave through an outlet are dropped, order kept, their impulse kept for
+// the fluid at their last position inside.
 void DpmSolver::commit_states(double h) {
   const std::size_t n = p_.size();
   std::vector<char> inside(n, 1);
@@ -351,6 +352,8 @@ void DpmSolver::commit_states(double h) {
     if (!dpm::apply_faces(x, s_)) {
       inside[i] = 0;
       all_inside = false;
+      const V3 given = at(impulse_, i) + moved_[i].impulse, last = at(p_.x, i);
+      departed_.push_back({p_.id[i], {last[0], last[1], last[2]}, {given[0], given[1], given[2]}});
       continue;
     }
     if (msd_.on()) msd_.step(&msd_track_[dpm::Msd::kTrack * i], p_.species[i], at(p_.x, i), unwrapped, time_, h);
@@ -494,6 +497,11 @@ void DpmSolver::set_fluid(std::span<const double> samples) {
 void DpmSolver::take_impulse(std::vector<double>& impulse) {
   impulse = impulse_;
   std::fill(impulse_.begin(), impulse_.end(), 0.0);
+}
+
+void DpmSolver::take_departed(std::vector<DepartedImpulse>& departed) {
+  departed.swap(departed_);
+  departed_.clear();
 }
 
 ParticleStats DpmSolver::stats() {

@@ -59,6 +59,7 @@ class DpmSolver final : public ParticleSolver {
   void set_hydrodynamic(std::span<const double> force, std::span<const double> torque) override;
   void set_fluid(std::span<const double> samples) override;
   void take_impulse(std::vector<double>& impulse) override;
+  void take_departed(std::vector<DepartedImpulse>& departed) override;
   ParticleStats stats() override;
   void record_events(bool collisions, bool bonds) override { events_.enable(collisions, bonds); }
   ParticleEvents take_events() override { return events_.take(); }
@@ -97,6 +98,7 @@ class DpmSolver final : public ParticleSolver {
   // and whether it has started; store_ moves them together.
   ParticleArrays p_;
   std::vector<double> D_, rho_p_, impulse_;
+  std::vector<DepartedImpulse> departed_;  // since take_departed
   std::vector<dpm::FluidSample> fluid_;
   std::vector<double> uprime_;
   std::vector<char> turbulent_;

@@ -146,19 +146,27 @@ void DpmReference::step(double h) {
   const std::vector<double> hit = collide(events, u, next);
   // 3. New states: after a collision the particle continues from the contact
   //    point with its new velocity (eqs 4.30-4.31).
+  std::vector<V3> last(p_.size());  // the positions before the step
   for (std::size_t i = 0; i < p_.size(); ++i) {
     Particle& p = p_[i];
+    last[i] = p.x;
     p.x = hit[i] < 0.0 ? next[i].x : V3(p.x + u[i] * hit[i] + next[i].v * (h - hit[i]));
     p.v = next[i].v;
     p.w = next[i].w;
     p.impulse += next[i].impulse;
     p.last_force = dpm::fluid_load(seen[i], p.D, p.v, p.w, s_.forces).force();
   }
-  // 4. Faces: periodic wrap, outlets remove.
+  // 4. Faces: periodic wrap, outlets remove (the fluid takes a removed
+  //    particle's impulse back where it was last inside).
   std::vector<Particle> kept;
   kept.reserve(p_.size());
-  for (Particle& p : p_) {
-    if (dpm::apply_faces(p.x, s_)) kept.push_back(p);
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    Particle& p = p_[i];
+    if (dpm::apply_faces(p.x, s_))
+      kept.push_back(p);
+    else
+      departed_.push_back(
+          {p.id, {last[i][0], last[i][1], last[i][2]}, {p.impulse[0], p.impulse[1], p.impulse[2]}});
   }
   p_.swap(kept);
   inject_at_inlets(h);
@@ -203,6 +211,11 @@ void DpmReference::set_fluid(std::span<const double> samples) {
     const double* s = &samples[kFluidValues * i];
     p_[i].fluid = {V3(s), V3(s + 3), s[6], s[7], s[8], s[9]};
   }
+}
+
+void DpmReference::take_departed(std::vector<DepartedImpulse>& departed) {
+  departed.swap(departed_);
+  departed_.clear();
 }
 
 void DpmReference::take_impulse(std::vector<double>& impulse) {

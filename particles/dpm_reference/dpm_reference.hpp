@@ -29,6 +29,7 @@ class DpmReference final : public ParticleSolver {
   void set_hydrodynamic(std::span<const double> force, std::span<const double> torque) override;
   void set_fluid(std::span<const double> samples) override;
   void take_impulse(std::vector<double>& impulse) override;
+  void take_departed(std::vector<DepartedImpulse>& departed) override;
   ParticleStats stats() override;
   void record_events(bool collisions, bool bonds) override { events_.enable(collisions, bonds); }
   ParticleEvents take_events() override { return events_.take(); }
@@ -67,6 +68,7 @@ class DpmReference final : public ParticleSolver {
   dpm::RangeWarnings ranges_;  // correlations used beyond their range, warned once
   dem::EventRecorder events_;
   WallImpulse wall_impulse_;
+  std::vector<DepartedImpulse> departed_;  // since take_departed
   mutable ParticleArrays view_;
 };
 

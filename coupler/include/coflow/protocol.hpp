@@ -58,7 +58,9 @@ struct FluidAtParticle {
 };
 // particles -> immersed (method point), after the sub-steps: the impulse of the
 // fluid forces on each particle over the window (N s), routed by the position
-// at the window's end, where it is spread onto the grid.
+// at the window's end, where it is spread onto the grid; then one record per
+// particle that left through an outlet in the window, at its last position
+// inside, with its impulse until it left.
 struct ParticleImpulse {
   std::int64_t id;
   double x[3];

@@ -199,18 +199,26 @@ int run_component(const std::string& component, int argc, char** argv,
   }
 
   config::Config cfg;
+  std::string problem;  // empty: the file read well here
   try {
     cfg = config::parse_config(args.config, catalog, args.overrides);
-    if (!cfg.has(component)) {
-      if (world_rank == 0)
-        std::cerr << args.config << ": " << component << ": the configuration has no '" << component
-                  << "' section (or it says none), so coflow-" << component << " has nothing to run\n";
-      MPI_Finalize();
-      return 2;
-    }
+    if (!cfg.has(component))
+      problem = fmt::format(
+          "{}: {}: the configuration has no '{}' section (or it says none), so coflow-{} has "
+          "nothing to run",
+          args.config, component, component, component);
   } catch (const config::ConfigError& e) {
-    // Every rank of every component reads the same file and fails the same way.
-    if (world_rank == 0) std::cerr << e.what() << std::endl;
+    problem = e.what();
+  }
+  // Every rank reads the file. Most problems are the same on all of them, but
+  // a file one rank cannot read (another node's file system under srun) fails
+  // that rank alone: every rank learns of it, and the lowest failing one says
+  // why, before any rank waits on another.
+  const int mine = problem.empty() ? std::numeric_limits<int>::max() : world_rank;
+  int first = mine;
+  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  if (first != std::numeric_limits<int>::max()) {
+    if (world_rank == first) std::cerr << problem << std::endl;
     MPI_Finalize();
     return 2;
   }

@@ -78,6 +78,9 @@ FvSolver::FvSolver(const Setup& s, const Params& p)
     viscous_[static_cast<std::size_t>(c)] = std::make_unique<fv::StructSystem>(
         comm_, blk_.owned, cells_, per, solver_options(p_, fmt::format("viscous solve of u_{}", "xyz"[c])));
   set_poisson();
+  // The wall functions' ghosts from the first step on (init_turbulence sets
+  // the same flag again).
+  log_law_ = fluid_.turbulence.on && fluid_.turbulence.wall == "log-law";
   initialise();
   init_turbulence();
 }

@@ -62,6 +62,9 @@ FvReference::FvReference(const Setup& s, const Params& p)
         fluid_.initial_state(cfg_, pos, u, pr);
         p_[static_cast<std::size_t>(at(x))] = pr;
       }
+  // The wall functions' ghosts from the first step on (turbulence_init sets
+  // the same flag again).
+  log_law_ = fluid_.turbulence.on && fluid_.turbulence.wall == "log-law";
   velocity_ghosts(u_, 0.0, true, false);
   turbulence_init();
 }

@@ -48,12 +48,16 @@ bool FvSolver::is_dirichlet_face(int c, long i) const {
 // the first two cells (fv::wall_ghost). Pressure and outflow faces (open): zero normal gradient; the
 // normal component on the face is the solver's (extrapolated, then projected).
 // Symmetry faces: the normal component zero on the face and odd about it, the
-// tangential ones even (mirrored).
-void FvSolver::fill_face_ghosts(Field& u, int c, int a, int side, const Face& f, double t) const {
+// tangential ones even (mirrored). `top`: u is top_[c], whose value at index
+// n_c - 1 along c is u_c on the upper face n_c (where a profile is taken).
+void FvSolver::fill_face_ghosts(Field& u, int c, int a, int side, const Face& f, double t,
+                                bool top_face) const {
   const long n = blk_.extent[a];
   const Vec3 U = f.velocity_at(t);
   const Field& top = top_[static_cast<std::size_t>(a)];
   fv::for_lines(blk_, a, [&](auto at, const long* line) {
+    long place[3] = {line[0], line[1], line[2]};  // of u_c on the line's cell at index 0 along a
+    if (top_face) ++place[c];
     if (f.kind == Face::symmetry && c != a) {  // mirror: no shear
       if (side == 0) {
         u[at(-1)] = u[at(0)];
@@ -63,7 +67,7 @@ void FvSolver::fill_face_ghosts(Field& u, int c, int a, int side, const Face& f,
         u[at(n + 1)] = u[at(n - 2)];
       }
     } else if (f.kind != Face::open) {  // a wall's or velocity face's value (a symmetry face's normal: 0)
-      const double v = U[c] * profile(2 * a + side, c, line, t);
+      const double v = U[c] * profile(2 * a + side, c, place, t);
       if (side == 0 && c == a) {
         u[at(0)] = v;
         u[at(-1)] = 2 * v - u[at(1)];
@@ -103,6 +107,13 @@ void FvSolver::fill_ghosts(Faces& u, double t) {
       const Face& f = faces_[static_cast<std::size_t>(2 * a + side)];
       if (!f.here || f.kind == Face::periodic) continue;
       for (int c = 0; c < dims_; ++c) fill_face_ghosts(u[static_cast<std::size_t>(c)], c, a, side, f, t);
+      // The upper open faces of the later axes keep their normal velocity in
+      // top_; its ghosts beyond this face follow the same rule, so that the
+      // corner ghosts beyond both (u_c at face n_c, which the later axis's
+      // fill takes from top_) come from this step's values, as fv-reference's.
+      for (int c = a + 1; c < dims_; ++c)
+        if (faces_[static_cast<std::size_t>(2 * c + 1)].kind == Face::open)
+          fill_face_ghosts(top_[static_cast<std::size_t>(c)], c, a, side, f, t, true);
     }
 }
 

@@ -100,7 +100,8 @@ class FvSolver final : public FluidSolver {
   double stable_step();  // collective; sets velocity_scale_; throws on a value that is not finite
   // Ghosts (boundaries.cpp).
   void fill_ghosts(Faces& u, double t);
-  void fill_face_ghosts(Field& u, int c, int a, int side, const Face& f, double t) const;
+  void fill_face_ghosts(Field& u, int c, int a, int side, const Face& f, double t,
+                        bool top_face = false) const;
   void fill_pressure_ghosts(Field& p, double t, bool increment, double t0);
   void extrapolate_open_faces(Faces& u, double dt);
   double outflow_speed(int face) const;

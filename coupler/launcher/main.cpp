@@ -646,12 +646,6 @@ int report_failure(const Config& cfg, const std::string& dir, Failure failure, i
   write_failed_summary(cfg, failure, rc, wall);
   if (failure.component.empty() && fs::exists(dir + "/logs"))
     std::fprintf(stderr, "\ncoflow: run failed (exit status %d); see %s/logs/\n", rc, dir.c_str());
-  else if (failure.component.empty() && rc == 2)
-    // The file passed validation here, so a rank read it differently (one it
-    // could not open on its node, say): that rank's message is above.
-    std::fprintf(stderr,
-                 "\ncoflow: run failed (exit status 2) before any component started (no logs were "
-                 "written): a rank refused the configuration; its message is above\n");
   else if (failure.component.empty())
     std::fprintf(stderr, "\ncoflow: run failed (exit status %d) before any component started (no logs were "
                          "written): an executable exited at start (is every --exe a coflow component?)\n", rc);

@@ -41,6 +41,42 @@ static_assert(
     sizeof(Hello) == 32 && offsetof(Hello, protocol) == 20 && offsetof(Hello, hash) == 24,
     "the discovery record's layout is part of the protocol: builds of every version must read it alike");
 
+// The hash a rank announces: 0 says that it could not read the configuration
+// (refuse_start), so a configuration whose hash is 0 announces 1.
+std::uint64_t announced(std::uint64_t hash) {
+  return hash == 0 ? 1 : hash;
+}
+
+// Every rank's record. Non-blocking, so that a component that never joins (an
+// executable that exits at start, or hangs before MPI) ends the run after
+// coupling.timeout instead of leaving the others waiting.
+std::vector<Hello> gather_hellos(const std::string& component, std::uint64_t hash) {
+  int world_size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &world_size);
+  int* appnum_attr = nullptr;
+  int flag = 0;
+  MPI_Comm_get_attr(MPI_COMM_WORLD, MPI_APPNUM, &appnum_attr, &flag);
+  Hello me{};
+  std::snprintf(me.name, sizeof me.name, "%s", component.c_str());
+  me.appnum = flag ? *appnum_attr : 0;
+  me.protocol = g_protocol;
+  me.hash = hash;
+  std::vector<Hello> all(static_cast<std::size_t>(world_size));
+  MPI_Request req = MPI_REQUEST_NULL;
+  MPI_Iallgather(&me, sizeof(Hello), MPI_BYTE, all.data(), sizeof(Hello), MPI_BYTE, MPI_COMM_WORLD, &req);
+  wait_one(req,
+           "every component to start (discovery): one of the executables exited or hangs before joining the "
+           "run; check its log and any --exe");
+  return all;
+}
+
+// The lowest world rank that could not read the configuration; -1: none.
+int first_refusal(const std::vector<Hello>& all) {
+  for (std::size_t r = 0; r < all.size(); ++r)
+    if (all[r].hash == 0) return static_cast<int>(r);
+  return -1;
+}
+
 // Components built with different protocol versions: "" or the problem.
 std::string check_versions(const std::string& component, const std::vector<Hello>& all) {
   for (const Hello& h : all)
@@ -62,7 +98,7 @@ std::string check_launch(const config::Config& cfg, const std::string& component
   std::map<std::string, std::set<int>> apps;  // component -> the appnums its ranks carry
   std::map<int, std::set<std::string>> names;  // appnum -> the components carrying it
   for (const Hello& h : all) {
-    if (h.hash != cfg.hash)
+    if (h.hash != announced(cfg.hash))
       return fmt::format("components read different configurations ({} and {}): launch every component with the "
                          "same file",
                          component, std::string(h.name));
@@ -94,25 +130,28 @@ void announce_protocol_version(std::uint32_t version) {
   g_protocol = version;
 }
 
+void refuse_start(const std::string& component, const std::string& problem) {
+  int world_rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &world_rank);
+  try {
+    if (first_refusal(gather_hellos(component, 0)) == world_rank)
+      std::cerr << kFailedTag << " " << component << " " << world_rank << " " << problem << std::endl;
+  } catch (const TimeoutError&) {  // the others never came: say it here
+    std::cerr << kFailedTag << " " << component << " " << world_rank << " " << problem << std::endl;
+  }
+  MPI_Finalize();
+  std::exit(2);
+}
+
 Discovery::Discovery(const std::string& component, const config::Config& cfg) : component_(component) {
   MPI_Comm_rank(MPI_COMM_WORLD, &world_rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &world_size_);
-  int* appnum_attr = nullptr;
-  int flag = 0;
-  MPI_Comm_get_attr(MPI_COMM_WORLD, MPI_APPNUM, &appnum_attr, &flag);
-  Hello me{};
-  std::snprintf(me.name, sizeof me.name, "%s", component_.c_str());
-  me.appnum = flag ? *appnum_attr : 0;
-  me.protocol = g_protocol;
-  me.hash = cfg.hash;
-  std::vector<Hello> all(world_size_);
-  // Non-blocking, so that a component that never joins (an executable that
-  // exits at start, or hangs before MPI) ends the run after coupling.timeout
-  // instead of leaving the others waiting.
-  MPI_Request req = MPI_REQUEST_NULL;
-  MPI_Iallgather(&me, sizeof(Hello), MPI_BYTE, all.data(), sizeof(Hello), MPI_BYTE, MPI_COMM_WORLD, &req);
-  wait_one(req, "every component to start (discovery): one of the executables exited or hangs before joining the "
-                "run; check its log and any --exe");
+  const std::vector<Hello> all = gather_hellos(component_, announced(cfg.hash));
+  // A rank that could not read the configuration has said why (refuse_start).
+  if (first_refusal(all) >= 0) {
+    MPI_Finalize();
+    std::exit(2);
+  }
   // Every rank reaches the same verdict from the same data, so all fail together.
   std::map<std::string, int> first_rank;  // component -> lowest world rank
   for (int r = 0; r < world_size_; ++r) {

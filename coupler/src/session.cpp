@@ -1,19 +1,18 @@
 #include "coflow/session.hpp"
 
+#include <fmt/format.h>
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
-#include <limits>
 #include <set>
 
-#include <CLI/CLI.hpp>
-#include <fmt/format.h>
-
+#include "coflow/discovery.hpp"
 #include "coflow/gather.hpp"
 #include "coflow/log.hpp"
 #include "coflow/output.hpp"
@@ -190,38 +189,33 @@ int run_component(const std::string& component, int argc, char** argv,
   app.add_option("config", args.config, "run configuration (YAML)")->required();
   app.add_option("--restart", args.restart, "checkpoint directory to restart from");
   app.add_option("--set", args.overrides, "override a key: key.path=value");
+  std::string problem;  // empty: the command line and the file read well here
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int rc = app.exit(e);
-    MPI_Finalize();
-    return rc == 0 ? 0 : 2;
+    if (e.get_exit_code() == 0) {  // --help
+      app.exit(e);
+      MPI_Finalize();
+      return 0;
+    }
+    problem = fmt::format("coflow-{}: {}", component, e.what());
   }
-
   config::Config cfg;
-  std::string problem;  // empty: the file read well here
-  try {
-    cfg = config::parse_config(args.config, catalog, args.overrides);
-    if (!cfg.has(component))
-      problem = fmt::format(
-          "{}: {}: the configuration has no '{}' section (or it says none), so coflow-{} has "
-          "nothing to run",
-          args.config, component, component, component);
-  } catch (const config::ConfigError& e) {
-    problem = e.what();
-  }
-  // Every rank reads the file. Most problems are the same on all of them, but
-  // a file one rank cannot read (another node's file system under srun) fails
-  // that rank alone: every rank learns of it, and the lowest failing one says
-  // why, before any rank waits on another.
-  const int mine = problem.empty() ? std::numeric_limits<int>::max() : world_rank;
-  int first = mine;
-  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
-  if (first != std::numeric_limits<int>::max()) {
-    if (world_rank == first) std::cerr << problem << std::endl;
-    MPI_Finalize();
-    return 2;
-  }
+  if (problem.empty()) try {
+      cfg = config::parse_config(args.config, catalog, args.overrides);
+      if (!cfg.has(component))
+        problem = fmt::format(
+            "{}: {}: the configuration has no '{}' section (or it says none), so coflow-{} has "
+            "nothing to run",
+            args.config, component, component, component);
+    } catch (const config::ConfigError& e) {
+      problem = e.what();
+    }
+  // Most problems are the same on every rank, but a file one rank cannot read
+  // (another node's file system under srun) fails that rank alone: it still
+  // takes part in discovery, so that every rank stops at once (exit status 2)
+  // and the lowest failing one says why.
+  if (!problem.empty()) refuse_start(component, problem);
 
   std::unique_ptr<Session> session;
   try {

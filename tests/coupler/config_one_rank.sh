@@ -24,8 +24,8 @@ rc=$?
 elapsed_ms=$(( ($(date +%s%N) - start) / 1000000 ))
 echo "exit status $rc after $elapsed_ms ms"
 [ $rc -ne 124 ] || { echo "FAIL: hung (killed after 60 s)"; tail -n 20 "$out.log"; exit 1; }
-[ $rc -ne 0 ] || { echo "FAIL: exit status 0"; exit 1; }
+[ $rc -eq 2 ] || { echo "FAIL: exit status $rc, not 2"; exit 1; }
 [ "$elapsed_ms" -le 20000 ] || { echo "FAIL: took longer than 20 s (coupling.timeout is 30 s)"; exit 1; }
 grep -qF "$out.missing.yaml" "$out.log" || { echo "FAIL: the rank's message (naming the missing file) is not in $out.log"; tail -n 20 "$out.log"; exit 1; }
-grep -qF "a rank refused the configuration; its message is above" "$out.log" || { echo "FAIL: the launcher does not point at the message"; exit 1; }
+grep -qF "run failed in component 'particles' (rank 2): $out.missing.yaml" "$out.log" || { echo "FAIL: the launcher does not name the component and rank with the message"; exit 1; }
 echo "ok"

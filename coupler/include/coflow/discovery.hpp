@@ -19,6 +19,14 @@ namespace coflow::coupler {
 // Only tests set another, to check that a mixed launch is refused.
 void announce_protocol_version(std::uint32_t version);
 
+// A rank that cannot start (its command line or configuration file is
+// refused, e.g. a file its node cannot read) still takes part in discovery,
+// announcing no configuration, so that every rank of the launch stops at
+// once with exit status 2; the lowest such rank prints `problem` (tagged for
+// the launcher). Collective over MPI_COMM_WORLD with the Discovery of the
+// others; does not return.
+[[noreturn]] void refuse_start(const std::string& component, const std::string& problem);
+
 class Discovery {
  public:
   // Collective over MPI_COMM_WORLD; waits at most coupling.timeout. A launch

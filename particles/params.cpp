@@ -37,14 +37,7 @@ std::string describe_mesh(const WallParams& w, const dem::TriangleMesh& m) {
 
 double largest_diameter(const ParticleParams& p) {
   double d = 0.0;
-  for (const auto& [name, sp] : p.species) {
-    const auto& dist = sp.diameter;
-    switch (dist.kind) {
-      case config::Distribution::Kind::fixed: d = std::max(d, dist.a); break;
-      case config::Distribution::Kind::uniform: d = std::max(d, dist.b); break;
-      case config::Distribution::Kind::lognormal: d = std::max(d, lognormal_cutoff(dist.a, dist.b)); break;
-    }
-  }
+  for (const auto& [name, sp] : p.species) d = std::max(d, largest_diameter(sp.diameter));
   return d;
 }
 

@@ -244,10 +244,11 @@ class ParticleSolver {
     throw std::runtime_error("this particle solver takes forces, not the fluid at the particles (use psm)");
   }
   virtual void take_impulse(std::vector<double>& impulse) { impulse.clear(); }
-  // The particles that left through an outlet since the last call, each with
-  // the impulse of the fluid forces on it over the window until it left (N s)
-  // and its last position inside the domain: the fluid takes that impulse
-  // back there (point coupling; two-way momentum with outlets).
+  // The particles that left through an outlet in the last advance() (not yet
+  // taken), each with the impulse of the fluid forces on it over the window
+  // until it left (N s) and its position at the start of the step it left
+  // in: the fluid takes that impulse back there (point coupling; two-way
+  // momentum with outlets).
   virtual void take_departed(std::vector<DepartedImpulse>& departed) { departed.clear(); }
   virtual ParticleStats stats() = 0;  // collective; resets the event counters
   // The impulse (N s) this rank's particles gave each wall since the last

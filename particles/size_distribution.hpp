@@ -4,11 +4,26 @@
 
 #include <cmath>
 
+#include "coflow/config.hpp"
+
 namespace coflow::particles {
 
 // The largest diameter a log-normal species may draw: mean + 6 standard
 // deviations (largest_diameter, the ghost layers and the inlets' reach use it).
 inline double lognormal_cutoff(double mean, double std) { return mean + 6.0 * std; }
+
+// The largest diameter a species' distribution gives.
+inline double largest_diameter(const config::Distribution& d) {
+  switch (d.kind) {
+    case config::Distribution::Kind::fixed:
+      return d.a;
+    case config::Distribution::Kind::uniform:
+      return d.b;
+    case config::Distribution::Kind::lognormal:
+      return lognormal_cutoff(d.a, d.b);
+  }
+  return d.a;
+}
 
 // A diameter from the log-normal with mean D and standard deviation s
 // (sigma^2 = ln(1 + s^2 / D^2), mu = ln D - sigma^2 / 2: seed 003 eqs

@@ -167,11 +167,14 @@ std::vector<std::string> srun_argv(const Launch& l, const std::string& conf_path
 
 // A Slurm batch script that runs this configuration with srun: the tasks of
 // all components, a time limit from the pre-run report's estimate (x 1.5 +
-// 10 min; 1 h where no component estimates), the output beside the run's.
+// 10 min, at most a year; 1 h where no component estimates), the output beside the run's.
 std::string sbatch_script(const Config& cfg, const Launch& l, const std::string& cfg_path,
                           const std::vector<std::string>& overrides, const std::string& restart, bool strict,
                           double estimate_s) {
-  const long limit = estimate_s > 0 ? static_cast<long>(std::ceil((1.5 * estimate_s + 600.0) / 60.0)) * 60 : 3600;
+  // In whole minutes, at most a year (an estimate of a run that long says
+  // more about its end time than about Slurm's limit).
+  const double minutes = std::min(std::ceil((1.5 * estimate_s + 600.0) / 60.0), 525600.0);
+  const long limit = estimate_s > 0 ? static_cast<long>(minutes) * 60 : 3600;
   std::vector<std::string> cmd{self_dir() + "/coflow", "run", fs::absolute(cfg_path).string(), "--launcher", "srun"};
   for (const auto& o : overrides) cmd.insert(cmd.end(), {"--set", o});
   if (!restart.empty()) cmd.insert(cmd.end(), {"--restart", restart});

@@ -86,7 +86,15 @@ double Clock::negotiate(double preferred) {
 
 long Clock::substeps(double step) const {
   if (step <= 0) return 1;
-  return std::max(1L, static_cast<long>(std::ceil(window_ / step - 1e-9)));
+  const double n = std::ceil(window_ / step - 1e-9);
+  if (!(n <= kMostWindows))  // every rank of the component has the same step
+    throw config::ConfigError({config::Problem{
+        cfg_.file, 0, 0, "time_step",
+        fmt::format(
+            "a step of {:.6g} s is {:.3g} steps per coupling window of {:.6g} s, more than a run can count: "
+            "lengthen the step",
+            step, n, window_)}});
+  return std::max(1L, static_cast<long>(n));
 }
 
 static bool crosses(long w, double window, double every) {

@@ -220,16 +220,24 @@ static void check_decompositions(Reader& r, const Config& cfg) {
   }
 }
 
-// A window given in the file must leave a count of windows a run can hold.
+// A window given in the file must leave a count of windows a run can hold,
+// and the output intervals a count of snapshots, rows and checkpoints.
 static void check_window_count(Reader& r, const Config& cfg) {
-  if (cfg.coupling.window.is_auto || !(cfg.coupling.window.value > 0)) return;
-  const double count = cfg.run.end_time / cfg.coupling.window.value;
-  if (count <= coupler::kMostWindows) return;
-  r.fail(
-      "run.end_time",
-      fmt::format("{} s is {:.3g} coupling windows of {} s, more than the {:.0e} a run can "
-                  "count: shorten run.end_time or lengthen coupling.window",
-                  number(cfg.run.end_time), count, number(cfg.coupling.window.value), coupler::kMostWindows));
+  const auto& o = cfg.run.output;
+  const std::pair<const char*, double> intervals[] = {
+      {"coupling.window", cfg.coupling.window.is_auto ? 0.0 : cfg.coupling.window.value},
+      {"run.output.every", o.every},
+      {"run.output.series_every", o.series_every.is_auto ? 0.0 : o.series_every.value},
+      {"run.checkpoint.every", cfg.run.checkpoint.every}};
+  for (const auto& [key, every] : intervals) {
+    const double count = cfg.run.end_time / every;
+    if (!(every > 0) || count <= coupler::kMostWindows) continue;
+    r.fail("run.end_time",
+           fmt::format("{} s is {:.3g} intervals of {} s ({}), more than the {:.0e} a run can count: "
+                       "shorten run.end_time or lengthen {}",
+                       number(cfg.run.end_time), count, number(every), key, coupler::kMostWindows, key));
+    return;
+  }
 }
 
 // Probes and pressure drops sample the fluid inside the domain; their names

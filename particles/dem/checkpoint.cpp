@@ -66,6 +66,17 @@ void refuse_not_whole(const std::string& file, const char* name, const std::vect
           file, name, x));
 }
 
+// A dataset must hold `per` values for each of the `count` entries (a
+// truncated or foreign one would be read past its end).
+void refuse_length(const std::string& file, const char* name, const std::vector<double>& v, std::size_t per,
+                   std::size_t count) {
+  if (v.size() != per * count)
+    throw std::runtime_error(
+        fmt::format("{}: the {} dataset holds {} values for {} entries of {}: the checkpoint is "
+                    "damaged; restart from another one",
+                    file, name, v.size(), count, per));
+}
+
 // The count of failed bonds a checkpoint saved; 0 from one before they were kept.
 long read_broken_bonds(const std::string& file) {
   if (!std::filesystem::exists(file)) return 0;
@@ -94,8 +105,11 @@ void load_state(const std::string& dir, const ParticleParams& params, ParticleAr
        {std::tuple{"position", &p.x, 3, false}, std::tuple{"velocity", &p.v, 3, false},
         std::tuple{"angular velocity", &p.w, 3, false}, std::tuple{"radius", &p.radius, 1, true},
         std::tuple{"force", &p.force, 3, false}, std::tuple{"mass", &p.mass, 1, true},
-        std::tuple{"moment of inertia", &p.inertia, 1, false}})
+        std::tuple{"moment of inertia", &p.inertia, 1, false}}) {
+    refuse_length(pf, name, *v, static_cast<std::size_t>(per), id.size());
     refuse_damaged(pf, id, name, *v, static_cast<std::size_t>(per), positive);
+  }
+  refuse_length(pf, "species", sp, 1, id.size());
   refuse_not_whole(pf, "particle id", id, -0x1p62);
   refuse_not_whole(pf, "species index", sp, 0.0);
   for (std::size_t i = 0; i < id.size(); ++i) {
@@ -111,6 +125,10 @@ void load_state(const std::string& dir, const ParticleParams& params, ParticleAr
   // Checkpoints before the directions were kept have none (zero).
   const auto normal = output::has_dataset(cf, "normal") ? output::read_dataset(cf, "normal")
                                                         : std::vector<double>(shear.size(), 0.0);
+  for (const auto& [name, v, per] :
+       {std::tuple{"species (bonded)", &bonded, 1}, std::tuple{"partner", &partner, 1},
+        std::tuple{"shear", &shear, 3}, std::tuple{"normal", &normal, 3}})
+    refuse_length(cf, name, *v, static_cast<std::size_t>(per), a.size());
   refuse_damaged(cf, a, "contact history (tangential spring)", shear, 3, false);
   refuse_damaged(cf, a, "contact history (direction)", normal, 3, false);
   refuse_not_whole(cf, "particle id", a, -0x1p62);

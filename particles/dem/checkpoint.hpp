@@ -23,6 +23,9 @@ struct SavedContact {
   std::array<double, 3> normal{};  // mesh walls: the contact's direction (mesh_history_slot)
   bool wall() const { return b < 0; }
   std::int64_t wall_face() const { return -1 - b; }
+  static SavedContact from(std::int64_t a, std::int64_t b, const ContactState& s) {
+    return {a, b, {s.shear[0], s.shear[1], s.shear[2]}, s.bonded, {s.normal[0], s.normal[1], s.normal[2]}};
+  }
   ContactState state() const {
     ContactState s;
     s.shear = V3(shear[0], shear[1], shear[2]);

@@ -480,17 +480,11 @@ void DemSolver::save(const std::string& dir) {
   if (list_valid_) sync_contacts();
   std::vector<dem::SavedContact> list;
   for (const auto& [k, c] : contacts_)
-    list.push_back({static_cast<std::int64_t>(k >> 32),
-                    static_cast<std::int64_t>(k & 0xffffffffu),
-                    {c.shear[0], c.shear[1], c.shear[2]},
-                    c.bonded,
-                    {c.normal[0], c.normal[1], c.normal[2]}});
+    list.push_back(dem::SavedContact::from(static_cast<std::int64_t>(k >> 32),
+                                           static_cast<std::int64_t>(k & 0xffffffffu), c));
   for (const auto& [k, c] : walls_)
-    list.push_back({static_cast<std::int64_t>(k >> 32),
-                    -1 - static_cast<std::int64_t>(k & 0xffffffffu),
-                    {c.shear[0], c.shear[1], c.shear[2]},
-                    c.bonded,
-                    {c.normal[0], c.normal[1], c.normal[2]}});
+    list.push_back(dem::SavedContact::from(static_cast<std::int64_t>(k >> 32),
+                                           -1 - static_cast<std::int64_t>(k & 0xffffffffu), c));
   // Canonical order, so that a checkpoint does not depend on hashing.
   std::sort(list.begin(), list.end(), [](const auto& x, const auto& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
   dem::save_state(comm_, dir, time_, steps_, p_, list, broken_);

@@ -47,6 +47,8 @@ class MeshWall {
 // contact sliding from one triangle to a coplanar neighbour keeps its shear
 // spring; a sphere in a corner has one history per face. Returns the slot of
 // the history whose normal matches n (or a free one), among `slots` per mesh.
+// A history without a direction (from a checkpoint written before they were
+// saved) is taken by the first contact that looks for one.
 inline constexpr int kMeshSlots = 16;
 template <class Lookup>
 int mesh_history_slot(const V3& n, long step, Lookup&& state_of_slot) {
@@ -57,7 +59,7 @@ int mesh_history_slot(const V3& n, long step, Lookup&& state_of_slot) {
       if (free_slot < 0) free_slot = k;
       continue;
     }
-    if (st->seen != step && st->normal.dot(n) > 0.99) return k;
+    if (st->seen != step && (st->normal.dot(n) > 0.99 || st->normal.squaredNorm() == 0.0)) return k;
   }
   return free_slot < 0 ? 0 : free_slot;
 }

@@ -222,12 +222,8 @@ const ParticleArrays& DemReference::particles() const {
 
 void DemReference::save(const std::string& dir) {
   std::vector<dem::SavedContact> list;
-  const auto saved = [](std::int64_t a, std::int64_t b, const dem::ContactState& c) {
-    return dem::SavedContact{
-        a, b, {c.shear[0], c.shear[1], c.shear[2]}, c.bonded, {c.normal[0], c.normal[1], c.normal[2]}};
-  };
-  for (const auto& [k, c] : contacts_) list.push_back(saved(k.first, k.second, c));
-  for (const auto& [k, c] : walls_) list.push_back(saved(k.first, -1 - k.second, c));
+  for (const auto& [k, c] : contacts_) list.push_back(dem::SavedContact::from(k.first, k.second, c));
+  for (const auto& [k, c] : walls_) list.push_back(dem::SavedContact::from(k.first, -1 - k.second, c));
   std::sort(list.begin(), list.end(), [](const auto& x, const auto& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
   dem::save_state(comm_, dir, time_, steps_, particles(), list, broken_);
 }

@@ -441,16 +441,15 @@ void DpmSolver::share_events() {
 void DpmSolver::inject(double h) {
   for (std::size_t k = 0; k < inlets_.size(); ++k) {
     const dpm::Inlet& in = inlets_[k];
-    const double reach = dpm::inlet_reach(in, h);
     nearby_.clear();
-    std::vector<double> near_inlet;
+    std::vector<double> near;
     for (std::size_t i = 0; i < p_.size(); ++i)
-      if ((at(p_.x, i) - in.center).norm() < reach) {
+      if (dpm::near_inlet(in, h, at(p_.x, i), D_[i])) {
         nearby_.emplace_back(at(p_.x, i), D_[i]);
-        near_inlet.insert(near_inlet.end(), {p_.x[3 * i], p_.x[3 * i + 1], p_.x[3 * i + 2], D_[i]});
+        near.insert(near.end(), {p_.x[3 * i], p_.x[3 * i + 1], p_.x[3 * i + 2], D_[i]});
       }
     if (size_ > 1) {
-      const std::vector<double> all = coupler::gather_to_root<double>(comm_, near_inlet, MPI_DOUBLE);
+      const std::vector<double> all = coupler::gather_to_root<double>(comm_, near, MPI_DOUBLE);
       if (rank_ != 0) continue;
       nearby_.clear();
       for (std::size_t q = 0; q + 4 <= all.size(); q += 4) nearby_.emplace_back(V3(&all[q]), all[q + 3]);
@@ -476,6 +475,7 @@ void DpmSolver::inject(double h) {
 
 void DpmSolver::advance(double dt, long substeps) {
   const double h = dt / substeps;
+  departed_.clear();  // those of the last window, if nobody took them
   for (long n = 0; n < substeps; ++n) {
     const long k = s_.auto_step ? dpm::lagrangian_substeps(s_, h, stable_step()) : 1;  // eq. 4.15 only when automatic
     for (long m = 0; m < k; ++m) step(h / k);

@@ -98,7 +98,7 @@ class DpmSolver final : public ParticleSolver {
   // and whether it has started; store_ moves them together.
   ParticleArrays p_;
   std::vector<double> D_, rho_p_, impulse_;
-  std::vector<DepartedImpulse> departed_;  // since take_departed
+  std::vector<DepartedImpulse> departed_;  // in the last advance(), until take_departed
   std::vector<dpm::FluidSample> fluid_;
   std::vector<double> uprime_;
   std::vector<char> turbulent_;

@@ -32,7 +32,6 @@ struct Inlet {
   double density = 0.0;
   config::Distribution diameter;
   double dmax = 0.0;  // the largest diameter drawn (mean + 6 std for log-normal)
-  double dmax_any = 0.0;  // the largest diameter of any species (the particles it must not overlap)
   double mass_flow = 0.0, speed = 0.0, cos_spread = 1.0, start = 0.0, stop = -1.0;
   bool disk = true;
   V3 center = V3::Zero(), normal = V3::Zero(), t1 = V3::Zero(), t2 = V3::Zero(), dir = V3::Zero();
@@ -64,18 +63,8 @@ inline void basis(const V3& n, const V3& hint, V3& e1, V3& e2) {
   e2 = n.cross(e1);
 }
 
-// The largest diameter a species' distribution gives (mean + 6 std for
-// log-normal, where draws are cut off).
-inline double largest_diameter(const config::Distribution& d) {
-  return d.kind == config::Distribution::Kind::fixed     ? d.a
-         : d.kind == config::Distribution::Kind::uniform ? d.b
-                                                         : lognormal_cutoff(d.a, d.b);
-}
-
 inline std::vector<Inlet> make_inlets(const ParticleParams& p) {
   std::vector<Inlet> out;
-  double dmax_any = 0.0;
-  for (const auto& [name, sp] : p.species) dmax_any = std::max(dmax_any, largest_diameter(sp.diameter));
   for (const InjectionParams& ip : p.injection) {
     Inlet in;
     in.species = p.species_index(ip.species);
@@ -83,7 +72,6 @@ inline std::vector<Inlet> make_inlets(const ParticleParams& p) {
     in.density = sp.density;
     in.diameter = sp.diameter;
     in.dmax = largest_diameter(sp.diameter);
-    in.dmax_any = dmax_any;
     in.mass_flow = ip.mass_flow;
     in.speed = ip.speed;
     in.cos_spread = std::cos(ip.spread_angle * std::numbers::pi / 180.0);
@@ -178,13 +166,14 @@ inline void inject(Inlet& in, int k, std::uint64_t seed, double t, double h,
   }
 }
 
-// The region near an inlet where particles may touch entering ones: within
-// this distance of its centre (an entering particle ends the step within
-// half + speed h of it, and touches one of diameter Dy within (D + Dy) / 2:
-// here twice that, for any species).
-inline double inlet_reach(const Inlet& in, double h) {
+// Whether a particle of diameter D at x may touch one entering through the
+// inlet in a step h: an entering one ends the step within half + speed h of
+// the inlet's centre and touches x within (dmax + D) / 2 of it (with a margin
+// for rounding).
+inline bool near_inlet(const Inlet& in, double h, const V3& x, double D) {
   const double half = in.disk ? in.radius : 0.5 * std::hypot(in.a, in.b);
-  return half + in.speed * h + in.dmax + std::max(in.dmax, in.dmax_any);
+  const double reach = half + in.speed * h + 0.5 * (in.dmax + D);
+  return (x - in.center).norm() < reach * (1.0 + 1e-9);
 }
 
 }  // namespace coflow::particles::dpm

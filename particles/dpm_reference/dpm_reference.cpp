@@ -111,7 +111,7 @@ void DpmReference::inject_at_inlets(double h) {
   for (std::size_t k = 0; k < inlets_.size(); ++k) {
     std::vector<std::pair<V3, double>> nearby;
     for (const Particle& p : p_)
-      if ((p.x - inlets_[k].center).norm() < dpm::inlet_reach(inlets_[k], h)) nearby.emplace_back(p.x, p.D);
+      if (dpm::near_inlet(inlets_[k], h, p.x, p.D)) nearby.emplace_back(p.x, p.D);
     std::vector<dpm::Entering> entering;
     dpm::inject(inlets_[k], static_cast<int>(k), s_.dispersion.seed, time_, h, nearby, entering);
     for (const dpm::Entering& e : entering) {
@@ -176,6 +176,7 @@ void DpmReference::step(double h) {
 
 void DpmReference::advance(double dt, long substeps) {
   const double h = dt / substeps;
+  departed_.clear();  // those of the last window, if nobody took them
   for (long n = 0; n < substeps; ++n) {
     // Sub-steps of the Lagrangian step of eq. 4.15 when it is shorter.
     const long k = s_.auto_step ? dpm::lagrangian_substeps(s_, h, stable_step()) : 1;  // eq. 4.15 only when automatic

@@ -68,7 +68,7 @@ class DpmReference final : public ParticleSolver {
   dpm::RangeWarnings ranges_;  // correlations used beyond their range, warned once
   dem::EventRecorder events_;
   WallImpulse wall_impulse_;
-  std::vector<DepartedImpulse> departed_;  // since take_departed
+  std::vector<DepartedImpulse> departed_;  // in the last advance(), until take_departed
   mutable ParticleArrays view_;
 };
 

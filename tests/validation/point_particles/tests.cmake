@@ -68,6 +68,14 @@ add_test(NAME validation.dpm_settling_on_wall
   COMMAND ${CMAKE_CURRENT_LIST_DIR}/settling_on_wall.sh ${CMAKE_BINARY_DIR}/bin
           ${CMAKE_CURRENT_LIST_DIR}/settling_on_wall.yaml ${CMAKE_CURRENT_BINARY_DIR}/val-dpm_settling_on_wall)
 set_tests_properties(validation.dpm_settling_on_wall PROPERTIES LABELS "validation;mpi" PROCESSORS 3)
+# Its outlet remedy, two-way: the grains leaving through z- hand their
+# window's impulse back to the fluid (departed records): 1 rank against 2
+# fluid and 2 particle ranks, and dpm against dpm-reference.
+set(sow ../../tests/validation/point_particles/settling_on_wall.yaml)
+coflow_validation(dpm_outlet_two_way_ranks_1_vs_2 compare ${sow} 3
+  "particles.boundaries.z-=outlet" "particles.boundaries.z-=outlet fluid.ranks=2 particles.ranks=2")
+coflow_validation(dpm_outlet_two_way_vs_reference compare ${sow} 3
+  "particles.boundaries.z-=outlet" "particles.boundaries.z-=outlet particles.solver=dpm-reference")
 # docs/tutorial.md, steps 2 and 3 (step 1 is validation.tutorial_channel).
 add_test(NAME validation.tutorial_particles
   COMMAND ${CMAKE_CURRENT_LIST_DIR}/tutorial.sh ${CMAKE_BINARY_DIR}/bin ${PROJECT_SOURCE_DIR}/configs/tutorial

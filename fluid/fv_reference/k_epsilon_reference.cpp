@@ -364,7 +364,7 @@ std::vector<double> FvReference::y_plus() const {
           if (c == a) continue;
           const Field& q = u_[static_cast<std::size_t>(c)];
           const auto sc = static_cast<std::size_t>(step_of(c)), I = static_cast<std::size_t>(static_cast<long>(n) + in);
-          const double U = side_velocity(f, time_)[c];
+          const double U = side_velocity(f, time_)[c] * profile(f, c, x, time_);  // the wall's own velocity there
           const double u0 = 0.5 * (q[n] + q[n + sc]) - U, u1 = 0.5 * (q[I] + q[I + sc]) - U;
           const double slope = (9 * u0 - u1) / (3 * h_[a]);
           shear2 += slope * slope;

@@ -78,8 +78,8 @@ int compare(const std::string& a, const std::string& b) {
                                                       output::read_dataset(last_snapshot(b), "phase"), "phase");
     std::printf("phase_difference=%.6e\n", phdiff);
   }
-  // Turbulence: k and epsilon relative to their largest values.
-  for (const char* name : {"k", "epsilon"})
+  // Turbulence: k, epsilon and the wall cells' y+ relative to their largest values.
+  for (const char* name : {"k", "epsilon", "y_plus"})
     if (std::find(fields.begin(), fields.end(), name) != fields.end()) {
       const auto [d, m] = largest_difference(output::read_dataset(last_snapshot(a), name),
                                              output::read_dataset(last_snapshot(b), name), name);

@@ -131,6 +131,10 @@ coflow_validation(fv_ke_vs_reference compare fv_ke_all_boundaries_3d.yaml 1
 # corner ghosts beyond both).
 coflow_validation(fv_ke_vs_reference_corners compare fv_ke_corners_3d.yaml 1
   "fluid.solver=fv" "fluid.solver=fv-reference")
+# The moving wall (y+) with a parabolic profile: the wall cells' y+ takes the
+# wall's own velocity at each place in both.
+coflow_validation(fv_ke_vs_reference_profiled_wall compare fv_ke_all_boundaries_3d.yaml 1
+  "fluid.solver=fv fluid.boundaries.y+.profile=parabolic" "fluid.solver=fv-reference fluid.boundaries.y+.profile=parabolic")
 set(fv_ke_ch_sets "domain.cells=[4,100,1] run.end_time=4.0 run.output.every=4.0 fluid.fv.tolerance=1e-13")
 coflow_validation(fv_ke_vs_reference_channel compare fv_ke_channel.yaml 1
   "fluid.solver=fv ${fv_ke_ch_sets}" "fluid.solver=fv-reference ${fv_ke_ch_sets}")

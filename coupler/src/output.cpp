@@ -57,6 +57,7 @@ void Series::row(std::span<const double> values) {
   }
   out_ << line << '\n';
   out_.flush();
+  if (!out_) throw std::runtime_error("cannot append a row to a series file (disk full?)");
 }
 
 std::string json_quote(const std::string& s) {
@@ -130,11 +131,32 @@ void write_string_attr(hid_t obj, const char* name, const std::string& v) {
 // The SI units of the datasets coflow writes (docs/output.md), an attribute
 // "units" of each; "" for a name it does not know.
 std::string units_of(const std::string& name) {
-  static const std::map<std::string, std::string> u{
-      {"velocity", "m/s"},       {"pressure", "Pa"},       {"density", "kg/m^3"},   {"solid_fraction", "1"},
-      {"vorticity", "1/s"},      {"k", "m^2/s^2"},         {"epsilon", "m^2/s^3"},  {"momentum_source", "N/m^3"},
-      {"position", "m"},         {"angular_velocity", "rad/s"}, {"radius", "m"},  {"force", "N"},
-      {"id", "1"},               {"species", "1"},         {"populations", "lattice units"}};
+  static const std::map<std::string, std::string> u{{"velocity", "m/s"},
+                                                    {"pressure", "Pa"},
+                                                    {"density", "kg/m^3"},
+                                                    {"solid_fraction", "1"},
+                                                    {"vorticity", "1/s"},
+                                                    {"k", "m^2/s^2"},
+                                                    {"epsilon", "m^2/s^3"},
+                                                    {"momentum_source", "N/m^3"},
+                                                    {"position", "m"},
+                                                    {"angular_velocity", "rad/s"},
+                                                    {"radius", "m"},
+                                                    {"force", "N"},
+                                                    {"id", "1"},
+                                                    {"species", "1"},
+                                                    {"populations", "lattice units"},
+                                                    {"phase", "1"},
+                                                    {"nu_t", "m^2/s"},
+                                                    {"y_plus", "1"},
+                                                    {"divergence", "1/s"},
+                                                    {"solid_velocity", "m/s"},
+                                                    {"mass", "kg"},
+                                                    {"inertia", "kg m^2"},
+                                                    {"diameter", "m"},
+                                                    {"torque", "N m"},
+                                                    {"hydrodynamic_force", "N"},
+                                                    {"hydrodynamic_torque", "N m"}};
   const auto it = u.find(name);
   return it == u.end() ? "" : it->second;
 }
@@ -397,10 +419,16 @@ void write_xdmf(const std::string& dir, const GridGeometry& grid) {
       x += fmt::format("   <Grid Name=\"fluid\" GridType=\"Uniform\">\n    <Time Value=\"{:.12g}\"/>\n", s.time);
       x += fmt::format("    <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"{} {} {}\"/>\n", nz + 1, ny + 1, nx + 1);
       x += "    <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n";
-      x += fmt::format("     <DataItem Format=\"XML\" Dimensions=\"3\">{:.17g} {:.17g} {:.17g}</DataItem>\n",
-                       grid.lower[2], grid.lower[1], grid.lower[0]);
-      x += fmt::format("     <DataItem Format=\"XML\" Dimensions=\"3\">{:.17g} {:.17g} {:.17g}</DataItem>\n",
-                       grid.spacing[2], grid.spacing[1], grid.spacing[0]);
+      // Eight-byte numbers: XDMF reads four unless told (an origin of 100 m
+      // with 0.1 mm cells would be off by a tenth of a cell).
+      x += fmt::format(
+          "     <DataItem Format=\"XML\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"3\">"
+          "{:.17g} {:.17g} {:.17g}</DataItem>\n",
+          grid.lower[2], grid.lower[1], grid.lower[0]);
+      x += fmt::format(
+          "     <DataItem Format=\"XML\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"3\">"
+          "{:.17g} {:.17g} {:.17g}</DataItem>\n",
+          grid.spacing[2], grid.spacing[1], grid.spacing[0]);
       x += "    </Geometry>\n";
       for (const auto& f : fluid.fields) {
         const bool vec = f == "velocity" || f == "vorticity" || f == "momentum_source" || f == "solid_velocity";

@@ -17,6 +17,14 @@ struct Layout {
   long idx(long i, long j, long k) const {
     return shift + ((k + ghost[2]) * padded[1] + (j + ghost[1])) * padded[0] + (i + ghost[0]);
   }
+  // The streaming offset, in cells, of a population with lattice velocity e.
+  // An axis without ghosts has one cell, periodic (D3Q19 on one cell along z,
+  // lbm::LbmParams::check): a population moving along it wraps onto its own
+  // cell, so that axis adds nothing.
+  long offset(const int (&e)[3]) const {
+    const long ex = ghost[0] ? e[0] : 0, ey = ghost[1] ? e[1] : 0, ez = ghost[2] ? e[2] : 0;
+    return ex + padded[0] * (ey + padded[1] * ez);
+  }
 };
 
 }  // namespace coflow::fluid::lbm

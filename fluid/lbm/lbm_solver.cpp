@@ -89,7 +89,7 @@ class Core final : public LbmCore {
     // The spaced arrays reserve 2 Q spaced_stride values of address space;
     // where that is refused (a limit on it), packed.
     const long cells = (lay_.padded[0] * lay_.padded[1] * lay_.padded[2] + lay_.shift + 7) / 8 * 8;
-    for (int q = 0; q < L::Q; ++q) off_[q] = L::e[q][0] + lay_.padded[0] * (L::e[q][1] + lay_.padded[1] * L::e[q][2]);
+    for (int q = 0; q < L::Q; ++q) off_[q] = lay_.offset(L::e[q]);
     const auto allocate = [&](long stride) {
       pop_.allocate(stride, cells);
       lay_.stride = stride;

@@ -47,6 +47,19 @@ struct LbmParams {
     if (lattice == "D3Q19" && d.cells[2] == 1 && !d.periodic[2])
       v.fail("lattice", "D3Q19 with one cell along z needs domain.periodic[2] = true (or use D2Q9)");
     const int dims = d.cells[2] == 1 ? 2 : 3;
+    // A 2D run's cells are dx deep (the fluid's mass, momentum and forces
+    // count dx^3 a cell).
+    if (dims == 2 && std::abs(h[2] - h[0]) > 1e-9 * h[0])
+      v.fail("",
+             fmt::format("a two-dimensional lattice Boltzmann grid is one cell of dx deep: domain gives dx = "
+                         "{:.6g} m and a depth of {:.6g} m; set domain.upper[2] - domain.lower[2] = {:.6g}",
+                         h[0], h[2], h[0]));
+    for (int a = 0; a < 2; ++a)
+      if (d.cells[a] == 1 && !d.periodic[a])
+        v.fail("",
+               fmt::format("the lattice Boltzmann grid has one cell along {} between two faces that are not "
+                           "periodic: give it more cells or make the axis periodic",
+                           "xy"[a]));
     for (int a = 1; a < dims; ++a)
       if (std::abs(h[a] - h[0]) > 1e-9 * h[0])
         v.fail("", fmt::format("the lattice Boltzmann grid needs cubic cells: domain gives dx = {:.6g}, "

@@ -62,8 +62,7 @@ class TwoPhaseCore final : public LbmCore {
     }
     cells_ = b.cells();
     lay_.stride = cells_;  // unused here: pop_ holds two values a cell, indexed by at()
-    for (int q = 0; q < L::Q; ++q)
-      off_[q] = L::e[q][0] + lay_.padded[0] * (L::e[q][1] + lay_.padded[1] * L::e[q][2]);
+    for (int q = 0; q < L::Q; ++q) off_[q] = lay_.offset(L::e[q]);
     pop_.allocate(cells_, cells_);
     pop_.halo.build(lay_, dec_, rank, comm);
     phi_.assign(static_cast<std::size_t>(cells_), 0.0);

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <fstream>
 #include <numbers>
 #include <stdexcept>
 
@@ -114,10 +115,12 @@ class IbmWindows final : public coupler::WindowParts {
   void step(long) override {}
   void after_step(long w) override;
   void output(long w) override;
-  void save(const std::string&) override {}  // the state is the time: nothing to keep
+  void save(const std::string& dir) override;  // the series row being summed
 
  private:
   ibm::MarkerSet markers(double t) const;
+  void load_row(const std::string& path);
+  static constexpr const char* kRowFile = "ibm_series.csv";
 
   coupler::Session& s_;
   ibm::GridGeometry grid_;
@@ -150,8 +153,28 @@ IbmWindows::IbmWindows(coupler::Session& s, const IbmParams& p)
   columns.push_back({"slip", "m/s"});
   loads_.assign(6 * bodies_.size() + 2, 0.0);
   row_.assign(loads_.size(), 0.0);
+  if (s.rank() == 0 && s.restart_window() > 0) load_row(s.restart_dir() + "/" + kRowFile);
   if (s.rank() == 0)
     series_ = output::Series(s.output_dir() + "/series/immersed.csv", columns, s.restart_window() > 0);
+}
+
+// The series row being summed goes into a checkpoint (rank 0 keeps it): its
+// time, then its sums.
+void IbmWindows::save(const std::string& dir) {
+  if (s_.rank() != 0) return;
+  std::string text = fmt::format("{:.17g}\n", row_time_);
+  for (const double v : row_) text += fmt::format("{:.17g}\n", v);
+  output::atomic_write(dir + "/" + kRowFile, text);
+}
+
+// A checkpoint from before the row was kept has no file: the row starts anew.
+void IbmWindows::load_row(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return;
+  if (!(in >> row_time_)) throw std::runtime_error(path + ": cannot read the time of the series row");
+  for (double& v : row_)
+    if (!(in >> v) || !std::isfinite(v))
+      throw std::runtime_error(path + ": the series row's sums are damaged: restart from another checkpoint");
 }
 
 ibm::MarkerSet IbmWindows::markers(double t) const {
@@ -259,7 +282,11 @@ class IbmWithParticles final : public coupler::WindowParts {
     bodies_.output(w);
     particles_->output(w);
   }
-  void save(const std::string&) override {}  // neither keeps a state but the time
+  void save(
+      const std::string& dir) override {  // the bodies' series row; the particles keep none but the time
+    bodies_.save(dir);
+    particles_->save(dir);
+  }
   void finish() override { particles_->finish(); }
 
  private:

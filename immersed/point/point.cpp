@@ -51,7 +51,8 @@ class PointWindows final : public coupler::WindowParts {
   static constexpr int C = 5;  // u[3], k, epsilon
   coupler::Session& s_;
   const config::DomainParams& dom_;
-  double h_, rho_, mu_;
+  config::Vec3 h_;  // the cells' sides
+  double rho_, mu_;
   bool two_way_;  // the impulses are spread into the fluid's momentum source
   coupler::FieldExchange flow_in_, source_out_;
   coupler::PointExchange states_, impulses_;
@@ -66,7 +67,7 @@ PointWindows::PointWindows(coupler::Session& s, double rho, double mu, bool two_
                            const std::string& series)
     : s_(s),
       dom_(s.config().domain),
-      h_(dom_.spacing()[0]),
+      h_(dom_.spacing()),
       rho_(rho),
       mu_(mu),
       two_way_(two_way),
@@ -90,7 +91,8 @@ PointWindows::PointWindows(coupler::Session& s, double rho, double mu, bool two_
 
 double PointWindows::value(Index3 g, int comp) const {
   for (int d = 0; d < 3; ++d)
-    if (!dom_.periodic[d]) g[d] = std::clamp(g[d], 0L, static_cast<long>(dom_.cells[d]) - 1);
+    if (!dom_.periodic[d] || dom_.cells[d] == 1)
+      g[d] = std::clamp(g[d], 0L, static_cast<long>(dom_.cells[d]) - 1);
   return flow_[static_cast<std::size_t>(flow_in_.local_index(g)) * C + comp];
 }
 
@@ -105,7 +107,8 @@ double PointWindows::derivative(const Index3& g, int comp, int axis) const {
     b[axis] = std::min(b[axis], static_cast<long>(dom_.cells[axis]) - 1);
     span = b[axis] - a[axis];
   }
-  return span > 0 ? (value(b, comp) - value(a, comp)) / (static_cast<double>(span) * h_) : 0.0;
+  if (dom_.cells[axis] == 1) return 0.0;  // nothing varies along an axis of one cell
+  return span > 0 ? (value(b, comp) - value(a, comp)) / (static_cast<double>(span) * h_[axis]) : 0.0;
 }
 
 void PointWindows::vorticity(const Index3& g, double* w) const {
@@ -149,7 +152,7 @@ void PointWindows::before_step(long) {
 void PointWindows::after_step(long w) {
   impulses_.receive(records_, owned_flags_);
   const std::size_t m = owned_flags_.size();
-  const double cell_volume = h_ * h_ * h_;
+  const double cell_volume = h_[0] * h_[1] * h_[2];
   source_out_.flush();  // the previous window's message may still read source_
   std::fill(source_.begin(), source_.end(), 0.0);
   std::fill(total_, total_ + 3, 0.0);

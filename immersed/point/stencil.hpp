@@ -12,22 +12,31 @@
 namespace coflow::immersed {
 
 // The 8 cells around a point and their trilinear weights (cell centres at
-// lower + (i + 1/2) h). Non-periodic axes clamp to the domain, so that a point
-// between the last centre and a wall takes that cell's value (interpolation)
-// and gives it the whole weight (spreading stays conservative). On periodic
-// axes the indices may be -1 or n: the exchange wraps them.
+// lower + (i + 1/2) h, h per axis). Non-periodic axes clamp to the domain, so
+// that a point between the last centre and a wall takes that cell's value
+// (interpolation) and gives it the whole weight (spreading stays
+// conservative). On periodic axes the indices may be -1 or n (the exchange
+// wraps them), taken from the cell the point exchange routes the point to
+// (its floor, wrapped), so that they lie in that rank's ghost layer. An axis
+// of one cell gives that cell the whole weight.
 struct Stencil {
   coupler::Index3 cell[8];
   double weight[8];
 };
 
-inline Stencil stencil(const double* x, const config::DomainParams& dom, double h) {
+inline Stencil stencil(const double* x, const config::DomainParams& dom, const config::Vec3& h) {
   long i0[3];
   double t[3];
   for (int d = 0; d < 3; ++d) {
-    const double s = (x[d] - dom.lower[d]) / h - 0.5;
-    i0[d] = static_cast<long>(std::floor(s));
-    t[d] = s - static_cast<double>(i0[d]);
+    const long n = dom.cells[d];
+    double s = (x[d] - dom.lower[d]) / h[d];
+    if (dom.periodic[d]) {  // the routed cell: floor(s) wrapped into [0, n)
+      const double wraps = std::floor(std::floor(s) / static_cast<double>(n));
+      s -= wraps * static_cast<double>(n);
+    }
+    s -= 0.5;
+    i0[d] = n == 1 ? 0 : static_cast<long>(std::floor(s));
+    t[d] = n == 1 ? 0.0 : s - static_cast<double>(i0[d]);
   }
   Stencil st;
   for (int c = 0; c < 8; ++c) {
@@ -36,7 +45,7 @@ inline Stencil stencil(const double* x, const config::DomainParams& dom, double 
       const int up = (c >> d) & 1;
       long i = i0[d] + up;
       w *= up ? t[d] : 1.0 - t[d];
-      if (!dom.periodic[d]) i = std::clamp(i, 0L, static_cast<long>(dom.cells[d]) - 1);
+      if (!dom.periodic[d] || dom.cells[d] == 1) i = std::clamp(i, 0L, static_cast<long>(dom.cells[d]) - 1);
       st.cell[c][d] = i;
     }
     st.weight[c] = w;

@@ -142,10 +142,18 @@ void add_from_file(ParticleArrays& a, const ParticleParams& p, const InitialItem
   const auto r = output::read_dataset(file, "radius");
   const auto sp = output::read_dataset(file, "species");
   for (std::size_t n = 0; n < r.size(); ++n) {
-    const int s2 = static_cast<int>(sp[n]);
-    if (s2 < 0 || s2 >= static_cast<int>(p.species.size()))
+    if (!(sp[n] >= 0 && sp[n] < static_cast<double>(p.species.size())))
       throw std::runtime_error(fmt::format("{}: particle {} has species {}, but only {} are defined", file, n,
-                                           s2, p.species.size()));
+                                           sp[n], p.species.size()));
+    const int s2 = static_cast<int>(sp[n]);
+    // The ghost layers (of the particles and of psm's cover) are as wide as
+    // the species' largest diameter: a larger grain would be cut on N ranks.
+    const double largest = largest_diameter(p.species[s2].second.diameter);
+    if (!(r[n] > 0 && 2.0 * r[n] <= largest * (1.0 + 1e-12)))
+      throw std::runtime_error(
+          fmt::format("{}: particle {} has a diameter of {:.6g} m, but its species {} is at most "
+                      "{:.6g} m: give the species that diameter (or the file smaller grains)",
+                      file, n, 2.0 * r[n], p.species[s2].first, largest));
     add(a, s2, p.species[s2].second.density, 2.0 * r[n], V3(&x[3 * n]), V3(&v[3 * n]), V3(&w[3 * n]));
   }
 }

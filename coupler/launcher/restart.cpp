@@ -40,22 +40,38 @@ long cut_csv(const fs::path& path, Keep keep) {
   return cut;
 }
 
-// Keep the header and the index rows of snapshots at or before time t.
-void cut_index(const fs::path& path, double t) {
+// Keep the header and the index rows of the snapshots numbered up to `last`.
+void cut_index(const fs::path& path, long last) {
   std::ifstream in(path);
   std::string line, text;
   bool cut = false;
   if (std::getline(in, line)) text = line + "\n";
   while (std::getline(in, line)) {
-    const auto comma = line.find(',');
-    if (line.empty() || comma == std::string::npos) continue;
-    if (std::strtod(line.c_str() + comma + 1, nullptr) <= t)
+    if (line.empty() || line.find(',') == std::string::npos) continue;
+    if (std::strtol(line.c_str(), nullptr, 10) <= last)
       text += line + "\n";
     else
       cut = true;
   }
   in.close();
   if (cut) output::atomic_write(path.string(), text);
+}
+
+// The number of the last snapshot of `index` the restarted run keeps: those
+// at or before the checkpoint's time t, less the run's final snapshot when it
+// fell between two multiples of run.output.every (it takes the next multiple's
+// number, k + 1) and the restarted run goes on past t: that run writes
+// snapshot k + 1 at its proper time, as a run straight to the new end does.
+long last_kept_snapshot(const config::Config& cfg, const fs::path& index, double t, double tol,
+                        bool& dropped_final) {
+  long last = -1;
+  double last_time = 0.0;
+  for (const output::SnapshotInfo& s : output::read_index(index.string()).rows)
+    if (s.time <= t + tol && s.number > last) last = s.number, last_time = s.time;
+  const double every = cfg.run.output.every;
+  const bool off_multiple = every > 0 && last > 0 && last_time < last * every - tol;
+  dropped_final = off_multiple && cfg.run.end_time > t + tol;
+  return dropped_final ? last - 1 : last;
 }
 
 }  // namespace
@@ -99,17 +115,21 @@ std::string rewind_run_directory(const config::Config& cfg, const std::string& d
     if (!fs::exists(index)) continue;
     // The snapshots indexed after t go, and their files (numbered above the
     // last one kept).
-    long last = -1;
-    for (const output::SnapshotInfo& s : output::read_index(index.string()).rows)
-      if (s.time <= t + tol) last = std::max(last, s.number);
+    bool dropped_final = false;
+    const long last = last_kept_snapshot(cfg, index, t, tol, dropped_final);
     long gone = 0;
     for (const auto& e : fs::directory_iterator(index.parent_path(), ec)) {
       const std::string n = e.path().filename().string();
       long number = -1;
       if (std::sscanf(n.c_str(), "step_%ld.h5", &number) == 1 && number > last) fs::remove(e.path(), ec), ++gone;
     }
-    cut_index(index, t + tol);
-    if (gone > 0) said += fmt::format("  {}: {} snapshots after t = {} s removed\n", index.parent_path().string(), gone, t);
+    cut_index(index, last);
+    if (gone > 0)
+      said += fmt::format(
+          "  {}: {} snapshots removed: those after t = {} s{}\n", index.parent_path().string(), gone, t,
+          dropped_final ? ", and the run's last, which fell between two multiples of run.output.every: the "
+                          "restarted run writes its number at the next multiple"
+                        : "");
   }
   for (const auto& cp : coupler::complete_checkpoints(dir))
     if (coupler::checkpoint_window(cp) > w) {

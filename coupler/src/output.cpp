@@ -1,24 +1,27 @@
 #include "coflow/output.hpp"
 
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <hdf5.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
 #include <filesystem>
 #include <map>
 #include <sstream>
 #include <stdexcept>
 
-#include <fmt/format.h>
-#include <fmt/ranges.h>
-
 namespace coflow::output {
 
 namespace fs = std::filesystem;
 
 void atomic_write(const std::string& path, const std::string& content) {
-  const std::string tmp = fmt::format("{}.tmp.{}", path, ::getpid());
+  // The process and thread in the name: two writers never share a temporary.
+  const std::string tmp = fmt::format("{}.tmp.{}.{}", path, ::getpid(), ::gettid());
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw std::runtime_error(fmt::format("cannot write '{}'", tmp));
@@ -388,85 +391,128 @@ IndexTable read_index(const std::string& path) {
   std::string line;
   if (!std::getline(in, line)) return t;  // the header: snapshot,time,count,fields
   while (std::getline(in, line)) {
-    SnapshotInfo s;
+    IndexRow s;
     if (std::sscanf(line.c_str(), "%ld,%lf,%zu", &s.number, &s.time, &s.count) != 3) continue;
-    t.rows.push_back(s);
-    if (!t.fields.empty()) continue;
     std::size_t at = 0;
     for (int commas = 0; commas < 3 && at != std::string::npos; ++commas) at = line.find(',', at == 0 ? 0 : at + 1);
-    if (at == std::string::npos) continue;
-    std::stringstream fs(line.substr(at + 1));
-    std::string f;
-    while (fs >> f) t.fields.push_back(f);
+    if (at != std::string::npos) {
+      std::stringstream fs(line.substr(at + 1));
+      std::string f;
+      while (fs >> f) s.fields.push_back(f);
+    }
+    t.rows.push_back(std::move(s));
   }
   return t;
 }
 
 namespace {
 
+// An exclusive lock on a file next to run.xdmf, held while the object lives
+// (flock: released when the descriptor closes, also when the process dies).
+class FileLock {
+ public:
+  explicit FileLock(const std::string& path) : fd_(::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644)) {
+    if (fd_ < 0) throw std::runtime_error(fmt::format("cannot open the lock file '{}'", path));
+    while (::flock(fd_, LOCK_EX) != 0)
+      if (errno != EINTR) {
+        ::close(fd_);
+        throw std::runtime_error(fmt::format("cannot lock '{}'", path));
+      }
+  }
+  ~FileLock() { ::close(fd_); }
+  FileLock(const FileLock&) = delete;
+  FileLock& operator=(const FileLock&) = delete;
+
+ private:
+  int fd_;
+};
+
+bool is_vector_field(const std::string& f) {
+  return f == "velocity" || f == "vorticity" || f == "momentum_source" || f == "solid_velocity";
+}
+
+void add_fluid_grids(std::string& x, const IndexTable& fluid, const GridGeometry& grid) {
+  const long nx = grid.cells[0], ny = grid.cells[1], nz = grid.cells[2];
+  x += "  <Grid Name=\"fluid\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (const auto& s : fluid.rows) {
+    const std::string file = "fluid/" + snapshot_name(s.number);
+    x +=
+        fmt::format("   <Grid Name=\"fluid\" GridType=\"Uniform\">\n    <Time Value=\"{:.12g}\"/>\n", s.time);
+    x += fmt::format("    <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"{} {} {}\"/>\n", nz + 1,
+                     ny + 1, nx + 1);
+    x += "    <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n";
+    // Eight-byte numbers: XDMF reads four unless told (an origin of 100 m
+    // with 0.1 mm cells would be off by a tenth of a cell).
+    x += fmt::format(
+        "     <DataItem Format=\"XML\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"3\">"
+        "{:.17g} {:.17g} {:.17g}</DataItem>\n",
+        grid.lower[2], grid.lower[1], grid.lower[0]);
+    x += fmt::format(
+        "     <DataItem Format=\"XML\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"3\">"
+        "{:.17g} {:.17g} {:.17g}</DataItem>\n",
+        grid.spacing[2], grid.spacing[1], grid.spacing[0]);
+    x += "    </Geometry>\n";
+    for (const auto& f : s.fields) {
+      const bool vec = is_vector_field(f);
+      x += fmt::format("    <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Cell\">\n", f,
+                       vec ? "Vector" : "Scalar");
+      x += fmt::format(
+          "     <DataItem Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"{} {} "
+          "{}{}\">{}:/{}</DataItem>\n",
+          nz, ny, nx, vec ? " 3" : "", file, f);
+      x += "    </Attribute>\n";
+    }
+    x += "   </Grid>\n";
+  }
+  x += "  </Grid>\n";
+}
+
+void add_particle_grids(std::string& x, const IndexTable& parts) {
+  x += "  <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (const auto& s : parts.rows) {
+    const std::string file = "particles/" + snapshot_name(s.number);
+    x += fmt::format("   <Grid Name=\"particles\" GridType=\"Uniform\">\n    <Time Value=\"{:.12g}\"/>\n",
+                     s.time);
+    x += fmt::format(
+        "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n",
+        s.count);
+    x += "    <Geometry GeometryType=\"XYZ\">\n";
+    x += fmt::format(
+        "     <DataItem Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"{} "
+        "3\">{}:/position</DataItem>\n",
+        s.count, file);
+    x += "    </Geometry>\n";
+    auto attr = [&](const std::string& name, bool vec, const char* type, int prec) {
+      x += fmt::format("    <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n", name,
+                       vec ? "Vector" : "Scalar");
+      x += fmt::format(
+          "     <DataItem Format=\"HDF\" NumberType=\"{}\" Precision=\"{}\" "
+          "Dimensions=\"{}{}\">{}:/{}</DataItem>\n",
+          type, prec, s.count, vec ? " 3" : "", file, name);
+      x += "    </Attribute>\n";
+    };
+    attr("id", false, "Int", 8);
+    attr("species", false, "Int", 4);
+    for (const auto& f : s.fields) {
+      if (f == "position") continue;
+      attr(f, f != "radius", "Float", 8);
+    }
+    x += "   </Grid>\n";
+  }
+  x += "  </Grid>\n";
+}
+
 }  // namespace
 
 void write_xdmf(const std::string& dir, const GridGeometry& grid) {
+  const FileLock lock(dir + "/run.xdmf.lock");
   std::string x;
   x += "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n";
   x += "<Xdmf Version=\"3.0\">\n <Domain>\n";
-  const auto fluid = read_index(dir + "/fluid/index.csv");
-  if (!fluid.rows.empty()) {
-    const long nx = grid.cells[0], ny = grid.cells[1], nz = grid.cells[2];
-    x += "  <Grid Name=\"fluid\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-    for (const auto& s : fluid.rows) {
-      const std::string file = "fluid/" + snapshot_name(s.number);
-      x += fmt::format("   <Grid Name=\"fluid\" GridType=\"Uniform\">\n    <Time Value=\"{:.12g}\"/>\n", s.time);
-      x += fmt::format("    <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"{} {} {}\"/>\n", nz + 1, ny + 1, nx + 1);
-      x += "    <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n";
-      // Eight-byte numbers: XDMF reads four unless told (an origin of 100 m
-      // with 0.1 mm cells would be off by a tenth of a cell).
-      x += fmt::format(
-          "     <DataItem Format=\"XML\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"3\">"
-          "{:.17g} {:.17g} {:.17g}</DataItem>\n",
-          grid.lower[2], grid.lower[1], grid.lower[0]);
-      x += fmt::format(
-          "     <DataItem Format=\"XML\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"3\">"
-          "{:.17g} {:.17g} {:.17g}</DataItem>\n",
-          grid.spacing[2], grid.spacing[1], grid.spacing[0]);
-      x += "    </Geometry>\n";
-      for (const auto& f : fluid.fields) {
-        const bool vec = f == "velocity" || f == "vorticity" || f == "momentum_source" || f == "solid_velocity";
-        x += fmt::format("    <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Cell\">\n", f, vec ? "Vector" : "Scalar");
-        x += fmt::format("     <DataItem Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"{} {} {}{}\">{}:/{}</DataItem>\n",
-                         nz, ny, nx, vec ? " 3" : "", file, f);
-        x += "    </Attribute>\n";
-      }
-      x += "   </Grid>\n";
-    }
-    x += "  </Grid>\n";
-  }
-  const auto parts = read_index(dir + "/particles/index.csv");
-  if (!parts.rows.empty()) {
-    x += "  <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-    for (const auto& s : parts.rows) {
-      const std::string file = "particles/" + snapshot_name(s.number);
-      x += fmt::format("   <Grid Name=\"particles\" GridType=\"Uniform\">\n    <Time Value=\"{:.12g}\"/>\n", s.time);
-      x += fmt::format("    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n", s.count);
-      x += "    <Geometry GeometryType=\"XYZ\">\n";
-      x += fmt::format("     <DataItem Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\"{} 3\">{}:/position</DataItem>\n", s.count, file);
-      x += "    </Geometry>\n";
-      auto attr = [&](const std::string& name, bool vec, const char* type, int prec) {
-        x += fmt::format("    <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n", name, vec ? "Vector" : "Scalar");
-        x += fmt::format("     <DataItem Format=\"HDF\" NumberType=\"{}\" Precision=\"{}\" Dimensions=\"{}{}\">{}:/{}</DataItem>\n",
-                         type, prec, s.count, vec ? " 3" : "", file, name);
-        x += "    </Attribute>\n";
-      };
-      attr("id", false, "Int", 8);
-      attr("species", false, "Int", 4);
-      for (const auto& f : parts.fields) {
-        if (f == "position") continue;
-        attr(f, f != "radius", "Float", 8);
-      }
-      x += "   </Grid>\n";
-    }
-    x += "  </Grid>\n";
-  }
+  if (const auto fluid = read_index(dir + "/fluid/index.csv"); !fluid.rows.empty())
+    add_fluid_grids(x, fluid, grid);
+  if (const auto parts = read_index(dir + "/particles/index.csv"); !parts.rows.empty())
+    add_particle_grids(x, parts);
   x += " </Domain>\n</Xdmf>\n";
   atomic_write(dir + "/run.xdmf", x);
 }

@@ -111,10 +111,13 @@ struct SnapshotInfo {
 };
 void append_index(const std::string& dir, const std::string& component, const SnapshotInfo& info,
                   const std::vector<std::string>& fields);
-// A component's index.csv: its snapshots, and the fields of the first.
-struct IndexTable {
+// A component's index.csv: its snapshots, each with the fields its file holds
+// (a restart may write other fields than the run before it).
+struct IndexRow : SnapshotInfo {
   std::vector<std::string> fields;
-  std::vector<SnapshotInfo> rows;
+};
+struct IndexTable {
+  std::vector<IndexRow> rows;
 };
 IndexTable read_index(const std::string& path);
 
@@ -122,6 +125,11 @@ struct GridGeometry {
   std::array<double, 3> lower{}, spacing{};
   std::array<long, 3> cells{};
 };
+// run.xdmf from the components' index.csv files. Each component's rank 0
+// calls it after each snapshot: the read and the write are made under an
+// exclusive lock on run.xdmf.lock, so that the last writer has read every
+// index row written before it (without it a writer that read the indexes
+// before another's row went in could rename its file over the other's).
 void write_xdmf(const std::string& dir, const GridGeometry& grid);
 
 // JSON string literal with escapes.

@@ -90,30 +90,37 @@ void Probes::interpolate(const Stencil& s, double* out) const {
   }
 }
 
-// This rank's share of each plane's mean pressure (p: owned cells, x fastest).
-void Probes::plane_means(const Drop& d, const double* p, double* out) const {
+// This rank's share of each plane's fluid-weighted pressure sum and of its
+// fluid share: a cell counts with its fluid fraction 1 - solid_fraction (p,
+// solid: owned cells, x fastest; solid null where the solver has no solids),
+// so a plane's mean is the fluid's (the intrinsic average), not lowered by the
+// solid cells it crosses (whose pressure is no fluid's).
+void Probes::plane_sums(const Drop& d, const double* p, const double* solid, double* sum,
+                        double* fluid) const {
   const coupler::Box& own = dec_.block(rank_);
-  long plane_cells = 1;
-  for (int a = 0; a < 3; ++a)
-    if (a != d.axis) plane_cells *= cfg_.domain.cells[a];
   const long n0 = own.extent(0), n1 = own.extent(1);
   for (long k = 0; k < own.extent(2); ++k)
     for (long j = 0; j < n1; ++j)
       for (long i = 0; i < n0; ++i) {
         const long g[3] = {own.lo[0] + i, own.lo[1] + j, own.lo[2] + k};
-        const double v = p[(k * n1 + j) * n0 + i];
+        const long c = (k * n1 + j) * n0 + i;
+        const double phi = solid ? 1.0 - solid[c] : 1.0;
         for (int m = 0; m < 2; ++m) {
-          if (g[d.axis] == d.cell[m][0]) out[m] += (1.0 - d.t[m]) * v / plane_cells;
-          if (g[d.axis] == d.cell[m][1]) out[m] += d.t[m] * v / plane_cells;
+          const double w =
+              (g[d.axis] == d.cell[m][0] ? 1.0 - d.t[m] : 0.0) + (g[d.axis] == d.cell[m][1] ? d.t[m] : 0.0);
+          sum[m] += w * phi * p[c];
+          fluid[m] += w * phi;
         }
       }
 }
 
 std::vector<double> Probes::sample(FluidSolver& solver) {
   std::vector<double> row(columns_.size(), 0.0);
-  const auto fields = solver.fields({"velocity", "pressure"});
+  const auto fields = solver.fields({"velocity", "pressure", "solid_fraction"});
   const auto& u = fields[0].data;
   const auto& p = fields[1].data;
+  const double* solid =
+      fields.size() > 2 && fields[2].name == "solid_fraction" ? fields[2].data.data() : nullptr;
   std::size_t col = 0;
   if (ghosts_) {
     const auto& b = ghosts_->block();
@@ -132,13 +139,20 @@ std::vector<double> Probes::sample(FluidSolver& solver) {
       col += 4;
     }
   }
-  for (const Drop& d : drops_) {
-    plane_means(d, p.data(), &row[col]);
-    col += 3;
-  }
+  // Per drop: the two planes' weighted sums, then their fluid shares.
+  std::vector<double> planes(4 * drops_.size(), 0.0);
+  for (std::size_t m = 0; m < drops_.size(); ++m)
+    plane_sums(drops_[m], p.data(), solid, &planes[4 * m], &planes[4 * m + 2]);
+  row.insert(row.end(), planes.begin(), planes.end());
   MPI_Allreduce(MPI_IN_PLACE, row.data(), static_cast<int>(row.size()), MPI_DOUBLE, MPI_SUM, comm_);
   col = 4 * samples_.size();
-  for (std::size_t m = 0; m < drops_.size(); ++m, col += 3) row[col + 2] = row[col] - row[col + 1];
+  for (std::size_t m = 0; m < drops_.size(); ++m, col += 3) {
+    const double* s = &row[columns_.size() + 4 * m];
+    // A plane without fluid (all solid) has no mean: NaN, as no number would be true.
+    for (int k = 0; k < 2; ++k) row[col + k] = s[2 + k] > 0.0 ? s[k] / s[2 + k] : std::nan("");
+    row[col + 2] = row[col] - row[col + 1];
+  }
+  row.resize(columns_.size());
   return row;
 }
 

@@ -1,7 +1,8 @@
 // Fluid probes (run.output.probes, run.output.pressure_drops) into
 // series/probes.csv: velocity and pressure at points and along lines,
 // trilinear between cell centres (clamped to the outermost centres next to a
-// wall), and the mean pressure over two planes with their difference. The
+// wall), and the fluid's mean pressure over two planes (cells weighted by
+// their fluid fraction: interior solids do not count) with their difference. The
 // rank owning a sample's stencil corner interpolates it from its cells and one
 // ghost layer (grid::GhostExchange); rank 0 gets every value.
 #pragma once
@@ -41,7 +42,7 @@ class Probes {
   Stencil stencil(const config::Vec3& x) const;
   Drop drop(const config::PressureDropParams& p) const;
   void interpolate(const Stencil& s, double* out) const;  // ux, uy, uz, p
-  void plane_means(const Drop& d, const double* p, double* out) const;
+  void plane_sums(const Drop& d, const double* p, const double* solid, double* sum, double* fluid) const;
 
   const config::Config& cfg_;
   coupler::Decomposition dec_;

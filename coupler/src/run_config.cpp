@@ -54,7 +54,9 @@ void PressureDropParams::visit(Visitor& v) {
   v.required("name", name, "column prefix in series/probes.csv (<name>_p_from, <name>_p_to, <name>_dp)");
   v.required("axis", axis, "the axis across the planes", one_of({"x", "y", "z"}));
   v.required("from", from, "m: position of the first plane along the axis");
-  v.required("to", to, "m: position of the second plane; dp = p(from) - p(to), each the mean over its plane");
+  v.required("to", to,
+             "m: position of the second plane; dp = p(from) - p(to), each the mean over its plane's fluid "
+             "(solid cells excluded)");
 }
 
 void OutputParams::visit(Visitor& v) {
@@ -77,7 +79,8 @@ void OutputParams::visit(Visitor& v) {
            probes.emplace_back();
            probes.back().visit(s);
          });
-  v.list("pressure_drops", "mean pressures over two planes and their difference, every series row, into "
+  v.list("pressure_drops",
+         "the fluid's mean pressures over two planes and their difference, every series row, into "
          "series/probes.csv",
          [&](Visitor& s) {
            pressure_drops.emplace_back();

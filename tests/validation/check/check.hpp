@@ -110,6 +110,7 @@ inline std::vector<std::pair<long, double>> snapshots(const std::string& dir, co
 // lbm.cpp
 int profile(const std::string& dir);
 int probes(const std::string& dir);
+int hydrostatic(const std::string& dir);
 int fluid_walls(const std::string& dir);
 int channel(const std::string& dir);
 int decay(const std::string& dir);

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
         throw std::runtime_error(std::string(argv[a]) + " is not a run directory (no config.yaml in it)");
     if (what == "profile" && argc == 3) return profile(argv[2]);
     if (what == "probes" && argc == 3) return probes(argv[2]);
+    if (what == "hydrostatic" && argc == 3) return hydrostatic(argv[2]);
     if (what == "fluid_walls" && argc == 3) return fluid_walls(argv[2]);
     if (what == "channel" && argc == 3) return channel(argv[2]);
     if (what == "decay" && argc == 3) return decay(argv[2]);

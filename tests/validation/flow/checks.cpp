@@ -122,6 +122,45 @@ int probes(const std::string& dir) {
   return 0;
 }
 
+// A closed box at rest under a body force f along x with interior solids
+// (configs/validation/lbm_hydrostatic_solid.yaml): hydrostatics gives p = f (x
+// - x_c) in the fluid, x_c the fluid's centroid along x (the box's mass, and so
+// its mean pressure, is conserved at the initial 0). The pressure drop's two
+// plane means against that (each relative to f times the planes' distance),
+// and the largest speed relative to the Poiseuille scale f H^2 / (8 mu) of the
+// box's height (0 at rest).
+int hydrostatic(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  const auto& d = cfg.domain;
+  const auto h = d.spacing();
+  const double f = fp.body_force[0];
+  const std::string last = last_snapshot(dir);
+  const auto solid = output::read_dataset(last, "solid_fraction");
+  const auto u = output::read_dataset(last, "velocity");
+  double fluid = 0.0, moment = 0.0;
+  for (std::size_t c = 0; c < solid.size(); ++c) {
+    const long i = static_cast<long>(c % static_cast<std::size_t>(d.cells[0]));
+    fluid += 1.0 - solid[c];
+    moment += (1.0 - solid[c]) * (d.lower[0] + (i + 0.5) * h[0]);
+  }
+  const double xc = moment / fluid;
+  const auto& drop = cfg.run.output.pressure_drops.at(0);
+  const double scale = std::abs(f * (drop.to - drop.from));
+  const LastRow col(dir + "/series/probes.csv");
+  const double e_from = std::abs(col(drop.name + "_p_from") - f * (drop.from - xc)) / scale;
+  const double e_to = std::abs(col(drop.name + "_p_to") - f * (drop.to - xc)) / scale;
+  double umax = 0.0;
+  for (double v : u) umax = std::isnan(v) ? v : std::max(umax, std::abs(v));
+  const double H = d.upper[1] - d.lower[1];
+  std::printf("pressure_drop_error=%.6e\n",
+              std::abs(col(drop.name + "_dp") + f * (drop.to - drop.from)) / scale);
+  std::printf("plane_pressure_error=%.6e\n",
+              std::isnan(e_from) || std::isnan(e_to) ? NAN : std::max(e_from, e_to));
+  std::printf("rest_speed=%.6e\n", umax / (std::abs(f) * H * H / (8 * fp.density * fp.viscosity)));
+  return 0;
+}
+
 // The tutorial's plane channel (configs/tutorial/1_channel.yaml): uniform
 // inflow U between walls H apart develops into Poiseuille's u(z) = 6 U z (H -
 // z) / H^2. The probe `centre` (between the two middle cell centres, where the

@@ -17,16 +17,20 @@ namespace coflow::fluid::lbm {
 // `axis`, from its known populations (zero-centred) and the face's value
 // (Zou & He 1997): a velocity face gives u, rho follows from mass balance; a
 // pressure face gives rho, the normal u follows, the tangential u is zero.
+// With Guo's forcing the populations' momentum is rho_m u - F/2 (F: the
+// node's force density), so the mass balance takes the normal one, s (rho_m
+// u_n) - s F_axis / 2, in place of rho_m u_n.
 template <class L, bool Incompressible>
-inline void face_state(const double* f, int axis, int s, bool velocity_face, double rho_given, const double* u_given,
-                       double& rho, double* u) {
+inline void face_state(const double* f, int axis, int s, bool velocity_face, double rho_given,
+                       const double* u_given, const double* F, double& rho, double* u) {
   double s0 = 0.0, sout = 0.0;
   for (int q = 0; q < L::Q; ++q) {
     if (L::e[q][axis] == 0) s0 += f[q];
     if (s * L::e[q][axis] < 0) sout += f[q];
   }
-  // s0 + 2 sout of the full populations: the weights add 1 (zero-centred storage)
-  const double known = (s0 + 2.0 * sout) + 1.0;
+  // s0 + 2 sout of the full populations: the weights add 1 (zero-centred
+  // storage); less the force's half-step share of the normal momentum
+  const double known = (s0 + 2.0 * sout) + 1.0 - 0.5 * s * F[axis];
   u[0] = u[1] = u[2] = 0.0;
   if (velocity_face) {
     for (int d = 0; d < 3; ++d) u[d] = u_given[d];
@@ -41,24 +45,28 @@ inline void face_state(const double* f, int axis, int s, bool velocity_face, dou
 
 // Zou & He (1997) closure of the unknown populations at a node of a face with
 // inward normal s along `axis`, general form of Hecht & Harting (2010):
-//   f_q = f_opp(q) + 6 w_q rho_m (e_q . u) - sum_t e_q,t N_t,
-//   N_t = 1/2 sum_{e_q,axis = 0} f_q e_q,t - rho_m u_t / 3.
+//   f_q = f_opp(q) + 6 w_q (e_q . j) - sum_t e_q,t N_t,
+//   N_t = 1/2 sum_{e_q,axis = 0} f_q e_q,t - j_t / 3,
+// with j = rho_m u - F/2, the momentum the populations hold under Guo's
+// forcing (rho_m u without a force).
 template <class L, bool Incompressible>
-inline void zou_he(double* f, int axis, int s, bool velocity_face, double rho_given, const double* u_given) {
+inline void zou_he(double* f, int axis, int s, bool velocity_face, double rho_given, const double* u_given,
+                   const double* F) {
   double rho, u[3];
-  face_state<L, Incompressible>(f, axis, s, velocity_face, rho_given, u_given, rho, u);
+  face_state<L, Incompressible>(f, axis, s, velocity_face, rho_given, u_given, F, rho, u);
   const double rho_m = Incompressible ? 1.0 : rho;
+  const double j[3] = {rho_m * u[0] - 0.5 * F[0], rho_m * u[1] - 0.5 * F[1], rho_m * u[2] - 0.5 * F[2]};
   double N[3] = {0.0, 0.0, 0.0};
   for (int t = 0; t < 3; ++t) {
     if (t == axis) continue;
     for (int q = 0; q < L::Q; ++q)
       if (L::e[q][axis] == 0) N[t] += 0.5 * f[q] * L::e[q][t];
-    N[t] -= rho_m * u[t] / 3.0;
+    N[t] -= j[t] / 3.0;
   }
   for (int q = 0; q < L::Q; ++q) {
     if (s * L::e[q][axis] <= 0) continue;
-    const double eu = L::e[q][0] * u[0] + L::e[q][1] * u[1] + L::e[q][2] * u[2];
-    double v = f[L::opp[q]] + 6.0 * L::w[q] * rho_m * eu;
+    const double ej = L::e[q][0] * j[0] + L::e[q][1] * j[1] + L::e[q][2] * j[2];
+    double v = f[L::opp[q]] + 6.0 * L::w[q] * ej;
     for (int t = 0; t < 3; ++t)
       if (t != axis) v -= L::e[q][t] * N[t];
     f[q] = v;
@@ -80,15 +88,24 @@ inline void zou_he(double* f, int axis, int s, bool velocity_face, double rho_gi
 // mass-balance velocity lets such a mode live in steady state, pinned at the
 // face (+-7 % at Ma 0.09, tau 0.8: docs/validation.md); the mean gives it no
 // amplitude there (3e-4).
+//
+// With a force density F the equilibrium here takes Guo's first-order term
+// -3 w_q (e_q . F) / 2 (1 / (2 c_s^2) = 3 / 2): the rebuilt populations then
+// hold the momentum rho_m u - F/2 the forcing's collision expects (rho_m u
+// without it), and the known populations' non-equilibrium parts carry no
+// first-order share of F that the bounce-back of the unknowns' would turn
+// into a spurious Pi^neq.
 template <class L, bool Incompressible>
-inline void regularized(double* f, int axis, int s, bool velocity_face, double rho_given, const double* u_given,
-                        const double* u_inner) {
+inline void regularized(double* f, int axis, int s, bool velocity_face, double rho_given,
+                        const double* u_given, const double* u_inner, const double* F) {
   double rho, u[3];
-  face_state<L, Incompressible>(f, axis, s, velocity_face, rho_given, u_given, rho, u);
+  face_state<L, Incompressible>(f, axis, s, velocity_face, rho_given, u_given, F, rho, u);
   if (!velocity_face)
     for (int d = 0; d < 3; ++d) u[d] = 0.5 * (u[d] + u_inner[d]);
   double feq[L::Q], neq[L::Q];
-  for (int q = 0; q < L::Q; ++q) feq[q] = equilibrium<L, Incompressible>(q, rho, u);
+  for (int q = 0; q < L::Q; ++q)
+    feq[q] = equilibrium<L, Incompressible>(q, rho, u) -
+             1.5 * L::w[q] * (L::e[q][0] * F[0] + L::e[q][1] * F[1] + L::e[q][2] * F[2]);
   for (int q = 0; q < L::Q; ++q) {
     const int k = s * L::e[q][axis] > 0 ? L::opp[q] : q;  // unknown: its opposite's
     neq[q] = f[k] - feq[k];
@@ -187,9 +204,10 @@ template <class L, bool Incompressible>
         in[axis] += s;
         double uin[3];
         post_collision_velocity<L, Incompressible>(&cur[lay.idx(in[0], in[1], in[2])], lay.stride, F, uin);
-        regularized<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data(), uin);
+        regularized<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data(), uin,
+                                       F);
       } else {
-        zou_he<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data());
+        zou_he<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data(), F);
       }
     }
 }

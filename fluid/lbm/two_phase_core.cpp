@@ -663,10 +663,11 @@ class TwoPhaseCore final : public LbmCore {
           for (int d = 0; d < 3; ++d) m[d] += L::e[q][d] * v;
         }
         for (int d = 0; d < 3; ++d) uin[d] = (m[d] - 0.5 * F[d]) / (Incompressible ? 1.0 : rho_in);
-        regularized<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data(), uin);
+        regularized<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data(), uin,
+                                       F);
         rebuilt = true;
       } else {
-        zou_he<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data());
+        zou_he<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data(), F);
       }
       for (int q = 0; q < L::Q; ++q) set[q] = set[q] || s * L::e[q][axis] > 0;
     }

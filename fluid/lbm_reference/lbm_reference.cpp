@@ -268,8 +268,9 @@ void LbmReference::apply_face(int face, std::vector<double>& fs, const std::vect
             if (s * e_[q][axis] > 0) f[q] = g[q];
           continue;
         }
-        double rho, u[3] = {0, 0, 0};
-        face_state(f, axis, s, F, rho, u);
+        double rho, u[3] = {0, 0, 0}, Fc[3];
+        force_at(index(i, j, k), Fc);
+        face_state(f, axis, s, F, Fc, rho, u);
         if (F.regularized && F.type == FaceType::pressure) {
           // The mean of the mass-balance velocity and that of the next node
           // in, from its post-collision populations of the last step (momentum
@@ -278,8 +279,7 @@ void LbmReference::apply_face(int face, std::vector<double>& fs, const std::vect
           long in[3] = {i, j, k};
           in[axis] += s;
           const double* g = &post[index(in[0], in[1], in[2]) * Q_];
-          double Fc[3], rho_in = 0.0, m[3] = {0, 0, 0};
-          force_at(index(i, j, k), Fc);
+          double rho_in = 0.0, m[3] = {0, 0, 0};
           for (int q = 0; q < Q_; ++q) {
             rho_in += g[q];
             for (int d = 0; d < 3; ++d) m[d] += e_[q][d] * g[q];
@@ -288,45 +288,53 @@ void LbmReference::apply_face(int face, std::vector<double>& fs, const std::vect
           for (int d = 0; d < 3; ++d) u[d] = 0.5 * (u[d] + (m[d] - 0.5 * Fc[d]) / rho_m);
         }
         if (F.regularized)
-          regularize(f, axis, s, rho, u);
+          regularize(f, axis, s, rho, u, Fc);
         else
-          zou_he(f, axis, s, rho, u);
+          zou_he(f, axis, s, rho, u, Fc);
       }
 }
 
 // rho and u of a face node from its known populations and the face's value
-// (Zou & He 1997): a velocity face gives u, a pressure face rho.
-void LbmReference::face_state(const double* f, int axis, int s, const lbm::Face& F, double& rho, double u[3]) const {
+// (Zou & He 1997): a velocity face gives u, a pressure face rho. The
+// populations hold the momentum rho_m u - Fc/2 (Guo's forcing, Fc the node's
+// force density): the mass balance takes its normal part.
+void LbmReference::face_state(const double* f, int axis, int s, const lbm::Face& F, const double Fc[3],
+                              double& rho, double u[3]) const {
   double s0 = 0, sout = 0;
   for (int q = 0; q < Q_; ++q) {
     if (e_[q][axis] == 0) s0 += f[q];
     if (s * e_[q][axis] < 0) sout += f[q];
   }
+  const double known = s0 + 2 * sout - 0.5 * s * Fc[axis];
   if (F.type == FaceType::velocity) {
     for (int d = 0; d < 3; ++d) u[d] = F.u[d];
     const double un = s * u[axis];
-    rho = s_.incompressible ? s0 + 2 * sout + un : (s0 + 2 * sout) / (1.0 - un);
+    rho = s_.incompressible ? known + un : known / (1.0 - un);
   } else {
     rho = F.rho;
-    const double un = s_.incompressible ? rho - s0 - 2 * sout : 1.0 - (s0 + 2 * sout) / rho;
+    const double un = s_.incompressible ? rho - known : 1.0 - known / rho;
     u[axis] = s * un;
   }
 }
 
-// The unknown populations by Zou & He (1997) in Hecht & Harting's (2010) form.
-void LbmReference::zou_he(double* f, int axis, int s, double rho, const double u[3]) const {
+// The unknown populations by Zou & He (1997) in Hecht & Harting's (2010)
+// form, for the momentum the populations hold, j = rho_m u - Fc/2.
+void LbmReference::zou_he(double* f, int axis, int s, double rho, const double u[3],
+                          const double Fc[3]) const {
   const double rho_m = s_.incompressible ? 1.0 : rho;
+  double j[3];
+  for (int d = 0; d < 3; ++d) j[d] = rho_m * u[d] - 0.5 * Fc[d];
   double N[3] = {0, 0, 0};
   for (int t = 0; t < 3; ++t) {
     if (t == axis) continue;
     for (int q = 0; q < Q_; ++q)
       if (e_[q][axis] == 0) N[t] += 0.5 * f[q] * e_[q][t];
-    N[t] -= rho_m * u[t] / 3.0;
+    N[t] -= j[t] / 3.0;
   }
   for (int q = 0; q < Q_; ++q) {
     if (s * e_[q][axis] <= 0) continue;
-    const double eu = e_[q][0] * u[0] + e_[q][1] * u[1] + e_[q][2] * u[2];
-    double v = f[opp_[q]] + 6.0 * w_[q] * rho_m * eu;
+    const double ej = e_[q][0] * j[0] + e_[q][1] * j[1] + e_[q][2] * j[2];
+    double v = f[opp_[q]] + 6.0 * w_[q] * ej;
     for (int t = 0; t < 3; ++t)
       if (t != axis) v -= e_[q][t] * N[t];
     f[q] = v;
@@ -336,12 +344,17 @@ void LbmReference::zou_he(double* f, int axis, int s, double rho, const double u
 // All populations rebuilt as equilibrium plus the regularized non-equilibrium
 // part (Latt et al. 2008; at pressure faces with the inner node's velocity,
 // lbm/boundaries.hpp): the unknowns' non-equilibrium is their opposite's,
-// Pi^neq = sum e e f^neq, f = f^eq + w / (2 c_s^4) (e e - c_s^2 I) : Pi^neq.
-void LbmReference::regularize(double* f, int axis, int s, double rho, const double u[3]) const {
-  std::vector<double> neq(Q_);
+// Pi^neq = sum e e f^neq, f = f^eq + w / (2 c_s^4) (e e - c_s^2 I) : Pi^neq,
+// f^eq less Guo's first-order term w (e . Fc) / (2 c_s^2) (lbm/boundaries.hpp).
+void LbmReference::regularize(double* f, int axis, int s, double rho, const double u[3],
+                              const double Fc[3]) const {
+  // The equilibrium with Guo's first-order term, whose momentum is rho_m u - Fc/2.
+  std::vector<double> feq(Q_), neq(Q_);
+  for (int q = 0; q < Q_; ++q)
+    feq[q] = equilibrium(q, rho, u) - 1.5 * w_[q] * (e_[q][0] * Fc[0] + e_[q][1] * Fc[1] + e_[q][2] * Fc[2]);
   for (int q = 0; q < Q_; ++q) {
     const int k = s * e_[q][axis] > 0 ? opp_[q] : q;
-    neq[q] = f[k] - equilibrium(k, rho, u);
+    neq[q] = f[k] - feq[k];
   }
   double pi[3][3] = {};
   for (int q = 0; q < Q_; ++q)
@@ -351,7 +364,7 @@ void LbmReference::regularize(double* f, int axis, int s, double rho, const doub
     double qpi = 0.0;
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) qpi += (e_[q][a] * e_[q][b] - (a == b ? 1.0 / 3.0 : 0.0)) * pi[a][b];
-    f[q] = equilibrium(q, rho, u) + 4.5 * w_[q] * qpi;
+    f[q] = feq[q] + 4.5 * w_[q] * qpi;
   }
 }
 

@@ -169,11 +169,11 @@ void LbmReference::close_colours(long i, long j, long k, std::vector<bool>& unkn
     if ((F.type != FaceType::pressure && F.type != FaceType::velocity) || !on(face)) continue;
     const int axis = face / 2, s = face % 2 == 0 ? 1 : -1;
     if (F.phase_given) psi = 0.5 * (1.0 + F.phase);
-    double rho, u[3] = {0, 0, 0};
-    face_state(f.data(), axis, s, F, rho, u);
+    double rho, u[3] = {0, 0, 0}, Fc[3];
+    force_at(c, Fc);
+    face_state(f.data(), axis, s, F, Fc, rho, u);
     if (F.regularized && F.type == FaceType::pressure) {  // with the next cell in (apply_face)
-      double Fc[3], rho_in = 0.0, m[3] = {0, 0, 0};
-      force_at(c, Fc);
+      double rho_in = 0.0, m[3] = {0, 0, 0};
       for (int q = 0; q < Q_; ++q) {
         const double g = post_r[inner(face) * Q_ + q] + post_b[inner(face) * Q_ + q];
         rho_in += g;
@@ -183,9 +183,9 @@ void LbmReference::close_colours(long i, long j, long k, std::vector<bool>& unkn
       for (int d = 0; d < 3; ++d) u[d] = 0.5 * (u[d] + (m[d] - 0.5 * Fc[d]) / rho_m);
     }
     if (F.regularized)
-      regularize(f.data(), axis, s, rho, u);
+      regularize(f.data(), axis, s, rho, u, Fc);
     else
-      zou_he(f.data(), axis, s, rho, u);
+      zou_he(f.data(), axis, s, rho, u, Fc);
     rebuilt = rebuilt || F.regularized;
     for (int q = 0; q < Q_; ++q) set[q] = set[q] || s * e_[q][axis] > 0;
   }

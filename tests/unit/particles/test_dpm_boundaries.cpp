@@ -89,11 +89,14 @@ void check_outlet(const std::string& variant) {
   CHECK(d.x[0] < 0.1);
   CHECK(d.x == far_before);
   // The whole impulse comes back: that of the twin, which drag alone gave
-  // (summed by windows here, by steps there: the same to round-off).
-  CHECK(std::abs(given - far_given) <= 1e-14 * std::abs(far_given));
+  // (summed by windows here, by steps there: the same to round-off; 4.4e-16
+  // relative measured with both variants, 2026-12-03).
+  CHECK(std::abs(given - far_given) <= 5e-15 * std::abs(far_given));
   const double v = far.solver->particles().v.at(0);
   CHECK(v < 0.999 * v0);  // drag did act
-  CHECK(std::abs(given - m * (v - v0)) <= 1e-12 * m * (v0 - v));
+  // The momentum theorem: the impulses are the steps' m dv, which telescope
+  // (0 measured with both variants; the bound is about ten ulp).
+  CHECK(std::abs(given - m * (v - v0)) <= 2e-15 * m * (v0 - v));
   CHECK(d.impulse[1] == 0.0);
   CHECK(d.impulse[2] == 0.0);
   // Nothing left over for the next window.

@@ -49,7 +49,7 @@ int profile(const std::string& dir) {
   const bool fv = cfg.component("fluid").variant.rfind("fv", 0) == 0;
   double G = fp.body_force[0];
   if (b_xm.type == "pressure" && b_xp.type == "pressure")
-    G = (b_xm.value.values[0] - b_xp.value.values[0]) / ((fv ? nx : nx - 1) * h[0]);
+    G += (b_xm.value.values[0] - b_xp.value.values[0]) / ((fv ? nx : nx - 1) * h[0]);  // and any body force
   if (b_xm.profile == "expression")  // the reference below is the channel's parabola: the formula must be it
     for (double sy = 0.0; sy <= 1.0; sy += 0.125) {
       const double at[3] = {0.0, sy, 0.5};
@@ -70,9 +70,10 @@ int profile(const std::string& dir) {
         // (configs/validation/profiles/channel_parabola_32.csv) or its formula: the channel's profile.
         if (b_xm.type == "velocity" && b_xm.profile != "uniform")
           ua = 4 * b_xm.value.values[0] * (y / H) * (1 - y / H);
-        else if (couette)  // lbm's moving wall is its last cells' centres (Zou-He velocity face)
-          ua = b_yp.value.values[0] * y / ((fv ? ny : ny - 0.5) * h[1]);
-        else if (duct_flow)
+        else if (couette) {  // lbm's moving wall is its last cells' centres (Zou-He velocity face)
+          const double top = (fv ? ny : ny - 0.5) * h[1];  // with a body force G, Couette plus Poiseuille
+          ua = b_yp.value.values[0] * y / top + G * y * (top - y) / (2 * mu);
+        } else if (duct_flow)
           ua = duct(y - H / 2, z - W / 2, H / 2, W / 2, G, mu);
         else if (b_yp.type == "symmetry")  // the lower half of a channel 2H high
           ua = G * y * (2 * H - y) / (2 * mu);

@@ -1,11 +1,12 @@
 #include "particles/event_log.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <filesystem>
+#include <stdexcept>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "coflow/gather.hpp"
 
@@ -39,6 +40,13 @@ void EventLog::write(const ParticleEvents& ev) {
   collisions_csv_.flush();
   bonds_csv_.flush();
   impacts_csv_.flush();
+  // An event file that could not be opened or written (a full disk, no
+  // permission): the run stops rather than finish with a short log.
+  for (const auto* f : {&collisions_csv_, &bonds_csv_, &impacts_csv_})
+    if (f->is_open() && !*f)
+      throw std::runtime_error("cannot write the event logs in " + s_.output_dir() + "/events");
+  if ((collisions_ && !collisions_csv_.is_open()) || (bonds_ && !bonds_csv_.is_open()))
+    throw std::runtime_error("cannot open the event logs in " + s_.output_dir() + "/events");
 }
 
 // Collisions and bond failures: (kind, time, i, j, four values) rows.

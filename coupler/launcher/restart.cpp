@@ -107,7 +107,9 @@ std::string rewind_run_directory(const config::Config& cfg, const std::string& d
   fs::remove(dir + "/logs/FAILED", ec);
   for (const char* sub : {"series", "events"})
     for (const auto& e : fs::directory_iterator(dir + "/" + sub, ec))
-      if (e.path().extension() == ".csv")
+      // dispersion.csv's first column is the time since a particle crossed
+      // the plane, not the run's: it is rewritten whole at every series row.
+      if (e.path().extension() == ".csv" && e.path().filename() != "dispersion.csv")
         if (const long n = cut_csv(e.path(), [&](double time) { return time <= t + tol; }); n > 0)
           said += fmt::format("  {}: {} rows after t = {} s removed\n", e.path().string(), n, t);
   for (const char* comp : {"fluid", "immersed", "particles"}) {

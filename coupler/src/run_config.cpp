@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <filesystem>
 #include <stdexcept>
 
 #include "coflow/clock.hpp"
@@ -243,6 +244,32 @@ static void check_window_count(Reader& r, const Config& cfg) {
   }
 }
 
+// A fresh run empties its output directory's fluid/, particles/, logs/, ...
+// folders: a directory that holds files but is no coflow run's (no
+// config.yaml, summary.json, run.xdmf, job.sbatch or logs/ in it) is
+// refused, so that run.output.dir: . in a source tree or a home directory
+// deletes nothing of the user's.
+static void check_output_dir(Reader& r, const Config& cfg) {
+  namespace fs = std::filesystem;
+  const std::string dir = cfg.output_dir();
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) return;
+  if (!fs::is_directory(dir, ec)) {
+    r.fail("run.output.dir",
+           fmt::format("'{}' is a file, not a directory: choose a new or empty directory", dir));
+    return;
+  }
+  if (fs::is_empty(dir, ec)) return;
+  for (const char* mark : {"config.yaml", "summary.json", "run.xdmf", "job.sbatch", "logs"})
+    if (fs::exists(fs::path(dir) / mark, ec)) return;
+  r.fail("run.output.dir",
+         fmt::format(
+             "'{}' holds files and is not a coflow run directory (it has no config.yaml, summary.json, "
+             "run.xdmf, job.sbatch or logs/): a run there would delete its fluid/, particles/, immersed/, "
+             "series/, events/, logs/ and checkpoints/ folders; choose a new or empty directory",
+             dir));
+}
+
 // Probes and pressure drops sample the fluid inside the domain; their names
 // are unique column prefixes.
 static void check_probes(Reader& r, const Config& cfg, const Catalog& catalog) {
@@ -353,6 +380,7 @@ Config parse_config_node(YAML::Node root, const std::string& file, const Catalog
   if (r.problems().empty()) check_probes(r, cfg, catalog);
   if (r.problems().empty()) check_decompositions(r, cfg);
   if (r.problems().empty()) check_window_count(r, cfg);
+  if (r.problems().empty()) check_output_dir(r, cfg);
   cfg.resolved = r.resolved();
   if (r.problems().empty()) check_contracts(r, cfg, catalog);
   for (const auto& schema : catalog)

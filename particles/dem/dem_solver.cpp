@@ -1,14 +1,14 @@
 #include "particles/dem/dem_solver.hpp"
 
 #include <algorithm>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
+#include <tuple>
 
 #include "coflow/log.hpp"
+#include "coflow/output.hpp"
 #include "particles/dem/checkpoint.hpp"
-
-#include <tuple>
 
 namespace coflow::particles {
 
@@ -515,8 +515,13 @@ void DemSolver::load(const std::string& dir, long steps, double time) {
     drop_ghosts();
   }
   store_.sort_by_id();
-  steps_ = steps;
-  time_ = time;
+  // The steps and the clock as the checkpoint kept them: crushing grains
+  // take extra sub-steps, and the clock is the sum of the steps taken (the
+  // windows' count alone would differ; the times of events and snapshots
+  // then by round-off). A checkpoint without them: the driver's.
+  const long saved = coflow::output::read_step(dir + "/particles.h5");
+  steps_ = saved >= 0 ? saved : steps;
+  time_ = saved >= 0 ? coflow::output::read_time(dir + "/particles.h5") : time;
 }
 
 void DemSolver::set_hydrodynamic(std::span<const double> force, std::span<const double> torque) {

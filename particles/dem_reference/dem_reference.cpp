@@ -1,14 +1,14 @@
 #include "particles/dem_reference/dem_reference.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
+#include <tuple>
 
 #include "coflow/log.hpp"
+#include "coflow/output.hpp"
 #include "particles/dem/checkpoint.hpp"
-
-#include <algorithm>
-#include <limits>
-#include <tuple>
 
 namespace coflow::particles {
 
@@ -244,8 +244,13 @@ void DemReference::load(const std::string& dir, long steps, double time) {
     else
       walls_[{c.a, static_cast<int>(c.wall_face())}] = c.state();
   }
-  steps_ = steps;
-  time_ = time;
+  // The steps and the clock as the checkpoint kept them: crushing grains
+  // take extra sub-steps, and the clock is the sum of the steps taken (the
+  // windows' count alone would differ; the times of events and snapshots
+  // then by round-off). A checkpoint without them: the driver's.
+  const long saved = coflow::output::read_step(dir + "/particles.h5");
+  steps_ = saved >= 0 ? saved : steps;
+  time_ = saved >= 0 ? coflow::output::read_time(dir + "/particles.h5") : time;
 }
 
 void DemReference::set_hydrodynamic(std::span<const double> force, std::span<const double> torque) {

@@ -152,9 +152,12 @@ void DpmSolver::sort_into_cells(double h) {
     dmax = m[0];
     umax = m[1];
   }
+  // No particle on any rank: one cell (a zero edge would divide by 0).
   const double edge = dmax + 2.0 * umax * h;
   for (int k = 0; k < 3; ++k)
-    nc_[k] = std::max(1L, std::min(1L << 20, static_cast<long>((s_.upper[k] - s_.lower[k]) / edge)));
+    nc_[k] = edge > 0.0
+                 ? static_cast<long>(std::clamp((s_.upper[k] - s_.lower[k]) / edge, 1.0, double(1L << 20)))
+                 : 1L;
   cell_.resize(n);
   order_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {

@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "coflow/log.hpp"
+#include "coflow/output.hpp"
 #include "particles/dem/checkpoint.hpp"
 #include "particles/dem/initial.hpp"
 #include "particles/dpm/state.hpp"
@@ -269,7 +270,11 @@ void DpmReference::load(const std::string& dir, long steps, double time) {
       p.uprime = it->second.u;
       p.turbulent = it->second.started;
     }
-  steps_ = steps;
+  // The steps taken, as the checkpoint counted them: the windows' sub-steps
+  // and eq. 4.15's extra ones (the Langevin draws are keyed by the count, as
+  // in dpm: one from the windows alone would draw used numbers again).
+  const long saved = coflow::output::read_step(dir + "/particles.h5");
+  steps_ = saved >= 0 ? saved : steps;
 }
 
 }  // namespace coflow::particles

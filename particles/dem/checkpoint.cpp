@@ -13,7 +13,7 @@
 namespace coflow::particles::dem {
 
 void save_state(MPI_Comm comm, const std::string& dir, double time, long steps, const ParticleArrays& p,
-                const std::vector<SavedContact>& contacts, long broken_bonds) {
+                const std::vector<SavedContact>& contacts, const EventCounts& counts) {
   output::write_points(comm, dir + "/particles.h5", time, steps, p.size(), p.id, p.species,
                        {{"position", 3, p.x}, {"velocity", 3, p.v}, {"angular_velocity", 3, p.w},
                         {"radius", 1, p.radius}, {"force", 3, p.force}, {"mass", 1, p.mass},
@@ -30,14 +30,18 @@ void save_state(MPI_Comm comm, const std::string& dir, double time, long steps, 
   }
   output::write_points(comm, dir + "/contacts.h5", time, steps, contacts.size(), a, bonded,
                        {{"partner", 1, partner}, {"shear", 3, shear}, {"normal", 3, normal}});
-  long total = 0;
-  MPI_Allreduce(&broken_bonds, &total, 1, MPI_LONG, MPI_SUM, comm);
+  const long mine[3] = {counts.collisions, counts.wall_collisions, counts.broken_bonds};
+  long total[3] = {0, 0, 0};
+  MPI_Allreduce(mine, total, 3, MPI_LONG, MPI_SUM, comm);
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  const double value = static_cast<double>(total);
+  const double value[3] = {static_cast<double>(total[0]), static_cast<double>(total[1]),
+                           static_cast<double>(total[2])};
   const std::size_t rows = rank == 0 ? 1 : 0;
   output::write_tables(comm, dir + "/counters.h5", time, steps,
-                       {{"broken_bonds", 1, rows, false, {&value, rows}, {}}});
+                       {{"collisions", 1, rows, false, {&value[0], rows}, {}},
+                        {"wall_collisions", 1, rows, false, {&value[1], rows}, {}},
+                        {"broken_bonds", 1, rows, false, {&value[2], rows}, {}}});
 }
 
 namespace {
@@ -77,18 +81,18 @@ void refuse_length(const std::string& file, const char* name, const std::vector<
                     file, name, v.size(), count, per));
 }
 
-// The count of failed bonds a checkpoint saved; 0 from one before they were kept.
-long read_broken_bonds(const std::string& file) {
-  if (!std::filesystem::exists(file)) return 0;
-  const auto v = output::read_dataset(file, "broken_bonds");
-  refuse_not_whole(file, "count of failed bonds", v, 0.0);
+// A count a checkpoint saved; 0 from one written before it was kept.
+long read_count(const std::string& file, const char* name) {
+  if (!std::filesystem::exists(file) || !output::has_dataset(file, name)) return 0;
+  const auto v = output::read_dataset(file, name);
+  refuse_not_whole(file, name, v, 0.0);
   return v.empty() ? 0 : static_cast<long>(v[0]);
 }
 
 }  // namespace
 
 void load_state(const std::string& dir, const ParticleParams& params, ParticleArrays& p,
-                std::vector<SavedContact>& contacts, long* broken_bonds) {
+                std::vector<SavedContact>& contacts, EventCounts* counts) {
   const std::string pf = dir + "/particles.h5", cf = dir + "/contacts.h5";
   const auto id = output::read_dataset(pf, "id");
   const auto sp = output::read_dataset(pf, "species");
@@ -140,7 +144,11 @@ void load_state(const std::string& dir, const ParticleParams& params, ParticleAr
                         {shear[3 * k], shear[3 * k + 1], shear[3 * k + 2]},
                         bonded[k] != 0,
                         {normal[3 * k], normal[3 * k + 1], normal[3 * k + 2]}});
-  if (broken_bonds) *broken_bonds = read_broken_bonds(dir + "/counters.h5");
+  if (counts) {
+    const std::string file = dir + "/counters.h5";
+    *counts = {read_count(file, "collisions"), read_count(file, "wall_collisions"),
+               read_count(file, "broken_bonds")};
+  }
 }
 
 }  // namespace coflow::particles::dem

@@ -35,12 +35,20 @@ struct SavedContact {
   }
 };
 
-// Collective. broken_bonds: this rank's count of failed bonds since the start;
-// the checkpoint keeps their sum (counters.h5).
+// The event counters of series/particles.csv: collisions and wall collisions
+// since the last series row, failed bonds since the start.
+struct EventCounts {
+  long collisions = 0, wall_collisions = 0, broken_bonds = 0;
+};
+
+// Collective. counts: this rank's; the checkpoint keeps their sums
+// (counters.h5), so that the rows after a restart count what a straight run's
+// do even when the checkpoint falls between two rows.
 void save_state(MPI_Comm comm, const std::string& dir, double time, long steps, const ParticleArrays& p,
-                const std::vector<SavedContact>& contacts, long broken_bonds = 0);
-// broken_bonds (when given): the sum saved, 0 from a checkpoint without one.
+                const std::vector<SavedContact>& contacts, const EventCounts& counts = {});
+// counts (when given): the sums saved; 0 for those a checkpoint lacks (one
+// written before they were kept).
 void load_state(const std::string& dir, const ParticleParams& params, ParticleArrays& p,
-                std::vector<SavedContact>& contacts, long* broken_bonds = nullptr);
+                std::vector<SavedContact>& contacts, EventCounts* counts = nullptr);
 
 }  // namespace coflow::particles::dem

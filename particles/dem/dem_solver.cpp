@@ -487,15 +487,18 @@ void DemSolver::save(const std::string& dir) {
                                            -1 - static_cast<std::int64_t>(k & 0xffffffffu), c));
   // Canonical order, so that a checkpoint does not depend on hashing.
   std::sort(list.begin(), list.end(), [](const auto& x, const auto& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
-  dem::save_state(comm_, dir, time_, steps_, p_, list, broken_);
+  dem::save_state(comm_, dir, time_, steps_, p_, list, {collisions_, wall_collisions_, broken_});
 }
 
 void DemSolver::load(const std::string& dir, long steps, double time) {
   list_valid_ = false;
   std::vector<dem::SavedContact> list;
-  long broken = 0;
-  dem::load_state(dir, params_, p_, list, &broken);
-  broken_ = rank_ == 0 ? broken : 0;  // stats() sums the ranks' counts
+  dem::EventCounts counts;
+  dem::load_state(dir, params_, p_, list, &counts);
+  if (rank_ != 0) counts = {};  // stats() sums the ranks' counts
+  collisions_ = counts.collisions;
+  wall_collisions_ = counts.wall_collisions;
+  broken_ = counts.broken_bonds;
   contacts_.clear();
   walls_.clear();
   for (const auto& c : list) {

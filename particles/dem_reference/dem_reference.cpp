@@ -225,13 +225,17 @@ void DemReference::save(const std::string& dir) {
   for (const auto& [k, c] : contacts_) list.push_back(dem::SavedContact::from(k.first, k.second, c));
   for (const auto& [k, c] : walls_) list.push_back(dem::SavedContact::from(k.first, -1 - k.second, c));
   std::sort(list.begin(), list.end(), [](const auto& x, const auto& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
-  dem::save_state(comm_, dir, time_, steps_, particles(), list, broken_);
+  dem::save_state(comm_, dir, time_, steps_, particles(), list, {collisions_, wall_collisions_, broken_});
 }
 
 void DemReference::load(const std::string& dir, long steps, double time) {
   ParticleArrays a;
   std::vector<dem::SavedContact> list;
-  dem::load_state(dir, params_, a, list, &broken_);
+  dem::EventCounts counts;
+  dem::load_state(dir, params_, a, list, &counts);
+  collisions_ = counts.collisions;
+  wall_collisions_ = counts.wall_collisions;
+  broken_ = counts.broken_bonds;
   p_.clear();
   for (std::size_t i = 0; i < a.size(); ++i)
     p_.push_back({a.id[i], a.species[i], V3(&a.x[3 * i]), V3(&a.v[3 * i]), V3(&a.w[3 * i]), a.radius[i], a.mass[i],

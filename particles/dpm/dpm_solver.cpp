@@ -535,7 +535,7 @@ ParticleStats DpmSolver::stats() {
 }
 
 void DpmSolver::save(const std::string& dir) {
-  dem::save_state(comm_, dir, time_, steps_, p_, {});
+  dem::save_state(comm_, dir, time_, steps_, p_, {}, {collisions_, wall_collisions_, 0});
   if (msd_.on()) save_msd(dir);
   std::vector<double> mine;
   for (std::size_t i = 0; i < p_.size(); ++i)
@@ -603,7 +603,11 @@ void DpmSolver::load_msd(const std::string& dir) {
 void DpmSolver::load(const std::string& dir, long steps, double time) {
   time_ = time;  // dpm.csv holds the exact clock
   std::vector<dem::SavedContact> contacts;
-  dem::load_state(dir, params_, p_, contacts);
+  dem::EventCounts counts;
+  dem::load_state(dir, params_, p_, contacts, &counts);
+  if (rank_ != 0) counts = {};  // stats() sums the ranks' counts
+  collisions_ = counts.collisions;
+  wall_collisions_ = counts.wall_collisions;
   set_derived();
   for (std::int64_t id : p_.id) next_id_ = std::max(next_id_, id + 1);
   if (size_ > 1) keep_owned();

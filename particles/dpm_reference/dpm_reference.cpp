@@ -244,7 +244,7 @@ ParticleStats DpmReference::stats() {
 
 void DpmReference::save(const std::string& dir) {
   const ParticleArrays& a = particles();
-  dem::save_state(MPI_COMM_SELF, dir, time_, steps_, a, {});
+  dem::save_state(MPI_COMM_SELF, dir, time_, steps_, a, {}, {collisions_, wall_collisions_, 0});
   std::map<std::int64_t, dpm::Fluctuation> up;
   for (const auto& p : p_)
     if (p.turbulent) up[p.id] = {p.uprime, true};
@@ -255,7 +255,10 @@ void DpmReference::load(const std::string& dir, long steps, double time) {
   time_ = time;  // dpm.csv holds the exact clock
   ParticleArrays a;
   std::vector<dem::SavedContact> contacts;
-  dem::load_state(dir, params_, a, contacts);
+  dem::EventCounts counts;
+  dem::load_state(dir, params_, a, contacts, &counts);
+  collisions_ = counts.collisions;
+  wall_collisions_ = counts.wall_collisions;
   p_.clear();
   for (std::size_t i = 0; i < a.size(); ++i) {
     const double D = 2.0 * a.radius[i];

@@ -2,12 +2,18 @@
 // the component executables, runs it without a shell, shows progress, and
 // reports how the run ended.
 #include <fcntl.h>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -18,12 +24,8 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <string_view>
 #include <thread>
-
-#include <CLI/CLI.hpp>
-#include <fmt/format.h>
-#include <fmt/ranges.h>
-#include <yaml-cpp/yaml.h>
 
 #include "coflow/catalog.hpp"
 #include "coflow/output.hpp"
@@ -131,13 +133,28 @@ std::vector<std::string> mpirun_argv(const Launch& l, const std::string& config_
   return a;
 }
 
+// One field of an srun --multi-prog line: Slurm splits the line at
+// whitespace, reads quotes and backslashes, and expands %t and %o; a
+// backslash before any other character keeps it as it is.
+std::string multi_prog_field(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) &&
+        std::string_view("_./=:,+@-").find(c) == std::string_view::npos)
+      o += '\\';
+    o += c;
+  }
+  return o;
+}
+
 // srun --multi-prog: one line per rank range, the program and its arguments.
 std::string multi_prog(const Launch& l, const std::string& config_path, const std::string& restart) {
   std::string conf;
   int first = 0;
   for (std::size_t i = 0; i < l.components.size(); ++i) {
-    conf += fmt::format("{}-{} {} {}{}\n", first, first + l.ranks[i] - 1, l.exes[i], config_path,
-                        restart.empty() ? "" : " --restart " + restart);
+    conf += fmt::format("{}-{} {} {}{}\n", first, first + l.ranks[i] - 1, multi_prog_field(l.exes[i]),
+                        multi_prog_field(config_path),
+                        restart.empty() ? "" : " --restart " + multi_prog_field(restart));
     first += l.ranks[i];
   }
   return conf;
@@ -165,6 +182,17 @@ std::vector<std::string> srun_argv(const Launch& l, const std::string& conf_path
   return a;
 }
 
+// A path inside a double-quoted #SBATCH value: sbatch reads the quotes and
+// backslashes, and --output's % as a pattern (a literal one is %%).
+std::string sbatch_value(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '"' || c == '\\') o += '\\';
+    o += c == '%' ? std::string("%%") : std::string(1, c);
+  }
+  return o;
+}
+
 // A Slurm batch script that runs this configuration with srun: the tasks of
 // all components, a time limit from the pre-run report's estimate (x 1.5 +
 // 10 min, at most a year; 1 h where no component estimates), the output beside the run's.
@@ -190,14 +218,16 @@ std::string sbatch_script(const Config& cfg, const Launch& l, const std::string&
       "#SBATCH --job-name={}\n"
       "#SBATCH --ntasks={}\n"
       "#SBATCH --time={:02d}:{:02d}:00   # {}\n"
-      "#SBATCH --output={}/slurm-%j.out\n"
+      "#SBATCH --output=\"{}/slurm-%j.out\"\n"
       "set -euo pipefail\n"
       "cd {}\n"
       "exec {}\n",
       cfg.run.name, ranks, l.total, cfg.run.name, l.total, limit / 3600, (limit % 3600) / 60,
-      estimate_s > 0 ? fmt::format("the pre-run report's estimate {} x 1.5 + 10 min", coflow::config::duration(estimate_s))
+      estimate_s > 0 ? fmt::format("the pre-run report's estimate {} x 1.5 + 10 min",
+                                   coflow::config::duration(estimate_s))
                      : std::string("no component estimates its wall time: 1 h"),
-      fs::absolute(cfg.output_dir()).string(), quoted(fs::current_path().string()), join_cmd(cmd));
+      sbatch_value(fs::absolute(cfg.output_dir()).string()), quoted(fs::current_path().string()),
+      join_cmd(cmd));
 }
 
 // ------------------------------------------------------------- progress ---
@@ -322,9 +352,11 @@ bool start_overdue(Watch& w, double since, double limit, pid_t pid) {
   }
   // One executable that never starts MPI holds every other in MPI start-up.
   const std::string suspect = own.empty() ? std::string() : fmt::format("; your own executables:{}", own);
-  w.failure = {missing, "", fmt::format("{} did not start within {:.0f} s (coupling.timeout): an executable exited or "
-                                        "hangs before joining the run, which holds the others in MPI start-up{}",
-                                        missing, limit, suspect)};
+  if (w.failure.component.empty())  // a component's own reason, when it gave one, stays the reason
+    w.failure = {missing, "",
+                 fmt::format("{} did not start within {:.0f} s (coupling.timeout): an executable exited or "
+                             "hangs before joining the run, which holds the others in MPI start-up{}",
+                             missing, limit, suspect)};
   kill(pid, SIGTERM);
   return true;
 }
@@ -659,6 +691,53 @@ int report_failure(const Config& cfg, const std::string& dir, Failure failure, i
   return rc == 2 ? 2 : 1;
 }
 
+// One run at a time in a run directory: the launcher holds an exclusive lock
+// on <dir>/.coflow.lock until it exits (flock: released also when it dies). A
+// second run into the directory would empty it under the first.
+int lock_run_directory(const std::string& dir) {
+  fs::create_directories(dir);
+  const std::string path = dir + "/.coflow.lock";
+  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    std::fprintf(stderr, "coflow: cannot open %s: %s\n", path.c_str(), std::strerror(errno));
+    return 2;
+  }
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    std::fprintf(
+        stderr,
+        "coflow: %s is in use by another coflow run (it holds %s): wait for that run to end, or choose "
+        "another directory with --set run.output.dir=...\n",
+        dir.c_str(), path.c_str());
+    ::close(fd);
+    return 2;
+  }
+  return 0;  // the descriptor stays open, and the lock held, until the launcher exits
+}
+
+// A component whose variant is `external` runs the user's executable, which
+// only --exe names: without it, exit 2 before any rank starts (the built-in
+// executable would start and refuse the variant).
+int check_external(const Config& cfg, const std::string& cfg_path,
+                   const std::map<std::string, std::string>& exes) {
+  for (const auto& schema : coflow::catalog()) {
+    if (!cfg.has(schema.section) || cfg.component(schema.section).variant != "external" ||
+        exes.count(schema.section))
+      continue;
+    coflow::config::Problem p{cfg_path, 0, 0, schema.section + "." + schema.selector,
+                              fmt::format("'external' runs your own executable: give it with --exe {}=PATH "
+                                          "(docs/protocol.md)",
+                                          schema.section)};
+    try {  // where the file says it; a --set value has no place in the file
+      const YAML::Node n = YAML::LoadFile(cfg_path)[schema.section][schema.selector];
+      if (n && n.Mark().line >= 0) p.line = n.Mark().line + 1, p.column = n.Mark().column + 1;
+    } catch (const std::exception&) {
+    }
+    std::fprintf(stderr, "%s\n", p.format().c_str());
+    return 2;
+  }
+  return 0;
+}
+
 // --launcher sbatch: the batch script (printed with --dry-run, else written
 // into the run directory and handed to sbatch, which prints the job id).
 int submit_batch(const Config& cfg, const Launch& launch, const RunOptions& o) {
@@ -668,6 +747,9 @@ int submit_batch(const Config& cfg, const Launch& launch, const RunOptions& o) {
     std::printf("%s", script.c_str());
     return 0;
   }
+  std::map<std::string, std::string> exes;
+  if (const int rc = read_exe_overrides(o.exes, exes); rc != 0) return rc;
+  if (const int rc = check_external(cfg, o.cfg_path, exes); rc != 0) return rc;
   if (const int rc = print_report(cfg, o, "", stdout); rc != 0) return rc;
   if (find_in_path("sbatch").empty()) {
     std::fprintf(stderr, "coflow: sbatch not found: run on a Slurm login node, or use --launcher srun or mpirun\n");
@@ -699,8 +781,10 @@ int run(const Config& cfg, RunOptions o) {
     if (srun) std::printf("%s", multi_prog(launch, resolved, o.restart).c_str());
     return 0;
   }
+  if (const int rc = check_external(cfg, o.cfg_path, exe_override); rc != 0) return rc;
   if (const int rc = check_executables(argv_launch[0], launch); rc != 0) return rc;
   if (const int rc = print_report(cfg, o, "", stdout); rc != 0) return rc;
+  if (const int rc = lock_run_directory(dir); rc != 0) return rc;
   prepare_run_directory(cfg, dir, o.restart);
   if (srun) coflow::output::atomic_write(conf_path, multi_prog(launch, resolved, o.restart));
 

@@ -61,7 +61,9 @@ void PressureDropParams::visit(Visitor& v) {
 }
 
 void OutputParams::visit(Visitor& v) {
-  v("dir", dir, "output directory (default out/<run.name>)");
+  v("dir", dir,
+    "output directory (default out/<run.name>): new, empty or an earlier run's (a fresh run empties its "
+    "folders)");
   v("every", every, "simulated seconds between snapshots; 0 writes none", non_negative());
   v("fields", fields, "fluid fields written in snapshots",
     each_one_of({"velocity", "pressure", "density", "solid_fraction", "vorticity", "k", "epsilon",
@@ -105,15 +107,25 @@ void LaunchParams::visit(Visitor& v) {
 }
 
 void RunParams::visit(Visitor& v) {
-  v.required("name", name, "run name, used for the output directory");
+  v.required("name", name,
+             "run name, used for the output directory and the Slurm job: letters, digits and . _ + -");
   v.required("end_time", end_time, "simulated end time in s", positive());
   v.section("output", "snapshots and time series", [&](Visitor& s) { output.visit(s); });
   v.section("checkpoint", "periodic restart files", [&](Visitor& s) { checkpoint.visit(s); });
   v.section("launch", "how the launcher starts the ranks", [&](Visitor& s) { launch.visit(s); });
   v("seed", seed, "seed from which all randomness derives");
   if (v.reading()) {
-    if (name.empty() || name.find_first_of("/\\ \t") != std::string::npos || name == "." || name == "..")
-      v.fail("name", fmt::format("must be a plain word without spaces or slashes (got '{}')", name));
+    // It names the output directory, the Slurm job and the srun program file's
+    // paths: letters, digits and . _ + - only (no quotes, #, % or spaces,
+    // which sbatch and srun --multi-prog would read otherwise).
+    if (name.empty() ||
+        name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789._+-") !=
+            std::string::npos ||
+        name == "." || name == "..")
+      v.fail("name",
+             fmt::format("must be a plain word without spaces or slashes: letters, digits and . _ + - "
+                         "(got '{}')",
+                         name));
   }
 }
 
@@ -260,7 +272,7 @@ static void check_output_dir(Reader& r, const Config& cfg) {
     return;
   }
   if (fs::is_empty(dir, ec)) return;
-  for (const char* mark : {"config.yaml", "summary.json", "run.xdmf", "job.sbatch", "logs"})
+  for (const char* mark : {"config.yaml", "summary.json", "run.xdmf", "job.sbatch", "logs", ".coflow.lock"})
     if (fs::exists(fs::path(dir) / mark, ec)) return;
   r.fail("run.output.dir",
          fmt::format(

@@ -31,6 +31,22 @@ case "$got" in *"--bind-to core"*) ;; *) fail "run.launch.bind core over COFLOW_
 "$bin/coflow" run --dry-run --set run.launch.bind=sockets "$cfg" >/dev/null 2>&1; rc=$?
 [ $rc -eq 2 ] || fail "run.launch.bind sockets: exit $rc, expected 2"
 
+# External variants (the dummies' configuration) without --exe: exit 2 with
+# the file's place, before any rank starts (--dry-run above prints the line).
+msg=$("$bin/coflow" run "$cfg" 2>&1); rc=$?
+[ $rc -eq 2 ] || fail "external without --exe: exit $rc, expected 2"
+case "$msg" in *"$cfg:16:11: fluid.solver: 'external' runs your own executable: give it with --exe fluid=PATH"*) ;;
+  *) fail "external without --exe: $msg" ;; esac
+[ ! -e out ] || fail "external without --exe: a run directory was made"
+
+# A run directory in use by another run (its launcher holds .coflow.lock):
+# exit 2, and the directory is left alone.
+mkdir -p busy && echo keep >busy/mine.txt && : >busy/.coflow.lock
+msg=$(flock busy/.coflow.lock "$bin/coflow" run "$cfgs/quickstart.yaml" --set run.output.dir=busy 2>&1); rc=$?
+[ $rc -eq 2 ] || fail "a run directory in use: exit $rc, expected 2"
+case "$msg" in *"busy is in use by another coflow run"*) ;; *) fail "a run directory in use: $msg" ;; esac
+[ -f busy/mine.txt ] && [ ! -e busy/fluid ] || fail "a run directory in use was changed"
+
 mkdir -p ckpt && echo "window: 3" >ckpt/checkpoint.yaml
 got=$("$bin/coflow" run --dry-run --set fluid.ranks=1 --set run.output.dir=o --restart ckpt "$cfg" | head -n 1)
 case "$got" in *"-np 1 $bin/coflow-fluid o/config.yaml --restart $PWD/ckpt"*) ;; *) fail "--set/--restart not in the line: $got" ;; esac
@@ -44,6 +60,10 @@ printf '%s\n' "$got2" | head -n 1 | grep -qx "srun --mpi=pmix --kill-on-bad-exit
 printf '%s\n' "$got" | grep -qx "0-1 $bin/coflow-fluid out/coupler-dummies/config.yaml" || fail "multi-prog fluid line"
 printf '%s\n' "$got" | grep -qx "2-4 $bin/coflow-immersed out/coupler-dummies/config.yaml" || fail "multi-prog immersed line"
 printf '%s\n' "$got" | grep -qx "5-5 $bin/coflow-particles out/coupler-dummies/config.yaml" || fail "multi-prog particles line"
+# srun splits a --multi-prog line at spaces and reads quotes and %: each
+# character outside [A-Za-z0-9_./=:,+@-] of a path goes behind a backslash.
+got=$(SLURM_JOB_CPUS_PER_NODE=8 "$bin/coflow" run --dry-run --launcher srun --set "run.output.dir=o u%t's" "$cfg")
+printf '%s\n' "$got" | grep -qxF "0-1 $bin/coflow-fluid o\\ u\\%t\\'s/config.yaml" || fail "multi-prog line of a path with a space, % and a quote: $got"
 
 # --launcher sbatch --dry-run: the batch script, tasks and a time limit from
 # the pre-run report (the quickstart's lbm estimates; x 1.5 + 10 min).
@@ -52,6 +72,8 @@ printf '%s\n' "$got" | grep -qx "#SBATCH --ntasks=6" || fail "sbatch script task
 printf '%s\n' "$got" | grep -q "^#SBATCH --time=00:1[0-9]:00   # the pre-run report's estimate" || fail "sbatch time limit: $got"
 printf '%s\n' "$got" | grep -q "^exec $bin/coflow run $cfgs/quickstart.yaml --launcher srun --set fluid.ranks=4$" \
   || fail "sbatch command: $got"
+got=$("$bin/coflow" run --dry-run --launcher sbatch --set "run.output.dir=my run%" "$cfgs/quickstart.yaml")
+printf '%s\n' "$got" | grep -qxF "#SBATCH --output=\"$PWD/my run%%/slurm-%j.out\"" || fail "sbatch --output of a path with a space and %: $got"
 [ ! -e out ] || fail "--dry-run --launcher sbatch created files"
 
 vars=$("$bin/coflow" variants)

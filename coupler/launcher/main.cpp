@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <poll.h>
+#include <sched.h>
 #include <signal.h>
 #include <sys/file.h>
 #include <sys/wait.h>
@@ -112,11 +113,32 @@ Launch plan(const Config& cfg, const std::map<std::string, std::string>& exe_ove
   return l;
 }
 
+// The physical cores this process may run on: Open MPI gives one slot per
+// core (not per hardware thread) of its cpuset, so a 2-core laptop with 4
+// threads has 2 slots. Counted as the distinct (package, core) pairs of the
+// CPUs in the affinity mask; where sysfs does not say, the CPUs themselves.
+int physical_cores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) != 0)
+    return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::set<std::pair<long, long>> cores;
+  for (int c = 0; c < CPU_SETSIZE; ++c) {
+    if (!CPU_ISSET(c, &set)) continue;
+    const std::string topo = fmt::format("/sys/devices/system/cpu/cpu{}/topology/", c);
+    long package = -1, core = -1;
+    std::ifstream(topo + "physical_package_id") >> package;
+    std::ifstream(topo + "core_id") >> core;
+    if (package < 0 || core < 0) return std::max(1, CPU_COUNT(&set));  // unknown: count the CPUs
+    cores.insert({package, core});
+  }
+  return std::max(1, static_cast<int>(cores.size()));
+}
+
 std::vector<std::string> mpirun_argv(const Launch& l, const std::string& config_path, const std::string& restart) {
   std::vector<std::string> a{"mpirun"};
   if (const char* m = std::getenv("COFLOW_MPIRUN")) a[0] = m;
-  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-  const bool over = l.total > static_cast<int>(cores);
+  const bool over = l.total > physical_cores();
   if (over) a.push_back("--oversubscribe");
   // Pinned, ranks that share a core stay apart from those on the other cores
   // (measured: quickstart, 4 ranks on 2 cores, 4.1-4.7 s pinned, 4.1-6.5 s not).
@@ -494,8 +516,7 @@ int check_executables(const std::string& launcher, const Launch& launch) {
   }
   // More ranks than cores: ranks waiting in MPI give their core away instead of
   // spinning (srun does not tell Open MPI that the node is oversubscribed).
-  if (launch.total > static_cast<int>(std::max(1u, std::thread::hardware_concurrency())))
-    setenv("OMPI_MCA_mpi_yield_when_idle", "1", 0);
+  if (launch.total > physical_cores()) setenv("OMPI_MCA_mpi_yield_when_idle", "1", 0);
   return 0;
 }
 

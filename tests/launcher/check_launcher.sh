@@ -13,7 +13,10 @@ cfg=$cfgs/tests/coupler_dummies.yaml
 # run.launch.bind auto pins them (each core shared by several), unless
 # COFLOW_BIND (scripts/test: none) says otherwise.
 unset COFLOW_BIND
-cores=$(nproc)
+# Open MPI's slots: the physical cores of this process's CPUs (not threads).
+cores=$(/usr/bin/python3 -c 'import os
+t = "/sys/devices/system/cpu/cpu%d/topology/"
+print(len({(open(t % c + "physical_package_id").read(), open(t % c + "core_id").read()) for c in os.sched_getaffinity(0)}))' 2>/dev/null || nproc)
 over=""; [ 6 -gt "$cores" ] && over="--oversubscribe --bind-to core:overload-allowed "
 want="mpirun ${over}-np 2 $bin/coflow-fluid out/coupler-dummies/config.yaml : -np 3 $bin/coflow-immersed out/coupler-dummies/config.yaml : -np 1 $bin/coflow-particles out/coupler-dummies/config.yaml"
 got=$("$bin/coflow" run --dry-run "$cfg")

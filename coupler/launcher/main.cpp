@@ -182,12 +182,28 @@ std::string multi_prog(const Launch& l, const std::string& config_path, const st
   return conf;
 }
 
-// The CPUs Slurm gives this step: the allocation's on this node when inside
-// one (SLURM_JOB_CPUS_PER_NODE, e.g. "8" or "8(x2)"), else this machine's.
+// The CPUs Slurm gives this step: the allocation's when inside
+// one (SLURM_JOB_CPUS_PER_NODE summed over its nodes, e.g. "8" or "8(x2),4"),
+// else this machine's.
 int slurm_cpus() {
   if (const char* c = std::getenv("SLURM_JOB_CPUS_PER_NODE")) {
-    const int n = std::atoi(c);
-    if (n > 0) return n;
+    // The whole allocation: "8(x2),4" is 8 on two nodes and 4 on a third.
+    long total = 0;
+    const char* p = c;
+    while (true) {
+      char* end = nullptr;
+      const long n = std::strtol(p, &end, 10);
+      if (end == p) break;
+      long times = 1;
+      if (std::strncmp(end, "(x", 2) == 0) {
+        times = std::strtol(end + 2, &end, 10);
+        if (*end == ')') ++end;
+      }
+      total += n * times;
+      if (*end != ',') break;
+      p = end + 1;
+    }
+    if (total > 0) return static_cast<int>(std::min(total, 1L << 30));
   }
   return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
@@ -545,8 +561,9 @@ void prepare_run_directory(const Config& cfg, const std::string& dir, const std:
 }
 
 // After Ctrl-C (or SIGTERM): what was written, and how to go on from it.
-int report_interrupted(const std::string& cfg_path, const std::vector<std::string>& overrides, const std::string& dir,
-                       int rc, double wall, const Config& cfg) {
+int report_interrupted(const std::string& cfg_path, const std::vector<std::string>& overrides,
+                       const std::string& extra, const std::string& dir, int rc, double wall,
+                       const Config& cfg) {
   const std::vector<std::string> checkpoints = coflow::coupler::complete_checkpoints(dir);
   write_failed_summary(cfg, {"", "", fmt::format("interrupted by signal {} after {:.1f} s", int(g_interrupted), wall)},
                        rc, wall);
@@ -558,8 +575,9 @@ int report_interrupted(const std::string& cfg_path, const std::vector<std::strin
   {
     std::string sets;
     for (const auto& o : overrides) sets += " --set " + ::quoted(o);
-    std::fprintf(stderr, "  restart from the last checkpoint with:\n    coflow run %s%s --restart %s\n",
-                 ::quoted(cfg_path).c_str(), sets.c_str(), ::quoted(checkpoints.back()).c_str());
+    std::fprintf(stderr, "  restart from the last checkpoint with:\n    coflow run %s%s%s --restart %s\n",
+                 ::quoted(cfg_path).c_str(), sets.c_str(), extra.c_str(),
+                 ::quoted(checkpoints.back()).c_str());
   }
   return 128 + int(g_interrupted);
 }
@@ -676,8 +694,13 @@ int read_exe_overrides(const std::vector<std::string>& exes, std::map<std::strin
       std::cerr << "--exe " << e << ": expected COMPONENT=PATH with COMPONENT one of fluid, immersed, particles\n";
       return 2;
     }
-    if (!fs::exists(e.substr(eq + 1))) {
+    const std::string path = e.substr(eq + 1);
+    if (!fs::exists(path)) {
       std::cerr << "--exe " << e << ": no such file\n";
+      return 2;
+    }
+    if (!fs::is_regular_file(path) || access(path.c_str(), X_OK) != 0) {
+      std::cerr << "--exe " << e << ": not an executable file (chmod +x it, or give the built program)\n";
       return 2;
     }
     out[comp] = e.substr(eq + 1);
@@ -821,7 +844,18 @@ int run(const Config& cfg, RunOptions o) {
     print_summary(dir);
     return 0;
   }
-  if (g_interrupted) return report_interrupted(o.cfg_path, o.overrides, dir, rc, wall, cfg);
+  if (g_interrupted) {
+    // The rest of the command line the restart needs: the executables, the
+    // launcher and --strict (paths absolute, as the restart may run elsewhere).
+    std::string extra;
+    for (const auto& e : o.exes) {
+      const auto eq = e.find('=');
+      extra += " --exe " + ::quoted(e.substr(0, eq + 1) + fs::absolute(e.substr(eq + 1)).string());
+    }
+    if (o.launcher != "mpirun") extra += " --launcher " + ::quoted(o.launcher);
+    if (o.strict) extra += " --strict";
+    return report_interrupted(o.cfg_path, o.overrides, extra, dir, rc, wall, cfg);
+  }
   return report_failure(cfg, dir, failure, rc, wall);
 }
 

@@ -42,6 +42,12 @@ case "$msg" in *"$cfg:16:11: fluid.solver: 'external' runs your own executable: 
   *) fail "external without --exe: $msg" ;; esac
 [ ! -e out ] || fail "external without --exe: a run directory was made"
 
+# --exe of a file that is not executable: exit 2 before any rank starts.
+echo "not a program" >plain.txt
+msg=$("$bin/coflow" run "$cfg" --exe fluid=plain.txt 2>&1); rc=$?
+[ $rc -eq 2 ] || fail "--exe of a plain file: exit $rc, expected 2"
+case "$msg" in *"--exe fluid=plain.txt: not an executable file"*) ;; *) fail "--exe of a plain file: $msg" ;; esac
+
 # A run directory in use by another run (its launcher holds .coflow.lock):
 # exit 2, and the directory is left alone.
 mkdir -p busy && echo keep >busy/mine.txt && : >busy/.coflow.lock
@@ -63,6 +69,9 @@ printf '%s\n' "$got2" | head -n 1 | grep -qx "srun --mpi=pmix --kill-on-bad-exit
 printf '%s\n' "$got" | grep -qx "0-1 $bin/coflow-fluid out/coupler-dummies/config.yaml" || fail "multi-prog fluid line"
 printf '%s\n' "$got" | grep -qx "2-4 $bin/coflow-immersed out/coupler-dummies/config.yaml" || fail "multi-prog immersed line"
 printf '%s\n' "$got" | grep -qx "5-5 $bin/coflow-particles out/coupler-dummies/config.yaml" || fail "multi-prog particles line"
+# 6 ranks in an allocation of two nodes of 4 CPUs: no --overcommit.
+got=$(SLURM_JOB_CPUS_PER_NODE='4(x2)' "$bin/coflow" run --dry-run --launcher srun "$cfg")
+printf '%s\n' "$got" | head -n 1 | grep -qx "srun --mpi=pmix --kill-on-bad-exit=1 -n 6 --multi-prog out/coupler-dummies/multi-prog.conf" || fail "srun line in 4(x2) CPUs: $got"
 # srun splits a --multi-prog line at spaces and reads quotes and %: each
 # character outside [A-Za-z0-9_./=:,+@-] of a path goes behind a backslash.
 got=$(SLURM_JOB_CPUS_PER_NODE=8 "$bin/coflow" run --dry-run --launcher srun --set "run.output.dir=o u%t's" "$cfg")

@@ -13,7 +13,10 @@
 namespace coflow::particles {
 
 EventLog::EventLog(coupler::Session& s, const config::OutputParams& out, bool point_particles, long w0)
-    : s_(s), collisions_(out.collision_events), bonds_(out.bond_events) {
+    : s_(s),
+      collisions_(out.collision_events),
+      bonds_(out.bond_events),
+      impacts_(out.collision_events && point_particles) {
   if (s.rank() != 0) return;
   const auto mode = w0 > 0 ? std::ios::app : std::ios::trunc;
   if (collisions_) {
@@ -45,7 +48,8 @@ void EventLog::write(const ParticleEvents& ev) {
   for (const auto* f : {&collisions_csv_, &bonds_csv_, &impacts_csv_})
     if (f->is_open() && !*f)
       throw std::runtime_error("cannot write the event logs in " + s_.output_dir() + "/events");
-  if ((collisions_ && !collisions_csv_.is_open()) || (bonds_ && !bonds_csv_.is_open()))
+  if ((collisions_ && !collisions_csv_.is_open()) || (bonds_ && !bonds_csv_.is_open()) ||
+      (impacts_ && !impacts_csv_.is_open()))
     throw std::runtime_error("cannot open the event logs in " + s_.output_dir() + "/events");
 }
 

@@ -25,7 +25,7 @@ class EventLog {
   void write_pairs(const ParticleEvents& ev);
 
   coupler::Session& s_;
-  bool collisions_ = false, bonds_ = false;
+  bool collisions_ = false, bonds_ = false, impacts_ = false;
   std::ofstream collisions_csv_, bonds_csv_, impacts_csv_;
 };
 

@@ -746,16 +746,21 @@ int lock_run_directory(const std::string& dir) {
     std::fprintf(stderr, "coflow: cannot open %s: %s\n", path.c_str(), std::strerror(errno));
     return 2;
   }
-  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
-    std::fprintf(
-        stderr,
-        "coflow: %s is in use by another coflow run (it holds %s): wait for that run to end, or choose "
-        "another directory with --set run.output.dir=...\n",
-        dir.c_str(), path.c_str());
-    ::close(fd);
-    return 2;
+  if (::flock(fd, LOCK_EX | LOCK_NB) == 0)
+    return 0;  // the descriptor stays open, and the lock held, until exit
+  if (errno != EWOULDBLOCK) {
+    // A file system without locks (Lustre noflock, NFS nolock): say so, go on.
+    std::fprintf(stderr, "coflow: warning: cannot lock %s (%s): a second run into %s would not be stopped\n",
+                 path.c_str(), std::strerror(errno), dir.c_str());
+    return 0;
   }
-  return 0;  // the descriptor stays open, and the lock held, until the launcher exits
+  std::fprintf(
+      stderr,
+      "coflow: %s is in use by another coflow run (it holds %s): wait for that run to end, or choose "
+      "another directory with --set run.output.dir=...\n",
+      dir.c_str(), path.c_str());
+  ::close(fd);
+  return 2;
 }
 
 // A component whose variant is `external` runs the user's executable, which
@@ -828,6 +833,15 @@ int run(const Config& cfg, RunOptions o) {
   if (const int rc = check_external(cfg, o.cfg_path, exe_override); rc != 0) return rc;
   if (const int rc = check_executables(argv_launch[0], launch); rc != 0) return rc;
   if (const int rc = print_report(cfg, o, "", stdout); rc != 0) return rc;
+  std::error_code same_ec;
+  if (fs::equivalent(o.cfg_path, resolved, same_ec)) {
+    std::fprintf(
+        stderr,
+        "%s: the configuration is the run directory's config.yaml, which a run rewrites with the resolved "
+        "configuration: copy it elsewhere and run that, or choose another run.output.dir\n",
+        o.cfg_path.c_str());
+    return 2;
+  }
   if (const int rc = lock_run_directory(dir); rc != 0) return rc;
   prepare_run_directory(cfg, dir, o.restart);
   if (srun) coflow::output::atomic_write(conf_path, multi_prog(launch, resolved, o.restart));

@@ -69,7 +69,11 @@ long last_kept_snapshot(const config::Config& cfg, const fs::path& index, double
   for (const output::SnapshotInfo& s : output::read_index(index.string()).rows)
     if (s.time <= t + tol && s.number > last) last = s.number, last_time = s.time;
   const double every = cfg.run.output.every;
-  const bool off_multiple = every > 0 && last > 0 && last_time < last * every - tol;
+  // Its time reaches a lower multiple than its number (the clock's own test,
+  // with its reach of 1e-6 of an interval: a step a little short of dividing
+  // `every` puts snapshot k a little before k x every, and it stays).
+  const bool off_multiple =
+      every > 0 && last > 0 && std::floor(last_time / every + 1e-6) < static_cast<double>(last);
   dropped_final = off_multiple && cfg.run.end_time > t + tol;
   return dropped_final ? last - 1 : last;
 }

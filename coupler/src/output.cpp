@@ -409,17 +409,18 @@ namespace {
 
 // An exclusive lock on a file next to run.xdmf, held while the object lives
 // (flock: released when the descriptor closes, also when the process dies).
+// Where the file system has no locks (Lustre mounted noflock, NFS nolock:
+// ENOSYS, ENOLCK, ...) it goes on without one: the lock only keeps run.xdmf
+// fresh between two writers, and the last write of the run has every row.
 class FileLock {
  public:
   explicit FileLock(const std::string& path) : fd_(::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644)) {
-    if (fd_ < 0) throw std::runtime_error(fmt::format("cannot open the lock file '{}'", path));
-    while (::flock(fd_, LOCK_EX) != 0)
-      if (errno != EINTR) {
-        ::close(fd_);
-        throw std::runtime_error(fmt::format("cannot lock '{}'", path));
-      }
+    while (fd_ >= 0 && ::flock(fd_, LOCK_EX) != 0 && errno == EINTR) {
+    }
   }
-  ~FileLock() { ::close(fd_); }
+  ~FileLock() {
+    if (fd_ >= 0) ::close(fd_);
+  }
   FileLock(const FileLock&) = delete;
   FileLock& operator=(const FileLock&) = delete;
 

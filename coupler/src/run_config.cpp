@@ -257,10 +257,20 @@ static void check_window_count(Reader& r, const Config& cfg) {
 }
 
 // A fresh run empties its output directory's fluid/, particles/, logs/, ...
-// folders: a directory that holds files but is no coflow run's (no
-// config.yaml, summary.json, run.xdmf, job.sbatch or logs/ in it) is
-// refused, so that run.output.dir: . in a source tree or a home directory
-// deletes nothing of the user's.
+// folders: a directory that holds files but is no coflow run's is refused, so
+// that run.output.dir: . in a source tree or a home directory deletes nothing
+// of the user's. A run's marks are the files only coflow writes there
+// (summary.json, run.xdmf, the launcher's lock, an sbatch script) or a
+// component's log (a config.yaml or a logs/ folder alone could be the user's).
+static bool holds_a_run(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  for (const char* mark : {"summary.json", "run.xdmf", ".coflow.lock", "job.sbatch", "logs/fluid.log",
+                           "logs/particles.log", "logs/immersed.log"})
+    if (fs::exists(fs::path(dir) / mark, ec)) return true;
+  return false;
+}
+
 static void check_output_dir(Reader& r, const Config& cfg) {
   namespace fs = std::filesystem;
   const std::string dir = cfg.output_dir();
@@ -271,14 +281,12 @@ static void check_output_dir(Reader& r, const Config& cfg) {
            fmt::format("'{}' is a file, not a directory: choose a new or empty directory", dir));
     return;
   }
-  if (fs::is_empty(dir, ec)) return;
-  for (const char* mark : {"config.yaml", "summary.json", "run.xdmf", "job.sbatch", "logs", ".coflow.lock"})
-    if (fs::exists(fs::path(dir) / mark, ec)) return;
+  if (fs::is_empty(dir, ec) || holds_a_run(dir)) return;
   r.fail("run.output.dir",
          fmt::format(
-             "'{}' holds files and is not a coflow run directory (it has no config.yaml, summary.json, "
-             "run.xdmf, job.sbatch or logs/): a run there would delete its fluid/, particles/, immersed/, "
-             "series/, events/, logs/ and checkpoints/ folders; choose a new or empty directory",
+             "'{}' holds files and is not a coflow run directory (it has no summary.json, run.xdmf, "
+             ".coflow.lock, job.sbatch or component log): a run there would delete its fluid/, particles/, "
+             "immersed/, series/, events/, logs/ and checkpoints/ folders; choose a new or empty directory",
              dir));
 }
 

@@ -487,13 +487,18 @@ class Core final : public LbmCore {
   }
 
   // A cell on an open face: pull, close the unknowns (boundaries.hpp), collide.
+  // The closure takes the body force and the momentum source (as
+  // lbm-reference and the two-phase core do); the collision also this step's
+  // immersed-boundary force.
   void open_cell(long i, long j, long k) {
-    double F[3];
+    double F[3], Fc[3];
     force_at(i, j, k, F);
+    const long c = (k * lay_.extent[1] + j) * lay_.extent[0] + i;
+    for (int d = 0; d < 3; ++d) Fc[d] = s_.force[d] + (src_.empty() ? 0.0 : src_[3 * c + d]);
     const long x = idx(i, j, k);
     double f[L::Q];
     for (int q = 0; q < L::Q; ++q) f[q] = pop_.f[q * lay_.stride + x - off_[q]];
-    lbm::close_open_faces<L, Incompressible>(f, pop_.f.data(), lay_, i, j, k, open_, s_.faces, F);
+    lbm::close_open_faces<L, Incompressible>(f, pop_.f.data(), lay_, i, j, k, open_, s_.faces, Fc);
     const double uu = lbm::collide<L, Incompressible>(f, collision_, F);
     max_u2_ = lbm::nan_max(max_u2_, uu);
     for (int q = 0; q < L::Q; ++q) pop_.next[q * lay_.stride + x] = f[q];

@@ -42,6 +42,19 @@ case "$msg" in *"$cfg:16:11: fluid.solver: 'external' runs your own executable: 
   *) fail "external without --exe: $msg" ;; esac
 [ ! -e out ] || fail "external without --exe: a run directory was made"
 
+# The configuration is the run directory's own config.yaml (a run rewrites
+# it with the resolved one): exit 2, the file untouched. A user's config.yaml
+# alone does not make a directory a run's: refused at validation.
+mkdir -p mine && cp "$cfgs/quickstart.yaml" mine/config.yaml
+msg=$("$bin/coflow" run mine/config.yaml --set run.output.dir=mine 2>&1); rc=$?
+[ $rc -eq 2 ] || fail "a directory holding only the user's config.yaml: exit $rc, expected 2"
+case "$msg" in *"run.output.dir: 'mine' holds files and is not a coflow run directory"*) ;; *) fail "mine: $msg" ;; esac
+: >mine/summary.json
+msg=$("$bin/coflow" run mine/config.yaml --set run.output.dir=mine 2>&1); rc=$?
+[ $rc -eq 2 ] || fail "the configuration is the run directory's config.yaml: exit $rc, expected 2"
+case "$msg" in *"the configuration is the run directory's config.yaml"*) ;; *) fail "mine/config.yaml: $msg" ;; esac
+cmp -s "$cfgs/quickstart.yaml" mine/config.yaml || fail "the user's config.yaml was rewritten"
+
 # --exe of a file that is not executable: exit 2 before any rank starts.
 echo "not a program" >plain.txt
 msg=$("$bin/coflow" run "$cfg" --exe fluid=plain.txt 2>&1); rc=$?

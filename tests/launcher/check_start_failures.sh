@@ -16,9 +16,17 @@ cat "$out/true.log" | tail -n 3
 [ $rc -ne 124 ] || fail "/bin/true as the fluid: the launch hung (killed after 60 s)"
 [ $rc -ne 0 ] || fail "/bin/true as the fluid: exit status 0"
 [ $took -le 20 ] || fail "/bin/true as the fluid: took $took s with coupling.timeout 5"
-grep -q "did not start within 5 s" "$out/true.log" || fail "no start-up message"
-grep -q "fluid=/bin/true" "$out/true.log" || fail "the executable is not named"
-grep -q '"reason": "fluid, immersed, particles did not start' "$out/true/summary.json" || fail "summary.json reason"
+# Open MPI either holds the others in MPI start-up (then the watchdog stops
+# the run after coupling.timeout and names the executable) or, now and then
+# under load, aborts the job itself when /bin/true exits without MPI_Init
+# (then the launcher says that an executable exited at start).
+if grep -q "did not start within 5 s" "$out/true.log"; then
+  grep -q "fluid=/bin/true" "$out/true.log" || fail "the executable is not named"
+  grep -q '"reason": "fluid, immersed, particles did not start' "$out/true/summary.json" || fail "summary.json reason"
+else
+  grep -q "an executable exited at start (is every --exe a coflow component?)" "$out/true.log" ||
+    fail "no start-up message"
+fi
 timeout 60 "$bin/coflow" run "$cfg" --exe fluid=/bin/false --set run.output.dir="$out/false" >"$out/false.log" 2>&1; rc=$?
 tail -n 2 "$out/false.log"
 [ $rc -ne 0 ] && [ $rc -ne 124 ] || fail "/bin/false as the fluid: exit status $rc"

@@ -431,6 +431,7 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
     pollfd p{fds[0], POLLIN, 0};
     if (poll(&p, 1, 1000) > 0) {
       const ssize_t n = read(fds[0], chunk, sizeof chunk);
+      if (n < 0 && errno == EINTR) continue;  // a signal (forwarded to the child) is no end of its output
       if (n <= 0) break;
       buf.append(chunk, static_cast<std::size_t>(n));
       for (std::size_t nl; (nl = buf.find('\n')) != std::string::npos; buf.erase(0, nl + 1)) take_line(buf.substr(0, nl), w);
@@ -576,7 +577,7 @@ int report_interrupted(const std::string& cfg_path, const std::vector<std::strin
     std::string sets;
     for (const auto& o : overrides) sets += " --set " + ::quoted(o);
     std::fprintf(stderr, "  restart from the last checkpoint with:\n    coflow run %s%s%s --restart %s\n",
-                 ::quoted(cfg_path).c_str(), sets.c_str(), extra.c_str(),
+                 ::quoted(fs::absolute(cfg_path).string()).c_str(), sets.c_str(), extra.c_str(),
                  ::quoted(checkpoints.back()).c_str());
   }
   return 128 + int(g_interrupted);
@@ -685,13 +686,20 @@ int print_report(const Config& cfg, const RunOptions& o, const std::string& pref
 
 // --exe COMPONENT=PATH: the executables that replace the built-in ones.
 // Returns exit status 2, with a message, on a bad one.
-int read_exe_overrides(const std::vector<std::string>& exes, std::map<std::string, std::string>& out) {
+int read_exe_overrides(const Config& cfg, const std::vector<std::string>& exes,
+                       std::map<std::string, std::string>& out) {
   for (const auto& e : exes) {
     const auto eq = e.find('=');
     const std::string comp = e.substr(0, eq == std::string::npos ? 0 : eq);
     const auto& order = coflow::config::component_order();
     if (eq == std::string::npos || std::find(order.begin(), order.end(), comp) == order.end()) {
       std::cerr << "--exe " << e << ": expected COMPONENT=PATH with COMPONENT one of fluid, immersed, particles\n";
+      return 2;
+    }
+    if (!cfg.has(comp)) {
+      std::cerr << "--exe " << e << ": " << cfg.file << " has no " << comp
+                << " section, so nothing would run it: add one (" << comp
+                << ": {solver: external, ...}) or leave out this --exe\n";
       return 2;
     }
     const std::string path = e.substr(eq + 1);
@@ -797,7 +805,7 @@ int submit_batch(const Config& cfg, const Launch& launch, const RunOptions& o) {
     return 0;
   }
   std::map<std::string, std::string> exes;
-  if (const int rc = read_exe_overrides(o.exes, exes); rc != 0) return rc;
+  if (const int rc = read_exe_overrides(cfg, o.exes, exes); rc != 0) return rc;
   if (const int rc = check_external(cfg, o.cfg_path, exes); rc != 0) return rc;
   if (const int rc = print_report(cfg, o, "", stdout); rc != 0) return rc;
   if (find_in_path("sbatch").empty()) {
@@ -815,7 +823,7 @@ int submit_batch(const Config& cfg, const Launch& launch, const RunOptions& o) {
 // `coflow run` on a valid configuration: plan, launch, follow, report.
 int run(const Config& cfg, RunOptions o) {
   std::map<std::string, std::string> exe_override;
-  if (const int rc = read_exe_overrides(o.exes, exe_override); rc != 0) return rc;
+  if (const int rc = read_exe_overrides(cfg, o.exes, exe_override); rc != 0) return rc;
   if (const int rc = coflow::launcher::resolve_restart(cfg, o.restart); rc != 0) return rc;
 
   const Launch launch = plan(cfg, exe_override);

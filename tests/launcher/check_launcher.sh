@@ -61,6 +61,11 @@ msg=$("$bin/coflow" run "$cfg" --exe fluid=plain.txt 2>&1); rc=$?
 [ $rc -eq 2 ] || fail "--exe of a plain file: exit $rc, expected 2"
 case "$msg" in *"--exe fluid=plain.txt: not an executable file"*) ;; *) fail "--exe of a plain file: $msg" ;; esac
 
+# --exe for a component the configuration does not have: exit 2.
+msg=$("$bin/coflow" run "$cfgs/validation/lbm_couette.yaml" --exe particles="$bin/coflow-dummy-particles" 2>&1); rc=$?
+[ $rc -eq 2 ] || fail "--exe of a component not in the configuration: exit $rc, expected 2"
+case "$msg" in *"has no particles section, so nothing would run it"*) ;; *) fail "--exe particles: $msg" ;; esac
+
 # A run directory in use by another run (its launcher holds .coflow.lock):
 # exit 2, and the directory is left alone.
 mkdir -p busy && echo keep >busy/mine.txt && : >busy/.coflow.lock

@@ -210,9 +210,12 @@ int slurm_cpus() {
 
 // Debian's Open MPI runs under srun only through PMIx; --kill-on-bad-exit ends
 // the step when any rank fails, so that a dead component never leaves the
-// others waiting; --overcommit where the ranks exceed the CPUs.
+// others waiting; --quit-on-interrupt ends it on one Ctrl-C (srun otherwise
+// reports the tasks' state and waits for a second within a second);
+// --overcommit where the ranks exceed the CPUs.
 std::vector<std::string> srun_argv(const Launch& l, const std::string& conf_path) {
-  std::vector<std::string> a{"srun", "--mpi=pmix", "--kill-on-bad-exit=1", "-n", std::to_string(l.total)};
+  std::vector<std::string> a{"srun", "--mpi=pmix",           "--kill-on-bad-exit=1", "--quit-on-interrupt",
+                             "-n",   std::to_string(l.total)};
   if (l.total > slurm_cpus()) a.push_back("--overcommit");
   if (l.bind != "auto") a.push_back(l.bind == "core" ? "--cpu-bind=cores" : "--cpu-bind=none");
   a.insert(a.end(), l.mpi_args.begin(), l.mpi_args.end());
@@ -350,18 +353,20 @@ struct Watch {
 };
 
 // One line of the components' output: progress and failure tags are taken,
-// everything else is shown.
+// everything else is shown. A tag is found anywhere in its line: mpi_args
+// such as mpirun --tag-output or --timestamp-output and srun --label put a
+// prefix before it.
 void take_line(const std::string& s, Watch& w) {
   const std::string ptag = coflow::coupler::kProgressTag, ftag = coflow::coupler::kFailedTag;
-  if (s.rfind(ptag, 0) == 0) {
+  if (const auto at = s.find(ptag); at != std::string::npos) {
     double t = 0, end = 0, wall = 0;
     long win = 0, n = 0;
-    if (std::sscanf(s.c_str() + ptag.size(), "%lf %lf %ld %ld %lf", &t, &end, &win, &n, &wall) == 5)
+    if (std::sscanf(s.c_str() + at + ptag.size(), "%lf %lf %ld %ld %lf", &t, &end, &win, &n, &wall) == 5)
       w.progress.update(t, end, win, n, wall);
     return;
   }
-  if (s.rfind(ftag, 0) == 0) {
-    std::istringstream is(s.substr(ftag.size()));
+  if (const auto at = s.find(ftag); at != std::string::npos) {
+    std::istringstream is(s.substr(at + ftag.size()));
     Failure f;
     is >> f.component >> f.rank;
     std::getline(is, f.reason);
@@ -407,9 +412,17 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
   std::vector<char*> cargv;
   for (const auto& a : argv) cargv.push_back(const_cast<char*>(a.c_str()));
   cargv.push_back(nullptr);
+  // The handlers come first: a Ctrl-C between the fork and them would end the
+  // launcher and leave the child running (forward_signal sends it on once
+  // g_child is known; one that came before is sent below).
+  signal(SIGINT, forward_signal);
+  signal(SIGTERM, forward_signal);
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("fork failed");
   if (pid == 0) {
+    // Components read no input: mpirun would otherwise forward the terminal
+    // to rank 0.
+    if (const int null = open("/dev/null", O_RDONLY); null >= 0) dup2(null, STDIN_FILENO);
     dup2(fds[1], STDOUT_FILENO);
     dup2(fds[1], STDERR_FILENO);
     close(fds[0]);
@@ -419,9 +432,8 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
     _exit(127);
   }
   g_child = pid;
+  if (g_interrupted) kill(pid, g_interrupted);
   close(fds[1]);
-  signal(SIGINT, forward_signal);
-  signal(SIGTERM, forward_signal);
   Watch w{launch, progress, failure, {}};
   const double since = coflow::coupler::now();
   bool stopped = false;

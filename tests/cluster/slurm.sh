@@ -104,6 +104,23 @@ awk -v t="$took" 'BEGIN { exit !(t <= 10) }' || fail "the step took $took s to e
 grep -q "run failed in component 'particles'" "$out/killed.log" || { tail -n 20 "$out/killed.log"; fail "the killed component is not named"; }
 grep -q '"failed_component": "particles"' "$out/killed/summary.json" || fail "summary.json does not name the component"
 
+# 2b. One SIGINT (Ctrl-C) ends an srun step (srun alone wants two within a
+# second), with --label putting "N: " before every line of the tasks: the
+# progress tags are still taken, not shown.
+"$bin/coflow" run "$cfg" --launcher srun --set run.output.dir="$out/interrupted" --set run.end_time=1000 \
+  --set 'run.launch.mpi_args=[--label]' >"$out/interrupted.log" 2>&1 &
+launcher=$!
+for i in $(seq 1 300); do grep -q "^progress:" "$out/interrupted.log" 2>/dev/null && break; sleep 0.1; done
+grep -q "^progress:" "$out/interrupted.log" || { kill "$launcher"; tail -n 20 "$out/interrupted.log"; fail "no progress line under srun --label"; }
+kill -INT "$launcher"
+for i in $(seq 1 100); do kill -0 "$launcher" 2>/dev/null || break; sleep 0.1; done
+if kill -0 "$launcher" 2>/dev/null; then kill -9 "$launcher"; fail "the srun step still runs 10 s after one SIGINT"; fi
+wait "$launcher"; rc=$?
+[ "$rc" -eq 130 ] || { tail -n 20 "$out/interrupted.log"; fail "exit status $rc after SIGINT under srun, expected 130"; }
+grep -q "coflow: interrupted after" "$out/interrupted.log" || fail "no interruption message under srun"
+grep -q "@coflow progress" "$out/interrupted.log" && fail "raw progress lines under srun --label"
+echo "one SIGINT ended the srun step (exit 130); --label prefixes did not hide the progress tags"
+
 # 3. --launcher sbatch submits a batch job that runs the same thing with srun.
 "$bin/coflow" run "$cfg" --launcher sbatch --set run.output.dir="$out/batch" --set run.end_time=0.05 >"$out/batch.log" 2>&1 \
   || { tail -n 20 "$out/batch.log"; fail "sbatch submission failed"; }

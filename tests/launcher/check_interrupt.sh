@@ -7,7 +7,10 @@ set -u
 bin=$1 cfg=$2 out=$3
 rm -rf "$out"; mkdir -p "$out"
 fail() { echo "FAIL: $*"; tail -n 20 "$out/run.log"; exit 1; }
-"$bin/coflow" run "$cfg" --set run.output.dir="$out/run" --set run.checkpoint.every=0.05 >"$out/run.log" 2>&1 &
+# mpirun --tag-output puts "[1,N]<stdout>:" before each line of the ranks: the
+# launcher still takes the progress tags (checked below).
+"$bin/coflow" run "$cfg" --set run.output.dir="$out/run" --set run.checkpoint.every=0.05 \
+  --set 'run.launch.mpi_args=[--tag-output]' >"$out/run.log" 2>&1 &
 pid=$!
 # A finished checkpoint: window_NNNNNN, not the window_NNNNNN.partial it is
 # renamed from (a listing made during the rename may see neither name, so
@@ -23,6 +26,8 @@ kill -INT "$pid"
 wait "$pid"; rc=$?
 [ $rc -eq 130 ] || fail "exit status $rc after SIGINT, expected 130"
 grep -q "coflow: interrupted after" "$out/run.log" || fail "no interruption message"
+grep -q "^progress:" "$out/run.log" || fail "no progress line under --tag-output"
+grep -q "@coflow progress" "$out/run.log" && fail "raw progress lines under --tag-output"
 grep -q '"reason": "interrupted by signal 2' "$out/run/summary.json" || fail "summary.json reason"
 restart=$(sed -n 's/^ *coflow run .* --restart //p' "$out/run.log" | tr -d "'")
 [ -n "$restart" ] && [ -d "$restart" ] || fail "no restart command naming a checkpoint"

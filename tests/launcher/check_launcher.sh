@@ -81,15 +81,15 @@ case "$got" in *"-np 1 $bin/coflow-fluid o/config.yaml --restart $PWD/ckpt"*) ;;
 [ $rc -eq 2 ] || fail "--restart of a directory without checkpoint.yaml: exit $rc, expected 2"
 
 got=$(SLURM_JOB_CPUS_PER_NODE=2 "$bin/coflow" run --dry-run --launcher srun "$cfg")  # 6 ranks on 2 CPUs: --overcommit
-printf '%s\n' "$got" | head -n 1 | grep -qx "srun --mpi=pmix --kill-on-bad-exit=1 -n 6 --overcommit --multi-prog out/coupler-dummies/multi-prog.conf" || fail "srun line: $got"
+printf '%s\n' "$got" | head -n 1 | grep -qx "srun --mpi=pmix --kill-on-bad-exit=1 --quit-on-interrupt -n 6 --overcommit --multi-prog out/coupler-dummies/multi-prog.conf" || fail "srun line: $got"
 got2=$(SLURM_JOB_CPUS_PER_NODE=2 "$bin/coflow" run --dry-run --launcher srun --set run.launch.bind=core --set 'run.launch.mpi_args=[--exclusive]' "$cfg")
-printf '%s\n' "$got2" | head -n 1 | grep -qx "srun --mpi=pmix --kill-on-bad-exit=1 -n 6 --overcommit --cpu-bind=cores --exclusive --multi-prog out/coupler-dummies/multi-prog.conf" || fail "srun line with bind and mpi_args: $got2"
+printf '%s\n' "$got2" | head -n 1 | grep -qx "srun --mpi=pmix --kill-on-bad-exit=1 --quit-on-interrupt -n 6 --overcommit --cpu-bind=cores --exclusive --multi-prog out/coupler-dummies/multi-prog.conf" || fail "srun line with bind and mpi_args: $got2"
 printf '%s\n' "$got" | grep -qx "0-1 $bin/coflow-fluid out/coupler-dummies/config.yaml" || fail "multi-prog fluid line"
 printf '%s\n' "$got" | grep -qx "2-4 $bin/coflow-immersed out/coupler-dummies/config.yaml" || fail "multi-prog immersed line"
 printf '%s\n' "$got" | grep -qx "5-5 $bin/coflow-particles out/coupler-dummies/config.yaml" || fail "multi-prog particles line"
 # 6 ranks in an allocation of two nodes of 4 CPUs: no --overcommit.
 got=$(SLURM_JOB_CPUS_PER_NODE='4(x2)' "$bin/coflow" run --dry-run --launcher srun "$cfg")
-printf '%s\n' "$got" | head -n 1 | grep -qx "srun --mpi=pmix --kill-on-bad-exit=1 -n 6 --multi-prog out/coupler-dummies/multi-prog.conf" || fail "srun line in 4(x2) CPUs: $got"
+printf '%s\n' "$got" | head -n 1 | grep -qx "srun --mpi=pmix --kill-on-bad-exit=1 --quit-on-interrupt -n 6 --multi-prog out/coupler-dummies/multi-prog.conf" || fail "srun line in 4(x2) CPUs: $got"
 # srun splits a --multi-prog line at spaces and reads quotes and %: each
 # character outside [A-Za-z0-9_./=:,+@-] of a path goes behind a backslash.
 got=$(SLURM_JOB_CPUS_PER_NODE=8 "$bin/coflow" run --dry-run --launcher srun --set "run.output.dir=o u%t's" "$cfg")

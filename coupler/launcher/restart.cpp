@@ -1,5 +1,8 @@
 #include "restart.hpp"
 
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -8,9 +11,7 @@
 #include <sstream>
 #include <vector>
 
-#include <fmt/format.h>
-#include <yaml-cpp/yaml.h>
-
+#include "coflow/clock.hpp"
 #include "coflow/output.hpp"
 #include "coflow/run_directory.hpp"
 
@@ -57,25 +58,29 @@ void cut_index(const fs::path& path, long last) {
   if (cut) output::atomic_write(path.string(), text);
 }
 
-// The number of the last snapshot of `index` the restarted run keeps: those
-// at or before the checkpoint's time t, less the run's final snapshot when it
-// fell between two multiples of run.output.every (it takes the next multiple's
-// number, k + 1) and the restarted run goes on past t: that run writes
-// snapshot k + 1 at its proper time, as a run straight to the new end does.
-long last_kept_snapshot(const config::Config& cfg, const fs::path& index, double t, double tol,
-                        bool& dropped_final) {
+// The snapshots of `index` the restarted run keeps: those at or before the
+// checkpoint's time t, less the run's final snapshot when it fell between two
+// multiples of run.output.every (it takes the next multiple's number, k + 1)
+// and the restarted run goes on past t: that run writes snapshot k + 1 at its
+// proper time, as a run straight to the new end does.
+struct KeptSnapshots {
+  long last = -1;              // the number of the last one kept
+  bool dropped_final = false;  // the run's final, off-multiple snapshot goes
+};
+
+KeptSnapshots kept_snapshots(const config::Config& cfg, const fs::path& index, double t, double tol) {
   long last = -1;
   double last_time = 0.0;
   for (const output::SnapshotInfo& s : output::read_index(index.string()).rows)
     if (s.time <= t + tol && s.number > last) last = s.number, last_time = s.time;
   const double every = cfg.run.output.every;
-  // Its time reaches a lower multiple than its number (the clock's own test,
-  // with its reach of 1e-6 of an interval: a step a little short of dividing
-  // `every` puts snapshot k a little before k x every, and it stays).
+  // Its time reaches a lower multiple than its number (the clock's own test:
+  // a step a little short of dividing `every` puts snapshot k a little before
+  // k x every, and it stays).
   const bool off_multiple =
-      every > 0 && last > 0 && std::floor(last_time / every + 1e-6) < static_cast<double>(last);
-  dropped_final = off_multiple && cfg.run.end_time > t + tol;
-  return dropped_final ? last - 1 : last;
+      every > 0 && last > 0 && coupler::multiples_reached(last_time / every) < static_cast<double>(last);
+  const bool dropped = off_multiple && cfg.run.end_time > t + tol;
+  return {dropped ? last - 1 : last, dropped};
 }
 
 }  // namespace
@@ -121,8 +126,7 @@ std::string rewind_run_directory(const config::Config& cfg, const std::string& d
     if (!fs::exists(index)) continue;
     // The snapshots indexed after t go, and their files (numbered above the
     // last one kept).
-    bool dropped_final = false;
-    const long last = last_kept_snapshot(cfg, index, t, tol, dropped_final);
+    const auto [last, dropped_final] = kept_snapshots(cfg, index, t, tol);
     long gone = 0;
     for (const auto& e : fs::directory_iterator(index.parent_path(), ec)) {
       const std::string n = e.path().filename().string();

@@ -12,11 +12,6 @@
 
 namespace coflow::coupler {
 
-// Tolerance, in multiples of an interval: output_window keeps a step that
-// makes the interval in a whole number to 1e-6, so a window end within 1e-6 of
-// a multiple reaches it (and end_time within 1e-6 of a window end ends there).
-static constexpr double kReach = 1e-6;
-
 Clock::Clock(const config::Config& cfg, long restart_window, double restart_window_length, std::string restart_file)
     : cfg_(cfg),
       restart_window_(restart_window),
@@ -101,7 +96,7 @@ static bool crosses(long w, double window, double every) {
   if (every <= 0) return false;
   if (w == 0) return true;
   const double a = (w - 1) * window / every, b = w * window / every;
-  return std::floor(b + kReach) > std::floor(a + kReach);
+  return multiples_reached(b) > multiples_reached(a);
 }
 
 bool Clock::snapshot_due(long w) const {
@@ -112,7 +107,7 @@ bool Clock::snapshot_due(long w) const {
 long Clock::snapshot_number(long w) const {
   const double every = cfg_.run.output.every;
   if (w <= 0 || every <= 0) return 0;
-  const long k = static_cast<long>(std::floor(w * window_ / every + kReach));
+  const long k = static_cast<long>(multiples_reached(w * window_ / every));
   return crosses(w, window_, every) ? k : k + 1;
 }
 
@@ -128,7 +123,7 @@ bool Clock::checkpoint_due(long w) const {
   const auto& c = cfg_.run.checkpoint;
   if (c.every <= 0 || w <= 0 || w == restart_window_) return false;
   const double a = (w - 1) * window_ / c.every, b = w * window_ / c.every;
-  return std::floor(b + kReach) > std::floor(a + kReach);
+  return multiples_reached(b) > multiples_reached(a);
 }
 
 }  // namespace coflow::coupler

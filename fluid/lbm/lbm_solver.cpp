@@ -332,11 +332,17 @@ class Core final : public LbmCore {
         src_row_[c / static_cast<std::size_t>(lay_.extent[0])] = 1;
   }
 
-  // Body force plus the cell's source and its immersed-boundary force.
-  void force_at(long i, long j, long k, double F[3]) const {
+  // The drive: body force plus the cell's momentum source.
+  void drive_at(long i, long j, long k, double F[3]) const {
     const long c = (k * lay_.extent[1] + j) * lay_.extent[0] + i;
-    for (int d = 0; d < 3; ++d)
-      F[d] = s_.force[d] + (src_.empty() ? 0.0 : src_[3 * c + d]) + (extra_.empty() ? 0.0 : extra_[3 * c + d]);
+    for (int d = 0; d < 3; ++d) F[d] = s_.force[d] + (src_.empty() ? 0.0 : src_[3 * c + d]);
+  }
+  // The drive plus the cell's immersed-boundary force.
+  void force_at(long i, long j, long k, double F[3]) const {
+    drive_at(i, j, k, F);
+    if (extra_.empty()) return;
+    const long c = (k * lay_.extent[1] + j) * lay_.extent[0] + i;
+    for (int d = 0; d < 3; ++d) F[d] += extra_[3 * c + d];
   }
 
   // Cells of a row with a momentum source: one at a time, each with its force.
@@ -493,8 +499,7 @@ class Core final : public LbmCore {
   void open_cell(long i, long j, long k) {
     double F[3], Fc[3];
     force_at(i, j, k, F);
-    const long c = (k * lay_.extent[1] + j) * lay_.extent[0] + i;
-    for (int d = 0; d < 3; ++d) Fc[d] = s_.force[d] + (src_.empty() ? 0.0 : src_[3 * c + d]);
+    drive_at(i, j, k, Fc);
     const long x = idx(i, j, k);
     double f[L::Q];
     for (int q = 0; q < L::Q; ++q) f[q] = pop_.f[q * lay_.stride + x - off_[q]];

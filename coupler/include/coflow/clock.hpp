@@ -3,6 +3,7 @@
 // or a checkpoint. docs/protocol.md §2.
 #pragma once
 
+#include <cmath>
 #include <string>
 
 #include "coflow/run_config.hpp"
@@ -17,6 +18,14 @@ namespace coflow::coupler {
 // at the first window end past each multiple, at most one window late). A
 // step that already makes `every` in a whole number, to 1e-6, is kept.
 double output_window(double step, const config::Config& cfg);
+
+// The whole intervals a time x (in intervals) has reached: a window end
+// within 1e-6 of an interval short of a multiple reaches it (output_window
+// keeps a step that makes the interval in a whole number to 1e-6).
+inline constexpr double kReach = 1e-6;
+inline double multiples_reached(double x) {
+  return std::floor(x + kReach);
+}
 
 // The most windows a run may have: their count and each window's number
 // stay exact in a double and far inside a long.

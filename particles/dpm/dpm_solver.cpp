@@ -303,10 +303,13 @@ void DpmSolver::apply_events() {
       const dpm::Restitution* law = nullptr;
       dpm::wall_contact(e.b, at(p_.x, e.i), u_[e.i], e.t, D_[e.i], s_, nrm, point, law);
       const V3 before = moved_[e.i].v;
-      if (dpm::collide_wall(moved_[e.i].v, moved_[e.i].w, D_[e.i], nrm, *law)) {  // only applied impulses count
-        events_.impact(time_ + e.t, e.a, -1 - e.b, point, nrm, before);
-        ++wall_collisions_;
+      if (dpm::collide_wall(moved_[e.i].v, moved_[e.i].w, D_[e.i], nrm,
+                            *law)) {  // only applied impulses count
         wall_impulse_.add(dpm::wall_slot(e.b), V3(-p_.mass[e.i] * (moved_[e.i].v - before)));
+        if (!dpm::mirror_event(e.b, s_)) {  // a symmetry face's mirror is no wall collision
+          events_.impact(time_ + e.t, e.a, -1 - e.b, point, nrm, before);
+          ++wall_collisions_;
+        }
       }
       hit_[e.i] = e.t;
       continue;

@@ -280,6 +280,13 @@ inline std::size_t wall_slot(std::int64_t b) {
   return key < 6 ? static_cast<std::size_t>(key) : 6 + static_cast<std::size_t>((key - 6) >> 24);
 }
 
+// Whether a wall event (b < 0) is a symmetry face's mirror: the particle is
+// reflected, but no wall is hit (no wall collision, impact or wall load).
+inline bool mirror_event(std::int64_t b, const DpmSetup& s) {
+  const std::int64_t key = -1 - b;
+  return key < 6 && s.faces[static_cast<std::size_t>(key)] == Face::symmetry;
+}
+
 // The wall of a wall event (b < 0): unit normal from the particle into the
 // wall at contact, the contact point and the coefficients. x, u: the particle's
 // position at the step's start and its trajectory velocity.

@@ -86,9 +86,11 @@ std::vector<double> DpmReference::collide(const std::vector<dpm::Event>& events,
       dpm::wall_contact(e.b, a.x, u[e.i], e.t, a.D, s_, n, point, law);
       const V3 before = next[e.i].v;
       if (dpm::collide_wall(next[e.i].v, next[e.i].w, a.D, n, *law)) {  // only applied impulses count
-        events_.impact(time_ + e.t, a.id, -1 - e.b, point, n, before);
-        ++wall_collisions_;
         wall_impulse_.add(dpm::wall_slot(e.b), V3(-a.m * (next[e.i].v - before)));
+        if (!dpm::mirror_event(e.b, s_)) {  // a symmetry face's mirror is no wall collision
+          events_.impact(time_ + e.t, a.id, -1 - e.b, point, n, before);
+          ++wall_collisions_;
+        }
       }
       hit[e.i] = e.t;
       continue;

@@ -1,7 +1,27 @@
 // coflow-check: soft-sphere DEM: two-sphere impact and gravity pour.
+#include <filesystem>
+
 #include "../check/check.hpp"
 
 namespace coflow::check {
+
+// dpm's wall impacts (events/impacts.csv) against the series' wall
+// collisions: the same count, and none at a symmetry face (a mirror).
+static void impacts(const std::string& dir, const config::Config& cfg,
+                    const std::vector<std::vector<double>>& p) {
+  const char* faces[] = {"x-", "x+", "y-", "y+", "z-", "z+"};
+  const YAML::Node b = cfg.resolved["particles"]["boundaries"];
+  double counted = 0.0;
+  for (std::size_t r = 1; r < p.size(); ++r) counted += p[r][7];
+  const auto rows = read_series(dir + "/events/impacts.csv");
+  long mirrors = 0;
+  for (const auto& row : rows) {
+    const int wall = static_cast<int>(row[2]);
+    if (wall >= 0 && wall < 6 && b && b[faces[wall]] && b[faces[wall]].Scalar() == "symmetry") ++mirrors;
+  }
+  std::printf("impacts=%zu\nimpacts_vs_wall_collisions=%.1f\nmirror_impacts=%ld\n", rows.size(),
+              std::abs(static_cast<double>(rows.size()) - counted), mirrors);
+}
 
 // Grains of one species in a closed box under gravity, no fluid: between two
 // series rows the particles' momentum changes by M g dt minus the impulse they
@@ -29,6 +49,7 @@ int walls(const std::string& dir) {
     }
   }
   std::printf("momentum_balance=%.6e\n", worst);
+  if (std::filesystem::exists(dir + "/events/impacts.csv")) impacts(dir, cfg, p);
   return 0;
 }
 

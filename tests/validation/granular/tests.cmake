@@ -35,3 +35,8 @@ coflow_validation(particles_walls_dem_reference walls particles_box_walls.yaml 1
 coflow_validation(particles_walls_dem_4_ranks walls particles_box_walls.yaml 1 --set particles.ranks=4)
 coflow_validation(particles_walls_dpm walls particles_box_walls_dpm.yaml 1)
 coflow_validation(particles_walls_dpm_reference walls particles_box_walls_dpm.yaml 1 --set particles.solver=dpm-reference)
+# The x+ face a symmetry plane: its reflections are mirrors, no wall impacts.
+coflow_validation(particles_walls_dpm_symmetry walls particles_box_walls_dpm.yaml 1
+  --set particles.boundaries.x+=symmetry --set run.output.collision_events=true)
+coflow_validation(particles_walls_dpm_symmetry_reference walls particles_box_walls_dpm.yaml 1
+  --set particles.boundaries.x+=symmetry --set run.output.collision_events=true --set particles.solver=dpm-reference)

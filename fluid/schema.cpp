@@ -329,6 +329,24 @@ static void check_lbm_window(config::Visitor& v, const config::Config& cfg, cons
                      config::number(lp.tau), config::number(k * dt)));
 }
 
+// Two fluids on lbm: the blue fluid's relaxation time, 0.5 + 3 nu_blue dt /
+// dx^2 as the fluid computes it, must exceed 1/2 as fluid.lbm.tau must (at
+// 1/2 the harmonic mean of the two viscosities divides by zero).
+static void check_lbm_blue_tau(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
+  if (variant.rfind("lbm", 0) != 0 || !config::resolved_node(cfg, "fluid.two_phase").IsMap()) return;
+  const double nu = config::resolved_node(cfg, "fluid.viscosity").as<double>();
+  const YAML::Node b = config::resolved_node(cfg, "fluid.two_phase.viscosity_blue");
+  const double nu_b = b && b.as<double>() > 0.0 ? b.as<double>() : nu;
+  const auto lp = config::read_section<lbm::LbmParams>(cfg, "fluid.lbm", "fluid.lbm");
+  const double dx = cfg.domain.spacing()[0], dt = lbm::Units::from(dx, nu, 1.0, lp.tau).dt;
+  const double tau_b = 0.5 + 3.0 * nu_b * dt / (dx * dx);
+  if (tau_b > 0.5) return;
+  v.fail("fluid.two_phase.viscosity_blue",
+         fmt::format("{} m^2/s gives the blue fluid a relaxation time of {} (1/2 + (fluid.lbm.tau - 1/2) "
+                     "viscosity_blue / viscosity); it must exceed 1/2: raise viscosity_blue or fluid.lbm.tau",
+                     config::number(nu_b), config::number(tau_b)));
+}
+
 // The lattice Boltzmann fluids' immersed-boundary forcing reads and forces fluid cells only: its
 // stencils must not reach into interior solids, so the two do not run together.
 static void check_lbm_solids(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
@@ -360,6 +378,7 @@ static void check(config::Visitor& v, const config::Config& cfg, const std::stri
   check_wall_functions(v, cfg);
   check_refinement(v, cfg, variant);
   check_lbm_window(v, cfg, variant);
+  check_lbm_blue_tau(v, cfg, variant);
   check_lbm_solids(v, cfg, variant);
 }
 

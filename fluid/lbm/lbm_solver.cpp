@@ -790,11 +790,13 @@ std::vector<output::GridField> LbmSolver::fields(const config::StringList& names
 }
 
 Diagnostics LbmSolver::diagnostics() {
-  std::vector<double> u, rho;
+  std::vector<double> u, rho, solid;
   core_->macroscopic(u, rho);
+  const bool solids = core_->solid_mask(solid);  // interior solids hold no fluid
   const double vol = std::pow(s_.units.dx, 3), cu = s_.units.velocity();
   double local[5] = {0, 0, 0, 0, 0}, umax = 0.0;
   for (std::size_t c = 0; c < rho.size(); ++c) {
+    if (solids && solid[c] > 0.0) continue;
     const double rho_m = s_.incompressible ? 1.0 : rho[c];
     const double m = rho_m * s_.units.rho * vol;
     local[0] += rho[c] * s_.units.rho * vol;

@@ -461,6 +461,7 @@ Diagnostics LbmReference::diagnostics() {
   const double vol = std::pow(s_.units.dx, 3), cu = s_.units.velocity();
   double umax = 0.0;
   for (long c = 0; c < n_[0] * n_[1] * n_[2]; ++c) {
+    if (colours() && solid_id_[c]) continue;  // interior solids hold no fluid
     double rho, u[3];
     moments(c, rho, u);
     const double rho_m = s_.incompressible ? 1.0 : rho;

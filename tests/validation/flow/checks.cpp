@@ -128,8 +128,8 @@ int probes(const std::string& dir) {
 // - x_c) in the fluid, x_c the fluid's centroid along x (the box's mass, and so
 // its mean pressure, is conserved at the initial 0). The pressure drop's two
 // plane means against that (each relative to f times the planes' distance),
-// and the largest speed relative to the Poiseuille scale f H^2 / (8 mu) of the
-// box's height (0 at rest).
+// the largest speed relative to the Poiseuille scale f H^2 / (8 mu) of the
+// box's height (0 at rest), and the mass of fluid.csv against rho V_fluid.
 int hydrostatic(const std::string& dir) {
   const auto cfg = load(dir);
   const auto fp = fluid_params(cfg);
@@ -159,6 +159,9 @@ int hydrostatic(const std::string& dir) {
   std::printf("plane_pressure_error=%.6e\n",
               std::isnan(e_from) || std::isnan(e_to) ? NAN : std::max(e_from, e_to));
   std::printf("rest_speed=%.6e\n", umax / (std::abs(f) * H * H / (8 * fp.density * fp.viscosity)));
+  // The closed box keeps its fluid's mass, rho V_fluid (the solid holds none).
+  const double mass = fp.density * fluid * h[0] * h[1] * h[2];
+  std::printf("mass_error=%.6e\n", std::abs(LastRow(dir + "/series/fluid.csv")("mass") - mass) / mass);
   return 0;
 }
 

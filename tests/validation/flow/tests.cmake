@@ -109,6 +109,8 @@ coflow_validation(lbm_poiseuille_pressure_force profile lbm_poiseuille_2d_pressu
 coflow_validation(lbm_pressure_drop_solids hydrostatic lbm_hydrostatic_solid.yaml 1)
 coflow_validation(lbm_pressure_drop_solids_2_ranks hydrostatic lbm_hydrostatic_solid.yaml 2
   --set fluid.ranks=2 --set "fluid.decomposition=[2,1,1]")
+coflow_validation(lbm_pressure_drop_solids_reference hydrostatic lbm_hydrostatic_solid.yaml 1
+  --set fluid.solver=lbm-reference)
 # docs/tutorial.md, step 1: the developing plane channel against Poiseuille.
 coflow_validation(tutorial_channel channel ../tutorial/1_channel.yaml 1)
 # The fluid's force on its walls (series/fluid_walls.csv): the momentum balance

@@ -63,6 +63,13 @@ class FluidWindows final : public coupler::WindowParts {
     point_ = s.has_partner("immersed") && config::point_coupling(cfg_);
     ibm_ = s.has_partner("immersed") && cfg_.component("immersed").variant == "ibm";
     if (psm_ || point_) open_exchanges();
+    // A window given within 1e-6 of a whole number of steps (whole_steps):
+    // the source, the particles' impulse over the window, is applied for
+    // per_window steps of dt, so it takes window / (per_window dt) and the
+    // momentum they exchange stays equal and opposite.
+    const double dt = solver_->time_step();
+    if (dt > 0 && std::abs(s.window() - per_window * dt) > 1e-12 * s.window())
+      source_scale_ = s.window() / (static_cast<double>(per_window) * dt);
   }
 
   void start(long w0) override {
@@ -137,6 +144,7 @@ class FluidWindows final : public coupler::WindowParts {
   const config::Config& cfg_;
   std::unique_ptr<FluidSolver> solver_;
   long per_window_;
+  double source_scale_ = 1.0;  // the window over the time its steps make (1 to 1e-12)
   coupler::Box owned_;
   bool psm_ = false, point_ = false, ibm_ = false;
   std::vector<double> markers_;  // ibm: the last marker message
@@ -277,7 +285,7 @@ void FluidWindows::receive_source() {
     for (long j = o.lo[1]; j < o.hi[1]; ++j)
       for (long i = o.lo[0]; i < o.hi[0]; ++i, ++c) {
         const long l = source_in_->local_index({i, j, k});
-        for (int d = 0; d < 3; ++d) source_owned_[3 * c + d] = source_local_[3 * l + d];
+        for (int d = 0; d < 3; ++d) source_owned_[3 * c + d] = source_local_[3 * l + d] * source_scale_;
       }
   solver_->set_source(source_owned_);
 }

@@ -46,6 +46,7 @@ struct DummyParams {
   int fail_at_window = 0;  // throw at this window (0: never)
   int kill_at_window = 0;  // SIGKILL itself at this window
   int hang_at_window = 0;  // stop answering at this window
+  int nan_at_window = 0;   // particles: send a position that is not finite at this window
   int fail_rank = 0;       // which rank of the component misbehaves
   void visit(config::Visitor& v) {
     v("step", step, "fluid: natural step, s", config::positive());
@@ -53,6 +54,8 @@ struct DummyParams {
     v("fail_at_window", fail_at_window, "throw an error at this window (0: never)", config::non_negative());
     v("kill_at_window", kill_at_window, "SIGKILL one rank at this window (0: never)", config::non_negative());
     v("hang_at_window", hang_at_window, "stop answering at this window (0: never)", config::non_negative());
+    v("nan_at_window", nan_at_window,
+      "particles: send a point whose position is NaN at this window (0: never)", config::non_negative());
     v("fail_rank", fail_rank, "the rank that misbehaves", config::non_negative());
   }
 };
@@ -498,6 +501,7 @@ void run_particles(coupler::Session& s, const DummyParams& p) {
       }
       std::memcpy(records.data() + i * sizeof r, &r, sizeof r);
     }
+    if (p.nan_at_window == w && s.rank() == p.fail_rank && p.points > 0) pos[0][1] = std::nan("");
     ex.send(records, pos);
     ex.receive_results(results, add_result);
     for (long i = 0; i < p.points; ++i) {

@@ -1,13 +1,14 @@
 #include "coflow/exchange.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <climits>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
 
-#include <fmt/format.h>
-
+#include "coflow/session.hpp"
 #include "coflow/trace.hpp"
 #include "coflow/wait.hpp"
 
@@ -548,6 +549,14 @@ void PointExchange::send(std::span<const std::byte> records,
   const auto shifts = dest_.image_shifts();
   std::vector<int> extra;  // reused per record
   for (std::size_t n = 0; n < positions.size(); ++n) {
+    const auto& x = positions[n];
+    // A position that is not finite has no cell (its cast to a cell index is
+    // undefined): the run stops, here where it is sent.
+    if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+      throw SolverError(
+          fmt::format("point exchange: record {} of this rank has a position that is not finite "
+                      "({}, {}, {})",
+                      n, x[0], x[1], x[2]));
     Index3 c{};
     for (int d = 0; d < 3; ++d) {
       long i = static_cast<long>(std::floor((positions[n][d] - lower_[d]) / spacing_[d]));

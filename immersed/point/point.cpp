@@ -47,6 +47,7 @@ class PointWindows final : public coupler::WindowParts {
   double derivative(const Index3& g, int comp, int axis) const;
   void vorticity(const Index3& g, double* w) const;
   protocol::FluidAtParticle sample(const protocol::ParticleRecord& r) const;
+  void check_impulses(long w, std::size_t m);
 
   static constexpr int C = 5;  // u[3], k, epsilon
   coupler::Session& s_;
@@ -117,8 +118,11 @@ void PointWindows::vorticity(const Index3& g, double* w) const {
   w[2] = derivative(g, 1, 0) - derivative(g, 0, 1);
 }
 
+// The velocity and vorticity are linear up to the faces (extrapolated in the
+// half cell next to a face); k and epsilon take the clamped stencil, whose
+// weights are never negative, so that they stay positive.
 protocol::FluidAtParticle PointWindows::sample(const protocol::ParticleRecord& r) const {
-  const Stencil st = stencil(r.x, dom_, h_);
+  const Stencil st = stencil(r.x, dom_, h_, true), kept = stencil(r.x, dom_, h_);
   protocol::FluidAtParticle f{};
   for (int c = 0; c < 8; ++c) {
     double om[3];
@@ -127,8 +131,8 @@ protocol::FluidAtParticle PointWindows::sample(const protocol::ParticleRecord& r
       f.u[d] += st.weight[c] * value(st.cell[c], d);
       f.vorticity[d] += st.weight[c] * om[d];
     }
-    f.k += st.weight[c] * value(st.cell[c], 3);
-    f.epsilon += st.weight[c] * value(st.cell[c], 4);
+    f.k += kept.weight[c] * value(kept.cell[c], 3);
+    f.epsilon += kept.weight[c] * value(kept.cell[c], 4);
   }
   f.rho = rho_;
   f.mu = mu_;
@@ -149,6 +153,22 @@ void PointWindows::before_step(long) {
   states_.send_results(results_);
 }
 
+// The m impulses received: each finite (one-way runs too, whose series
+// would take a NaN), collectively, naming the particle.
+void PointWindows::check_impulses(long w, std::size_t m) {
+  std::vector<double> impulse(3 * m);
+  std::vector<std::int64_t> ids(m);
+  for (std::size_t p = 0; p < m; ++p) {
+    protocol::ParticleImpulse r;
+    std::memcpy(&r, records_.data() + p * sizeof r, sizeof r);
+    std::copy(r.impulse, r.impulse + 3, impulse.begin() + 3 * static_cast<long>(p));
+    ids[p] = r.id;
+  }
+  coupler::check_finite(s_.comm(),
+                        {"immersed (point)", "particle", "its impulse is not finite: see the particles' log"},
+                        w, w * s_.window(), {{"impulse", impulse}}, 3, ids);
+}
+
 void PointWindows::after_step(long w) {
   impulses_.receive(records_, owned_flags_);
   const std::size_t m = owned_flags_.size();
@@ -156,6 +176,7 @@ void PointWindows::after_step(long w) {
   source_out_.flush();  // the previous window's message may still read source_
   std::fill(source_.begin(), source_.end(), 0.0);
   std::fill(total_, total_ + 3, 0.0);
+  check_impulses(w, m);
   for (std::size_t p = 0; p < m; ++p) {
     protocol::ParticleImpulse r;
     std::memcpy(&r, records_.data() + p * sizeof r, sizeof r);

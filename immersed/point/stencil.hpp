@@ -13,9 +13,9 @@ namespace coflow::immersed {
 
 // The 8 cells around a point and their trilinear weights (cell centres at
 // lower + (i + 1/2) h, h per axis). Non-periodic axes clamp to the domain, so
-// that a point between the last centre and a wall takes that cell's value
-// (interpolation) and gives it the whole weight (spreading stays
-// conservative). On periodic axes the indices may be -1 or n (the exchange
+// that a point between the last centre and a face gives that cell the whole
+// weight (spreading stays conservative); see `extrapolate` for
+// interpolation. On periodic axes the indices may be -1 or n (the exchange
 // wraps them), taken from the cell the point exchange routes the point to
 // (its floor, wrapped), so that they lie in that rank's ghost layer. An axis
 // of one cell gives that cell the whole weight.
@@ -24,7 +24,14 @@ struct Stencil {
   double weight[8];
 };
 
-inline Stencil stencil(const double* x, const config::DomainParams& dom, const config::Vec3& h) {
+//
+// extrapolate (interpolation only): on a non-periodic axis a point between a
+// face and the first or last cell centre takes the line through the two
+// nearest centres (a weight outside [0, 1]), so that interpolation stays
+// exact for linear fields up to the face; the weights still add up to one.
+// Spreading keeps the clamped stencil, whose weights are never negative.
+inline Stencil stencil(const double* x, const config::DomainParams& dom, const config::Vec3& h,
+                       bool extrapolate = false) {
   long i0[3];
   double t[3];
   for (int d = 0; d < 3; ++d) {
@@ -36,6 +43,7 @@ inline Stencil stencil(const double* x, const config::DomainParams& dom, const c
     }
     s -= 0.5;
     i0[d] = n == 1 ? 0 : static_cast<long>(std::floor(s));
+    if (extrapolate && !dom.periodic[d] && n >= 2) i0[d] = std::clamp(i0[d], 0L, n - 2);
     t[d] = n == 1 ? 0.0 : s - static_cast<double>(i0[d]);
   }
   Stencil st;

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # fault.sh BIN_DIR CONFIG OUT COMPONENT MODE
-# MODE: fail (an exception), kill (SIGKILL of one rank), hang (a rank stops answering).
+# MODE: fail (an exception), kill (SIGKILL of one rank), hang (a rank stops answering),
+# nan (particles: a point sent with a NaN position; the point exchange stops the run).
 # The launcher must exit non-zero within 10 s, naming the component.
 set -u
 bin=$1 cfg=$2 out=$3 comp=$4 mode=$5
@@ -19,5 +20,9 @@ if [ "$mode" = hang ]; then
   grep -q "run failed in component" "$out.log" && grep -q "without an answer" "$out.log" || { echo "FAIL: no timeout message"; tail -n 20 "$out.log"; exit 1; }
 else
   grep -q "run failed in component '$comp'" "$out.log" || { echo "FAIL: component '$comp' not named"; tail -n 20 "$out.log"; exit 1; }
+fi
+if [ "$mode" = nan ]; then
+  grep -q "point exchange: record 0 of this rank has a position that is not finite (.*, nan, " "$out.log" ||
+    { echo "FAIL: no message on the position"; tail -n 20 "$out.log"; exit 1; }
 fi
 grep -q '"status": "failed"' "$out/summary.json" || { echo "FAIL: summary.json does not say failed"; exit 1; }

@@ -43,6 +43,38 @@ TEST_CASE("trilinear interpolation reproduces a linear field exactly", "[immerse
   }
 }
 
+TEST_CASE("interpolation stays exact for a linear field up to the faces (extrapolate)", "[immersed][point]") {
+  // Within half a cell of a face the clamped stencil gives the first cell's
+  // value (u = S y at y = h/4 read S h/2); the extrapolating one follows the
+  // line through the two nearest centres, and stays inside the domain.
+  const auto d = box(false);
+  const double h = 0.1;
+  auto field = [](double x, double y, double z) { return 1.5 - 2.0 * x + 0.25 * y + 3.0 * z; };
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> near(0.0, 0.05), any(0.0, 1.0);
+  double clamped_worst = 0.0;
+  for (int n = 0; n < 1000; ++n) {
+    double x[3] = {any(rng), any(rng), any(rng)};
+    const int axis = n % 3;
+    x[axis] = n % 2 ? near(rng) : 1.0 - near(rng);  // between a face and the nearest centre
+    const immersed::Stencil st = immersed::stencil(x, d, {h, h, h}, true);
+    const immersed::Stencil cl = immersed::stencil(x, d, {h, h, h});
+    double value = 0.0, clamped = 0.0, wsum = 0.0;
+    for (int c = 0; c < 8; ++c) {
+      const auto& i = st.cell[c];
+      const auto& j = cl.cell[c];
+      for (int a = 0; a < 3; ++a) CHECK((i[a] >= 0 && i[a] <= 9));
+      value += st.weight[c] * field((i[0] + 0.5) * h, (i[1] + 0.5) * h, (i[2] + 0.5) * h);
+      clamped += cl.weight[c] * field((j[0] + 0.5) * h, (j[1] + 0.5) * h, (j[2] + 0.5) * h);
+      wsum += st.weight[c];
+    }
+    CHECK(std::abs(value - field(x[0], x[1], x[2])) < 1e-13);
+    CHECK(std::abs(wsum - 1.0) < 1e-14);
+    clamped_worst = std::max(clamped_worst, std::abs(clamped - field(x[0], x[1], x[2])));
+  }
+  CHECK(clamped_worst > 0.01);  // the clamped stencil is not exact there (so the case tests something)
+}
+
 TEST_CASE("spreading conserves: weights add up to one, also against walls and across periodic faces",
           "[immersed][point]") {
   for (bool periodic : {false, true}) {

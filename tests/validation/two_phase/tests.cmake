@@ -40,6 +40,9 @@ coflow_validation(two_phase_vs_reference_seed compare two_phase_crosscheck_3d.ya
   "fluid.solver=lbm-reference fluid.two_phase.wetting=seed fluid.lbm.collision=bgk")
 coflow_validation(two_phase_ranks_1_vs_4 compare two_phase_crosscheck_3d.yaml 2
   "fluid.ranks=1" "fluid.ranks=4 fluid.decomposition=[2,2,1]")
+# The same with the cuts along z (the solid box spans them).
+coflow_validation(two_phase_grains_ranks_1_vs_4_z compare two_phase_grains_crosscheck.yaml 2
+  "fluid.ranks=1" "fluid.ranks=4 fluid.decomposition=[1,1,4]")
 # Each colour's mass over 10^4 steps (in the 3D crosscheck case).
 coflow_validation(two_phase_colour_mass colour_mass two_phase_crosscheck_3d.yaml 1
   --set run.end_time=1000.0 --set run.output.every=1000.0)

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -10,6 +11,7 @@
 #include <unordered_map>
 
 #include "coflow/gather.hpp"
+#include "coflow/log.hpp"
 #include "coflow/protocol.hpp"
 
 namespace coflow::particles {
@@ -207,6 +209,30 @@ void ImmersedLink::send_impulses() {
     std::memcpy(impulse_records_.data() + i * sizeof rec, &rec, sizeof rec);
   }
   impulse_out_->send(impulse_records_, positions_);
+  check_crossing();
+}
+
+// The point method samples the fluid at a particle once a window, at its
+// start position, and spreads the impulse at its end position: a particle
+// that crosses more than a cell in a window sees stale fluid and gives its
+// momentum off its path. Said once, from the fastest particle (collective).
+void ImmersedLink::check_crossing() {
+  if (warned_fast_) return;
+  const ParticleArrays& p = solver_.particles();
+  double vmax = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    vmax = std::max(vmax, std::hypot(p.v[3 * i], p.v[3 * i + 1], p.v[3 * i + 2]));
+  MPI_Allreduce(MPI_IN_PLACE, &vmax, 1, MPI_DOUBLE, MPI_MAX, s_.comm());
+  const auto h = s_.config().domain.spacing();
+  const double hmin = std::min({h[0], h[1], h[2]}), cells = vmax * s_.window() / hmin;
+  if (!(cells > 1.0)) return;
+  warned_fast_ = true;
+  if (s_.rank() == 0)
+    log::warn(
+        "particles cross up to {:.3g} fluid cells in one coupling window ({:.3g} m/s): the point method "
+        "samples the fluid once a window at a particle's start and spreads its impulse at its end; a "
+        "coupling.window of at most {:.3g} s keeps them within a cell",
+        cells, vmax, hmin / vmax);
 }
 
 }  // namespace coflow::particles

@@ -48,6 +48,8 @@ class ImmersedLink {
   ParticleSolver& solver_;
   std::vector<double> contact_angle_;  // per species, degrees (-1: the fluid's)
   bool point_ = false, lagged_ = false;
+  bool warned_fast_ = false;  // point: the warning on particles crossing cells in a window was given
+  void check_crossing();
   bool ahead_ = false;  // lagged: this window's states went out after the last one's sub-steps
   std::unique_ptr<coupler::PointExchange> to_immersed_[2], impulse_out_;
   std::vector<std::byte> records_, loads_, fluid_bytes_, impulse_records_;

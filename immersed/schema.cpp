@@ -77,6 +77,13 @@ config::ComponentSchema schema() {
         v.fail(e.params_section, fmt::format("only used with method: {} (this run uses method: {})", e.name,
                                              info.variant));
     }
+    // psm covers cells with spheres: a grid one cell deep would fold every
+    // layer of a sphere into that cell, while its buoyancy and mass stay a
+    // sphere's.
+    if (v.reading() && info.variant == "psm" && cfg.domain.cells[2] == 1)
+      v.fail("method",
+             "psm resolves spheres in three dimensions, and this grid is one cell deep "
+             "(domain.cells[2] = 1): give the fluid cells along z (D3Q19), or use method: point");
   };
   return s;
 }

@@ -157,6 +157,21 @@ int rotation(const std::string& dir) {
   const double early = sum[0] / n[0], late = sum[1] / n[1], ratio = (sum[0] + sum[1]) / (n[0] + n[1]);
   std::printf("rows=%d\ntorque_ratio=%.4f\ntorque_error=%.4e\ntorque_drift=%.4e\n", n[0] + n[1], ratio,
               std::abs(ratio - 1.0), std::abs(late / early - 1.0));
+  // The torque's direction: against the spin (T . Omega < 0) and along its
+  // axis; the net force on the spinning sphere vanishes, so a lever taken from
+  // the wrong point would show as torque off the axis. Over the last 0.5 s.
+  const auto w = output::read_dataset(last_snapshot(dir, "particles"), "angular_velocity");
+  const double wn = std::hypot(w[0], w[1], w[2]);
+  double worst_along = -1e300, worst_off = 0.0;
+  for (const auto& r : im) {
+    if (r[0] < t_end - 0.5) continue;
+    const double t[3] = {r[4], r[5], r[6]}, tn = std::hypot(t[0], t[1], t[2]);
+    const double along = (t[0] * w[0] + t[1] * w[1] + t[2] * w[2]) / (tn * wn);  // -1: against the spin
+    worst_along = std::isnan(along) ? along : std::max(worst_along, along);
+    const double off = std::sqrt(std::max(0.0, 1.0 - along * along));
+    worst_off = std::isnan(off) ? off : std::max(worst_off, off);
+  }
+  std::printf("torque_against_spin=%.6e\ntorque_off_axis=%.6e\n", 1.0 + worst_along, worst_off);
   return 0;
 }
 

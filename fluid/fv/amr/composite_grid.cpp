@@ -42,6 +42,8 @@ long CompositeGrid::slot(long id) const {
 }
 
 bool CompositeGrid::locate(std::array<double, 3> x, long* local) const {
+  for (int d = 0; d < dims_; ++d)
+    if (!std::isfinite(x[d])) return false;  // no cell (its index would be undefined)
   for (int level = forest_.spec().max_level; level >= 0; --level) {
     const double h = spacing(level);
     Index3 index{0, 0, 0};

@@ -39,7 +39,7 @@ LevelMesh level_mesh(const CompositeGrid& g, int level, const std::vector<Compos
     const auto x = g.centre(cell);
     for (int k = 0; k < corners; ++k)
       for (int d = 0; d < 3; ++d)
-        m.nodes.push_back(d < g.dims() ? x[static_cast<std::size_t>(d)] + (corner[k][d] - 0.5) * h : 0.0);
+        m.nodes.push_back(x[static_cast<std::size_t>(d)] + (d < g.dims() ? (corner[k][d] - 0.5) * h : 0.0));
     const auto data = forest.data(static_cast<std::size_t>(c / g.cells_per_patch()));
     const std::size_t base = static_cast<std::size_t>(c % g.cells_per_patch()) * nc;
     for (std::size_t f = 0; f < fields.size(); ++f)

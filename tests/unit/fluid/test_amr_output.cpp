@@ -35,7 +35,8 @@ void write_and_read(int dims, int levels) {
   s.components = 2;
   s.refine = [](int level, const Index3& p) { return p[0] == 0 && p[1] < (1 << level); };
   Forest forest(MPI_COMM_WORLD, s);
-  const CompositeGrid g(forest, {{0.0, 0.0, 0.0}, 0.5});
+  // A 2D grid sits at its domain's z (here 0.3), as the uniform snapshots do.
+  const CompositeGrid g(forest, {{0.0, 0.0, dims == 2 ? 0.3 : 0.0}, 0.5});
   for (long c = 0; c < g.local_cells(); ++c) {
     auto v = forest.data(static_cast<std::size_t>(c / g.cells_per_patch()));
     v[static_cast<std::size_t>(c % g.cells_per_patch()) * 2 + 1] = field(g.centre(g.local_cell(c)));
@@ -90,4 +91,19 @@ void write_and_read(int dims, int levels) {
 TEST_CASE("amr output: every level's cells once, with their values", "[amr][mpi][amr_output]") {
   write_and_read(2, 2);
   write_and_read(3, 3);
+}
+
+TEST_CASE("amr grid: a point that is not finite lies in no cell", "[amr][mpi][amr_output]") {
+  ForestSpec s;
+  s.dims = 2;
+  s.trees = {2, 2, 1};
+  s.max_level = 0;
+  s.patch = 4;
+  s.components = 1;
+  Forest forest(MPI_COMM_WORLD, s);
+  const CompositeGrid g(forest, {{0.0, 0.0, 0.0}, 0.5});
+  long c = -1;
+  CHECK_FALSE(g.locate({std::nan(""), 0.5, 0.0}, &c));
+  CHECK_FALSE(g.locate({0.25, HUGE_VAL, 0.0}, &c));
+  CHECK(c == -1);
 }

@@ -412,17 +412,29 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
   std::vector<char*> cargv;
   for (const auto& a : argv) cargv.push_back(const_cast<char*>(a.c_str()));
   cargv.push_back(nullptr);
-  // The handlers come first: a Ctrl-C between the fork and them would end the
-  // launcher and leave the child running (forward_signal sends it on once
-  // g_child is known; one that came before is sent below).
+  // The handlers come first, with SIGINT and SIGTERM blocked over the fork
+  // and g_child's assignment: one sent meanwhile waits and is then forwarded
+  // (it would otherwise end the launcher and leave the child running). The
+  // child takes the default actions back, unblocked, before its exec.
+  sigset_t stop, old;
+  sigemptyset(&stop);
+  sigaddset(&stop, SIGINT);
+  sigaddset(&stop, SIGTERM);
   signal(SIGINT, forward_signal);
   signal(SIGTERM, forward_signal);
+  sigprocmask(SIG_BLOCK, &stop, &old);
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("fork failed");
   if (pid == 0) {
+    signal(SIGINT, SIG_DFL);
+    signal(SIGTERM, SIG_DFL);
+    sigprocmask(SIG_SETMASK, &old, nullptr);
     // Components read no input: mpirun would otherwise forward the terminal
     // to rank 0.
-    if (const int null = open("/dev/null", O_RDONLY); null >= 0) dup2(null, STDIN_FILENO);
+    if (const int null = open("/dev/null", O_RDONLY); null >= 0) {
+      dup2(null, STDIN_FILENO);
+      if (null != STDIN_FILENO) close(null);
+    }
     dup2(fds[1], STDOUT_FILENO);
     dup2(fds[1], STDERR_FILENO);
     close(fds[0]);
@@ -432,7 +444,7 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
     _exit(127);
   }
   g_child = pid;
-  if (g_interrupted) kill(pid, g_interrupted);
+  sigprocmask(SIG_SETMASK, &old, nullptr);  // a signal that waited is forwarded now
   close(fds[1]);
   Watch w{launch, progress, failure, {}};
   const double since = coflow::coupler::now();
@@ -807,6 +819,39 @@ int check_external(const Config& cfg, const std::string& cfg_path,
   return 0;
 }
 
+// srun's -o/--output and -e/--error (also attached, -ofile, or abbreviated,
+// --out=file) send the tasks' output to files, where the launcher sees
+// neither their start, their progress nor their failure: its start watchdog
+// would stop a healthy run after coupling.timeout. Under srun and sbatch such
+// mpi_args exit 2 before any rank starts (mpirun's --output-filename still
+// copies to the terminal; Open MPI 5's --output tag only marks lines).
+int check_srun_output(const Config& cfg, const std::string& cfg_path, const std::string& launcher) {
+  if (launcher == "mpirun") return 0;
+  const auto& args = cfg.run.launch.mpi_args;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    const std::string name = a.rfind("--", 0) == 0 ? a.substr(2, a.find('=') - 2) : "";
+    const bool long_form = name.size() >= 3 && (std::string("output").rfind(name, 0) == 0 ||
+                                                std::string("error").rfind(name, 0) == 0);
+    const bool short_form = a.size() >= 2 && a[0] == '-' && a[1] != '-' && (a[1] == 'o' || a[1] == 'e');
+    if (!long_form && !short_form) continue;
+    coflow::config::Problem p{
+        cfg_path, 0, 0, "run.launch.mpi_args",
+        fmt::format("'{}' sends the components' output to files under srun, where the "
+                    "launcher cannot read their start, progress and failures: remove it "
+                    "(each component's output is in <run.output.dir>/logs/)",
+                    a)};
+    try {  // where the file says it; a --set value has no place in the file
+      const YAML::Node n = YAML::LoadFile(cfg_path)["run"]["launch"]["mpi_args"][i];
+      if (n && n.Mark().line >= 0) p.line = n.Mark().line + 1, p.column = n.Mark().column + 1;
+    } catch (const std::exception&) {
+    }
+    std::fprintf(stderr, "%s\n", p.format().c_str());
+    return 2;
+  }
+  return 0;
+}
+
 // --launcher sbatch: the batch script (printed with --dry-run, else written
 // into the run directory and handed to sbatch, which prints the job id).
 int submit_batch(const Config& cfg, const Launch& launch, const RunOptions& o) {
@@ -838,6 +883,7 @@ int run(const Config& cfg, RunOptions o) {
   if (const int rc = read_exe_overrides(cfg, o.exes, exe_override); rc != 0) return rc;
   if (const int rc = coflow::launcher::resolve_restart(cfg, o.restart); rc != 0) return rc;
 
+  if (const int rc = check_srun_output(cfg, o.cfg_path, o.launcher); rc != 0) return rc;
   const Launch launch = plan(cfg, exe_override);
   const std::string dir = cfg.output_dir();
   const std::string resolved = dir + "/config.yaml";

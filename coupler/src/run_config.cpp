@@ -104,20 +104,7 @@ void LaunchParams::visit(Visitor& v) {
     one_of({"auto", "none", "core"}));
   v("mpi_args", mpi_args,
     "extra arguments for mpirun or srun, before the programs (e.g. [--mca, btl_tcp_if_include, eth0]); not "
-    "srun's --output or --error: the launcher reads the components' output");
-  if (v.reading()) {
-    // srun -o/--output and -e/--error send the tasks' output to files, where
-    // the launcher sees neither their start, their progress nor their failure
-    // (its start watchdog would stop a healthy run after coupling.timeout).
-    for (const auto& a : mpi_args)
-      for (const std::string opt : {"-o", "--output", "-e", "--error"})
-        if (a == opt || (opt.size() > 2 && a.rfind(opt + '=', 0) == 0))  // not -oversubscribe
-          v.fail("mpi_args",
-                 fmt::format("'{}' sends the components' output to files, where the launcher cannot "
-                             "read their start, progress and failures: remove it (each component's "
-                             "output is in <run.output.dir>/logs/)",
-                             a));
-  }
+    "srun's --output or --error (refused under srun and sbatch): the launcher reads the components' output");
 }
 
 void RunParams::visit(Visitor& v) {

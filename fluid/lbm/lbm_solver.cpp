@@ -176,7 +176,7 @@ class Core final : public LbmCore {
         r += f;
         for (int d = 0; d < 3; ++d) m[d] += L::e[q][d] * f;
       }
-      for (int d = 0; d < 3; ++d) F[d] = s_.force[d] + (src_.empty() ? 0.0 : src_[3 * c + d]);
+      drive_at(i, j, k, F);
       const double rho_m = Incompressible ? 1.0 : 1.0 + r;
       for (int d = 0; d < 3; ++d) u[3 * n + d] = (m[d] + 0.5 * F[d]) / rho_m;
       rho[n] = rho_m;
@@ -790,8 +790,9 @@ std::vector<output::GridField> LbmSolver::fields(const config::StringList& names
 }
 
 Diagnostics LbmSolver::diagnostics() {
-  std::vector<double> u, rho, solid;
+  std::vector<double> u, rho;
   core_->macroscopic(u, rho);
+  std::vector<double>& solid = out_solid_;
   const bool solids = core_->solid_mask(solid);  // interior solids hold no fluid
   const double vol = std::pow(s_.units.dx, 3), cu = s_.units.velocity();
   double local[5] = {0, 0, 0, 0, 0}, umax = 0.0;
@@ -819,7 +820,7 @@ Diagnostics LbmSolver::diagnostics() {
   d.max_mach = gmax / std::sqrt(lbm::cs2);
   if (s_.tp.on) {
     core_->phase(out_phase_);
-    core_->solid_mask(out_solid_);
+    if (!solids) out_solid_.assign(rho.size(), 0.0);
     d.extra = lbm::phase_values(s_.units, s_.cells, rho, u, out_phase_, out_solid_, comm_);
   }
   return d;

@@ -281,7 +281,8 @@ inline std::size_t wall_slot(std::int64_t b) {
 }
 
 // Whether a wall event (b < 0) is a symmetry face's mirror: the particle is
-// reflected, but no wall is hit (no wall collision, impact or wall load).
+// reflected, but no wall is hit (no wall collision, no impact; the momentum
+// it takes stays in the face's column of walls.csv, for the balance).
 inline bool mirror_event(std::int64_t b, const DpmSetup& s) {
   const std::int64_t key = -1 - b;
   return key < 6 && s.faces[static_cast<std::size_t>(key)] == Face::symmetry;

@@ -90,6 +90,21 @@ printf '%s\n' "$got" | grep -qx "5-5 $bin/coflow-particles out/coupler-dummies/c
 # 6 ranks in an allocation of two nodes of 4 CPUs: no --overcommit.
 got=$(SLURM_JOB_CPUS_PER_NODE='4(x2)' "$bin/coflow" run --dry-run --launcher srun "$cfg")
 printf '%s\n' "$got" | head -n 1 | grep -qx "srun --mpi=pmix --kill-on-bad-exit=1 --quit-on-interrupt -n 6 --multi-prog out/coupler-dummies/multi-prog.conf" || fail "srun line in 4(x2) CPUs: $got"
+# srun's --output/-o/--error/-e in run.launch.mpi_args (also --out=, -ofile):
+# the launcher would read no output; exit 2 under srun and sbatch, before any
+# rank starts, at the file's place. mpirun keeps them (its own options).
+for a in --output=ranks.txt --out=ranks.txt -ofile -e; do
+  msg=$("$bin/coflow" run --dry-run --launcher srun --set "run.launch.mpi_args=[--label, $a]" "$cfg" 2>&1); rc=$?
+  [ $rc -eq 2 ] || fail "srun with mpi_args $a: exit $rc, expected 2"
+  case "$msg" in *"run.launch.mpi_args: '$a' sends the components' output to files under srun"*) ;;
+    *) fail "srun with mpi_args $a: $msg" ;; esac
+done
+sed 's/^run:$/run:\n  launch: {mpi_args: [--label, --error=err.txt]}/' "$cfg" >srun_error.yaml
+msg=$("$bin/coflow" run --launcher sbatch --dry-run srun_error.yaml 2>&1); rc=$?
+[ $rc -eq 2 ] || fail "sbatch with mpi_args --error: exit $rc, expected 2"
+case "$msg" in "srun_error.yaml:6:32: run.launch.mpi_args: '--error=err.txt'"*) ;; *) fail "sbatch --error place: $msg" ;; esac
+"$bin/coflow" run --dry-run --set 'run.launch.mpi_args=[--output-filename, o]' "$cfg" >/dev/null ||
+  fail "mpirun with --output-filename refused"
 # srun splits a --multi-prog line at spaces and reads quotes and %: each
 # character outside [A-Za-z0-9_./=:,+@-] of a path goes behind a backslash.
 got=$(SLURM_JOB_CPUS_PER_NODE=8 "$bin/coflow" run --dry-run --launcher srun --set "run.output.dir=o u%t's" "$cfg")

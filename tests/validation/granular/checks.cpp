@@ -19,8 +19,23 @@ static void impacts(const std::string& dir, const config::Config& cfg,
     const int wall = static_cast<int>(row[2]);
     if (wall >= 0 && wall < 6 && b && b[faces[wall]] && b[faces[wall]].Scalar() == "symmetry") ++mirrors;
   }
-  std::printf("impacts=%zu\nimpacts_vs_wall_collisions=%.1f\nmirror_impacts=%ld\n", rows.size(),
-              std::abs(static_cast<double>(rows.size()) - counted), mirrors);
+  // The mirrors' momentum (their faces' columns of walls.csv, summed over the
+  // rows): nonzero where particles reached a symmetry face, so that
+  // mirror_impacts = 0 says something.
+  const auto w = read_series(dir + "/series/walls.csv");
+  std::ifstream in(dir + "/series/walls.csv");
+  std::string header;
+  std::getline(in, header);
+  double mirrored = 0.0;
+  std::stringstream names(header);
+  std::size_t col = 0;
+  for (std::string name; std::getline(names, name, ','); ++col)
+    for (int f = 0; f < 6; ++f)
+      if (b && b[faces[f]] && b[faces[f]].Scalar() == "symmetry" &&
+          name.rfind(std::string(faces[f]) + "_f", 0) == 0)
+        for (const auto& row : w) mirrored += std::abs(row[col]);
+  std::printf("impacts=%zu\nimpacts_vs_wall_collisions=%.1f\nmirror_impacts=%ld\nmirror_load=%.6e\n",
+              rows.size(), std::abs(static_cast<double>(rows.size()) - counted), mirrors, mirrored);
 }
 
 // Grains of one species in a closed box under gravity, no fluid: between two

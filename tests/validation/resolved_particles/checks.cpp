@@ -163,14 +163,20 @@ int rotation(const std::string& dir) {
   const auto w = output::read_dataset(last_snapshot(dir, "particles"), "angular_velocity");
   const double wn = std::hypot(w[0], w[1], w[2]);
   double worst_along = -1e300, worst_off = 0.0;
+  int used = 0;
   for (const auto& r : im) {
     if (r[0] < t_end - 0.5) continue;
     const double t[3] = {r[4], r[5], r[6]}, tn = std::hypot(t[0], t[1], t[2]);
     const double along = (t[0] * w[0] + t[1] * w[1] + t[2] * w[2]) / (tn * wn);  // -1: against the spin
     worst_along = std::isnan(along) ? along : std::max(worst_along, along);
-    const double off = std::sqrt(std::max(0.0, 1.0 - along * along));
+    // sin of the angle from |T x Omega| (1 - cos^2 loses its digits near 0).
+    const double off =
+        std::hypot(t[1] * w[2] - t[2] * w[1], t[2] * w[0] - t[0] * w[2], t[0] * w[1] - t[1] * w[0]) /
+        (tn * wn);
     worst_off = std::isnan(off) ? off : std::max(worst_off, off);
+    ++used;
   }
+  if (used == 0) throw std::runtime_error("no immersed.csv row in the last 0.5 s");
   std::printf("torque_against_spin=%.6e\ntorque_off_axis=%.6e\n", 1.0 + worst_along, worst_off);
   return 0;
 }

@@ -65,8 +65,10 @@ class FluidWindows final : public coupler::WindowParts {
     if (psm_ || point_) open_exchanges();
     // A window given within 1e-6 of a whole number of steps (whole_steps):
     // the source, the particles' impulse over the window, is applied for
-    // per_window steps of dt, so it takes window / (per_window dt) and the
-    // momentum they exchange stays equal and opposite.
+    // per_window steps of dt, so it takes window / (per_window dt); the psm
+    // force, the mean over those steps, which the particles apply over the
+    // window, takes the inverse. The momentum they exchange stays equal and
+    // opposite.
     const double dt = solver_->time_step();
     if (dt > 0 && std::abs(s.window() - per_window * dt) > 1e-12 * s.window())
       source_scale_ = s.window() / (static_cast<double>(per_window) * dt);
@@ -161,7 +163,9 @@ class FluidWindows final : public coupler::WindowParts {
 
 void FluidWindows::output(long w) {
   coupler::Timer t(coupler::trace().io_s);
-  const double time = solver_->time();
+  // The run's clock, as the other components write it (the solver's own time
+  // is n dt, which a window given within 1e-6 of n steps misses by as much).
+  const double time = static_cast<double>(w) * s_.window();
   if (s_.series_due(w)) {
     const Diagnostics d = solver_->diagnostics();
     if (s_.rank() == 0) write_series(series_, time, d);
@@ -255,6 +259,8 @@ void FluidWindows::receive_solids() {
 // the cell, in its order (a reply: no cell indices travel).
 void FluidWindows::send_solid_force() {
   solver_->take_solid_force(force_);
+  if (source_scale_ != 1.0)
+    for (double& f : force_) f /= source_scale_;
   solid_in_->reply_sparse(force_, 3);
 }
 

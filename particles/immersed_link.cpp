@@ -223,8 +223,12 @@ void ImmersedLink::check_crossing() {
   for (std::size_t i = 0; i < p.size(); ++i)
     vmax = std::max(vmax, std::hypot(p.v[3 * i], p.v[3 * i + 1], p.v[3 * i + 2]));
   MPI_Allreduce(MPI_IN_PLACE, &vmax, 1, MPI_DOUBLE, MPI_MAX, s_.comm());
-  const auto h = s_.config().domain.spacing();
-  const double hmin = std::min({h[0], h[1], h[2]}), cells = vmax * s_.window() / hmin;
+  const auto& dom = s_.config().domain;
+  const auto h = dom.spacing();
+  double hmin = 1e300;  // over the axes with more than one cell (a 2D grid's depth is no cell to cross)
+  for (int d = 0; d < 3; ++d)
+    if (dom.cells[d] > 1) hmin = std::min(hmin, h[d]);
+  const double cells = vmax * s_.window() / hmin;
   if (!(cells > 1.0)) return;
   warned_fast_ = true;
   if (s_.rank() == 0)

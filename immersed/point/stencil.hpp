@@ -45,6 +45,8 @@ inline Stencil stencil(const double* x, const config::DomainParams& dom, const c
     i0[d] = n == 1 ? 0 : static_cast<long>(std::floor(s));
     if (extrapolate && !dom.periodic[d] && n >= 2) i0[d] = std::clamp(i0[d], 0L, n - 2);
     t[d] = n == 1 ? 0.0 : s - static_cast<double>(i0[d]);
+    if (extrapolate)
+      t[d] = std::clamp(t[d], -0.5, 1.5);  // at most to the faces (a point outside stays there)
   }
   Stencil st;
   for (int c = 0; c < 8; ++c) {

@@ -42,8 +42,11 @@ long CompositeGrid::slot(long id) const {
 }
 
 bool CompositeGrid::locate(std::array<double, 3> x, long* local) const {
+  // Inside the domain's bounding range, or no cell (a point not finite, or
+  // far out, would give an index whose cast is undefined).
+  const double reach = spacing(0) * static_cast<double>(forest_.spec().patch) * (1L << 20);
   for (int d = 0; d < dims_; ++d)
-    if (!std::isfinite(x[d])) return false;  // no cell (its index would be undefined)
+    if (!(std::abs(x[d] - geometry_.origin[d]) < reach)) return false;
   for (int level = forest_.spec().max_level; level >= 0; --level) {
     const double h = spacing(level);
     Index3 index{0, 0, 0};

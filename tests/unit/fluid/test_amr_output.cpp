@@ -93,7 +93,7 @@ TEST_CASE("amr output: every level's cells once, with their values", "[amr][mpi]
   write_and_read(3, 3);
 }
 
-TEST_CASE("amr grid: a point that is not finite lies in no cell", "[amr][mpi][amr_output]") {
+TEST_CASE("amr grid: a point that is not finite, or far out, lies in no cell", "[amr][mpi][amr_output]") {
   ForestSpec s;
   s.dims = 2;
   s.trees = {2, 2, 1};
@@ -105,5 +105,6 @@ TEST_CASE("amr grid: a point that is not finite lies in no cell", "[amr][mpi][am
   long c = -1;
   CHECK_FALSE(g.locate({std::nan(""), 0.5, 0.0}, &c));
   CHECK_FALSE(g.locate({0.25, HUGE_VAL, 0.0}, &c));
+  CHECK_FALSE(g.locate({1e300, 0.5, 0.0}, &c));  // finite, but its index would not fit a long
   CHECK(c == -1);
 }

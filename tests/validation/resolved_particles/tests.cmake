@@ -4,6 +4,10 @@
 # Included from tests/CMakeLists.txt (validation/tests.cmake): test names,
 # working folders and ${vcfg} are those of tests/.
 coflow_validation(psm_momentum momentum psm_momentum.yaml 2)
+# A window 5e-7 longer than two lattice steps (accepted to 1e-6): the fluid's
+# mean force over its steps, applied by the particles over the window, is
+# scaled to it (momentum drift 4.5e-7 without).
+coflow_validation(psm_momentum_window_off_steps momentum psm_momentum.yaml 2 --set coupling.window=0.002000001)
 coflow_validation(psm_momentum_2_1_2 momentum psm_momentum.yaml 2 --set fluid.ranks=2 --set particles.ranks=2)
 coflow_validation(psm_layouts compare psm_momentum.yaml 2
   "fluid.ranks=1 immersed.ranks=1 particles.ranks=1" "fluid.ranks=2 immersed.ranks=2 particles.ranks=2")

@@ -108,8 +108,10 @@ void ParticleWindows::output(long w) {
                                                  {"force", 3, p.force}};
     std::vector<std::string> names;
     for (const auto& sp : params_.species) names.push_back(sp.first);
+    // The run's clock, as the series and the other components' snapshots (the
+    // solver's sum of sub-steps may differ from it in the last bits).
     output::write_points(s_.comm(), fmt::format("{}/{}", s_.component_dir(), s_.snapshot_file(w)),
-                         solver_->time(), w, p.size(), p.id, p.species, fields, names);
+                         static_cast<double>(w) * s_.window(), w, p.size(), p.id, p.species, fields, names);
     long count = static_cast<long>(p.size()), total = 0;
     MPI_Allreduce(&count, &total, 1, MPI_LONG, MPI_SUM, s_.comm());
     s_.snapshot_written(w, static_cast<std::size_t>(total),

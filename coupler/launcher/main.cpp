@@ -420,11 +420,16 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
   sigemptyset(&stop);
   sigaddset(&stop, SIGINT);
   sigaddset(&stop, SIGTERM);
+  sigprocmask(SIG_BLOCK, &stop, &old);
   signal(SIGINT, forward_signal);
   signal(SIGTERM, forward_signal);
-  sigprocmask(SIG_BLOCK, &stop, &old);
   const pid_t pid = fork();
-  if (pid < 0) throw std::runtime_error("fork failed");
+  if (pid < 0) {
+    sigprocmask(SIG_SETMASK, &old, nullptr);
+    close(fds[0]);
+    close(fds[1]);
+    throw std::runtime_error("fork failed");
+  }
   if (pid == 0) {
     signal(SIGINT, SIG_DFL);
     signal(SIGTERM, SIG_DFL);
@@ -831,7 +836,9 @@ int check_srun_output(const Config& cfg, const std::string& cfg_path, const std:
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     const std::string name = a.rfind("--", 0) == 0 ? a.substr(2, a.find('=') - 2) : "";
-    const bool long_form = name.size() >= 3 && (std::string("output").rfind(name, 0) == 0 ||
+    // srun takes any unambiguous prefix of a long option: --ou and --er are
+    // the shortest for --output and --error.
+    const bool long_form = name.size() >= 2 && (std::string("output").rfind(name, 0) == 0 ||
                                                 std::string("error").rfind(name, 0) == 0);
     const bool short_form = a.size() >= 2 && a[0] == '-' && a[1] != '-' && (a[1] == 'o' || a[1] == 'e');
     if (!long_form && !short_form) continue;
@@ -841,9 +848,10 @@ int check_srun_output(const Config& cfg, const std::string& cfg_path, const std:
                     "launcher cannot read their start, progress and failures: remove it "
                     "(each component's output is in <run.output.dir>/logs/)",
                     a)};
-    try {  // where the file says it; a --set value has no place in the file
+    try {  // where the file says it: its item, when it is this argument (a --set list replaces the file's)
       const YAML::Node n = YAML::LoadFile(cfg_path)["run"]["launch"]["mpi_args"][i];
-      if (n && n.Mark().line >= 0) p.line = n.Mark().line + 1, p.column = n.Mark().column + 1;
+      if (n && n.IsScalar() && n.Scalar() == a && n.Mark().line >= 0)
+        p.line = n.Mark().line + 1, p.column = n.Mark().column + 1;
     } catch (const std::exception&) {
     }
     std::fprintf(stderr, "%s\n", p.format().c_str());

@@ -18,7 +18,10 @@ void PsmParams::visit(config::Visitor& v) {
     "size distribution or crushing take the exact centre",
     config::in_range(0, 64));
   v("buoyancy", buoyancy,
-    "add the buoyancy -rho_f V g to each particle (the fluid carries no hydrostatic pressure gradient)");
+    "add to each particle the force -V grad p of the pressure gradients the lattice Boltzmann fluid does "
+    "not carry: the buoyancy -rho_f V g and V f, f = fluid.body_force (the driving gradient the body force "
+    "stands for; where f = rho_f g is the fluid's weight in a closed box, the two cancel and the fluid's "
+    "own pressure gives the buoyancy)");
 }
 
 }  // namespace coflow::immersed

@@ -119,6 +119,7 @@ int mass(const std::string& dir);
 // psm.cpp
 int momentum(const std::string& dir);
 int drag(const std::string& dir);
+int buoyancy(const std::string& dir);
 int settling(const std::string& dir);
 int rotation(const std::string& dir);
 // dem.cpp

@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
     if (what == "crush" && argc == 3) return crush(argv[2]);
     if (what == "momentum" && argc == 3) return momentum(argv[2]);
     if (what == "drag" && argc == 3) return drag(argv[2]);
+    if (what == "buoyancy" && argc == 3) return buoyancy(argv[2]);
     if (what == "settling" && argc == 3) return settling(argv[2]);
     if (what == "dpm_settling" && argc == 3) return dpm_settling(argv[2]);
     if (what == "granular_gas" && argc == 3) return granular_gas(argv[2]);

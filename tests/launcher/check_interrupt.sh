@@ -32,7 +32,11 @@ grep -q '"reason": "interrupted by signal 2' "$out/run/summary.json" || fail "su
 restart=$(sed -n 's/^ *coflow run .* --restart //p' "$out/run.log" | tr -d "'")
 [ -n "$restart" ] && [ -d "$restart" ] || fail "no restart command naming a checkpoint"
 grep -q -- "--set run.output.dir=$out/run " "$out/run.log" || fail "the restart command lacks the run's --set"
-"$bin/coflow" run "$cfg" --set run.output.dir="$out/run" --restart "$restart" >"$out/restart.log" 2>&1 ||
-  { tail -n 20 "$out/restart.log"; fail "the restart failed"; }
+# The printed command itself, as a user would paste it (coflow on the PATH).
+command=$(grep -A2 "restart from the last checkpoint with:" "$out/run.log" | sed -n 's/^ *\(coflow run .*\)$/\1/p')
+[ -n "$command" ] || fail "no restart command line"
+PATH="$bin:$PATH" bash -c "$command" >"$out/restart.log" 2>&1 ||
+  { tail -n 20 "$out/restart.log"; fail "the printed restart command failed: $command"; }
+grep -q "^coflow: restarting from $restart" "$out/restart.log" || fail "the printed command did not restart from $restart"
 grep -q '"status": "ok"' "$out/run/summary.json" || fail "the restarted run did not finish"
 echo "ok: interrupted, told how to restart from $(basename "$restart"), restarted to the end"

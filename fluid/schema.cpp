@@ -162,15 +162,9 @@ static void check_open_face_blocks(config::Visitor& v, const config::Config& cfg
 // fv's ghost layers are two cells wide (the upwind-biased face value reads
 // two cells upstream), and an open face or a wall reads the second cell in:
 // every block must be two cells thick along every axis of more than one cell.
-// fv-reference is serial.
 static void check_fv_blocks(config::Visitor& v, const config::Config& cfg, const config::ComponentInfo& info) {
   if (!v.reading() || info.variant.rfind("fv", 0) != 0) return;
-  if (info.variant == "fv-reference" && info.ranks != 1) {
-    v.fail("ranks", fmt::format("fv-reference is serial (the oracle): set fluid.ranks: 1 (got {}), or use solver: "
-                                "fv",
-                                info.ranks));
-    return;
-  }
+  if (info.variant == "fv-reference" && info.ranks != 1) return;  // serial: visit_component_common says so
   const auto& d = cfg.domain;
   coupler::Decomposition dec;
   if (!fluid_blocks(cfg, info, dec)) return;  // reported at fluid.ranks already

@@ -180,6 +180,15 @@ void visit_component_common(Visitor& v, const ComponentSchema& schema, Component
   else
     v.required(schema.selector, info.variant, "which variant runs this component", one_of(names));
   v("ranks", info.ranks, "MPI ranks of this component", at_least(1));
+  // The plain reference variants (the test oracles) are serial by design.
+  const std::string suffix = "-reference";
+  if (v.reading() && info.ranks != 1 && info.variant.size() > suffix.size() &&
+      info.variant.compare(info.variant.size() - suffix.size(), suffix.size(), suffix) == 0)
+    v.fail("ranks",
+           fmt::format("{} is serial (the plain reference, the test oracle): set ranks: 1 (got {}), or "
+                       "use {}: {}",
+                       info.variant, info.ranks, schema.selector,
+                       info.variant.substr(0, info.variant.size() - suffix.size())));
   v("decomposition", info.decomposition,
     "blocks per axis of this component's share of the domain (auto: balanced)", positive());
   if (v.reading() && !info.decomposition.is_auto) {

@@ -16,7 +16,15 @@ namespace coflow::fluid::lbm {
 
 // f: the cell's streamed populations (zero-centred); F: the body force
 // density; out: the new populations; gain: += the fluid's momentum gain
-// sum_q B Omega^s_q e_q. Directions go in pairs (q, opp(q)), e_opp = -e_q:
+// sum_q B Omega^s_q e_q, less the body force's solid share B F: the body
+// force stands for a pressure gradient (a driven flow's, or the hydrostatic
+// one of the fluid's weight), which pushes the solid's volume as it pushes
+// the fluid's; the fluid's source takes 1 - B of it, so the solid (which
+// receives minus the gain) takes B F and the mixture F in every cell (the
+// driven drag array's load balances f L^3; a grain in a closed box whose
+// fluid weighs f = rho_f g feels Archimedes' buoyancy from the fluid's
+// pressure less this share, to which immersed.psm.buoyancy's -rho_f V g is
+// added). Directions go in pairs (q, opp(q)), e_opp = -e_q:
 // each pair's equilibria share e.u and (e.u)^2 (collision.hpp's trt_pair
 // folds the cell's terms the same way). One cell (T = double) or four
 // neighbours along x (T = Vec4, each lane with its own fraction and solid
@@ -68,7 +76,9 @@ template <class L, bool Incompressible, class T>
     out[o] = f[o] - fluid * (f[o] - feq_o) + share * s_o + B * os_o;
     for (int d = 0; d < 3; ++d) g[d] += B * (os_q - os_o) * L::e[q][d];
   }
-  for (int d = 0; d < 3; ++d) gain[d] += g[d];
+  // The solid takes the body force's share B of the cell, which the fluid's
+  // source (scaled by 1 - B) leaves (the note above).
+  for (int d = 0; d < 3; ++d) gain[d] += g[d] - B * F[d];
   return uu;
 }
 
@@ -112,6 +122,7 @@ inline double psm_colour_collide(double* r, double* b, const double g[3], const 
     b[q] = (1.0 - B) * b[q] + B * (b0[o] + (1.0 - psi) * swap);
     for (int d = 0; d < 3; ++d) gain[d] += B * omega_s * L::e[q][d];
   }
+  for (int d = 0; d < 3; ++d) gain[d] -= B * F[d];  // the body force's solid share, as above
   return uu;
 }
 

@@ -135,6 +135,9 @@ void LbmReference::collide_psm(double* f, const double* F, Solid& s) const {
     out[q] = f[q] - (1.0 - B) * omega * (f[q] - feq[q]) + (1.0 - B) * S + B * omega_s;  // eq. 2.66
     for (int d = 0; d < 3; ++d) s.gain[d] += B * omega_s * e_[q][d];
   }
+  // The solid takes the body force's share B, which the fluid's source leaves
+  // (fluid/lbm/psm_kernel.hpp).
+  for (int d = 0; d < 3; ++d) s.gain[d] -= B * F[d];
   for (int q = 0; q < Q_; ++q) f[q] = out[q];
 }
 

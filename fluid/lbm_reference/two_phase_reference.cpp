@@ -334,6 +334,7 @@ void LbmReference::collide_grain(long c, const std::vector<double>& r0, const st
     f_[x] = r_[x] + b_[x];
     for (int d = 0; d < 3; ++d) s.gain[d] += B * omega_s * e_[q][d];
   }
+  for (int d = 0; d < 3; ++d) s.gain[d] -= B * F[d];  // the body force's solid share (lbm/psm_kernel.hpp)
 }
 
 // Collision of r + b with the cell's relaxation time, the perturbation

@@ -18,10 +18,9 @@ void PsmParams::visit(config::Visitor& v) {
     "size distribution or crushing take the exact centre",
     config::in_range(0, 64));
   v("buoyancy", buoyancy,
-    "add to each particle the force -V grad p of the pressure gradients the lattice Boltzmann fluid does "
-    "not carry: the buoyancy -rho_f V g and V f, f = fluid.body_force (the driving gradient the body force "
-    "stands for; where f = rho_f g is the fluid's weight in a closed box, the two cancel and the fluid's "
-    "own pressure gives the buoyancy)");
+    "add the buoyancy -rho_f V g to each particle (the fluid carries no hydrostatic pressure gradient; the "
+    "solid share of fluid.body_force in each cell reaches the particles with the fluid's force, so a body "
+    "force that is the fluid's own weight, rho_f g, does not count the buoyancy twice)");
 }
 
 }  // namespace coflow::immersed

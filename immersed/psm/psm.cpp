@@ -105,7 +105,6 @@ class PsmWindows final : public coupler::WindowParts {
   double h_;
   Box owned_;
   double rho_f_;
-  double body_force_[3] = {0, 0, 0};  // fluid.body_force, N/m^3
   bool pipelined_;  // parallel-explicit: windows alternate between two of each
   bool ahead_ = false;  // the coverage of the coming window is already in
   coupler::PointExchange points_[2];
@@ -140,8 +139,6 @@ PsmWindows::PsmWindows(coupler::Session& s, const PsmParams& p, int ghost, std::
       series_(s) {
   const std::string angle = config::resolved_text(s.config(), {"fluid", "two_phase", "contact_angle"});
   if (!angle.empty()) default_angle_ = std::stod(angle);
-  if (const YAML::Node f = s.config().resolved["fluid"]["body_force"]; f && f.IsSequence())
-    for (int d = 0; d < 3 && d < static_cast<int>(f.size()); ++d) body_force_[d] = f[d].as<double>();
   if (owned_.volume() > std::numeric_limits<std::int32_t>::max())
     throw std::runtime_error(
         fmt::format("psm: {} cells on one immersed rank (at most 2^31 - 1); run immersed on more ranks",
@@ -278,14 +275,12 @@ void PsmWindows::after_step(long w) {
   std::fill(total_, total_ + 6, 0.0);
   total_[6] = cov.solid_volume;
   for (std::size_t p = 0; p < n; ++p) {
-    // The pressure gradients the lattice Boltzmann fluid does not carry, -V grad p:
-    // the hydrostatic one (buoyancy -rho_f V g) and the one fluid.body_force stands
-    // for (V f; the solid share of a cell takes no body force, psm_kernel.hpp).
-    // Where the body force is the fluid's weight (f = rho_f g, a closed box),
-    // the two cancel and the fluid's own pressure gives the buoyancy.
+    // The hydrostatic gradient the lattice Boltzmann fluid does not carry. (The
+    // gradient fluid.body_force stands for reaches the solid in the fluid's
+    // force: each cell's solid share of it, fluid/lbm/psm_kernel.hpp.)
     if (p_.buoyancy && cov.owned_flags[p]) {  // once per particle: by the rank that owns its centre
       const double volume = 4.0 / 3.0 * std::numbers::pi * std::pow(cov.rec[p].radius, 3);
-      for (int d = 0; d < 3; ++d) loads_[p].force[d] += volume * (body_force_[d] - rho_f_ * g[d]);
+      for (int d = 0; d < 3; ++d) loads_[p].force[d] -= rho_f_ * volume * g[d];
     }
     for (int d = 0; d < 3; ++d) {
       total_[d] += loads_[p].force[d];

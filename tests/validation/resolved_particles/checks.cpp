@@ -61,8 +61,8 @@ int momentum(const std::string& dir) {
 // Drag on a periodic simple cubic array (one sphere per periodic box, fluid
 // driven by a body force): K = f L^3 / (6 pi mu a U) against Zick & Homsy (1982).
 // At steady state the sphere holds the whole box against the driving gradient
-// f: the drag, f (1 - phi) L^3, balances the body force on the fluid, and the
-// gradient's own push on the sphere, V f, comes on top (immersed.psm.buoyancy).
+// f: the fluid takes 1 - B of the body force in each cell and passes it on to
+// the sphere as drag, the sphere takes B (fluid/lbm/psm_kernel.hpp).
 int drag(const std::string& dir) {
   const auto cfg = load(dir);
   const auto fp = fluid_params(cfg);

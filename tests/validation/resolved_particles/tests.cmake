@@ -13,9 +13,15 @@ coflow_validation(psm_layouts compare psm_momentum.yaml 2
   "fluid.ranks=1 immersed.ranks=1 particles.ranks=1" "fluid.ranks=2 immersed.ranks=2 particles.ranks=2")
 coflow_validation(psm_drag_array drag psm_drag_array.yaml 2)
 # Archimedes: a fixed sphere in a closed box whose body force is the fluid's
-# weight; the fluid's pressure gives the buoyancy, immersed.psm.buoyancy's
-# terms cancel (it counted twice before, when it added -rho_f V g alone).
+# weight. The fluid's pressure pushes the solid up, the solid share of the body
+# force in its cells down, and immersed.psm.buoyancy adds -rho_f V g (counted
+# twice before the share: error 0.90). lbm, lbm-reference, and the two-phase
+# kernel (one colour).
 coflow_validation(psm_hydrostatic_buoyancy buoyancy psm_hydrostatic_buoyancy.yaml 2)
+coflow_validation(psm_hydrostatic_buoyancy_reference buoyancy psm_hydrostatic_buoyancy.yaml 2
+  --set fluid.solver=lbm-reference)
+coflow_validation(psm_hydrostatic_buoyancy_two_phase buoyancy psm_hydrostatic_buoyancy.yaml 2
+  --set "fluid.two_phase={surface_tension: 1.0e-4}")
 coflow_validation(psm_settling_sphere_e2 settling psm_settling_sphere_e2.yaml 2)
 # ten Cate et al.'s other three cases at full size (configs/cases, label long).
 # The check takes the largest speed of the run: E4's comes at 1.16 s, after

@@ -425,6 +425,8 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
   signal(SIGTERM, forward_signal);
   const pid_t pid = fork();
   if (pid < 0) {
+    signal(SIGINT, SIG_DFL);  // no child to forward to: Ctrl-C ends the launcher
+    signal(SIGTERM, SIG_DFL);
     sigprocmask(SIG_SETMASK, &old, nullptr);
     close(fds[0]);
     close(fds[1]);

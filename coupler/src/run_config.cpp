@@ -423,11 +423,33 @@ Config parse_config_node(YAML::Node root, const std::string& file, const Catalog
   return cfg;
 }
 
+// A problem in a value that --set gave has no place in the file (the value's
+// node would say 1:1): it names the --set instead.
+static void point_at_overrides(std::vector<Problem>& problems, const std::vector<std::string>& overrides) {
+  for (Problem& p : problems)
+    for (const auto& o : overrides) {
+      const std::string key = o.substr(0, o.find('='));
+      const bool under = p.path == key || (p.path.rfind(key, 0) == 0 && p.path.size() > key.size() &&
+                                           (p.path[key.size()] == '.' || p.path[key.size()] == '['));
+      if (!under) continue;
+      p.line = p.column = 0;
+      p.message += fmt::format(" (from --set {})", o);
+      break;
+    }
+}
+
 Config parse_config(const std::string& file, const Catalog& catalog,
                     const std::vector<std::string>& overrides) {
   YAML::Node root = load_yaml_file(file);
   for (const auto& o : overrides) apply_override(root, o);
-  return parse_config_node(root, file, catalog);
+  try {
+    return parse_config_node(root, file, catalog);
+  } catch (const ConfigError& e) {
+    if (overrides.empty()) throw;
+    std::vector<Problem> problems = e.problems();
+    point_at_overrides(problems, overrides);
+    throw ConfigError(std::move(problems));
+  }
 }
 
 void describe_config(Visitor& v, const Catalog& catalog) {

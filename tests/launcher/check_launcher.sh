@@ -103,6 +103,12 @@ sed 's/^run:$/run:\n  launch: {mpi_args: [--label, --error=err.txt]}/' "$cfg" >s
 msg=$("$bin/coflow" run --launcher sbatch --dry-run srun_error.yaml 2>&1); rc=$?
 [ $rc -eq 2 ] || fail "sbatch with mpi_args --error: exit $rc, expected 2"
 case "$msg" in "srun_error.yaml:6:32: run.launch.mpi_args: '--error=err.txt'"*) ;; *) fail "sbatch --error place: $msg" ;; esac
+# A bad value from --set names the --set, not a place in the file (the
+# value's own node said 1:1); a problem elsewhere keeps the file's place.
+msg=$("$bin/coflow" run --dry-run --set run.end_time=-1 "$cfg" 2>&1); rc=$?
+[ $rc -eq 2 ] || fail "--set run.end_time=-1: exit $rc, expected 2"
+case "$msg" in "$cfg: run.end_time: must be > 0 (got -1) (from --set run.end_time=-1)") ;;
+  *) fail "--set place: $msg" ;; esac
 # A --set list replaces the file's: no place in the file (it would name the
 # file's own item).
 msg=$("$bin/coflow" run --launcher srun --dry-run --set 'run.launch.mpi_args=[--exclusive, -o, x]' srun_error.yaml 2>&1)

@@ -584,9 +584,10 @@ void prepare_run_directory(const Config& cfg, const std::string& dir, const std:
     fs::remove_all(dir + "/checkpoints", ec);
     fs::remove(dir + "/summary.json", ec);
     fs::remove(dir + "/run.xdmf", ec);
-  } else if (const std::string said = coflow::launcher::rewind_run_directory(cfg, dir, restart); !said.empty()) {
-    std::printf("coflow: restarting from %s: the run directory goes back to that time\n%s", restart.c_str(),
-                said.c_str());
+  } else {  // said at every restart, whether or not the rewind had anything to remove
+    const std::string said = coflow::launcher::rewind_run_directory(cfg, dir, restart);
+    std::printf("coflow: restarting from %s%s\n%s", restart.c_str(),
+                said.empty() ? "" : ": the run directory goes back to that time", said.c_str());
   }
   fs::create_directories(dir);
   coflow::output::atomic_write(dir + "/config.yaml", YAML::Dump(cfg.resolved) + "\n");
@@ -817,7 +818,8 @@ int check_external(const Config& cfg, const std::string& cfg_path,
                                           schema.section)};
     try {  // where the file says it; a --set value has no place in the file
       const YAML::Node n = YAML::LoadFile(cfg_path)[schema.section][schema.selector];
-      if (n && n.Mark().line >= 0) p.line = n.Mark().line + 1, p.column = n.Mark().column + 1;
+      if (n && n.IsScalar() && n.Scalar() == "external" && n.Mark().line >= 0)
+        p.line = n.Mark().line + 1, p.column = n.Mark().column + 1;
     } catch (const std::exception&) {
     }
     std::fprintf(stderr, "%s\n", p.format().c_str());

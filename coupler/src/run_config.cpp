@@ -427,7 +427,8 @@ Config parse_config_node(YAML::Node root, const std::string& file, const Catalog
 // node would say 1:1): it names the --set instead.
 static void point_at_overrides(std::vector<Problem>& problems, const std::vector<std::string>& overrides) {
   for (Problem& p : problems)
-    for (const auto& o : overrides) {
+    for (auto it = overrides.rbegin(); it != overrides.rend(); ++it) {  // the last --set of a key wins
+      const std::string& o = *it;
       const std::string key = o.substr(0, o.find('='));
       const bool under = p.path == key || (p.path.rfind(key, 0) == 0 && p.path.size() > key.size() &&
                                            (p.path[key.size()] == '.' || p.path[key.size()] == '['));

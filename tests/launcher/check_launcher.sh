@@ -41,6 +41,12 @@ msg=$("$bin/coflow" run "$cfg" 2>&1); rc=$?
 case "$msg" in *"$cfg:16:11: fluid.solver: 'external' runs your own executable: give it with --exe fluid=PATH"*) ;;
   *) fail "external without --exe: $msg" ;; esac
 [ ! -e out ] || fail "external without --exe: a run directory was made"
+# The same from --set: the file's solver line is not the one to name.
+msg=$("$bin/coflow" run --set fluid.solver=external --set run.output.dir=out-external "$cfgs/quickstart.yaml" 2>&1); rc=$?
+[ $rc -eq 2 ] || fail "--set fluid.solver=external without --exe: exit $rc, expected 2"
+case "$msg" in "$cfgs/quickstart.yaml: fluid.solver: 'external' runs your own executable"*) ;;
+  *) fail "--set external without --exe: $msg" ;; esac
+[ ! -e out-external ] || fail "--set external without --exe: a run directory was made"
 
 # The configuration is the run directory's own config.yaml (a run rewrites
 # it with the resolved one): exit 2, the file untouched. A user's config.yaml

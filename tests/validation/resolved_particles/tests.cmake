@@ -40,8 +40,8 @@ foreach(e e1 e3 e4)
 endforeach()
 coflow_validation(psm_variants compare psm_momentum.yaml 2
   "fluid.solver=lbm particles.solver=dem" "fluid.solver=lbm-reference particles.solver=dem-reference")
-# psm cells next to walls, and grains on the floor (the quickstart to 0.4 s,
-# five balls landed 3.6-4.5 mm from the side walls): lbm against
+# psm cells next to a wall (the quickstart to 0.4 s: one ball on the floor,
+# two within 1-2 mm of it; the side walls stay 3.6 mm or more away): lbm against
 # lbm-reference. Without Cundall's local damping: its -alpha |F| sign(v) turns
 # a round-off sign of a velocity that is zero by symmetry into a 20 % change of
 # that component (1e-7 of the run's speeds with local_damping 0.3).

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 #include <stdexcept>
 
 #include "coflow/clock.hpp"
@@ -426,14 +427,28 @@ Config parse_config_node(YAML::Node root, const std::string& file, const Catalog
 
 // A problem in a value that --set gave has no place in the file (the value's
 // node would say 1:1): it names the --set instead.
-static void point_at_overrides(std::vector<Problem>& problems, const std::vector<std::string>& overrides) {
+// A section the --set created (its path not in the file) is named the same way.
+static bool in_file(const YAML::Node& root, const std::string& path) {
+  std::vector<YAML::Node> chain{root};
+  std::stringstream ss(path);
+  for (std::string part; std::getline(ss, part, '.');) {
+    if (!chain.back().IsMap() || !chain.back()[part]) return false;
+    chain.push_back(chain.back()[part]);
+  }
+  return true;
+}
+
+static void point_at_overrides(std::vector<Problem>& problems, const std::vector<std::string>& overrides,
+                               const YAML::Node& file_root) {
   for (Problem& p : problems)
     for (auto it = overrides.rbegin(); it != overrides.rend(); ++it) {  // the last --set of a key wins
       const std::string& o = *it;
       const std::string key = o.substr(0, o.find('='));
       const bool under = p.path == key || (p.path.rfind(key, 0) == 0 && p.path.size() > key.size() &&
                                            (p.path[key.size()] == '.' || p.path[key.size()] == '['));
-      if (!under) continue;
+      const bool created = !p.path.empty() && key.rfind(p.path + ".", 0) == 0 &&
+                           p.path.find('[') == std::string::npos && !in_file(file_root, p.path);
+      if (!under && !created) continue;
       p.line = p.column = 0;
       p.message += fmt::format(" (from --set {})", o);
       break;
@@ -449,7 +464,7 @@ Config parse_config(const std::string& file, const Catalog& catalog,
   } catch (const ConfigError& e) {
     if (overrides.empty()) throw;
     std::vector<Problem> problems = e.problems();
-    point_at_overrides(problems, overrides);
+    point_at_overrides(problems, overrides, load_yaml_file(file));
     throw ConfigError(std::move(problems));
   }
 }

@@ -115,6 +115,11 @@ msg=$("$bin/coflow" run --dry-run --set run.end_time=-1 "$cfg" 2>&1); rc=$?
 [ $rc -eq 2 ] || fail "--set run.end_time=-1: exit $rc, expected 2"
 case "$msg" in "$cfg: run.end_time: must be > 0 (got -1) (from --set run.end_time=-1)") ;;
   *) fail "--set place: $msg" ;; esac
+# A section the --set made (not in the file) is named the same way (it took
+# the place of the enclosing section's first key).
+msg=$("$bin/coflow" run --dry-run --set immersed.psmx.refinement=3 "$cfgs/quickstart.yaml" 2>&1)
+case "$msg" in "$cfgs/quickstart.yaml: immersed.psmx: unknown key 'psmx'"*"(from --set immersed.psmx.refinement=3)") ;;
+  *) fail "--set of a new section: $msg" ;; esac
 # A --set list replaces the file's: no place in the file (it would name the
 # file's own item).
 msg=$("$bin/coflow" run --launcher srun --dry-run --set 'run.launch.mpi_args=[--exclusive, -o, x]' srun_error.yaml 2>&1)

@@ -834,6 +834,19 @@ int check_external(const Config& cfg, const std::string& cfg_path,
 // would stop a healthy run after coupling.timeout. Under srun and sbatch such
 // mpi_args exit 2 before any rank starts (mpirun's --output-filename still
 // copies to the terminal; Open MPI 5's --output tag only marks lines).
+// A bundle of srun's short options that reaches -o or -e: the options before
+// it take no argument (-l, -v, -Q, -u, ... as in -lo file); any other letter
+// takes the rest of the word as its argument (-poutput is a partition).
+bool srun_short_output(const std::string& a) {
+  if (a.size() < 2 || a[0] != '-' || a[1] == '-') return false;
+  const std::string no_argument = "EHOQXZhlsuvV";
+  for (std::size_t k = 1; k < a.size(); ++k) {
+    if (a[k] == 'o' || a[k] == 'e') return true;
+    if (no_argument.find(a[k]) == std::string::npos) return false;
+  }
+  return false;
+}
+
 int check_srun_output(const Config& cfg, const std::string& cfg_path, const std::string& launcher) {
   if (launcher == "mpirun") return 0;
   const auto& args = cfg.run.launch.mpi_args;
@@ -844,8 +857,7 @@ int check_srun_output(const Config& cfg, const std::string& cfg_path, const std:
     // the shortest for --output and --error.
     const bool long_form = name.size() >= 2 && (std::string("output").rfind(name, 0) == 0 ||
                                                 std::string("error").rfind(name, 0) == 0);
-    const bool short_form = a.size() >= 2 && a[0] == '-' && a[1] != '-' && (a[1] == 'o' || a[1] == 'e');
-    if (!long_form && !short_form) continue;
+    if (!long_form && !srun_short_output(a)) continue;
     coflow::config::Problem p{
         cfg_path, 0, 0, "run.launch.mpi_args",
         fmt::format("'{}' sends the components' output to files under srun, where the "

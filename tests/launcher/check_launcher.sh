@@ -99,7 +99,7 @@ printf '%s\n' "$got" | head -n 1 | grep -qx "srun --mpi=pmix --kill-on-bad-exit=
 # srun's --output/-o/--error/-e in run.launch.mpi_args (also --out=, -ofile):
 # the launcher would read no output; exit 2 under srun and sbatch, before any
 # rank starts, at the file's place. mpirun keeps them (its own options).
-for a in --output=ranks.txt --ou=ranks.txt -ofile -e; do
+for a in --output=ranks.txt --ou=ranks.txt -ofile -e -lo -lvefile; do
   msg=$("$bin/coflow" run --dry-run --launcher srun --set "run.launch.mpi_args=[--label, $a]" "$cfg" 2>&1); rc=$?
   [ $rc -eq 2 ] || fail "srun with mpi_args $a: exit $rc, expected 2"
   case "$msg" in *"run.launch.mpi_args: '$a' sends the components' output to files under srun"*) ;;
@@ -126,6 +126,8 @@ msg=$("$bin/coflow" run --launcher srun --dry-run --set 'run.launch.mpi_args=[--
 case "$msg" in "srun_error.yaml: run.launch.mpi_args: '-o'"*) ;; *) fail "srun -o from --set: $msg" ;; esac
 "$bin/coflow" run --launcher srun --dry-run --set 'run.launch.mpi_args=[--exclusive, --export=ALL, --overlap, -O]' \
   "$cfg" >/dev/null 2>&1 || fail "srun options that start with e or o were refused"
+"$bin/coflow" run --launcher srun --dry-run --set 'run.launch.mpi_args=[-lpoutput, -Joe]' \
+  "$cfg" >/dev/null 2>&1 || fail "srun's -p/-J with an argument holding o or e were refused"
 "$bin/coflow" run --dry-run --set 'run.launch.mpi_args=[--output-filename, o]' "$cfg" >/dev/null ||
   fail "mpirun with --output-filename refused"
 # srun splits a --multi-prog line at spaces and reads quotes and %: each

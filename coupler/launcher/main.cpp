@@ -27,6 +27,7 @@
 #include <sstream>
 #include <string_view>
 #include <thread>
+#include <utility>
 
 #include "coflow/catalog.hpp"
 #include "coflow/output.hpp"
@@ -836,13 +837,18 @@ int check_external(const Config& cfg, const std::string& cfg_path,
 // copies to the terminal; Open MPI 5's --output tag only marks lines).
 // A bundle of srun's short options that reaches -o or -e: the options before
 // it take no argument (-l, -v, -Q, -u, ... as in -lo file); any other letter
-// takes the rest of the word as its argument (-poutput is a partition).
-bool srun_short_output(const std::string& a) {
+// takes the rest of the word as its argument (-poutput is a partition), or,
+// ending the word, the next word (`takes_next`: -J -lo names the job -lo).
+bool srun_short_output(const std::string& a, bool& takes_next) {
+  takes_next = false;
   if (a.size() < 2 || a[0] != '-' || a[1] == '-') return false;
-  const std::string no_argument = "EHOQXZhlsuvV";
+  const std::string no_argument = "EHOQXZhlsuvV", optional = "IkK";
   for (std::size_t k = 1; k < a.size(); ++k) {
     if (a[k] == 'o' || a[k] == 'e') return true;
-    if (no_argument.find(a[k]) == std::string::npos) return false;
+    if (no_argument.find(a[k]) == std::string::npos) {
+      takes_next = k + 1 == a.size() && optional.find(a[k]) == std::string::npos;
+      return false;
+    }
   }
   return false;
 }
@@ -850,14 +856,16 @@ bool srun_short_output(const std::string& a) {
 int check_srun_output(const Config& cfg, const std::string& cfg_path, const std::string& launcher) {
   if (launcher == "mpirun") return 0;
   const auto& args = cfg.run.launch.mpi_args;
+  bool argument = false;  // this word is the previous short option's argument
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
+    if (std::exchange(argument, false)) continue;
     const std::string name = a.rfind("--", 0) == 0 ? a.substr(2, a.find('=') - 2) : "";
     // srun takes any unambiguous prefix of a long option: --ou and --er are
     // the shortest for --output and --error.
     const bool long_form = name.size() >= 2 && (std::string("output").rfind(name, 0) == 0 ||
                                                 std::string("error").rfind(name, 0) == 0);
-    if (!long_form && !srun_short_output(a)) continue;
+    if (!long_form && !srun_short_output(a, argument)) continue;
     coflow::config::Problem p{
         cfg_path, 0, 0, "run.launch.mpi_args",
         fmt::format("'{}' sends the components' output to files under srun, where the "

@@ -432,8 +432,9 @@ static bool in_file(const YAML::Node& root, const std::string& path) {
   std::vector<YAML::Node> chain{root};
   std::stringstream ss(path);
   for (std::string part; std::getline(ss, part, '.');) {
-    if (!chain.back().IsMap() || !chain.back()[part]) return false;
-    chain.push_back(chain.back()[part]);
+    const YAML::Node& here = chain.back();  // const: the lookup adds no entry
+    if (!here.IsMap() || !here[part]) return false;
+    chain.push_back(here[part]);
   }
   return true;
 }

@@ -117,8 +117,9 @@ case "$msg" in "$cfg: run.end_time: must be > 0 (got -1) (from --set run.end_tim
   *) fail "--set place: $msg" ;; esac
 # A section the --set made (not in the file) is named the same way (it took
 # the place of the enclosing section's first key).
-msg=$("$bin/coflow" run --dry-run --set immersed.psmx.refinement=3 "$cfgs/quickstart.yaml" 2>&1)
-case "$msg" in "$cfgs/quickstart.yaml: immersed.psmx: unknown key 'psmx'"*"(from --set immersed.psmx.refinement=3)") ;;
+msg=$("$bin/coflow" run --dry-run --set immersed.psmx.refinement=3 "$cfgs/quickstart.yaml" 2>&1); rc=$?
+[ $rc -eq 2 ] || fail "--set immersed.psmx.refinement=3: exit $rc, expected 2"
+case "$msg" in *"$cfgs/quickstart.yaml: immersed.psmx: unknown key 'psmx'"*"(from --set immersed.psmx.refinement=3)"*) ;;
   *) fail "--set of a new section: $msg" ;; esac
 # A --set list replaces the file's: no place in the file (it would name the
 # file's own item).
@@ -126,8 +127,8 @@ msg=$("$bin/coflow" run --launcher srun --dry-run --set 'run.launch.mpi_args=[--
 case "$msg" in "srun_error.yaml: run.launch.mpi_args: '-o'"*) ;; *) fail "srun -o from --set: $msg" ;; esac
 "$bin/coflow" run --launcher srun --dry-run --set 'run.launch.mpi_args=[--exclusive, --export=ALL, --overlap, -O]' \
   "$cfg" >/dev/null 2>&1 || fail "srun options that start with e or o were refused"
-"$bin/coflow" run --launcher srun --dry-run --set 'run.launch.mpi_args=[-lpoutput, -Joe]' \
-  "$cfg" >/dev/null 2>&1 || fail "srun's -p/-J with an argument holding o or e were refused"
+msg=$("$bin/coflow" run --launcher srun --dry-run --set 'run.launch.mpi_args=[-lpoutput, -Joe, -J, -lo]' "$cfg" 2>&1) ||
+  fail "srun's -p/-J with an argument holding o or e were refused: $msg"
 "$bin/coflow" run --dry-run --set 'run.launch.mpi_args=[--output-filename, o]' "$cfg" >/dev/null ||
   fail "mpirun with --output-filename refused"
 # srun splits a --multi-prog line at spaces and reads quotes and %: each

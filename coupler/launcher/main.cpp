@@ -807,6 +807,19 @@ int lock_run_directory(const std::string& dir) {
 // A component whose variant is `external` runs the user's executable, which
 // only --exe names: without it, exit 2 before any rank starts (the built-in
 // executable would start and refuse the variant).
+// The problem's place: the file's item, when it says `value` (a --set may have
+// replaced it, and a --set value has no place in the file).
+template <class Find>
+void place_in_file(coflow::config::Problem& p, const std::string& cfg_path, Find find,
+                   const std::string& value) {
+  try {
+    const YAML::Node n = find(YAML::LoadFile(cfg_path));
+    if (n && n.IsScalar() && n.Scalar() == value && n.Mark().line >= 0)
+      p.line = n.Mark().line + 1, p.column = n.Mark().column + 1;
+  } catch (const std::exception&) {
+  }
+}
+
 int check_external(const Config& cfg, const std::string& cfg_path,
                    const std::map<std::string, std::string>& exes) {
   for (const auto& schema : coflow::catalog()) {
@@ -817,12 +830,8 @@ int check_external(const Config& cfg, const std::string& cfg_path,
                               fmt::format("'external' runs your own executable: give it with --exe {}=PATH "
                                           "(docs/protocol.md)",
                                           schema.section)};
-    try {  // where the file says it; a --set value has no place in the file
-      const YAML::Node n = YAML::LoadFile(cfg_path)[schema.section][schema.selector];
-      if (n && n.IsScalar() && n.Scalar() == "external" && n.Mark().line >= 0)
-        p.line = n.Mark().line + 1, p.column = n.Mark().column + 1;
-    } catch (const std::exception&) {
-    }
+    place_in_file(
+        p, cfg_path, [&](const YAML::Node& f) { return f[schema.section][schema.selector]; }, "external");
     std::fprintf(stderr, "%s\n", p.format().c_str());
     return 2;
   }
@@ -872,12 +881,8 @@ int check_srun_output(const Config& cfg, const std::string& cfg_path, const std:
                     "launcher cannot read their start, progress and failures: remove it "
                     "(each component's output is in <run.output.dir>/logs/)",
                     a)};
-    try {  // where the file says it: its item, when it is this argument (a --set list replaces the file's)
-      const YAML::Node n = YAML::LoadFile(cfg_path)["run"]["launch"]["mpi_args"][i];
-      if (n && n.IsScalar() && n.Scalar() == a && n.Mark().line >= 0)
-        p.line = n.Mark().line + 1, p.column = n.Mark().column + 1;
-    } catch (const std::exception&) {
-    }
+    place_in_file(
+        p, cfg_path, [&](const YAML::Node& f) { return f["run"]["launch"]["mpi_args"][i]; }, a);
     std::fprintf(stderr, "%s\n", p.format().c_str());
     return 2;
   }

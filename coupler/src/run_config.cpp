@@ -7,7 +7,6 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
-#include <sstream>
 #include <stdexcept>
 
 #include "coflow/clock.hpp"
@@ -427,17 +426,7 @@ Config parse_config_node(YAML::Node root, const std::string& file, const Catalog
 
 // A problem in a value that --set gave has no place in the file (the value's
 // node would say 1:1): it names the --set instead.
-// A section the --set created (its path not in the file) is named the same way.
-static bool in_file(const YAML::Node& root, const std::string& path) {
-  std::vector<YAML::Node> chain{root};
-  std::stringstream ss(path);
-  for (std::string part; std::getline(ss, part, '.');) {
-    const YAML::Node& here = chain.back();  // const: the lookup adds no entry
-    if (!here.IsMap() || !here[part]) return false;
-    chain.push_back(here[part]);
-  }
-  return true;
-}
+static YAML::Node dotted_node(const YAML::Node& root, const std::string& dotted_path);
 
 static void point_at_overrides(std::vector<Problem>& problems, const std::vector<std::string>& overrides,
                                const YAML::Node& file_root) {
@@ -448,7 +437,8 @@ static void point_at_overrides(std::vector<Problem>& problems, const std::vector
       const bool under = p.path == key || (p.path.rfind(key, 0) == 0 && p.path.size() > key.size() &&
                                            (p.path[key.size()] == '.' || p.path[key.size()] == '['));
       const bool created = !p.path.empty() && key.rfind(p.path + ".", 0) == 0 &&
-                           p.path.find('[') == std::string::npos && !in_file(file_root, p.path);
+                           p.path.find('[') == std::string::npos &&
+                           !dotted_node(file_root, p.path);  // a section the --set created
       if (!under && !created) continue;
       p.line = p.column = 0;
       p.message += fmt::format(" (from --set {})", o);
@@ -499,7 +489,7 @@ bool point_coupling(const Config& cfg) {
          (method == "ibm" && resolved_text(cfg, {"immersed", "ibm", "particles"}) == "point");
 }
 
-YAML::Node resolved_node(const Config& cfg, const std::string& dotted_path) {
+static YAML::Node dotted_node(const YAML::Node& root, const std::string& dotted_path) {
   std::vector<std::string> path;
   std::string rest = dotted_path;
   while (!rest.empty()) {
@@ -507,7 +497,11 @@ YAML::Node resolved_node(const Config& cfg, const std::string& dotted_path) {
     path.push_back(rest.substr(0, dot));
     rest = dot == std::string::npos ? "" : rest.substr(dot + 1);
   }
-  return node_at(cfg.resolved, path, 0);
+  return node_at(root, path, 0);
+}
+
+YAML::Node resolved_node(const Config& cfg, const std::string& dotted_path) {
+  return dotted_node(cfg.resolved, dotted_path);
 }
 
 std::uint64_t hash_text(const std::string& text) {

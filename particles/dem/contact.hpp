@@ -1,11 +1,13 @@
 // Soft-sphere contact law of seed 000 §2.2.2: one contact, no MPI, no I/O.
 #pragma once
 
-#include <algorithm>
-#include <cmath>
+#include <fmt/format.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
 
 namespace coflow::particles::dem {
 
@@ -125,6 +127,19 @@ inline double pack_critical_step(double mass, const ContactLaw& law) {
 // eq. 2.20, and no more than half the dense pack's critical step.
 inline double automatic_step(double mass, const ContactLaw& law, double t_frac) {
   return std::min(t_frac * critical_step(mass, std::max(law.kn, law.ks)), 0.5 * pack_critical_step(mass, law));
+}
+
+// A fixed step (not auto) checked again as grains crush (seed 000 §2.2.2:
+// lighter, so their critical step of eq. 2.19 shortens): past it the run
+// stops here with a message, not later on non-finite positions.
+inline void check_fixed_step(double h, double lightest, const ContactLaw& law) {
+  const double crit = critical_step(lightest, std::max(law.kn, law.ks));
+  if (h > crit)
+    throw std::runtime_error(
+        fmt::format("particles.time_step {:.4g} s now exceeds the critical step {:.4g} s (seed 000 eq. 2.19) "
+                    "of the lightest "
+                    "grain, crushed to {:.4g} kg: use time_step: auto, which splits the step as grains crush",
+                    h, crit, lightest));
 }
 
 // Equal parts of h, each no longer than `stable` (1e-9 of slack: a step that

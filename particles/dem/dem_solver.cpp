@@ -35,13 +35,21 @@ DemSolver::DemSolver(const Setup& setup, const Params&)
   // The neighbour list keeps the pairs within that reach plus a skin, and is
   // rebuilt once a particle has moved half the skin (on one rank; with MPI the
   // ghosts change every step and so does the list).
+  // A grain crushed in a step (seed 000 §2.2.2) widens each of its other bonds'
+  // gaps by crush x its radius: the reach takes one crush of both grains, so
+  // that the partner is still a ghost when the bond's tension failure is seen
+  // (build_list keeps bonded pairs listed beyond the cut while both are here).
   if (s_.bond_gap >= 0) {
     const double stretch = s_.law.sigma_t * std::pow(2.0 * s_.max_radius, 2) / s_.law.kn;
-    extra_ = std::max(s_.bond_gap, stretch);
+    extra_ = std::max(s_.bond_gap, stretch) + 2.0 * s_.max_radius * std::max(0.0, s_.crush);
   }
   skin_ = 0.1 * s_.max_radius;
   const double reach = 2.0 * s_.max_radius + extra_ + skin_;
-  cell_size_ = std::max(reach * 1.01, 1e-12);
+  // No particle at all: one cell (cells as narrow as a bond's gap alone would overflow the count).
+  cell_size_ =
+      s_.max_radius > 0.0
+          ? reach * 1.01
+          : std::max({s_.upper[0] - s_.lower[0], s_.upper[1] - s_.lower[1], s_.upper[2] - s_.lower[2]});
   for (int d = 0; d < 3; ++d)
     nc_[d] = std::max(1L, static_cast<long>(std::floor((s_.upper[d] - s_.lower[d]) / cell_size_)));
   const long cells = nc_[0] * nc_[1] * nc_[2];
@@ -176,20 +184,50 @@ void DemSolver::invalidate_list() {
   list_valid_ = false;
 }
 
+// Bonded pairs farther apart than the list's cut, per smaller index: a
+// crushed grain's other bonds (their gaps widen with its radius). They stay
+// listed while both particles are on this rank, so that their tension failure
+// is seen, counted and logged as dem-reference sees it (its every pair).
+std::vector<std::vector<long>> DemSolver::far_bonds() const {
+  std::vector<std::vector<long>> far(p_.size());
+  const auto index = [&](std::int64_t id) -> long {
+    const auto it = std::lower_bound(p_.id.begin(), p_.id.end(), id);
+    return it != p_.id.end() && *it == id ? static_cast<long>(it - p_.id.begin()) : -1;
+  };
+  for (const auto& [k, c] : contacts_) {
+    if (!c.bonded) continue;
+    const long a = index(static_cast<std::int64_t>(k >> 32)),
+               b = index(static_cast<std::int64_t>(k & 0xffffffffu));
+    if (a < 0 || b < 0) continue;
+    const auto i = static_cast<std::size_t>(std::min(a, b)), j = static_cast<std::size_t>(std::max(a, b));
+    if (!owned_[i] && !owned_[j]) continue;
+    const double cut = p_.radius[i] + p_.radius[j] + extra_ + skin_;
+    if (dem::min_image(V3(&p_.x[3 * i]) - V3(&p_.x[3 * j]), s_).squaredNorm() >= cut * cut)
+      far[i].push_back(static_cast<long>(j));
+  }
+  return far;
+}
+
 void DemSolver::build_list() {
   if (list_valid_) sync_contacts();
   build_cells();
   const std::size_t n = p_.size();
+  const std::vector<std::vector<long>> far = far_bonds();
   list_start_.assign(n + 1, 0);
   list_items_.clear();
   for (std::size_t i = 0; i < n; ++i) {
     const V3 xi(&p_.x[3 * i]);
+    const std::size_t first = list_items_.size();
     for_candidates(i, [&](std::size_t j) {
       if (!owned_[i] && !owned_[j]) return;
       const double cut = p_.radius[i] + p_.radius[j] + extra_ + skin_;
       if (dem::min_image(xi - V3(&p_.x[3 * j]), s_).squaredNorm() < cut * cut)
         list_items_.push_back(static_cast<long>(j));
     });
+    if (!far[i].empty()) {  // in increasing j with the others: dem-reference's pair order
+      list_items_.insert(list_items_.end(), far[i].begin(), far[i].end());
+      std::sort(list_items_.begin() + static_cast<long>(first), list_items_.end());
+    }
     list_start_[i + 1] = static_cast<long>(list_items_.size());
   }
   // Histories move from the map into the list; the map is rebuilt from the list
@@ -460,11 +498,15 @@ void DemSolver::step(double h) {
 // no part exceeds the automatic step of the lightest grain now (global, so
 // that every rank splits alike).
 long DemSolver::crushed_substeps(double h) const {
-  if (!s_.auto_step || s_.crush <= 0.0) return 1;
+  if (s_.crush <= 0.0) return 1;
   double lightest = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < p_.mass.size(); ++i) lightest = std::min(lightest, p_.mass[i]);
   if (size_ > 1) MPI_Allreduce(MPI_IN_PLACE, &lightest, 1, MPI_DOUBLE, MPI_MIN, comm_);
   if (!std::isfinite(lightest)) return 1;
+  if (!s_.auto_step) {
+    dem::check_fixed_step(h, lightest, s_.law);
+    return 1;
+  }
   return dem::split_for(h, dem::automatic_step(lightest, s_.law, s_.t_frac));
 }
 

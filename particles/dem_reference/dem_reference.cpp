@@ -192,10 +192,13 @@ void DemReference::advance(double dt, long substeps) {
     // Crushed grains are lighter: split the step as the automatic step of the
     // lightest grain now requires (as dem does).
     long parts = 1;
-    if (s_.auto_step && s_.crush > 0.0 && !p_.empty()) {
+    if (s_.crush > 0.0 && !p_.empty()) {
       double lightest = std::numeric_limits<double>::infinity();
       for (const auto& p : p_) lightest = std::min(lightest, p.m);
-      parts = dem::split_for(h, dem::automatic_step(lightest, s_.law, s_.t_frac));
+      if (s_.auto_step)
+        parts = dem::split_for(h, dem::automatic_step(lightest, s_.law, s_.t_frac));
+      else
+        dem::check_fixed_step(h, lightest, s_.law);
     }
     for (long m = 0; m < parts; ++m) step(h / parts);
   }
@@ -240,6 +243,10 @@ void DemReference::load(const std::string& dir, long steps, double time) {
   for (std::size_t i = 0; i < a.size(); ++i)
     p_.push_back({a.id[i], a.species[i], V3(&a.x[3 * i]), V3(&a.v[3 * i]), V3(&a.w[3 * i]), a.radius[i], a.mass[i],
                   a.inertia[i], V3::Zero(), V3::Zero(), V3::Zero(), V3::Zero()});
+  // In id order, as a straight run keeps them (dem on N ranks writes its
+  // ranks' particles one rank after another): the pairs' order and their
+  // (smaller id, larger id) history keys depend on it.
+  std::sort(p_.begin(), p_.end(), [](const Particle& x, const Particle& y) { return x.id < y.id; });
   contacts_.clear();
   walls_.clear();
   for (const auto& c : list) {

@@ -24,4 +24,6 @@ check fv_k_epsilon_blow_up \
   "fv: k and epsilon would need 3.2e+09 advection sub-steps at t = 0.01 s (the velocity is far above the step's CFL limit); lower fluid.fv.cfl or fluid.fv.max_step"
 check lbm_too_many_windows \
   "run.end_time: 1e+300 s is 2.56e+300 coupling windows of"
+check dem_crushed_past_fixed_step \
+  "particles.time_step 2e-05 s now exceeds the critical step 8.329e-06 s (seed 000 eq. 2.19) of the lightest grain"
 echo "ok"

@@ -11,6 +11,17 @@ coflow_validation(dem_gravity_pour pour dem_gravity_pour.yaml 1)
 # step, crushed (lighter) grains split the step alike in dem and dem-reference.
 coflow_validation(dem_bonded_ranks_1_vs_4 compare dem_crosscheck_bonded.yaml 2
   "particles.ranks=1" "particles.ranks=4 particles.decomposition=[2,2,1]")
+# Crushing by a fifth of the radius widens a crushed grain's other bonds past
+# the neighbour list's cut: they must still fail in tension, counted and
+# logged, on 4 ranks as on 1 (before 2026-12-03, 4 ranks logged 270 of 396).
+coflow_validation(dem_crushing_ranks_1_vs_4 compare dem_crosscheck_bonded.yaml 2
+  "particles.ranks=1 particles.contact.bond.crush_fraction=0.2"
+  "particles.ranks=4 particles.decomposition=[2,2,1] particles.contact.bond.crush_fraction=0.2")
+# No particle at all (a box that an upstream stage fills later): dem runs, on
+# 1 rank and on 4 (before 2026-12-03 its cells were sized by the bond gap
+# alone and their count overflowed: std::bad_alloc).
+coflow_validation(dem_no_particles_ranks_1_vs_4 compare dem_crosscheck_bonded.yaml 2
+  "particles.ranks=1 particles.initial=[]" "particles.ranks=4 particles.decomposition=[2,2,1] particles.initial=[]")
 coflow_validation(dem_crushing_auto_step crush dem_crosscheck_bonded.yaml 1
   --set particles.time_step=auto --set particles.contact.bond.crush_fraction=0.2)
 coflow_validation(dem_crushing_auto_step_vs_reference compare dem_crosscheck_bonded.yaml 1

@@ -345,6 +345,20 @@ void DpmSolver::apply_events() {
     }
 }
 
+// After its event at hit_[i] the particle goes on from the contact with its
+// new velocity; walls and meshes on that path take it too (as dpm-reference).
+dpm::V3 DpmSolver::after_event(std::size_t i, double h) {
+  const double t = hit_[i];
+  return dpm::finish_step(at(p_.x, i) + u_[i] * t, moved_[i].v, moved_[i].w, h - t, D_[i], p_.id[i], s_,
+                          tris_,
+                          [&](double dt, std::int64_t b, const V3& point, const V3& nrm, const V3& before) {
+                            wall_impulse_.add(dpm::wall_slot(b), V3(-p_.mass[i] * (moved_[i].v - before)));
+                            if (dpm::mirror_event(b, s_)) return;
+                            events_.impact(time_ + t + dt, p_.id[i], -1 - b, point, nrm, before);
+                            ++wall_collisions_;
+                          });
+}
+
 // 3. New states (eqs 4.30-4.31 after a collision), then the faces: particles
 // that leave through an outlet are dropped, order kept, their impulse kept for
 // the fluid at their last position inside.
@@ -353,7 +367,7 @@ void DpmSolver::commit_states(double h) {
   std::vector<char> inside(n, 1);
   bool all_inside = true;
   for (std::size_t i = 0; i < n; ++i) {
-    V3 x = hit_[i] < 0.0 ? moved_[i].x : V3(at(p_.x, i) + u_[i] * hit_[i] + moved_[i].v * (h - hit_[i]));
+    V3 x = hit_[i] < 0.0 ? moved_[i].x : after_event(i, h);
     const V3 unwrapped = x;
     if (!dpm::apply_faces(x, s_)) {
       inside[i] = 0;

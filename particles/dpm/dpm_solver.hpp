@@ -82,6 +82,7 @@ class DpmSolver final : public ParticleSolver {
   void collect_events(double h);
   void apply_events();
   void commit_states(double h);
+  dpm::V3 after_event(std::size_t i, double h);  // the rest of the step after i's event (dpm::finish_step)
   void set_derived();
   void inject(double h);
   void keep_owned();  // every rank holds all: keep this rank's

@@ -313,6 +313,37 @@ inline void wall_contact(std::int64_t b, const V3& x, const V3& u, double t, dou
   law = &s.mesh_law[m];
 }
 
+// The rest of a step after a particle's first event (eqs 4.30-4.31): from the
+// contact centre c it moves with its new velocity v for `rest`; a wall face
+// or mesh it reaches there takes it too, at most kMoreWallEvents times (a pair
+// collision can drive it into a wall within the step; a thin mesh would
+// otherwise be passed through for good). on_wall(t, key, point, normal,
+// before) hears of each impulse applied, t from c's time. Returns the
+// position at the step's end.
+inline constexpr int kMoreWallEvents = 4;
+template <class OnWall>
+inline V3 finish_step(V3 c, V3& v, V3& w, double rest, double D, std::int64_t id, const DpmSetup& s,
+                      std::vector<int>& scratch, OnWall&& on_wall) {
+  std::vector<Event> ev;
+  double t0 = 0.0;
+  for (int k = 0; k < kMoreWallEvents; ++k) {
+    ev.clear();
+    wall_events(c, v, D, id, 0, rest, s, ev);
+    if (!s.meshes.empty()) mesh_events(c, v, D, id, 0, rest, s, scratch, ev);
+    if (ev.empty()) break;
+    const Event e = *std::min_element(ev.begin(), ev.end());
+    V3 normal, point;
+    const Restitution* law = nullptr;
+    wall_contact(e.b, c, v, e.t, D, s, normal, point, law);
+    const V3 before = v;
+    c += v * e.t;
+    rest -= e.t;
+    t0 += e.t;
+    if (collide_wall(v, w, D, normal, *law)) on_wall(t0, e.b, point, normal, before);
+  }
+  return c + v * rest;
+}
+
 // Periodic faces wrap x back into the box; returns false when the particle left
 // through an outlet.
 inline bool apply_faces(V3& x, const DpmSetup& s) {

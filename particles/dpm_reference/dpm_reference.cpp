@@ -150,10 +150,22 @@ void DpmReference::step(double h) {
   // 3. New states: after a collision the particle continues from the contact
   //    point with its new velocity (eqs 4.30-4.31).
   std::vector<V3> last(p_.size());  // the positions before the step
+  std::vector<int> scratch;
   for (std::size_t i = 0; i < p_.size(); ++i) {
     Particle& p = p_[i];
     last[i] = p.x;
-    p.x = hit[i] < 0.0 ? next[i].x : V3(p.x + u[i] * hit[i] + next[i].v * (h - hit[i]));
+    if (hit[i] < 0.0) {
+      p.x = next[i].x;
+    } else {  // walls and meshes on the rest of the path take it too (setup.hpp)
+      const double t = hit[i];
+      p.x = dpm::finish_step(p.x + u[i] * t, next[i].v, next[i].w, h - t, p.D, p.id, s_, scratch,
+                             [&](double dt, std::int64_t b, const V3& point, const V3& n, const V3& before) {
+                               wall_impulse_.add(dpm::wall_slot(b), V3(-p.m * (next[i].v - before)));
+                               if (dpm::mirror_event(b, s_)) return;
+                               events_.impact(time_ + t + dt, p.id, -1 - b, point, n, before);
+                               ++wall_collisions_;
+                             });
+    }
     p.v = next[i].v;
     p.w = next[i].w;
     p.impulse += next[i].impulse;

@@ -43,7 +43,7 @@ struct DpmSetup {
   V3 gravity = V3::Zero();
   V3 lower = V3::Zero(), upper = V3::Zero();
   std::array<bool, 3> periodic{false, false, false};
-  double cell = 0.0;                  // fluid cell size (t_V.C of eq. 4.15)
+  double cell = 0.0;                  // the fluid cells' narrowest side (t_V.C of eq. 4.15)
   V3 spacing = V3::Ones();            // fluid cell sizes along x, y, z (cells of the tau_c estimate)
   FluidSample still;                  // the fluid without a coupling partner: at rest
   // The fluid at a particle injected within a coupled window, until the next
@@ -68,8 +68,8 @@ inline DpmSetup make_setup(const ParticleParams& p, const config::Config& cfg) {
     s.upper[d] = cfg.domain.upper[d];
     s.periodic[d] = cfg.domain.periodic[d];
   }
-  s.cell = cfg.domain.spacing()[0];
   for (int d = 0; d < 3; ++d) s.spacing[d] = cfg.domain.spacing()[d];
+  s.cell = s.spacing.minCoeff();  // the narrowest side: no cell is crossed in fewer than 5 steps
   s.pair = {p.collision.restitution, p.collision.friction};
   s.ns = static_cast<int>(p.species.size());
   for (const auto& sp : p.species) s.species_names.push_back(sp.first);

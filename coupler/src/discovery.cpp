@@ -138,6 +138,9 @@ void refuse_start(const std::string& component, const std::string& problem) {
       std::cerr << kFailedTag << " " << component << " " << world_rank << " " << problem << std::endl;
   } catch (const TimeoutError&) {  // the others never came: say it here
     std::cerr << kFailedTag << " " << component << " " << world_rank << " " << problem << std::endl;
+    // The gather is still pending: MPI_Finalize could wait for the absent
+    // ranks for ever (an unfinished collective), so end the job instead.
+    MPI_Abort(MPI_COMM_WORLD, 2);
   }
   MPI_Finalize();
   std::exit(2);

@@ -559,9 +559,11 @@ void PointExchange::send(std::span<const std::byte> records,
                       n, x[0], x[1], x[2]));
     Index3 c{};
     for (int d = 0; d < 3; ++d) {
-      long i = static_cast<long>(std::floor((positions[n][d] - lower_[d]) / spacing_[d]));
-      if (!dest_.periodic()[d]) i = std::clamp(i, 0L, dest_.cells()[d] - 1);
-      c[d] = i;
+      // Clamped before the cast (a finite but huge position, e.g. a particle
+      // blown up, would not fit a long): the faces' cells off periodic axes.
+      const double f = std::floor((positions[n][d] - lower_[d]) / spacing_[d]);
+      const double top = static_cast<double>(dest_.cells()[d] - 1);
+      c[d] = static_cast<long>(dest_.periodic()[d] ? std::clamp(f, -1e15, 1e15) : std::clamp(f, 0.0, top));
     }
     const int owner = dest_.owner(c);
     routed_[owner].push_back(static_cast<std::uint32_t>(n));

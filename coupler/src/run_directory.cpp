@@ -1,14 +1,15 @@
 #include "coflow/run_directory.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <vector>
 
-#include <fmt/format.h>
-
 #include "coflow/log.hpp"
 #include "coflow/output.hpp"
+#include "coflow/trace.hpp"
 #include "coflow/wait.hpp"
 
 namespace coflow::coupler {
@@ -72,6 +73,7 @@ void RunDirectory::end_checkpoint(long w, double window) const {
   MPI_Ibarrier(MPI_COMM_WORLD, &r);
   wait_one(r, "the other components to finish their checkpoint");
   if (world_rank_ == 0) {
+    Timer t(trace().io_s);
     const std::string base = fmt::format("{}/checkpoints/window_{:06d}", dir_, w);
     output::atomic_write(base + ".partial/checkpoint.yaml",
                          fmt::format("name: {}\nwindow: {}\ntime: {:.17g}\nwindow_length: {:.17g}\n", cfg_.run.name, w,

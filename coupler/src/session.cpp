@@ -59,9 +59,11 @@ std::string Session::restart_dir() const { return args_.restart + "/" + componen
 
 void Session::checkpoint(long w, const std::function<void(const std::string&)>& save) {
   if (!checkpoint_due(w)) return;
-  Timer t(trace().io_s);
-  save(begin_checkpoint(w));
-  end_checkpoint(w);
+  {
+    Timer t(trace().io_s);
+    save(begin_checkpoint(w));
+  }
+  end_checkpoint(w);  // its waits for the others count as waiting (wait_s), once
 }
 
 Decomposition Session::decomposition_of(const std::string& component, int ranks) const {

@@ -621,6 +621,14 @@ void PointExchange::receive(std::vector<std::byte>& records, std::vector<std::ui
   alltoallv_bytes(out_, send_counts_, send_displs_, in_, recv_counts_, recv_displs_, inter_,
                   "point records");
   const std::size_t rec = record_bytes_ + 1;
+  // Exchanges are told apart by their order on the intercommunicator only: a
+  // partner calling another exchange here (records of another size) is caught.
+  for (int r = 0; r < remote_size_; ++r)
+    if (static_cast<std::size_t>(recv_counts_[r]) % rec != 0)
+      throw SolverError(
+          fmt::format("point exchange: {} bytes from partner rank {} are not whole records of {} "
+                      "bytes: the two sides called different exchanges (their order must match)",
+                      recv_counts_[r], r, record_bytes_));
   const std::size_t n = in_.size() / rec;
   records.resize(n * record_bytes_);
   owned.resize(n);
@@ -667,6 +675,12 @@ void PointExchange::receive_results(std::span<std::byte> results,
   in_.resize(total_of(recv_counts_));
   alltoallv_bytes(out_, send_counts_, send_displs_, in_, recv_counts_, recv_displs_, inter_,
                   "point results");
+  for (int r = 0; r < remote_size_; ++r)
+    if (static_cast<std::size_t>(recv_counts_[r]) != routed_[r].size() * result_bytes_)
+      throw SolverError(
+          fmt::format("point exchange: partner rank {} returned {} bytes of results for {} records "
+                      "of {} bytes: the two sides called different exchanges (their order must match)",
+                      r, recv_counts_[r], routed_[r].size(), result_bytes_));
   // Owner copies first, so that ghost copies combine into a defined value.
   for (int r = 0; r < remote_size_; ++r) {
     const std::byte* in = in_.data() + recv_displs_[r];

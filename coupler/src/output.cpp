@@ -20,8 +20,12 @@ namespace coflow::output {
 namespace fs = std::filesystem;
 
 void atomic_write(const std::string& path, const std::string& content) {
-  // The process and thread in the name: two writers never share a temporary.
-  const std::string tmp = fmt::format("{}.tmp.{}.{}", path, ::getpid(), ::gettid());
+  // The host, process and thread in the name: two writers never share a
+  // temporary (process ids repeat across the nodes of a cluster).
+  char host[256] = "host";
+  ::gethostname(host, sizeof host - 1);
+  host[sizeof host - 1] = '\0';
+  const std::string tmp = fmt::format("{}.tmp.{}.{}.{}", path, host, ::getpid(), ::gettid());
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw std::runtime_error(fmt::format("cannot write '{}'", tmp));

@@ -22,6 +22,13 @@ coflow_validation(dem_crushing_ranks_1_vs_4 compare dem_crosscheck_bonded.yaml 2
 # alone and their count overflowed: std::bad_alloc).
 coflow_validation(dem_no_particles_ranks_1_vs_4 compare dem_crosscheck_bonded.yaml 2
   "particles.ranks=1 particles.initial=[]" "particles.ranks=4 particles.decomposition=[2,2,1] particles.initial=[]")
+# A checkpoint of dem on 2 ranks (cut along y: the file holds rank 0's
+# particles, then rank 1's, not in id order) restarts dem-reference on 1 rank
+# bit for bit (before 2026-12-03 its pair order, and so the velocities, moved
+# by 4.6e-16: it kept the file's order).
+coflow_validation(dem_reference_restart_from_dem_2_ranks restart_from dem_crosscheck_bonded.yaml 2
+  5.0e-4 "particles.ranks=2 particles.decomposition=[1,2,1] run.output.series_every=2.5e-4"
+  "particles.solver=dem-reference run.output.series_every=2.5e-4")
 coflow_validation(dem_crushing_auto_step crush dem_crosscheck_bonded.yaml 1
   --set particles.time_step=auto --set particles.contact.bond.crush_fraction=0.2)
 coflow_validation(dem_crushing_auto_step_vs_reference compare dem_crosscheck_bonded.yaml 1

@@ -63,7 +63,9 @@ void RunDirectory::snapshot_written(long number, double time, std::size_t count,
 std::string RunDirectory::begin_checkpoint(long w) const {
   const std::string dir = fmt::format("{}/checkpoints/window_{:06d}.partial/{}", dir_, w, component_);
   if (rank_ == 0) fs::create_directories(dir);
-  MPI_Barrier(comm_);
+  MPI_Request r;
+  MPI_Ibarrier(comm_, &r);
+  wait_one(r, "the component's rank 0 to create the checkpoint's directory");
   return dir;
 }
 

@@ -59,11 +59,12 @@ std::string Session::restart_dir() const { return args_.restart + "/" + componen
 
 void Session::checkpoint(long w, const std::function<void(const std::string&)>& save) {
   if (!checkpoint_due(w)) return;
+  const std::string dir = begin_checkpoint(w);  // its barrier counts as waiting (wait_s)
   {
     Timer t(trace().io_s);
-    save(begin_checkpoint(w));
+    save(dir);
   }
-  end_checkpoint(w);  // its waits for the others count as waiting (wait_s), once
+  end_checkpoint(w);  // its waits for the others count as waiting, once
 }
 
 Decomposition Session::decomposition_of(const std::string& component, int ranks) const {

@@ -136,7 +136,8 @@ inline void check_fixed_step(double h, double lightest, const ContactLaw& law) {
   const double crit = critical_step(lightest, std::max(law.kn, law.ks));
   if (h > crit)
     throw std::runtime_error(
-        fmt::format("particles.time_step {:.4g} s now exceeds the critical step {:.4g} s (seed 000 eq. 2.19) "
+        fmt::format("the particle step {:.4g} s (particles.time_step) now exceeds the critical step {:.4g} s "
+                    "(seed 000 eq. 2.19) "
                     "of the lightest "
                     "grain, crushed to {:.4g} kg: use time_step: auto, which splits the step as grains crush",
                     h, crit, lightest));

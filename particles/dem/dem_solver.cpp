@@ -35,13 +35,13 @@ DemSolver::DemSolver(const Setup& setup, const Params&)
   // The neighbour list keeps the pairs within that reach plus a skin, and is
   // rebuilt once a particle has moved half the skin (on one rank; with MPI the
   // ghosts change every step and so does the list).
-  // A grain crushed in a step (seed 000 §2.2.2) widens each of its other bonds'
-  // gaps by crush x its radius: the reach takes one crush of both grains, so
-  // that the partner is still a ghost when the bond's tension failure is seen
-  // (build_list keeps bonded pairs listed beyond the cut while both are here).
+  // Crushing (seed 000 §2.2.2) shrinks radii, not the distance between
+  // centres: a bond not yet failed stays within 2 R_max + extra_ of its
+  // partner, inside the ghost reach; build_list keeps it listed beyond the
+  // cut of the shrunk radii (far_bonds), so its tension failure is seen.
   if (s_.bond_gap >= 0) {
     const double stretch = s_.law.sigma_t * std::pow(2.0 * s_.max_radius, 2) / s_.law.kn;
-    extra_ = std::max(s_.bond_gap, stretch) + 2.0 * s_.max_radius * std::max(0.0, s_.crush);
+    extra_ = std::max(s_.bond_gap, stretch);
   }
   skin_ = 0.1 * s_.max_radius;
   const double reach = 2.0 * s_.max_radius + extra_ + skin_;

@@ -84,7 +84,7 @@ class DemSolver final : public ParticleSolver {
   int rank_ = 0, size_ = 1;
   // cell list
   double cell_size_ = 0.0;
-  double extra_ = 0.0;  // reach beyond contact: bond gap or bond stretch, and one crush
+  double extra_ = 0.0;  // reach beyond contact: bond gap or bond stretch
   double skin_ = 0.0;
   std::vector<long> list_start_, list_items_;
   std::vector<double> list_x_;  // positions at the last build

@@ -279,8 +279,9 @@ void DpmSolver::collect_events(double h) {
   std::sort(ev_.begin(), ev_.end());
 }
 
-// 2b. Each particle takes its first event only (eqs 4.30-4.31 at walls and
-// between particles); the pair collisions' new velocities replace the free ones.
+// 2b. Each particle takes its first event here (eqs 4.30-4.31 at walls and
+// between particles; the walls on the rest of its path follow in
+// after_event); the pair collisions' new velocities replace the free ones.
 void DpmSolver::apply_events() {
   const std::size_t n = p_.size();
   hit_.assign(near_.size(), -1.0);

@@ -69,7 +69,11 @@ inline DpmSetup make_setup(const ParticleParams& p, const config::Config& cfg) {
     s.periodic[d] = cfg.domain.periodic[d];
   }
   for (int d = 0; d < 3; ++d) s.spacing[d] = cfg.domain.spacing()[d];
-  s.cell = s.spacing.minCoeff();  // the narrowest side: no cell is crossed in fewer than 5 steps
+  // The narrowest side (no cell crossed in fewer than 5 steps) of the axes
+  // with cells to cross (a 2D grid's depth is none).
+  s.cell = std::numeric_limits<double>::infinity();
+  for (int d = 0; d < 3; ++d)
+    if (cfg.domain.cells[d] > 1 || d == 0) s.cell = std::min(s.cell, s.spacing[d]);
   s.pair = {p.collision.restitution, p.collision.friction};
   s.ns = static_cast<int>(p.species.size());
   for (const auto& sp : p.species) s.species_names.push_back(sp.first);
@@ -323,7 +327,10 @@ inline void wall_contact(std::int64_t b, const V3& x, const V3& u, double t, dou
 // collision can drive it into a wall within the step; a thin mesh would
 // otherwise be passed through for good). on_wall(t, key, point, normal,
 // before) hears of each impulse applied, t from c's time. Returns the
-// position at the step's end.
+// position at the step's end; at the last contact when the events run out
+// (a particle caught between walls stops there rather than pass one). A
+// contact with no approach to speak of (after a bounce with e = 0, round-off)
+// ends the checks: the particle slides on.
 inline constexpr int kMoreWallEvents = 4;
 template <class OnWall>
 inline V3 finish_step(V3 c, V3& v, V3& w, double rest, double D, std::int64_t id, const DpmSetup& s,
@@ -339,11 +346,13 @@ inline V3 finish_step(V3 c, V3& v, V3& w, double rest, double D, std::int64_t id
     V3 normal, point;
     const Restitution* law = nullptr;
     wall_contact(e.b, c, v, e.t, D, s, normal, point, law);
+    if (v.dot(normal) <= 1e-12 * v.norm()) break;
     const V3 before = v;
     c += v * e.t;
     rest -= e.t;
     t0 += e.t;
     if (collide_wall(v, w, D, normal, *law)) on_wall(t0, e.b, point, normal, before);
+    if (k + 1 == kMoreWallEvents) return c;
   }
   return c + v * rest;
 }

@@ -70,10 +70,10 @@ std::vector<dpm::Event> DpmReference::find_events(double h, const std::vector<V3
   return events;
 }
 
-// Events are taken earliest first (ties by particle ids); a particle collides
-// at most once per step (binary collisions: the step is a fraction of the mean
-// time between collisions, eq. 4.15). Returns each particle's collision time
-// (-1: none).
+// Events are taken earliest first (ties by particle ids); a particle takes
+// one event here (binary collisions: the step is a fraction of the mean time
+// between collisions, eq. 4.15), and only walls after it (dpm::finish_step in
+// step()). Returns each particle's collision time (-1: none).
 std::vector<double> DpmReference::collide(const std::vector<dpm::Event>& events, const std::vector<V3>& u,
                                           std::vector<dpm::Motion>& next) {
   std::vector<double> hit(p_.size(), -1.0);  // collision time, -1: none

@@ -25,5 +25,5 @@ check fv_k_epsilon_blow_up \
 check lbm_too_many_windows \
   "run.end_time: 1e+300 s is 2.56e+300 coupling windows of"
 check dem_crushed_past_fixed_step \
-  "particles.time_step 2e-05 s now exceeds the critical step 8.329e-06 s (seed 000 eq. 2.19) of the lightest grain"
+  "the particle step 2e-05 s (particles.time_step) now exceeds the critical step 8.329e-06 s (seed 000 eq. 2.19) of the lightest grain"
 echo "ok"

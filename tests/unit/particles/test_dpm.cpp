@@ -288,4 +288,14 @@ particles:
   CHECK_THAT(lagrangian_step(s, 1e-4, 2000.0, V3(0, 1.0, 0), still), WithinRel(5e-4, 1e-12));
   CHECK_THAT(lagrangian_step(s, 1e-4, 2000.0, V3(2.0, 0, 0), still),
              WithinRel(2.5e-4, 1e-12));  // the same side
+  // A 2D grid's depth (one cell, here 1 mm thin) is no cell to cross.
+  std::string thin = text;
+  thin.replace(thin.find("upper: [0.1, 0.1, 0.1]"), 22, "upper: [0.1, 0.1, 0.001]");
+  thin.replace(thin.find("[0.05, 0.01, 0.05]"), 18, "[0.05, 0.01, 5e-4]");
+  const auto cfg2 = coflow::config::parse_config_node(YAML::Load(thin), "thin.yaml", coflow::catalog());
+  coflow::particles::ParticleParams params2;
+  coflow::config::Reader r2(cfg2.resolved["particles"], "thin.yaml", "particles");
+  params2.visit(r2, cfg2);
+  const auto s2 = coflow::particles::dpm::make_setup(params2, cfg2);
+  CHECK_THAT(lagrangian_step(s2, 1e-4, 2000.0, V3(0, 1.0, 0), still), WithinRel(5e-4, 1e-12));
 }

@@ -252,14 +252,10 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
   visit_boundaries(v, cfg);
   visit_initial(v);
   only(true, "injection", [&] {
-    v.list(
-        "injection",
-        "particle inlets (dpm): a mass flow through a disk or a rectangle (coupled: a particle that enters "
-        "within a coupling window feels no fluid load until the next window samples the fluid at it)",
-        [&](Visitor& s) {
-          injection.emplace_back();
-          injection.back().visit(s);
-        });
+    v.list("injection", "particle inlets (dpm): a mass flow through a disk or a rectangle", [&](Visitor& s) {
+      injection.emplace_back();
+      injection.back().visit(s);
+    });
   });
   if (!v.reading()) return;
   check_references(v);

@@ -489,7 +489,7 @@ void DpmSolver::inject(double h) {
       p_.inertia[i] = 0.1 * m * e.D * e.D;
       D_[i] = e.D;
       rho_p_[i] = in.density;
-      fluid_[i] = coupled_ ? s_.unsampled : s_.still;  // coupled: sampled from the next window on
+      fluid_[i] = s_.still;
     }
   }
 }
@@ -509,7 +509,6 @@ void DpmSolver::set_hydrodynamic(std::span<const double>, std::span<const double
 }
 
 void DpmSolver::set_fluid(std::span<const double> samples) {
-  coupled_ = true;
   for (std::size_t i = 0; i < p_.size(); ++i) {
     const double* s = &samples[kFluidValues * i];
     fluid_[i] = {V3(s), V3(s + 3), s[6], s[7], s[8], s[9]};

@@ -147,7 +147,6 @@ class DpmSolver final : public ParticleSolver {
   std::vector<double> hit_;
   std::vector<char> pair_hit_;
   std::vector<int> tris_;  // mesh candidates (scratch)
-  bool coupled_ = false;   // a partner samples the fluid (set_fluid): injected particles wait for it
 };
 
 }  // namespace coflow::particles

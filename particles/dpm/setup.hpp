@@ -46,9 +46,6 @@ struct DpmSetup {
   double cell = 0.0;                  // the fluid cells' narrowest side (t_V.C of eq. 4.15)
   V3 spacing = V3::Ones();            // fluid cell sizes along x, y, z (cells of the tau_c estimate)
   FluidSample still;                  // the fluid without a coupling partner: at rest
-  // The fluid at a particle injected within a coupled window, until the next
-  // window's samples: unknown, so no fluid load (mu 0), buoyancy kept (rho).
-  FluidSample unsampled;
   bool auto_step = true;
   double dt = 0.0;                    // the configured step (auto: the start's eq. 4.15 value)
   // triangle-mesh walls (STL), each with its coefficients
@@ -116,7 +113,6 @@ inline DpmSetup make_setup(const ParticleParams& p, const config::Config& cfg) {
     s.still.rho = fl["density"].as<double>();
     s.still.mu = s.still.rho * fl["viscosity"].as<double>();
   }
-  s.unsampled.rho = s.still.rho;
   s.auto_step = p.time_step.is_auto;
   s.dt = p.time_step.is_auto ? 0.0 : p.time_step.value;
   return s;

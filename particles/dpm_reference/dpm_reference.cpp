@@ -119,8 +119,7 @@ void DpmReference::inject_at_inlets(double h) {
     dpm::inject(inlets_[k], static_cast<int>(k), s_.dispersion.seed, time_, h, nearby, entering);
     for (const dpm::Entering& e : entering) {
       const double rho_p = inlets_[k].density, m = rho_p * std::numbers::pi * e.D * e.D * e.D / 6.0;
-      p_.push_back({next_id_++, e.species, e.x, e.v, V3::Zero(), e.D, m, 0.1 * m * e.D * e.D, rho_p,
-                    coupled_ ? s_.unsampled : s_.still,  // coupled: sampled from the next window on
+      p_.push_back({next_id_++, e.species, e.x, e.v, V3::Zero(), e.D, m, 0.1 * m * e.D * e.D, rho_p, s_.still,
                     V3::Zero(), V3::Zero()});
     }
   }
@@ -224,7 +223,6 @@ void DpmReference::set_hydrodynamic(std::span<const double>, std::span<const dou
 }
 
 void DpmReference::set_fluid(std::span<const double> samples) {
-  coupled_ = true;
   for (std::size_t i = 0; i < p_.size(); ++i) {
     const double* s = &samples[kFluidValues * i];
     p_[i].fluid = {V3(s), V3(s + 3), s[6], s[7], s[8], s[9]};

@@ -69,7 +69,6 @@ class DpmReference final : public ParticleSolver {
   dem::EventRecorder events_;
   WallImpulse wall_impulse_;
   std::vector<DepartedImpulse> departed_;  // in the last advance(), until take_departed
-  bool coupled_ = false;  // a partner samples the fluid (set_fluid): injected particles wait for it
   mutable ParticleArrays view_;
 };
 

@@ -48,7 +48,6 @@ int main(int argc, char** argv) {
     if (what == "injection" && argc == 3) return injection(argv[2]);
     if (what == "jet" && argc == 3) return jet(argv[2]);
     if (what == "pair_into_mesh" && argc == 3) return pair_into_mesh(argv[2]);
-    if (what == "carried" && argc == 3) return carried(argv[2]);
     if (what == "rotation" && argc == 3) return rotation(argv[2]);
     if (what == "laplace" && argc == 3) return laplace(argv[2]);
     if (what == "contact_angle" && argc == 3) return contact_angle(argv[2]);

@@ -700,23 +700,6 @@ int jet(const std::string& dir) {
   return 0;
 }
 
-// Particles injected at the speed of a uniform stream (fluid.analytic.velocity
-// U) and carried by drag alone: every particle of the last snapshot moves at
-// U. Prints the largest |v - U| / |U| and the count.
-int carried(const std::string& dir) {
-  const auto cfg = load(dir);
-  const auto u = cfg.resolved["fluid"]["analytic"]["velocity"].as<std::vector<double>>();
-  const double speed = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-  const auto snaps = snapshots(dir, "particles");
-  const std::string last = dir + "/particles/" + output::snapshot_name(snaps.back().first);
-  const auto v = output::read_dataset(last, "velocity");
-  double worst = 0.0;
-  for (std::size_t i = 0; 3 * i < v.size(); ++i)
-    for (int d = 0; d < 3; ++d) worst = std::max(worst, std::abs(v[3 * i + d] - u[d]) / speed);
-  std::printf("particles=%zu\ncarried_error=%.4e\n", v.size() / 3, worst);
-  return 0;
-}
-
 // configs/validation/dpm_pair_into_mesh.yaml: B strikes the resting A at
 // 0.05 ms, A reaches the plate (z = 1 mm, its centre at 1.1 mm) at 0.55 ms
 // and comes back: at 1 ms A is at z = 1.55 mm moving up at 1 m/s, B at rest

@@ -1,11 +1,11 @@
 #include "coflow/run_directory.hpp"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "coflow/log.hpp"
 #include "coflow/output.hpp"

@@ -1,13 +1,13 @@
 // Soft-sphere contact law of seed 000 §2.2.2: one contact, no MPI, no I/O.
 #pragma once
 
-#include <fmt/format.h>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <fmt/format.h>
 
 namespace coflow::particles::dem {
 
@@ -137,9 +137,8 @@ inline void check_fixed_step(double h, double lightest, const ContactLaw& law) {
   if (h > crit)
     throw std::runtime_error(
         fmt::format("the particle step {:.4g} s (particles.time_step) now exceeds the critical step {:.4g} s "
-                    "(seed 000 eq. 2.19) "
-                    "of the lightest "
-                    "grain, crushed to {:.4g} kg: use time_step: auto, which splits the step as grains crush",
+                    "(seed 000 eq. 2.19) of the lightest grain, crushed to {:.4g} kg: use time_step: auto, "
+                    "which splits the step as grains crush",
                     h, crit, lightest));
 }
 

@@ -184,12 +184,12 @@ void DemSolver::invalidate_list() {
   list_valid_ = false;
 }
 
-// Bonded pairs farther apart than the list's cut, per smaller index: a
-// crushed grain's other bonds (their gaps widen with its radius). They stay
+// Bonded pairs (i < j) farther apart than the list's cut, sorted: a crushed
+// grain's other bonds (their gaps widen as its radius shrinks). They stay
 // listed while both particles are on this rank, so that their tension failure
 // is seen, counted and logged as dem-reference sees it (its every pair).
-std::vector<std::vector<long>> DemSolver::far_bonds() const {
-  std::vector<std::vector<long>> far(p_.size());
+std::vector<std::pair<long, long>> DemSolver::far_bonds() const {
+  std::vector<std::pair<long, long>> far;
   const auto index = [&](std::int64_t id) -> long {
     const auto it = std::lower_bound(p_.id.begin(), p_.id.end(), id);
     return it != p_.id.end() && *it == id ? static_cast<long>(it - p_.id.begin()) : -1;
@@ -203,8 +203,9 @@ std::vector<std::vector<long>> DemSolver::far_bonds() const {
     if (!owned_[i] && !owned_[j]) continue;
     const double cut = p_.radius[i] + p_.radius[j] + extra_ + skin_;
     if (dem::min_image(V3(&p_.x[3 * i]) - V3(&p_.x[3 * j]), s_).squaredNorm() >= cut * cut)
-      far[i].push_back(static_cast<long>(j));
+      far.emplace_back(static_cast<long>(i), static_cast<long>(j));
   }
+  std::sort(far.begin(), far.end());
   return far;
 }
 
@@ -212,7 +213,8 @@ void DemSolver::build_list() {
   if (list_valid_) sync_contacts();
   build_cells();
   const std::size_t n = p_.size();
-  const std::vector<std::vector<long>> far = far_bonds();
+  const std::vector<std::pair<long, long>> far = far_bonds();  // usually none
+  auto next_far = far.begin();
   list_start_.assign(n + 1, 0);
   list_items_.clear();
   for (std::size_t i = 0; i < n; ++i) {
@@ -224,8 +226,10 @@ void DemSolver::build_list() {
       if (dem::min_image(xi - V3(&p_.x[3 * j]), s_).squaredNorm() < cut * cut)
         list_items_.push_back(static_cast<long>(j));
     });
-    if (!far[i].empty()) {  // in increasing j with the others: dem-reference's pair order
-      list_items_.insert(list_items_.end(), far[i].begin(), far[i].end());
+    if (next_far != far.end() && next_far->first == static_cast<long>(i)) {
+      for (; next_far != far.end() && next_far->first == static_cast<long>(i); ++next_far)
+        list_items_.push_back(next_far->second);
+      // in increasing j with the others: dem-reference's pair order
       std::sort(list_items_.begin() + static_cast<long>(first), list_items_.end());
     }
     list_start_[i + 1] = static_cast<long>(list_items_.size());

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "particles/dem/dem_common.hpp"
@@ -49,7 +50,7 @@ class DemSolver final : public ParticleSolver {
   void build_cells();
   // Verlet list: for each particle i, the j > i within reach + skin (CSR).
   void build_list();
-  std::vector<std::vector<long>> far_bonds() const;
+  std::vector<std::pair<long, long>> far_bonds() const;
   bool list_stale() const;
   // Histories back into contacts_ (keyed by ids) from the list; before the
   // local indices change, the list is synced and dropped.
@@ -84,7 +85,7 @@ class DemSolver final : public ParticleSolver {
   int rank_ = 0, size_ = 1;
   // cell list
   double cell_size_ = 0.0;
-  double extra_ = 0.0;  // reach beyond contact: bond gap or bond stretch
+  double extra_ = 0.0;   // reach beyond contact: bond gap or bond stretch
   double skin_ = 0.0;
   std::vector<long> list_start_, list_items_;
   std::vector<double> list_x_;  // positions at the last build

@@ -55,12 +55,16 @@ void ImmersedLink::after_step(long w) {
   }
 }
 
+// The particles' states; with the point method, then the solver's probe
+// points (ids -1, -2, ...; no radius or mass), where it gets the fluid too.
 void ImmersedLink::send_states(int k) {
   const ParticleArrays& p = solver_.particles();
   const std::size_t n = p.size();
-  records_.resize(n * sizeof(protocol::ParticleRecord));
-  positions_.resize(n);
-  sent_ids_[k].resize(n);
+  const std::vector<std::array<double, 3>> probes =
+      point_ ? solver_.probe_points() : std::vector<std::array<double, 3>>{};
+  records_.resize((n + probes.size()) * sizeof(protocol::ParticleRecord));
+  positions_.resize(n + probes.size());
+  sent_ids_[k].resize(n + probes.size());
   for (std::size_t i = 0; i < n; ++i) {
     protocol::ParticleRecord rec{};
     rec.id = p.id[i];
@@ -75,6 +79,14 @@ void ImmersedLink::send_states(int k) {
     rec.contact_angle = contact_angle_.at(static_cast<std::size_t>(p.species[i]));
     sent_ids_[k][i] = p.id[i];
     std::memcpy(records_.data() + i * sizeof rec, &rec, sizeof rec);
+  }
+  for (std::size_t q = 0; q < probes.size(); ++q) {
+    protocol::ParticleRecord rec{};
+    rec.id = -1 - static_cast<std::int64_t>(q);
+    for (int d = 0; d < 3; ++d) rec.x[d] = probes[q][d];
+    positions_[n + q] = probes[q];
+    sent_ids_[k][n + q] = rec.id;
+    std::memcpy(records_.data() + (n + q) * sizeof rec, &rec, sizeof rec);
   }
   to_immersed_[k]->send(records_, positions_);
 }

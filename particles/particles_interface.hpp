@@ -238,7 +238,12 @@ class ParticleSolver {
   // held until the next call; and the impulse of the fluid forces on each
   // local particle since the last call (N s, 3 per particle), for the momentum
   // source of seed 003 eq. 3.43. Particle solvers without them throw.
+  // The samples follow the local particles' order, then that of
+  // probe_points(): points where the solver wants the fluid without a
+  // particle there (the inlets' faces, for particles that enter within the
+  // window).
   static constexpr int kFluidValues = 10;
+  virtual std::vector<std::array<double, 3>> probe_points() const { return {}; }
   virtual void set_fluid(std::span<const double> samples) {
     (void)samples;
     throw std::runtime_error("this particle solver takes forces, not the fluid at the particles (use psm)");

@@ -53,7 +53,7 @@ DpmSolver::DpmSolver(const Setup& setup, const Params&)
     keep_owned();
   }
   set_derived();
-  inlets_ = dpm::make_inlets(setup.params);
+  inlets_ = dpm::make_inlets(setup.params, s_.cell);
   dt_ = s_.auto_step ? stable_step() : s_.dt;
   log::info("dpm: {} particles ({} on this rank), step {:.4g} s ({})", total, p_.size(), dt_,
             s_.auto_step ? "eq. 4.15 at the start" : "given");
@@ -456,7 +456,8 @@ void DpmSolver::share_events() {
             ev_.end());
 }
 
-// 4. Inlets (injection.hpp): the particles that entered during the step.
+// 4. Inlets (injection.hpp): the particles that entered during the step,
+// with the fluid at their inlet's probes.
 // With several ranks, rank 0 injects (with the particles near the inlet from
 // all ranks) and migration takes the new particles to their owners.
 void DpmSolver::inject(double h) {
@@ -489,7 +490,7 @@ void DpmSolver::inject(double h) {
       p_.inertia[i] = 0.1 * m * e.D * e.D;
       D_[i] = e.D;
       rho_p_[i] = in.density;
-      fluid_[i] = s_.still;
+      fluid_[i] = probe_fluid_.at(inlets_, k, e.entry, s_.still);
     }
   }
 }
@@ -509,10 +510,13 @@ void DpmSolver::set_hydrodynamic(std::span<const double>, std::span<const double
 }
 
 void DpmSolver::set_fluid(std::span<const double> samples) {
-  for (std::size_t i = 0; i < p_.size(); ++i) {
-    const double* s = &samples[kFluidValues * i];
-    fluid_[i] = {V3(s), V3(s + 3), s[6], s[7], s[8], s[9]};
-  }
+  for (std::size_t i = 0; i < p_.size(); ++i) fluid_[i] = dpm::fluid_sample(&samples[kFluidValues * i]);
+  probe_fluid_.set(samples.subspan(kFluidValues * p_.size()));
+}
+
+// Rank 0 injects (inject), so it alone samples the inlets.
+std::vector<std::array<double, 3>> DpmSolver::probe_points() const {
+  return rank_ == 0 ? dpm::ProbeFluid::points(inlets_) : std::vector<std::array<double, 3>>{};
 }
 
 void DpmSolver::take_impulse(std::vector<double>& impulse) {

@@ -58,6 +58,7 @@ class DpmSolver final : public ParticleSolver {
   const ParticleArrays& particles() const override { return p_; }
   void set_hydrodynamic(std::span<const double> force, std::span<const double> torque) override;
   void set_fluid(std::span<const double> samples) override;
+  std::vector<std::array<double, 3>> probe_points() const override;
   void take_impulse(std::vector<double>& impulse) override;
   void take_departed(std::vector<DepartedImpulse>& departed) override;
   ParticleStats stats() override;
@@ -109,6 +110,7 @@ class DpmSolver final : public ParticleSolver {
   std::vector<dpm::FluidSample> seen_;
   dpm::DpmSetup s_;
   std::vector<dpm::Inlet> inlets_;
+  dpm::ProbeFluid probe_fluid_;  // the fluid at the inlets, this window (rank 0)
   std::int64_t next_id_ = 0;
   std::vector<dpm::Entering> entering_;
   std::vector<std::pair<dpm::V3, double>> nearby_;

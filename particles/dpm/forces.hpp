@@ -21,6 +21,11 @@ struct FluidSample {
   double rho = 0.0, mu = 0.0;
 };
 
+// A sample from its 10 doubles: u, vorticity, k, epsilon, rho, mu.
+inline FluidSample fluid_sample(const double* s) {
+  return {V3(s), V3(s + 3), s[6], s[7], s[8], s[9]};
+}
+
 // Which terms of eq. 3.29 / 3.30 act (particles.forces).
 struct ForceSet {
   bool gravity_buoyancy = true;

@@ -10,14 +10,19 @@
 // is uniform over the cone of half-angle spread_angle about the jet direction
 // (the 3D form of eq. 5.20's opening angle). Candidates that would overlap a
 // particle near the inlet are drawn again; a particle that finds no room waits
-// for the next step. Random numbers derive from (run.seed, inlet, particle
-// serial, attempt) only, so dpm and dpm-reference inject the same particles.
+// for the next step. Until the next coupling window an entering particle sees
+// the fluid sampled at the window's start at the inlet's probe nearest to its
+// entry point (set_probe_lattice). Random numbers derive from (run.seed,
+// inlet, particle serial, attempt) only, so dpm and dpm-reference inject the
+// same particles.
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <span>
 #include <vector>
 
 #include "particles/dpm/dispersion.hpp"
@@ -36,14 +41,19 @@ struct Inlet {
   bool disk = true;
   V3 center = V3::Zero(), normal = V3::Zero(), t1 = V3::Zero(), t2 = V3::Zero(), dir = V3::Zero();
   double radius = 0.0, a = 0.0, b = 0.0;
+  // The probe lattice (set_probe_lattice): points probe_step apart on the face,
+  // (2 probe_n[0] + 1) x (2 probe_n[1] + 1) of them along t1 and t2.
+  double probe_step = 0.0;
+  int probe_n[2] = {0, 0};
   // state (checkpointed)
   double owed = 0.0;      // kg delivered by the flow and not yet injected
   std::int64_t serial = 0;  // particles injected so far
 };
 
-// A particle entering in this step: its state at the step's end.
+// A particle entering in this step: its state at the step's end, and the
+// point of the face where it entered.
 struct Entering {
-  V3 x, v;
+  V3 x, v, entry;
   double D;
   int species;
 };
@@ -63,7 +73,11 @@ inline void basis(const V3& n, const V3& hint, V3& e1, V3& e2) {
   e2 = n.cross(e1);
 }
 
-inline std::vector<Inlet> make_inlets(const ParticleParams& p) {
+inline void set_probe_lattice(Inlet& in, double cell);
+
+// The inlets, with probe lattices for a fluid whose narrowest cell side is
+// `cell`.
+inline std::vector<Inlet> make_inlets(const ParticleParams& p, double cell) {
   std::vector<Inlet> out;
   for (const InjectionParams& ip : p.injection) {
     Inlet in;
@@ -86,6 +100,7 @@ inline std::vector<Inlet> make_inlets(const ParticleParams& p) {
     in.radius = 0.5 * ip.diameter;
     in.a = ip.size[0];
     in.b = ip.size[1];
+    set_probe_lattice(in, cell);
     out.push_back(in);
   }
   return out;
@@ -156,7 +171,7 @@ inline void inject(Inlet& in, int k, std::uint64_t seed, double t, double h,
           break;
         }
       if (!free) continue;
-      out.push_back({x, v, D, in.species});
+      out.push_back({x, v, p, D, in.species});
       nearby.emplace_back(x, D);
       placed = true;
     }
@@ -175,5 +190,72 @@ inline bool near_inlet(const Inlet& in, double h, const V3& x, double D) {
   const double reach = half + in.speed * h + 0.5 * (in.dmax + D);
   return (x - in.center).norm() < reach * (1.0 + 1e-9);
 }
+
+// The fluid an entering particle sees until the next coupling window (a
+// particle injected within a window has no sample of its own): the fluid
+// sampled at the start of the window at the probe point of its inlet nearest
+// to where it entered. The probes form a square lattice on the face, about
+// half the finest fluid cell apart (at most 33 x 33 points: coarser for
+// inlets wider than 16 cells), covering the disk or rectangle.
+inline void set_probe_lattice(Inlet& in, double cell) {
+  const double half[2] = {in.disk ? in.radius : 0.5 * in.a, in.disk ? in.radius : 0.5 * in.b};
+  in.probe_step = std::max({0.5 * cell, half[0] / 16.0, half[1] / 16.0});
+  for (int d = 0; d < 2; ++d) in.probe_n[d] = static_cast<int>(std::ceil(half[d] / in.probe_step - 1e-9));
+}
+
+inline std::size_t probe_count(const Inlet& in) {
+  return static_cast<std::size_t>((2 * in.probe_n[0] + 1) * (2 * in.probe_n[1] + 1));
+}
+
+inline V3 probe_point(const Inlet& in, std::size_t q) {
+  const int m = 2 * in.probe_n[1] + 1;
+  const int i = static_cast<int>(q) / m - in.probe_n[0], j = static_cast<int>(q) % m - in.probe_n[1];
+  return in.center + in.probe_step * (i * in.t1 + j * in.t2);
+}
+
+// The probe nearest to a point of the face.
+inline std::size_t nearest_probe(const Inlet& in, const V3& p) {
+  auto cell = [&](const V3& t, int n) {
+    return std::clamp(static_cast<int>(std::lround((p - in.center).dot(t) / in.probe_step)), -n, n) + n;
+  };
+  return static_cast<std::size_t>(cell(in.t1, in.probe_n[0]) * (2 * in.probe_n[1] + 1) +
+                                  cell(in.t2, in.probe_n[1]));
+}
+
+// The fluid at the inlets' probes, sampled at the start of each coupling
+// window (coupled runs only).
+class ProbeFluid {
+ public:
+  // Every inlet's probe points, inlet after inlet.
+  static std::vector<std::array<double, 3>> points(const std::vector<Inlet>& inlets) {
+    std::vector<std::array<double, 3>> out;
+    for (const Inlet& in : inlets)
+      for (std::size_t q = 0; q < probe_count(in); ++q) {
+        const V3 x = probe_point(in, q);
+        out.push_back({x[0], x[1], x[2]});
+      }
+    return out;
+  }
+  // The samples, kFluidValues per probe point (ParticleSolver::set_fluid's
+  // rows after the particles'); none keeps the fluid at rest.
+  void set(std::span<const double> rows) {
+    samples_.clear();
+    for (std::size_t r = 0; r + ParticleSolver::kFluidValues <= rows.size();
+         r += ParticleSolver::kFluidValues)
+      samples_.push_back(fluid_sample(&rows[r]));
+  }
+  // What a particle entering through inlet k at `entry` sees: the sample of
+  // its nearest probe, or `still` where none was taken (no coupled fluid).
+  FluidSample at(const std::vector<Inlet>& inlets, std::size_t k, const V3& entry,
+                 const FluidSample& still) const {
+    std::size_t first = 0;
+    for (std::size_t j = 0; j < k; ++j) first += probe_count(inlets[j]);
+    const std::size_t q = first + nearest_probe(inlets[k], entry);
+    return q < samples_.size() ? samples_[q] : still;
+  }
+
+ private:
+  std::vector<FluidSample> samples_;
+};
 
 }  // namespace coflow::particles::dpm

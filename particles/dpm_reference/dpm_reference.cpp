@@ -30,7 +30,7 @@ DpmReference::DpmReference(const Setup& setup, const Params&) : params_(setup.pa
     p_.push_back({a.id[i], a.species[i], V3(&a.x[3 * i]), V3(&a.v[3 * i]), V3(&a.w[3 * i]), D, a.mass[i],
                   a.inertia[i], params_.species.at(a.species[i]).second.density, s_.still, V3::Zero(), V3::Zero()});
   }
-  inlets_ = dpm::make_inlets(setup.params);
+  inlets_ = dpm::make_inlets(setup.params, s_.cell);
   for (const auto& p : p_) next_id_ = std::max(next_id_, p.id + 1);
   dt_ = s_.auto_step ? stable_step() : s_.dt;
   log::info("dpm-reference: {} particles, step {:.4g} s ({}), fluid {}", p_.size(), dt_,
@@ -109,7 +109,8 @@ std::vector<double> DpmReference::collide(const std::vector<dpm::Event>& events,
   return hit;
 }
 
-// 5. Inlets: the particles that entered during the step (injection.hpp).
+// 5. Inlets: the particles that entered during the step (injection.hpp),
+//    with the fluid at their inlet's probes.
 void DpmReference::inject_at_inlets(double h) {
   for (std::size_t k = 0; k < inlets_.size(); ++k) {
     std::vector<std::pair<V3, double>> nearby;
@@ -119,8 +120,8 @@ void DpmReference::inject_at_inlets(double h) {
     dpm::inject(inlets_[k], static_cast<int>(k), s_.dispersion.seed, time_, h, nearby, entering);
     for (const dpm::Entering& e : entering) {
       const double rho_p = inlets_[k].density, m = rho_p * std::numbers::pi * e.D * e.D * e.D / 6.0;
-      p_.push_back({next_id_++, e.species, e.x, e.v, V3::Zero(), e.D, m, 0.1 * m * e.D * e.D, rho_p, s_.still,
-                    V3::Zero(), V3::Zero()});
+      p_.push_back({next_id_++, e.species, e.x, e.v, V3::Zero(), e.D, m, 0.1 * m * e.D * e.D, rho_p,
+                    probe_fluid_.at(inlets_, k, e.entry, s_.still), V3::Zero(), V3::Zero()});
     }
   }
 }
@@ -223,10 +224,12 @@ void DpmReference::set_hydrodynamic(std::span<const double>, std::span<const dou
 }
 
 void DpmReference::set_fluid(std::span<const double> samples) {
-  for (std::size_t i = 0; i < p_.size(); ++i) {
-    const double* s = &samples[kFluidValues * i];
-    p_[i].fluid = {V3(s), V3(s + 3), s[6], s[7], s[8], s[9]};
-  }
+  for (std::size_t i = 0; i < p_.size(); ++i) p_[i].fluid = dpm::fluid_sample(&samples[kFluidValues * i]);
+  probe_fluid_.set(samples.subspan(kFluidValues * p_.size()));
+}
+
+std::vector<std::array<double, 3>> DpmReference::probe_points() const {
+  return dpm::ProbeFluid::points(inlets_);
 }
 
 void DpmReference::take_departed(std::vector<DepartedImpulse>& departed) {

@@ -28,6 +28,7 @@ class DpmReference final : public ParticleSolver {
   const ParticleArrays& particles() const override;
   void set_hydrodynamic(std::span<const double> force, std::span<const double> torque) override;
   void set_fluid(std::span<const double> samples) override;
+  std::vector<std::array<double, 3>> probe_points() const override;
   void take_impulse(std::vector<double>& impulse) override;
   void take_departed(std::vector<DepartedImpulse>& departed) override;
   ParticleStats stats() override;
@@ -59,6 +60,7 @@ class DpmReference final : public ParticleSolver {
   std::vector<Particle> p_;
   dpm::DpmSetup s_;
   std::vector<dpm::Inlet> inlets_;
+  dpm::ProbeFluid probe_fluid_;  // the fluid at the inlets, this window
   std::int64_t next_id_ = 0;
   const ParticleParams& params_;
   double dt_ = 0.0;

@@ -48,8 +48,9 @@ inline void add_load(std::byte* into, const std::byte* from) {
   std::memcpy(into, &a, sizeof a);
 }
 
-// immersed -> particles (method point): the fluid at each particle, interpolated
-// from the grid; one copy per particle (no ghost copies).
+// immersed -> particles (method point): the fluid at each particle, and at each
+// probe point the particles sent after them, interpolated from the grid; one
+// copy per record (no ghost copies).
 struct FluidAtParticle {
   double u[3];
   double vorticity[3];

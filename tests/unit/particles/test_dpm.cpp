@@ -3,7 +3,6 @@
 // conservation laws they must obey, the contact time of eq. 4.28, and the RK4
 // integration against the analytic Stokes response.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -12,6 +11,7 @@
 #include "coflow/catalog.hpp"
 #include "particles/dpm/collision.hpp"
 #include "particles/dpm/forces.hpp"
+#include "particles/dpm/injection.hpp"
 #include "particles/dpm/setup.hpp"
 #include "particles/dpm_reference/dpm_reference.hpp"
 #include "particles/particles_interface.hpp"
@@ -298,4 +298,36 @@ particles:
   params2.visit(r2, cfg2);
   const auto s2 = coflow::particles::dpm::make_setup(params2, cfg2);
   CHECK_THAT(lagrangian_step(s2, 1e-4, 2000.0, V3(0, 1.0, 0), still), WithinRel(5e-4, 1e-12));
+}
+
+TEST_CASE("an inlet's probe lattice covers its face, and a point takes its nearest probe", "[dpm]") {
+  Inlet in;
+  in.center = V3(0.05, 0.05, 0.0);
+  in.normal = V3(0.0, 0.0, 1.0);
+  basis(in.normal, V3::Zero(), in.t1, in.t2);
+  in.radius = 0.01;
+  set_probe_lattice(in, 0.004);  // half a 4 mm cell apart: 2 mm, 5 either side of the centre
+  CHECK(in.probe_step == 0.002);
+  CHECK(probe_count(in) == 11u * 11u);
+  for (std::size_t q = 0; q < probe_count(in); ++q) {
+    const V3 x = probe_point(in, q);
+    CHECK(nearest_probe(in, x) == q);
+    CHECK(std::abs(x.z()) <= 0.0);  // on the face's plane
+  }
+  // A point of the face is within half a diagonal of its probe.
+  for (int k = 0; k < 200; ++k) {
+    const double r = in.radius * std::sqrt((k + 0.5) / 200.0), phi = 2.4 * k;
+    const V3 p = in.center + r * (std::cos(phi) * in.t1 + std::sin(phi) * in.t2);
+    CHECK((probe_point(in, nearest_probe(in, p)) - p).norm() <=
+          in.probe_step * std::sqrt(0.5) * (1.0 + 1e-12));
+  }
+  // A wide rectangle: at most 16 steps either side of the centre.
+  Inlet wide = in;
+  wide.disk = false;
+  wide.a = 1.0;
+  wide.b = 0.01;
+  set_probe_lattice(wide, 0.004);
+  CHECK(wide.probe_n[0] == 16);
+  CHECK(wide.probe_step == 1.0 / 32.0);
+  CHECK(probe_count(wide) <= 33u * 33u);
 }

@@ -137,6 +137,7 @@ int grid_turbulence_fv(const std::string& dir);
 int injection(const std::string& dir);
 int jet(const std::string& dir);
 int pair_into_mesh(const std::string& dir);
+int inlet_stream(const std::string& dir);
 // fv/checks.cpp
 int cavity(const std::string& dir);
 int tg_error(const std::string& dir);

@@ -676,6 +676,28 @@ int injection(const std::string& dir) {
   return 0;
 }
 
+// Particles injected into a uniform stream that moves with them
+// (configs/validation/dpm_inlet_stream.yaml): every particle of every
+// snapshot keeps the stream's velocity U; the largest |v - U| / |U|, and the
+// particles of the last snapshot.
+int inlet_stream(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto U = cfg.resolved["fluid"]["analytic"]["velocity"].as<std::vector<double>>();
+  const double speed = std::sqrt(U[0] * U[0] + U[1] * U[1] + U[2] * U[2]);
+  double error = 0.0;
+  std::size_t n = 0;
+  for (const auto& [step, time] : snapshots(dir, "particles")) {
+    const auto v = output::read_dataset(dir + "/particles/" + output::snapshot_name(step), "velocity");
+    n = v.size() / 3;
+    for (std::size_t i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) error = std::max(error, std::abs(v[3 * i + k] - U[k]) / speed);
+    if (std::any_of(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }))
+      throw std::runtime_error("a particle's velocity is not finite in " + dir);
+  }
+  std::printf("particles=%zu\nspeed_error=%.4e\n", n, error);
+  return 0;
+}
+
 // Granular jet on a plate (seed 003 §5.3): the impacts on the mesh walls
 // (events/impacts.csv, wall >= 6): count, mean, min and max impact angle
 // (between the velocity and the plate's plane, 90 = head-on) and the largest

@@ -57,6 +57,17 @@ coflow_jet(dpm_mesh_vs_reference compare dpm_jet_crosscheck.yaml 1
 coflow_validation(dpm_pair_into_mesh pair_into_mesh dpm_pair_into_mesh.yaml 1)
 coflow_validation(dpm_pair_into_mesh_reference pair_into_mesh dpm_pair_into_mesh.yaml 1
   --set particles.solver=dpm-reference)
+# Particles entering within a coupling window see the fluid at their inlet
+# (its probes, sampled at the window's start): in a stream moving with them
+# they keep its speed exactly (before 2026-12-04 they saw the fluid at rest
+# until the next window and lost up to 0.22 m/s of 2), in dpm, dpm-reference
+# and dpm on 3 ranks (rank 0 injects; the particles migrate with their
+# sample).
+coflow_validation(dpm_inlet_stream inlet_stream dpm_inlet_stream.yaml 1)
+coflow_validation(dpm_inlet_stream_reference inlet_stream dpm_inlet_stream.yaml 1
+  --set particles.solver=dpm-reference)
+coflow_validation(dpm_inlet_stream_ranks_3 inlet_stream dpm_inlet_stream.yaml 2
+  --set particles.ranks=3 --set particles.decomposition=[1,1,3])
 coflow_validation(dpm_ranks_1_vs_4 compare dpm_crosscheck.yaml 2
   "particles.ranks=1 run.end_time=0.05 run.output.every=0.025"
   "particles.ranks=4 particles.decomposition=[2,2,1] run.end_time=0.05 run.output.every=0.025")

@@ -9,12 +9,11 @@
 // the area) and has moved on from there by the end of the step; its direction
 // is uniform over the cone of half-angle spread_angle about the jet direction
 // (the 3D form of eq. 5.20's opening angle). Candidates that would overlap a
-// particle near the inlet are drawn again; a particle that finds no room waits
-// for the next step. Until the next coupling window an entering particle sees
-// the fluid sampled at the window's start at the inlet's probe nearest to its
-// entry point (set_probe_lattice). Random numbers derive from (run.seed,
-// inlet, particle serial, attempt) only, so dpm and dpm-reference inject the
-// same particles.
+// particle near the inlet are drawn again (64 times); a particle that finds no
+// room waits for the next step, which draws it 64 new places. Until the next coupling window an entering
+// particle sees the fluid sampled at the window's start at the inlet's probe nearest to its entry point
+// (set_probe_lattice). Random numbers derive from (run.seed, inlet, particle serial, attempt) only, so dpm
+// and dpm-reference inject the same particles.
 #pragma once
 
 #include <algorithm>
@@ -48,6 +47,7 @@ struct Inlet {
   // state (checkpointed)
   double owed = 0.0;      // kg delivered by the flow and not yet injected
   std::int64_t serial = 0;  // particles injected so far
+  std::int64_t tries = 0;   // places drawn in vain for the next particle, in earlier steps
 };
 
 // A particle entering in this step: its state at the step's end, and the
@@ -107,7 +107,8 @@ inline std::vector<Inlet> make_inlets(const ParticleParams& p, double cell) {
 }
 
 // A uniform number in (0, 1) for (seed, inlet, serial, attempt, component).
-inline double inlet_uniform(std::uint64_t seed, int inlet, std::int64_t serial, int attempt, int component) {
+inline double inlet_uniform(std::uint64_t seed, int inlet, std::int64_t serial, std::int64_t attempt,
+                            int component) {
   const std::uint64_t h = mix(mix(mix(mix(seed ^ 0x51ed27f1a3c4e9b7ULL ^ static_cast<std::uint64_t>(inlet)) ^
                                       static_cast<std::uint64_t>(serial)) ^
                                   static_cast<std::uint64_t>(attempt)) ^
@@ -146,7 +147,7 @@ inline void inject(Inlet& in, int k, std::uint64_t seed, double t, double h,
     const double m = in.density * std::numbers::pi * D * D * D / 6.0;
     if (m > in.owed) return;
     bool placed = false;
-    for (int attempt = 1; attempt <= 64 && !placed; ++attempt) {
+    for (std::int64_t attempt = in.tries + 1; attempt <= in.tries + 64 && !placed; ++attempt) {
       auto u = [&](int c) { return inlet_uniform(seed, k, in.serial, attempt, c); };
       // entry instant within [t0, t1), entry point on the face
       const double te = t0 + (t1 > t0 ? u(0) * (t1 - t0) : 0.0);
@@ -175,9 +176,13 @@ inline void inject(Inlet& in, int k, std::uint64_t seed, double t, double h,
       nearby.emplace_back(x, D);
       placed = true;
     }
-    if (!placed) return;  // no room this step: the particle waits, its mass stays owed
+    if (!placed) {     // no room this step: the particle waits, its mass stays owed, and
+      in.tries += 64;  // the next step draws 64 other places (a blocked few never stall the inlet)
+      return;
+    }
     in.owed -= m;
     ++in.serial;
+    in.tries = 0;
   }
 }
 

@@ -4,7 +4,7 @@
 //   time,<the variant's own clock>   (accumulated step by step: the driver's
 //                                    window time may differ in the last bit)
 //   next_id,<id>
-//   inlet,<k>,<owed>,<serial>
+//   inlet,<k>,<owed>,<serial>,<tries>   (checkpoints before 2026-12-04: no tries, read as 0)
 //   uprime,<id>,<ux>,<uy>,<uz>,<started 0|1>
 // Numbers are written with 17 significant digits (bit-identical restart).
 #pragma once
@@ -34,7 +34,7 @@ inline void save_extra(const std::string& dir, double time, std::int64_t next_id
   out << fmt::format("time,{:.17g}\n", time);
   out << fmt::format("next_id,{}\n", next_id);
   for (std::size_t k = 0; k < inlets.size(); ++k)
-    out << fmt::format("inlet,{},{:.17g},{}\n", k, inlets[k].owed, inlets[k].serial);
+    out << fmt::format("inlet,{},{:.17g},{},{}\n", k, inlets[k].owed, inlets[k].serial, inlets[k].tries);
   for (const auto& [id, f] : uprime)
     out << fmt::format("uprime,{},{:.17g},{:.17g},{:.17g},{}\n", id, f.u[0], f.u[1], f.u[2], f.started ? 1 : 0);
   if (!out) throw std::runtime_error("cannot write " + dir + "/dpm.csv");
@@ -59,11 +59,12 @@ inline void load_extra(const std::string& dir, double& time, std::int64_t& next_
         time = std::stod(f[0]);
       } else if (kind == "next_id" && f.size() == 1) {
         next_id = std::stoll(f[0]);
-      } else if (kind == "inlet" && f.size() == 3) {
+      } else if (kind == "inlet" && (f.size() == 3 || f.size() == 4)) {
         const auto k = static_cast<std::size_t>(std::stoul(f[0]));
         if (k >= inlets.size()) throw std::runtime_error("inlet index beyond particles.injection");
         inlets[k].owed = std::stod(f[1]);
         inlets[k].serial = std::stoll(f[2]);
+        inlets[k].tries = f.size() == 4 ? std::stoll(f[3]) : 0;
       } else if (kind == "uprime" && f.size() == 5) {
         uprime[std::stoll(f[0])] = {V3(std::stod(f[1]), std::stod(f[2]), std::stod(f[3])), f[4] == "1"};
       } else if (!line.empty()) {

@@ -138,6 +138,7 @@ int injection(const std::string& dir);
 int jet(const std::string& dir);
 int pair_into_mesh(const std::string& dir);
 int inlet_stream(const std::string& dir);
+int inlet_mass(const std::string& dir);
 // fv/checks.cpp
 int cavity(const std::string& dir);
 int tg_error(const std::string& dir);

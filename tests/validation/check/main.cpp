@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
     if (what == "jet" && argc == 3) return jet(argv[2]);
     if (what == "pair_into_mesh" && argc == 3) return pair_into_mesh(argv[2]);
     if (what == "inlet_stream" && argc == 3) return inlet_stream(argv[2]);
+    if (what == "inlet_mass" && argc == 3) return inlet_mass(argv[2]);
     if (what == "rotation" && argc == 3) return rotation(argv[2]);
     if (what == "laplace" && argc == 3) return laplace(argv[2]);
     if (what == "contact_angle" && argc == 3) return contact_angle(argv[2]);

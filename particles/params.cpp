@@ -1,3 +1,5 @@
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -5,11 +7,10 @@
 #include <functional>
 #include <numbers>
 
-#include <fmt/format.h>
-
 #include "coflow/decomposition.hpp"
 #include "particles/dem/bond_file.hpp"
 #include "particles/dem/stl.hpp"
+#include "particles/dpm/injection.hpp"
 #include "particles/particles_interface.hpp"
 #include "particles/size_distribution.hpp"
 
@@ -252,10 +253,13 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
   visit_boundaries(v, cfg);
   visit_initial(v);
   only(true, "injection", [&] {
-    v.list("injection", "particle inlets (dpm): a mass flow through a disk or a rectangle", [&](Visitor& s) {
-      injection.emplace_back();
-      injection.back().visit(s);
-    });
+    v.list("injection",
+           "particle inlets (dpm): a mass flow through a disk or a rectangle inside the domain (it may cross "
+           "a periodic face)",
+           [&](Visitor& s) {
+             injection.emplace_back();
+             injection.back().visit(s);
+           });
   });
   if (!v.reading()) return;
   check_references(v);
@@ -439,6 +443,25 @@ std::string domain_text(const config::Config& cfg) {
   return fmt::format("{} to {}", point_text(cfg.domain.lower), point_text(cfg.domain.upper));
 }
 
+// How far an inlet's face reaches past the domain along an axis that is not
+// periodic (0 or less: it does not); `axis` is where it reaches furthest.
+double inlet_overhang(const InjectionParams& ip, const config::Config& cfg, int& axis) {
+  using dpm::V3;
+  const V3 n = V3(ip.normal.data()).normalized();
+  V3 t1, t2;
+  dpm::basis(n, V3(ip.axis.data()), t1, t2);
+  double worst = -1e300;
+  for (int a = 0; a < 3; ++a) {
+    if (cfg.domain.periodic[a]) continue;
+    const double e = ip.disk ? 0.5 * ip.diameter * std::sqrt(std::max(0.0, 1.0 - n[a] * n[a]))
+                             : 0.5 * (ip.size[0] * std::abs(t1[a]) + ip.size[1] * std::abs(t2[a]));
+    const double over =
+        std::max(cfg.domain.lower[a] - (ip.center[a] - e), ip.center[a] + e - cfg.domain.upper[a]);
+    if (over > worst) worst = over, axis = a;
+  }
+  return worst;
+}
+
 }  // namespace
 
 void ParticleParams::check_geometry(Visitor& v, const config::Config& cfg, const config::ComponentInfo& info) const {
@@ -478,10 +501,18 @@ void ParticleParams::check_geometry(Visitor& v, const config::Config& cfg, const
       v.fail("initial", fmt::format("item {}: region {} to {} reaches outside the domain ({}); keep it inside", n,
                                     point_text(it.lower), point_text(it.upper), domain_text(cfg)));
   }
-  for (std::size_t n = 0; n < injection.size(); ++n)
+  for (std::size_t n = 0; n < injection.size(); ++n) {
+    int a = 0;
+    const double over = inlet_overhang(injection[n], cfg, a);
     if (!inside(injection[n].center, cfg))
       v.fail("injection", fmt::format("item {}: centre {} is outside the domain ({}); particles would enter nowhere",
                                       n, point_text(injection[n].center), domain_text(cfg)));
+    else if (over > 1e-9 * (cfg.domain.upper[a] - cfg.domain.lower[a]))
+      v.fail("injection",
+             fmt::format("item {}: the {} reaches {:.4g} m past the domain ({}) along {}, which is not "
+                         "periodic: particles would enter outside it; move the inlet or make it smaller",
+                         n, injection[n].disk ? "disk" : "rectangle", over, domain_text(cfg), "xyz"[a]));
+  }
   check_meshes_inside(v, cfg);
 }
 

@@ -53,7 +53,7 @@ DpmSolver::DpmSolver(const Setup& setup, const Params&)
     keep_owned();
   }
   set_derived();
-  inlets_ = dpm::make_inlets(setup.params, s_.cell);
+  inlets_ = dpm::make_inlets(setup.params, s_.cell, s_.lower, dpm::periods(s_));
   dt_ = s_.auto_step ? stable_step() : s_.dt;
   log::info("dpm: {} particles ({} on this rank), step {:.4g} s ({})", total, p_.size(), dt_,
             s_.auto_step ? "eq. 4.15 at the start" : "given");

@@ -44,6 +44,10 @@ struct Inlet {
   // (2 probe_n[0] + 1) x (2 probe_n[1] + 1) of them along t1 and t2.
   double probe_step = 0.0;
   int probe_n[2] = {0, 0};
+  // The domain's lower corner and its length along periodic axes (0 along
+  // the others): entering particles and their neighbours are compared as
+  // nearest images, and enter wrapped into the domain.
+  V3 lower = V3::Zero(), period = V3::Zero();
   // state (checkpointed)
   double owed = 0.0;      // kg delivered by the flow and not yet injected
   std::int64_t serial = 0;  // particles injected so far
@@ -75,12 +79,35 @@ inline void basis(const V3& n, const V3& hint, V3& e1, V3& e2) {
 
 inline void set_probe_lattice(Inlet& in, double cell);
 
-// The inlets, with probe lattices for a fluid whose narrowest cell side is
-// `cell`.
-inline std::vector<Inlet> make_inlets(const ParticleParams& p, double cell) {
+// d as the nearest of its periodic images (an axis of period 0 is not
+// periodic).
+inline V3 nearest_image(V3 d, const V3& period) {
+  for (int k = 0; k < 3; ++k)
+    if (period[k] > 0.0) d[k] -= period[k] * std::round(d[k] / period[k]);
+  return d;
+}
+
+// x moved into the domain along its periodic axes (unchanged where inside).
+inline V3 wrapped(V3 x, const V3& lower, const V3& period) {
+  for (int k = 0; k < 3; ++k) {
+    if (!(period[k] > 0.0)) continue;
+    double t = x[k] - lower[k];
+    if (t >= 0.0 && t < period[k]) continue;
+    t -= period[k] * std::floor(t / period[k]);
+    x[k] = lower[k] + (t < period[k] ? t : 0.0);  // t rounds up to period[k] only from just below 0
+  }
+  return x;
+}
+
+// The inlets of a domain from `lower` with `period` (see Inlet), with probe
+// lattices for a fluid whose narrowest cell side is `cell`.
+inline std::vector<Inlet> make_inlets(const ParticleParams& p, double cell, const V3& lower,
+                                      const V3& period) {
   std::vector<Inlet> out;
   for (const InjectionParams& ip : p.injection) {
     Inlet in;
+    in.lower = lower;
+    in.period = period;
     in.species = p.species_index(ip.species);
     const SpeciesParams& sp = p.species.at(static_cast<std::size_t>(in.species)).second;
     in.density = sp.density;
@@ -164,10 +191,11 @@ inline void inject(Inlet& in, int k, std::uint64_t seed, double t, double h,
       V3 e1, e2;
       basis(in.dir, in.t1, e1, e2);
       const V3 v = in.speed * (c * in.dir + s * (std::cos(psi) * e1 + std::sin(psi) * e2));
-      const V3 x = p + v * (t + h - te);
+      V3 x = p + v * (t + h - te);
+      x = wrapped(x, in.lower, in.period);
       bool free = true;
       for (const auto& [y, Dy] : nearby)
-        if ((y - x).squaredNorm() < 0.25 * (D + Dy) * (D + Dy)) {
+        if (nearest_image(y - x, in.period).squaredNorm() < 0.25 * (D + Dy) * (D + Dy)) {
           free = false;
           break;
         }
@@ -193,7 +221,7 @@ inline void inject(Inlet& in, int k, std::uint64_t seed, double t, double h,
 inline bool near_inlet(const Inlet& in, double h, const V3& x, double D) {
   const double half = in.disk ? in.radius : 0.5 * std::hypot(in.a, in.b);
   const double reach = half + in.speed * h + 0.5 * (in.dmax + D);
-  return (x - in.center).norm() < reach * (1.0 + 1e-9);
+  return nearest_image(x - in.center, in.period).norm() < reach * (1.0 + 1e-9);
 }
 
 // The fluid an entering particle sees until the next coupling window (a

@@ -54,6 +54,14 @@ struct DpmSetup {
   bool mesh_all_triangles = false;    // test every triangle (the oracle) instead of FCL's candidates
 };
 
+// The domain's length along its periodic axes, 0 along the others.
+inline V3 periods(const DpmSetup& s) {
+  V3 L = V3::Zero();
+  for (int k = 0; k < 3; ++k)
+    if (s.periodic[k]) L[k] = s.upper[k] - s.lower[k];
+  return L;
+}
+
 // Wall keys of events and impacts: faces 0-5, triangle t of mesh m 6 + (m << 24) + t.
 inline std::int64_t mesh_key(std::size_t m, int t) { return 6 + (static_cast<std::int64_t>(m) << 24) + t; }
 

@@ -30,7 +30,7 @@ DpmReference::DpmReference(const Setup& setup, const Params&) : params_(setup.pa
     p_.push_back({a.id[i], a.species[i], V3(&a.x[3 * i]), V3(&a.v[3 * i]), V3(&a.w[3 * i]), D, a.mass[i],
                   a.inertia[i], params_.species.at(a.species[i]).second.density, s_.still, V3::Zero(), V3::Zero()});
   }
-  inlets_ = dpm::make_inlets(setup.params, s_.cell);
+  inlets_ = dpm::make_inlets(setup.params, s_.cell, s_.lower, dpm::periods(s_));
   for (const auto& p : p_) next_id_ = std::max(next_id_, p.id + 1);
   dt_ = s_.auto_step ? stable_step() : s_.dt;
   log::info("dpm-reference: {} particles, step {:.4g} s ({}), fluid {}", p_.size(), dt_,

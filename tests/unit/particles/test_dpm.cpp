@@ -331,3 +331,38 @@ TEST_CASE("an inlet's probe lattice covers its face, and a point takes its neare
   CHECK(wide.probe_step == 1.0 / 32.0);
   CHECK(probe_count(wide) <= 33u * 33u);
 }
+
+TEST_CASE("an inlet across a periodic face injects into the domain, clear of its neighbours' images",
+          "[dpm]") {
+  // A 20 mm disk centred 1 mm from x = 0 of a box periodic along x (0.1 m):
+  // most of it lies past the face, over the images of particles packed
+  // against x = 0.1 m. Entering particles must come out wrapped into
+  // [0, 0.1) and overlap no neighbour's nearest image.
+  Inlet in;
+  in.species = 0;
+  in.density = 2500.0;
+  in.diameter.a = 1e-3;
+  in.dmax = 1e-3;
+  in.mass_flow = 2500.0 * std::numbers::pi / 6.0 * 1e-9 * 400.0;  // 400 particles owed in a step of 1 s
+  in.speed = 1e-3;
+  in.center = V3(0.001, 0.05, 0.0);
+  in.normal = V3(0.0, 0.0, 1.0);
+  in.dir = in.normal;
+  basis(in.normal, V3::Zero(), in.t1, in.t2);
+  in.radius = 0.01;
+  in.period = V3(0.1, 0.0, 0.0);
+  std::vector<std::pair<V3, double>> nearby;
+  for (int i = 0; i < 10; ++i)  // a wall of particles along y just inside x = 0.1 m
+    for (int j = 0; j < 20; ++j)
+      nearby.emplace_back(V3(0.0995 - 0.001 * (i % 2), 0.04 + 0.001 * j, 0.0005 * i), 1e-3);
+  const std::size_t given = nearby.size();
+  std::vector<Entering> out;
+  inject(in, 0, 7, 0.0, 1.0, nearby, out);
+  REQUIRE(out.size() > 100u);
+  for (const Entering& e : out) {
+    CHECK(e.x.x() >= 0.0);
+    CHECK(e.x.x() < 0.1);
+    for (std::size_t k = 0; k < given; ++k)
+      CHECK(nearest_image(nearby[k].first - e.x, in.period).norm() >= 1e-3 * (1.0 - 1e-12));
+  }
+}

@@ -510,8 +510,12 @@ void DpmSolver::set_hydrodynamic(std::span<const double>, std::span<const double
 }
 
 void DpmSolver::set_fluid(std::span<const double> samples) {
+  if (samples.size() < kFluidValues * p_.size())
+    throw std::runtime_error(
+        "the fluid sent fewer samples than there are particles (a coupling protocol mismatch)");
   for (std::size_t i = 0; i < p_.size(); ++i) fluid_[i] = dpm::fluid_sample(&samples[kFluidValues * i]);
-  probe_fluid_.set(samples.subspan(kFluidValues * p_.size()));
+  probe_fluid_.set(samples.subspan(kFluidValues * p_.size()),
+                   rank_ == 0 ? dpm::ProbeFluid::count(inlets_) : 0);
 }
 
 // Rank 0 injects (inject), so it alone samples the inlets.

@@ -22,6 +22,8 @@
 #include <cstdint>
 #include <numbers>
 #include <span>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "particles/dpm/dispersion.hpp"
@@ -249,7 +251,8 @@ inline V3 probe_point(const Inlet& in, std::size_t q) {
 // The probe nearest to a point of the face.
 inline std::size_t nearest_probe(const Inlet& in, const V3& p) {
   auto cell = [&](const V3& t, int n) {
-    return std::clamp(static_cast<int>(std::lround((p - in.center).dot(t) / in.probe_step)), -n, n) + n;
+    const long i = std::lround(std::clamp((p - in.center).dot(t) / in.probe_step, -1.0 * n, 1.0 * n));
+    return static_cast<int>(i) + n;
   };
   return static_cast<std::size_t>(cell(in.t1, in.probe_n[0]) * (2 * in.probe_n[1] + 1) +
                                   cell(in.t2, in.probe_n[1]));
@@ -269,9 +272,19 @@ class ProbeFluid {
       }
     return out;
   }
+  static std::size_t count(const std::vector<Inlet>& inlets) {
+    std::size_t n = 0;
+    for (const Inlet& in : inlets) n += probe_count(in);
+    return n;
+  }
   // The samples, kFluidValues per probe point (ParticleSolver::set_fluid's
-  // rows after the particles'); none keeps the fluid at rest.
-  void set(std::span<const double> rows) {
+  // rows after the particles'), of the `expected` points this rank asked for.
+  void set(std::span<const double> rows, std::size_t expected) {
+    if (rows.size() != expected * ParticleSolver::kFluidValues)
+      throw std::runtime_error("the fluid sent " +
+                               std::to_string(rows.size() / ParticleSolver::kFluidValues) +
+                               " samples at the inlets' probes for " + std::to_string(expected) +
+                               " probes (a coupling protocol mismatch)");
     samples_.clear();
     for (std::size_t r = 0; r + ParticleSolver::kFluidValues <= rows.size();
          r += ParticleSolver::kFluidValues)

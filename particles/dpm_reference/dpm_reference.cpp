@@ -224,8 +224,11 @@ void DpmReference::set_hydrodynamic(std::span<const double>, std::span<const dou
 }
 
 void DpmReference::set_fluid(std::span<const double> samples) {
+  if (samples.size() < kFluidValues * p_.size())
+    throw std::runtime_error(
+        "the fluid sent fewer samples than there are particles (a coupling protocol mismatch)");
   for (std::size_t i = 0; i < p_.size(); ++i) p_[i].fluid = dpm::fluid_sample(&samples[kFluidValues * i]);
-  probe_fluid_.set(samples.subspan(kFluidValues * p_.size()));
+  probe_fluid_.set(samples.subspan(kFluidValues * p_.size()), dpm::ProbeFluid::count(inlets_));
 }
 
 std::vector<std::array<double, 3>> DpmReference::probe_points() const {

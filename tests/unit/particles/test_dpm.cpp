@@ -332,6 +332,50 @@ TEST_CASE("an inlet's probe lattice covers its face, and a point takes its neare
   CHECK(probe_count(wide) <= 33u * 33u);
 }
 
+TEST_CASE(
+    "a particle entering through either of two inlets takes the sample of its own inlet's nearest probe",
+    "[dpm]") {
+  // A disk on z = 0 and a rectangle on x = 0; each probe's row carries its
+  // own position as the velocity, so the row a particle takes says where it
+  // was sampled.
+  std::vector<Inlet> inlets(2);
+  inlets[0].center = V3(0.05, 0.05, 0.0);
+  inlets[0].normal = V3(0.0, 0.0, 1.0);
+  inlets[0].radius = 0.01;
+  inlets[1].disk = false;
+  inlets[1].center = V3(0.0, 0.03, 0.06);
+  inlets[1].normal = V3(1.0, 0.0, 0.0);
+  inlets[1].a = 0.02;
+  inlets[1].b = 0.006;
+  for (Inlet& in : inlets) {
+    basis(in.normal, V3::Zero(), in.t1, in.t2);
+    set_probe_lattice(in, 0.004);
+  }
+  const auto points = ProbeFluid::points(inlets);
+  REQUIRE(points.size() == ProbeFluid::count(inlets));
+  std::vector<double> rows(points.size() * coflow::particles::ParticleSolver::kFluidValues, 0.0);
+  for (std::size_t q = 0; q < points.size(); ++q)
+    for (int d = 0; d < 3; ++d) rows[q * coflow::particles::ParticleSolver::kFluidValues + d] = points[q][d];
+  ProbeFluid probes;
+  FluidSample still;
+  still.rho = 1.0;
+  CHECK(probes.at(inlets, 1, inlets[1].center, still).rho == 1.0);  // nothing sampled yet: at rest
+  CHECK_THROWS_AS(probes.set(rows, points.size() + 1), std::runtime_error);
+  probes.set(rows, points.size());
+  for (std::size_t k = 0; k < 2; ++k) {
+    const Inlet& in = inlets[k];
+    for (int j = 0; j < 100; ++j) {
+      const double s1 = std::sin(1.3 * j), s2 = std::cos(2.9 * j);  // spread over [-1, 1]^2
+      const V3 p = in.center + s1 * (in.disk ? in.radius : 0.5 * in.a) * std::sqrt(0.5) * in.t1 +
+                   s2 * (in.disk ? in.radius : 0.5 * in.b) * std::sqrt(0.5) * in.t2;
+      const V3 u = probes.at(inlets, k, p, still).u;
+      CHECK((u - probe_point(in, nearest_probe(in, p))).norm() <= 0.0);
+      CHECK(std::abs((u - in.center).dot(in.normal)) <= 1e-15);  // on this inlet's face
+      CHECK((u - p).norm() <= in.probe_step * std::sqrt(0.5) * (1.0 + 1e-12));
+    }
+  }
+}
+
 TEST_CASE("an inlet across a periodic face injects into the domain, clear of its neighbours' images",
           "[dpm]") {
   // A 20 mm disk centred 1 mm from x = 0 of a box periodic along x (0.1 m):

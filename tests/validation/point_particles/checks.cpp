@@ -713,6 +713,24 @@ int inlet_mass(const std::string& dir) {
       std::count_if(rad.begin(), rad.end(), [&](double r) { return std::abs(2.0 * r - D) <= 1e-12 * D; });
   std::printf("injected=%ld\nexpected=%.4f\ndeficit_particles=%.4f\n", static_cast<long>(n),
               mdot * last.second / m, mdot * last.second / m - static_cast<double>(n));
+  // The particles fly straight along the disk's normal, so each one's
+  // distance from the normal through the centre is where it entered: clear
+  // of the covering sphere there means at least (D + D_cover) / 2.
+  const auto x = output::read_dataset(dir + "/particles/" + output::snapshot_name(last.first), "position");
+  const auto c = inj["disk"]["center"].as<std::vector<double>>();
+  const auto nrm = inj["disk"]["normal"].as<std::vector<double>>();
+  double gap = 1e300;
+  for (std::size_t i = 0; i < rad.size(); ++i) {
+    if (std::abs(2.0 * rad[i] - D) > 1e-12 * D) continue;
+    double d[3], along = 0.0, r2 = 0.0;
+    for (int k = 0; k < 3; ++k) along += (d[k] = x[3 * i + k] - c[k]) * nrm[k];
+    for (int k = 0; k < 3; ++k) r2 += (d[k] - along * nrm[k]) * (d[k] - along * nrm[k]);
+    gap = std::min(gap, std::sqrt(r2));
+  }
+  if (cfg.resolved["particles"]["species"]["cover"]) {
+    const double cover = cfg.resolved["particles"]["species"]["cover"]["diameter"].as<double>();
+    std::printf("entry_clearance=%.6f\n", gap / (0.5 * (D + cover)));
+  }
   return 0;
 }
 

@@ -3,27 +3,27 @@
 // partner, and the Lagrangian time step of seed 003 eq. 4.15.
 #pragma once
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <memory>
 #include <numbers>
 #include <stdexcept>
 #include <string>
-
-#include "coflow/log.hpp"
 #include <vector>
 
-#include <fmt/format.h>
-
+#include "coflow/log.hpp"
 #include "particles/dem/dem_common.hpp"
 #include "particles/dpm/collision.hpp"
 #include "particles/dpm/dispersion.hpp"
 #include "particles/dpm/forces.hpp"
 #include "particles/particles_interface.hpp"
+#include "particles/store/domain.hpp"
 
 namespace coflow::particles::dpm {
 
@@ -45,6 +45,7 @@ struct DpmSetup {
   std::array<bool, 3> periodic{false, false, false};
   double cell = 0.0;                  // the fluid cells' narrowest side (t_V.C of eq. 4.15)
   V3 spacing = V3::Ones();            // fluid cell sizes along x, y, z (cells of the tau_c estimate)
+  std::array<long, 3> cells{1, 1, 1};  // the fluid grid's cells along x, y, z (domain.cells)
   FluidSample still;                  // the fluid without a coupling partner: at rest
   bool auto_step = true;
   double dt = 0.0;                    // the configured step (auto: the start's eq. 4.15 value)
@@ -73,7 +74,10 @@ inline DpmSetup make_setup(const ParticleParams& p, const config::Config& cfg) {
     s.upper[d] = cfg.domain.upper[d];
     s.periodic[d] = cfg.domain.periodic[d];
   }
-  for (int d = 0; d < 3; ++d) s.spacing[d] = cfg.domain.spacing()[d];
+  for (int d = 0; d < 3; ++d) {
+    s.spacing[d] = cfg.domain.spacing()[d];
+    s.cells[d] = cfg.domain.cells[d];
+  }
   // The narrowest side (no cell crossed in fewer than 5 steps) of the axes
   // with cells to cross (a 2D grid's depth is none).
   s.cell = std::numeric_limits<double>::infinity();
@@ -145,8 +149,9 @@ inline double lagrangian_step(const DpmSetup& s, double D, double rho_p, const V
 // number density, D its mean diameter and g the mean relative speed of a
 // Maxwellian at the cell's granular temperature T = <|v - <v>|^2> / 3,
 // g = sqrt(16 T / pi); so f = 4 n D^2 sqrt(pi T), seed 003 eq. 5.9 per particle
-// with g0 = 1. The particle ranks' blocks are whole fluid cells, so a cell's
-// particles are on one rank. Returns the smallest tau_c over the cells holding
+// with g0 = 1. The particle ranks' blocks are whole fluid cells, and a
+// particle's cell is the one that decides its owner (store::grid_cell), so a
+// cell's particles are on one rank. Returns the smallest tau_c over the cells holding
 // two or more particles (infinity where none does). x(i), v(i), D(i): the
 // position, velocity and diameter of particle i of n.
 template <class Pos, class Vel, class Diam>
@@ -160,7 +165,7 @@ double mean_collision_time(std::size_t n, Pos x, Vel v, Diam D, const DpmSetup& 
   std::map<std::array<long, 3>, Cell> cells;
   for (std::size_t i = 0; i < n; ++i) {
     std::array<long, 3> key;
-    for (int d = 0; d < 3; ++d) key[d] = static_cast<long>(std::floor((x(i)[d] - s.lower[d]) / s.spacing[d]));
+    for (int d = 0; d < 3; ++d) key[d] = store::grid_cell(x(i)[d], s.lower[d], s.upper[d], s.cells[d]);
     Cell& c = cells[key];
     ++c.count;
     c.D += D(i);

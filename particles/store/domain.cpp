@@ -37,11 +37,7 @@ Domain::Domain(const coupler::Decomposition& dec, const double lower[3], const d
 
 int Domain::owner_of(const double* x) const {
   coupler::Index3 c{};
-  for (int d = 0; d < 3; ++d) {
-    const long cells = dec_.cells()[d];
-    const double t = (x[d] - lower_[d]) / (upper_[d] - lower_[d]);
-    c[d] = std::clamp(static_cast<long>(std::floor(t * cells)), 0L, cells - 1);
-  }
+  for (int d = 0; d < 3; ++d) c[d] = grid_cell(x[d], lower_[d], upper_[d], dec_.cells()[d]);
   return dec_.owner(c);
 }
 

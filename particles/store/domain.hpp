@@ -6,7 +6,9 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "coflow/decomposition.hpp"
@@ -17,6 +19,15 @@ namespace coflow::particles::store {
 // Variable-size all-to-all of doubles: out[r] goes to rank r; what every rank
 // sent here lands in `in`, in rank order.
 void exchange(MPI_Comm comm, std::vector<std::vector<double>>& out, std::vector<double>& in);
+
+// The cell along one axis of a grid of `cells` over [lower, upper) that
+// holds x, clamped into the grid: the one rule for which rank owns a particle
+// (Domain::owner_of) and which fluid cell it counts in (dpm's tau_c of eq.
+// 4.15), so that a cell's particles are always on one rank.
+inline long grid_cell(double x, double lower, double upper, long cells) {
+  const double t = (x - lower) / (upper - lower);
+  return std::clamp(static_cast<long>(std::floor(t * static_cast<double>(cells))), 0L, cells - 1);
+}
 
 class Domain {
  public:

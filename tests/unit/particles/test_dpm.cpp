@@ -218,6 +218,8 @@ TEST_CASE("mean time between collisions of eq. 4.15 from kinetic theory per cell
   // f = 4 n D^2 sqrt(pi T) (seed 003 eq. 5.9 per particle, g0 = 1).
   DpmSetup s;
   s.spacing = V3(1e-3, 1e-3, 1e-3);
+  s.upper = V3(3e-3, 1e-3, 1e-3);
+  s.cells = {3, 1, 1};
   std::vector<V3> x, v;
   std::vector<double> D;
   const double u = 0.2;
@@ -240,6 +242,26 @@ TEST_CASE("mean time between collisions of eq. 4.15 from kinetic theory per cell
   CHECK(std::isinf(mean_collision_time(
       x.size(), [&](std::size_t i) { return x[i]; }, [&](std::size_t i) { return v[i]; },
       [&](std::size_t i) { return D[i]; }, s)));
+}
+
+TEST_CASE("eq. 4.15's collision cells are the cells that decide a particle's rank", "[dpm]") {
+  // 5 cells over [0, 0.1]: x = 0.04 lies in cell 2 by (x - lower) / spacing
+  // but in cell 1 by the owner's rule (the rank whose block holds cell 1
+  // owns it). Counted in cell 2, a particle there and one at x = 0.03 would
+  // be in one cell on 1 rank and in two on ranks cut between cells 1 and 2.
+  REQUIRE(static_cast<long>(std::floor(0.04 / (0.1 / 5))) == 2);
+  CHECK(coflow::particles::store::grid_cell(0.04, 0.0, 0.1, 5) == 1);
+  DpmSetup s;
+  s.upper = V3(0.1, 0.02, 0.02);
+  s.spacing = V3(0.02, 0.02, 0.02);
+  s.cells = {5, 1, 1};
+  const std::vector<V3> x{V3(0.03, 0.01, 0.01), V3(0.04, 0.01, 0.01)}, v{V3(1.0, 0, 0), V3(-1.0, 0, 0)};
+  const double tau = mean_collision_time(
+      2, [&](std::size_t i) { return x[i]; }, [&](std::size_t i) { return v[i]; },
+      [](std::size_t) { return 1e-3; }, s);
+  // one cell of 8e-6 m^3 with 2 particles, T = 1/3 m^2/s^2: f = 4 n D^2 sqrt(pi T)
+  const double f = 4.0 * (2.0 / 8e-6) * 1e-6 * std::sqrt(std::numbers::pi / 3.0);
+  CHECK_THAT(tau, WithinRel(1.0 / f, 1e-12));
 }
 
 TEST_CASE("correlations used beyond their published range are flagged", "[dpm]") {

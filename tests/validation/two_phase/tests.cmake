@@ -17,6 +17,11 @@ coflow_validation(two_phase_contact_angle_90 contact_angle two_phase_contact_ang
   [=[fluid.initial.phase=[{"fill":{"phase":"blue"}},{"sphere":{"centre":[0.06,-0.01,0.0005],"radius":0.027,"phase":"red"}}]]=])
 coflow_validation(two_phase_contact_angle_120 contact_angle two_phase_contact_angle.yaml 1
   --set fluid.two_phase.contact_angle=120)
+# The seed's wetting (seed 000 "Molhabilidade": a solid of fixed colour
+# cos theta) at 60 degrees, where it holds the issue's 3 degrees (it misses
+# by 9 at 120 and 14 at 150: docs/validation.md's plot).
+coflow_validation(two_phase_contact_angle_seed_60 contact_angle two_phase_contact_angle.yaml 1
+  --set fluid.two_phase.contact_angle=60 --set fluid.two_phase.wetting=seed)
 # Layered flow between plates at viscosity ratios 10 and 1 (Yiotis et al. 2007).
 coflow_validation(two_phase_layered_m10 layered two_phase_layered.yaml 1)
 coflow_validation(two_phase_layered_m1 layered two_phase_layered.yaml 1 --set fluid.two_phase.viscosity_blue=1.0e-5)

@@ -443,18 +443,23 @@ std::string domain_text(const config::Config& cfg) {
   return fmt::format("{} to {}", point_text(cfg.domain.lower), point_text(cfg.domain.upper));
 }
 
-// How far an inlet's face reaches past the domain along an axis that is not
-// periodic (0 or less: it does not); `axis` is where it reaches furthest.
-double inlet_overhang(const InjectionParams& ip, const config::Config& cfg, int& axis) {
+// How far an inlet's face reaches from its centre along axis a.
+double inlet_half_extent(const InjectionParams& ip, int a) {
   using dpm::V3;
   const V3 n = V3(ip.normal.data()).normalized();
   V3 t1, t2;
   dpm::basis(n, V3(ip.axis.data()), t1, t2);
+  return ip.disk ? 0.5 * ip.diameter * std::sqrt(std::max(0.0, 1.0 - n[a] * n[a]))
+                 : 0.5 * (ip.size[0] * std::abs(t1[a]) + ip.size[1] * std::abs(t2[a]));
+}
+
+// How far an inlet's face reaches past the domain along an axis that is not
+// periodic (0 or less: it does not); `axis` is where it reaches furthest.
+double inlet_overhang(const InjectionParams& ip, const config::Config& cfg, int& axis) {
   double worst = -1e300;
   for (int a = 0; a < 3; ++a) {
     if (cfg.domain.periodic[a]) continue;
-    const double e = ip.disk ? 0.5 * ip.diameter * std::sqrt(std::max(0.0, 1.0 - n[a] * n[a]))
-                             : 0.5 * (ip.size[0] * std::abs(t1[a]) + ip.size[1] * std::abs(t2[a]));
+    const double e = inlet_half_extent(ip, a);
     const double over =
         std::max(cfg.domain.lower[a] - (ip.center[a] - e), ip.center[a] + e - cfg.domain.upper[a]);
     if (over > worst) worst = over, axis = a;
@@ -512,6 +517,15 @@ void ParticleParams::check_geometry(Visitor& v, const config::Config& cfg, const
              fmt::format("item {}: the {} reaches {:.4g} m past the domain ({}) along {}, which is not "
                          "periodic: particles would enter outside it; move the inlet or make it smaller",
                          n, injection[n].disk ? "disk" : "rectangle", over, domain_text(cfg), "xyz"[a]));
+    for (int k = 0; k < 3; ++k) {
+      const double L = cfg.domain.upper[k] - cfg.domain.lower[k],
+                   span = 2.0 * inlet_half_extent(injection[n], k);
+      if (cfg.domain.periodic[k] && span > L * (1.0 + 1e-9))
+        v.fail("injection",
+               fmt::format("item {}: the {} spans {:.4g} m along {}, more than the domain's period "
+                           "({:.4g} m): parts of it would fall on each other; make it smaller",
+                           n, injection[n].disk ? "disk" : "rectangle", span, "xyz"[k], L));
+    }
   }
   check_meshes_inside(v, cfg);
 }

@@ -69,7 +69,7 @@ coflow_validation(dpm_inlet_stream_reference inlet_stream dpm_inlet_stream.yaml 
 coflow_validation(dpm_inlet_stream_ranks_3 inlet_stream dpm_inlet_stream.yaml 2
   --set particles.ranks=3 --set particles.decomposition=[1,1,3])
 # The same inlet into a stream of 1 m/s: the particles slow down, and on 3
-# ranks (each migrating within the window it entered) their states must be
+# ranks (each migrating the step it enters) their states must be
 # those of 1 rank bit for bit, which holds only if the inlet's sample
 # migrates with them.
 coflow_validation(dpm_inlet_stream_ranks_1_vs_3 compare dpm_inlet_stream.yaml 2

@@ -698,9 +698,37 @@ int inlet_stream(const std::string& dir) {
   return 0;
 }
 
-// An inlet of one fixed-size species (configs/validation/dpm_inlet_blocked.yaml):
-// its particles in the last snapshot (those of its diameter), and the mass
-// owed by mass_flow x time (seed 003 eq. 4.18) less theirs, in particles.
+// The particles of the last snapshot outside the box, and the smallest gap
+// between two of them (nearest periodic images) over their mean diameter.
+static void inlet_geometry(const std::string& dir, const config::Config& cfg, const std::string& snapshot) {
+  const auto x = output::read_dataset(snapshot, "position");
+  const auto r = output::read_dataset(snapshot, "radius");
+  const auto& d = cfg.resolved["domain"];
+  const auto lo = d["lower"].as<std::vector<double>>(), hi = d["upper"].as<std::vector<double>>();
+  const auto periodic = d["periodic"].as<std::vector<bool>>();
+  long outside = 0;
+  double gap = 1e300;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    for (int k = 0; k < 3; ++k)
+      if (!(x[3 * i + k] >= lo[k] && x[3 * i + k] <= hi[k])) ++outside, k = 3;
+    for (std::size_t j = 0; j < i; ++j) {
+      double s2 = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        double e = x[3 * i + k] - x[3 * j + k];
+        if (periodic[k]) e -= (hi[k] - lo[k]) * std::round(e / (hi[k] - lo[k]));
+        s2 += e * e;
+      }
+      gap = std::min(gap, (std::sqrt(s2) - r[i] - r[j]) / (r[i] + r[j]));
+    }
+  }
+  if (r.size() < 2) throw std::runtime_error("fewer than two particles in " + dir);
+  std::printf("outside=%ld\nmin_pair_gap=%.6e\n", outside, gap);
+}
+
+// An inlet of one fixed-size species (configs/validation/dpm_inlet_blocked.yaml,
+// dpm_inlet_periodic.yaml): its particles in the last snapshot (those of its
+// diameter), and the mass owed by mass_flow x time (seed 003 eq. 4.18) less
+// theirs, in particles; and inlet_geometry's figures.
 int inlet_mass(const std::string& dir) {
   const auto cfg = load(dir);
   const auto inj = cfg.resolved["particles"]["injection"][0];
@@ -731,6 +759,7 @@ int inlet_mass(const std::string& dir) {
     const double cover = cfg.resolved["particles"]["species"]["cover"]["diameter"].as<double>();
     std::printf("entry_clearance=%.6f\n", gap / (0.5 * (D + cover)));
   }
+  inlet_geometry(dir, cfg, dir + "/particles/" + output::snapshot_name(last.first));
   return 0;
 }
 

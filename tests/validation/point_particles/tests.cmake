@@ -82,6 +82,15 @@ coflow_validation(dpm_inlet_stream_ranks_1_vs_3 compare dpm_inlet_stream.yaml 2
 coflow_validation(dpm_inlet_blocked inlet_mass dpm_inlet_blocked.yaml 1)
 coflow_validation(dpm_inlet_blocked_reference inlet_mass dpm_inlet_blocked.yaml 1
   --set particles.solver=dpm-reference)
+# An inlet across a periodic face: entering particles at their images inside
+# the box, clear of their neighbours' images (0.40 D overlaps before
+# 2026-12-04), in dpm and dpm-reference, and on 3 ranks cut along x (the
+# neighbours across the seam on rank 2) as on 1.
+coflow_validation(dpm_inlet_periodic inlet_mass dpm_inlet_periodic.yaml 1)
+coflow_validation(dpm_inlet_periodic_reference inlet_mass dpm_inlet_periodic.yaml 1
+  --set particles.solver=dpm-reference)
+coflow_validation(dpm_inlet_periodic_ranks_1_vs_3 compare dpm_inlet_periodic.yaml 2
+  "particles.ranks=1" "particles.ranks=3 particles.decomposition=[3,1,1]")
 coflow_validation(dpm_ranks_1_vs_4 compare dpm_crosscheck.yaml 2
   "particles.ranks=1 run.end_time=0.05 run.output.every=0.025"
   "particles.ranks=4 particles.decomposition=[2,2,1] run.end_time=0.05 run.output.every=0.025")

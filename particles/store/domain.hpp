@@ -24,9 +24,10 @@ void exchange(MPI_Comm comm, std::vector<std::vector<double>>& out, std::vector<
 // holds x, clamped into the grid: the one rule for which rank owns a particle
 // (Domain::owner_of) and which fluid cell it counts in (dpm's tau_c of eq.
 // 4.15), so that a cell's particles are always on one rank.
+// (Clamped as a double, so that no position, NaN included, casts out of range.)
 inline long grid_cell(double x, double lower, double upper, long cells) {
-  const double t = (x - lower) / (upper - lower);
-  return std::clamp(static_cast<long>(std::floor(t * static_cast<double>(cells))), 0L, cells - 1);
+  const double f = std::floor((x - lower) / (upper - lower) * static_cast<double>(cells));
+  return f >= static_cast<double>(cells - 1) ? cells - 1 : f >= 0.0 ? static_cast<long>(f) : 0L;
 }
 
 class Domain {

@@ -14,8 +14,8 @@ n=$(ls -d "$out"/checkpointed/checkpoints/window_* 2>/dev/null | wc -l)
 ls -d "$out"/checkpointed/checkpoints/*.partial >/dev/null 2>&1 && { echo "FAIL: a partial checkpoint was left"; exit 1; }
 first=$(ls -d "$out"/checkpointed/checkpoints/window_* | head -n 1)
 # A test may require a state in that checkpoint (CHECKPOINT_HOLDS: an
-# extended regular expression some line of its files must match).
-if [ -n "${CHECKPOINT_HOLDS:-}" ] && ! grep -rqE "$CHECKPOINT_HOLDS" "$first"; then
+# extended regular expression some line of its .csv files must match).
+if [ -n "${CHECKPOINT_HOLDS:-}" ] && ! grep -rqE --include='*.csv' "$CHECKPOINT_HOLDS" "$first"; then
   echo "FAIL: no line of $first matches '$CHECKPOINT_HOLDS'"; exit 1
 fi
 run "$out/restarted" --restart "$first" "$@"

@@ -718,10 +718,12 @@ static void inlet_geometry(const std::string& dir, const config::Config& cfg, co
         if (periodic[k]) e -= (hi[k] - lo[k]) * std::round(e / (hi[k] - lo[k]));
         s2 += e * e;
       }
-      gap = std::min(gap, (std::sqrt(s2) - r[i] - r[j]) / (r[i] + r[j]));
+      const double g = (std::sqrt(s2) - r[i] - r[j]) / (r[i] + r[j]);
+      if (!(g >= gap)) gap = g;  // a NaN is kept, and fails every bound
     }
   }
-  if (r.size() < 2) throw std::runtime_error("fewer than two particles in " + dir);
+  if (r.size() < 2 || x.size() != 3 * r.size())
+    throw std::runtime_error("fewer than two particles, or positions not 3 a particle, in " + snapshot);
   std::printf("outside=%ld\nmin_pair_gap=%.6e\n", outside, gap);
 }
 

@@ -23,7 +23,7 @@
 #include "particles/dpm/dispersion.hpp"
 #include "particles/dpm/forces.hpp"
 #include "particles/particles_interface.hpp"
-#include "particles/store/domain.hpp"
+#include "particles/store/grid_cell.hpp"
 
 namespace coflow::particles::dpm {
 

@@ -6,12 +6,11 @@
 
 #include <mpi.h>
 
-#include <algorithm>
 #include <array>
-#include <cmath>
 #include <vector>
 
 #include "coflow/decomposition.hpp"
+#include "particles/store/grid_cell.hpp"
 #include "particles/store/particle_store.hpp"
 
 namespace coflow::particles::store {
@@ -19,16 +18,6 @@ namespace coflow::particles::store {
 // Variable-size all-to-all of doubles: out[r] goes to rank r; what every rank
 // sent here lands in `in`, in rank order.
 void exchange(MPI_Comm comm, std::vector<std::vector<double>>& out, std::vector<double>& in);
-
-// The cell along one axis of a grid of `cells` over [lower, upper) that
-// holds x, clamped into the grid: the one rule for which rank owns a particle
-// (Domain::owner_of) and which fluid cell it counts in (dpm's tau_c of eq.
-// 4.15), so that a cell's particles are always on one rank.
-// (Clamped as a double, so that no position, NaN included, casts out of range.)
-inline long grid_cell(double x, double lower, double upper, long cells) {
-  const double f = std::floor((x - lower) / (upper - lower) * static_cast<double>(cells));
-  return f >= static_cast<double>(cells - 1) ? cells - 1 : f >= 0.0 ? static_cast<long>(f) : 0L;
-}
 
 class Domain {
  public:

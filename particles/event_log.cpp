@@ -18,21 +18,20 @@ EventLog::EventLog(coupler::Session& s, const config::OutputParams& out, bool po
       bonds_(out.bond_events),
       impacts_(out.collision_events && point_particles) {
   if (s.rank() != 0) return;
-  const auto mode = w0 > 0 ? std::ios::app : std::ios::trunc;
-  if (collisions_) {
-    std::filesystem::create_directories(s.output_dir() + "/events");
-    collisions_csv_.open(s.output_dir() + "/events/collisions.csv", mode);
-    if (w0 == 0) collisions_csv_ << "time,i,j,angle,relative_speed,normal_speed\n";
-    if (point_particles) {
-      impacts_csv_.open(s.output_dir() + "/events/impacts.csv", mode);
-      if (w0 == 0) impacts_csv_ << "time,id,wall,x,y,z,angle,speed\n";
-    }
-  }
-  if (bonds_) {
-    std::filesystem::create_directories(s.output_dir() + "/events");
-    bonds_csv_.open(s.output_dir() + "/events/bonds.csv", mode);
-    if (w0 == 0) bonds_csv_ << "time,i,j,mode,normal_force,shear_force\n";
-  }
+  // A restart appends to the files of the run it goes on from; a file that
+  // is not there (a restart into a new directory, or events asked for
+  // only now) starts with its header.
+  const auto open = [&](std::ofstream& f, const char* name, const char* header) {
+    const std::string dir = s.output_dir() + "/events", path = dir + "/" + name;
+    std::filesystem::create_directories(dir);
+    std::error_code ec;
+    const bool fresh = w0 == 0 || !std::filesystem::exists(path) || std::filesystem::file_size(path, ec) == 0;
+    f.open(path, fresh ? std::ios::trunc : std::ios::app);
+    if (fresh) f << header;
+  };
+  if (collisions_) open(collisions_csv_, "collisions.csv", "time,i,j,angle,relative_speed,normal_speed\n");
+  if (impacts_) open(impacts_csv_, "impacts.csv", "time,id,wall,x,y,z,angle,speed\n");
+  if (bonds_) open(bonds_csv_, "bonds.csv", "time,i,j,mode,normal_force,shear_force\n");
 }
 
 void EventLog::write(const ParticleEvents& ev) {

@@ -114,13 +114,23 @@ std::string rewind_run_directory(const config::Config& cfg, const std::string& d
   std::error_code ec;
   // The failure reason of the run being restarted would be read as this one's.
   fs::remove(dir + "/logs/FAILED", ec);
-  for (const char* sub : {"series", "events"})
+  // A series row at t is the checkpoint's window's last. An event at t is
+  // the next window's: dem stamps an event with the start of the step that
+  // finds it (the positions it was found at), so the first step after the
+  // checkpoint stamps t, and the restarted run finds it again; dpm stamps
+  // the time within the step, and one at t itself is found again too.
+  for (const char* sub : {"series", "events"}) {
+    const bool events = std::string(sub) == "events";
     for (const auto& e : fs::directory_iterator(dir + "/" + sub, ec))
       // dispersion.csv's first column is the time since a particle crossed
       // the plane, not the run's: it is rewritten whole at every series row.
       if (e.path().extension() == ".csv" && e.path().filename() != "dispersion.csv")
-        if (const long n = cut_csv(e.path(), [&](double time) { return time <= t + tol; }); n > 0)
-          said += fmt::format("  {}: {} rows after t = {} s removed\n", e.path().string(), n, t);
+        if (const long n =
+                cut_csv(e.path(), [&](double time) { return events ? time < t - tol : time <= t + tol; });
+            n > 0)
+          said += fmt::format("  {}: {} rows {} t = {} s removed\n", e.path().string(), n,
+                              events ? "at and after" : "after", t);
+  }
   for (const char* comp : {"fluid", "immersed", "particles"}) {
     const fs::path index = fs::path(dir) / comp / "index.csv";
     if (!fs::exists(index)) continue;

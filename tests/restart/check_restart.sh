@@ -27,6 +27,14 @@ diffs=$(echo "$m" | grep -E '^[a-z_]+_difference=')
 nonzero=$(echo "$diffs" | grep -vE '=0\.000000e\+00$')
 [ -z "$nonzero" ] || { echo "FAIL: the restarted run differs: $nonzero"; exit 1; }
 echo "restart from $(basename "$first") is bit-identical"
+# The event logs of a restart into a new directory hold the events after the
+# checkpoint under the same header as the straight run's.
+for f in "$out"/straight/events/*.csv; do
+  [ -e "$f" ] || continue
+  rel=${f#"$out/straight/"}
+  [ "$(head -n 1 "$f")" = "$(head -n 1 "$out/restarted/$rel" 2>/dev/null)" ] ||
+    { echo "FAIL: $rel of the restart into a new directory does not start with the header '$(head -n 1 "$f")'"; exit 1; }
+done
 # summary.json counts the windows each run ran: all of them straight, those
 # after the checkpoint's window when restarted.
 w0=$(basename "$first" | sed 's/^window_0*//'); w0=${w0:-0}
@@ -38,11 +46,13 @@ read -r total2 from ran <<<"$(counts "$out/restarted")"
   { echo "FAIL: restarted run: windows $total2, restarted_from_window $from (want $w0), windows_run $ran (want $((total - w0)))"; exit 1; }
 echo "summary.json: $total windows; the restart ran $ran from window $w0"
 # Restarting from the older checkpoint into the directory of the finished run
-# must not mix histories: the series and snapshot indexes are cut back to the
-# checkpoint, so after the rerun they equal the straight run's, bit for bit;
-# then --restart latest picks the run's newest checkpoint and changes nothing.
+# must not mix histories: the series, event logs and snapshot indexes are cut
+# back to the checkpoint, so after the rerun they equal the straight run's,
+# bit for bit; then --restart latest picks the run's newest checkpoint and
+# changes nothing.
 same_series() {
-  for f in "$out"/straight/series/*.csv "$out"/straight/*/index.csv; do
+  for f in "$out"/straight/series/*.csv "$out"/straight/events/*.csv "$out"/straight/*/index.csv; do
+    [ -e "$f" ] || continue
     rel=${f#"$out/straight/"}
     cmp -s "$f" "$out/checkpointed/$rel" || { echo "FAIL ($1): $rel differs from the straight run's"; diff "$f" "$out/checkpointed/$rel" | head -5; exit 1; }
   done

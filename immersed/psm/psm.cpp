@@ -20,6 +20,7 @@
 #include "coflow/session.hpp"
 #include "coflow/trace.hpp"
 #include "coflow/window_loop.hpp"
+#include "immersed/psm/record_check.hpp"
 #include "immersed/series.hpp"
 #include "particles/particles_interface.hpp"
 
@@ -169,6 +170,7 @@ void PsmWindows::receive_and_cover(long w) {
   c.global.clear();
   c.shares.clear();
   c.solid_volume = 0.0;
+  for (const auto& r : c.rec) psm::check_record(r, dom_);
   for (std::size_t p = 0; p < c.rec.size(); ++p) cover(c, p);
 }
 

@@ -11,6 +11,7 @@
 // lateral displacement at the start of the step; the next sample.
 #pragma once
 
+#include <fmt/format.h>
 #include <mpi.h>
 
 #include <cmath>
@@ -19,8 +20,7 @@
 #include <string>
 #include <vector>
 
-#include <fmt/format.h>
-
+#include "coflow/output.hpp"
 #include "particles/dpm/forces.hpp"
 #include "particles/particles_interface.hpp"
 
@@ -73,22 +73,24 @@ class Msd {
     int rank = 0;
     MPI_Comm_rank(comm, &rank);
     if (rank != 0) return;
-    std::ofstream out(path);
-    std::string head = "t", units = "# s";
-    for (const auto& n : names) head += ",msd_" + n, units += ",m^2";
-    for (const auto& n : names) head += ",n_" + n, units += ",1";
-    out << head << "\n" << units << "\n";
+    // The whole file at once, replaced atomically (a run killed while it
+    // writes leaves the last one whole); the lag with 12 digits as the
+    // series' time, the means with 17, the counts as integers.
+    std::string out = "t", units = "# s";
+    for (const auto& n : names) out += ",msd_" + n, units += ",m^2";
+    for (const auto& n : names) out += ",n_" + n, units += ",1";
+    out += "\n" + units + "\n";
     for (int k = 0; k <= samples_; ++k) {
-      out << fmt::format("{:.9g}", k * interval_);
+      out += fmt::format("{:.12g}", k * interval_);
       for (int sp = 0; sp < species_; ++sp) {
         const auto i = static_cast<std::size_t>(sp * (samples_ + 1) + k);
-        out << "," << fmt::format("{:.9g}", count[i] > 0 ? sum[i] / count[i] : 0.0);
+        out += fmt::format(",{:.17g}", count[i] > 0 ? sum[i] / count[i] : 0.0);
       }
       for (int sp = 0; sp < species_; ++sp)
-        out << "," << count[static_cast<std::size_t>(sp * (samples_ + 1) + k)];
-      out << "\n";
+        out += fmt::format(",{:.0f}", count[static_cast<std::size_t>(sp * (samples_ + 1) + k)]);
+      out += "\n";
     }
-    if (!out) throw std::runtime_error("cannot write " + path);
+    output::atomic_write(path, out);
   }
 
   // Checkpoint: the sums (rank 0 keeps all ranks' after a restart).

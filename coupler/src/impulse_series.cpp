@@ -20,6 +20,11 @@ ImpulseSeries::ImpulseSeries(Session& s, const std::string& file, std::vector<st
     if (!(in >> since_)) throw std::runtime_error(path + ": cannot read the time of the last row");
     for (double& v : sum_)
       if (!(in >> v)) throw std::runtime_error(path + ": cannot read the wall impulses of the checkpoint");
+    if (double more = 0.0; in >> more)
+      throw std::runtime_error(
+          path + ": the checkpoint holds the impulses of more walls than this run has (" +
+          std::to_string(sum_.size() / 3) +
+          " slots): restart with the walls, meshes and fluid.solids of the run that wrote it");
   }
   if (s.rank() != 0 || empty()) return;
   std::vector<output::Series::Column> columns{{"time", "s"}};

@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -40,15 +41,29 @@ std::string snapshot_name(long step) { return fmt::format("step_{:06d}.h5", step
 
 Series::Series(const std::string& path, const std::vector<Column>& columns, bool append)
     : columns_(columns.size()), time_first_(!columns.empty() && columns[0].name == "time") {
+  std::string header;
+  for (std::size_t i = 0; i < columns.size(); ++i) header += (i ? "," : "") + columns[i].name;
   if (append && fs::exists(path)) {
+    // A restart appends to the series of the run it goes on from: the rows
+    // must be that file's columns (other probes, pressure drops or walls
+    // would put values under other names).
+    std::ifstream in(path);
+    std::string first;
+    std::getline(in, first);
+    if (first != header)
+      throw std::runtime_error(fmt::format(
+          "{}: the run this restart goes on from wrote the columns {}; this run writes {}. A restart into "
+          "its "
+          "directory appends rows, so it keeps the output settings (run.output.probes, pressure_drops, the "
+          "walls) of that run; or restart into a new run.output.dir",
+          path, first, header));
     out_.open(path, std::ios::app);
     if (!out_) throw std::runtime_error(fmt::format("cannot append to '{}'", path));
     return;
   }
   out_.open(path, std::ios::trunc);
   if (!out_) throw std::runtime_error(fmt::format("cannot write '{}'", path));
-  for (std::size_t i = 0; i < columns.size(); ++i) out_ << (i ? "," : "") << columns[i].name;
-  out_ << "\n# ";
+  out_ << header << "\n# ";
   for (std::size_t i = 0; i < columns.size(); ++i) out_ << (i ? "," : "") << columns[i].unit;
   out_ << '\n';
   out_.flush();

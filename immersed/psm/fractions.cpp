@@ -98,6 +98,7 @@ std::vector<double> SphereFractions::by_symmetry(double r, int m, int a, int b, 
     const double s = 1.0 / N;
     it = classes_.emplace(key, octree_stencil({key.a * s, key.b * s, key.c * s}, r, m)).first;
     bytes_ += it->second.size() * sizeof(double);
+    class_bytes_ += it->second.size() * sizeof(double);
     ++octree_;
   }
   const std::vector<double>& cls = it->second;
@@ -121,9 +122,9 @@ const std::vector<double>& SphereFractions::kept(double r, int m, int a, int b, 
   if (it != kept_.end()) return it->second;
   if (bytes_ > max_bytes_) {  // a pure function of the key: dropping them changes no result
     kept_.clear();
-    classes_.clear();
-    bytes_ = 0;
     direct_.clear();  // its tables pointed into kept_
+    if (class_bytes_ > max_bytes_ / 2) classes_.clear(), class_bytes_ = 0;
+    bytes_ = class_bytes_;
   }
   const double s = 1.0 / lattice_;
   // Exact binary arithmetic (by_symmetry): a 2^k lattice, and leaves of 2^-levels whose squares and sums
@@ -147,8 +148,10 @@ const std::vector<double>& SphereFractions::kept_direct(double r, int m, int a, 
   const std::vector<double>& s = kept(r, m, a, b, c);  // map elements keep their address until a clear
   auto d =
       std::find_if(direct_.begin(), direct_.end(), [&](const Direct& x) { return x.radius_bits == bits; });
-  if (d == direct_.end())
+  if (d == direct_.end()) {
     d = direct_.insert(direct_.end(), Direct{bits, std::vector<const std::vector<double>*>(n1 * n1 * n1)});
+    bytes_ += n1 * n1 * n1 * sizeof(const std::vector<double>*);
+  }
   d->stencil[at] = &s;
   return s;
 }

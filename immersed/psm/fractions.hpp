@@ -41,7 +41,10 @@ class SphereFractions {
   // h: the cell size; lower: the grid's origin; levels: octree levels;
   // lattice: centre positions per cell and axis (0: exact centres);
   // kept_radii: the radii (m) whose stencils are kept; max_bytes: the kept
-  // stencils' memory, cleared whole when it is passed.
+  // stencils' memory (their lookup tables counted). When it is passed the
+  // kept stencils and their tables are dropped, and the symmetry classes'
+  // octree stencils (the costly ones, 35 a radius at N = 8) only when they
+  // alone take half of it.
   SphereFractions(double h, const std::array<double, 3>& lower, int levels, int lattice,
                   std::vector<double> kept_radii, std::size_t max_bytes = std::size_t{256} << 20);
   // Not copied: the lookup tables point into this object's kept stencils.
@@ -86,7 +89,7 @@ class SphereFractions {
   std::array<double, 3> lower_;
   int levels_, lattice_;
   std::vector<double> kept_radii_;
-  std::size_t max_bytes_, bytes_ = 0, computed_ = 0, octree_ = 0;
+  std::size_t max_bytes_, bytes_ = 0, class_bytes_ = 0, computed_ = 0, octree_ = 0;
   std::unordered_map<Key, std::vector<double>, KeyHash> kept_;
   std::unordered_map<Key, std::vector<double>, KeyHash> classes_;  // octree stencils of the symmetry classes
   std::vector<double> blend_;

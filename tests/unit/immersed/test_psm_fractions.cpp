@@ -160,6 +160,32 @@ TEST_CASE("kept stencils dropped when their memory is full give the same fractio
         2 * roomy.stencils_computed());  // the tight one recomputes what it dropped
 }
 
+TEST_CASE("a full memory drops the kept stencils but keeps their symmetry classes' octree stencils",
+          "[immersed][psm]") {
+  using coflow::immersed::SphereFractions;
+  // r = 3.5 cells: stencils of 11^3 doubles (10.6 kB). The 35 classes (373 kB)
+  // fit in half of 1 MiB; the 729 kept stencils (7.8 MB) do not, so `small`
+  // drops them again and again as the sphere visits every offset twice.
+  SphereFractions roomy(1.0, {0, 0, 0}, 3, 8, {3.5}),
+      small(1.0, {0, 0, 0}, 3, 8, {3.5}, std::size_t{1} << 20);
+  Cells a, b;
+  double worst = 0.0;
+  for (int pass = 0; pass < 2; ++pass)
+    for (int i = 0; i <= 8; ++i)
+      for (int j = 0; j <= 8; ++j)
+        for (int k = 0; k <= 8; ++k) {
+          const V c{10 + i / 8.0, 20 + j / 8.0, 30 + k / 8.0};
+          roomy.cover(c, 3.5, a);
+          small.cover(c, 3.5, b);
+          REQUIRE(a.size() == b.size());
+          worst = std::max(worst, max_difference(a, b));
+        }
+  CHECK(worst <= 0.0);
+  CHECK(small.stencils_computed() > roomy.stencils_computed());  // it did drop kept stencils
+  CHECK(roomy.octree_stencils() == 35);
+  CHECK(small.octree_stencils() == 35);  // but no class twice (383 when the classes went with them)
+}
+
 TEST_CASE("kept stencils taken from their symmetry class equal the octree's at every offset of the lattice",
           "[immersed][psm]") {
   using coflow::immersed::SphereFractions;

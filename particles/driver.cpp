@@ -44,6 +44,7 @@ class ParticleWindows final : public coupler::WindowParts {
   void save(const std::string& dir) override {
     solver_->save(dir);
     walls_->save(dir);
+    events_->save(dir);
     if (link_) link_->save(dir);
   }
 

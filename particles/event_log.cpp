@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "coflow/gather.hpp"
+#include "coflow/output.hpp"
 
 namespace coflow::particles {
 
@@ -32,6 +33,18 @@ EventLog::EventLog(coupler::Session& s, const config::OutputParams& out, bool po
   if (collisions_) open(collisions_csv_, "collisions.csv", "time,i,j,angle,relative_speed,normal_speed\n");
   if (impacts_) open(impacts_csv_, "impacts.csv", "time,id,wall,x,y,z,angle,speed\n");
   if (bonds_) open(bonds_csv_, "bonds.csv", "time,i,j,mode,normal_force,shear_force\n");
+}
+
+void EventLog::save(const std::string& dir) const {
+  if (s_.rank() != 0 || !wanted()) return;
+  std::string text;
+  for (const char* name : {"collisions.csv", "bonds.csv", "impacts.csv"}) {
+    const std::string path = s_.output_dir() + "/events/" + name;
+    std::error_code ec;
+    if (const auto bytes = std::filesystem::file_size(path, ec); !ec)
+      text += fmt::format("{} {}\n", name, bytes);
+  }
+  output::atomic_write(dir + "/events.txt", text);
 }
 
 void EventLog::write(const ParticleEvents& ev) {

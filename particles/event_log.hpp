@@ -19,6 +19,9 @@ class EventLog {
   bool wanted() const { return collisions_ || bonds_; }
   // Collective: write one window's events.
   void write(const ParticleEvents& ev);
+  // Checkpoint: the files' sizes in dir/events.txt (rank 0), to which a
+  // restart into this directory cuts them back (launcher/restart.cpp).
+  void save(const std::string& dir) const;
 
  private:
   void write_impacts(const ParticleEvents& ev);

@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <iterator>
+#include <map>
 #include <sstream>
 #include <vector>
 
@@ -39,6 +41,34 @@ long cut_csv(const fs::path& path, Keep keep) {
   in.close();
   if (cut > 0) output::atomic_write(path.string(), text);
   return cut;
+}
+
+// The event logs' sizes (bytes) at the checkpoint, as the particles wrote
+// them (events.txt: "name bytes" lines); empty for a checkpoint from before
+// they were kept.
+std::map<std::string, std::uintmax_t> event_sizes(const std::string& restart) {
+  std::map<std::string, std::uintmax_t> sizes;
+  std::ifstream in(restart + "/particles/events.txt");
+  std::string name;
+  std::uintmax_t bytes = 0;
+  while (in >> name >> bytes) sizes[name] = bytes;
+  return sizes;
+}
+
+// An event log back to its size at the checkpoint: exactly the events written
+// up to it, whatever their times (dpm stamps an event within its step, dem
+// with the step's start, so a time rule is off by an event at the seam).
+// Returns the rows removed.
+long cut_to_size(const fs::path& path, std::uintmax_t bytes) {
+  std::error_code ec;
+  const std::uintmax_t now = fs::file_size(path, ec);
+  if (ec || now <= bytes) return 0;
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(bytes));
+  const long rows = std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(), '\n');
+  in.close();
+  fs::resize_file(path, bytes);
+  return rows;
 }
 
 // Keep the header and the index rows of the snapshots numbered up to `last`.
@@ -114,22 +144,25 @@ std::string rewind_run_directory(const config::Config& cfg, const std::string& d
   std::error_code ec;
   // The failure reason of the run being restarted would be read as this one's.
   fs::remove(dir + "/logs/FAILED", ec);
-  // A series row at t is the checkpoint's window's last. An event at t is
-  // the next window's: dem stamps an event with the start of the step that
-  // finds it (the positions it was found at), so the first step after the
-  // checkpoint stamps t, and the restarted run finds it again; dpm stamps
-  // the time within the step, and one at t itself is found again too.
-  for (const char* sub : {"series", "events"}) {
-    const bool events = std::string(sub) == "events";
-    for (const auto& e : fs::directory_iterator(dir + "/" + sub, ec))
-      // dispersion.csv's first column is the time since a particle crossed
-      // the plane, not the run's: it is rewritten whole at every series row.
-      if (e.path().extension() == ".csv" && e.path().filename() != "dispersion.csv")
-        if (const long n =
-                cut_csv(e.path(), [&](double time) { return events ? time < t - tol : time <= t + tol; });
-            n > 0)
-          said += fmt::format("  {}: {} rows {} t = {} s removed\n", e.path().string(), n,
-                              events ? "at and after" : "after", t);
+  // A series row at t is the checkpoint's window's last: rows after it go.
+  for (const auto& e : fs::directory_iterator(dir + "/series", ec))
+    // dispersion.csv's first column is the time since a particle crossed
+    // the plane, not the run's: it is rewritten whole at every series row.
+    if (e.path().extension() == ".csv" && e.path().filename() != "dispersion.csv")
+      if (const long n = cut_csv(e.path(), [&](double time) { return time <= t + tol; }); n > 0)
+        said += fmt::format("  {}: {} rows after t = {} s removed\n", e.path().string(), n, t);
+  // Event logs go back to their sizes at the checkpoint. Without them (a
+  // checkpoint from before they were kept, or a log the checkpoint's run did
+  // not write) the events at t go too: dem stamps an event with the start
+  // of the step that finds it, so the first step after the checkpoint stamps
+  // t and the restarted run finds it again.
+  const auto sizes = event_sizes(restart);
+  for (const auto& e : fs::directory_iterator(dir + "/events", ec)) {
+    if (e.path().extension() != ".csv") continue;
+    const auto known = sizes.find(e.path().filename().string());
+    const long n = known != sizes.end() ? cut_to_size(e.path(), known->second)
+                                        : cut_csv(e.path(), [&](double time) { return time < t - tol; });
+    if (n > 0) said += fmt::format("  {}: {} events after the checkpoint removed\n", e.path().string(), n);
   }
   for (const char* comp : {"fluid", "immersed", "particles"}) {
     const fs::path index = fs::path(dir) / comp / "index.csv";

@@ -53,9 +53,9 @@ Series::Series(const std::string& path, const std::vector<Column>& columns, bool
     if (first != header)
       throw std::runtime_error(fmt::format(
           "{}: the run this restart goes on from wrote the columns {}; this run writes {}. A restart into "
-          "its "
-          "directory appends rows, so it keeps the output settings (run.output.probes, pressure_drops, the "
-          "walls) of that run; or restart into a new run.output.dir",
+          "its directory appends rows, so it keeps the output settings (run.output.probes, pressure_drops, "
+          "the walls) of that run. The directory is cut back to the checkpoint, which is still there: "
+          "restart again with that run's settings, or into a new run.output.dir",
           path, first, header));
     out_.open(path, std::ios::app);
     if (!out_) throw std::runtime_error(fmt::format("cannot append to '{}'", path));

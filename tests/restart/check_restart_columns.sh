@@ -22,6 +22,9 @@ grep -qF "series/probes.csv: the run this restart goes on from wrote the columns
 [ "$(head -n 1 "$out/run/series/probes.csv")" = "time,a_ux,a_uy,a_uz,a_p" ] || { echo "FAIL: probes.csv's header changed"; exit 1; }
 awk -F, 'NR > 2 && NF != 5 { bad = 1 } END { exit bad }' "$out/run/series/probes.csv" ||
   { echo "FAIL: probes.csv has rows of another width"; exit 1; }
+# The checkpoint is still there: the restart with the run's own probe goes on.
+"$bin/coflow" run "$cfg" --set run.output.dir="$out/run" "${short[@]}" --set "$one" --restart "$first" >"$out/again.log" 2>&1 ||
+  { tail -n 20 "$out/again.log"; echo "FAIL: the restart with the run's own settings after the refused one"; exit 1; }
 "$bin/coflow" run "$cfg" --set run.output.dir="$out/new" "${short[@]}" --set "$two" --restart "$first" >"$out/new.log" 2>&1 ||
   { tail -n 20 "$out/new.log"; echo "FAIL: the restart into a new directory"; exit 1; }
 [ "$(head -n 1 "$out/new/series/probes.csv")" = "time,a_ux,a_uy,a_uz,a_p,b_ux,b_uy,b_uz,b_p" ] ||

@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "coflow/decomposition.hpp"
+#include "coflow/output.hpp"
 #include "particles/dem/bond_file.hpp"
 #include "particles/dem/stl.hpp"
 #include "particles/dpm/injection.hpp"
@@ -469,6 +470,29 @@ double inlet_overhang(const InjectionParams& ip, const config::Config& cfg, int&
 
 }  // namespace
 
+// The particles of an initial file (a snapshot of another run: perhaps of
+// another domain) must lie in this one's box. A file that cannot be read is
+// reported when the particles start.
+void ParticleParams::check_file_inside(Visitor& v, const config::Config& cfg, std::size_t n) const {
+  const auto& it = initial[n];
+  std::vector<double> x;
+  try {
+    x = output::read_dataset(it.path.path, "position");
+  } catch (const std::exception&) {
+    return;
+  }
+  std::size_t out = 0, first = 0;
+  for (std::size_t k = 0; 3 * k + 2 < x.size(); ++k)
+    if (!inside({x[3 * k], x[3 * k + 1], x[3 * k + 2]}, cfg) && out++ == 0) first = k;
+  if (out > 0)
+    v.fail("initial",
+           fmt::format("item {}: {} of the {} particles of {} lie outside the domain ({}), e.g. particle "
+                       "{} at {}; is the file a snapshot of another domain? Give domain its box, or "
+                       "move them inside",
+                       n, out, x.size() / 3, it.path.path, domain_text(cfg), first,
+                       point_text({x[3 * first], x[3 * first + 1], x[3 * first + 2]})));
+}
+
 void ParticleParams::check_geometry(Visitor& v, const config::Config& cfg, const config::ComponentInfo& info) const {
   const auto& d = cfg.domain;
   const double D = largest_diameter(*this);
@@ -505,6 +529,7 @@ void ParticleParams::check_geometry(Visitor& v, const config::Config& cfg, const
     if ((it.kind == "lattice" || it.kind == "random") && (!inside(it.lower, cfg) || !inside(it.upper, cfg)))
       v.fail("initial", fmt::format("item {}: region {} to {} reaches outside the domain ({}); keep it inside", n,
                                     point_text(it.lower), point_text(it.upper), domain_text(cfg)));
+    if (it.kind == "file") check_file_inside(v, cfg, n);
   }
   for (std::size_t n = 0; n < injection.size(); ++n) {
     int a = 0;

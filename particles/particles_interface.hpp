@@ -143,6 +143,8 @@ struct ParticleParams {
   // inlets and meshes outside the domain (validate time).
   void check_geometry(config::Visitor& v, const config::Config& cfg, const config::ComponentInfo& info) const;
   void check_meshes_inside(config::Visitor& v, const config::Config& cfg) const;
+  void check_file_inside(config::Visitor& v, const config::Config& cfg,
+                         std::size_t n) const;  // initial item n
   int species_index(const std::string& name) const;
   bool point_particles = false;  // a dpm variant (set from particles.solver)
 };

@@ -50,3 +50,23 @@ TEST_CASE("pre-run report: initial file radii against the species diameter", "[r
   CHECK_THAT(report_for(file, 0.012).warnings[0], Catch::Contains("2 of the 3 particles"));
   std::filesystem::remove(file);
 }
+
+TEST_CASE("an initial file whose particles lie outside the box is bad input", "[report]") {
+  const std::string file =
+      (std::filesystem::temp_directory_path() / ("coflow-outside-" + std::to_string(::getpid()) + ".h5"))
+          .string();
+  // A snapshot of a box twice as long in x: the third grain at x = 0.15 m.
+  const std::vector<std::int64_t> id{0, 1, 2};
+  const std::vector<std::int32_t> species{0, 0, 0};
+  const std::vector<double> x{0.02, 0.02, 0.02, 0.05, 0.05, 0.05, 0.15, 0.08, 0.08}, zero(9, 0.0);
+  const std::vector<double> radius{0.005, 0.005, 0.005};
+  output::write_points(
+      MPI_COMM_SELF, file, 0.0, 0, 3, id, species,
+      {{"position", 3, x}, {"velocity", 3, zero}, {"angular_velocity", 3, zero}, {"radius", 1, radius}});
+  CHECK_THROWS_WITH(
+      report_for(file, 0.01),
+      Catch::Contains("particles.initial: item 0: 1 of the 3 particles of " + file) &&
+          Catch::Contains("lie outside the domain ((0, 0, 0) to (0.1, 0.1, 0.1)), e.g. particle 2 at "
+                          "(0.15, 0.08, 0.08)"));
+  std::filesystem::remove(file);
+}

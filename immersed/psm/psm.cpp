@@ -20,6 +20,7 @@
 #include "coflow/session.hpp"
 #include "coflow/trace.hpp"
 #include "coflow/window_loop.hpp"
+#include "immersed/psm/cell_halo.hpp"
 #include "immersed/psm/record_check.hpp"
 #include "immersed/series.hpp"
 #include "particles/particles_interface.hpp"
@@ -32,9 +33,13 @@ using V = std::array<double, 3>;
 
 namespace {
 
+// A share of an owned particle (the rank owning its centre sums all of them):
+// in an owned cell (a slot) or in another rank's (a ghost cell, whose force
+// comes through the cell halo).
 struct Share {
+  static constexpr std::size_t ghost = std::size_t{1} << 63;  // slot flag: an index into ghost_cells
   std::size_t record;  // index into the received records
-  std::size_t slot;    // index into the covered cells
+  std::size_t slot;    // index into the covered cells, or ghost | index into the ghost cells
   double fraction;     // of the cell, by this particle
   V lever;             // cell centre - particle centre (minimum image)
 };
@@ -55,7 +60,9 @@ struct Coverage {
   std::vector<std::int32_t> slot_of;  // owned cell -> index in cells, or -1 (4 bytes: half the cache misses)
   std::vector<Cell> cells;
   std::vector<Index3> global;  // each cell's global index, for the fluid
-  std::vector<Share> shares;  // particle by particle, cell by cell
+  std::vector<Index3> ghost_cells;  // the owned particles' cells owned by other ranks (global index)
+  std::vector<std::size_t> order;   // the records by particle id: the order they are covered in
+  std::vector<Share> shares;        // owned particle by particle (by id), cell by cell
   double solid_volume = 0.0;
 };
 
@@ -98,6 +105,7 @@ class PsmWindows final : public coupler::WindowParts {
   void receive_and_cover(long w);
   void cover(Coverage& c, std::size_t p);
   void add_cell(Coverage& c, std::size_t p, const Index3& cell, double f, double wetting);
+  const double* force_per_fraction(const Coverage& c, const Share& sh) const;
   void share_forces(const Coverage& c);
 
   coupler::Session& s_;
@@ -116,6 +124,7 @@ class PsmWindows final : public coupler::WindowParts {
       slot_force_;  // slot_force_: the fluid's force per covered cell, then per unit of fraction
   std::vector<protocol::ParticleLoad> loads_;
   SphereFractions fractions_;
+  psm::CellHalo halo_;  // the force per unit fraction of the cells near the other immersed ranks
   std::vector<std::pair<Index3, double>> touched_;
   double default_angle_ = 90.0;  // fluid.two_phase.contact_angle, for species without their own
   double total_[7] = {};
@@ -137,6 +146,7 @@ PsmWindows::PsmWindows(coupler::Session& s, const PsmParams& p, int ghost, std::
                                    coupler::Transfer::consistent, 0},
                 protocol::kTagSolid),
       fractions_(h_, dom_.lower, p.refinement, p.centre_lattice, std::move(kept_radii)),
+      halo_(s.comm(), s.decomposition(), s.rank(), ghost),
       series_(s) {
   const std::string angle = config::resolved_text(s.config(), {"fluid", "two_phase", "contact_angle"});
   if (!angle.empty()) default_angle_ = std::stod(angle);
@@ -168,10 +178,18 @@ void PsmWindows::receive_and_cover(long w) {
     std::fill(c.slot_of.begin(), c.slot_of.end(), -1);
   c.cells.clear();
   c.global.clear();
+  c.ghost_cells.clear();
   c.shares.clear();
   c.solid_volume = 0.0;
   for (const auto& r : c.rec) psm::check_record(r, dom_);
-  for (std::size_t p = 0; p < c.rec.size(); ++p) cover(c, p);
+  // By particle id, not in the order the records came (which follows
+  // particles.ranks and migration): a cell's sums over its grains are then
+  // the same for any rank layout.
+  c.order.resize(n);
+  for (std::size_t p = 0; p < n; ++p) c.order[p] = p;
+  std::sort(c.order.begin(), c.order.end(),
+            [&c](std::size_t a, std::size_t b) { return c.rec[a].id < c.rec[b].id; });
+  for (const std::size_t p : c.order) cover(c, p);
 }
 
 void PsmWindows::before_step(long w) {
@@ -209,7 +227,9 @@ void PsmWindows::cover(Coverage& c, std::size_t p) {
 }
 
 // Particle p covers fraction f of the (unwrapped) cell: add it when the
-// wrapped cell is in the domain and owned here.
+// wrapped cell is in the domain and owned here; the particle's share of it when
+// the particle is owned here (its centre is in the owned block), whoever owns
+// the cell.
 void PsmWindows::add_cell(Coverage& cov, std::size_t p, const Index3& cell, double f, double wetting) {
   const auto& r = cov.rec[p];
   const double h = h_;
@@ -223,10 +243,18 @@ void PsmWindows::add_cell(Coverage& cov, std::size_t p, const Index3& cell, doub
       return;
     }
   }
-  if (!owned_.contains(g)) return;
-  const long nx = owned_.extent(0), ny = owned_.extent(1);
+  const bool mine = cov.owned_flags[p] != 0;
   const V centre{dom_.lower[0] + (cell[0] + 0.5) * h, dom_.lower[1] + (cell[1] + 0.5) * h,
                  dom_.lower[2] + (cell[2] + 0.5) * h};
+  const V lever{centre[0] - r.x[0], centre[1] - r.x[1], centre[2] - r.x[2]};
+  if (!owned_.contains(g)) {
+    if (mine) {
+      cov.shares.push_back({p, Share::ghost | cov.ghost_cells.size(), f, lever});
+      cov.ghost_cells.push_back(g);
+    }
+    return;
+  }
+  const long nx = owned_.extent(0), ny = owned_.extent(1);
   const long local = ((g[2] - owned_.lo[2]) * ny + (g[1] - owned_.lo[1])) * nx + (g[0] - owned_.lo[0]);
   if (cov.slot_of[local] < 0) {
     cov.slot_of[local] = static_cast<std::int32_t>(cov.cells.size());
@@ -234,31 +262,46 @@ void PsmWindows::add_cell(Coverage& cov, std::size_t p, const Index3& cell, doub
     cov.global.push_back(g);
   }
   Cell& c = cov.cells[cov.slot_of[local]];
-  const V lever{centre[0] - r.x[0], centre[1] - r.x[1], centre[2] - r.x[2]};
   // Solid velocity at the cell centre: v + omega x (x - x_p).
   const V us{r.v[0] + r.w[1] * lever[2] - r.w[2] * lever[1], r.v[1] + r.w[2] * lever[0] - r.w[0] * lever[2],
              r.v[2] + r.w[0] * lever[1] - r.w[1] * lever[0]};
   c.fraction += f;
   for (int d = 0; d < 3; ++d) c.weighted_velocity[d] += f * us[d];
   c.weighted_wetting += f * wetting;
-  cov.shares.push_back({p, static_cast<std::size_t>(cov.slot_of[local]), f, lever});
+  if (mine) cov.shares.push_back({p, static_cast<std::size_t>(cov.slot_of[local]), f, lever});
   cov.solid_volume += f * h * h * h;
 }
 
+// The fluid's force per unit of fraction in a share's cell: an owned cell's,
+// or the one its owner sent through the halo.
+const double* PsmWindows::force_per_fraction(const Coverage& cov, const Share& sh) const {
+  if ((sh.slot & Share::ghost) == 0) return &slot_force_[3 * sh.slot];
+  const Index3& g = cov.ghost_cells[sh.slot & ~Share::ghost];
+  const double* got = halo_.find(g);
+  if (got == nullptr)
+    throw std::logic_error(
+        fmt::format("psm: particle {} covers cell ({}, {}, {}), but the immersed rank owning "
+                    "the cell sent no force for it (ghost layer too thin)",
+                    cov.rec[sh.record].id, g[0], g[1], g[2]));
+  return got;
+}
+
 // Each particle's share (by fraction) of the force in the cells it covers, and
-// the torque of those shares about its centre (seed 000 eqs 2.70-2.71).
+// the torque of those shares about its centre (seed 000 eqs 2.70-2.71), summed
+// by the rank owning its centre (the other ranks holding a copy return zero).
 void PsmWindows::share_forces(const Coverage& cov) {
   loads_.assign(cov.rec.size(), protocol::ParticleLoad{});
   // In the order of the shares (particle by particle, cell by cell), not of
-  // the cells' arrival, so that the sums do not depend on the fluid's
-  // decomposition (1 fluid rank = N, bit for bit).
+  // the cells' arrival, and all on one rank, so that the sums do not depend
+  // on the fluid's or immersed's decomposition (1 rank = N, bit for bit).
   for (std::size_t slot = 0; slot < cov.cells.size(); ++slot) {
     // The force per unit of fraction: a share takes its fraction of it.
     const double per = 1.0 / cov.cells[slot].fraction;
     for (int d = 0; d < 3; ++d) slot_force_[3 * slot + d] *= per;
   }
+  halo_.exchange(cov.global, slot_force_, 3);
   for (const Share& sh : cov.shares) {
-    const double* got = &slot_force_[3 * sh.slot];
+    const double* got = force_per_fraction(cov, sh);
     const V f{sh.fraction * got[0], sh.fraction * got[1], sh.fraction * got[2]};
     auto& l = loads_[sh.record];
     for (int d = 0; d < 3; ++d) l.force[d] += f[d];

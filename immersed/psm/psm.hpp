@@ -13,7 +13,12 @@
 //      fluid.two_phase.contact_angle),
 //   4. receives the force the fluid exerted on the solid in each of them, and
 //   5. returns to each particle its share (by fraction) of the force in the cells
-//      it covers, and the torque of those shares about its centre (eqs 2.70-2.71).
+//      it covers, and the torque of those shares about its centre (eqs 2.70-2.71):
+//      the rank owning the particle's centre sums them all, in the order it
+//      covers them, with the cells other ranks own through a halo
+//      (cell_halo.hpp); the ranks holding a ghost copy return zero. Particles
+//      are covered in the order of their ids. A particle's load is thus the
+//      same, bit for bit, for any rank layout.
 #pragma once
 
 #include <array>

@@ -32,7 +32,7 @@ ImmersedLink::ImmersedLink(coupler::Session& s, ParticleSolver& solver, const Pa
   if (point_)
     impulse_out_ = std::make_unique<coupler::PointExchange>(
         s.partner("immersed"), coupler::PointExchange::Role::origin, dest, cfg.domain.lower, h,
-        sizeof(protocol::ParticleImpulse), sizeof(double), protocol::kTagImpulse, 0);
+        sizeof(protocol::ParticleImpulse), sizeof(double), protocol::kTagImpulse, protocol::kImpulseGhost);
 }
 
 void ImmersedLink::before_step(long w) {

@@ -31,7 +31,10 @@ namespace {
 // 2. it is interpolated at the particles, with its vorticity, and goes back to
 // them; 3. after their sub-steps the particles' impulses arrive and are spread
 // as a force density (seed 003 eq. 3.43); 4. that goes to the fluid, once it is
-// known to be finite.
+// known to be finite. Each rank spreads into its own cells only, the impulses
+// of the particles whose stencil reaches them (the impulses come with ghost
+// copies one cell wide), by particle id: a cell's source is the same sum, bit
+// for bit, for any rank layout.
 class PointWindows final : public coupler::WindowParts {
  public:
   PointWindows(coupler::Session& s, double rho, double mu, bool two_way, const std::string& series);
@@ -60,6 +63,9 @@ class PointWindows final : public coupler::WindowParts {
   std::vector<double> flow_, source_;
   std::vector<std::byte> records_, results_;
   std::vector<std::uint8_t> owned_flags_;
+  std::vector<std::size_t> order_;  // the impulses by particle id
+  coupler::Decomposition dec_;
+  coupler::Box owned_;
   double total_[3] = {0, 0, 0};
   ImmersedSeries series_;
 };
@@ -83,9 +89,11 @@ PointWindows::PointWindows(coupler::Session& s, double rho, double mu, bool two_
               protocol::kTagParticles, 0),
       impulses_(s.partner("particles"), coupler::PointExchange::Role::destination, s.decomposition(),
                 dom_.lower, dom_.spacing(), sizeof(protocol::ParticleImpulse), sizeof(double),
-                protocol::kTagImpulse, 0),
+                protocol::kTagImpulse, protocol::kImpulseGhost),
       flow_(flow_in_.local_size()),
       source_(source_out_.local_size()),
+      dec_(s.decomposition()),
+      owned_(dec_.block(s.rank())),
       series_(s, series) {
   log::info("point: trilinear interpolation and spreading, fluid rho {:.4g} kg/m^3, mu {:.4g} Pa s", rho, mu);
 }
@@ -178,14 +186,22 @@ void PointWindows::after_step(long w) {
   std::fill(source_.begin(), source_.end(), 0.0);
   std::fill(total_, total_ + 3, 0.0);
   check_impulses(w, m);
-  for (std::size_t p = 0; p < m; ++p) {
-    protocol::ParticleImpulse r;
-    std::memcpy(&r, records_.data() + p * sizeof r, sizeof r);
-    const Stencil st = stencil(r.x, dom_, h_);
-    for (int d = 0; d < 3; ++d) total_[d] += r.impulse[d] / s_.window();
+  std::vector<protocol::ParticleImpulse> rec(m);
+  if (m > 0) std::memcpy(rec.data(), records_.data(), m * sizeof(protocol::ParticleImpulse));
+  order_.resize(m);
+  for (std::size_t p = 0; p < m; ++p) order_[p] = p;
+  std::sort(order_.begin(), order_.end(),
+            [&rec](std::size_t a, std::size_t b) { return rec[a].id < rec[b].id; });
+  for (const std::size_t p : order_) {
+    const protocol::ParticleImpulse& r = rec[p];
+    if (owned_flags_[p])
+      for (int d = 0; d < 3; ++d) total_[d] += r.impulse[d] / s_.window();
     if (!two_way_) continue;  // one-way: the fluid gets no source
+    const Stencil st = stencil(r.x, dom_, h_);
     for (int c = 0; c < 8; ++c) {
-      const long l = source_out_.local_index(st.cell[c]);
+      const Index3 g = dec_.wrap(st.cell[c]);
+      if (!owned_.contains(g)) continue;  // its owner spreads it, from its own copy
+      const long l = source_out_.local_index(g);
       for (int d = 0; d < 3; ++d)
         source_[static_cast<std::size_t>(l) * 3 + d] -= st.weight[c] * r.impulse[d] / (s_.window() * cell_volume);
     }

@@ -30,7 +30,8 @@ struct ParticleRecord {
   double contact_angle;  // degrees, of the red fluid on the particle's species (-1: the fluid's own)
 };
 // immersed -> particles: the hydrodynamic load on each record (N, N m); the
-// copies of a particle held by several immersed ranks are summed.
+// copies of a particle held by several immersed ranks are summed (psm: the
+// rank owning the centre sends the whole load, the others zero).
 struct ParticleLoad {
   double force[3];
   double torque[3];
@@ -82,6 +83,9 @@ inline constexpr int kTagSolid = 1100;       // immersed -> fluid: solid_values(
 inline constexpr int kTagFlow = 1300;        // fluid -> immersed: u[3], k, epsilon per cell (point)
 inline constexpr int kTagSource = 1400;      // immersed -> fluid: momentum source, N/m^3 (point)
 inline constexpr int kTagImpulse = 1500;     // particles -> immersed: impulses (point)
+// The impulses' ghost copies (point): one cell, the reach of a particle's
+// trilinear stencil beyond the cell holding it.
+inline constexpr int kImpulseGhost = 1;
 inline constexpr int kTagBodyLoads = 1600;   // fluid -> immersed: loads on the ibm bodies, mdf iterations, slip
 
 }  // namespace coflow::protocol

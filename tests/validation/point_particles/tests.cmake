@@ -108,6 +108,9 @@ coflow_validation(dpm_two_way_window_off_steps two_way dpm_two_way_loaded.yaml 2
   --set coupling.window=0.020029386433435707)
 coflow_validation(dpm_two_way_layouts compare dpm_two_way_loaded.yaml 2
   "fluid.ranks=1 immersed.ranks=1 particles.ranks=1" "fluid.ranks=4 immersed.ranks=2 particles.ranks=4")
+# Scattered particles: a cell's source sums many particles' spread impulses.
+coflow_validation(dpm_two_way_scattered_layouts compare dpm_two_way_scattered.yaml 2
+  "fluid.ranks=1 immersed.ranks=1 particles.ranks=1" "fluid.ranks=2 immersed.ranks=3 particles.ranks=2")
 # Issue 19's case: point particles settling on a wall, two-way: runs, or stops
 # naming the cause; with the remedy it names, runs to its end.
 add_test(NAME validation.dpm_settling_on_wall

@@ -144,10 +144,13 @@ inline void post_collision_velocity(const double* g, long stride, const double* 
 // momentum (3 per face): += the momentum each wall takes, 2 e_o g_o per
 // population g_o bounced (Ladd's momentum exchange), relative to the fluid at
 // rest (zero-centred populations: the reference pressure's share is left out).
-// A population bounced at an edge of two walls counts for the first face.
+// A population bounced at an edge of two walls counts for the first face; one
+// that an open face's closure then sets at the node (open: this block's faces
+// that are pressure, velocity or outflow faces of the domain) counts for none:
+// the wall gave the node nothing.
 template <class L>
-inline void fill_walls(double* f, const Layout& lay, const long* off, const bool* wall, int face0, int face1,
-                       double* momentum) {
+inline void fill_walls(double* f, const Layout& lay, const long* off, const bool* wall, const bool* open,
+                       int face0, int face1, double* momentum) {
   for (int face = face0; face < face1; ++face) {
     if (!wall[face]) continue;
     const int axis = face / 2, s = face % 2 == 0 ? 1 : -1;
@@ -168,7 +171,13 @@ inline void fill_walls(double* f, const Layout& lay, const long* off, const bool
               const int a = other / 2, so = other % 2 == 0 ? 1 : -1;
               first = !(wall[other] && so * L::e[q][a] > 0 && at[a] == (other % 2 == 0 ? 0 : lay.extent[a] - 1));
             }
-            if (first)
+            bool kept = true;  // no open face's closure overwrites it at this node
+            for (int other = 0; other < 6 && kept; ++other) {
+              const int a = other / 2, so = other % 2 == 0 ? 1 : -1;
+              kept =
+                  !(open[other] && so * L::e[q][a] > 0 && at[a] == (other % 2 == 0 ? 0 : lay.extent[a] - 1));
+            }
+            if (first && kept)
               for (int d = 0; d < 3; ++d) momentum[3 * face + d] += 2.0 * L::e[L::opp[q]][d] * g;
           }
         }

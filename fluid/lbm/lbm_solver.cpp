@@ -511,7 +511,7 @@ class Core final : public LbmCore {
 
   // Bounce-back on this block's wall faces [face0, face1) (boundaries.hpp).
   void fill_walls(int face0, int face1) {
-    lbm::fill_walls<L>(pop_.f.data(), lay_, off_, wall_, face0, face1, wall_momentum_);
+    lbm::fill_walls<L>(pop_.f.data(), lay_, off_, wall_, open_, face0, face1, wall_momentum_);
   }
   void take_wall_momentum(double* out) override {
     for (int k = 0; k < 18; ++k) out[k] = wall_momentum_[k], wall_momentum_[k] = 0.0;

@@ -683,9 +683,19 @@ class TwoPhaseCore final : public LbmCore {
   // Ladd's momentum exchange: population opp(q) of mass f went into the wall
   // and came back as q; the wall took 2 f e_opp(q). Credited to the first wall
   // face the link crosses (a diagonal link also crosses periodic or open faces).
+  // Not counted where an open face's closure then sets q at this cell (where a
+  // wall meets an inlet or outlet): the wall gave the cell nothing.
   void wall_take(long i, long j, long k, int q, double f) {
-    const long loc[3] = {lay_.origin[0] + i - L::e[q][0], lay_.origin[1] + j - L::e[q][1],
-                         lay_.origin[2] + k - L::e[q][2]};
+    const long cell[3] = {lay_.origin[0] + i, lay_.origin[1] + j, lay_.origin[2] + k};
+    for (int face = 0; face < 6; ++face) {
+      const int axis = face / 2, s = face % 2 == 0 ? 1 : -1;
+      const FaceType t = s_.faces[face].type;
+      const bool open = t == FaceType::pressure || t == FaceType::velocity || t == FaceType::outflow;
+      if (open && s_.cells[axis] > 1 && cell[axis] == (s > 0 ? 0 : s_.cells[axis] - 1) &&
+          s * L::e[q][axis] > 0)
+        return;
+    }
+    const long loc[3] = {cell[0] - L::e[q][0], cell[1] - L::e[q][1], cell[2] - L::e[q][2]};
     for (int d = 0; d < 3; ++d) {
       if (loc[d] >= 0 && loc[d] < s_.cells[d]) continue;
       const int face = 2 * d + (loc[d] < 0 ? 0 : 1);

@@ -112,6 +112,7 @@ int profile(const std::string& dir);
 int probes(const std::string& dir);
 int hydrostatic(const std::string& dir);
 int fluid_walls(const std::string& dir);
+int walls_pressure_drop(const std::string& dir);
 int channel(const std::string& dir);
 int decay(const std::string& dir);
 int ramp(const std::string& dir);

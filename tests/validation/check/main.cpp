@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
     if (what == "probes" && argc == 3) return probes(argv[2]);
     if (what == "hydrostatic" && argc == 3) return hydrostatic(argv[2]);
     if (what == "fluid_walls" && argc == 3) return fluid_walls(argv[2]);
+    if (what == "walls_pressure_drop" && argc == 3) return walls_pressure_drop(argv[2]);
     if (what == "channel" && argc == 3) return channel(argv[2]);
     if (what == "decay" && argc == 3) return decay(argv[2]);
     if (what == "mass" && argc == 3) return mass(argv[2]);

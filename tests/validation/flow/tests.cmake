@@ -9,7 +9,8 @@ coflow_validation(lbm_poiseuille_2d_force_order order lbm_poiseuille_2d_force.ya
   "domain.cells=[4,16,1] domain.upper=[0.008,0.032,0.002]"
   "domain.cells=[4,32,1] domain.upper=[0.004,0.032,0.001]"
   "domain.cells=[4,64,1] domain.upper=[0.002,0.032,0.0005]")
-coflow_validation(lbm_poiseuille_2d_pressure profile lbm_poiseuille_2d_pressure.yaml 1)
+coflow_validation(lbm_poiseuille_2d_pressure profile+walls_pressure_drop lbm_poiseuille_2d_pressure.yaml 1
+  --set run.output.series_every=100.0)
 # The same channel on D3Q19 with its one cell along z periodic: the ten
 # populations moving along z wrap onto their own cell (lbm crashed on it
 # before 2026-12-03, streaming them from a plane it did not have); against
@@ -116,6 +117,12 @@ coflow_validation(tutorial_channel channel ../tutorial/1_channel.yaml 1)
 # The fluid's force on its walls (series/fluid_walls.csv): the momentum balance
 # of force-driven channel (2 walls) and duct (4 walls and their edges) flows.
 coflow_validation(lbm_walls_channel fluid_walls lbm_poiseuille_2d_force.yaml 1 --set run.output.series_every=60.0)
+# The walls of the pressure-driven channel take the pressure drop's force at
+# steady flow (lbm_poiseuille_2d_pressure checks it too): the two-fluid kernel
+# with one colour (and a surface tension too small to act on the density's
+# gradient, see docs/validation.md).
+coflow_validation(lbm_walls_pressure_drop_two_phase walls_pressure_drop lbm_poiseuille_2d_pressure.yaml 1
+  --set run.output.series_every=100.0 --set "fluid.two_phase={surface_tension: 1.0e-9}")
 coflow_validation(lbm_walls_duct fluid_walls lbm_duct_3d_force.yaml 1 --set run.output.series_every=30.0)
 coflow_validation(lbm_walls_duct_4_ranks fluid_walls lbm_duct_3d_force.yaml 1 --set run.output.series_every=30.0
   --set fluid.ranks=4)

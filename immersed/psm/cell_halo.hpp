@@ -8,9 +8,10 @@
 
 #include <mpi.h>
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <span>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -26,23 +27,25 @@ class CellHalo {
   // Collective. `cells`: owned cells (global indices), `values`: `per_cell`
   // values each. Afterwards find() gives the values other ranks sent here.
   void exchange(std::span<const coupler::Index3> cells, std::span<const double> values, int per_cell);
-  // The values received for a cell (its global index, wrapped into the
-  // domain), or nullptr when no rank sent it.
-  const double* find(const coupler::Index3& cell) const;
-  // Whether any other rank's ghost layer reaches this rank's block.
-  bool has_neighbours() const { return !reach_.empty(); }
+  // The values received for a cell of this rank's ghost layer (its global
+  // index, wrapped or not on periodic axes), or nullptr when no rank sent it.
+  const double* find(coupler::Index3 cell) const;
 
  private:
-  long linear(const coupler::Index3& c) const { return (c[2] * cells_[1] + c[1]) * cells_[0] + c[0]; }
+  long slot_index(const coupler::Index3& c) const;  // in the grown block; c inside it
 
   MPI_Comm comm_;
   int size_;
   coupler::Index3 cells_;
+  std::array<bool, 3> periodic_;
+  std::vector<coupler::Index3> shifts_;              // periodic images
+  coupler::Box inner_;                               // owned cells no other rank's ghost layer reaches
+  coupler::Box grown_;                               // this rank's block with its ghost layer
   std::vector<std::pair<int, coupler::Box>> reach_;  // (rank, owned cells in its ghost layer), by rank
   std::vector<std::vector<double>> out_;
   std::vector<double> in_;
-  int per_cell_ = 0;
-  std::unordered_map<long, std::size_t> at_;  // linear cell index -> offset of its values in in_
+  std::vector<std::int32_t> slot_;  // grown-block cell -> offset of its values in in_, or -1
+  std::vector<long> filled_;        // the slots set by the last exchange
 };
 
 }  // namespace coflow::immersed::psm

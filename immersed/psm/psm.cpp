@@ -60,7 +60,7 @@ struct Coverage {
   std::vector<std::int32_t> slot_of;  // owned cell -> index in cells, or -1 (4 bytes: half the cache misses)
   std::vector<Cell> cells;
   std::vector<Index3> global;  // each cell's global index, for the fluid
-  std::vector<Index3> ghost_cells;  // the owned particles' cells owned by other ranks (global index)
+  std::vector<Index3> ghost_cells;  // the owned particles' cells owned by other ranks (global index, wrapped)
   std::vector<std::size_t> order;   // the records by particle id: the order they are covered in
   std::vector<Share> shares;        // owned particle by particle (by id), cell by cell
   double solid_volume = 0.0;

@@ -145,9 +145,11 @@ inline void post_collision_velocity(const double* g, long stride, const double* 
 // population g_o bounced (Ladd's momentum exchange), relative to the fluid at
 // rest (zero-centred populations: the reference pressure's share is left out).
 // A population bounced at an edge of two walls counts for the first face; one
-// that an open face's closure then sets at the node (open: this block's faces
-// that are pressure, velocity or outflow faces of the domain) counts for none:
-// the wall gave the node nothing.
+// that is unknown to an open face at the node (s e_q > 0 for that face; open:
+// this block's faces that are pressure, velocity or outflow faces of the
+// domain), whose value the face's condition sets, counts for none: the wall
+// gave the node nothing. (A regularized face rebuilds the known populations
+// too, but from their non-equilibrium stress: those stay the wall's.)
 template <class L>
 inline void fill_walls(double* f, const Layout& lay, const long* off, const bool* wall, const bool* open,
                        int face0, int face1, double* momentum) {

@@ -683,8 +683,8 @@ class TwoPhaseCore final : public LbmCore {
   // Ladd's momentum exchange: population opp(q) of mass f went into the wall
   // and came back as q; the wall took 2 f e_opp(q). Credited to the first wall
   // face the link crosses (a diagonal link also crosses periodic or open faces).
-  // Not counted where an open face's closure then sets q at this cell (where a
-  // wall meets an inlet or outlet): the wall gave the cell nothing.
+  // Not counted where q is unknown to an open face at this cell (where a wall
+  // meets an inlet or outlet), as lbm's fill_walls: the face's condition sets it.
   void wall_take(long i, long j, long k, int q, double f) {
     const long cell[3] = {lay_.origin[0] + i, lay_.origin[1] + j, lay_.origin[2] + k};
     for (int face = 0; face < 6; ++face) {

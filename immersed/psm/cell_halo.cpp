@@ -64,6 +64,9 @@ void CellHalo::exchange(std::span<const Index3> cells, std::span<const double> v
   }
   particles::store::exchange(comm_, out_, in_);
   const std::size_t stride = 1 + static_cast<std::size_t>(per_cell);
+  if (in_.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
+    throw std::runtime_error(
+        "psm: too many ghost cells reach one immersed rank for its halo; run immersed on more ranks");
   for (std::size_t k = 0; k + stride <= in_.size(); k += stride) {
     const long linear = static_cast<long>(in_[k]);
     const Index3 c{linear % cells_[0], (linear / cells_[0]) % cells_[1], linear / (cells_[0] * cells_[1])};

@@ -60,7 +60,10 @@ struct FluidAtParticle {
 };
 // particles -> immersed (method point), after the sub-steps: the impulse of the
 // fluid forces on each particle over the window (N s), routed by the position
-// at the window's end, where it is spread onto the grid; then one record per
+// at the window's end, where it is spread onto the grid, with ghost copies
+// kImpulseGhost cells wide (each immersed rank spreads into its own cells only:
+// a sender without the copies loses the stencil's corners across immersed
+// blocks, unseen); then one record per
 // particle that left through an outlet in the window, at its last position
 // inside, with its impulse until it left.
 struct ParticleImpulse {

@@ -11,6 +11,12 @@ coflow_validation(psm_momentum_window_off_steps momentum psm_momentum.yaml 2 --s
 coflow_validation(psm_momentum_2_1_2 momentum psm_momentum.yaml 2 --set fluid.ranks=2 --set particles.ranks=2)
 coflow_validation(psm_layouts compare psm_momentum.yaml 2
   "fluid.ranks=1 immersed.ranks=1 particles.ranks=1" "fluid.ranks=2 immersed.ranks=3 particles.ranks=2")
+# The same bits with spheres crossing periodic faces, two immersed ranks along
+# the periodic x (a cell reaches the other rank through two images), and the
+# pipelined parallel-explicit scheme.
+coflow_validation(psm_layouts_periodic compare psm_momentum_periodic.yaml 2
+  "coupling.scheme=parallel-explicit fluid.ranks=1 immersed.ranks=1 particles.ranks=1"
+  "coupling.scheme=parallel-explicit fluid.ranks=2 immersed.ranks=2 immersed.decomposition=[2,1,1] particles.ranks=2")
 coflow_validation(psm_drag_array drag psm_drag_array.yaml 2)
 # Archimedes: a fixed sphere in a closed box whose body force is the fluid's
 # weight. The fluid's pressure pushes the solid up, the solid share of the body

@@ -34,7 +34,7 @@ namespace {
 // known to be finite. Each rank spreads into its own cells only, the impulses
 // of the particles whose stencil reaches them (the impulses come with ghost
 // copies one cell wide), by particle id: a cell's source is the same sum, bit
-// for bit, for any rank layout.
+// for bit, for any number of immersed and particle ranks.
 class PointWindows final : public coupler::WindowParts {
  public:
   PointWindows(coupler::Session& s, double rho, double mu, bool two_way, const std::string& series);

@@ -184,7 +184,7 @@ void PsmWindows::receive_and_cover(long w) {
   for (const auto& r : c.rec) psm::check_record(r, dom_);
   // By particle id, not in the order the records came (which follows
   // particles.ranks and migration): a cell's sums over its grains are then
-  // the same for any rank layout.
+  // the same for any number of immersed and particle ranks.
   c.order.resize(n);
   for (std::size_t p = 0; p < n; ++p) c.order[p] = p;
   std::sort(c.order.begin(), c.order.end(),

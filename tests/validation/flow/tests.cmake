@@ -50,6 +50,11 @@ coflow_validation(lbm_vs_reference_lean compare lbm_all_boundaries_3d.yaml 1
   "fluid.solver=lbm fluid.body_force=[0,0,0]" "fluid.solver=lbm-reference fluid.body_force=[0,0,0]")
 coflow_validation(lbm_ranks_1_vs_4_lean compare lbm_all_boundaries_3d.yaml 2
   "fluid.ranks=1 fluid.body_force=[0,0,0]" "fluid.ranks=4 fluid.decomposition=[2,2,1] fluid.body_force=[0,0,0]")
+# A periodic x axis split three ways (rows of 21 and 22 cells): the end cells
+# of every row go through the line kernel in gathered lines of eight.
+coflow_validation(lbm_ranks_split_x compare lbm_taylor_green.yaml 2
+  "fluid.ranks=1 run.end_time=50.0 run.output.every=50.0"
+  "fluid.ranks=3 fluid.decomposition=[3,1,1] run.end_time=50.0 run.output.every=50.0")
 coflow_validation(lbm_ranks_periodic_x compare lbm_mass_conservation.yaml 2
   "fluid.ranks=1 run.end_time=5.0 run.output.every=5.0"
   "fluid.ranks=4 fluid.decomposition=[1,2,2] run.end_time=5.0 run.output.every=5.0")

@@ -1,5 +1,6 @@
 #include "immersed/point/point.hpp"
-#include "immersed/point/stencil.hpp"
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
@@ -7,8 +8,6 @@
 #include <cstring>
 #include <numbers>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 #include "coflow/exchange.hpp"
 #include "coflow/finite.hpp"
@@ -18,6 +17,8 @@
 #include "coflow/session.hpp"
 #include "coflow/trace.hpp"
 #include "coflow/window_loop.hpp"
+#include "immersed/order_by_id.hpp"
+#include "immersed/point/stencil.hpp"
 #include "immersed/series.hpp"
 #include "particles/particles_interface.hpp"
 
@@ -63,7 +64,8 @@ class PointWindows final : public coupler::WindowParts {
   std::vector<double> flow_, source_;
   std::vector<std::byte> records_, results_;
   std::vector<std::uint8_t> owned_flags_;
-  std::vector<std::size_t> order_;  // the impulses by particle id
+  std::vector<protocol::ParticleImpulse> rec_;  // the window's impulses, unpacked
+  std::vector<std::size_t> order_;              // rec_ by particle id
   coupler::Decomposition dec_;
   coupler::Box owned_;
   double total_[3] = {0, 0, 0};
@@ -186,14 +188,11 @@ void PointWindows::after_step(long w) {
   std::fill(source_.begin(), source_.end(), 0.0);
   std::fill(total_, total_ + 3, 0.0);
   check_impulses(w, m);
-  std::vector<protocol::ParticleImpulse> rec(m);
-  if (m > 0) std::memcpy(rec.data(), records_.data(), m * sizeof(protocol::ParticleImpulse));
-  order_.resize(m);
-  for (std::size_t p = 0; p < m; ++p) order_[p] = p;
-  std::sort(order_.begin(), order_.end(),
-            [&rec](std::size_t a, std::size_t b) { return rec[a].id < rec[b].id; });
+  rec_.resize(m);
+  if (m > 0) std::memcpy(rec_.data(), records_.data(), m * sizeof(protocol::ParticleImpulse));
+  order_by_id(m, order_, [this](std::size_t p) { return rec_[p].id; });
   for (const std::size_t p : order_) {
-    const protocol::ParticleImpulse& r = rec[p];
+    const protocol::ParticleImpulse& r = rec_[p];
     if (owned_flags_[p])
       for (int d = 0; d < 3; ++d) total_[d] += r.impulse[d] / s_.window();
     if (!two_way_) continue;  // one-way: the fluid gets no source

@@ -20,6 +20,7 @@
 #include "coflow/session.hpp"
 #include "coflow/trace.hpp"
 #include "coflow/window_loop.hpp"
+#include "immersed/order_by_id.hpp"
 #include "immersed/psm/cell_halo.hpp"
 #include "immersed/psm/record_check.hpp"
 #include "immersed/series.hpp"
@@ -182,13 +183,7 @@ void PsmWindows::receive_and_cover(long w) {
   c.shares.clear();
   c.solid_volume = 0.0;
   for (const auto& r : c.rec) psm::check_record(r, dom_);
-  // By particle id, not in the order the records came (which follows
-  // particles.ranks and migration): a cell's sums over its grains are then
-  // the same for any number of immersed and particle ranks.
-  c.order.resize(n);
-  for (std::size_t p = 0; p < n; ++p) c.order[p] = p;
-  std::sort(c.order.begin(), c.order.end(),
-            [&c](std::size_t a, std::size_t b) { return c.rec[a].id < c.rec[b].id; });
+  order_by_id(n, c.order, [&c](std::size_t p) { return c.rec[p].id; });
   for (const std::size_t p : c.order) cover(c, p);
 }
 

@@ -18,8 +18,8 @@
 //      covers them, with the cells other ranks own through a halo
 //      (cell_halo.hpp); the ranks holding a ghost copy return zero. Particles
 //      are covered in the order of their ids. A particle's load is thus the
-//      same, bit for bit, for any number of immersed and particle ranks (the
-//      fluid's rank count changes it only where lbm's own round-off does).
+//      same, bit for bit, for any number of immersed and particle ranks (and
+//      of lbm's ranks: validation.psm_ranks_1_vs_16).
 #pragma once
 
 #include <array>

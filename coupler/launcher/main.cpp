@@ -570,8 +570,12 @@ int check_executables(const std::string& launcher, const Launch& launch) {
   // Open MPI then sends SIGTERM to every rank and waits this many seconds
   // (default 1) before SIGKILL, even when all are gone: a failed run ended
   // 1.0 s later than it had to (fv_ke_decay from a damaged checkpoint, 1.51 s
-  // against 0.52 s). No component handles SIGTERM, so nothing is lost.
-  setenv("OMPI_MCA_odls_base_sigkill_timeout", "0", 0);
+  // against 0.52 s). No coflow component handles SIGTERM, so nothing is lost;
+  // a user's own executable (--exe) may, and keeps Open MPI's grace.
+  bool own = false;
+  for (std::size_t i = 0; i < launch.exes.size(); ++i)
+    own = own || launch.exes[i] != self_dir() + "/coflow-" + launch.components[i];
+  if (!own) setenv("OMPI_MCA_odls_base_sigkill_timeout", "0", 0);
   return 0;
 }
 

@@ -138,6 +138,7 @@ class Core final : public LbmCore {
     // 2. Interior rows read no ghost from another rank: compute them while
     //    messages fly.
     max_u2_ = 0.0;
+    short_n_ = 0;
     const long i0 = row_i0_, i1 = row_i1_;
     for (long k = lay_.ghost[2]; k < lay_.extent[2] - lay_.ghost[2]; ++k)
       for (long j = lay_.ghost[1]; j < lay_.extent[1] - lay_.ghost[1]; ++j) fast_row(i0, i1, j, k);
@@ -327,10 +328,11 @@ class Core final : public LbmCore {
 
   void set_source(std::span<const double> force) override {
     src_.assign(force.begin(), force.end());
-    src_row_.assign(static_cast<std::size_t>(lay_.extent[1] * lay_.extent[2]), 0);
+    src_list_.clear();
     for (std::size_t c = 0; c < src_.size() / 3; ++c)
       if (src_[3 * c] != 0.0 || src_[3 * c + 1] != 0.0 || src_[3 * c + 2] != 0.0)
-        src_row_[c / static_cast<std::size_t>(lay_.extent[0])] = 1;
+        src_list_.push_back(static_cast<long>(c));
+    sourced_.mark(src_list_, lay_.extent[0], static_cast<long>(src_.size() / 3));
   }
 
   // The drive: body force plus the cell's momentum source.
@@ -346,7 +348,7 @@ class Core final : public LbmCore {
     for (int d = 0; d < 3; ++d) F[d] += extra_[3 * c + d];
   }
 
-  // Cells of a row with a momentum source: one at a time, each with its force.
+  // Cells with a momentum source or an immersed-boundary force: one at a time, each with its force.
   void source_row(long i0, long i1, long j, long k) {
     for (long i = i0; i < i1; ++i) {
       const long x = idx(i, j, k);
@@ -387,13 +389,27 @@ class Core final : public LbmCore {
     }
   }
 
-  // Cells [i0, i1) of a row, none partially saturated.
+  // Cells [i0, i1) of a row, none partially saturated: those with a momentum
+  // source one at a time, each with its force, the runs between them as in
+  // any other row (a whole row by the one-cell kernel would give its
+  // source-free cells other bits than where the row is cut along x).
   void fluid_row(long i0, long i1, long j, long k) {
     const long row = k * lay_.extent[1] + j;
-    if (!src_.empty() && src_row_[row]) {
-      source_row(i0, i1, j, k);
+    if (sourced_.row_marked(row)) {
+      for_runs(&sourced_.cell[static_cast<std::size_t>(row * lay_.extent[0])], i0, i1,
+               [&](long a, long b, bool sourced) {
+                 if (sourced)
+                   source_row(a, b, j, k);
+                 else
+                   sourceless_row(a, b, j, k);
+               });
       return;
     }
+    sourceless_row(i0, i1, j, k);
+  }
+
+  void sourceless_row(long i0, long i1, long j, long k) {
+    const long row = k * lay_.extent[1] + j;
     if (forced_.row_marked(row)) {
       forced_row(i0, i1, j, k);
       return;
@@ -469,13 +485,13 @@ class Core final : public LbmCore {
   }
 
   // Runs of fewer than 8 cells (the end cells of rows split across ranks
-  // along x, the gaps between partially saturated or forced cells) take the
+  // along x, the gaps between partially saturated, forced or sourced cells) take the
   // same line kernel as longer runs, so that a cell's bits do not depend on
   // where its row is cut: their cells are gathered, eight at a time, into one
   // line (short_flush). The lanes are independent, so a cell's result does
   // not depend on the cells beside it in the line. With the one-cell
   // collide(), whose arithmetic differs at round-off from the lean kernel's,
-  // [2,1,1] blocks changed the Taylor-Green vortex by 1.1e-15 after 50 steps;
+  // [2,1,1] blocks changed the Taylor-Green vortex by 1.1e-15 after 500 steps;
   // with a line of eight per run, the [2,1,1] 128 x 64 x 64 duct computed
   // 15-40 % longer.
   void short_row(long x, long n) {
@@ -562,7 +578,8 @@ class Core final : public LbmCore {
   long short_x_[8] = {};
   int short_n_ = 0;
   std::vector<double> src_;     // per owned cell source (lattice units), empty: none
-  std::vector<char> src_row_;   // rows (j, k) holding a source
+  CellMask sourced_;            // cells whose source is not zero
+  std::vector<long> src_list_;  // (set_source's list for sourced_)
   // Immersed boundaries: the hook, the forces of this step's forced cells.
   std::function<void()> hook_;
   std::vector<double> extra_;

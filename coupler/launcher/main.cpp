@@ -88,6 +88,9 @@ struct Launch {
   int total = 0;
   std::string bind = "auto";  // run.launch.bind
   std::vector<std::string> mpi_args;
+  // Whether component i runs a user's own executable (--exe), not the one
+  // built beside the launcher.
+  bool own(std::size_t i) const { return exes[i] != self_dir() + "/coflow-" + components[i]; }
 };
 
 Launch plan(const Config& cfg, const std::map<std::string, std::string>& exe_override) {
@@ -249,7 +252,7 @@ std::string sbatch_script(const Config& cfg, const Launch& l, const std::string&
   for (const auto& o : overrides) cmd.insert(cmd.end(), {"--set", o});
   if (!restart.empty()) cmd.insert(cmd.end(), {"--restart", restart});
   for (std::size_t i = 0; i < l.components.size(); ++i)  // --exe: the executables not built beside the launcher
-    if (l.exes[i] != self_dir() + "/coflow-" + l.components[i]) cmd.insert(cmd.end(), {"--exe", l.components[i] + "=" + l.exes[i]});
+    if (l.own(i)) cmd.insert(cmd.end(), {"--exe", l.components[i] + "=" + l.exes[i]});
   if (strict) cmd.push_back("--strict");
   std::string ranks;
   for (std::size_t i = 0; i < l.components.size(); ++i)
@@ -392,7 +395,7 @@ bool start_overdue(Watch& w, double since, double limit, pid_t pid) {
   for (std::size_t i = 0; i < w.launch.components.size(); ++i) {
     const std::string& c = w.launch.components[i];
     if (!w.started.count(c)) missing += (missing.empty() ? "" : ", ") + c;
-    if (w.launch.exes[i] != self_dir() + "/coflow-" + c) own += fmt::format(" {}={}", c, w.launch.exes[i]);
+    if (w.launch.own(i)) own += fmt::format(" {}={}", c, w.launch.exes[i]);
   }
   // One executable that never starts MPI holds every other in MPI start-up.
   const std::string suspect = own.empty() ? std::string() : fmt::format("; your own executables:{}", own);
@@ -573,8 +576,7 @@ int check_executables(const std::string& launcher, const Launch& launch) {
   // against 0.52 s). No coflow component handles SIGTERM, so nothing is lost;
   // a user's own executable (--exe) may, and keeps Open MPI's grace.
   bool own = false;
-  for (std::size_t i = 0; i < launch.exes.size(); ++i)
-    own = own || launch.exes[i] != self_dir() + "/coflow-" + launch.components[i];
+  for (std::size_t i = 0; i < launch.exes.size(); ++i) own = own || launch.own(i);
   if (!own) setenv("OMPI_MCA_odls_base_sigkill_timeout", "0", 0);
   return 0;
 }

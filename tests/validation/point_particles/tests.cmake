@@ -112,7 +112,7 @@ coflow_validation(dpm_two_way_layouts compare dpm_two_way_loaded.yaml 2
 coflow_validation(dpm_two_way_scattered_layouts compare dpm_two_way_scattered.yaml 2
   "fluid.ranks=1 immersed.ranks=1 particles.ranks=1" "fluid.ranks=2 immersed.ranks=3 particles.ranks=2")
 # Few particles: most rows of fluid cells hold no source; the fluid cut along
-# x (its rows of 16 and 11 cells) against one rank.
+# x (its rows of 11 and 10 cells) against one rank.
 coflow_validation(dpm_two_way_sparse_ranks compare dpm_two_way_sparse.yaml 2
   "fluid.ranks=1" "fluid.ranks=3 fluid.decomposition=[3,1,1] immersed.ranks=2 particles.ranks=2")
 # Issue 19's case: point particles settling on a wall, two-way: runs, or stops

@@ -761,9 +761,30 @@ int read_exe_overrides(const Config& cfg, const std::vector<std::string>& exes,
   return 0;
 }
 
+// Each rank that fails leaves logs/FAILED.<component>.<rank>; the run's
+// logs/FAILED lists them, the earliest first, and replaces them.
+void gather_failures(const std::string& dir) {
+  std::error_code ec;
+  std::vector<std::pair<fs::file_time_type, fs::path>> pieces;
+  for (const auto& e : fs::directory_iterator(dir + "/logs", ec))
+    if (const std::string name = e.path().filename().string();
+        name.rfind("FAILED.", 0) == 0 && name.find(".tmp.") == std::string::npos)
+      pieces.emplace_back(e.last_write_time(ec), e.path());
+  if (pieces.empty()) return;
+  std::sort(pieces.begin(), pieces.end());
+  std::string all;
+  for (const auto& [when, path] : pieces) {
+    std::ifstream in(path);
+    all += std::string(std::istreambuf_iterator<char>(in), {});
+  }
+  std::ofstream(dir + "/logs/FAILED", std::ios::app) << all;
+  for (const auto& [when, path] : pieces) fs::remove(path, ec);
+}
+
 // A failed run: name the component and its reason (from its own report, or
 // from logs/FAILED), write the summary, and return the launcher's exit status.
 int report_failure(const Config& cfg, const std::string& dir, Failure failure, int rc, double wall) {
+  gather_failures(dir);
   if (failure.component.empty()) {
     std::ifstream f(dir + "/logs/FAILED");
     std::string first;

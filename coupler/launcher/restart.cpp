@@ -144,6 +144,8 @@ std::string rewind_run_directory(const config::Config& cfg, const std::string& d
   std::error_code ec;
   // The failure reason of the run being restarted would be read as this one's.
   fs::remove(dir + "/logs/FAILED", ec);
+  for (const auto& e : fs::directory_iterator(dir + "/logs", ec))
+    if (e.path().filename().string().rfind("FAILED.", 0) == 0) fs::remove(e.path(), ec);
   // A series row at t is the checkpoint's window's last: rows after it go.
   for (const auto& e : fs::directory_iterator(dir + "/series", ec))
     // dispersion.csv's first column is the time since a particle crossed

@@ -50,7 +50,7 @@ RunDirectory::RunDirectory(const std::string& component, const config::Config& c
     if (world_rank_ == 0) output::atomic_write(dir_ + "/config.yaml", YAML::Dump(cfg_.resolved) + "\n");
   }
   MPI_Barrier(comm_);
-  log::init(component_, rank_, dir_ + "/logs/" + component_ + ".log");
+  log::init(component_, rank_, dir_ + "/logs");
 }
 
 void RunDirectory::snapshot_written(long number, double time, std::size_t count,
@@ -107,7 +107,10 @@ void RunDirectory::write_summary(const std::string& json) const {
 
 void RunDirectory::record_failure(int rank, const std::string& reason) const noexcept {
   try {
-    std::ofstream(dir_ + "/logs/FAILED", std::ios::app) << component_ << " rank " << rank << ": " << reason << "\n";
+    // One file per rank, written whole: the launcher gathers them into
+    // logs/FAILED (appends from several hosts to one file can be lost on NFS).
+    output::atomic_write(fmt::format("{}/logs/FAILED.{}.{}", dir_, component_, rank),
+                         fmt::format("{} rank {}: {}\n", component_, rank, reason));
   } catch (...) {
   }
 }

@@ -9,9 +9,10 @@ bin=$1 cases=$2 out=$3
 rm -rf "$out"; mkdir -p "$out"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 fail() { echo "FAIL: $*"; exit 1; }
-check() {  # case, the message it must give
+check() {  # case, the message it must give, --set options
   local name=$1 msg=$2 dir="$out/$1"
-  timeout 60 "$bin/coflow" run "$cases/$name.yaml" --set run.output.dir="$dir" >"$out/$name.log" 2>&1
+  shift 2
+  timeout 60 "$bin/coflow" run "$cases/$name.yaml" --set run.output.dir="$dir" "$@" >"$out/$name.log" 2>&1
   local rc=$?
   grep "coflow: run failed" "$out/$name.log"
   [ $rc -ne 124 ] || fail "$name: hung (killed after 60 s)"
@@ -26,4 +27,21 @@ check lbm_too_many_windows \
   "run.end_time: 1e+300 s is 2.56e+300 coupling windows of"
 check dem_crushed_past_fixed_step \
   "the particle step 2e-05 s (particles.time_step) now exceeds the critical step 8.329e-06 s (seed 000 eq. 2.19) of the lightest grain"
+# On 3 fluid ranks every rank fails. Each rank writes its own files: rank 0
+# logs/fluid.log, the others only their warnings and errors in
+# logs/fluid.<rank>.log; the launcher gathers the ranks' reasons into
+# logs/FAILED (no two ranks append to one file: appends from several hosts to
+# one file on NFS can overwrite each other).
+check fv_k_epsilon_blow_up "fv: k and epsilon would need" --set fluid.ranks=3
+d="$out/fv_k_epsilon_blow_up"
+[ "$(grep -c "^fluid rank [012]: fv: k and epsilon would need" "$d/logs/FAILED")" = 3 ] ||
+  fail "logs/FAILED does not hold the three ranks' reasons: $(cat "$d/logs/FAILED")"
+! ls "$d"/logs/FAILED.* >/dev/null 2>&1 || fail "the ranks' pieces of logs/FAILED were left: $(ls "$d/logs")"
+grep -v "\[fluid:0\]" "$d/logs/fluid.log" && fail "logs/fluid.log holds lines from other ranks than 0"
+for r in 1 2; do
+  grep -q "\[fluid:$r\] \[error\] fv: k and epsilon would need" "$d/logs/fluid.$r.log" ||
+    fail "logs/fluid.$r.log lacks rank $r's error"
+  grep -v "\[fluid:$r\] \[\(warning\|error\|critical\)\]" "$d/logs/fluid.$r.log" &&
+    fail "logs/fluid.$r.log holds other lines than rank $r's warnings and errors"
+done
 echo "ok"

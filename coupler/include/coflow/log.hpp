@@ -1,5 +1,9 @@
-// Logging through spdlog: every line carries the component and the rank; one
-// log file per component (logs/<component>.log), written by all its ranks.
+// Logging through spdlog: every line carries the component and the rank.
+// Rank 0 of a component writes logs/<component>.log; every other rank writes
+// its warnings and errors, and only those, to logs/<component>.<rank>.log,
+// created at its first such line. No two ranks append to one file (appends
+// from several hosts to one file on NFS can overwrite each other), and a run
+// on many ranks does not repeat each start-up line once per rank.
 #pragma once
 
 #include <memory>
@@ -10,8 +14,8 @@
 namespace coflow::log {
 
 // Console: warnings and errors from every rank, info from rank 0 only.
-// File (when `file` is not empty): everything from every rank.
-void init(const std::string& component, int rank, const std::string& file = "");
+// Files (when `dir` is not empty): as above, under `dir`.
+void init(const std::string& component, int rank, const std::string& dir = "");
 std::shared_ptr<spdlog::logger> get();
 
 template <class... Args>

@@ -1,7 +1,11 @@
 #include "immersed/ibm/direct_forcing.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <stdexcept>
 
 namespace coflow::ibm {
 
@@ -106,18 +110,47 @@ void DirectForcing::build_stencils() {
       if (scratch_[c].size() < top) scratch_[c].assign(top, 0.0);
 }
 
+namespace {
+// A marker's stencil can lie on several ranks. So that its sum does not
+// depend on where the blocks cut it (1 rank gives the bits of N), each term
+// is rounded to a multiple of 2^-88 and held as two integers, in units of
+// 2^-36 and of 2^-88; integers add exactly, so neither the order of the terms
+// nor the grouping of the ranks' partial sums changes the total, which
+// becomes one double at the end. The rounding (at most 2^-89, 1.6e-27) is
+// below a double's own for any velocity above 1.5e-11; terms below 2^15 keep
+// any sum of 2^7 of them (a stencil has at most 64) far within the integers.
+struct ExactSum {
+  std::int64_t coarse = 0, fine = 0;
+  // x rounded to the nearest integer, for |x| <= 2^51: x + 1.5 2^52 keeps no
+  // bits below 1 (inline, where llrint is a call into libm).
+  static double nearest(double x) { return (x + 0x1.8p52) - 0x1.8p52; }
+  void add(double t) {
+    if (!(std::abs(t) < 0x1p15))
+      throw std::runtime_error(
+          fmt::format("ibm: a velocity of {:.6g} (the grid's units) in a marker's stencil: "
+                      "the flow is not finite or has blown up",
+                      t));
+    const double c = nearest(t * 0x1p36);
+    coarse += static_cast<std::int64_t>(c);
+    fine += static_cast<std::int64_t>(nearest((t - c * 0x1p-36) * 0x1p88));  // the difference is exact
+  }
+  double value() const { return static_cast<double>(coarse) * 0x1p-36 + static_cast<double>(fine) * 0x1p-88; }
+};
+}  // namespace
+
 void DirectForcing::interpolate(const std::array<double*, 3>& u, std::vector<double>& out) const {
   const std::size_t nm = x_.size();
-  out.assign(3 * nm, 0.0);
+  std::vector<ExactSum> sums(3 * nm);
   for (std::size_t c = 0; c < grid_.components.size(); ++c) {
     const double* v = u[c];
-    for (std::size_t m = 0; m < nm; ++m) {
-      double sum = 0.0;
-      for (std::size_t e = start_[c][m]; e < start_[c][m + 1]; ++e) sum += entries_[c][e].weight * v[entries_[c][e].index];
-      out[3 * m + c] = sum;
-    }
+    for (std::size_t m = 0; m < nm; ++m)
+      for (std::size_t e = start_[c][m]; e < start_[c][m + 1]; ++e)
+        sums[3 * m + c].add(entries_[c][e].weight * v[entries_[c][e].index]);
   }
-  MPI_Allreduce(MPI_IN_PLACE, out.data(), static_cast<int>(out.size()), MPI_DOUBLE, MPI_SUM, comm_);
+  static_assert(sizeof(ExactSum) == 2 * sizeof(std::int64_t));
+  MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(2 * sums.size()), MPI_INT64_T, MPI_SUM, comm_);
+  out.resize(3 * nm);
+  for (std::size_t k = 0; k < out.size(); ++k) out[k] = sums[k].value();
 }
 
 void DirectForcing::spread(const std::array<double*, 3>& u, const std::vector<double>& du) const {

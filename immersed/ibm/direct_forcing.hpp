@@ -10,8 +10,9 @@
 // velocity lives on `components` grids of points (a staggered grid: one per
 // component, each offset by half a cell off its own axis). A rank sums its own
 // points; the markers' interpolated velocities are summed over the ranks (one
-// reduction of 3 doubles per marker per iteration), so every rank computes the
-// same dU_m and spreads it into its own points.
+// reduction of 3 exact sums per marker per iteration, so that the result does
+// not depend on the rank count), so every rank computes the same dU_m and
+// spreads it into its own points.
 #pragma once
 
 #include <mpi.h>

@@ -190,3 +190,47 @@ TEST_CASE("multi-direct forcing drives the markers to the body's velocity and co
   CHECK(-loads[0] == Approx(momentum / dt).epsilon(1e-10));
   CHECK(loads[1] == Approx(0.0).margin(1e-10 * std::abs(loads[0])));
 }
+
+TEST_CASE(
+    "the markers' velocities are sums exact to 1.6e-27; a velocity that is not finite stops the forcing",
+    "[immersed][ibm]") {
+  // A stream of speed U past markers at rest, no forcing iteration: the slip
+  // is the interpolated speed, sum_x phi(x - X) U = U (the kernel sums to one
+  // on any shift), to the rounding of the weights' products. The terms are
+  // summed as integers (units of 2^-36 and 2^-88; the sum does not depend on
+  // how the ranks cut a stencil), so a wrong scale between the two would show
+  // here; so would the loss of a small stream's digits (U = 1e-9: 1.6e-27 is
+  // 1.6e-18 of it).
+  const long n = 20;
+  ibm::DirectForcing::Grid gr;
+  gr.geometry = grid(0.05, n, 3);
+  for (int c = 0; c < 3; ++c) {
+    ibm::DirectForcing::Points p;
+    p.index = [n](const std::array<long, 3>& x) {
+      for (int d = 0; d < 3; ++d)
+        if (x[d] < 0 || x[d] >= n) return -1L;
+      return (x[2] * n + x[1]) * n + x[0];
+    };
+    gr.components.push_back(p);
+  }
+  ibm::MarkerSet s;
+  s.bodies = {{{0, 0, 0}, {0, 0, 0}}};
+  s.markers.push_back({{0.0123, -0.0371, 0.0219}, {0, 0, 0}, 1.0, 0});
+  s.markers.push_back({{0.1, 0.1, 0.1}, {0, 0, 0}, 1.0, 0});
+  for (const double speed : {1.0, 0.0371, 1e-9, 3e4}) {
+    ibm::DirectForcing f(gr, {Kernel::peskin4, 0, 1e-6}, MPI_COMM_WORLD);
+    f.set_markers(s);
+    std::vector<double> u(static_cast<std::size_t>(n * n * n), speed), zero(u.size(), 0.0);
+    const auto r = f.apply({u.data(), zero.data(), zero.data()}, 0.0, 1.0, 1.0, 1.0);
+    CHECK(r.slip == Approx(speed).epsilon(1e-14));
+  }
+  ibm::DirectForcing f(gr, {Kernel::peskin4, 0, 1e-6}, MPI_COMM_WORLD);
+  f.set_markers(s);
+  std::vector<double> u(static_cast<std::size_t>(n * n * n), 1.0), zero(u.size(), 0.0);
+  u[static_cast<std::size_t>((10 * n + 10) * n + 10)] = std::nan("");
+  CHECK_THROWS_WITH(f.apply({u.data(), zero.data(), zero.data()}, 0.0, 1.0, 1.0, 1.0),
+                    Catch::Contains("not finite or has blown up"));
+  u[static_cast<std::size_t>((10 * n + 10) * n + 10)] = 1e7;  // its weight (0.036) times it: above 2^15
+  CHECK_THROWS_WITH(f.apply({u.data(), zero.data(), zero.data()}, 0.0, 1.0, 1.0, 1.0),
+                    Catch::Contains("not finite or has blown up"));
+}

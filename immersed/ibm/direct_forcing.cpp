@@ -1,11 +1,7 @@
 #include "immersed/ibm/direct_forcing.hpp"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
-#include <stdexcept>
 
 namespace coflow::ibm {
 
@@ -71,6 +67,8 @@ void DirectForcing::build_stencils() {
   const std::size_t nc = grid_.components.size(), nm = x_.size();
   start_.assign(nc, std::vector<std::size_t>(nm + 1, 0));
   entries_.assign(nc, {});
+  slot_.assign(nc, {});
+  slots_.assign(3 * nm, 0);
   for (std::size_t c = 0; c < nc; ++c) {
     const Points& pts = grid_.components[c];
     for (std::size_t m = 0; m < nm; ++m) {
@@ -89,15 +87,19 @@ void DirectForcing::build_stencils() {
           axis[static_cast<std::size_t>(d)].push_back({at, w});
         }
       }
+      int slot = 0;
       for (const auto& [k, wz] : axis[2])
         for (const auto& [j, wy] : axis[1])
           for (const auto& [i, wx] : axis[0]) {
             const long idx = pts.index({i, j, k});
-            if (idx >= 0) entries_[c].push_back({idx, wx * wy * wz});
+            if (idx >= 0) entries_[c].push_back({idx, wx * wy * wz}), slot_[c].push_back(slot);
+            ++slot;
           }
       start_[c][m + 1] = entries_[c].size();
+      slots_[3 * m + c] = slot;
     }
   }
+  lay_out_split();
   touched_.clear();
   for (const auto& list : entries_)
     for (const Entry& e : list) touched_.push_back(e.index);
@@ -110,47 +112,55 @@ void DirectForcing::build_stencils() {
       if (scratch_[c].size() < top) scratch_[c].assign(top, 0.0);
 }
 
-namespace {
-// A marker's stencil can lie on several ranks. So that its sum does not
-// depend on where the blocks cut it (1 rank gives the bits of N), each term
-// is rounded to a multiple of 2^-88 and held as two integers, in units of
-// 2^-36 and of 2^-88; integers add exactly, so neither the order of the terms
-// nor the grouping of the ranks' partial sums changes the total, which
-// becomes one double at the end. The rounding (at most 2^-89, 1.6e-27) is
-// below a double's own for any velocity above 1.5e-11; terms below 2^15 keep
-// any sum of 2^7 of them (a stencil has at most 64) far within the integers.
-struct ExactSum {
-  std::int64_t coarse = 0, fine = 0;
-  // x rounded to the nearest integer, for |x| <= 2^51: x + 1.5 2^52 keeps no
-  // bits below 1 (inline, where llrint is a call into libm).
-  static double nearest(double x) { return (x + 0x1.8p52) - 0x1.8p52; }
-  void add(double t) {
-    if (!(std::abs(t) < 0x1p15))
-      throw std::runtime_error(
-          fmt::format("ibm: a velocity of {:.6g} (the grid's units) in a marker's stencil: "
-                      "the flow is not finite or has blown up",
-                      t));
-    const double c = nearest(t * 0x1p36);
-    coarse += static_cast<std::int64_t>(c);
-    fine += static_cast<std::int64_t>(nearest((t - c * 0x1p-36) * 0x1p88));  // the difference is exact
-  }
-  double value() const { return static_cast<double>(coarse) * 0x1p-36 + static_cast<double>(fine) * 0x1p-88; }
-};
-}  // namespace
+// Which stencils lie on several ranks (the ranks holding part of each,
+// summed over the ranks), and where their terms go in interpolate's reduction.
+void DirectForcing::lay_out_split() {
+  const std::size_t nm = x_.size();
+  std::vector<int> holders(3 * nm, 0);
+  for (std::size_t c = 0; c < grid_.components.size(); ++c)
+    for (std::size_t m = 0; m < nm; ++m) holders[3 * m + c] = start_[c][m + 1] > start_[c][m] ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, holders.data(), static_cast<int>(holders.size()), MPI_INT, MPI_SUM, comm_);
+  split_at_.assign(3 * nm, -1);
+  long next = static_cast<long>(3 * nm);
+  for (std::size_t k = 0; k < 3 * nm; ++k)
+    if (holders[k] > 1) split_at_[k] = next, next += slots_[k];
+  reduced_.resize(static_cast<std::size_t>(next));
+}
 
+// A stencil on one rank is summed there, in its order; one on several ranks
+// goes term by term into the reduction (each term from the one rank holding
+// it, zeros from the others: exact), and every rank then sums its terms in
+// the stencil's order, the points that are no unknown adding 0. So a sum
+// does not depend on how the blocks cut the stencil: the same bits on any
+// number of ranks (the products are rounded alike on every path: this file
+// is compiled without fused multiply-adds).
 void DirectForcing::interpolate(const std::array<double*, 3>& u, std::vector<double>& out) const {
   const std::size_t nm = x_.size();
-  std::vector<ExactSum> sums(3 * nm);
+  std::fill(reduced_.begin(), reduced_.end(), 0.0);
   for (std::size_t c = 0; c < grid_.components.size(); ++c) {
     const double* v = u[c];
-    for (std::size_t m = 0; m < nm; ++m)
+    for (std::size_t m = 0; m < nm; ++m) {
+      const long at = split_at_[3 * m + c];
+      if (at >= 0) {
+        for (std::size_t e = start_[c][m]; e < start_[c][m + 1]; ++e)
+          reduced_[static_cast<std::size_t>(at + slot_[c][e])] =
+              entries_[c][e].weight * v[entries_[c][e].index];
+        continue;
+      }
+      double sum = 0.0;
       for (std::size_t e = start_[c][m]; e < start_[c][m + 1]; ++e)
-        sums[3 * m + c].add(entries_[c][e].weight * v[entries_[c][e].index]);
+        sum += entries_[c][e].weight * v[entries_[c][e].index];
+      reduced_[3 * m + c] = sum;
+    }
   }
-  static_assert(sizeof(ExactSum) == 2 * sizeof(std::int64_t));
-  MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(2 * sums.size()), MPI_INT64_T, MPI_SUM, comm_);
-  out.resize(3 * nm);
-  for (std::size_t k = 0; k < out.size(); ++k) out[k] = sums[k].value();
+  MPI_Allreduce(MPI_IN_PLACE, reduced_.data(), static_cast<int>(reduced_.size()), MPI_DOUBLE, MPI_SUM, comm_);
+  out.assign(reduced_.begin(), reduced_.begin() + static_cast<long>(3 * nm));
+  for (std::size_t k = 0; k < out.size(); ++k)
+    if (const long at = split_at_[k]; at >= 0) {
+      double sum = 0.0;
+      for (long s = 0; s < slots_[k]; ++s) sum += reduced_[static_cast<std::size_t>(at + s)];
+      out[k] = sum;
+    }
 }
 
 void DirectForcing::spread(const std::array<double*, 3>& u, const std::vector<double>& du) const {

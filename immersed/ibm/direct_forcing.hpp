@@ -10,9 +10,11 @@
 // velocity lives on `components` grids of points (a staggered grid: one per
 // component, each offset by half a cell off its own axis). A rank sums its own
 // points; the markers' interpolated velocities are summed over the ranks (one
-// reduction of 3 exact sums per marker per iteration, so that the result does
-// not depend on the rank count), so every rank computes the same dU_m and
-// spreads it into its own points.
+// reduction per iteration: 3 doubles per marker, and the terms of the
+// stencils that lie on several ranks, so that every rank sums each stencil
+// in the same order as one rank would: the same bits on any number of
+// ranks), so every rank computes the same dU_m and spreads it into its own
+// points.
 #pragma once
 
 #include <mpi.h>
@@ -91,6 +93,7 @@ class DirectForcing {
   };
   void place(double t);
   void build_stencils();
+  void lay_out_split();
   Result iterate_mdf(const std::array<double*, 3>& u, double scale, std::vector<double>& total);
   Result solve_cg(const std::array<double*, 3>& u, double scale, std::vector<double>& total);
   double slip(const std::vector<double>& at, std::vector<double>& b) const;
@@ -112,6 +115,16 @@ class DirectForcing {
   // Per component, per marker: its entries on this rank (CSR).
   std::vector<std::vector<std::size_t>> start_;
   std::vector<std::vector<Entry>> entries_;
+  // A stencil's points lie on one rank or on several. Each entry's place in
+  // its marker's whole stencil (the support's points in z, y, x order, the
+  // ones that are no unknown included); per marker and component (3 m + c)
+  // that stencil's size, and for a stencil on several ranks where its terms
+  // sit in interpolate's reduction (-1: on one rank).
+  std::vector<std::vector<int>> slot_;
+  std::vector<int> slots_;
+  std::vector<long> split_at_;
+  mutable std::vector<double>
+      reduced_;  // interpolate's buffer: 3 sums a marker, then the split stencils' terms
   std::vector<long> touched_;
   std::array<std::vector<double>, 3> scratch_;  // zeroed copies of the grid's points (cg)
   std::vector<double> loads_;  // per body 6: force and torque times dt

@@ -767,8 +767,11 @@ void gather_failures(const std::string& dir) {
   std::error_code ec;
   std::vector<std::pair<fs::file_time_type, fs::path>> pieces;
   for (const auto& e : fs::directory_iterator(dir + "/logs", ec))
-    if (const std::string name = e.path().filename().string();
-        name.rfind("FAILED.", 0) == 0 && name.find(".tmp.") == std::string::npos)
+    if (const std::string name = e.path().filename().string(); name.rfind("FAILED.", 0) != 0)
+      continue;
+    else if (name.find(".tmp.") != std::string::npos)
+      fs::remove(e.path(), ec);  // a rank killed while it wrote its piece
+    else
       pieces.emplace_back(e.last_write_time(ec), e.path());
   if (pieces.empty()) return;
   std::sort(pieces.begin(), pieces.end());
@@ -1004,6 +1007,7 @@ int run(const Config& cfg, RunOptions o) {
     }
     if (o.launcher != "mpirun") extra += " --launcher " + ::quoted(o.launcher);
     if (o.strict) extra += " --strict";
+    gather_failures(dir);  // a rank that failed before the interruption
     return report_interrupted(o.cfg_path, o.overrides, extra, dir, rc, wall, cfg);
   }
   return report_failure(cfg, dir, failure, rc, wall);

@@ -28,7 +28,9 @@ class LazyFileSink final : public spdlog::sinks::base_sink<std::mutex> {
   void sink_it_(const spdlog::details::log_msg& msg) override {
     if (!file_ && !failed_) {
       file_ = std::fopen(path_.c_str(), "a");
-      failed_ = file_ == nullptr;  // the console still has the line
+      failed_ = file_ == nullptr;  // the console still has the line, and this one
+      if (failed_)
+        std::fprintf(stderr, "coflow: cannot open %s: this rank logs to the console only\n", path_.c_str());
     }
     if (!file_) return;
     spdlog::memory_buf_t line;

@@ -29,19 +29,21 @@ check dem_crushed_past_fixed_step \
   "the particle step 2e-05 s (particles.time_step) now exceeds the critical step 8.329e-06 s (seed 000 eq. 2.19) of the lightest grain"
 # On 3 fluid ranks every rank fails. Each rank writes its own files: rank 0
 # logs/fluid.log, the others only their warnings and errors in
-# logs/fluid.<rank>.log; the launcher gathers the ranks' reasons into
-# logs/FAILED (no two ranks append to one file: appends from several hosts to
-# one file on NFS can overwrite each other).
+# logs/fluid.<rank>.log; each failing rank its reason in a piece that the
+# launcher gathers into logs/FAILED (no two ranks append to one file:
+# appends from several hosts to one file on NFS can overwrite each other).
+# The first rank's MPI_Abort may end the others before they write, so
+# logs/FAILED holds one to three reasons (tests/unit/coupler/test_log.cpp
+# checks the ranks' files deterministically).
 check fv_k_epsilon_blow_up "fv: k and epsilon would need" --set fluid.ranks=3
 d="$out/fv_k_epsilon_blow_up"
-[ "$(grep -c "^fluid rank [012]: fv: k and epsilon would need" "$d/logs/FAILED")" = 3 ] ||
-  fail "logs/FAILED does not hold the three ranks' reasons: $(cat "$d/logs/FAILED")"
+n=$(grep -c "^fluid rank [012]: fv: k and epsilon would need" "$d/logs/FAILED")
+[ "$n" -ge 1 ] && [ "$n" = "$(wc -l <"$d/logs/FAILED")" ] ||
+  fail "logs/FAILED does not hold the ranks' reasons, one a line: $(cat "$d/logs/FAILED")"
 ! ls "$d"/logs/FAILED.* >/dev/null 2>&1 || fail "the ranks' pieces of logs/FAILED were left: $(ls "$d/logs")"
 grep -v "\[fluid:0\]" "$d/logs/fluid.log" && fail "logs/fluid.log holds lines from other ranks than 0"
 for r in 1 2; do
-  grep -q "\[fluid:$r\] \[error\] fv: k and epsilon would need" "$d/logs/fluid.$r.log" ||
-    fail "logs/fluid.$r.log lacks rank $r's error"
-  grep -v "\[fluid:$r\] \[\(warning\|error\|critical\)\]" "$d/logs/fluid.$r.log" &&
+  [ ! -e "$d/logs/fluid.$r.log" ] || ! grep -v "\[fluid:$r\] \[\(warning\|error\|critical\)\]" "$d/logs/fluid.$r.log" ||
     fail "logs/fluid.$r.log holds other lines than rank $r's warnings and errors"
 done
 echo "ok"

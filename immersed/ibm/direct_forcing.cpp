@@ -1,11 +1,9 @@
 #include "immersed/ibm/direct_forcing.hpp"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <cmath>
-#include <limits>
-#include <stdexcept>
+
+#include "coflow/mpi_count.hpp"
 
 namespace coflow::ibm {
 
@@ -128,11 +126,7 @@ void DirectForcing::lay_out_split() {
   long next = static_cast<long>(3 * nm);
   for (std::size_t k = 0; k < 3 * nm; ++k)
     if (holders[k] > 1) split_at_[k] = next, next += slots_[k];
-  if (next > std::numeric_limits<int>::max())
-    throw std::runtime_error(
-        fmt::format("ibm: {} values in the forcing's reduction, more than MPI counts in one call: "
-                    "fewer markers (a coarser fluid grid) or fewer fluid ranks",
-                    next));
+  coupler::mpi_count(static_cast<std::size_t>(next), "the immersed boundary's forcing reduction");
   reduced_.resize(static_cast<std::size_t>(next));
 }
 

@@ -292,6 +292,6 @@ TEST_CASE("the forcing reads a uniform stream's speed at the markers", "[immerse
     f.set_markers(s);
     std::vector<double> u(static_cast<std::size_t>(n * n * n), speed), zero(u.size(), 0.0);
     const auto r = f.apply({u.data(), zero.data(), zero.data()}, 0.0, 1.0, 1.0, 1.0);
-    CHECK(r.slip == Approx(speed).epsilon(1e-14));
+    CHECK(r.slip == Approx(speed).epsilon(2e-15));  // measured at most 2.2e-16
   }
 }

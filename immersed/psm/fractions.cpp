@@ -38,9 +38,14 @@ double cube_fraction(const V& lo, double h, const V& c, double r, int levels) {
   return 0.125 * sum;
 }
 
-SphereFractions::SphereFractions(double h, const V& lower, int levels, int lattice, std::vector<double> kept_radii,
-                                 std::size_t max_bytes)
-    : h_(h), lower_(lower), levels_(levels), lattice_(lattice), kept_radii_(std::move(kept_radii)),
+SphereFractions::SphereFractions(double h, const V& lower, int levels, int lattice,
+                                 std::vector<double> kept_radii, std::size_t max_bytes, int blend_steps)
+    : h_(h),
+      lower_(lower),
+      levels_(levels),
+      lattice_(lattice),
+      blend_steps_(blend_steps),
+      kept_radii_(std::move(kept_radii)),
       max_bytes_(max_bytes) {}
 
 std::size_t SphereFractions::KeyHash::operator()(const Key& k) const {
@@ -156,49 +161,66 @@ const std::vector<double>& SphereFractions::kept_direct(double r, int m, int a, 
   return s;
 }
 
-void SphereFractions::cover(const V& c, double radius, std::vector<std::pair<coupler::Index3, double>>& out) {
-  const double r = radius / h_;
-  const int m = static_cast<int>(std::ceil(r)) + 1;
-  const int n = 2 * m + 1;
-  long base[3];
+SphereFractions::Placement SphereFractions::place(const V& c, double radius) const {
+  Placement p;
+  p.radius_bits = std::bit_cast<std::uint64_t>(radius);
   V offset;
   for (int d = 0; d < 3; ++d) {
     const double x = (c[d] - lower_[d]) / h_;
-    base[d] = static_cast<long>(std::floor(x));
-    offset[d] = x - static_cast<double>(base[d]);
+    p.base[d] = static_cast<long>(std::floor(x));
+    offset[d] = x - static_cast<double>(p.base[d]);
   }
-  out.clear();
-  const bool keep = lattice_ > 0 && std::any_of(kept_radii_.begin(), kept_radii_.end(), [&](double k) {
-    return std::abs(k - radius) <= 1e-12 * k;
-  });
-  if (!keep) {
-    const std::vector<double> f = stencil(offset, r, m);
-    std::size_t at = 0;
-    for (int k = -m; k <= m; ++k)
-      for (int j = -m; j <= m; ++j)
-        for (int i = -m; i <= m; ++i, ++at)
-          if (f[at] > 0.0) out.push_back({{base[0] + i, base[1] + j, base[2] + k}, f[at]});
-    return;
-  }
-  int a0[3], lo[3], hi[3];
-  double t[3];
+  p.keep = lattice_ > 0 && std::any_of(kept_radii_.begin(), kept_radii_.end(),
+                                       [&](double k) { return std::abs(k - radius) <= 1e-12 * k; });
   for (int d = 0; d < 3; ++d) {
+    if (!p.keep) {
+      p.at[d] = offset[d];
+      continue;
+    }
     const double u = offset[d] * lattice_;
-    a0[d] = std::min(static_cast<int>(std::floor(u)), lattice_ - 1);
-    t[d] = u - a0[d];
+    p.a0[d] = std::min(static_cast<int>(std::floor(u)), lattice_ - 1);
+    const double t = u - p.a0[d];
+    p.at[d] = blend_steps_ > 0 ? std::round(t * blend_steps_) / blend_steps_ : t;
+  }
+  return p;
+}
+
+void SphereFractions::cover(const V& c, double radius, Cells& out) {
+  cover_at(place(c, radius), radius, out);
+}
+
+void SphereFractions::cover_at(const Placement& at, double radius, Cells& out) {
+  const double r = radius / h_;
+  const int m = static_cast<int>(std::ceil(r)) + 1;
+  out.clear();
+  if (at.keep) return blend(at, r, m, out);
+  const std::vector<double> f = stencil({at.at[0], at.at[1], at.at[2]}, r, m);
+  std::size_t i = 0;
+  for (int z = -m; z <= m; ++z)
+    for (int y = -m; y <= m; ++y)
+      for (int x = -m; x <= m; ++x, ++i)
+        if (f[i] > 0.0) out.push_back({{at.base[0] + x, at.base[1] + y, at.base[2] + z}, f[i]});
+}
+
+// The kept stencils of the eight lattice centres around the sphere's,
+// weighted trilinearly.
+void SphereFractions::blend(const Placement& at, double r, int m, Cells& out) {
+  const int n = 2 * m + 1;
+  int lo[3], hi[3];
+  for (int d = 0; d < 3; ++d) {
     // The cells the corners' spheres can touch (their centres lie between
     // a0/N and (a0 + 1)/N): a smaller box than the stencils' own.
-    lo[d] = std::max(-m, static_cast<int>(std::floor(double(a0[d]) / lattice_ - r)));
-    hi[d] = std::min(m, static_cast<int>(std::floor(double(a0[d] + 1) / lattice_ + r)));
+    lo[d] = std::max(-m, static_cast<int>(std::floor(double(at.a0[d]) / lattice_ - r)));
+    hi[d] = std::min(m, static_cast<int>(std::floor(double(at.a0[d] + 1) / lattice_ + r)));
   }
   const int nx = hi[0] - lo[0] + 1, ny = hi[1] - lo[1] + 1, nz = hi[2] - lo[2] + 1;
   blend_.assign(static_cast<std::size_t>(nx) * ny * nz, 0.0);
   for (int corner = 0; corner < 8; ++corner) {
     double w = 1.0;
-    for (int d = 0; d < 3; ++d) w *= (corner >> d & 1) ? t[d] : 1.0 - t[d];
+    for (int d = 0; d < 3; ++d) w *= (corner >> d & 1) ? at.at[d] : 1.0 - at.at[d];
     if (w <= 0.0) continue;
-    const auto& s =
-        kept_direct(r, m, a0[0] + (corner & 1), a0[1] + (corner >> 1 & 1), a0[2] + (corner >> 2 & 1));
+    const auto& s = kept_direct(r, m, at.a0[0] + (corner & 1), at.a0[1] + (corner >> 1 & 1),
+                                at.a0[2] + (corner >> 2 & 1));
     double* b = blend_.data();
     for (int k = lo[2]; k <= hi[2]; ++k)
       for (int j = lo[1]; j <= hi[1]; ++j) {
@@ -206,11 +228,43 @@ void SphereFractions::cover(const V& c, double radius, std::vector<std::pair<cou
         for (int i = 0; i < nx; ++i) *b++ += w * row[i];
       }
   }
-  std::size_t at = 0;
+  std::size_t i = 0;
   for (int k = lo[2]; k <= hi[2]; ++k)
     for (int j = lo[1]; j <= hi[1]; ++j)
-      for (int i = lo[0]; i <= hi[0]; ++i, ++at)
-        if (blend_[at] > 0.0) out.push_back({{base[0] + i, base[1] + j, base[2] + k}, std::min(1.0, blend_[at])});
+      for (int x = lo[0]; x <= hi[0]; ++x, ++i)
+        if (blend_[i] > 0.0)
+          out.push_back({{at.base[0] + x, at.base[1] + j, at.base[2] + k}, std::min(1.0, blend_[i])});
+}
+
+const SphereFractions::Cells& SphereFractions::cover_of(std::int64_t id, const V& c, double radius) {
+  const Placement at = place(c, radius);
+  ++asked_;
+  Kept& k = lists_[id];
+  k.asked = round_;
+  if (!k.cells.empty() && k.where == at) {
+    ++reused_;
+    return k.cells;
+  }
+  const std::size_t before = k.cells.capacity();
+  k.where = at;
+  cover_at(at, radius, k.cells);
+  list_bytes_ += (k.cells.capacity() - before) * sizeof(Cells::value_type);
+  return k.cells;
+}
+
+void SphereFractions::forget_unasked() {
+  // A pure memo: dropping lists changes no result. All of them go when they
+  // outgrow the memory given (a sphere's list is rebuilt at its next call).
+  if (list_bytes_ > max_bytes_) {
+    lists_.clear();
+    list_bytes_ = 0;
+  }
+  std::erase_if(lists_, [this](const auto& e) {
+    if (e.second.asked == round_) return false;
+    list_bytes_ -= e.second.cells.capacity() * sizeof(Cells::value_type);
+    return true;
+  });
+  ++round_;
 }
 
 }  // namespace coflow::immersed

@@ -17,6 +17,10 @@
 //     moves shift the kept stencils. Each kept stencil sums to the volume, so
 //     the interpolation does too; the difference from the exact centre is below
 //     the octree's own error (tests/unit/immersed/test_psm_fractions.cpp).
+//     The interpolation's weights are rounded to multiples of 1 / M
+//     (`blend_steps`; 128: the centre to h / 1024 at N = 8), so that a sphere
+//     that moved less than that since the last window, as the grains of a
+//     packed bed do, keeps its cells (cover_of) instead of blending them again.
 // Both are pure functions of the centre and radius, so a restart and any
 // number of ranks give the same bits.
 #pragma once
@@ -45,17 +49,32 @@ class SphereFractions {
   // kept stencils and their tables are dropped, and the symmetry classes'
   // octree stencils (the costly ones, 35 a radius at N = 8) only when they
   // alone take half of it.
+  // blend_steps: the interpolation's weights rounded to multiples of
+  // 1 / blend_steps (0: not rounded).
   SphereFractions(double h, const std::array<double, 3>& lower, int levels, int lattice,
-                  std::vector<double> kept_radii, std::size_t max_bytes = std::size_t{256} << 20);
+                  std::vector<double> kept_radii, std::size_t max_bytes = std::size_t{256} << 20,
+                  int blend_steps = 0);
   // Not copied: the lookup tables point into this object's kept stencils.
   SphereFractions(const SphereFractions&) = delete;
   SphereFractions& operator=(const SphereFractions&) = delete;
 
   // The cells (global, unwrapped indices) sphere (c, r) covers and their
   // fractions (> 0), replacing `out`'s contents.
-  void cover(const std::array<double, 3>& c, double r, std::vector<std::pair<coupler::Index3, double>>& out);
+  using Cells = std::vector<std::pair<coupler::Index3, double>>;
+  void cover(const std::array<double, 3>& c, double r, Cells& out);
+  // The same for the sphere `id`, kept from its last call while its placement
+  // (base cell, lattice offsets and rounded weights; its exact centre where
+  // it keeps no stencils) and radius stay the same: cover() would compute
+  // the same list again, to the bit. The reference is valid until the next
+  // call. Kept lists count against max_bytes too (all are dropped when full).
+  const Cells& cover_of(std::int64_t id, const std::array<double, 3>& c, double r);
+  // Drops the lists of the spheres not asked for since the last call.
+  void forget_unasked();
 
   std::size_t stencils_computed() const { return computed_; }
+  // cover_of's calls that found the sphere's list kept, and all its calls.
+  std::size_t lists_reused() const { return reused_; }
+  std::size_t lists_asked() const { return asked_; }
   // The stencils computed by the octree: on a lattice of 2^k offsets a kept
   // stencil is its symmetry class's (offset a or N - a per axis, axes in any
   // order: 35 classes of 729 offsets at N = 8) mirrored and permuted, the
@@ -71,6 +90,25 @@ class SphereFractions {
   struct KeyHash {
     std::size_t operator()(const Key& k) const;
   };
+  // Where a sphere's fractions come from: its base cell and either its
+  // offset in it (exact centre) or the lattice offsets a0 and the weights t
+  // between them (kept stencils). Equal placements give equal fractions.
+  struct Placement {
+    std::uint64_t radius_bits = 0;
+    long base[3] = {0, 0, 0};
+    bool keep = false;
+    int a0[3] = {0, 0, 0};
+    double at[3] = {0, 0, 0};  // exact centre: the offset in cells; kept: the weights t
+    bool operator==(const Placement&) const = default;
+  };
+  struct Kept {
+    Placement where;
+    Cells cells;
+    std::size_t asked = 0;  // the round (forget_unasked) it was last asked in
+  };
+  Placement place(const std::array<double, 3>& c, double radius) const;
+  void cover_at(const Placement& at, double radius, Cells& out);
+  void blend(const Placement& at, double r, int m, Cells& out);
   // The fractions in the (2m+1)^3 cells around a base cell of a sphere of
   // radius r (in cells) whose centre is `offset` (in cells) from the base
   // cell's lower corner, renormalised to the sphere's volume.
@@ -87,7 +125,7 @@ class SphereFractions {
 
   double h_;
   std::array<double, 3> lower_;
-  int levels_, lattice_;
+  int levels_, lattice_, blend_steps_;
   std::vector<double> kept_radii_;
   std::size_t max_bytes_, bytes_ = 0, class_bytes_ = 0, computed_ = 0, octree_ = 0;
   std::unordered_map<Key, std::vector<double>, KeyHash> kept_;
@@ -98,6 +136,8 @@ class SphereFractions {
     std::vector<const std::vector<double>*> stencil;  // (N + 1)^3 offsets; null: not looked up yet
   };
   std::vector<Direct> direct_;  // emptied whenever kept() drops its stencils
+  std::unordered_map<std::int64_t, Kept> lists_;  // cover_of's lists, by sphere
+  std::size_t list_bytes_ = 0, round_ = 0, reused_ = 0, asked_ = 0;
 };
 
 }  // namespace coflow::immersed

@@ -17,6 +17,14 @@ void PsmParams::visit(config::Visitor& v) {
     "the octree, with the same numbers. Only species of one diameter keep stencils; particles from a "
     "size distribution or crushing take the exact centre",
     config::in_range(0, 64));
+  v("blend_steps", blend_steps,
+    "with centre_lattice N > 0, the interpolation's weights between the kept centres are rounded to "
+    "multiples of 1/M: the fractions are those of the centre moved by at most h / (2 N M) per axis (128: "
+    "h/2048 at N = 8, a cell's fraction within 1e-3 of the unrounded one, below the octree's own error), "
+    "and a sphere whose rounded centre has not moved since the last window, as in a packed bed, keeps its "
+    "cells instead of blending them again; 0: not rounded (a sphere keeps its cells only while its centre "
+    "is exactly where it was)",
+    config::in_range(0, 1 << 20));
   v("buoyancy", buoyancy,
     "add the buoyancy -rho_f V g to each particle (the fluid carries no hydrostatic pressure gradient; the "
     "solid share of fluid.body_force in each cell reaches the particles with the fluid's force, so a body "

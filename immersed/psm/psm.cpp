@@ -100,6 +100,8 @@ class PsmWindows final : public coupler::WindowParts {
     if (p_.centre_lattice > 0)
       log::info("psm: {} fraction stencils kept, {} of them computed by the octree (the others by symmetry)",
                 fractions_.stencils_computed(), fractions_.octree_stencils());
+    log::info("psm: {} of {} covers kept from the window before (the sphere had not moved)",
+              fractions_.lists_reused(), fractions_.lists_asked());
   }
 
  private:
@@ -125,8 +127,7 @@ class PsmWindows final : public coupler::WindowParts {
       slot_force_;  // slot_force_: the fluid's force per covered cell, then per unit of fraction
   std::vector<protocol::ParticleLoad> loads_;
   SphereFractions fractions_;
-  psm::CellHalo halo_;  // the force per unit fraction of the cells near the other immersed ranks
-  std::vector<std::pair<Index3, double>> touched_;
+  psm::CellHalo halo_;           // the force per unit fraction of the cells near the other immersed ranks
   double default_angle_ = 90.0;  // fluid.two_phase.contact_angle, for species without their own
   double total_[7] = {};
   ImmersedSeries series_;
@@ -146,7 +147,8 @@ PsmWindows::PsmWindows(coupler::Session& s, const PsmParams& p, int ghost, std::
                 coupler::FieldSpec{"solid", protocol::solid_values(config::two_phase_fluid(s.config())),
                                    coupler::Transfer::consistent, 0},
                 protocol::kTagSolid),
-      fractions_(h_, dom_.lower, p.refinement, p.centre_lattice, std::move(kept_radii)),
+      fractions_(h_, dom_.lower, p.refinement, p.centre_lattice, std::move(kept_radii),
+                 std::size_t{256} << 20, p.blend_steps),
       halo_(s.comm(), s.decomposition(), s.rank(), ghost),
       series_(s) {
   const std::string angle = config::resolved_text(s.config(), {"fluid", "two_phase", "contact_angle"});
@@ -185,6 +187,7 @@ void PsmWindows::receive_and_cover(long w) {
   for (const auto& r : c.rec) psm::check_record(r, dom_);
   order_by_id(n, c.order, [&c](std::size_t p) { return c.rec[p].id; });
   for (const std::size_t p : c.order) cover(c, p);
+  fractions_.forget_unasked();
 }
 
 void PsmWindows::before_step(long w) {
@@ -215,10 +218,10 @@ void PsmWindows::step(long w) {
 // holding a copy has the same ones; fractions.hpp).
 void PsmWindows::cover(Coverage& c, std::size_t p) {
   const auto& r = c.rec[p];
-  fractions_.cover({r.x[0], r.x[1], r.x[2]}, r.radius, touched_);
+  const auto& touched = fractions_.cover_of(r.id, {r.x[0], r.x[1], r.x[2]}, r.radius);
   const double angle = r.contact_angle < 0.0 ? default_angle_ : r.contact_angle;
   const double wetting = std::cos(angle * std::numbers::pi / 180.0);
-  for (const auto& [cell, f] : touched_) add_cell(c, p, cell, f, wetting);
+  for (const auto& [cell, f] : touched) add_cell(c, p, cell, f, wetting);
 }
 
 // Particle p covers fraction f of the (unwrapped) cell: add it when the

@@ -215,3 +215,93 @@ TEST_CASE("kept stencils taken from their symmetry class equal the octree's at e
     CHECK(kept.octree_stencils() == 35);
   }
 }
+
+TEST_CASE("rounded blend weights move a cell's fraction by less than the centre's shift, and keep the volume",
+          "[immersed][psm]") {
+  // Rounding the trilinear weights to multiples of 1/M moves the centre the
+  // fractions are taken at by at most h / (2 N M) per axis. A sphere moved by
+  // d cells changes a cell's fraction by at most about d per axis (the cut
+  // surface sweeps at most a face of the cell), so by 3 / (2 N M) in all:
+  // 1.5e-3 at N = 8, M = 128, the bound below (from the geometry, not from a
+  // run). Against 7 octree levels the rounded fractions stay as close as the
+  // unrounded ones.
+  using coflow::immersed::SphereFractions;
+  const double h = 5e-4;
+  const V lower{-0.01, 0.002, 0.0};
+  const int N = 8, M = 128;
+  for (double radius_cells : {2.0, 4.0, 8.0}) {
+    const std::vector<double> radii{radius_cells * h};
+    SphereFractions kept(h, lower, 3, N, radii), rounded(h, lower, 3, N, radii, std::size_t{256} << 20, M),
+        truth(h, lower, 7, 0, {});
+    double worst = 0.0, worst_kept = 0.0, worst_rounded = 0.0, worst_volume = 0.0;
+    for (int s = 0; s < 40; ++s) {
+      const V c{lower[0] + (20.0 + std::fmod(0.0831 * s, 1.0)) * h,
+                lower[1] + (21.0 + std::fmod(0.377 * s, 1.0)) * h,
+                lower[2] + (19.5 + std::fmod(0.6123 * s, 1.0)) * h};
+      Cells k, r, t;
+      kept.cover(c, radius_cells * h, k);
+      rounded.cover(c, radius_cells * h, r);
+      truth.cover(c, radius_cells * h, t);
+      const double volume = 4.0 / 3.0 * std::numbers::pi * std::pow(radius_cells, 3);
+      worst_volume = std::max(worst_volume, std::abs(sum(r) / volume - 1.0));
+      worst = std::max(worst, max_difference(k, r));
+      worst_kept = std::max(worst_kept, max_difference(k, t));
+      worst_rounded = std::max(worst_rounded, max_difference(r, t));
+    }
+    INFO("radius " << radius_cells << " cells: rounded vs unrounded " << worst
+                   << "; against 7 levels: unrounded " << worst_kept << ", rounded " << worst_rounded
+                   << "; volume " << worst_volume);
+    CHECK(worst <= 3.0 / (2.0 * N * M));
+    CHECK(worst > 0.0);  // the rounding did act
+    CHECK(worst_rounded <= worst_kept + 3.0 / (2.0 * N * M));
+    CHECK(worst_volume < 2e-14);  // the weights still add up to 1: round-off of the sums
+  }
+}
+
+TEST_CASE("a sphere keeps its cells while its rounded centre stays, and they equal a fresh cover's",
+          "[immersed][psm]") {
+  using coflow::immersed::SphereFractions;
+  const double h = 1.0, r = 2.5;
+  SphereFractions memo(h, {0, 0, 0}, 3, 8, {r}, std::size_t{256} << 20, 128),
+      fresh(h, {0, 0, 0}, 3, 8, {r}, std::size_t{256} << 20, 128);
+  Cells f;
+  const V c{10.3, 11.7, 9.1};
+  const Cells& a = memo.cover_of(7, c, r);
+  fresh.cover(c, r, f);
+  CHECK(max_difference(a, f) <= 0.0);
+  memo.forget_unasked();
+  // Moved by 1e-6 cells: the rounded weights (steps of 1/1024 cell) are the same.
+  const V near{c[0] + 1e-6, c[1] - 1e-6, c[2] + 1e-6};
+  const Cells b = memo.cover_of(7, near, r);  // a copy: the next call for sphere 7 replaces its list
+  fresh.cover(near, r, f);
+  CHECK(memo.lists_reused() == 1);
+  CHECK(max_difference(b, f) <= 0.0);
+  memo.forget_unasked();
+  // Moved by a step: computed again.
+  const V moved{c[0] + 1.0 / 512, c[1], c[2]};
+  const Cells& m = memo.cover_of(7, moved, r);
+  fresh.cover(moved, r, f);
+  CHECK(memo.lists_reused() == 1);
+  CHECK(max_difference(m, f) <= 0.0);
+  CHECK(max_difference(m, b) > 0.0);
+  // Another sphere at the same place has its own list; a sphere not asked for
+  // in a round is forgotten.
+  memo.cover_of(8, moved, r);
+  memo.forget_unasked();
+  memo.cover_of(8, moved, r);
+  memo.forget_unasked();
+  memo.cover_of(7, moved, r);  // forgotten in the round before: computed again
+  CHECK(memo.lists_reused() == 2);
+  CHECK(memo.lists_asked() == 6);
+  // A radius that keeps no stencils (exact centre) keeps its cells only while
+  // the centre is exactly where it was.
+  memo.forget_unasked();
+  memo.cover_of(9, c, 2.25);
+  memo.forget_unasked();
+  memo.cover_of(9, c, 2.25);
+  memo.forget_unasked();
+  const Cells& e = memo.cover_of(9, near, 2.25);
+  fresh.cover(near, 2.25, f);
+  CHECK(memo.lists_reused() == 3);
+  CHECK(max_difference(e, f) <= 0.0);
+}

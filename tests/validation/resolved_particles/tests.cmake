@@ -63,3 +63,8 @@ coflow_validation(psm_momentum_periodic_parallel momentum psm_momentum_periodic.
 # Many ranks (issue 24): 16 in all, oversubscribed, against 1/1/1.
 coflow_validation(psm_ranks_1_vs_16 compare psm_momentum.yaml 2
   "fluid.ranks=1 immersed.ranks=1 particles.ranks=1" "fluid.ranks=8 immersed.ranks=4 particles.ranks=4")
+# The blend's rounded weights (immersed.psm.blend_steps, 128 by default: the
+# fractions of a centre moved by at most h/2048) against the unrounded ones,
+# with which every sphere is blended again each window.
+coflow_validation(psm_blend_rounding compare psm_momentum.yaml 2
+  "immersed.psm.blend_steps=0" "immersed.psm.blend_steps=128")

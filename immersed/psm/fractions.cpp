@@ -239,29 +239,35 @@ void SphereFractions::blend(const Placement& at, double r, int m, Cells& out) {
 const SphereFractions::Cells& SphereFractions::cover_of(std::int64_t id, const V& c, double radius) {
   const Placement at = place(c, radius);
   ++asked_;
-  Kept& k = lists_[id];
-  k.asked = round_;
-  if (!k.cells.empty() && k.where == at) {
+  auto it = lists_.find(id);
+  if (it != lists_.end() && it->second.where == at && !it->second.cells.empty()) {
+    it->second.asked = round_;
     ++reused_;
-    return k.cells;
+    return it->second.cells;
   }
+  // A new sphere when the lists fill their memory: computed, not kept.
+  if (it == lists_.end() && list_bytes_ >= max_bytes_) {
+    cover_at(at, radius, spare_);
+    return spare_;
+  }
+  if (it == lists_.end()) {
+    it = lists_.emplace(id, Kept{}).first;
+    list_bytes_ += kListOverhead;
+  }
+  Kept& k = it->second;
   const std::size_t before = k.cells.capacity();
   k.where = at;
+  k.asked = round_;
   cover_at(at, radius, k.cells);
   list_bytes_ += (k.cells.capacity() - before) * sizeof(Cells::value_type);
   return k.cells;
 }
 
 void SphereFractions::forget_unasked() {
-  // A pure memo: dropping lists changes no result. All of them go when they
-  // outgrow the memory given (a sphere's list is rebuilt at its next call).
-  if (list_bytes_ > max_bytes_) {
-    lists_.clear();
-    list_bytes_ = 0;
-  }
+  // A pure memo: dropping a list changes no result.
   std::erase_if(lists_, [this](const auto& e) {
     if (e.second.asked == round_) return false;
-    list_bytes_ -= e.second.cells.capacity() * sizeof(Cells::value_type);
+    list_bytes_ -= kListOverhead + e.second.cells.capacity() * sizeof(Cells::value_type);
     return true;
   });
   ++round_;

@@ -18,9 +18,10 @@
 //     the interpolation does too; the difference from the exact centre is below
 //     the octree's own error (tests/unit/immersed/test_psm_fractions.cpp).
 //     The interpolation's weights are rounded to multiples of 1 / M
-//     (`blend_steps`; 128: the centre to h / 1024 at N = 8), so that a sphere
-//     that moved less than that since the last window, as the grains of a
-//     packed bed do, keeps its cells (cover_of) instead of blending them again.
+//     (`blend_steps`; 128: the interpolation taken at a centre moved by at
+//     most h / 2048 at N = 8), so that a sphere whose rounded placement has
+//     not changed since the last window, as for most grains of a packed bed,
+//     keeps its cells (cover_of) instead of blending them again.
 // Both are pure functions of the centre and radius, so a restart and any
 // number of ranks give the same bits.
 #pragma once
@@ -66,7 +67,8 @@ class SphereFractions {
   // (base cell, lattice offsets and rounded weights; its exact centre where
   // it keeps no stencils) and radius stay the same: cover() would compute
   // the same list again, to the bit. The reference is valid until the next
-  // call. Kept lists count against max_bytes too (all are dropped when full).
+  // call. The kept lists have a budget of max_bytes of their own: when it is
+  // spent, spheres without a list get theirs computed and not kept.
   const Cells& cover_of(std::int64_t id, const std::array<double, 3>& c, double r);
   // Drops the lists of the spheres not asked for since the last call.
   void forget_unasked();
@@ -137,6 +139,8 @@ class SphereFractions {
   };
   std::vector<Direct> direct_;  // emptied whenever kept() drops its stencils
   std::unordered_map<std::int64_t, Kept> lists_;  // cover_of's lists, by sphere
+  static constexpr std::size_t kListOverhead = sizeof(Kept) + 4 * sizeof(void*);  // a map node, about
+  Cells spare_;  // cover_of's list of a sphere it does not keep
   std::size_t list_bytes_ = 0, round_ = 0, reused_ = 0, asked_ = 0;
 };
 

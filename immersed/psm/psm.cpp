@@ -100,8 +100,9 @@ class PsmWindows final : public coupler::WindowParts {
     if (p_.centre_lattice > 0)
       log::info("psm: {} fraction stencils kept, {} of them computed by the octree (the others by symmetry)",
                 fractions_.stencils_computed(), fractions_.octree_stencils());
-    log::info("psm: {} of {} covers kept from the window before (the sphere had not moved)",
-              fractions_.lists_reused(), fractions_.lists_asked());
+    log::info(
+        "psm: {} of {} covers kept from the window before (the sphere's rounded placement had not changed)",
+        fractions_.lists_reused(), fractions_.lists_asked());
   }
 
  private:

@@ -6,6 +6,7 @@
 #include <climits>
 #include <cmath>
 #include <cstring>
+#include <exception>
 #include <stdexcept>
 
 #include "coflow/session.hpp"
@@ -54,6 +55,15 @@ FieldExchange::FieldExchange(MPI_Comm inter, Role role, const Decomposition& min
 }
 
 FieldExchange::~FieldExchange() {
+  // Unwinding towards Session::fail (an error on this rank): waiting here for
+  // a partner that may never receive would hold the run's failure back by
+  // up to coupling.timeout, and blame the partner's timeout instead. The
+  // messages are left to MPI with their buffers, which are not freed (the
+  // process is about to abort).
+  if (std::uncaught_exceptions() > 0) {
+    [[maybe_unused]] auto* left = new std::vector<Peer>(std::move(peers_));
+    return;
+  }
   // Outstanding sends must complete before their buffers go away.
   try {
     flush();

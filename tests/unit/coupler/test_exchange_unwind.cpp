@@ -1,0 +1,64 @@
+// A field exchange destroyed while an error unwinds the stack (on its way to
+// Session::fail and MPI_Abort) does not wait for its partner to receive:
+// waiting could hold the run's failure back by up to coupling.timeout, and the
+// partner, timing out first, would be blamed.
+#include <mpi.h>
+
+#include <catch2/catch.hpp>
+#include <stdexcept>
+#include <vector>
+
+#include "coflow/exchange.hpp"
+#include "coflow/trace.hpp"
+#include "coflow/wait.hpp"
+
+using coflow::coupler::Decomposition;
+using coflow::coupler::FieldExchange;
+
+TEST_CASE("a field exchange unwound by an error leaves its sends to MPI at once", "[mpi][coupler]") {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  if (size < 2) return;  // needs a partner (ctest unit.mpi_4_ranks)
+  // Two halves of the world: the first sends, the second receives, only
+  // after the sender has failed.
+  const int half = size / 2;
+  const bool sender = rank < half;
+  MPI_Comm local = MPI_COMM_NULL, inter = MPI_COMM_NULL;
+  MPI_Comm_split(MPI_COMM_WORLD, sender ? 0 : 1, rank, &local);
+  MPI_Intercomm_create(local, 0, MPI_COMM_WORLD, sender ? half : 0, 77, &inter);
+  int local_rank = 0;
+  MPI_Comm_rank(local, &local_rank);
+  const Decomposition senders({64, 64, 64}, half, {1, 1, half}),
+      receivers({64, 64, 64}, size - half, {1, 1, size - half});
+  const coflow::coupler::FieldSpec spec{"velocity", 1, coflow::coupler::Transfer::consistent, 0};
+  const double timeout = coflow::coupler::timeout();
+  coflow::coupler::set_timeout(20.0);
+  // 64 x 64 x 32 cells a message (1 MB): past the eager limit, so a send
+  // completes only once it is received.
+  std::vector<double> field(static_cast<std::size_t>(64 * 64 * 64 / half), 1.5);
+  double unwound = 0.0;
+  if (sender) {
+    const double start = coflow::coupler::now();
+    try {
+      FieldExchange ex(inter, FieldExchange::Role::sender, senders, local_rank, receivers, spec, 5);
+      ex.send(field);
+      throw std::runtime_error("failing on purpose");
+    } catch (const std::runtime_error&) {
+      unwound = coflow::coupler::now() - start;
+    }
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (!sender) {  // the messages left to MPI still arrive, whole
+    FieldExchange ex(inter, FieldExchange::Role::receiver, receivers, local_rank, senders, spec, 5);
+    std::vector<double> got(ex.local_size(), 0.0);
+    ex.receive(got);
+    for (double v : got) REQUIRE(v == 1.5);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  coflow::coupler::set_timeout(timeout);
+  MPI_Comm_free(&inter);
+  MPI_Comm_free(&local);
+  INFO("rank " << rank << " took " << unwound << " s to unwind");
+  CHECK(unwound < 2.0);  // 20 s (the timeout) when the destructor waited for the partner
+}

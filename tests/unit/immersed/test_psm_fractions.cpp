@@ -72,6 +72,13 @@ double max_difference(const Cells& a, const Cells& b) {
   return std::isfinite(worst) ? worst : 1e300;
 }
 
+// Centre number s of a set spread over a cell near (20, 21, 19.5) cells
+// from `lower`.
+V spread_centre(const V& lower, double h, int s) {
+  return {lower[0] + (20.0 + std::fmod(0.0831 * s, 1.0)) * h, lower[1] + (21.0 + std::fmod(0.377 * s, 1.0)) * h,
+          lower[2] + (19.5 + std::fmod(0.6123 * s, 1.0)) * h};
+}
+
 double sum(const Cells& a) {
   double s = 0.0;
   for (const auto& [c, f] : a) s += f;
@@ -93,8 +100,7 @@ TEST_CASE("fractions kept on a lattice of centre offsets stay within the octree'
     SphereFractions exact(h, lower, 3, 0, {}), truth(h, lower, 7, 0, {}), kept(h, lower, 3, 8, radii);
     double worst_kept = 0.0, worst_octree = 0.0, worst_apart = 0.0, worst_volume = 0.0;
     for (int s = 0; s < 12; ++s) {
-      const V c{lower[0] + (20.0 + 0.0831 * s) * h, lower[1] + (21.0 + std::fmod(0.377 * s, 1.0)) * h,
-                lower[2] + (19.5 + std::fmod(0.6123 * s, 1.0)) * h};
+      const V c = spread_centre(lower, h, s);
       Cells e, t, k;
       exact.cover(c, radius_cells * h, e);
       truth.cover(c, radius_cells * h, t);
@@ -235,9 +241,7 @@ TEST_CASE("rounded blend weights move a cell's fraction by less than the centre'
         truth(h, lower, 7, 0, {});
     double worst = 0.0, worst_kept = 0.0, worst_rounded = 0.0, worst_volume = 0.0;
     for (int s = 0; s < 40; ++s) {
-      const V c{lower[0] + (20.0 + std::fmod(0.0831 * s, 1.0)) * h,
-                lower[1] + (21.0 + std::fmod(0.377 * s, 1.0)) * h,
-                lower[2] + (19.5 + std::fmod(0.6123 * s, 1.0)) * h};
+      const V c = spread_centre(lower, h, s);
       Cells k, r, t;
       kept.cover(c, radius_cells * h, k);
       rounded.cover(c, radius_cells * h, r);

@@ -58,8 +58,10 @@ FieldExchange::~FieldExchange() {
   // Unwinding towards Session::fail (an error on this rank): waiting here for
   // a partner that may never receive would hold the run's failure back by
   // up to coupling.timeout, and blame the partner's timeout instead. The
-  // messages are left to MPI with their buffers, which are not freed (the
-  // process is about to abort).
+  // messages are left to MPI with this exchange's buffers (packed, sparse
+  // and reply), which are not freed: the process is about to abort. A
+  // contiguous send reads the caller's own array, which may already be gone
+  // (as it could be during the wait before).
   if (std::uncaught_exceptions() > 0) {
     [[maybe_unused]] auto* left = new std::vector<Peer>(std::move(peers_));
     return;

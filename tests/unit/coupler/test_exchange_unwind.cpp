@@ -81,7 +81,9 @@ TEST_CASE("a field exchange unwound by an error leaves its sends to MPI at once"
   for (int ghost : {0, 1}) {
     const double unwound = fail_while_sending(ghost);
     INFO("ghost layer " << ghost << ": " << unwound << " s to unwind");
-    CHECK(unwound < 2.0);  // 20 s (the timeout) when the destructor waited for the partner
+    // 0.008-0.010 s measured; 0.5 s leaves room for 4 ranks on 2 busy cores and
+    // is 40 times below the 20 s (the timeout) when the destructor waited.
+    CHECK(unwound < 0.5);
   }
   coflow::coupler::set_timeout(timeout);
 }

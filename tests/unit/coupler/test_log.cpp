@@ -6,22 +6,13 @@
 
 #include <catch2/catch.hpp>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
+#include "bench/text_file.hpp"
 #include "coflow/log.hpp"
 
 namespace fs = std::filesystem;
-
-namespace {
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-}  // namespace
+using coflow::bench::slurp;
 
 TEST_CASE("a rank other than 0 writes its warnings and errors alone, to a file of its own", "[log]") {
   const fs::path dir = fs::temp_directory_path() / ("coflow_logs_" + std::to_string(::getpid()));

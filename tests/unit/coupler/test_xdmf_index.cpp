@@ -15,25 +15,17 @@
 #include <chrono>
 #include <catch2/catch.hpp>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "bench/text_file.hpp"
 #include "coflow/output.hpp"
 
 namespace fs = std::filesystem;
 namespace out = coflow::output;
 
 namespace {
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 // The attribute names of each <Grid ... GridType="Uniform"> block named `name`.
 std::vector<std::vector<std::string>> grid_attributes(const std::string& xdmf, const std::string& name) {
@@ -70,7 +62,7 @@ TEST_CASE("each snapshot's grid in run.xdmf lists its own row's fields", "[xdmf]
   out::append_index(dir.string(), "particles", {0, 0.0, 5}, {"position", "velocity"});
   out::append_index(dir.string(), "particles", {1, 1.0, 7}, {"position", "radius"});
   out::write_xdmf(dir.string(), kGrid);
-  const std::string x = read_text(dir / "run.xdmf");
+  const std::string x = coflow::bench::slurp(dir / "run.xdmf");
   const auto fluid = grid_attributes(x, "fluid");
   REQUIRE(fluid.size() == 2);
   CHECK(fluid[0] == std::vector<std::string>{"velocity", "pressure"});
@@ -104,7 +96,7 @@ TEST_CASE("run.xdmf is written only under the lock on run.xdmf.lock", "[xdmf]") 
   ::close(fd);  // releases the lock
   writer.join();
   CHECK(done.load());
-  CHECK(grid_attributes(read_text(dir / "run.xdmf"), "fluid").size() == 1);
+  CHECK(grid_attributes(coflow::bench::slurp(dir / "run.xdmf"), "fluid").size() == 1);
   fs::remove_all(dir);
 }
 
@@ -118,7 +110,7 @@ TEST_CASE("two writers of run.xdmf: each leaves a file holding its newest row", 
       out::write_xdmf(dir.string(), kGrid);
       // The row just indexed must be in the file: a later writer read the
       // indexes after this row went in.
-      const std::string x = read_text(dir / "run.xdmf");
+      const std::string x = coflow::bench::slurp(dir / "run.xdmf");
       if (grid_attributes(x, component).size() < static_cast<std::size_t>(i + 1)) ++stale;
     }
   };
@@ -126,7 +118,7 @@ TEST_CASE("two writers of run.xdmf: each leaves a file holding its newest row", 
   a.join();
   b.join();
   CHECK(stale.load() == 0);
-  const std::string x = read_text(dir / "run.xdmf");
+  const std::string x = coflow::bench::slurp(dir / "run.xdmf");
   CHECK(grid_attributes(x, "fluid").size() == kRows);
   CHECK(grid_attributes(x, "particles").size() == kRows);
   for (const auto& e : fs::directory_iterator(dir))

@@ -400,10 +400,11 @@ bool start_overdue(Watch& w, double since, double limit, pid_t pid) {
   // One executable that never starts MPI holds every other in MPI start-up.
   const std::string suspect = own.empty() ? std::string() : fmt::format("; your own executables:{}", own);
   if (w.failure.component.empty())  // a component's own reason, when it gave one, stays the reason
-    w.failure = {missing, "",
-                 fmt::format("{} did not start within {:.0f} s (coupling.timeout): an executable exited or "
-                             "hangs before joining the run, which holds the others in MPI start-up{}",
-                             missing, limit, suspect)};
+    w.failure = {
+        missing, "",
+        fmt::format("{} did not start within {:.0f} s (run.launch.start_timeout): an executable exited or "
+                    "hangs before joining the run, which holds the others in MPI start-up{}",
+                    missing, limit, suspect)};
   kill(pid, SIGTERM);
   return true;
 }
@@ -877,7 +878,7 @@ int check_external(const Config& cfg, const std::string& cfg_path,
 // srun's -o/--output and -e/--error (also attached, -ofile, or abbreviated,
 // --out=file) send the tasks' output to files, where the launcher sees
 // neither their start, their progress nor their failure: its start watchdog
-// would stop a healthy run after coupling.timeout. Under srun and sbatch such
+// would stop a healthy run after run.launch.start_timeout. Under srun and sbatch such
 // mpi_args exit 2 before any rank starts (mpirun's --output-filename still
 // copies to the terminal; Open MPI 5's --output tag only marks lines).
 // A bundle of srun's short options that reaches -o or -e: the options before
@@ -991,7 +992,7 @@ int run(const Config& cfg, RunOptions o) {
   Progress progress(isatty(STDOUT_FILENO));
   Failure failure;
   const double t0 = coflow::coupler::now();
-  const int rc = run_child(argv_launch, launch, progress, failure, cfg.coupling.timeout);
+  const int rc = run_child(argv_launch, launch, progress, failure, cfg.run.launch.start_timeout);
   const double wall = coflow::coupler::now() - t0;
   if (rc == 0) {
     print_summary(dir);

@@ -105,6 +105,10 @@ void LaunchParams::visit(Visitor& v) {
   v("mpi_args", mpi_args,
     "extra arguments for mpirun or srun, before the programs (e.g. [--mca, btl_tcp_if_include, eth0]); not "
     "srun's --output or --error (refused under srun and sbatch): the launcher reads the components' output");
+  v("start_timeout", start_timeout,
+    "seconds the launcher waits for every component's ranks to start (MPI start-up on many nodes can take "
+    "minutes) before it stops the launch and names those missing; coupling.timeout bounds the waits after it",
+    positive());
 }
 
 void RunParams::visit(Visitor& v) {

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # check_start_failures.sh BIN_DIR CONFIG OUT
 # A component executable that never joins the run must end it with a message
-# naming it, within the coupling timeout (not hang), and summary.json must say
+# naming it, within run.launch.start_timeout (not hang, and not wait for
+# coupling.timeout, which bounds the ranks' waits once started), and summary.json must say
 # why: one that exits 0 at once (/bin/true: the others wait in MPI start-up)
 # and one that fails at once (/bin/false).
 set -u
@@ -9,15 +10,15 @@ bin=$1 cfg=$2 out=$3
 rm -rf "$out"; mkdir -p "$out"
 fail() { echo "FAIL: $*"; exit 1; }
 start=$(date +%s)
-timeout 60 "$bin/coflow" run "$cfg" --exe fluid=/bin/true --set coupling.timeout=5 --set run.output.dir="$out/true" \
+timeout 60 "$bin/coflow" run "$cfg" --exe fluid=/bin/true --set run.launch.start_timeout=5 --set run.output.dir="$out/true" \
   >"$out/true.log" 2>&1; rc=$?
 took=$(( $(date +%s) - start ))
 cat "$out/true.log" | tail -n 3
 [ $rc -ne 124 ] || fail "/bin/true as the fluid: the launch hung (killed after 60 s)"
 [ $rc -ne 0 ] || fail "/bin/true as the fluid: exit status 0"
-[ $took -le 20 ] || fail "/bin/true as the fluid: took $took s with coupling.timeout 5"
+[ $took -le 20 ] || fail "/bin/true as the fluid: took $took s with run.launch.start_timeout 5"
 # Open MPI either holds the others in MPI start-up (then the watchdog stops
-# the run after coupling.timeout and names the executable) or, now and then
+# the run after run.launch.start_timeout and names the executable) or, now and then
 # under load, aborts the job itself when /bin/true exits without MPI_Init
 # (then the launcher says that an executable exited at start).
 if grep -q "did not start within 5 s" "$out/true.log"; then

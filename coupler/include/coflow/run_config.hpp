@@ -59,6 +59,7 @@ struct CheckpointParams {
 struct LaunchParams {
   std::string bind = "auto";  // auto | none | core
   StringList mpi_args;
+  double start_timeout = 300.0;  // s: the launcher's start watchdog (coupling.timeout is the ranks' own)
   void visit(Visitor& v);
 };
 

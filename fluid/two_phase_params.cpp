@@ -174,6 +174,12 @@ void TwoPhaseParams::visit(config::Visitor& v) {
     "degrees "
     "(docs/validation.md)",
     config::one_of({"geometric", "seed"}));
+  v("colour_field", colour_field,
+    "the field whose gradient is the colour gradient: difference, rho_r - rho_b (seed 000 eq. 2.56); phase, "
+    "(rho_r - rho_b) / (rho_r + rho_b), whose gradient is zero in a region of one colour where the density "
+    "varies (a pressure drop), so that the interfacial perturbation acts at interfaces only "
+    "(docs/validation.md)",
+    config::one_of({"difference", "phase"}));
 }
 
 bool Shape::contains(const Vec3& x) const {

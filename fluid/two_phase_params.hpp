@@ -26,6 +26,7 @@ struct TwoPhaseParams {
   double viscosity_blue = 0.0;        // m^2/s (0: fluid.viscosity)
   double contact_angle = 90.0;        // degrees, measured in the red fluid, on the box walls
   std::string wetting = "geometric";  // geometric (Leclaire et al. 2017) | seed (solid colour cos(theta))
+  std::string colour_field = "difference";  // the field of the colour gradient: rho_r - rho_b (seed) | phase
   void visit(config::Visitor& v);
 };
 

@@ -14,6 +14,13 @@
 
 namespace coflow::fluid::lbm {
 
+// The colour field phi of a cell whose colours sum to r and b: r - b (seed 000
+// eq. 2.56's difference) or, with `phase`, (r - b) / (r + b), which is
+// constant in a region of one colour whatever its density.
+inline double colour_field(double r, double b, bool phase) {
+  return phase ? (r - b) / (r + b) : r - b;
+}
+
 // The lattice's number of velocities with e_x = +1 (5 for D3Q19, 3 for D2Q9):
 // the colour gradient of eq. 2.56, g = sum_q e_q phi(x + e_q) without weights,
 // is 2 N dphi/dx to first order.

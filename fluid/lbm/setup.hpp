@@ -50,6 +50,8 @@ struct TwoPhase {
   double beta = 0.7;
   double tau_blue = 0.8;
   bool geometric = true;         // wetting: geometric (turn the colour gradient), else the seed's fixed colour
+  // The colour field phi: (rho_r - rho_b) / (rho_r + rho_b); else rho_r - rho_b (seed 000 eq. 2.56).
+  bool phase_field = false;
   double wall_phase = 1.0;       // the box's walls: cos(theta), = their colour phi_s in the seed's wetting
   std::vector<double> solid_phase;  // cos(theta) of solid n at index n (0: unused)
   // Solid id per global cell (x fastest; 0 fluid); empty: no interior solids.
@@ -89,6 +91,7 @@ inline void set_two_phase(Setup& s, const config::Config& cfg, const FluidParams
     t.tau_blue = 0.5 + 3.0 * fp.two_phase.viscosity_blue * u.dt / (u.dx * u.dx);
     t.wall_phase = std::cos(fp.two_phase.contact_angle * deg);
     t.geometric = fp.two_phase.wetting == "geometric";
+    t.phase_field = fp.two_phase.colour_field == "phase";
   }
   t.solid_phase.assign(1, 0.0);
   for (const auto& sp : fp.solids)

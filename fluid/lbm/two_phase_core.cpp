@@ -39,12 +39,13 @@ using LaneMask = long __attribute__((vector_size(32)));
 [[gnu::always_inline]] inline Vec4 swap_middle(Vec4 v) {
   return __builtin_shuffle(v, LaneMask{0, 2, 1, 3});
 }
-// The colour field rho_r - rho_b of four cells, in their order, from the sums
-// of their pairs over the velocities.
-[[gnu::always_inline]] inline Vec4 colour_of(Vec4 lo, Vec4 hi) {
+// The colour field of four cells, in their order, from the sums of their
+// pairs over the velocities: rho_r - rho_b, or with `phase` the same over
+// rho_r + rho_b (colour_field()'s arithmetic per lane).
+[[gnu::always_inline]] inline Vec4 colour_of(Vec4 lo, Vec4 hi, bool phase) {
   Vec4 red, blue;
   split_pairs(lo, hi, red, blue);
-  return swap_middle(red - blue);
+  return swap_middle(phase ? (red - blue) / (red + blue) : red - blue);
 }
 
 template <class L, bool Incompressible>
@@ -515,7 +516,7 @@ class TwoPhaseCore final : public LbmCore {
       hi += detail::get(p + 4);
       prefetch_pulled(p + prefetch_ahead);  // the values ahead: eight cache lines, 32 cells
     }
-    detail::put<false>(&phi_[x], colour_of(lo, hi));
+    detail::put<false>(&phi_[x], colour_of(lo, hi, s_.tp.phase_field));
   }
 
   // Four plain cells pulled into `next` with their colour field (stream_cell's
@@ -534,7 +535,7 @@ class TwoPhaseCore final : public LbmCore {
       lo += a;
       hi += c;
     }
-    detail::put<false>(&phi_[x], colour_of(lo, hi));
+    detail::put<false>(&phi_[x], colour_of(lo, hi, s_.tp.phase_field));
   }
 
   // Four plain cells collided (collide_cell's arithmetic on four lanes), into
@@ -612,7 +613,7 @@ class TwoPhaseCore final : public LbmCore {
       if (any) close_cell(i, j, k, x, unknown);
       double rr = 0.0, bb = 0.0;
       for (int q = 0; q < L::Q; ++q) rr += pop_.next[at(q, x)], bb += pop_.next[at(q, x) + 1];
-      phi_[x] = rr - bb;
+      phi_[x] = colour_field(rr, bb, s_.tp.phase_field);
     }
   }
 
@@ -727,14 +728,16 @@ class TwoPhaseCore final : public LbmCore {
   }
 
   // The seed's wetting (geometric wetting turns the gradient instead): grains
-  // colour the cells they cover ("Molhabilidade", by solid fraction): phi <- (1 - eps) phi + eps rho cos(theta), so that a
-  // wholly covered cell is a solid of colour cos(theta) to its neighbours'
-  // colour gradient while a cut cell keeps its fluid's share.
+  // colour the cells they cover ("Molhabilidade", by solid fraction): phi <- (1 - eps) phi + eps rho
+  // cos(theta), so that a wholly covered cell is a solid of colour cos(theta) to its neighbours' colour
+  // gradient while a cut cell keeps its fluid's share. (The phase field takes eps cos(theta): it has no
+  // density in it.)
   void colour_grains() {
     if (s_.tp.geometric) return;
     for (const Grain& m : grains_) {
       double rho = 0.0;
       for (int q = 0; q < L::Q; ++q) rho += pop_.next[at(q, m.x)] + pop_.next[at(q, m.x) + 1];
+      if (s_.tp.phase_field) rho = 1.0;
       phi_[m.x] = (1.0 - m.eps) * phi_[m.x] + m.eps * rho * m.wetting;
     }
   }

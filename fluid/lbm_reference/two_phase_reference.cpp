@@ -91,7 +91,8 @@ void LbmReference::step_colours() {
         if (any) close_colours(i, j, k, unknown, post_r, post_b);
         double red = 0.0, blue = 0.0;
         for (int q = 0; q < Q_; ++q) red += r_[c * Q_ + q], blue += b_[c * Q_ + q];
-        phi_[c] = red - blue;
+        phi_[c] = s_.tp.phase_field ? (red - blue) / (red + blue)
+                                    : red - blue;  // the phase, or eq. 2.56's difference
       }
   // The seed's wetting: grains colour the cells they cover, by solid fraction,
   // phi <- (1 - eps) phi + eps rho cos(theta). Open faces keep their fluid.
@@ -99,6 +100,7 @@ void LbmReference::step_colours() {
     if (s_.tp.geometric || solid_id_[c] || on_open_face(c)) continue;
     double rho = 0.0;
     for (int q = 0; q < Q_; ++q) rho += r_[c * Q_ + q] + b_[c * Q_ + q];
+    if (s_.tp.phase_field) rho = 1.0;  // the phase has no density in it
     phi_[c] = (1.0 - grain.fraction) * phi_[c] + grain.fraction * rho * grain.wetting;
   }
   if (ibm_) force_immersed([&](long c, int q) { return r_[c * Q_ + q] + b_[c * Q_ + q]; });

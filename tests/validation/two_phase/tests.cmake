@@ -45,6 +45,20 @@ coflow_validation(two_phase_vs_reference_seed compare two_phase_crosscheck_3d.ya
   "fluid.solver=lbm-reference fluid.two_phase.wetting=seed fluid.lbm.collision=bgk")
 coflow_validation(two_phase_ranks_1_vs_4 compare two_phase_crosscheck_3d.yaml 2
   "fluid.ranks=1" "fluid.ranks=4 fluid.decomposition=[2,2,1]")
+# The phase (rho_r - rho_b) / (rho_r + rho_b) as the colour field
+# (fluid.two_phase.colour_field): the same crosschecks, the seed's wetting of
+# grains (which colours them by eps cos(theta) then), and Laplace's law.
+coflow_validation(two_phase_vs_reference_phase compare two_phase_crosscheck_3d.yaml 1
+  "fluid.solver=lbm fluid.two_phase.colour_field=phase" "fluid.solver=lbm-reference fluid.two_phase.colour_field=phase")
+coflow_validation(two_phase_ranks_1_vs_4_phase compare two_phase_crosscheck_3d.yaml 2
+  "fluid.ranks=1 fluid.two_phase.colour_field=phase"
+  "fluid.ranks=4 fluid.decomposition=[2,2,1] fluid.two_phase.colour_field=phase")
+coflow_validation(two_phase_grains_vs_reference_seed_phase compare two_phase_grains_crosscheck.yaml 1
+  "fluid.solver=lbm fluid.two_phase.wetting=seed fluid.lbm.collision=bgk fluid.two_phase.colour_field=phase"
+  "fluid.solver=lbm-reference fluid.two_phase.wetting=seed fluid.lbm.collision=bgk fluid.two_phase.colour_field=phase")
+coflow_validation(two_phase_laplace_2d_phase laplace two_phase_droplet_2d.yaml 1
+  "${drop2d}0.016}}] fluid.two_phase.colour_field=phase" "${drop2d}0.020}}] fluid.two_phase.colour_field=phase"
+  "${drop2d}0.024}}] fluid.two_phase.colour_field=phase")
 # The same with the cuts along z (the solid box spans them).
 coflow_validation(two_phase_grains_ranks_1_vs_4_z compare two_phase_grains_crosscheck.yaml 2
   "fluid.ranks=1" "fluid.ranks=4 fluid.decomposition=[1,1,4]")

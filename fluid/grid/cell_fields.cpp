@@ -3,6 +3,9 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 namespace coflow::fluid::grid {
@@ -60,6 +63,31 @@ std::vector<double> load_cell_field(const std::string& path, const std::string& 
         }
   if (sum != 0.0) refuse_not_finite(path, name, owned, components, out);
   return out;
+}
+
+void save_number(MPI_Comm comm, const std::string& path, double value) {
+  int rank = 0, written = 1;
+  MPI_Comm_rank(comm, &rank);
+  if (rank == 0) {
+    std::ofstream out(path);
+    out << fmt::format("{:a}\n", value);
+    written = out ? 1 : 0;
+  }
+  MPI_Bcast(&written, 1, MPI_INT, 0, comm);
+  if (!written) throw std::runtime_error(fmt::format("cannot write {}", path));
+}
+
+double load_number(const std::string& path, double absent) {
+  if (!std::filesystem::exists(path)) return absent;
+  std::ifstream in(path);
+  std::string text;
+  in >> text;
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v) || v < 0.0)
+    throw std::runtime_error(fmt::format(
+        "{}: holds '{}', not a finite number of zero or more (a damaged checkpoint)", path, text));
+  return v;
 }
 
 }  // namespace coflow::fluid::grid

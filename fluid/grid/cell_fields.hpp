@@ -27,4 +27,13 @@ void save_cell_fields(MPI_Comm comm, const std::string& path, double time, long 
 std::vector<double> load_cell_field(const std::string& path, const std::string& name, const coupler::Index3& cells,
                                     const coupler::Box& owned, int components);
 
+// A number of the checkpoint beside its cell fields, the same on every rank:
+// rank 0 writes `value` exactly (a hexadecimal float) into `path`. Collective;
+// throws on every rank when it cannot be written.
+void save_number(MPI_Comm comm, const std::string& path, double value);
+// The number save_number wrote into `path`, or `absent` where there is no such
+// file (a checkpoint written before the number was). Throws, naming the file,
+// when it holds no finite number of zero or more (the numbers saved so far).
+double load_number(const std::string& path, double absent);
+
 }  // namespace coflow::fluid::grid

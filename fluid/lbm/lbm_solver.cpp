@@ -227,6 +227,9 @@ class Core final : public LbmCore {
   }
 
   double max_u2() const override { return max_u2_; }
+  void set_max_u2(double u2) override {
+    max_u2_ = u2;
+  }
   int q() const override { return L::Q; }
 
   void get_populations(std::vector<double>& out) const override {
@@ -806,11 +809,17 @@ void LbmSolver::save(const std::string& dir) {
   const auto& c = s_.cells;
   grid::save_cell_fields(comm_, dir + "/lbm.h5", time(), steps_, {c[0], c[1], c[2]}, owned_,
                          {{"populations", core_->q(), f}});
+  // The largest u^2 of the last step over all ranks: the immersed boundaries'
+  // velocity scale in the first step after a restart (their tolerance).
+  double u2 = core_->max_u2();
+  MPI_Allreduce(MPI_IN_PLACE, &u2, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  grid::save_number(comm_, dir + "/lbm_max_u2.txt", u2);
 }
 
 void LbmSolver::load(const std::string& dir, long steps, double) {
   const auto& c = s_.cells;
   core_->set_populations(grid::load_cell_field(dir + "/lbm.h5", "populations", {c[0], c[1], c[2]}, owned_, core_->q()));
+  core_->set_max_u2(grid::load_number(dir + "/lbm_max_u2.txt", 0.0));
   steps_ = steps;
 }
 

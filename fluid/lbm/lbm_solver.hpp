@@ -24,6 +24,7 @@ class LbmCore {
   virtual void step() = 0;
   virtual void macroscopic(std::vector<double>& u, std::vector<double>& rho) const = 0;  // owned cells
   virtual double max_u2() const = 0;  // of the last step, this rank
+  virtual void set_max_u2(double u2) = 0;    // a restart's (the immersed boundaries' scale in its first step)
   virtual long first_nonfinite() const = 0;  // owned cell index or -1
   virtual int q() const = 0;
   // Owned cells' populations, cell after cell (x fastest), q innermost.

@@ -145,6 +145,7 @@ class TwoPhaseCore final : public LbmCore {
   }
 
   double max_u2() const override { return max_u2_; }
+  void set_max_u2(double u2) override { max_u2_ = u2; }
   int q() const override { return 2 * L::Q; }
   long first_nonfinite() const override {
     long c = 0, found = -1;

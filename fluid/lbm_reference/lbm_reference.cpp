@@ -382,12 +382,14 @@ void LbmReference::save(const std::string& dir) {
   }
   grid::save_cell_fields(comm_, dir + "/lbm.h5", time(), steps_, {n_[0], n_[1], n_[2]}, box_,
                          {{"populations", colours() ? 2 * Q_ : Q_, p}});
+  grid::save_number(comm_, dir + "/lbm_max_u2.txt", max_u2_);  // the immersed boundaries' scale (as lbm's)
 }
 
 void LbmReference::load(const std::string& dir, long steps, double) {
   const auto p = grid::load_cell_field(dir + "/lbm.h5", "populations", {n_[0], n_[1], n_[2]}, box_,
                                        colours() ? 2 * Q_ : Q_);
   steps_ = steps;
+  max_u2_ = grid::load_number(dir + "/lbm_max_u2.txt", 0.0);
   if (!colours()) {
     f_ = p;
     return;

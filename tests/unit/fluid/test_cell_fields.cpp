@@ -7,6 +7,7 @@
 
 #include <catch2/catch.hpp>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <string>
 #include <vector>
@@ -78,5 +79,26 @@ TEST_CASE("cell fields: a value that is not finite is refused, naming the cell",
   const Box clean{{0, 0, 0}, {3, 4, 3}};
   CHECK(fluid::grid::load_cell_field(path, "populations", cells, clean, 2) == block_values(clean, 2));
   CHECK(fluid::grid::load_cell_field(path, "k", cells, clean, 1) == block_values(clean, 1));
+  std::filesystem::remove(path);
+}
+
+TEST_CASE("cell fields: a number beside them comes back to the bit; absent, the default; damaged, refused",
+          "[fluid][grid]") {
+  const std::string path =
+      (std::filesystem::temp_directory_path() / ("coflow-number-" + std::to_string(::getpid()) + ".txt"))
+          .string();
+  std::filesystem::remove(path);
+  CHECK(fluid::grid::load_number(path, 0.0) == 0.0);  // a checkpoint from before the number
+  const double u2 = 0.1 / 3.0 * 1.0e-3;               // no short decimal
+  fluid::grid::save_number(MPI_COMM_SELF, path, u2);
+  CHECK(fluid::grid::load_number(path, 0.0) == u2);
+  for (const char* bad : {"", "x", "0x1p-3junk", "nan", "inf", "-0x1p-3"}) {
+    {
+      std::ofstream out(path);
+      out << bad << "\n";
+    }
+    CHECK_THROWS_WITH(fluid::grid::load_number(path, 0.0),
+                      Catch::Contains(path) && Catch::Contains("damaged checkpoint"));
+  }
   std::filesystem::remove(path);
 }

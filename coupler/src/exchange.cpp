@@ -90,6 +90,15 @@ void FieldExchange::build(const Decomposition& mine, int my_rank, const Decompos
   const Decomposition& sdec = sender ? mine : remote;
   const Decomposition& rdec = sender ? remote : mine;
   const Index3 g = mine.ghost(spec_.ghost);
+  // The images are one period away (image_shifts): a ghost layer wider than a
+  // periodic axis would reach cells no shift maps, left stale (consistent) or
+  // lost (conservative) without a word.
+  for (int d = 0; d < 3; ++d)
+    if (mine.periodic()[d] && g[d] > mine.cells()[d])
+      throw std::invalid_argument(
+          fmt::format("field '{}': a ghost layer of {} cells is wider than the periodic axis {} "
+                      "of {} cells",
+                      spec_.name, g[d], "xyz"[d], mine.cells()[d]));
   const auto shifts = mine.image_shifts();
   const bool cons = spec_.transfer == Transfer::conservative;
   const int npeer = remote.ranks();

@@ -3,22 +3,29 @@
 #include <algorithm>
 #include <cmath>
 
+#include "coflow/mpi_count.hpp"
+
 namespace coflow::particles::store {
 
+// MPI's counts and displacements are int: each, and the totals they add up
+// to, are checked (coupler::mpi_count throws, telling the user to run on more
+// ranks) instead of wrapping past 2^31 - 1 values.
 void exchange(MPI_Comm comm, std::vector<std::vector<double>>& out, std::vector<double>& in) {
   const int size = static_cast<int>(out.size());
   std::vector<int> sc(size), rc(size), sd(size), rd(size);
-  for (int r = 0; r < size; ++r) sc[r] = static_cast<int>(out[r].size());
+  for (int r = 0; r < size; ++r) sc[r] = coupler::mpi_count(out[r].size(), "particle values for one rank");
   MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, comm);
   std::vector<double> flat;
-  int ts = 0, tr = 0;
+  std::size_t ts = 0, tr = 0;
   for (int r = 0; r < size; ++r) {
-    sd[r] = ts;
-    ts += sc[r];
-    rd[r] = tr;
-    tr += rc[r];
+    sd[r] = static_cast<int>(ts);
+    ts += static_cast<std::size_t>(sc[r]);
+    rd[r] = static_cast<int>(tr);
+    tr += static_cast<std::size_t>(rc[r]);
     flat.insert(flat.end(), out[r].begin(), out[r].end());
   }
+  coupler::mpi_count(ts, "particle values sent by one rank");  // every displacement below it fits too
+  coupler::mpi_count(tr, "particle values received by one rank");
   in.resize(tr);
   MPI_Alltoallv(flat.data(), sc.data(), sd.data(), MPI_DOUBLE, in.data(), rc.data(), rd.data(), MPI_DOUBLE, comm);
 }

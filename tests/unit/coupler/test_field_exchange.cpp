@@ -1,5 +1,6 @@
-// A field exchange destroyed while an error unwinds the stack (on its way to
-// Session::fail and MPI_Abort) does not wait for its partner to receive:
+// The field exchange's edge cases. A field exchange destroyed while an error
+// unwinds the stack (on its way to Session::fail and MPI_Abort) does not wait
+// for its partner to receive:
 // waiting could hold the run's failure back by up to coupling.timeout, and the
 // partner, timing out first, would be blamed.
 #include <mpi.h>
@@ -86,4 +87,13 @@ TEST_CASE("a field exchange unwound by an error leaves its sends to MPI at once"
     CHECK(unwound < 0.5);
   }
   coflow::coupler::set_timeout(timeout);
+}
+
+// A ghost layer wider than a periodic axis would reach cells that no image
+// shift maps (left stale, or lost): refused before any message is set up.
+TEST_CASE("a field exchange refuses a ghost layer wider than a periodic axis", "[coupler]") {
+  const Decomposition thin({2, 8, 8}, 1, {1, 1, 1}, {true, false, false});
+  const coflow::coupler::FieldSpec wide{"velocity", 3, coflow::coupler::Transfer::consistent, 3};
+  CHECK_THROWS_WITH(FieldExchange(MPI_COMM_NULL, FieldExchange::Role::sender, thin, 0, thin, wide, 5),
+                    Catch::Contains("ghost layer of 3 cells is wider than the periodic axis x of 2 cells"));
 }

@@ -52,29 +52,6 @@ DemSolver::DemSolver(const Setup& setup, const Params&)
           : std::max({s_.upper[0] - s_.lower[0], s_.upper[1] - s_.lower[1], s_.upper[2] - s_.lower[2]});
   for (int d = 0; d < 3; ++d)
     nc_[d] = std::max(1L, static_cast<long>(std::floor((s_.upper[d] - s_.lower[d]) / cell_size_)));
-  const long cells = nc_[0] * nc_[1] * nc_[2];
-  neighbours_.resize(cells);
-  for (long c = 0; c < cells; ++c) {
-    const long cx = c % nc_[0], cy = (c / nc_[0]) % nc_[1], cz = c / (nc_[0] * nc_[1]);
-    auto& nb = neighbours_[c];
-    for (long dz = -1; dz <= 1; ++dz)
-      for (long dy = -1; dy <= 1; ++dy)
-        for (long dx = -1; dx <= 1; ++dx) {
-          long q[3] = {cx + dx, cy + dy, cz + dz};
-          bool ok = true;
-          for (int d = 0; d < 3; ++d) {
-            if (q[d] >= 0 && q[d] < nc_[d]) continue;
-            if (s_.periodic[d])
-              q[d] = (q[d] + nc_[d]) % nc_[d];
-            else
-              ok = false;
-          }
-          if (ok) nb.push_back((q[2] * nc_[1] + q[1]) * nc_[0] + q[0]);
-        }
-    std::sort(nb.begin(), nb.end());
-    nb.erase(std::unique(nb.begin(), nb.end()), nb.end());
-  }
-  cell_start_.assign(cells + 1, 0);
   // Cement the pairs that touch (within the gap) at the start.
   build_cells();
   long bonds = 0;
@@ -261,18 +238,31 @@ bool DemSolver::list_stale() const {
   return false;
 }
 
+// The cells hold the particles on this rank only (owned and ghosts): a window
+// of the global grid around them, one empty cell beyond them on every side,
+// so that its memory and the sweep over it follow the rank's block, not the
+// domain. Along a periodic axis the window is taken around the first
+// particle's cell (a block's particles and ghosts lie in one run of cells,
+// its periodic images next to it); where it would reach round the axis it is
+// the whole axis, whose neighbours wrap.
 void DemSolver::build_cells() {
   const std::size_t n = p_.size();
   cell_of_.resize(n);
   cell_items_.resize(n);
-  std::fill(cell_start_.begin(), cell_start_.end(), 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    long c[3];
+  std::vector<long>& at = candidates_;  // the particles' global cells, then local
+  at.resize(3 * n);
+  for (std::size_t i = 0; i < n; ++i)
     for (int d = 0; d < 3; ++d) {
       const double t = (p_.x[3 * i + d] - s_.lower[d]) / (s_.upper[d] - s_.lower[d]);
-      c[d] = std::clamp(static_cast<long>(std::floor(t * nc_[d])), 0L, nc_[d] - 1);
+      at[3 * i + d] = std::clamp(static_cast<long>(std::floor(t * nc_[d])), 0L, nc_[d] - 1);
     }
-    cell_of_[i] = (c[2] * nc_[1] + c[1]) * nc_[0] + c[0];
+  for (int d = 0; d < 3; ++d) window_axis(d, at);
+  std::fill(cell_start_.begin(), cell_start_.end(), 0);
+  cell_start_.resize(static_cast<std::size_t>(win_n_[0] * win_n_[1] * win_n_[2] + 1), 0);
+  if (cell_start_.capacity() > 4 * cell_start_.size() + 1024)
+    cell_start_.shrink_to_fit();  // after the start's whole domain
+  for (std::size_t i = 0; i < n; ++i) {
+    cell_of_[i] = (at[3 * i + 2] * win_n_[1] + at[3 * i + 1]) * win_n_[0] + at[3 * i];
     ++cell_start_[cell_of_[i] + 1];
   }
   for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
@@ -281,16 +271,53 @@ void DemSolver::build_cells() {
   for (std::size_t i = 0; i < n; ++i) cell_items_[fill[cell_of_[i]]++] = static_cast<long>(i);
 }
 
+// build_cells' window along axis d: `at`'s global cells (stride 3) become
+// local ones in place, and win_n_[d] and win_wrap_[d] are set.
+void DemSolver::window_axis(int d, std::vector<long>& at) {
+  const std::size_t n = at.size() / 3;
+  const long nc = nc_[d], anchor = n > 0 ? at[static_cast<std::size_t>(d)] : 0;
+  long lo = 0, hi = -1;  // the particles' cells relative to the anchor (periodic: the nearest image)
+  for (std::size_t i = 0; i < n; ++i) {
+    long r = at[3 * i + d] - anchor;
+    if (s_.periodic[d]) r = r < -nc / 2 ? r + nc : r >= nc - nc / 2 ? r - nc : r;
+    at[3 * i + d] = r;
+    lo = i == 0 ? r : std::min(lo, r);
+    hi = i == 0 ? r : std::max(hi, r);
+  }
+  win_wrap_[d] = s_.periodic[d] && hi - lo + 3 > nc;
+  win_n_[d] = win_wrap_[d] ? nc : std::max(1L, hi - lo + 3);
+  for (std::size_t i = 0; i < n; ++i) {
+    long& r = at[3 * i + d];
+    r = win_wrap_[d] ? ((r + anchor) % nc + nc) % nc : r - lo + 1;
+  }
+}
+
 // Calls f(j) for every j > i in i's cell and its neighbours, in increasing j:
-// the same pair order as dem-reference's double loop.
+// the same pair order as dem-reference's double loop. (On an axis of fewer
+// than three cells that wraps, a neighbour cell comes more than once: its
+// particles are taken once.)
 template <class F>
 void DemSolver::for_candidates(std::size_t i, F&& f) {
   thread_local std::vector<long> js;
   js.clear();
-  for (long c : neighbours_[cell_of_[i]])
-    for (long k = cell_start_[c]; k < cell_start_[c + 1]; ++k)
-      if (cell_items_[k] > static_cast<long>(i)) js.push_back(cell_items_[k]);
+  const long c = cell_of_[i];
+  const long l[3] = {c % win_n_[0], (c / win_n_[0]) % win_n_[1], c / (win_n_[0] * win_n_[1])};
+  for (long dz = -1; dz <= 1; ++dz)
+    for (long dy = -1; dy <= 1; ++dy)
+      for (long dx = -1; dx <= 1; ++dx) {
+        long q[3] = {l[0] + dx, l[1] + dy, l[2] + dz};
+        bool inside = true;
+        for (int d = 0; d < 3; ++d) {
+          if (win_wrap_[d]) q[d] = (q[d] + win_n_[d]) % win_n_[d];
+          inside = inside && q[d] >= 0 && q[d] < win_n_[d];  // an axis of one cell: its window is the cell
+        }
+        if (!inside) continue;
+        const long cell = (q[2] * win_n_[1] + q[1]) * win_n_[0] + q[0];
+        for (long k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k)
+          if (cell_items_[k] > static_cast<long>(i)) js.push_back(cell_items_[k]);
+      }
   std::sort(js.begin(), js.end());
+  js.erase(std::unique(js.begin(), js.end()), js.end());
   for (long j : js) f(static_cast<std::size_t>(j));
 }
 

@@ -48,6 +48,7 @@ class DemSolver final : public ParticleSolver {
   void integrate_owned(double h);
   void drop_outlets();  // parts of a step h once crushed grains need a shorter one
   void build_cells();
+  void window_axis(int d, std::vector<long>& at);
   // Verlet list: for each particle i, the j > i within reach + skin (CSR).
   void build_list();
   std::vector<std::pair<long, long>> far_bonds() const;
@@ -94,8 +95,9 @@ class DemSolver final : public ParticleSolver {
   bool list_valid_ = false;
   long list_builds_ = 0;
   std::array<long, 3> nc_{1, 1, 1};
-  std::vector<long> cell_of_, cell_start_, cell_items_;
-  std::vector<std::vector<long>> neighbours_;  // unique neighbour cells of each cell
+  std::vector<long> cell_of_, cell_start_, cell_items_;  // cell_of_: in the window (build_cells)
+  std::array<long, 3> win_n_{1, 1, 1};                   // the window's cells per axis
+  std::array<bool, 3> win_wrap_{false, false, false};    // the window is the whole periodic axis
   std::vector<long> candidates_;
   std::vector<std::size_t> crushed_;
   std::vector<dem::MeshContact> mesh_hits_;

@@ -4,6 +4,16 @@
 # working folders and ${vcfg} are those of tests/.
 coflow_validation(dem_two_sphere_impact impact dem_two_sphere_impact.yaml 1)
 coflow_validation(dem_damping_curve damping dem_two_sphere_impact.yaml 1 0.0 0.05 0.1 0.2 0.4 0.7)
+# The same impact in a box of 1 m (942^3 cells of the contact search) on 2
+# ranks, under 4 GB of address space: the cells cover the particles on each
+# rank, not the box (a grid of the whole box with its neighbour lists,
+# about 250 bytes a cell per rank, failed with bad_alloc before 2026-12-05).
+add_test(NAME validation.dem_two_sphere_impact_large_box
+  COMMAND sh -c "ulimit -v 4000000 && exec \"$0\" \"$@\"" ${validate} dem_two_sphere_impact_large_box
+          ${CMAKE_BINARY_DIR}/bin ${CMAKE_CURRENT_BINARY_DIR}/val-dem_two_sphere_impact_large_box impact
+          ${vcfg}/dem_two_sphere_impact.yaml --set domain.upper=[1.0,1.0,1.0] --set particles.ranks=2 --set
+          [=[particles.initial=[{"single":{"species":"grain","position":[0.4995,0.5,0.5],"velocity":[0.1,0,0]}},{"single":{"species":"grain","position":[0.500502,0.5,0.5],"velocity":[-0.1,0,0]}}]]=])
+set_tests_properties(validation.dem_two_sphere_impact_large_box PROPERTIES LABELS "validation;mpi" PROCESSORS 2)
 coflow_validation(dem_vs_reference compare dem_crosscheck.yaml 1 "particles.solver=dem" "particles.solver=dem-reference")
 coflow_validation(dem_vs_reference_bonded compare dem_crosscheck_bonded.yaml 1 "particles.solver=dem" "particles.solver=dem-reference")
 coflow_validation(dem_gravity_pour pour dem_gravity_pour.yaml 1)

@@ -170,7 +170,13 @@ void DemReference::move(double h, const std::vector<std::size_t>& crushed) {
           (a.x[k] > s_.upper[k] && s_.faces[2 * k + 1] == dem::Face::outlet))
         out = true;
     }
-    if (!out) kept.push_back(a);
+    if (out) {  // its contacts and bonds leave with it (a bond so gone is no failure)
+      std::erase_if(contacts_,
+                    [&](const auto& c) { return c.first.first == a.id || c.first.second == a.id; });
+      std::erase_if(walls_, [&](const auto& c) { return c.first.first == a.id; });
+    } else {
+      kept.push_back(a);
+    }
   }
   p_.swap(kept);
 }

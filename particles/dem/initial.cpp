@@ -177,6 +177,13 @@ ParticleArrays make_initial(const ParticleParams& p, const config::Config& cfg) 
       add_from_file(a, p, it);
     }
   }
+  // On a periodic axis a centre on the upper face is the lower face's: both
+  // variants start from [lower, upper) (dem wraps no fixed grain later,
+  // dem-reference every grain).
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (int d = 0; d < 3; ++d)
+      if (cfg.domain.periodic[d] && a.x[3 * i + d] >= cfg.domain.upper[d])
+        a.x[3 * i + d] -= cfg.domain.upper[d] - cfg.domain.lower[d];
   return a;
 }
 

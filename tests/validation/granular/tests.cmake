@@ -17,6 +17,13 @@ set_tests_properties(validation.dem_two_sphere_impact_large_box PROPERTIES LABEL
 coflow_validation(dem_vs_reference compare dem_crosscheck.yaml 1 "particles.solver=dem" "particles.solver=dem-reference")
 coflow_validation(dem_vs_reference_bonded compare dem_crosscheck_bonded.yaml 1 "particles.solver=dem" "particles.solver=dem-reference")
 coflow_validation(dem_gravity_pour pour dem_gravity_pour.yaml 1)
+# Fixed grains given on the upper face of a periodic axis (x = 0.02 in
+# dem_ranks.yaml), among 500 falling ones: both variants start them on the
+# lower face (dem-reference wrapped them at its first step, dem never did,
+# before 2026-12-05).
+set(fixed_upper [=[particles.species={"grain":{"density":2650.0,"diameter":{"uniform":{"min":0.8e-3,"max":1.2e-3}}},"post":{"density":2650.0,"diameter":2.0e-3,"fixed":true}} particles.initial=[{"random":{"species":"grain","count":500,"region":{"lower":[0.0,0.0,0.0],"upper":[0.02,0.02,0.04]},"velocity_std":0.5}},{"single":{"species":"post","position":[0.02,0.01,0.002]}},{"single":{"species":"post","position":[0.02,0.013,0.002]}}]]=])
+coflow_validation(dem_fixed_on_periodic_face_vs_reference compare dem_ranks.yaml 1
+  "particles.solver=dem ${fixed_upper}" "particles.solver=dem-reference ${fixed_upper}")
 # Bonds breaking and grains crushing on 4 ranks as on 1; and with the automatic
 # step, crushed (lighter) grains split the step alike in dem and dem-reference.
 coflow_validation(dem_bonded_ranks_1_vs_4 compare dem_crosscheck_bonded.yaml 2

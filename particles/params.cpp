@@ -252,6 +252,7 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
     walls.back().visit(s);
   });
   visit_boundaries(v, cfg);
+  check_wall_faces(v, cfg);
   visit_initial(v);
   only(true, "injection", [&] {
     v.list("injection",
@@ -287,6 +288,28 @@ void ParticleParams::visit_boundaries(Visitor& v, const config::Config& cfg) {
                                        : "a periodic particle face needs domain.periodic true on that axis");
               }
             });
+}
+
+// A wall item's face must be a wall face: not periodic, and not given another
+// kind in particles.boundaries (the solvers made it a wall, but its loads were
+// left out of walls.csv, and a periodic axis ignored it).
+void ParticleParams::check_wall_faces(Visitor& v, const config::Config& cfg) const {
+  if (!v.reading()) return;
+  const char* faces[] = {"x-", "x+", "y-", "y+", "z-", "z+"};
+  for (std::size_t n = 0; n < walls.size(); ++n)
+    for (int f = 0; f < 6; ++f) {
+      if (walls[n].face != faces[f]) continue;
+      if (cfg.domain.periodic[f / 2])
+        v.fail("walls",
+               fmt::format("item {}: face {} is periodic (domain.periodic): it has no wall; remove the item "
+                           "or make axis {} non-periodic",
+                           n, faces[f], "xyz"[f / 2]));
+      else if (!boundaries[f].empty() && boundaries[f] != "wall")
+        v.fail("walls",
+               fmt::format("item {}: face {} is a wall here and {} {} in particles.boundaries; give the "
+                           "face one kind",
+                           n, faces[f], boundaries[f] == "outlet" ? "an" : "a", boundaries[f]));
+    }
 }
 
 void ParticleParams::visit_initial(Visitor& v) {

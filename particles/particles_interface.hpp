@@ -133,6 +133,7 @@ struct ParticleParams {
   std::string coupling = "two-way";        // dpm with point: two-way | one-way
   void visit(config::Visitor& v, const config::Config& cfg);
   void visit_boundaries(config::Visitor& v, const config::Config& cfg);
+  void check_wall_faces(config::Visitor& v, const config::Config& cfg) const;
   void visit_initial(config::Visitor& v);
   void check_references(config::Visitor& v) const;
   void check_initial_overlaps(config::Visitor& v) const;

@@ -149,8 +149,10 @@ void InjectionParams::visit(Visitor& v) {
   v.required("speed", speed, "m/s", config::positive());
   v("direction", direction, "jet direction (default: the face's normal); e.g. a nozzle angle Phi in the x-y plane "
     "is [cos Phi, sin Phi, 0]");
-  v("spread_angle", spread_angle, "degrees: directions spread uniformly over the cone of this half-angle about "
-    "direction (a nozzle's opening angle, in 3D)", config::in_range(0.0, 90.0));
+  v("spread_angle", spread_angle,
+    "degrees: directions spread uniformly over the cone of this half-angle about "
+    "direction (a nozzle's opening angle, in 3D); with direction's tilt from the normal at most 90",
+    config::in_range(0.0, 90.0));
   v("start", start, "s: inject from this time", config::non_negative());
   v("stop", stop, "s: until this time (default: to the end)");
   bool has_disk = false, has_rect = false;
@@ -189,6 +191,18 @@ void InjectionParams::visit(Visitor& v) {
     v.fail("rectangle", "axis must be perpendicular to normal");
   const double dn = direction[0] * normal[0] + direction[1] * normal[1] + direction[2] * normal[2];
   if (dn < 0.0) v.fail("direction", "points out of the inlet (against normal)");
+  // The cone about direction stays on the inlet's side of its face: a
+  // direction tilted from the normal leaves less room for the spread.
+  const double dd = direction[0] * direction[0] + direction[1] * direction[1] + direction[2] * direction[2];
+  const double tilt = dd > 0.0 && nn > 0.0 && dn >= 0.0
+                          ? std::acos(std::min(1.0, dn / std::sqrt(dd * nn))) * 180.0 / std::numbers::pi
+                          : 0.0;
+  if (tilt + spread_angle > 90.0 + 1e-9)
+    v.fail("spread_angle",
+           fmt::format("a cone of {:.4g} degrees about a direction {:.4g} degrees from the normal "
+                       "reaches behind the inlet (particles would start against normal); keep "
+                       "the two at 90 degrees or less together",
+                       spread_angle, tilt));
   if (stop >= 0.0 && stop <= start) v.fail("stop", "must be later than start");
 }
 

@@ -635,6 +635,8 @@ void DpmSolver::load(const std::string& dir, long steps, double time) {
   collisions_ = counts.collisions;
   wall_collisions_ = counts.wall_collisions;
   set_derived();
+  store_
+      .sort_by_id();  // as a straight run holds them (a checkpoint of several ranks lists them rank by rank)
   for (std::int64_t id : p_.id) next_id_ = std::max(next_id_, id + 1);
   if (size_ > 1) keep_owned();
   std::map<std::int64_t, dpm::Fluctuation> up;

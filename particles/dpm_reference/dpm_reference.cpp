@@ -285,6 +285,9 @@ void DpmReference::load(const std::string& dir, long steps, double time) {
     p_.push_back({a.id[i], a.species[i], V3(&a.x[3 * i]), V3(&a.v[3 * i]), V3(&a.w[3 * i]), D, a.mass[i],
                   a.inertia[i], params_.species.at(a.species[i]).second.density, s_.still, V3(&a.force[3 * i]), V3::Zero()});
   }
+  // In id order, as a straight run holds them (a checkpoint of several ranks
+  // lists rank 0's particles first): eq. 3.47's sums go in the same order.
+  std::sort(p_.begin(), p_.end(), [](const Particle& l, const Particle& r) { return l.id < r.id; });
   for (const auto& p : p_) next_id_ = std::max(next_id_, p.id + 1);
   std::map<std::int64_t, dpm::Fluctuation> up;
   dpm::load_extra(dir, time_, next_id_, inlets_, up);

@@ -35,7 +35,8 @@
 #   restart_from        ARGS: EVERY, "A overrides", "B overrides": run B straight,
 #                       run A with a checkpoint every EVERY seconds, restart B from
 #                       A's first checkpoint; compares B restarted with B straight
-#                       (variants that share a checkpoint format)
+#                       (variants that share a checkpoint format), and its event
+#                       logs' rows with the straight run's last ones
 # Every metric printed is checked against the rows of references.csv whose first
 # column is CASE: `case,metric,op,bound,source`.
 set -u -o pipefail
@@ -74,7 +75,16 @@ case "$mode" in
     first=$(ls -d "$out"/checkpointed/checkpoints/window_* 2>/dev/null | head -n 1)
     [ -n "$first" ] || { echo "FAIL: run A wrote no checkpoint"; exit 1; }
     run "$out/restarted" "${b[@]}" --restart "$first"
-    check compare "$out/straight" "$out/restarted" | tee -a "$metrics" || exit 1 ;;
+    check compare "$out/straight" "$out/restarted" | tee -a "$metrics" || exit 1
+    # Event logs: the restarted run's rows are the straight run's last ones.
+    for f in events/collisions.csv events/bonds.csv events/impacts.csv; do
+      [ -f "$out/restarted/$f" ] || continue
+      n=$(($(wc -l <"$out/restarted/$f") - 1))
+      [ "$n" -gt 0 ] || continue
+      cmp -s <(tail -n "$n" "$out/straight/$f") <(tail -n "$n" "$out/restarted/$f") ||
+        { echo "FAIL: $f after the restart differs from the straight run's"; exit 1; }
+      echo "${f#events/}: $n events after the restart, identical"
+    done ;;
   profile|probes|hydrostatic|channel|walls|fluid_walls|walls_pressure_drop|decay|mass|ramp|impact|pour|crush|momentum|drag|buoyancy|settling|dpm_settling|granular_gas|two_way|dispersion|grid_turbulence|injection|jet|pair_into_mesh|inlet_stream|inlet_mass|rotation|contact_angle|layered|colour_mass|permeability|washburn|injection_phase|grain_interface|bridge|cavity|tg_error|stokes_layer|divergence|ke_decay|ke_grid|ke_grid_levels|ke_channel|ke_backward_step|grid_turbulence_fv|ibm_steady|ibm_couette|ibm_couette_oscillating|ibm_shedding|ibm_oscillating|ibm_particles|ibm_balance|vortex)
     run "$out/run" "$@"
     check "$mode" "$out/run" | tee -a "$metrics" || exit 1 ;;

@@ -144,3 +144,10 @@ coflow_validation(dpm_two_way_ranks_1_vs_16 compare dpm_two_way.yaml 2
   "fluid.ranks=1 immersed.ranks=1 particles.ranks=1" "fluid.ranks=8 immersed.ranks=4 particles.ranks=4")
 coflow_validation(dpm_two_way_fv_ranks_1_vs_16 compare dpm_two_way_fv.yaml 2
   "fluid.ranks=1 immersed.ranks=1 particles.ranks=1" "fluid.ranks=8 immersed.ranks=4 particles.ranks=4")
+# A checkpoint of dpm on 2 ranks (rank 0's particles first in the file)
+# restarts dpm-reference on 1 rank bit for bit, its collision log too (before
+# 2026-12-05 both variants kept the file's order after a restart, and
+# dpm-reference logged such pairs with their ids the other way round).
+coflow_validation(dpm_reference_restart_from_dpm_2_ranks restart_from dpm_granular_gas.yaml 2
+  0.1 "particles.ranks=2 particles.decomposition=[1,2,1] run.end_time=0.2 run.output.every=0.2"
+  "particles.solver=dpm-reference run.end_time=0.2 run.output.every=0.2")

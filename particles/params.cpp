@@ -111,7 +111,7 @@ void CollisionParams::visit(Visitor& v) {
 void DispersionParams::visit(Visitor& v) {
   v("model", model, "none, or langevin (Sommerfeld 2001): the fluid velocity seen gets a "
     "fluctuation correlated over T_L = C_T k / epsilon", config::one_of({"none", "langevin"}));
-  v("C_T", C_T, "coefficient of the Lagrangian integral time T_L = C_T k / epsilon (Sommerfeld 2001: 0.22; 0.26 fits "
+  v("C_T", C_T, "coefficient of the Lagrangian integral time T_L = C_T k / epsilon (seed 003 after eq. 3.38: 2/9, about 0.22, and 0.22 in its runs; 0.26 fits "
     "grid turbulence best, docs/validation.md)", config::positive());
   v.section(
       "msd",

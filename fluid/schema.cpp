@@ -179,6 +179,34 @@ static void check_fv_blocks(config::Visitor& v, const config::Config& cfg, const
       }
 }
 
+// fv: a box whose faces let fluid through only at velocity faces must balance
+// them; a single such face cannot (the projection, which takes the
+// right-hand side's mean out as round-off, would spread its flux over every
+// cell as a divergence; fv checks the balance as it runs, too).
+static void check_closed_box(config::Visitor& v, const config::Config& cfg, const config::ComponentInfo& info,
+                             const FluidParams& p) {
+  if (!v.reading() || info.variant.rfind("fv", 0) != 0) return;
+  int through = -1, count = 0;
+  for (int f = 0; f < 6; ++f) {
+    if (cfg.domain.cells[f / 2] == 1 || cfg.domain.periodic[f / 2]) continue;
+    const BoundaryParams b = p.boundary(f, cfg);
+    if (b.type == "pressure" || b.type == "outflow") return;
+    const double normal = b.type == "velocity" && b.value.values.size() == 3
+                              ? b.value.values[static_cast<std::size_t>(f / 2)]
+                              : 0.0;
+    if (normal != 0.0) ++count, through = f;
+  }
+  if (count == 1)
+    v.fail(
+        "boundaries." + face_names()[through],
+        fmt::format(
+            "the velocity face {} lets fluid through, and no other face lets it {}: an incompressible "
+            "fluid cannot fill or empty a closed box; make a face where it leaves or enters pressure or "
+            "outflow",
+            face_names()[through],
+            (through % 2 == 0) == (p.boundary(through, cfg).value.values[through / 2] > 0) ? "out" : "in"));
+}
+
 // The key that gives a face's own inlet k and epsilon (null: none), and what it gives.
 static std::pair<const char*, const char*> inlet_turbulence_key(const BoundaryParams& b) {
   if (b.k > 0.0) return {"k", "k and epsilon"};
@@ -209,12 +237,16 @@ static void check_turbulence(config::Visitor& v, const config::Config& cfg, cons
   for (int f = 0; f < 6; ++f) {
     if (cfg.domain.cells[f / 2] == 1) continue;
     const BoundaryParams b = p.boundary(f, cfg);
-    if (b.type == "wall" && p.turbulence.wall == "none")
-      v.fail("turbulence.wall", fmt::format("face {} is a wall, and the standard k-epsilon model needs a wall "
-                                            "treatment there: use wall: two-layer (with the first cells at y+ of "
-                                            "about 1) or log-law (the first cell centres at y+ of 30 to 100)",
-                                            face_names()[f]));
-    const double normal = b.type == "velocity" && b.value.values.size() == 3 ? b.value.values[static_cast<std::size_t>(f / 2)] : 0.0;
+    const double normal = b.type == "velocity" && b.value.values.size() == 3
+                              ? b.value.values[static_cast<std::size_t>(f / 2)]
+                              : 0.0;
+    // A velocity face that lets nothing through is a (moving) wall to fv.
+    if ((b.type == "wall" || (b.type == "velocity" && normal == 0)) && p.turbulence.wall == "none")
+      v.fail("turbulence.wall",
+             fmt::format("face {} is a {}, and the standard k-epsilon model needs a wall "
+                         "treatment there: use wall: two-layer (with the first cells at y+ of "
+                         "about 1) or log-law (the first cell centres at y+ of 30 to 100)",
+                         face_names()[f], b.type == "wall" ? "wall" : "moving wall"));
     if (f % 2 == 0 ? normal < 0 : normal > 0)
       v.fail("boundaries." + face_names()[f],
              fmt::format("the velocity face {} lets fluid out, and with fluid.turbulence a velocity face is an inlet "
@@ -410,6 +442,7 @@ config::ComponentSchema schema() {
     }
     check_open_face_blocks(v, cfg, info, p);
     check_fv_blocks(v, cfg, info);
+    check_closed_box(v, cfg, info, p);
     check_turbulence(v, cfg, info, p);
     visit_variant_sections(v, cfg, info);
   };

@@ -81,7 +81,11 @@ void FvSolver::poisson_rhs(double factor, double t0, double t1, bool incremental
   // Walls all round (or periodic): phi is fixed up to a constant, and the
   // right-hand side must sum to zero; take out its round-off.
   MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_DOUBLE, MPI_SUM, comm_);
-  const double mean = sum / static_cast<double>(cells_[0] * cells_[1] * cells_[2]);
+  const double cells = static_cast<double>(cells_[0] * cells_[1] * cells_[2]);
+  double hmin = h_[0];
+  for (int d = 1; d < dims_; ++d) hmin = std::min(hmin, h_[d]);
+  fv::check_closed_balance(sum, cells, factor, velocity_scale_, hmin);
+  const double mean = sum / cells;
   for (auto& r : rhs_) r -= mean;
 }
 

@@ -4,9 +4,12 @@
 // solvers around them are each variant's own.
 #pragma once
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <utility>
 
 namespace coflow::fluid::fv {
@@ -119,6 +122,27 @@ void step_window(const double& time, const double& last, double window, Limit&& 
     step(dt, left == 1 ? end : time + dt);
     if (--left == 0) break;
   }
+}
+
+// A box without a pressure or outflow face: its velocity faces must let in
+// what they let out, or the projection, which takes the right-hand side's
+// mean out as round-off, would spread the difference over every cell as a
+// uniform divergence (mass made or lost everywhere). `sum`: the Poisson
+// right-hand side's sum over all cells, -factor x the divergences'; a mean
+// divergence above 1e-12 U / h is no round-off (that is below N eps U / h
+// summed). Throws with a message; nothing is checked from rest (U = 0).
+inline void check_closed_balance(double sum, double cells, double factor, double velocity_scale,
+                                 double hmin) {
+  if (!(velocity_scale > 0.0)) return;
+  const double mean = -sum / (factor * cells), scale = velocity_scale / hmin;
+  if (std::abs(mean) <= 1e-12 * scale) return;
+  throw std::runtime_error(fmt::format(
+      "fv: the velocity faces let more fluid {} than {} (a mean divergence of {:.3g} 1/s, {:.2g} of U/h) and "
+      "no pressure "
+      "or outflow face takes up the difference; an incompressible fluid in a closed box needs its velocity "
+      "faces "
+      "to balance: make a face pressure or outflow, or balance the inflows (their profiles and ramps)",
+      mean > 0 ? "out" : "in", mean > 0 ? "in" : "out", mean, std::abs(mean) / scale));
 }
 
 }  // namespace coflow::fluid::fv

@@ -429,16 +429,18 @@ void FvReference::project(const fv::Imex& s, double dt, bool incremental) {
     rhs[static_cast<std::size_t>(i)] += laplacian_at(zero, i);
     sum += rhs[static_cast<std::size_t>(i)];
   }
-  if (!has_open_)
+  double hmin = h_[0];  // fv's floor: a divergence of 1e-6 tolerance U / h per cell
+  for (int d = 1; d < dims_; ++d) hmin = std::min(hmin, h_[d]);
+  if (!has_open_) {
+    fv::check_closed_balance(sum, static_cast<double>(rows.size()), factor, velocity_scale_, hmin);
     for (long i : rows) rhs[static_cast<std::size_t>(i)] -= sum / static_cast<double>(rows.size());
+  }
   Field x = incremental ? phi_ : p_;
   auto apply = [&](const Field& a, Field& y) {
     Field q = a;
     pressure_ghosts(q, none);
     for (long i : rows) y[static_cast<std::size_t>(i)] = -laplacian_at(q, i);
   };
-  double hmin = h_[0];  // fv's floor: a divergence of 1e-6 tolerance U / h per cell
-  for (int d = 1; d < dims_; ++d) hmin = std::min(hmin, h_[d]);
   const double floor = 1e-6 * opt_.tolerance * factor * velocity_scale_ / hmin *
                        std::sqrt(static_cast<double>(rows.size()));
   conjugate_gradients(apply, rows, x, rhs, "pressure Poisson solve", floor);

@@ -430,14 +430,18 @@ double BoundaryParams::profile_factor(int face, const double s[3], const config:
     x[face / 2] = face % 2 == 0 ? d.lower[face / 2] : d.upper[face / 2];
     return formula(x, t);
   }
+  // The table and the parabola, too, on the box's edge for the ghost lines
+  // beyond the other faces (the parabola went negative there).
+  const auto inside = [&](int a) { return d.periodic[a] ? s[a] : std::clamp(s[a], 0.0, 1.0); };
   if (profile == "table") {
     const int a = table.axis;
-    return table(cfg.domain.lower[a] + s[a] * (cfg.domain.upper[a] - cfg.domain.lower[a]));
+    return table(cfg.domain.lower[a] + inside(a) * (cfg.domain.upper[a] - cfg.domain.lower[a]));
   }
   if (profile != "parabolic") return 1.0;
   double f = 1.0;
   for (int a = 0; a < 3; ++a)
-    if (a != face / 2 && !cfg.domain.periodic[a] && cfg.domain.cells[a] > 1) f *= 4 * s[a] * (1 - s[a]);
+    if (a != face / 2 && !cfg.domain.periodic[a] && cfg.domain.cells[a] > 1)
+      f *= 4 * inside(a) * (1 - inside(a));
   return f;
 }
 

@@ -1,6 +1,7 @@
 // A velocity face's tabulated profile (fluid/params.hpp, profile: table):
 // linear between rows, the end rows' factor beyond them, comments and a
-// header skipped, and a bad file refused with the line at fault.
+// header skipped, and a bad file refused with the line at fault; and the
+// profiles on the ghost lines beyond the box.
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <fstream>
@@ -58,4 +59,24 @@ TEST_CASE("profile columns: k and epsilon across an inlet, one table each", "[fl
       coflow::fluid::read_profile_columns(two, 1, {"k", "epsilon"}),
       Catch::Contains("three numbers, coordinate, k and epsilon (line 2 of"));  // line 1: a header
   for (const auto& p : {path, two}) std::remove(p.c_str());
+}
+
+// The ghost lines beyond a face's neighbouring faces ask for the profile
+// outside the box: the parabola and the table take their value on the box's
+// edge there (the parabola went negative, 4 s (1 - s) < 0, before
+// 2026-12-05, and fed k-epsilon's strain in the corner cells a wrong ghost).
+TEST_CASE("velocity face profiles: ghost lines beyond the box take the edge's value", "[fluid]") {
+  coflow::config::Config cfg;
+  cfg.domain.lower = {0.0, 0.0, 0.0};
+  cfg.domain.upper = {1.0, 1.0, 0.1};
+  cfg.domain.cells = {16, 16, 1};
+  cfg.domain.periodic = {false, false, true};
+  coflow::fluid::BoundaryParams b;
+  b.type = "velocity";
+  b.profile = "parabolic";
+  const double inside[3] = {0.0, 0.5, 0.5}, beyond[3] = {0.0, -0.5 / 16, 0.5},
+               past[3] = {0.0, 1.0 + 1.5 / 16, 0.5};
+  CHECK(b.profile_factor(0, inside, cfg) == 1.0);  // x-: the parabola across y
+  CHECK(b.profile_factor(0, beyond, cfg) == 0.0);
+  CHECK(b.profile_factor(0, past, cfg) == 0.0);
 }

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -80,8 +81,8 @@ void save_number(MPI_Comm comm, const std::string& path, double value) {
 double load_number(const std::string& path, double absent) {
   if (!std::filesystem::exists(path)) return absent;
   std::ifstream in(path);
-  std::string text;
-  in >> text;
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.pop_back();
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
   if (text.empty() || *end != '\0' || !std::isfinite(v) || v < 0.0)

@@ -52,15 +52,16 @@ DemSolver::DemSolver(const Setup& setup, const Params&)
           : std::max({s_.upper[0] - s_.lower[0], s_.upper[1] - s_.lower[1], s_.upper[2] - s_.lower[2]});
   for (int d = 0; d < 3; ++d)
     nc_[d] = std::max(1L, static_cast<long>(std::floor((s_.upper[d] - s_.lower[d]) / cell_size_)));
-  // Cement the pairs that touch (within the gap) at the start.
-  build_cells();
+  // Cement the pairs that touch (within the gap) at the start. (Every rank
+  // holds every particle here: its cells span them all, only for this.)
   long bonds = 0;
   if (!s_.bond_file.empty()) {
     for (const auto& [a, b] : dem::bonds_from_file(p_, s_)) {
       contacts_[key(a, b)].bonded = true;
       ++bonds;
     }
-  } else if (s_.bond_gap >= 0)
+  } else if (s_.bond_gap >= 0) {
+    build_cells();
     for (std::size_t i = 0; i < n; ++i)
       for_candidates(i, [&](std::size_t j) {
         const V3 d = dem::min_image(V3(&p_.x[3 * i]) - V3(&p_.x[3 * j]), s_);
@@ -69,6 +70,7 @@ DemSolver::DemSolver(const Setup& setup, const Params&)
           ++bonds;
         }
       });
+  }
   // Every rank made every particle (deterministically): keep the owned ones and
   // the histories that involve them.
   owned_.assign(n, 1);
@@ -257,14 +259,26 @@ void DemSolver::build_cells() {
       at[3 * i + d] = std::clamp(static_cast<long>(std::floor(t * nc_[d])), 0L, nc_[d] - 1);
     }
   for (int d = 0; d < 3; ++d) window_axis(d, at);
-  std::fill(cell_start_.begin(), cell_start_.end(), 0);
-  cell_start_.resize(static_cast<std::size_t>(win_n_[0] * win_n_[1] * win_n_[2] + 1), 0);
-  if (cell_start_.capacity() > 4 * cell_start_.size() + 1024)
-    cell_start_.shrink_to_fit();  // after the start's whole domain
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < n; ++i)
     cell_of_[i] = (at[3 * i + 2] * win_n_[1] + at[3 * i + 1]) * win_n_[0] + at[3 * i];
-    ++cell_start_[cell_of_[i] + 1];
+  // A window mostly empty (a dilute rank, or the start's whole box): the
+  // particles sorted by cell, a cell found by bisection, memory by particle.
+  const long volume = win_n_[0] * win_n_[1] * win_n_[2];
+  sparse_ = volume > 8 * static_cast<long>(n) + 4096;
+  if (sparse_) {
+    std::vector<long>().swap(cell_start_);
+    for (std::size_t i = 0; i < n; ++i) cell_items_[i] = static_cast<long>(i);
+    std::sort(cell_items_.begin(), cell_items_.end(), [&](long a, long b) {
+      return cell_of_[static_cast<std::size_t>(a)] < cell_of_[static_cast<std::size_t>(b)] ||
+             (cell_of_[static_cast<std::size_t>(a)] == cell_of_[static_cast<std::size_t>(b)] && a < b);
+    });
+    sorted_cells_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) sorted_cells_[k] = cell_of_[static_cast<std::size_t>(cell_items_[k])];
+    return;
   }
+  std::fill(cell_start_.begin(), cell_start_.end(), 0);
+  cell_start_.resize(static_cast<std::size_t>(volume + 1), 0);
+  for (std::size_t i = 0; i < n; ++i) ++cell_start_[cell_of_[i] + 1];
   for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
   std::vector<long>& fill = candidates_;  // reuse as a cursor array
   fill.assign(cell_start_.begin(), cell_start_.end() - 1);
@@ -313,7 +327,14 @@ void DemSolver::for_candidates(std::size_t i, F&& f) {
         }
         if (!inside) continue;
         const long cell = (q[2] * win_n_[1] + q[1]) * win_n_[0] + q[0];
-        for (long k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k)
+        long k = 0, end = 0;
+        if (sparse_) {
+          const auto [a, b] = std::equal_range(sorted_cells_.begin(), sorted_cells_.end(), cell);
+          k = a - sorted_cells_.begin(), end = b - sorted_cells_.begin();
+        } else {
+          k = cell_start_[cell], end = cell_start_[cell + 1];
+        }
+        for (; k < end; ++k)
           if (cell_items_[k] > static_cast<long>(i)) js.push_back(cell_items_[k]);
       }
   std::sort(js.begin(), js.end());

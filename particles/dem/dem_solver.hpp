@@ -98,6 +98,8 @@ class DemSolver final : public ParticleSolver {
   std::vector<long> cell_of_, cell_start_, cell_items_;  // cell_of_: in the window (build_cells)
   std::array<long, 3> win_n_{1, 1, 1};                   // the window's cells per axis
   std::array<bool, 3> win_wrap_{false, false, false};    // the window is the whole periodic axis
+  bool sparse_ = false;             // a window mostly empty: cell_items_ sorted by cell, no cell_start_
+  std::vector<long> sorted_cells_;  // sparse_: the cells of cell_items_, in order
   std::vector<long> candidates_;
   std::vector<std::size_t> crushed_;
   std::vector<dem::MeshContact> mesh_hits_;

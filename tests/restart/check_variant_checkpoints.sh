@@ -17,6 +17,7 @@ done
 last() { ls -d "$out/$1"/checkpoints/window_* | tail -n 1; }
 da=$(last "$a")/$comp db=$(last "$b")/$comp
 [ "$(basename "$(dirname "$da")")" = "$(basename "$(dirname "$db")")" ] || fail "the last checkpoints differ in window"
+[ "$(ls "$da")" = "$(ls "$db")" ] || { ls "$da" "$db"; fail "the two checkpoints hold other files"; }
 n=0
 for f in "$da"/*; do
   g=$db/$(basename "$f")

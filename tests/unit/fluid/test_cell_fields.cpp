@@ -92,7 +92,7 @@ TEST_CASE("cell fields: a number beside them comes back to the bit; absent, the 
   const double u2 = 0.1 / 3.0 * 1.0e-3;               // no short decimal
   fluid::grid::save_number(MPI_COMM_SELF, path, u2);
   CHECK(fluid::grid::load_number(path, 0.0) == u2);
-  for (const char* bad : {"", "x", "0x1p-3junk", "nan", "inf", "-0x1p-3"}) {
+  for (const char* bad : {"", "x", "0x1p-3junk", "0x1p-3 junk", "nan", "inf", "-0x1p-3"}) {
     {
       std::ofstream out(path);
       out << bad << "\n";

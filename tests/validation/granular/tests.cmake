@@ -14,6 +14,17 @@ add_test(NAME validation.dem_two_sphere_impact_large_box
           ${vcfg}/dem_two_sphere_impact.yaml --set domain.upper=[1.0,1.0,1.0] --set particles.ranks=2 --set
           [=[particles.initial=[{"single":{"species":"grain","position":[0.4995,0.5,0.5],"velocity":[0.1,0,0]}},{"single":{"species":"grain","position":[0.500502,0.5,0.5],"velocity":[-0.1,0,0]}}]]=])
 set_tests_properties(validation.dem_two_sphere_impact_large_box PROPERTIES LABELS "validation;mpi" PROCESSORS 2)
+# The same box with two more grains in far corners: a rank's particles then
+# span most of the box, whose cells are kept sparse (sorted, by bisection);
+# dem on 2 ranks against dem-reference, under 4 GB.
+set(far_corners [=[particles.initial=[{"single":{"species":"grain","position":[0.4995,0.5,0.5],"velocity":[0.1,0,0]}},{"single":{"species":"grain","position":[0.500502,0.5,0.5],"velocity":[-0.1,0,0]}},{"single":{"species":"grain","position":[0.95,0.05,0.05]}},{"single":{"species":"grain","position":[0.05,0.95,0.95]}}]]=])
+add_test(NAME validation.dem_sparse_cells_vs_reference
+  COMMAND sh -c "ulimit -v 4000000 && exec \"$0\" \"$@\"" ${validate} dem_sparse_cells_vs_reference
+          ${CMAKE_BINARY_DIR}/bin ${CMAKE_CURRENT_BINARY_DIR}/val-dem_sparse_cells_vs_reference compare
+          ${vcfg}/dem_two_sphere_impact.yaml
+          "domain.upper=[1.0,1.0,1.0] particles.ranks=2 run.output.every=8.0e-5 ${far_corners}"
+          "domain.upper=[1.0,1.0,1.0] particles.solver=dem-reference run.output.every=8.0e-5 ${far_corners}")
+set_tests_properties(validation.dem_sparse_cells_vs_reference PROPERTIES LABELS "validation;mpi" PROCESSORS 2)
 coflow_validation(dem_vs_reference compare dem_crosscheck.yaml 1 "particles.solver=dem" "particles.solver=dem-reference")
 coflow_validation(dem_vs_reference_bonded compare dem_crosscheck_bonded.yaml 1 "particles.solver=dem" "particles.solver=dem-reference")
 coflow_validation(dem_gravity_pour pour dem_gravity_pour.yaml 1)

@@ -179,6 +179,13 @@ static void check_fv_blocks(config::Visitor& v, const config::Config& cfg, const
       }
 }
 
+// A velocity face's normal component as given (0 for other faces).
+static double normal_velocity(const BoundaryParams& b, int face) {
+  return b.type == "velocity" && b.value.values.size() == 3
+             ? b.value.values[static_cast<std::size_t>(face / 2)]
+             : 0.0;
+}
+
 // fv: a box whose faces let fluid through only at velocity faces must balance
 // them; a single such face cannot (the projection, which takes the
 // right-hand side's mean out as round-off, would spread its flux over every
@@ -191,9 +198,7 @@ static void check_closed_box(config::Visitor& v, const config::Config& cfg, cons
     if (cfg.domain.cells[f / 2] == 1 || cfg.domain.periodic[f / 2]) continue;
     const BoundaryParams b = p.boundary(f, cfg);
     if (b.type == "pressure" || b.type == "outflow") return;
-    const double normal = b.type == "velocity" && b.value.values.size() == 3
-                              ? b.value.values[static_cast<std::size_t>(f / 2)]
-                              : 0.0;
+    const double normal = normal_velocity(b, f);
     if (b.type == "velocity" && (b.profile == "expression" || b.profile == "table"))
       return;  // fv's run checks its flux
     if (normal != 0.0) ++count, through = f;
@@ -206,7 +211,7 @@ static void check_closed_box(config::Visitor& v, const config::Config& cfg, cons
             "fluid cannot fill or empty a closed box; make a face where it leaves or enters pressure or "
             "outflow",
             face_names()[through],
-            (through % 2 == 0) == (p.boundary(through, cfg).value.values[through / 2] > 0) ? "out" : "in"));
+            (through % 2 == 0) == (normal_velocity(p.boundary(through, cfg), through) > 0) ? "out" : "in"));
 }
 
 // The key that gives a face's own inlet k and epsilon (null: none), and what it gives.
@@ -239,9 +244,7 @@ static void check_turbulence(config::Visitor& v, const config::Config& cfg, cons
   for (int f = 0; f < 6; ++f) {
     if (cfg.domain.cells[f / 2] == 1) continue;
     const BoundaryParams b = p.boundary(f, cfg);
-    const double normal = b.type == "velocity" && b.value.values.size() == 3
-                              ? b.value.values[static_cast<std::size_t>(f / 2)]
-                              : 0.0;
+    const double normal = normal_velocity(b, f);
     // A velocity face that lets nothing through is a (moving) wall to fv.
     if ((b.type == "wall" || (b.type == "velocity" && normal == 0)) && p.turbulence.wall == "none")
       v.fail("turbulence.wall",

@@ -268,10 +268,10 @@ void DemSolver::build_cells() {
   if (sparse_) {
     std::vector<long>().swap(cell_start_);
     for (std::size_t i = 0; i < n; ++i) cell_items_[i] = static_cast<long>(i);
-    std::sort(cell_items_.begin(), cell_items_.end(), [&](long a, long b) {
-      return cell_of_[static_cast<std::size_t>(a)] < cell_of_[static_cast<std::size_t>(b)] ||
-             (cell_of_[static_cast<std::size_t>(a)] == cell_of_[static_cast<std::size_t>(b)] && a < b);
-    });
+    std::sort(cell_items_.begin(), cell_items_.end(),
+              [&](long a, long b) {  // a cell's order: for_candidates sorts
+                return cell_of_[static_cast<std::size_t>(a)] < cell_of_[static_cast<std::size_t>(b)];
+              });
     sorted_cells_.resize(n);
     for (std::size_t k = 0; k < n; ++k) sorted_cells_[k] = cell_of_[static_cast<std::size_t>(cell_items_[k])];
     return;

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <bit>
 #include <cmath>
 #include <string>
 
@@ -48,8 +49,11 @@ struct FvParams {
       "fv: the preconditioner of the conjugate gradients. geometric: the pressure Poisson by coflow's "
       "matrix-free geometric multigrid (full coarsening, red-black Gauss-Seidel, trilinear transfers; "
       "fluid/fv/poisson_multigrid.hpp) where every rank's block has an even number of cells along each axis "
-      "and the cells' aspect ratio is at most 2, else by pfmg, and the viscous solves by pfmg; pfmg: hypre's Struct semicoarsening multigrid (Ashby & "
-      "Falgout 1996) for all; smg: hypre's SMG (Schaffer 1998; more robust on stretched cells, slower)",
+      "and the cells' aspect ratio is at most 2, else by pfmg, and the viscous solves by pfmg; pfmg: hypre's "
+      "Struct semicoarsening multigrid (Ashby & "
+      "Falgout 1996) for all; smg: hypre's SMG (Schaffer 1998; more robust on stretched cells, slower; a "
+      "periodic axis needs a power of two "
+      "cells)",
       config::one_of({"geometric", "pfmg", "smg"}));
     v.section(
         "refinement",
@@ -75,6 +79,18 @@ struct FvParams {
       v.fail("cfl",
              fmt::format("{} > 1: the explicit advection is unstable beyond C = 1; use 0.2 to 0.8", cfl));
     if (refinement.on) refinement.check(v, cfg);
+    if (multigrid == "smg" && !refinement.on)
+      for (int a = 0; a < 3; ++a) {
+        const long n = d.cells[static_cast<std::size_t>(a)];
+        if (n > 1 && d.periodic[static_cast<std::size_t>(a)] && (n & (n - 1)) != 0)
+          v.fail(
+              "multigrid",
+              fmt::format("smg with {} cells along the periodic axis {}: hypre's SMG preconditioner breaks "
+                          "down unless a periodic axis has a power of two cells (measured: 20, 24, 40 and 48 "
+                          "fail, 16, 32 and 64 converge); use pfmg or geometric, or {} or {} cells",
+                          n, "xyz"[a], std::bit_floor(static_cast<unsigned long>(n)),
+                          std::bit_ceil(static_cast<unsigned long>(n))));
+      }
   }
 };
 

@@ -9,6 +9,7 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <array>
 #include <span>
 #include <string>
@@ -39,7 +40,8 @@ class StructSystem {
   using Couplings = std::array<std::span<const double>, 3>;
   void set(std::span<const double> diag, const Couplings& lower, const Couplings& upper);
   // Solve A x = b, x holding the initial guess (owned cells, x fastest).
-  // Throws when the tolerance is not reached within max_iterations.
+  // Throws when the tolerance is not reached within max_iterations, or when
+  // the conjugate gradients break down short of it (judge_early_stop).
   void solve(std::span<const double> b, std::span<double> x);
   // Precondition by the diagonal alone (Jacobi) instead of the multigrid: for
   // a system dominated by its diagonal (a viscous solve with a short step),
@@ -90,6 +92,15 @@ class StructSystem {
   void changed();
   void sync_hypre();
   void solve_diagonal(std::span<const double> b, std::span<double> x);
+  struct Residual {
+    double rr = 0.0, bb = 0.0;  // |b - A x|^2, |b|^2
+    double relative = 0.0, backward = 0.0;
+    bool within(double tolerance, double floor) const {
+      return rr <= std::max(tolerance * tolerance * bb, floor * floor);
+    }
+  };
+  void judge_early_stop(std::span<const double> b, std::span<const double> x);
+  Residual true_residual(std::span<const double> b, std::span<const double> x);
   double matvec(const double* p, std::vector<double>& s);  // s = A p; returns p . s on this rank
   long row_asymmetries(long j) const;
   void free_solver();
@@ -112,6 +123,7 @@ class StructSystem {
   int iterations_ = 0;
   double residual_ = 0.0;
   double floor_ = 0.0;
+  bool warned_ = false;  // an early stop at the rounding limit was logged
 };
 
 // The message of a linear solve of fv that stopped short of its tolerance.

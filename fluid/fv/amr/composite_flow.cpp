@@ -11,6 +11,7 @@
 #include "coflow/output.hpp"
 #include "fluid/fv/amr/composite_laplacian.hpp"
 #include "fluid/fv/amr/refinement_criteria.hpp"
+#include "fluid/fv/scheme.hpp"
 
 namespace coflow::fluid::fv::amr {
 CompositeFlow::CompositeFlow(Forest& forest, const GridGeometry& geometry, double viscosity,
@@ -318,6 +319,7 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
     }
     b[c] = div / (h * dt);
   }
+  if (pinned_) check_closed_balance(b, dt);
   if (pinned_ && grid_->first_cell() == 0 && n > 0) b[0] = 0.0;
   solve_pressure(b, phi, dt, stage, solved_before);
   // The pressure into the forest's pressure component, exchanged with the velocity.
@@ -338,6 +340,26 @@ void CompositeFlow::project(Field& u, double dt, int stage) {
   }
   subtract_gradient(u, p, dt);
   write(u);
+}
+
+// Without an outlet the boundary's velocities must let as much fluid in as
+// out: the cells' net fluxes then sum to round-off, which the pinned cell
+// takes up. As on fv (fv::check_closed_balance), a mean divergence above
+// 1e-12 U / h stops the run instead of being spread into that one cell (b:
+// each cell's divergence / (h dt); U the largest face velocity).
+void CompositeFlow::check_closed_balance(const std::vector<double>& b, double dt) const {
+  double sums[2] = {0.0, 0.0};        // the net flux out, the volume
+  double tops[2] = {0.0, -HUGE_VAL};  // the largest |face velocity|, -(the smallest h)
+  for (std::size_t c = 0; c < b.size(); ++c) {
+    const double h = h_[c], area = dims_ == 3 ? h * h : h;
+    sums[0] += b[c] * h * dt * area;
+    sums[1] += area * h;
+    tops[1] = std::max(tops[1], -h);
+  }
+  for (const double m : mac_) tops[0] = std::max(tops[0], std::fabs(m));
+  MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, forest_.comm());
+  MPI_Allreduce(MPI_IN_PLACE, tops, 2, MPI_DOUBLE, MPI_MAX, forest_.comm());
+  if (sums[1] > 0.0) fv::check_closed_balance(-sums[0] / sums[1], 1.0, 1.0, tops[0], -tops[1]);
 }
 
 // The Poisson solve of a stage, from the guess phi + dt rate (the stage's

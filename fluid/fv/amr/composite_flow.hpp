@@ -152,6 +152,7 @@ class CompositeFlow {
     return kinds_[face_of(f)] == Boundary::wall ? 0.0 : nut[c];
   }
   void project(Field& u, double dt, int stage);
+  void check_closed_balance(const std::vector<double>& b, double dt) const;
   void solve_pressure(const std::vector<double>& b, std::vector<double>& phi, double dt, int stage,
                       bool solved_before);
   double volume(long c) const;

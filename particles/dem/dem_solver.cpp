@@ -53,32 +53,33 @@ DemSolver::DemSolver(const Setup& setup, const Params&)
           : std::max({s_.upper[0] - s_.lower[0], s_.upper[1] - s_.lower[1], s_.upper[2] - s_.lower[2]});
   for (int d = 0; d < 3; ++d)
     nc_[d] = std::max(1L, static_cast<long>(std::floor((s_.upper[d] - s_.lower[d]) / cell_size_)));
-  // Cement the pairs that touch (within the gap) at the start. (Every rank
-  // holds every particle here: its cells span them all, only for this.)
+  // Every rank made every particle (deterministically): it keeps the owned
+  // ones, and the bonds and histories that involve them.
+  owned_.assign(n, 1);
+  if (size_ > 1)
+    for (std::size_t i = 0; i < n; ++i) owned_[i] = domain_.owner_of(&p_.x[3 * i]) == rank_;
+  // Cement the pairs that touch (within the gap) at the start: every rank
+  // counts them all (for the log) but holds only those of its particles.
+  // (Every rank holds every particle here: its cells span them all, only for
+  // this.)
   long bonds = 0;
+  auto bond = [&](std::size_t i, std::size_t j) {
+    ++bonds;
+    if (owned_[i] || owned_[j]) contacts_[key(p_.id[i], p_.id[j])].bonded = true;
+  };
   if (!s_.bond_file.empty()) {
-    for (const auto& [a, b] : dem::bonds_from_file(p_, s_)) {
-      contacts_[key(a, b)].bonded = true;
-      ++bonds;
-    }
+    std::unordered_map<std::int64_t, std::size_t> index;
+    for (std::size_t i = 0; i < n; ++i) index[p_.id[i]] = i;
+    for (const auto& [a, b] : dem::bonds_from_file(p_, s_)) bond(index.at(a), index.at(b));
   } else if (s_.bond_gap >= 0) {
     build_cells();
     for (std::size_t i = 0; i < n; ++i)
       for_candidates(i, [&](std::size_t j) {
         const V3 d = dem::min_image(V3(&p_.x[3 * i]) - V3(&p_.x[3 * j]), s_);
-        if (d.norm() - p_.radius[i] - p_.radius[j] <= s_.bond_gap) {
-          contacts_[key(p_.id[i], p_.id[j])].bonded = true;
-          ++bonds;
-        }
+        if (d.norm() - p_.radius[i] - p_.radius[j] <= s_.bond_gap) bond(i, j);
       });
   }
-  // Every rank made every particle (deterministically): keep the owned ones and
-  // the histories that involve them.
-  owned_.assign(n, 1);
-  if (size_ > 1) {
-    for (std::size_t i = 0; i < n; ++i) owned_[i] = domain_.owner_of(&p_.x[3 * i]) == rank_;
-    drop_ghosts();
-  }
+  if (size_ > 1) drop_ghosts();
   log::info("dem: {} particles ({} on this rank), {} bonds, step {:.4g} s, {}x{}x{} cells of {:.4g} m", n, p_.size(),
             bonds, s_.dt, nc_[0], nc_[1], nc_[2], cell_size_);
 }

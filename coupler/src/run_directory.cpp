@@ -77,9 +77,10 @@ void RunDirectory::end_checkpoint(long w, double window) const {
   if (world_rank_ == 0) {
     Timer t(trace().io_s);
     const std::string base = fmt::format("{}/checkpoints/window_{:06d}", dir_, w);
-    output::atomic_write(base + ".partial/checkpoint.yaml",
-                         fmt::format("name: {}\nwindow: {}\ntime: {:.17g}\nwindow_length: {:.17g}\n", cfg_.run.name, w,
-                                     w * window, window));
+    output::atomic_write(
+        base + ".partial/checkpoint.yaml",
+        fmt::format("name: {}\nwindow: {}\ntime: {:.17g}\nwindow_length: {:.17g}\noutput_every: {:.17g}\n",
+                    cfg_.run.name, w, w * window, window, cfg_.run.output.every));
     fs::remove_all(base);
     fs::rename(base + ".partial", base);
     // Keep the newest run.checkpoint.keep checkpoints.

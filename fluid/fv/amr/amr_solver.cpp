@@ -396,6 +396,12 @@ std::vector<output::Series::Column> AmrFvSolver::series_columns() const {
   return c;
 }
 
+// What a checkpoint's forest must share with the run that loads it.
+static std::string spec_text(const ForestSpec& s) {
+  return fmt::format("{}D, {}x{}x{} trees, levels {} to {}, patches of {} cells, {} values a cell", s.dims,
+                     s.trees[0], s.trees[1], s.trees[2], s.min_level, s.max_level, s.patch, s.components);
+}
+
 // The forest and the flow (composite_flow.hpp), then the solver's own state
 // in dir/amr.txt: steps, time, last step (hexadecimal floats: exact),
 // regrids, the last window's steps.
@@ -404,6 +410,7 @@ void AmrFvSolver::save(const std::string& dir) {
   if (rank_ != 0) return;
   std::ofstream f(dir + "/amr.txt");
   f << fmt::format("{} {:a} {:a} {} {}\n", steps_, time_, dt_prev_, regrids_, window_steps_);
+  f << spec_text(forest_spec()) << "\n";
   if (!f) throw std::runtime_error("fv (refinement): cannot write " + dir + "/amr.txt");
 }
 
@@ -416,6 +423,17 @@ void AmrFvSolver::load(const std::string& dir, long, double) {
     throw std::runtime_error("fv (refinement): " + dir + "/amr.txt is missing or unreadable");
   time_ = std::strtod(time_text.c_str(), nullptr);
   dt_prev_ = std::strtod(dt_text.c_str(), nullptr);
+  // The forest must be this run's (p4est aborts the job on another patch or
+  // field count, and another brick misplaces the leaves): a checkpoint from
+  // before 2026-12-05 does not say, and is taken as it is.
+  std::string saved;
+  std::getline(f >> std::ws, saved);
+  if (const std::string mine = spec_text(forest_spec()); !saved.empty() && saved != mine)
+    throw std::runtime_error(fmt::format(
+        "fv (refinement): {}/forest.p4est holds an adaptive grid of {}, but this run's is {}: restart with "
+        "the "
+        "domain.cells, fluid.fv.refinement (levels, patch) and fluid.turbulence of the run that wrote it",
+        dir, saved, mine));
   flow_.reset();
   view_.reset();
   forest_ = std::make_unique<Forest>(comm_, forest_spec(), dir + "/forest.p4est");

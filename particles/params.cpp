@@ -134,7 +134,16 @@ void WallParams::visit(Visitor& v) {
   v("face", face, "a face of the domain as a wall", config::one_of({"", "x-", "x+", "y-", "y+", "z-", "z+"}));
   v("mesh", mesh, "a triangle mesh as a wall: an STL file (ASCII or binary), relative to this file");
   v("restitution", restitution, "restitution coefficient (hard-sphere dpm)", config::in_range(0.0, 1.0));
-  v("friction", friction, "friction coefficient (default: the contact's for dem, the collision's for dpm)");
+  // -1 stands for the default (and is how the resolved configuration the
+  // components read says so); any other negative value is a mistake.
+  config::Rule friction_rule;
+  friction_rule.text = ">= 0, or -1";
+  friction_rule.test = [](const config::ValueRef& ref) -> std::string {
+    const auto* x = std::get_if<double*>(&ref);
+    return !x || **x >= 0.0 || **x == -1.0 ? std::string{} : fmt::format("must be >= 0 (got {})", **x);
+  };
+  v("friction", friction,
+    "friction coefficient (-1, the default: the contact's for dem, the collision's for dpm)", friction_rule);
   v("scale", scale, "mesh: factor applied to the file's coordinates (0.001 for a mesh drawn in millimetres)",
     config::positive());
   v("translate", translate, "mesh: shift in m applied after the scale");
@@ -310,6 +319,11 @@ void ParticleParams::visit_boundaries(Visitor& v, const config::Config& cfg) {
 void ParticleParams::check_wall_faces(Visitor& v, const config::Config& cfg) const {
   if (!v.reading()) return;
   const char* faces[] = {"x-", "x+", "y-", "y+", "z-", "z+"};
+  for (std::size_t n = 0; n < walls.size(); ++n)
+    for (std::size_t m = 0; m < n; ++m)
+      if (!walls[n].face.empty() && walls[m].face == walls[n].face)
+        v.fail("walls",
+               fmt::format("item {}: face {} is item {} too; give each face once", n, walls[n].face, m));
   for (std::size_t n = 0; n < walls.size(); ++n)
     for (int f = 0; f < 6; ++f) {
       if (walls[n].face != faces[f]) continue;
@@ -507,16 +521,62 @@ double inlet_overhang(const InjectionParams& ip, const config::Config& cfg, int&
 
 }  // namespace
 
+// A file in a folder that a fresh run into `out` empties before its ranks
+// start (the launcher's prepare_run_directory): a snapshot of the same run.
+static std::string emptied_folder(const std::string& file, const std::string& out) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path f = fs::weakly_canonical(fs::absolute(file), ec),
+                 o = fs::weakly_canonical(fs::absolute(out), ec);
+  for (const char* sub : {"fluid", "particles", "immersed", "series", "events", "logs", "checkpoints"}) {
+    const fs::path rel = f.lexically_relative(o / sub);
+    if (!rel.empty() && *rel.begin() != "..") return (o / sub).string();
+  }
+  return {};
+}
+
 // The particles of an initial file (a snapshot of another run: perhaps of
-// another domain) must lie in this one's box. A file that cannot be read is
-// reported when the particles start.
+// another domain) must be readable, lie in this one's box, belong to a
+// species of this run and be no larger than it allows (the ghost layers are
+// as wide as a species' largest diameter), and the file must survive the
+// start: a fresh run empties its own snapshot folders.
 void ParticleParams::check_file_inside(Visitor& v, const config::Config& cfg, std::size_t n) const {
   const auto& it = initial[n];
-  std::vector<double> x;
+  if (const std::string folder = emptied_folder(it.path.path, cfg.output_dir()); !folder.empty()) {
+    v.fail("initial",
+           fmt::format("item {}: {} lies in {}, which a fresh run into {} empties before it starts: copy "
+                       "the file elsewhere, or give this run another run.output.dir",
+                       n, it.path.path, folder, cfg.output_dir()));
+    return;
+  }
+  std::vector<double> x, r, sp;
   try {
     x = output::read_dataset(it.path.path, "position");
-  } catch (const std::exception&) {
+    r = output::read_dataset(it.path.path, "radius");
+    sp = output::read_dataset(it.path.path, "species");
+  } catch (const std::exception& e) {
+    v.fail("initial", fmt::format("item {}: cannot read the particles of {}: {}; give a particles/step_*.h5 "
+                                  "snapshot written by coflow",
+                                  n, it.path.path, e.what()));
     return;
+  }
+  for (std::size_t k = 0; k < r.size() && k < sp.size(); ++k) {
+    if (!(sp[k] >= 0 && sp[k] < static_cast<double>(species.size()))) {
+      v.fail("initial",
+             fmt::format("item {}: particle {} of {} has species {}, but this run defines {} (0 to {}): "
+                         "define the species of the run that wrote it, in its order",
+                         n, k, it.path.path, sp[k], species.size(), species.size() - 1));
+      return;
+    }
+    const auto& [name, s] = species[static_cast<std::size_t>(sp[k])];
+    const double largest = particles::largest_diameter(s.diameter);
+    if (!(r[k] > 0 && 2.0 * r[k] <= largest * (1.0 + 1e-12))) {
+      v.fail("initial",
+             fmt::format("item {}: particle {} of {} has a diameter of {} m, but species '{}' is at most "
+                         "{} m: give the species that diameter (or the file smaller grains)",
+                         n, k, it.path.path, config::number(2.0 * r[k]), name, config::number(largest)));
+      return;
+    }
   }
   std::size_t out = 0, first = 0;
   for (std::size_t k = 0; 3 * k + 2 < x.size(); ++k)
@@ -563,7 +623,14 @@ void ParticleParams::check_geometry(Visitor& v, const config::Config& cfg, const
     if (it.kind == "single" && !inside(it.position, cfg))
       v.fail("initial", fmt::format("item {}: position {} is outside the domain ({}); move it inside", n,
                                     point_text(it.position), domain_text(cfg)));
-    if ((it.kind == "lattice" || it.kind == "random") && (!inside(it.lower, cfg) || !inside(it.upper, cfg)))
+    if ((it.kind == "lattice" || it.kind == "random") &&
+        !(it.lower[0] < it.upper[0] && it.lower[1] < it.upper[1] && it.lower[2] < it.upper[2]))
+      v.fail("initial",
+             fmt::format("item {}: region {} to {} is empty: each of upper's coordinates must exceed "
+                         "lower's",
+                         n, point_text(it.lower), point_text(it.upper)));
+    else if ((it.kind == "lattice" || it.kind == "random") &&
+             (!inside(it.lower, cfg) || !inside(it.upper, cfg)))
       v.fail("initial", fmt::format("item {}: region {} to {} reaches outside the domain ({}); keep it inside", n,
                                     point_text(it.lower), point_text(it.upper), domain_text(cfg)));
     if (it.kind == "file") check_file_inside(v, cfg, n);

@@ -83,7 +83,7 @@ void report_initial_files(const ParticleParams& p, config::Report& r) {
       radius = output::read_dataset(it.path.path, "radius");
       species = output::read_dataset(it.path.path, "species");
     } catch (const std::exception&) {
-      continue;  // reported when the particles start
+      continue;  // refused by validation (ParticleParams::check_file_inside)
     }
     std::size_t off = 0;
     std::string example;

@@ -228,7 +228,9 @@ Rule each_one_of(std::vector<std::string> names) {
   r.test = [names](const ValueRef& ref) -> std::string {
     const auto* l = std::get_if<StringList*>(&ref);
     if (!l) return {};
-    for (const auto& s : **l) {
+    for (auto it = (**l).begin(); it != (**l).end(); ++it) {
+      const std::string& s = *it;
+      if (std::find((**l).begin(), it, s) != it) return fmt::format("'{}' is listed twice; list it once", s);
       if (std::find(names.begin(), names.end(), s) != names.end()) continue;
       std::string msg = fmt::format("unknown entry '{}'", s);
       const std::string near = closest(s, names);

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <stdexcept>
 
 #include "coflow/clock.hpp"
@@ -271,6 +272,23 @@ static void check_window_count(Reader& r, const Config& cfg) {
   }
 }
 
+// A window given in the file must end the run at run.end_time: the last
+// window would otherwise carry it past (end_time 1.0 in windows of 0.3 ran to
+// 1.2 s, its summary still saying 1.0).
+static void check_window_divides(Reader& r, const Config& cfg) {
+  if (cfg.coupling.window.is_auto) return;
+  const double w = cfg.coupling.window.value, count = cfg.run.end_time / w;
+  const double whole = std::round(count);
+  if (whole >= 1.0 && std::abs(count - whole) <= coupler::kReach) return;
+  const double up = std::max(1.0, std::ceil(count - coupler::kReach));
+  r.fail(
+      "coupling.window",
+      fmt::format("{} s does not divide run.end_time = {} s into whole windows ({:.6g}): the run would stop "
+                  "at {} s; make run.end_time a multiple of the window (e.g. {} s) or leave "
+                  "coupling.window: auto",
+                  number(w), number(cfg.run.end_time), count, number(up * w), number(up * w)));
+}
+
 // A fresh run empties its output directory's fluid/, particles/, logs/, ...
 // folders: a directory that holds files but is no coflow run's is refused, so
 // that run.output.dir: . in a source tree or a home directory deletes nothing
@@ -337,9 +355,19 @@ static void check_probes(Reader& r, const Config& cfg, const Catalog& catalog) {
       r.fail(at + ".name", fmt::format("'{}' names another probe too; give each its own name", name));
     names.push_back(name);
   };
+  // A line probe's columns are <name>_<k>_ux ...: a point probe named so
+  // would write the same columns (series/probes.csv with two of each).
+  std::map<std::string, std::string> lines;  // <name>_<k> -> the line's key
+  for (std::size_t i = 0; i < o.probes.size(); ++i)
+    for (int k = 1; k <= o.probes[i].points; ++k)
+      lines.emplace(fmt::format("{}_{}", o.probes[i].name, k), fmt::format("run.output.probes[{}]", i));
   for (std::size_t i = 0; i < o.probes.size(); ++i) {
     const std::string key = fmt::format("run.output.probes[{}]", i);
     check_name(key, o.probes[i].name);
+    if (const auto l = lines.find(o.probes[i].name); o.probes[i].points == 0 && l != lines.end())
+      r.fail(key + ".name", fmt::format("'{}' is also a column prefix of the line probe {} (its points are "
+                                        "<name>_1 to <name>_N): give this probe another name",
+                                        o.probes[i].name, l->second));
     // The domain is a box: a line lies in it when both its ends do.
     const ProbeParams& p = o.probes[i];
     const std::vector<Vec3> xs = p.samples();
@@ -415,6 +443,7 @@ Config parse_config_node(YAML::Node root, const std::string& file, const Catalog
   if (r.problems().empty()) check_probes(r, cfg, catalog);
   if (r.problems().empty()) check_decompositions(r, cfg);
   if (r.problems().empty()) check_window_count(r, cfg);
+  if (r.problems().empty()) check_window_divides(r, cfg);
   if (r.problems().empty()) check_output_dir(r, cfg);
   cfg.resolved = r.resolved();
   if (r.problems().empty()) check_contracts(r, cfg, catalog);

@@ -160,7 +160,7 @@ namespace {
 // translation, grown by the oscillation and, when it turns, by its reach
 // from the centre.
 void swept_box(const BodyParams& b, const stl::MeshSummary& m, const stl::TriangleMesh& mesh, double end_time,
-               stl::V3& lo, stl::V3& hi) {
+               int dims, stl::V3& lo, stl::V3& hi) {
   lo = m.lower;
   hi = m.upper;
   const auto& mo = b.motion;
@@ -170,7 +170,9 @@ void swept_box(const BodyParams& b, const stl::MeshSummary& m, const stl::Triang
   const bool turns = mo.turns();
   double reach = 0.0;
   if (turns)
-    for (const auto& x : mesh.vertices) reach = std::max(reach, (x - c).norm());
+    for (const auto& x :
+         mesh.vertices)  // in 2D in the plane: the prism's length and the centre's z do not count
+      reach = std::max(reach, dims == 2 ? std::hypot(x[0] - c[0], x[1] - c[1]) : (x - c).norm());
   for (int d = 0; d < 3; ++d) {
     if (turns) lo[d] = c[d] - reach, hi[d] = c[d] + reach;
     const double shift = mo.velocity[d] * end_time;
@@ -196,6 +198,10 @@ void IbmParams::check(config::Visitor& v, const config::Config& cfg) const {
   for (std::size_t n = 0; n < bodies.size(); ++n) {
     const BodyParams& b = bodies[n];
     if (!names.insert(b.name).second) v.fail("bodies", fmt::format("bodies[{}]: the name '{}' is taken twice", n, b.name));
+    if (b.name.empty() || b.name.find_first_of(", \t\"") != std::string::npos)
+      v.fail("bodies", fmt::format("bodies[{}]: the name '{}' is not a plain word (it names the columns of "
+                                   "series/immersed.csv, <name>_fx ...)",
+                                   n, b.name));
     try {
       const stl::TriangleMesh mesh = load_body_mesh(b);
       const stl::MeshSummary m = stl::summarize(mesh);
@@ -209,12 +215,21 @@ void IbmParams::check(config::Visitor& v, const config::Config& cfg) const {
                            "negative volume), so its markers would retract into the fluid and its "
                            "inertia change sign: reverse the order of each triangle's vertices",
                            n, b.name));
+      const auto& mo = b.motion;
+      if (dims == 2 &&
+          (mo.angular_velocity[0] != 0.0 || mo.angular_velocity[1] != 0.0 || mo.angular_amplitude[0] != 0.0 ||
+           mo.angular_amplitude[1] != 0.0 || mo.velocity[2] != 0.0 || mo.amplitude[2] != 0.0))
+        v.fail("bodies",
+               fmt::format("bodies[{}] ({}): the fluid is 2D: a body moves in the x-y plane and turns "
+                           "about z; give its velocity and amplitude no z component and its "
+                           "angular_velocity and angular_amplitude only a z component",
+                           n, b.name));
       if (dims == 2 && !(m.upper[2] > m.lower[2]))
         v.fail("bodies", fmt::format("bodies[{}] ({}): the fluid is 2D and this mesh is flat in z; give a prism "
                                      "along z (any length)",
                                      n, b.name));
       stl::V3 lo, hi;
-      swept_box(b, m, mesh, cfg.run.end_time, lo, hi);
+      swept_box(b, m, mesh, cfg.run.end_time, dims, lo, hi);
       for (int d = 0; d < dims; ++d) {
         if (cfg.domain.periodic[d]) continue;
         const double margin = (radius + 1.0) * h[d];

@@ -79,7 +79,7 @@ Rule below(double bound);
 Rule positive();          // > 0, for numbers and for every entry of vectors
 Rule non_negative();      // >= 0, likewise
 Rule one_of(std::vector<std::string> names);
-Rule each_one_of(std::vector<std::string> names);  // for string lists
+Rule each_one_of(std::vector<std::string> names);  // for string lists, each entry once
 
 struct Key {
   std::string_view name;

@@ -543,6 +543,7 @@ void CompositeFlow::solve_viscous(Field& b, Field& x, double theta_dt, std::size
       // are well conditioned: a few iterations more), above round-off.
       IjSystem::Options tight = solve_;
       tight.tolerance = std::max(1e-13, 0.01 * solve_.tolerance);
+      tight.name = "implicit viscous solve (a hundredth of fluid.fv.tolerance)";
       slot = std::make_unique<IjSystem>(forest_.comm(), grid_->first_cell(), rows, tight);
       slot_dt = theta_dt;
     }

@@ -306,6 +306,7 @@ void CompositeTurbulence::diffuse(const std::vector<std::vector<Link>>& all, int
   // the smallest values.
   IjSystem::Options tight = solve_;
   tight.tolerance = std::max(1e-13, 0.01 * solve_.tolerance);
+  tight.name = "k-epsilon diffusion solve (a hundredth of fluid.fv.tolerance)";
   IjSystem system(forest_.comm(), first, rows, tight);
   system.solve(b, x);
   iterations_ = std::max(iterations_, system.last_iterations());

@@ -107,10 +107,11 @@ void IjSystem::solve(std::span<const double> b, std::span<double> x) {
   // within 10 times it when the solver stopped by itself.
   const bool stalled = iterations_ < opt_.max_iterations && residual_ <= 10.0 * opt_.tolerance;
   if (!(residual_ <= opt_.tolerance) && !stalled)
-    throw std::runtime_error(fmt::format(
-        "refinement: the composite Poisson solve stopped at relative residual {:.2e} after {} iterations "
-        "(tolerance {:.0e})",
-        residual_, iterations_, opt_.tolerance));
+    throw std::runtime_error(
+        fmt::format("refinement: the {} stopped at relative residual {:.2e} after {} iterations (tolerance "
+                    "{:.0e}); raise "
+                    "fluid.fv.max_iterations, or lower fluid.fv.cfl if the flow is blowing up",
+                    opt_.name, residual_, iterations_, opt_.tolerance));
 }
 
 }  // namespace coflow::fluid::fv::amr

@@ -7,6 +7,7 @@
 #include <mpi.h>
 
 #include <span>
+#include <string>
 #include <vector>
 
 #include "fluid/fv/amr/composite_grid.hpp"
@@ -18,6 +19,7 @@ class IjSystem {
   struct Options {
     double tolerance = 1e-12;  // relative residual, 2-norm
     int max_iterations = 200;
+    std::string name = "composite Poisson solve";  // for messages
   };
   // Rows first_row .. first_row + rows.size() - 1 of the global matrix.
   IjSystem(MPI_Comm comm, long first_row, const std::vector<Stencil>& rows, Options opt);

@@ -4,24 +4,35 @@
 
 #include <stdexcept>
 
+#include "coflow/mpi_count.hpp"
+
 namespace coflow::fluid::fv::amr {
 
 namespace {
 
 // `counts` times `scale`, and their displacements (into displs).
+// MPI's counts and displacements are int: past 2^31 - 1 values (a rank's box
+// of 7e8 cells, 3 values each) they would wrap; coupler::mpi_count throws.
 std::vector<int> scaled(const std::vector<int>& counts, int scale, std::vector<int>& displs) {
   std::vector<int> out(counts.size());
   displs.assign(counts.size(), 0);
+  std::size_t at = 0;
   for (std::size_t r = 0; r < counts.size(); ++r) {
-    out[r] = counts[r] * scale;
-    if (r > 0) displs[r] = displs[r - 1] + out[r - 1];
+    displs[r] = coupler::mpi_count(at, "refinement: the uniform view's values (displacement)");
+    out[r] = coupler::mpi_count(static_cast<std::size_t>(counts[r]) * static_cast<std::size_t>(scale),
+                                "refinement: the uniform view's values");
+    at += static_cast<std::size_t>(out[r]);
   }
   return out;
 }
 
 std::vector<int> offsets(const std::vector<int>& counts) {
   std::vector<int> d(counts.size(), 0);
-  for (std::size_t r = 1; r < counts.size(); ++r) d[r] = d[r - 1] + counts[r - 1];
+  std::size_t at = 0;
+  for (std::size_t r = 0; r < counts.size(); ++r) {
+    d[r] = coupler::mpi_count(at, "refinement: the uniform view's cells (displacement)");
+    at += static_cast<std::size_t>(counts[r]);
+  }
   return d;
 }
 
@@ -57,7 +68,7 @@ UniformView::UniformView(const CompositeGrid& grid, const coupler::Decomposition
   send_counts_.resize(ranks);
   std::vector<long> send_at;
   for (std::size_t q = 0; q < ranks; ++q) {
-    send_counts_[q] = static_cast<int>(to[q].size());
+    send_counts_[q] = coupler::mpi_count(to[q].size(), "refinement: the uniform view's cells");
     for (const auto& [c, at] : to[q]) {
       send_cell_.push_back(c);
       send_at.push_back(at);

@@ -1,6 +1,7 @@
 // The particles' part of the pre-run report: an initial file whose radii
-// differ from the species' diameter is a warning that counts them; the same
-// file with matching radii is not.
+// are smaller than the species' diameter is a warning that counts them; a
+// file with larger grains, other species, none at all, or in the run's own
+// folders is bad input.
 #include <mpi.h>
 #include <unistd.h>
 
@@ -42,13 +43,37 @@ TEST_CASE("pre-run report: initial file radii against the species diameter", "[r
   const std::vector<double> radius{0.005, 0.005, 0.006};
   output::write_points(MPI_COMM_SELF, file, 0.0, 0, 3, id, species,
                        {{"position", 3, x}, {"velocity", 3, zero}, {"angular_velocity", 3, zero}, {"radius", 1, radius}});
-  const config::Report r = report_for(file, 0.01);
-  REQUIRE(r.warnings.size() == 1);
-  CHECK_THAT(r.warnings[0], Catch::Contains("1 of the 3 particles") && Catch::Contains("diameter 0.012 m") &&
-                                Catch::Contains("species 'grain' says 0.01 m"));
-  CHECK(report_for(file, 0.012).warnings.size() == 1);  // now the two others differ
-  CHECK_THAT(report_for(file, 0.012).warnings[0], Catch::Contains("2 of the 3 particles"));
+  const config::Report r = report_for(file, 0.012);
+  REQUIRE(r.warnings.size() == 1);  // smaller grains than the species: the file's radii are used
+  CHECK_THAT(r.warnings[0], Catch::Contains("2 of the 3 particles") && Catch::Contains("diameter 0.01 m") &&
+                                Catch::Contains("species 'grain' says 0.012 m"));
+  // A grain larger than its species allows is bad input (the ghost layers are
+  // as wide as the species' largest diameter; before 2026-12-05 a warning,
+  // and the particles stopped at the start).
+  CHECK_THROWS_WITH(report_for(file, 0.01),
+                    Catch::Contains("particles.initial: item 0: particle 2 of " + file +
+                                    " has a diameter of 0.012 m, but species 'grain' is at most 0.01 m"));
   std::filesystem::remove(file);
+}
+
+TEST_CASE("an initial file with another run's species, unreadable, or in the run's own folders is bad input",
+          "[report]") {
+  const auto tmp = std::filesystem::temp_directory_path();
+  const std::string file = (tmp / ("coflow-species-" + std::to_string(::getpid()) + ".h5")).string();
+  const std::vector<std::int64_t> id{0, 1};
+  const std::vector<std::int32_t> species{0, 1};  // written by a run with two species
+  const std::vector<double> x{0.02, 0.02, 0.02, 0.05, 0.05, 0.05}, zero(6, 0.0), radius{0.005, 0.005};
+  output::write_points(
+      MPI_COMM_SELF, file, 0.0, 0, 2, id, species,
+      {{"position", 3, x}, {"velocity", 3, zero}, {"angular_velocity", 3, zero}, {"radius", 1, radius}});
+  CHECK_THROWS_WITH(report_for(file, 0.01), Catch::Contains("item 0: particle 1 of " + file +
+                                                            " has species 1, but this run defines 1"));
+  std::filesystem::remove(file);
+  CHECK_THROWS_WITH(report_for(file, 0.01), Catch::Contains("item 0: cannot read the particles of " + file));
+  // The run's own snapshot: a fresh run empties out/r/particles/ first.
+  const std::string own = (std::filesystem::absolute("out/r/particles") / "step_000004.h5").string();
+  CHECK_THROWS_WITH(report_for(own, 0.01),
+                    Catch::Contains("which a fresh run into out/r empties before it starts"));
 }
 
 TEST_CASE("an initial file whose particles lie outside the box is bad input", "[report]") {

@@ -183,6 +183,11 @@ void FvSolver::save(const std::string& dir) {
                             {"epsilon", 1, owned_of(eps_)},
                             {"k_change", 1, owned_of(k_change_)},  // first guesses
                             {"epsilon_change", 1, owned_of(eps_change_)}});
+  // The most iterations of a k or epsilon solve since the last series row: a
+  // checkpoint between two rows (windows shorter than series_every) keeps it.
+  if (turbulent_)
+    grid::save_number(comm_, dir + "/fv_turbulence_iterations.txt",
+                      static_cast<double>(turbulence_iterations_));
   int written = 1;  // rank 0 writes the clock; every rank learns whether it could
   if (rank_ == 0) {
     std::ofstream clock(dir + "/fv_clock.txt");
@@ -234,6 +239,8 @@ void FvSolver::load(const std::string& dir, long, double) {
       else
         std::fill(field->begin(), field->end(), 0.0);
     }
+    turbulence_iterations_ = static_cast<int>(
+        grid::load_number(dir + "/fv_turbulence_iterations.txt", 0.0));  // 0: an older checkpoint
     set_inlet_lines(time_);
     fill_scalar_ghosts(k_, inlet_k_, log_law_ ? 1.0 : 0.0, true);
     fill_scalar_ghosts(eps_, inlet_eps_, 1.0, true);

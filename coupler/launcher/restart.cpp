@@ -122,30 +122,39 @@ KeptSnapshots kept_snapshots(const config::Config& cfg, const fs::path& index, d
 // number the new ones anew over the old files), and the same window where
 // the file gives one (an automatic window is checked by the components'
 // clock).
-static int check_restart(const config::Config& cfg, const std::string& restart) {
-  const YAML::Node c = YAML::LoadFile(restart + "/checkpoint.yaml");
+static std::string restart_mismatch(const config::Config& cfg, const YAML::Node& c) {
+  if (!c["time"]) return {};  // no time (a hand-made file): the components check their parts
   const double t = c["time"].as<double>(), tol = 1e-9 * std::max(1.0, std::abs(t));
-  std::string wrong;
   if (!(cfg.run.end_time >= t - tol))
-    wrong = fmt::format(
-        "run.end_time = {:.6g} s is before the checkpoint's time, {:.6g} s: the restarted run "
-        "would run no window and its summary would end before its series; set run.end_time to "
-        "{:.6g} s or later",
+    return fmt::format(
+        "run.end_time = {:.6g} s is before the checkpoint's time, {:.6g} s: the restarted run would run no "
+        "window and its summary would end before its series; set run.end_time to {:.6g} s or later",
         cfg.run.end_time, t, t);
-  else if (const auto every = c["output_every"];
-           every &&
-           std::abs(every.as<double>() - cfg.run.output.every) > 1e-12 * std::max(1.0, every.as<double>()))
-    wrong = fmt::format(
-        "run.output.every = {:.6g} s, but the checkpoint's run wrote snapshots every {:.6g} s: "
-        "snapshots are numbered by it, and the restarted run would write new ones over the old; "
-        "restart with run.output.every: {:.17g}",
+  if (const auto every = c["output_every"]; every && std::abs(every.as<double>() - cfg.run.output.every) >
+                                                         1e-12 * std::max(1.0, every.as<double>()))
+    return fmt::format(
+        "run.output.every = {:.6g} s, but the checkpoint's run wrote snapshots every {:.6g} s: snapshots are "
+        "numbered by it, and the restarted run would write new ones over the old; restart with "
+        "run.output.every: {:.17g}",
         cfg.run.output.every, every.as<double>(), every.as<double>());
-  else if (const double length = c["window_length"].as<double>();
-           !cfg.coupling.window.is_auto && std::abs(cfg.coupling.window.value - length) > 1e-12 * length)
-    wrong = fmt::format(
-        "coupling.window = {:.17g} s, but the checkpoint was written with windows of {:.17g} s: "
-        "restart with the window of the run that wrote it",
-        cfg.coupling.window.value, length);
+  if (const auto length = c["window_length"];
+      length && !cfg.coupling.window.is_auto &&
+      std::abs(cfg.coupling.window.value - length.as<double>()) > 1e-12 * length.as<double>())
+    return fmt::format(
+        "coupling.window = {:.17g} s, but the checkpoint was written with windows of {:.17g} s: restart with "
+        "the window of the run that wrote it",
+        cfg.coupling.window.value, length.as<double>());
+  return {};
+}
+
+static int check_restart(const config::Config& cfg, const std::string& restart) {
+  std::string wrong;
+  try {
+    wrong = restart_mismatch(cfg, YAML::LoadFile(restart + "/checkpoint.yaml"));
+  } catch (const YAML::Exception& e) {
+    wrong = fmt::format("its checkpoint.yaml cannot be read ({}): restart from a checkpoint coflow wrote",
+                        e.what());
+  }
   if (wrong.empty()) return 0;
   std::cerr << "--restart " << restart << ": " << wrong << " (nothing in " << cfg.output_dir()
             << " was changed)\n";

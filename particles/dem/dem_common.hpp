@@ -2,6 +2,7 @@
 // one particle, minimum images.
 #pragma once
 
+#include <fmt/format.h>
 #include <mpi.h>
 
 #include <algorithm>
@@ -13,13 +14,38 @@
 #include <utility>
 #include <vector>
 
-#include <fmt/format.h>
-
+#include "coflow/reproducible_sum.hpp"
 #include "particles/dem/contact.hpp"
 #include "particles/dem/initial.hpp"
 #include "particles/particles_interface.hpp"
 
 namespace coflow::particles::dem {
+
+// The count, momentum and energies of the particles of every rank (collective;
+// p holds this rank's own). The terms are summed by coupler::reproducible_sums,
+// so that 1 rank gives the same bits as N; dem and dpm add their event counts.
+inline ParticleStats sum_particles(MPI_Comm comm, const ParticleArrays& p) {
+  std::vector<double> terms(5 * p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    double v2 = 0, w2 = 0, *t = &terms[5 * i];
+    for (std::size_t q = 0; q < 3; ++q) {
+      t[q] = p.mass[i] * p.v[3 * i + q];
+      v2 += p.v[3 * i + q] * p.v[3 * i + q];
+      w2 += p.w[3 * i + q] * p.w[3 * i + q];
+    }
+    t[3] = 0.5 * p.mass[i] * v2;
+    t[4] = 0.5 * p.inertia[i] * w2;
+  }
+  const std::vector<double> sums = coupler::reproducible_sums(comm, terms, 5);
+  long count = static_cast<long>(p.size());
+  MPI_Allreduce(MPI_IN_PLACE, &count, 1, MPI_LONG, MPI_SUM, comm);
+  ParticleStats st;
+  st.count = count;
+  st.momentum = {sums[0], sums[1], sums[2]};
+  st.kinetic_energy = sums[3];
+  st.rotational_energy = sums[4];
+  return st;
+}
 
 struct DemParams {
   void visit(config::Visitor&) {}  // the dem variants use only the common particle keys

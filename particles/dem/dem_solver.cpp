@@ -8,7 +8,6 @@
 
 #include "coflow/log.hpp"
 #include "coflow/output.hpp"
-#include "coflow/reproducible_sum.hpp"
 #include "particles/dem/checkpoint.hpp"
 
 namespace coflow::particles {
@@ -629,27 +628,10 @@ void DemSolver::set_hydrodynamic(std::span<const double> force, std::span<const 
 }
 
 ParticleStats DemSolver::stats() {
-  // Each particle's terms, summed so that 1 rank gives the bits of N.
-  std::vector<double> terms(5 * p_.size());
-  for (std::size_t i = 0; i < p_.size(); ++i) {
-    double v2 = 0, w2 = 0;
-    for (int q = 0; q < 3; ++q) {
-      terms[5 * i + static_cast<std::size_t>(q)] = p_.mass[i] * p_.v[3 * i + q];
-      v2 += p_.v[3 * i + q] * p_.v[3 * i + q];
-      w2 += p_.w[3 * i + q] * p_.w[3 * i + q];
-    }
-    terms[5 * i + 3] = 0.5 * p_.mass[i] * v2;
-    terms[5 * i + 4] = 0.5 * p_.inertia[i] * w2;
-  }
-  const std::vector<double> global = coupler::reproducible_sums(comm_, terms, 5);
-  long events[4] = {collisions_, wall_collisions_, broken_, static_cast<long>(p_.size())}, gev[4];
-  MPI_Allreduce(events, gev, 4, MPI_LONG, MPI_SUM, comm_);
+  ParticleStats st = dem::sum_particles(comm_, p_);
+  long events[3] = {collisions_, wall_collisions_, broken_}, gev[3];
+  MPI_Allreduce(events, gev, 3, MPI_LONG, MPI_SUM, comm_);
   collisions_ = wall_collisions_ = 0;  // broken_bonds is cumulative
-  ParticleStats st;
-  st.momentum = {global[0], global[1], global[2]};
-  st.kinetic_energy = global[3];
-  st.rotational_energy = global[4];
-  st.count = gev[3];
   st.collisions = gev[0];
   st.wall_collisions = gev[1];
   st.broken_bonds = gev[2];

@@ -12,7 +12,6 @@
 #include "coflow/gather.hpp"
 #include "coflow/log.hpp"
 #include "coflow/output.hpp"
-#include "coflow/reproducible_sum.hpp"
 #include "particles/dem/checkpoint.hpp"
 #include "particles/dem/initial.hpp"
 #include "particles/dpm/state.hpp"
@@ -535,26 +534,12 @@ void DpmSolver::take_departed(std::vector<DepartedImpulse>& departed) {
 }
 
 ParticleStats DpmSolver::stats() {
-  // Each particle's terms, summed so that 1 rank gives the bits of N.
-  std::vector<double> terms(5 * p_.size());
-  for (std::size_t i = 0; i < p_.size(); ++i) {
-    const V3 v = at(p_.v, i), w = at(p_.w, i);
-    double* t = &terms[5 * i];
-    for (int k = 0; k < 3; ++k) t[k] = p_.mass[i] * v[k];
-    t[3] = 0.5 * p_.mass[i] * v.squaredNorm();
-    t[4] = 0.5 * p_.inertia[i] * w.squaredNorm();
-  }
-  const std::vector<double> sums = coupler::reproducible_sums(comm_, terms, 5);
-  long counts[3] = {static_cast<long>(p_.size()), collisions_, wall_collisions_};
-  if (size_ > 1) MPI_Allreduce(MPI_IN_PLACE, counts, 3, MPI_LONG, MPI_SUM, comm_);
+  ParticleStats st = dem::sum_particles(comm_, p_);
+  long counts[2] = {collisions_, wall_collisions_};
+  if (size_ > 1) MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_LONG, MPI_SUM, comm_);
   collisions_ = wall_collisions_ = 0;
-  ParticleStats st;
-  st.momentum = {sums[0], sums[1], sums[2]};
-  st.kinetic_energy = sums[3];
-  st.rotational_energy = sums[4];
-  st.count = counts[0];
-  st.collisions = counts[1];
-  st.wall_collisions = counts[2];
+  st.collisions = counts[0];
+  st.wall_collisions = counts[1];
   return st;
 }
 

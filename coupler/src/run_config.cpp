@@ -277,16 +277,15 @@ static void check_window_count(Reader& r, const Config& cfg) {
 // 1.2 s, its summary still saying 1.0).
 static void check_window_divides(Reader& r, const Config& cfg) {
   if (cfg.coupling.window.is_auto) return;
-  const double w = cfg.coupling.window.value, count = cfg.run.end_time / w;
-  const double whole = std::round(count);
-  if (whole >= 1.0 && std::abs(count - whole) <= coupler::kReach) return;
-  const double up = std::max(1.0, std::ceil(count - coupler::kReach));
+  const double w = cfg.coupling.window.value, end = cfg.run.end_time, count = end / w;
+  const double windows = std::max(1.0, std::ceil(count - coupler::kReach));  // the clock's count
+  if (windows * w - end <= 1e-6 * end) return;  // past the end by a millionth of the run at most
   r.fail(
       "coupling.window",
       fmt::format("{} s does not divide run.end_time = {} s into whole windows ({:.6g}): the run would stop "
                   "at {} s; make run.end_time a multiple of the window (e.g. {} s) or leave "
                   "coupling.window: auto",
-                  number(w), number(cfg.run.end_time), count, number(up * w), number(up * w)));
+                  number(w), number(end), count, number(windows * w), number(windows * w)));
 }
 
 // A fresh run empties its output directory's fluid/, particles/, logs/, ...

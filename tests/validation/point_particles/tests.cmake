@@ -103,9 +103,10 @@ coflow_validation(dpm_grid_turbulence_ct026 grid_turbulence dpm_grid_turbulence.
 coflow_validation(dpm_two_way_loaded two_way dpm_two_way_loaded.yaml 2)
 # A window 5e-7 longer than two lattice steps (whole_steps accepts it to
 # 1e-6): the fluid scales the particles' source to its steps' time, so the
-# momentum balance stays at round-off (4.5e-7 without).
+# momentum balance stays at round-off (4.5e-7 without). 250 such windows (a
+# given window must divide run.end_time).
 coflow_validation(dpm_two_way_window_off_steps two_way dpm_two_way_loaded.yaml 2
-  --set coupling.window=0.020029386433435707)
+  --set coupling.window=0.020029386433435707 --set run.end_time=5.007346608358927)
 coflow_validation(dpm_two_way_layouts compare dpm_two_way_loaded.yaml 2
   "fluid.ranks=1 immersed.ranks=1 particles.ranks=1" "fluid.ranks=4 immersed.ranks=2 particles.ranks=4")
 # Scattered particles: a cell's source sums many particles' spread impulses.

@@ -64,14 +64,16 @@ TEST_CASE("reproducible sums: the same bits on 1 rank and on N, in any order", "
     for (int c = 0; c < 3; ++c) plain[c] += t[3 * r + static_cast<std::size_t>(c)];
   for (int c = 0; c < 3; ++c) {
     const auto C = static_cast<std::size_t>(c);
-    INFO("column " << c << ": " << one[C] << " " << split[C] << " " << again[C] << " plain " << plain[c]);
+    INFO("column " << c << ": " << one[C] << " " << split[C] << " " << again[C] << " plain " << plain[c]
+                   << ", plain - reproducible " << plain[c] - one[C]);
     CHECK(std::fabs(split[C] - one[C]) <= 0);
     CHECK(std::fabs(again[C] - one[C]) <= 0);
   }
   CHECK(one[1] == static_cast<double>(exact));
   CHECK(one[2] == 0.5 * static_cast<double>(n - 2));  // 4999.5: exact
   CHECK(plain[2] != one[2]);                          // the plain sum loses the halves beside 1e16
-  CHECK(std::fabs(one[0] - plain[0]) <= 1e-11 * std::fabs(plain[0]) + 1e-9);
+  // The plain left-to-right sum's round-off: 1.96e-10 measured (sum -12757.8).
+  CHECK(std::fabs(one[0] - plain[0]) <= 2e-9);
 }
 
 TEST_CASE("reproducible sums: zeros, no terms, and a NaN", "[coupler][mpi]") {

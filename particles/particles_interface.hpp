@@ -12,6 +12,7 @@
 
 #include "coflow/config.hpp"
 #include "coflow/decomposition.hpp"
+#include "coflow/reproducible_sum.hpp"
 #include "coflow/run_config.hpp"
 
 namespace coflow::particles {
@@ -260,8 +261,9 @@ class ParticleSolver {
   virtual void take_departed(std::vector<DepartedImpulse>& departed) { departed.clear(); }
   virtual ParticleStats stats() = 0;  // collective; resets the event counters
   // The impulse (N s) this rank's particles gave each wall since the last
-  // call (wall_impulse.hpp: 3 per wall, the six faces then the mesh walls).
-  virtual std::vector<double> take_wall_impulse() = 0;
+  // call (wall_impulse.hpp: 3 per wall, the six faces then the mesh walls),
+  // kept exactly so that 1 rank and N give the same series/walls.csv.
+  virtual coupler::ExactSums take_wall_impulse() = 0;
   // Record discrete events (off by default); take_events() hands over and clears
   // this rank's record.
   virtual void record_events(bool collisions, bool bonds) {

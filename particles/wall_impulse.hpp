@@ -3,31 +3,34 @@
 // of the domain (x-, x+, y-, y+, z-, z+) and then the mesh walls in the order
 // of particles.walls. A contact force F on a particle over a step h gives the
 // wall -F h; a hard-sphere collision that changes a particle's velocity by dv
-// gives it -m dv.
+// gives it -m dv. The sums are exact (coupler::ExactSums): they do not depend
+// on the order of the contacts or on which rank holds a particle.
 #pragma once
 
 #include <cstddef>
-#include <vector>
+#include <utility>
+
+#include "coflow/reproducible_sum.hpp"
 
 namespace coflow::particles {
 
 class WallImpulse {
  public:
-  void reset(std::size_t meshes) { sum_.assign(3 * (6 + meshes), 0.0); }
+  void reset(std::size_t meshes) { sum_ = coupler::ExactSums(3 * (6 + meshes)); }
   // Face f (0-5), or mesh m as slot 6 + m.
   template <class V>
   void add(std::size_t slot, const V& impulse) {
-    for (int q = 0; q < 3; ++q) sum_[3 * slot + q] += impulse[q];
+    for (int q = 0; q < 3; ++q) sum_.add(3 * slot + q, impulse[q]);
   }
   // This rank's impulses since the last call; zeroes them.
-  std::vector<double> take() {
-    std::vector<double> out(sum_.size(), 0.0);
-    out.swap(sum_);
+  coupler::ExactSums take() {
+    coupler::ExactSums out(sum_.size());
+    std::swap(out, sum_);
     return out;
   }
 
  private:
-  std::vector<double> sum_;
+  coupler::ExactSums sum_;
 };
 
 }  // namespace coflow::particles

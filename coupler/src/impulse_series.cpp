@@ -40,6 +40,12 @@ void ImpulseSeries::add(std::vector<double> window) {
   for (std::size_t k = 0; k < sum_.size(); ++k) sum_[k] += window[k];
 }
 
+void ImpulseSeries::add(ExactSums window) {
+  if (window.size() != sum_.size()) throw std::logic_error("wall impulses for another number of walls");
+  const std::vector<double> all = window.reduce(s_.comm());
+  for (std::size_t k = 0; k < sum_.size(); ++k) sum_[k] += all[k];
+}
+
 void ImpulseSeries::row(double t) {
   const double span = t - since_;
   std::vector<double> values{t};

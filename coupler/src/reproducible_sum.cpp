@@ -1,8 +1,11 @@
 #include "coflow/reproducible_sum.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <stdexcept>
+
+#include "coflow/mpi_count.hpp"
 
 namespace coflow::coupler {
 
@@ -76,6 +79,86 @@ std::vector<double> reproducible_sums(MPI_Comm comm, std::span<const double> ter
     const double* s = &sums[per * c];
     out[c] = std::isfinite(largest[c]) ? (s[0] + s[1]) + s[2] : s[kLevels];
   }
+  return out;
+}
+
+ExactSums::ExactSums(std::size_t n) : digits_(kDigits * n, 0), special_(n, 0.0) {}
+
+void ExactSums::add(std::size_t i, double x) {
+  if (!std::isfinite(x)) {
+    special_.at(i) += x;
+    return;
+  }
+  if (x == 0.0) return;
+  // x = m 2^(p - 1074) with m < 2^53 a whole number and p >= 0.
+  int e = 0;
+  const double f = std::frexp(std::fabs(x), &e);  // |x| = f 2^e, f in [0.5, 1)
+  int p = e - 53 + 1074;
+  auto m = static_cast<std::uint64_t>(std::ldexp(f, 53));
+  if (p < 0) {  // a subnormal: its bits below 2^-1074 are zero
+    m >>= -p;
+    p = 0;
+  }
+  // m's two 32-bit halves shifted into place: each below 2^64, the low one
+  // reaching digits k and k + 1, the high one k + 1 and k + 2.
+  const int shift = p % 32;
+  const std::uint64_t low = (m & 0xffffffffu) << shift, high = (m >> 32) << shift;
+  const std::int64_t sign = x < 0 ? -1 : 1;
+  std::int64_t* d = &digits_.at(kDigits * i + static_cast<std::size_t>(p / 32));
+  d[0] += sign * static_cast<std::int64_t>(low & 0xffffffffu);
+  d[1] += sign * static_cast<std::int64_t>((low >> 32) + (high & 0xffffffffu));
+  d[2] += sign * static_cast<std::int64_t>(high >> 32);
+  if (++adds_ == (std::int64_t{1} << 28)) carry();  // each digit moves by < 2^33 an add
+}
+
+void ExactSums::carry() {
+  for (std::size_t i = 0; i < size(); ++i) {
+    std::int64_t* d = &digits_[kDigits * i];
+    for (int k = 0; k + 1 < kDigits; ++k) {
+      const std::int64_t c = d[k] >> 32;  // floor(d / 2^32)
+      d[k] -= c * (std::int64_t{1} << 32);
+      d[k + 1] += c;
+    }
+  }
+  adds_ = 0;
+}
+
+namespace {
+
+// The canonical digits (all but the top one in [0, 2^32)) of a value as a
+// double: its magnitude from the top digit down, then its sign. The same
+// digits give the same bits; the error is a few units in the last place.
+double to_double(std::int64_t* d, int n) {
+  const bool negative = d[n - 1] < 0;
+  if (negative) {  // the digits of -value, canonical again
+    for (int k = 0; k < n; ++k) d[k] = -d[k];
+    for (int k = 0; k + 1 < n; ++k) {
+      const std::int64_t c = d[k] >> 32;
+      d[k] -= c * (std::int64_t{1} << 32);
+      d[k + 1] += c;
+    }
+  }
+  double r = 0.0;
+  for (int k = n - 1; k >= 0; --k)
+    if (d[k] != 0) r += std::ldexp(static_cast<double>(d[k]), 32 * k - 1074);
+  return negative ? -r : r;
+}
+
+}  // namespace
+
+std::vector<double> ExactSums::reduce(MPI_Comm comm) {
+  carry();
+  MPI_Allreduce(MPI_IN_PLACE, digits_.data(), mpi_count(digits_.size(), "exact sums"), MPI_INT64_T, MPI_SUM,
+                comm);
+  MPI_Allreduce(MPI_IN_PLACE, special_.data(), mpi_count(special_.size(), "exact sums"), MPI_DOUBLE, MPI_SUM,
+                comm);
+  carry();
+  std::vector<double> out(size());
+  for (std::size_t i = 0; i < size(); ++i)
+    out[i] = special_[i] != 0.0 || std::isnan(special_[i]) ? special_[i]
+                                                           : to_double(&digits_[kDigits * i], kDigits);
+  std::fill(digits_.begin(), digits_.end(), 0);
+  std::fill(special_.begin(), special_.end(), 0.0);
   return out;
 }
 

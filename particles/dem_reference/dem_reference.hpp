@@ -26,7 +26,7 @@ class DemReference final : public ParticleSolver {
   ParticleStats stats() override;
   void record_events(bool collisions, bool bonds) override { events_.enable(collisions, bonds); }
   ParticleEvents take_events() override { return events_.take(); }
-  std::vector<double> take_wall_impulse() override { return wall_impulse_.take(); }
+  coupler::ExactSums take_wall_impulse() override { return wall_impulse_.take(); }
   void save(const std::string& dir) override;
   void load(const std::string& dir, long steps, double time) override;
 

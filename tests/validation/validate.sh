@@ -57,6 +57,22 @@ sets() {  # "a=1 b=2" -> --set a=1 --set b=2
   local kv; for kv in $1; do printf -- '--set\n%s\n' "$kv"; done
 }
 check() { "$bin/coflow-check" "$@" || { echo "FAIL: coflow-check $*"; exit 1; }; }
+# series_difference NAME: series/NAME.csv of runs a and b, when both write it
+# with more than a time column: prints series_NAME_difference, the largest
+# difference of a value relative to the larger of the two (0 when both are 0),
+# or "nan" (fails a reference row) for a NaN or another row count.
+series_difference() {
+  local fa="$out/a/series/$1.csv" fb="$out/b/series/$1.csv"
+  [ -f "$fa" ] && [ -f "$fb" ] && [ "$(head -n 1 "$fa" | tr -cd , | wc -c)" -gt 0 ] || return 0
+  awk -F, -v name="$1" 'FNR <= 2 { next } FNR == NR { a[FNR] = $0; na = FNR; next }
+    { nb = FNR; split(a[FNR], x, ","); for (i = 1; i <= NF; ++i) {
+        if (x[i] ~ /[nN][aA][nN]|[iI][nN][fF]/ || $i ~ /[nN][aA][nN]|[iI][nN][fF]/) { bad = 1; continue }
+        d = x[i] - $i; d = d < 0 ? -d : d; m = x[i] < 0 ? -x[i] : x[i]; n = $i < 0 ? -$i : $i
+        if (n > m) m = n
+        if (m > 0 && d / m > worst) worst = d / m } }
+    END { if (bad || na != nb) printf "series_%s_difference=nan\n", name
+          else printf "series_%s_difference=%.3e\n", name, worst + 0 }' "$fa" "$fb" | tee -a "$metrics"
+}
 
 # MODE+MODE...: one run of CONFIG, checked by each single-run mode in turn
 # (the same run read by two checks is not run twice).
@@ -101,20 +117,7 @@ case "$mode" in
       grep -q "spaced population layout" "$out/b/logs/fluid.log" && sb=1 || sb=0
       printf 'layout_a_packed=%s\nlayout_b_spaced=%s\n' "$pa" "$sb" | tee -a "$metrics"
     fi
-    # series/particles.csv, when both runs write it: the largest difference
-    # of a value relative to the larger of the two (0 when both are 0);
-    # "nan" (not a number: fails a reference row) for a NaN or another row count.
-    if [ -f "$out/a/series/particles.csv" ] && [ -f "$out/b/series/particles.csv" ]; then
-      awk -F, 'FNR <= 2 { next } FNR == NR { a[FNR] = $0; na = FNR; next }
-        { nb = FNR; split(a[FNR], x, ","); for (i = 1; i <= NF; ++i) {
-            if (x[i] ~ /[nN][aA][nN]|[iI][nN][fF]/ || $i ~ /[nN][aA][nN]|[iI][nN][fF]/) { bad = 1; continue }
-            d = x[i] - $i; d = d < 0 ? -d : d; m = x[i] < 0 ? -x[i] : x[i]; n = $i < 0 ? -$i : $i
-            if (n > m) m = n
-            if (m > 0 && d / m > worst) worst = d / m } }
-        END { if (bad || na != nb) print "series_particles_difference=nan"
-              else printf "series_particles_difference=%.3e\n", worst + 0 }' \
-        "$out/a/series/particles.csv" "$out/b/series/particles.csv" | tee -a "$metrics"
-    fi
+    series_difference particles; series_difference walls
     # Event logs, when written, must be the same line for line.
     for f in events/collisions.csv events/bonds.csv events/impacts.csv; do
       if [ -f "$out/a/$f" ] || [ -f "$out/b/$f" ]; then

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "coflow/output.hpp"
+#include "coflow/reproducible_sum.hpp"
 #include "coflow/session.hpp"
 
 namespace coflow::coupler {
@@ -23,8 +24,10 @@ class ImpulseSeries {
   ImpulseSeries(Session& s, const std::string& file, std::vector<std::string> names, std::vector<std::size_t> slots,
                 std::size_t slot_count, long w0);
   bool empty() const { return names_.empty(); }
-  // Every window (collective): this rank's impulses of the window, N s.
+  // Every window (collective): this rank's impulses of the window, N s;
+  // exact sums give the same bits for any number of ranks.
   void add(std::vector<double> window);
+  void add(ExactSums window);
   // A series row at time t: the mean forces since the previous row.
   void row(double t);
   // Into this component's part of a checkpoint (component rank 0).

@@ -12,6 +12,8 @@
 
 #include <mpi.h>
 
+#include <cstddef>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -22,5 +24,31 @@ namespace coflow::coupler {
 // column with a NaN, an infinity or a term beyond 2^960 anywhere gives the
 // plain sum.
 std::vector<double> reproducible_sums(MPI_Comm comm, std::span<const double> terms, int width);
+
+// Running sums kept exactly, for terms that arrive one at a time over a
+// window (a wall's impulses, contact by contact and step by step): each value
+// is an integer multiple of 2^-1074, the smallest double, held as 68 signed
+// 32-bit digits in int64 words, so that adding a double is exact and the sum
+// does not depend on the order of the terms or on how they are split among
+// the ranks. The reduction adds the ranks' digits as integers (exact), brings
+// the digits to the one canonical form of the integer and rounds that to a
+// double the same way on every rank: 1 rank gives the same bits as N. A NaN
+// or an infinity among the terms gives the plain sum of those terms.
+class ExactSums {
+ public:
+  explicit ExactSums(std::size_t n = 0);
+  std::size_t size() const { return special_.size(); }
+  void add(std::size_t i, double x);
+  // Collective over comm: the sums of every rank's terms, rounded to
+  // doubles, the same bits on every rank. Zeroes these sums.
+  std::vector<double> reduce(MPI_Comm comm);
+  static constexpr int kDigits = 68;  // 2^-1074 to past 2^1100 in 32-bit digits
+
+ private:
+  void carry();                       // each digit but the top one into [0, 2^32)
+  std::vector<std::int64_t> digits_;  // value i: digits_[kDigits i + k] 2^(32 k - 1074)
+  std::vector<double> special_;       // the plain sum of the non-finite terms
+  std::int64_t adds_ = 0;             // since the last carry
+};
 
 }  // namespace coflow::coupler

@@ -130,6 +130,7 @@ class LbmSolver final : public FluidSolver {
   std::unique_ptr<ibm::DirectForcing> ibm_;
   std::array<std::vector<double>, 3> ibm_u_;
   std::vector<double> ibm_at_, ibm_rho_, ibm_force_;
+  std::vector<double> ibm_density_;  // the touched cells' rho (standard formulation; else empty)
 };
 
 }  // namespace coflow::fluid

@@ -4,7 +4,8 @@
 // velocity u0 = (j + F/2) / rho of the pulled populations (F the body force
 // and source) at the cells the markers' kernels reach to u, and the cell
 // takes the force 2 rho (u - u0) in its collision (Guo: the seed's eq. 4.11
-// with alpha2 / dt = 2).
+// with alpha2 / dt = 2); the standard formulation's loads take the density
+// at the markers.
 #include <cmath>
 
 #include "fluid/lbm_reference/lbm_reference.hpp"
@@ -23,6 +24,7 @@ void LbmReference::set_markers(ibm::MarkerSet markers) {
     ibm_ = immersed::collocated_forcing(*cfg_, index, s_.units.velocity(), comm_);
     for (auto& a : ibm_u_) a.assign(static_cast<std::size_t>(nx * ny * nz), 0.0);
     ibm_force_.assign(static_cast<std::size_t>(3 * nx * ny * nz), 0.0);
+    if (!s_.incompressible) ibm_density_.assign(static_cast<std::size_t>(nx * ny * nz), 1.0);
   }
   ibm_->set_markers(std::move(markers));
 }
@@ -44,9 +46,11 @@ void LbmReference::force_immersed(const std::function<double(long, int)>& pop) {
     fluid_velocity(f.data(), F, r, u);
     rho[m] = s_.incompressible ? 1.0 : r;
     for (std::size_t d = 0; d < 3; ++d) u0[3 * m + d] = u[d], ibm_u_[d][static_cast<std::size_t>(c)] = u[d];
+    if (!ibm_density_.empty()) ibm_density_[static_cast<std::size_t>(c)] = rho[m];
   }
   ibm_->apply({ibm_u_[0].data(), ibm_u_[1].data(), ibm_u_[2].data()}, t, std::sqrt(max_u2_),
-              2.0 * s_.units.force_density(), s_.units.dt);
+              2.0 * s_.units.force_density(), s_.units.dt,
+              ibm_density_.empty() ? nullptr : ibm_density_.data());
   std::fill(ibm_force_.begin(), ibm_force_.end(), 0.0);
   for (std::size_t m = 0; m < cells.size(); ++m)
     for (std::size_t d = 0; d < 3; ++d) {

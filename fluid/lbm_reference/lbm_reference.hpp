@@ -124,6 +124,7 @@ class LbmReference final : public FluidSolver {
   // velocity per cell, the force per cell (lattice units; empty: no bodies).
   std::unique_ptr<ibm::DirectForcing> ibm_;
   std::array<std::vector<double>, 3> ibm_u_;
+  std::vector<double> ibm_density_;  // the touched cells' rho (standard formulation; else empty)
   std::vector<double> ibm_force_;
   double max_u2_ = 0.0, step_u2_ = 0.0;  // largest u^2 of the last step's collisions; of this one's so far
 };

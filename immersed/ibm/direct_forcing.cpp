@@ -176,8 +176,8 @@ void DirectForcing::spread(const std::array<double*, 3>& u, const std::vector<do
   }
 }
 
-DirectForcing::Result DirectForcing::apply(const std::array<double*, 3>& u, double t, double scale, double factor,
-                                           double dt) {
+DirectForcing::Result DirectForcing::apply(const std::array<double*, 3>& u, double t, double scale,
+                                           double factor, double dt, const double* density) {
   Result r;
   if (set_.markers.empty()) return r;
   place(t);
@@ -189,7 +189,7 @@ DirectForcing::Result DirectForcing::apply(const std::array<double*, 3>& u, doub
   if (!(scale > 0)) scale = 1.0;
   std::vector<double> total(3 * x_.size(), 0.0);
   r = p_.conjugate_gradients ? solve_cg(u, scale, total) : iterate_mdf(u, scale, total);
-  add_loads(total, factor, dt);
+  add_loads(total, factor, dt, density);
   worst_.iterations = std::max(worst_.iterations, r.iterations);
   worst_.slip = std::max(worst_.slip, r.slip);
   return r;
@@ -253,7 +253,9 @@ DirectForcing::Result DirectForcing::solve_cg(const std::array<double*, 3>& u, d
     for (std::size_t k = 0; k < n; ++k) x[k] = p[k] / root[k];
     apply_operator(x, q);
     for (std::size_t k = 0; k < n; ++k) q[k] *= root[k];
-    const double alpha = rr / dot(p, q);
+    const double pq = dot(p, q);
+    if (!(pq > 0)) break;  // p in K's null space (markers sharing a stencil): no further descent
+    const double alpha = rr / pq;
     for (std::size_t k = 0; k < n; ++k) y[k] += alpha * p[k], res[k] -= alpha * q[k];
     const double next = dot(res, res);
     for (std::size_t k = 0; k < n; ++k) p[k] = res[k] + next / rr * p[k];
@@ -282,9 +284,17 @@ void DirectForcing::apply_operator(const std::vector<double>& x, std::vector<dou
 }
 
 // The force on the fluid is factor sum_m dU_m Delta V_m (eq. 4.10 summed over
-// the grid: the kernel sums to one); the body takes its opposite.
-void DirectForcing::add_loads(const std::vector<double>& total, double factor, double dt) {
+// the grid: the kernel sums to one), or with a density rho_x at the points
+// factor sum_m dU_m Delta V_m sum_x D_h(x - X_m) rho_x (the interpolated
+// density); the body takes its opposite.
+void DirectForcing::add_loads(const std::vector<double>& total, double factor, double dt,
+                              const double* density) {
   const double dv = grid_.geometry.cell_volume();
+  std::vector<double> rho(total.size(), 1.0);
+  if (density) {
+    auto* d = const_cast<double*>(density);  // interpolate reads it only
+    interpolate({d, d, d}, rho);
+  }
   const double shift = placed_at_ - set_.time;
   for (std::size_t m = 0; m < x_.size(); ++m) {
     const Marker& mk = set_.markers[m];
@@ -292,7 +302,8 @@ void DirectForcing::add_loads(const std::vector<double>& total, double factor, d
     const BodyFrame& f = set_.bodies[b];
     Vec force, arm;
     for (int d = 0; d < 3; ++d) {
-      force[d] = -factor * total[3 * m + static_cast<std::size_t>(d)] * mk.volume_ratio * dv;
+      const std::size_t k = 3 * m + static_cast<std::size_t>(d);
+      force[d] = -factor * total[k] * rho[k] * mk.volume_ratio * dv;
       arm[d] = x_[m][d] - (f.centre[d] + (f.velocity[d] + 0.5 * f.acceleration[d] * shift) * shift);
     }
     double* l = &loads_[6 * b];

@@ -78,7 +78,14 @@ class DirectForcing {
   // `scale` is the flow's velocity scale for the tolerance; the load on the bodies is
   // accumulated as -factor sum_m dU_m Delta V_m over `dt` (factor: the
   // fluid's alpha2 rho / dt, so that factor dU is the force density of eq. 4.8).
-  Result apply(const std::array<double*, 3>& u, double t, double scale, double factor, double dt);
+  // `density`, where the fluid's density varies (lbm's standard formulation:
+  // a cell takes the force factor rho dU), is the density relative to the
+  // one in `factor` at the grid's points, stored where every component is (a
+  // collocated grid); each marker's load then takes it interpolated with the
+  // marker's kernel, so that the bodies take exactly the opposite of the
+  // fluid's force. Null: a constant density.
+  Result apply(const std::array<double*, 3>& u, double t, double scale, double factor, double dt,
+               const double* density = nullptr);
   // Per body: force (N) and torque about its centre (N m) on the body, the
   // mean over the steps since the last call; then the sums restart.
   std::vector<double> take_loads();
@@ -100,7 +107,7 @@ class DirectForcing {
   void apply_operator(const std::vector<double>& x, std::vector<double>& q);
   void interpolate(const std::array<double*, 3>& u, std::vector<double>& out) const;
   void spread(const std::array<double*, 3>& u, const std::vector<double>& du) const;
-  void add_loads(const std::vector<double>& total, double factor, double dt);
+  void add_loads(const std::vector<double>& total, double factor, double dt, const double* density);
 
   Grid grid_;
   ForcingParams p_;

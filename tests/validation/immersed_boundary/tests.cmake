@@ -83,6 +83,9 @@ coflow_validation(ibm_lbm_ranks_1_vs_2_moving compare ibm_cylinder_translating_l
 # on every axis, driven by a body force: the momentum balance with the
 # body's impulse, and 1 rank against 2 (fluid and immersed, cut through the body).
 coflow_validation(ibm_two_phase_lbm ibm_balance ibm_two_phase_lbm.yaml 1)
+# The same in lbm's standard formulation, where a cell's density varies: the
+# force a cell takes is 2 rho dU, and the body's load takes rho at its markers.
+coflow_validation(ibm_two_phase_lbm_standard ibm_balance ibm_two_phase_lbm.yaml 1 "fluid.lbm.formulation=standard")
 set(ibm_two_phase_short "run.end_time=10.0 run.output.every=10.0")
 coflow_validation(ibm_two_phase_lbm_ranks_1_vs_2 compare ibm_two_phase_lbm.yaml 2
   "fluid.ranks=1 ${ibm_two_phase_short}" "fluid.ranks=2 immersed.ranks=2 fluid.decomposition=[2,1,1] ${ibm_two_phase_short}")

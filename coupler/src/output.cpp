@@ -31,7 +31,7 @@ void atomic_write(const std::string& path, const std::string& content) {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw std::runtime_error(fmt::format("cannot write '{}'", tmp));
     out << content;
-    out.flush();
+    out.close();  // where a network file system reports its write errors
     if (!out) throw std::runtime_error(fmt::format("failed writing '{}' (disk full?)", tmp));
   }
   fs::rename(tmp, path);
@@ -178,8 +178,16 @@ std::string units_of(const std::string& name) {
                                                     {"diameter", "m"},
                                                     {"torque", "N m"},
                                                     {"hydrodynamic_force", "N"},
-                                                    {"hydrodynamic_torque", "N m"}};
-  const auto it = u.find(name);
+                                                    {"hydrodynamic_torque", "N m"},
+                                                    {"nodes", "m"},
+                                                    {"cells", "1"},
+                                                    {"level", "1"}};
+  // The adaptive grid's datasets are named per level: level<L>_<name>.
+  std::string base = name;
+  if (const auto digits = name.find_first_not_of("0123456789", 5);
+      name.starts_with("level") && digits > 5 && digits != std::string::npos && name[digits] == '_')
+    base = name.substr(digits + 1);
+  const auto it = u.find(base);
   return it == u.end() ? "" : it->second;
 }
 
@@ -354,6 +362,65 @@ std::vector<double> read_dataset(const std::string& path, const std::string& nam
   H5Sclose(sp);
   H5Dclose(ds);
   H5Fclose(f);
+  return out;
+}
+
+namespace {
+
+// An open dataset (closed with its file).
+struct OpenDataset {
+  hid_t file = -1, set = -1, space = -1;
+  OpenDataset(const std::string& path, const std::string& name) {
+    file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (file < 0) throw std::runtime_error(fmt::format("cannot open HDF5 file '{}'", path));
+    set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+    if (set < 0) {
+      H5Fclose(file);
+      throw std::runtime_error(fmt::format("'{}' has no dataset '{}'", path, name));
+    }
+    space = H5Dget_space(set);
+  }
+  ~OpenDataset() {
+    H5Sclose(space);
+    H5Dclose(set);
+    H5Fclose(file);
+  }
+  OpenDataset(const OpenDataset&) = delete;
+  OpenDataset& operator=(const OpenDataset&) = delete;
+  std::vector<hsize_t> shape() const {
+    std::vector<hsize_t> d(static_cast<std::size_t>(std::max(0, H5Sget_simple_extent_ndims(space))));
+    H5Sget_simple_extent_dims(space, d.data(), nullptr);
+    return d;
+  }
+};
+
+}  // namespace
+
+std::vector<std::size_t> dataset_shape(const std::string& path, const std::string& name) {
+  const auto d = OpenDataset(path, name).shape();
+  return {d.begin(), d.end()};
+}
+
+std::vector<double> read_block(const std::string& path, const std::string& name,
+                               const std::vector<std::size_t>& start, const std::vector<std::size_t>& count) {
+  OpenDataset ds(path, name);
+  const auto shape = ds.shape();
+  if (start.size() != shape.size() || count.size() != shape.size())
+    throw std::logic_error(fmt::format("{}: a block of '{}' with another number of axes", path, name));
+  std::size_t n = 1;
+  for (std::size_t a = 0; a < shape.size(); ++a) {
+    if (start[a] + count[a] > shape[a])
+      throw std::logic_error(fmt::format("{}: a block beyond the end of '{}'", path, name));
+    n *= count[a];
+  }
+  std::vector<double> out(n);
+  if (n == 0) return out;
+  const std::vector<hsize_t> s(start.begin(), start.end()), c(count.begin(), count.end());
+  h5check(H5Sselect_hyperslab(ds.space, H5S_SELECT_SET, s.data(), nullptr, c.data(), nullptr), "selecting");
+  const hid_t mem = H5Screate_simple(static_cast<int>(c.size()), c.data(), nullptr);
+  const herr_t read = H5Dread(ds.set, H5T_NATIVE_DOUBLE, mem, ds.space, H5P_DEFAULT, out.data());
+  H5Sclose(mem);
+  h5check(read, "reading");
   return out;
 }
 

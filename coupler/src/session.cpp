@@ -127,7 +127,9 @@ std::string Session::summary_entry() {
       tmax[2], tmax[3], tmax[4], csum[0], csum[1], csum[2]);
   entry += ", \"final\": {";
   for (std::size_t i = 0; i < finals_.size(); ++i)
-    entry += fmt::format("{}{}: {:.17g}", i ? ", " : "", output::json_quote(finals_[i].first), finals_[i].second);
+    entry += fmt::format("{}{}: {}", i ? ", " : "", output::json_quote(finals_[i].first),
+                         std::isfinite(finals_[i].second) ? fmt::format("{:.17g}", finals_[i].second)
+                                                          : std::string("null"));  // JSON has no NaN
   entry += "}}";
   log::info("finished: {} steps, wall {:.3f} s (compute {:.3f}, exchange {:.3f}, wait {:.3f}, io {:.3f})",
             csum[3] / n, tmax[0], compute, tmax[1], tmax[2], tmax[3]);

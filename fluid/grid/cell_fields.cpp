@@ -40,8 +40,7 @@ namespace {
 
 std::vector<double> load_cell_field(const std::string& path, const std::string& name, const coupler::Index3& cells,
                                     const coupler::Box& owned, int components) {
-  std::vector<std::size_t> dims;
-  const std::vector<double> all = output::read_dataset(path, name, &dims);
+  const std::vector<std::size_t> dims = output::dataset_shape(path, name);
   const bool scalar = components == 1 && dims.size() == 3;
   const bool same = (scalar || (dims.size() == 4 && dims[3] == std::size_t(components))) &&
                     dims[0] == std::size_t(cells[2]) && dims[1] == std::size_t(cells[1]) &&
@@ -50,18 +49,14 @@ std::vector<double> load_cell_field(const std::string& path, const std::string& 
     throw std::runtime_error(fmt::format("{}: '{}' is for another grid or another number of components (this run: "
                                          "{}x{}x{} cells, {} per cell): restart with the configuration that wrote it",
                                          path, name, cells[0], cells[1], cells[2], components));
-  const long C = components;
-  std::vector<double> out;
-  out.reserve(static_cast<std::size_t>(owned.volume() * C));
+  // This rank's block only ([z][y][x][component], x fastest: the order of out).
+  auto at = [&owned](int a) { return static_cast<std::size_t>(owned.lo[a]); };
+  auto n = [&owned](int a) { return static_cast<std::size_t>(owned.extent(a)); };
+  std::vector<std::size_t> start{at(2), at(1), at(0)}, count{n(2), n(1), n(0)};
+  if (!scalar) start.push_back(0), count.push_back(static_cast<std::size_t>(components));
+  const std::vector<double> out = output::read_block(path, name, start, count);
   double sum = 0.0;  // 0 x value: 0, or NaN where a value is not finite
-  for (long k = owned.lo[2]; k < owned.hi[2]; ++k)
-    for (long j = owned.lo[1]; j < owned.hi[1]; ++j)
-      for (long i = owned.lo[0]; i < owned.hi[0]; ++i)
-        for (long q = 0; q < C; ++q) {
-          const double v = all[static_cast<std::size_t>(((k * cells[1] + j) * cells[0] + i) * C + q)];
-          out.push_back(v);
-          sum += 0.0 * v;
-        }
+  for (const double v : out) sum += 0.0 * v;
   if (sum != 0.0) refuse_not_finite(path, name, owned, components, out);
   return out;
 }
@@ -72,6 +67,7 @@ void save_number(MPI_Comm comm, const std::string& path, double value) {
   if (rank == 0) {
     std::ofstream out(path);
     out << fmt::format("{:a}\n", value);
+    out.close();  // the buffered text reaches the file (or fails) here
     written = out ? 1 : 0;
   }
   MPI_Bcast(&written, 1, MPI_INT, 0, comm);

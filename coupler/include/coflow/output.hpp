@@ -98,6 +98,12 @@ std::size_t first_row(MPI_Comm comm, std::size_t rows);
 bool has_dataset(const std::string& path, const std::string& name);
 std::vector<double> read_dataset(const std::string& path, const std::string& name,
                                  std::vector<std::size_t>* dims = nullptr);
+// The shape of a dataset, and the block [start, start + count) of it (as
+// many axes as the dataset has; row-major, the last axis fastest): a rank
+// reads the part of a grid it owns, not the whole grid.
+std::vector<std::size_t> dataset_shape(const std::string& path, const std::string& name);
+std::vector<double> read_block(const std::string& path, const std::string& name,
+                               const std::vector<std::size_t>& start, const std::vector<std::size_t>& count);
 double read_time(const std::string& path);
 // The "step" attribute of a file written by write_points or write_fields; -1 without one.
 long read_step(const std::string& path);

@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include "coflow/output.hpp"
@@ -58,7 +58,7 @@ LevelMesh level_mesh(const CompositeGrid& g, int level, const std::vector<Compos
 void write_xmf(const std::string& path, const std::string& h5, int dims, double time,
                const std::vector<unsigned long long>& counts, const std::vector<CompositeField>& fields) {
   const int corners = dims == 3 ? 8 : 4;
-  std::ofstream x(path);
+  std::ostringstream x;
   x << "<?xml version=\"1.0\"?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
     << "<Grid Name=\"fluid (adaptive)\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
     << fmt::format("<Time Value=\"{:.17g}\"/>\n", time);
@@ -83,6 +83,7 @@ void write_xmf(const std::string& path, const std::string& h5, int dims, double 
       << item(p + "level", counts[l], 1, false) << "</Attribute>\n</Grid>\n";
   }
   x << "</Grid>\n</Domain>\n</Xdmf>\n";
+  output::atomic_write(path, x.str());  // whole or not at all, its errors checked
 }
 
 }  // namespace

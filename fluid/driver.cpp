@@ -83,6 +83,10 @@ class FluidWindows final : public coupler::WindowParts {
                                                   {"max_velocity", "m/s"},  {"max_mach", "1"}};
       const auto extra = solver_->series_columns();
       columns.insert(columns.end(), extra.begin(), extra.end());
+      const FluidParams params = read_params(cfg_);
+      if (params.turbulence.on && params.turbulence.wall == "two-layer")
+        for (std::size_t k = 0; k < extra.size(); ++k)
+          if (extra[k].name == "y_plus_max") y_plus_column_ = static_cast<long>(k);
       series_ = output::Series(s_.output_dir() + "/series/fluid.csv", columns, w0 > 0);
     }
     if (s_.rank() == 0 && !probes_.empty()) {
@@ -137,6 +141,7 @@ class FluidWindows final : public coupler::WindowParts {
  private:
   void open_exchanges();
   std::unique_ptr<coupler::ImpulseSeries> wall_series(long w0);
+  void warn_coarse_wall_cells(const Diagnostics& d, double time);
   void receive_solids();
   void send_solid_force();
   void send_flow();
@@ -152,6 +157,8 @@ class FluidWindows final : public coupler::WindowParts {
   std::vector<double> markers_;  // ibm: the last marker message
   bool markers_last_ = false;    // ibm: the markers hold to the end (fixed bodies)
   output::Series series_;
+  long y_plus_column_ = -1;  // two-layer k-epsilon: y_plus_max among the series' extra columns
+  bool y_plus_warned_ = false;
   Probes probes_;
   output::Series probes_series_;
   std::unique_ptr<coupler::ImpulseSeries> walls_;  // the fluid's force on its wall faces
@@ -169,6 +176,7 @@ void FluidWindows::output(long w) {
   if (s_.series_due(w)) {
     const Diagnostics d = solver_->diagnostics();
     if (s_.rank() == 0) write_series(series_, time, d);
+    if (s_.rank() == 0) warn_coarse_wall_cells(d, time);
     s_.set_final("fluid.mass", d.mass);
     s_.set_final("fluid.momentum_x", d.momentum[0]);
     s_.set_final("fluid.momentum_y", d.momentum[1]);
@@ -193,6 +201,24 @@ void FluidWindows::output(long w) {
     for (const auto& f : fields) names.push_back(f.name);
     s_.snapshot_written(w, 0, names);
   }
+}
+
+// The two-layer model resolves the viscous sublayer with its one-equation
+// layer (seed 003 §3.1.2.1: the first cells at y+ of about 1); with the
+// cells next to a wall beyond the sublayer (y+ > 5, Pope 2000 §7.1.4) the
+// wall's shear and the near-wall epsilon are not resolved. Warned once
+// (rank 0), at the first series row after the start that shows it.
+void FluidWindows::warn_coarse_wall_cells(const Diagnostics& d, double time) {
+  if (y_plus_column_ < 0 || y_plus_warned_ || !(time > 0)) return;  // not the initial state's shear
+  const double y_plus = d.extra.at(static_cast<std::size_t>(y_plus_column_));
+  if (!(y_plus > 5.0)) return;
+  y_plus_warned_ = true;
+  log::warn(
+      "fluid: the cells next to a wall reach y+ = {:.3g} at t = {:.6g} s; fluid.turbulence.wall: two-layer "
+      "resolves the viscous sublayer (y+ < 5) and wants the first cells at y+ of about 1 (seed 003 "
+      "§3.1.2.1): refine the grid near the walls, or take wall: log-law (first cells at y+ 30 to 100) "
+      "(warned once; series/fluid.csv's y_plus_max follows it)",
+      y_plus, time);
 }
 
 // series/fluid_walls.csv: the faces that are walls for the fluid.

@@ -271,7 +271,7 @@ void FluidParams::visit(config::Visitor& v, const config::Config& cfg) {
       &two_phase.on);
   v.section(
       "turbulence",
-      "fv: the Reynolds-averaged closure, k-epsilon with the two-layer wall model (seed 003 §3.1.1) or wall "
+      "fv: the Reynolds-averaged closure, k-epsilon with the two-layer wall model (seed 003 §3.1.2) or wall "
       "functions; omit for laminar flow",
       [&](config::Visitor& s) {
         if (!s.reading() || turbulence.on) turbulence.visit(s);

@@ -105,9 +105,11 @@ struct FluidParams {
   // A face with a turbulence intensity I and a mixing length L takes them
   // from the inlet's local speed |u| instead (its k and epsilon here are 0):
   // k = 3/2 (I |u|)^2 (isotropic fluctuations of r.m.s. I |u| per component)
-  // and epsilon = C_mu^(3/4) k^(3/2) / L (the mixing-length scale of eqs.
-  // 3.17 and 3.21 with l = L), as OpenFOAM's turbulentIntensityKinetic-
-  // EnergyInlet and turbulentMixingLengthDissipationRateInlet.
+  // and epsilon = C_mu^(3/4) k^(3/2) / L (L a mixing length in Prandtl's
+  // sense: with eq. 3.17 it gives nu_t = C_mu^(1/4) k^(1/2) L; not eq. 3.21's
+  // l_mu, which would give epsilon = k^(3/2) / L), as OpenFOAM's
+  // turbulentIntensityKineticEnergyInlet and
+  // turbulentMixingLengthDissipationRateInlet.
   // A face with a turbulence_file takes them from its tables at the point's
   // coordinate along their axis.
   struct FaceTurbulence {

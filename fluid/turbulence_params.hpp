@@ -1,4 +1,4 @@
-// fluid.turbulence: the URANS closure of the fv fluid (seed 003 §3.1.1): the
+// fluid.turbulence: the URANS closure of the fv fluid (seed 003 §3.1.2, the wall layer §3.1.2.1): the
 // standard k-epsilon model (eqs. 3.13-3.17, Launder & Sharma 1974 constants)
 // with the two-layer near-wall model (eqs. 3.18-3.25). Part of the fluid
 // schema library; the model itself is fluid/fv/turbulence/.
@@ -92,7 +92,7 @@ struct TurbulenceParams {
       "C_mu^1/4 k^1/2 y / nu; the first cell centres at y+ of 30 to 100) or none (a box without walls)",
       config::one_of({"two-layer", "log-law", "none"}));
     v.section(
-        "constants", "model constants (Launder & Sharma 1974; seed 003 §3.1.1)", [&](config::Visitor& s) {
+        "constants", "model constants (Launder & Sharma 1974; seed 003 §3.1.2)", [&](config::Visitor& s) {
           constants.visit(s);
           if (s.reading() && wall == "log-law" && !std::isfinite(constants.log_law_y_lam()))
             s.fail("log_E",

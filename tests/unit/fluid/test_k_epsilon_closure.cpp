@@ -13,6 +13,24 @@
 
 using coflow::fluid::fv::Closure;
 
+TEST_CASE("the default constants are the seed's (seed 003 §3.1.2, text after eqs. 3.14 and 3.22)",
+          "[fv][turbulence]") {
+  // Launder & Sharma 1974 as the seed quotes them: sigma_k 1.0, sigma_epsilon
+  // 1.3, C_epsilon1 1.44, C_epsilon2 1.92, C_mu 0.09; C_l = 0.4187 C_mu^-3/4,
+  // A_mu = 70, A_epsilon = 2 C_l; Re_y* = 200.
+  const coflow::fluid::TurbulenceConstants c;
+  CHECK(c.sigma_k == 1.0);
+  CHECK(c.sigma_epsilon == 1.3);
+  CHECK(c.C_epsilon1 == 1.44);
+  CHECK(c.C_epsilon2 == 1.92);
+  CHECK(c.C_mu == 0.09);
+  CHECK(c.A_mu == 70.0);
+  CHECK(c.Re_y_star == 200.0);
+  CHECK(c.C_l() == Approx(0.4187 * std::pow(0.09, -0.75)).epsilon(1e-15));
+  CHECK(c.C_l() == Approx(2.5481).epsilon(1e-4));  // 0.4187 / 0.16432
+  CHECK(c.A_epsilon() == Approx(2.0 * c.C_l()).epsilon(1e-15));
+}
+
 TEST_CASE("two-layer blending: one half at Re_y*, 0.01 and 0.99 at 0.8 and 1.2 Re_y* (eq. 3.25)", "[fv][turbulence]") {
   const Closure cl{{}, 1e-5, true};
   const double star = cl.c.Re_y_star;

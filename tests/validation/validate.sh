@@ -231,6 +231,8 @@ case "$mode" in
       run "$out/alpha-$a" --set particles.contact.local_damping="$a"
       e=$(check impact "$out/alpha-$a" | sed -n 's/^restitution=//p') || exit 1
       echo "restitution_alpha_$a=$e" | tee -a "$metrics"; list="$list $a:$e"
+      # awk compares a non-number ("nan") as a string: only numbers count.
+      [[ "$e" =~ ^[0-9.]+([eE][-+]?[0-9]+)?$ ]] || mono=0
       if [ -n "$prev" ] && ! awk -v p="$prev" -v e="$e" 'BEGIN { exit !(e < p) }'; then mono=0; fi
       prev=$e
     done

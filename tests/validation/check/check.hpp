@@ -5,18 +5,20 @@
 // resolved config.yaml, its series and its snapshots.
 #pragma once
 
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <algorithm>
 #include <fstream>
+#include <initializer_list>
+#include <limits>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
-#include <yaml-cpp/yaml.h>
 
 #include "coflow/catalog.hpp"
 #include "coflow/output.hpp"
@@ -25,6 +27,18 @@
 #include "fluid/fluid_solver.hpp"
 
 namespace coflow::check {
+
+// The larger of two numbers, NaN if either is NaN: an error measure that
+// meets a NaN stays NaN (std::max(x, NaN) gives x, which would let a run
+// with NaN results pass), and a NaN printed fails every reference row.
+inline double nan_max(double a, double b) {
+  return (a != a || b != b) ? std::nan("") : std::max(a, b);
+}
+inline double nan_max(std::initializer_list<double> v) {
+  double m = -std::numeric_limits<double>::infinity();
+  for (const double x : v) m = nan_max(m, x);
+  return m;
+}
 
 inline config::Config load(const std::string& dir) { return config::parse_config(dir + "/config.yaml", catalog()); }
 
@@ -87,12 +101,15 @@ class LastRow {
 // Kolmogorov-Smirnov distance between the sample x and the distribution cdf.
 template <class Cdf>
 double ks_distance(std::vector<double> x, Cdf cdf) {
+  if (x.empty()) return std::nan("");  // no sample, no distance: fails any bound
+  for (const double v : x)
+    if (v != v) return std::nan("");
   std::sort(x.begin(), x.end());
   double d = 0.0;
   const double k = static_cast<double>(x.size());
   for (std::size_t i = 0; i < x.size(); ++i) {
     const double F = cdf(x[i]);
-    d = std::max({d, std::abs(F - i / k), std::abs(F - (i + 1) / k)});
+    d = nan_max({d, std::abs(F - i / k), std::abs(F - (i + 1) / k)});
   }
   return d;
 }

@@ -11,8 +11,8 @@ std::pair<double, double> largest_difference(const std::vector<double>& a, const
   for (std::size_t i = 0; i < a.size(); ++i) {
     if (!std::isfinite(a[i]) || !std::isfinite(b[i]))
       throw std::runtime_error(fmt::format("{}: value {} is not finite ({} against {})", what, i, a[i], b[i]));
-    diff = std::max(diff, std::abs(a[i] - b[i]));
-    scale = std::max(scale, std::abs(a[i]));
+    diff = nan_max(diff, std::abs(a[i] - b[i]));
+    scale = nan_max(scale, std::abs(a[i]));
   }
   return {diff, scale};
 }

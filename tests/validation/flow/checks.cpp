@@ -26,8 +26,8 @@ double odd_even(const std::vector<double>& u, long nx, long ny, long nz) {
     for (long j = 0; j < ny; ++j)
       for (long i = 0; i < nx; ++i) {
         const auto at = [&](long ii) { return u[((k * ny + j) * nx + ii) * 3]; };
-        peak = std::max(peak, std::abs(at(i)));
-        if (i > 0 && i + 1 < nx) worst = std::max(worst, std::abs(at(i) - 0.5 * (at(i - 1) + at(i + 1))));
+        peak = nan_max(peak, std::abs(at(i)));
+        if (i > 0 && i + 1 < nx) worst = nan_max(worst, std::abs(at(i) - 0.5 * (at(i - 1) + at(i + 1))));
       }
   return peak > 0.0 ? worst / peak : 0.0;
 }
@@ -292,7 +292,7 @@ int ramp(const std::string& dir) {
   const double expected = b.value.values[0] * std::min(1.0, t / b.ramp);
   double worst = 0.0;
   for (long k = 0; k < nz; ++k)
-    for (long j = 0; j < ny; ++j) worst = std::max(worst, std::abs(p[(k * ny + j) * nx] - expected));
+    for (long j = 0; j < ny; ++j) worst = nan_max(worst, std::abs(p[(k * ny + j) * nx] - expected));
   std::printf("time=%.6g\ninlet_expected=%.9e\nramp_error=%.6e\n", t, expected, worst / b.value.values[0]);
   return 0;
 }
@@ -300,7 +300,7 @@ int ramp(const std::string& dir) {
 int mass(const std::string& dir) {
   const auto rows = read_series(dir + "/series/fluid.csv");
   double worst = 0.0;
-  for (const auto& r : rows) worst = std::max(worst, std::abs(r[1] - rows.front()[1]) / rows.front()[1]);
+  for (const auto& r : rows) worst = nan_max(worst, std::abs(r[1] - rows.front()[1]) / rows.front()[1]);
   std::printf("rows=%zu\nmass_drift=%.6e\n", rows.size(), worst);
   return 0;
 }

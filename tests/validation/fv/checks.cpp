@@ -68,11 +68,11 @@ int cavity(const std::string& dir) {
   double du = 0.0, dv = 0.0;
   for (const auto& g : kTableI) {
     const double ref = re100 ? g.re100 : g.re1000;
-    du = std::max(du, std::abs(on_line(u, nx, ny, 0, 1, g.at, 0.0, U) / U - ref));
+    du = nan_max(du, std::abs(on_line(u, nx, ny, 0, 1, g.at, 0.0, U) / U - ref));
   }
   for (const auto& g : kTableII) {
     const double ref = re100 ? g.re100 : g.re1000;
-    dv = std::max(dv, std::abs(on_line(u, nx, ny, 1, 0, g.at, 0.0, 0.0) / U - ref));
+    dv = nan_max(dv, std::abs(on_line(u, nx, ny, 1, 0, g.at, 0.0, 0.0) / U - ref));
   }
   std::printf("reynolds=%.6g\nmax_deviation_u=%.6e\nmax_deviation_v=%.6e\nmax_deviation=%.6e\n", re, du, dv,
               std::max(du, dv));
@@ -228,8 +228,8 @@ int outflow_reflection(const std::string& a, const std::string& b) {
                                     ub[static_cast<std::size_t>((j * nxb + x) * 3 + c)]) /
                            swirl;
           if (!(d == d)) throw std::runtime_error("a velocity is not a number");
-          if (x < upstream) reflection = std::max(reflection, d);
-          if (i + 1 == sa.size()) residual = std::max(residual, d);
+          if (x < upstream) reflection = nan_max(reflection, d);
+          if (i + 1 == sa.size()) residual = nan_max(residual, d);
         }
   }
   std::printf("reflection=%.4e\nresidual=%.4e\n", reflection, residual);

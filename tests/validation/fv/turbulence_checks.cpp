@@ -53,7 +53,7 @@ int ke_decay(const std::string& dir) {
   double worst = 0.0, sx = 0, sy = 0, sxx = 0, sxy = 0, m = 0;
   for (std::size_t i = 1; i < time.size(); ++i) {
     const double exact = t.initial_k * std::pow(1.0 + time[i] / (n * tau0), -n);
-    worst = std::max(worst, std::abs(k[i] / exact - 1.0));
+    worst = nan_max(worst, std::abs(k[i] / exact - 1.0));
     if (!(std::abs(k[i] / exact - 1.0) <= worst)) worst = std::numeric_limits<double>::quiet_NaN();
     if (time[i] < 0.5 * time.back()) continue;
     const double x = std::log(time[i] + n * tau0), y = std::log(k[i]);
@@ -96,11 +96,11 @@ int ke_grid(const std::string& dir) {
     const double base = 1.0 + (c2 - 1.0) * t.inlet_epsilon * x / (U * t.inlet_k);
     const double ke = t.inlet_k * std::pow(base, -n), ee = t.inlet_epsilon * std::pow(base, -n - 1.0);
     const double ek = std::abs(km / ke - 1.0), ee_rel = std::abs(em / ee - 1.0);
-    worst_k = ek <= worst_k ? worst_k : ek;  // NaN sticks
-    worst_e = ee_rel <= worst_e ? worst_e : ee_rel;
+    worst_k = nan_max(worst_k, ek);  // NaN sticks
+    worst_e = nan_max(worst_e, ee_rel);
     if (!(ek == ek)) worst_k = ek;
     if (!(ee_rel == ee_rel)) worst_e = ee_rel;
-    sl_dev = std::max(sl_dev, std::abs(km / sl.k(xi0 + i + 0.5) - 1.0));
+    sl_dev = nan_max(sl_dev, std::abs(km / sl.k(xi0 + i + 0.5) - 1.0));
   }
   std::printf("k_error=%.4e\nepsilon_error=%.4e\nsnyder_lumley_deviation=%.4e\n", worst_k, worst_e, sl_dev);
   return 0;
@@ -134,8 +134,8 @@ int ke_grid_levels(const std::string& dir) {
       const double base = 1.0 + (c2 - 1.0) * t.inlet_epsilon * x / (U * t.inlet_k);
       const double ek = std::abs(k[c] / (t.inlet_k * std::pow(base, -n)) - 1.0);
       const double ee = std::abs(eps[c] / (t.inlet_epsilon * std::pow(base, -n - 1.0)) - 1.0);
-      worst_k = ek <= worst_k ? worst_k : ek;  // NaN sticks
-      worst_e = ee <= worst_e ? worst_e : ee;
+      worst_k = nan_max(worst_k, ek);  // NaN sticks
+      worst_e = nan_max(worst_e, ee);
       if (!(ek == ek)) worst_k = ek;
       if (!(ee == ee)) worst_e = ee;
     }

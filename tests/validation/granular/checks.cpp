@@ -114,7 +114,7 @@ int impact(const std::string& dir) {
 int pour(const std::string& dir) {
   const auto rows = read_series(dir + "/series/particles.csv");
   double peak = 0;
-  for (const auto& r : rows) peak = std::max(peak, r[5]);
+  for (const auto& r : rows) peak = nan_max(peak, r[5]);
   // The settled bed's kinetic energy: the median over the last 0.2 s (a few
   // grains keep spinning and now and then jostle a neighbour; one row would
   // catch or miss such an event by chance).
@@ -132,7 +132,7 @@ int pour(const std::string& dir) {
   double rmax = 0;
   std::vector<double> zs;
   for (std::size_t i = 0; i < n; ++i) {
-    rmax = std::max(rmax, rad[i]);
+    rmax = nan_max(rmax, rad[i]);
     zs.push_back(x[3 * i + 2]);
   }
   std::sort(zs.begin(), zs.end());

@@ -14,9 +14,6 @@ namespace coflow::check {
 
 namespace {
 
-// The larger of two values, NaN when either is (std::max drops a NaN second argument).
-double nan_max(double a, double b) { return (a != a || b != b) ? std::nan("") : std::max(a, b); }
-
 // The first body: its name, diameter across y and centre (from its mesh, as
 // the run placed it), and the reference speed and dynamic pressure x area.
 struct BodyCase {
@@ -315,8 +312,8 @@ int ibm_oscillating(const std::string& dir) {
     smooth_lo = -nan_max(-smooth_lo, -f), smooth_hi = nan_max(smooth_hi, f);
     const double ref = 2 * dutsch_force(dutsch, phase);
     ref_lo = -nan_max(-ref_lo, -ref), ref_hi = nan_max(ref_hi, ref);
-    morison = std::max(morison, std::abs(-2.09 * std::abs(u) * u +
-                                         1.45 * std::numbers::pi * std::numbers::pi / kc * std::sin(phase)));
+    morison = nan_max(morison, std::abs(-2.09 * std::abs(u) * u +
+                                        1.45 * std::numbers::pi * std::numbers::pi / kc * std::sin(phase)));
   }
   const double amplitude = 0.5 * (smooth_hi - smooth_lo), reference = 0.5 * (ref_hi - ref_lo);
   // Our history against the digitised points, at their phases (a > 0 is
@@ -468,7 +465,7 @@ std::pair<double, double> radii(const stl::TriangleMesh& m, double cx, double cy
   double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
   for (const auto& v : m.vertices) {
     const double r = std::hypot(v[0] - cx, v[1] - cy);
-    lo = std::min(lo, r), hi = std::max(hi, r);
+    lo = std::min(lo, r), hi = nan_max(hi, r);
   }
   return {lo, hi};
 }

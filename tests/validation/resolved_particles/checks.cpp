@@ -41,8 +41,8 @@ int momentum(const std::string& dir) {
       dp += e * e;
       fl += (f[r][2 + d] - f[0][2 + d]) * (f[r][2 + d] - f[0][2 + d]);
     }
-    worst = std::max(worst, std::sqrt(dp) / scale);
-    moved = std::max(moved, std::sqrt(fl) / scale);
+    worst = nan_max(worst, std::sqrt(dp) / scale);
+    moved = nan_max(moved, std::sqrt(fl) / scale);
   }
   std::printf("rows=%zu\nmomentum_drift=%.6e\nmomentum_transferred=%.6e\n", f.size(), worst, moved);
   // Resolved particles of one species: the solid volume on the grid against the
@@ -52,7 +52,7 @@ int momentum(const std::string& dir) {
     const auto im = read_series(dir + "/series/immersed.csv");
     double verr = 0.0;
     for (std::size_t r = 0; r < im.size() && r + 1 < p.size(); ++r)  // immersed rows start at window 1
-      verr = std::max(verr, std::abs(im[r][7] / (p[r + 1][1] * std::numbers::pi * d * d * d / 6.0) - 1.0));
+      verr = nan_max(verr, std::abs(im[r][7] / (p[r + 1][1] * std::numbers::pi * d * d * d / 6.0) - 1.0));
     std::printf("solid_volume_error=%.6e\n", verr);
   }
   return 0;

@@ -82,7 +82,7 @@ int laplace(const std::string& dir) {
         if (r < R - 5 * dx) pin += s.pressure[c], nin += 1;
         if (r > R + 5 * dx) pout += s.pressure[c], nout += 1;
         const double* u = &s.velocity[3 * c];
-        umax = std::max(umax, std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
+        umax = nan_max(umax, std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
       }
   const double gamma = fp.two_phase.surface_tension, dp = pin / nin - pout / nout;
   const double laplace_dp = (d3 ? 2.0 : 1.0) * gamma / R;
@@ -364,7 +364,7 @@ int bridge(const std::string& dir) {
   double sum = 0.0, lo = 1e300, hi = -1e300;
   long n = 0;
   for (const auto& r : rows)
-    if (r.at(0) >= 0.75 * t_end) sum += r.at(1), lo = std::min(lo, r.at(1)), hi = std::max(hi, r.at(1)), ++n;
+    if (r.at(0) >= 0.75 * t_end) sum += r.at(1), lo = std::min(lo, r.at(1)), hi = nan_max(hi, r.at(1)), ++n;
   if (n == 0) throw std::runtime_error(dir + ": no rows in the last quarter");
   const double F = -sum / n, limit = 2.0 * std::numbers::pi * R * gamma * std::cos(theta);
   const double volume = red_volume_cells(dir);

@@ -214,6 +214,34 @@ static void check_closed_box(config::Visitor& v, const config::Config& cfg, cons
             (through % 2 == 0) == (normal_velocity(p.boundary(through, cfg), through) > 0) ? "out" : "in"));
 }
 
+// lbm's open-face closures (Zou-He, regularized) set one face's unknown
+// populations from the others at its nodes; at an edge where two velocity or
+// pressure faces meet, each face's closure reads populations that the other
+// face alone could set and that nothing sets (the ghost beyond the other
+// face), and the later face overwrites the earlier one's result. Such edges
+// are refused until a corner closure exists; an outflow face (a copy from
+// the node within) or a wall next to an open face is sound.
+static void check_lbm_open_edges(config::Visitor& v, const config::Config& cfg,
+                                 const config::ComponentInfo& info, const FluidParams& p) {
+  if (!v.reading() || info.variant.rfind("lbm", 0) != 0) return;
+  auto open = [&](int f) {
+    if (cfg.domain.cells[f / 2] == 1 || cfg.domain.periodic[f / 2]) return false;
+    const std::string type = p.boundary(f, cfg).type;
+    return type == "velocity" || type == "pressure";
+  };
+  for (int f = 0; f < 6; ++f)
+    for (int g = f + 1; g < 6; ++g)
+      if (f / 2 != g / 2 && open(f) && open(g)) {
+        v.fail(
+            "boundaries." + face_names()[g],
+            fmt::format("the {} face {} meets the {} face {} along an edge: lbm closes one open face at a "
+                        "time and cannot close the cells on both; make one of them a wall or an outflow "
+                        "face, or its axis periodic (fv takes such edges)",
+                        p.boundary(g, cfg).type, face_names()[g], p.boundary(f, cfg).type, face_names()[f]));
+        return;
+      }
+}
+
 // The key that gives a face's own inlet k and epsilon (null: none), and what it gives.
 static std::pair<const char*, const char*> inlet_turbulence_key(const BoundaryParams& b) {
   if (b.k > 0.0) return {"k", "k and epsilon"};
@@ -448,6 +476,7 @@ config::ComponentSchema schema() {
     check_open_face_blocks(v, cfg, info, p);
     check_fv_blocks(v, cfg, info);
     check_closed_box(v, cfg, info, p);
+    check_lbm_open_edges(v, cfg, info, p);
     check_turbulence(v, cfg, info, p);
     visit_variant_sections(v, cfg, info);
   };

@@ -285,8 +285,9 @@ class Core final : public LbmCore {
       const long x = idx(i, j, k);
       double f[L::Q], out[L::Q];
       for (int q = 0; q < L::Q; ++q) f[q] = pop_.next[q * lay_.stride + x - off_[q]];
-      const double uu = lbm::psm_collide<L, Incompressible>(f, s_.force.data(), collision_.omega, s_.tau,
-                                                            fraction[n], &us[3 * n], out, &gain[3 * n]);
+      const double uu =
+          lbm::psm_collide<L, Incompressible>(f, s_.force.data(), collision_.omega, collision_.omega_minus,
+                                              s_.tau, fraction[n], &us[3 * n], out, &gain[3 * n]);
       max_u2_ = lbm::nan_max(max_u2_, uu);
       for (int q = 0; q < L::Q; ++q) pop_.f[q * lay_.stride + x] = out[q];
       ++n;
@@ -309,7 +310,8 @@ class Core final : public LbmCore {
     for (int d = 0; d < 3; ++d)
       u[d] = Vec4{us[3 * n + d], us[3 * n + 3 + d], us[3 * n + 6 + d], us[3 * n + 9 + d]};
     const Vec4 uu = lbm::psm_collide_lanes<L, Incompressible, Vec4>(
-        f, s_.force.data(), collision_.omega, s_.tau, lbm::detail::get(&fraction[n]), u, out, g);
+        f, s_.force.data(), collision_.omega, collision_.omega_minus, s_.tau, lbm::detail::get(&fraction[n]),
+        u, out, g);
     for (int l = 0; l < 4; ++l) max_u2_ = lbm::nan_max(max_u2_, uu[l]);
     for (int q = 0; q < L::Q; ++q) __builtin_memcpy(&pop_.f[q * lay_.stride + x], &out[q], sizeof(Vec4));
     for (int l = 0; l < 4; ++l)

@@ -5,6 +5,10 @@
 //   f_q <- f_q - (1 - B) omega (f_q - feq_q) + (1 - B) S_q + B Omega^s_q,
 //   Omega^s_q = f_opp(q) - feq_opp(q)(rho, u) + feq_q(rho, u_s) - f_q,
 // with B of eq. 2.67 and the Guo source S_q scaled by the fluid share 1 - B.
+// With TRT (omega_minus != omega) the fluid share is the two-relaxation-time
+// collision of collision.hpp's trt_pair: each pair's even part relaxes with
+// omega, its odd part with omega_minus, the source split alike; B keeps the
+// viscous tau (eq. 2.67), as the even part does.
 // (Eq. 2.68 as printed takes the solid equilibrium of opp(q); the original
 // has feq_q(rho, u_s), which conserves momentum and is used here.)
 #pragma once
@@ -31,8 +35,9 @@ namespace coflow::fluid::lbm {
 // velocity: the same arithmetic per lane). Returns u^2 of the cell (the
 // Mach check's).
 template <class L, bool Incompressible, class T>
-[[gnu::always_inline]] inline T psm_collide_lanes(const T* f, const double* F, double omega, double tau,
-                                                  T eps, const T* us, T* out, T* gain) {
+[[gnu::always_inline]] inline T psm_collide_lanes(const T* f, const double* F, double omega,
+                                                  double omega_minus, double tau, T eps, const T* us, T* out,
+                                                  T* gain) {
   T dev = splat<T>(0.0),
     jm[3] = {dev, dev, dev};  // the density's deviation from 1 (zero-centred populations)
   // Unrolled, so that the lattice's vectors are constants, not converted ints.
@@ -49,7 +54,7 @@ template <class L, bool Incompressible, class T>
   // feq_q(u) = w_q (e0 + c45 (e.u)^2 + c3 e.u), and the solid's with e0s, u_s.
   const T e0 = dev - 1.5 * rho_m * uu, e0s = dev - 1.5 * rho_m * ss, c45 = 4.5 * rho_m, c3 = 3.0 * rho_m;
   const T fluid = (1.0 - B) * omega, share = 1.0 - B;
-  const double source = 1.0 - 0.5 * omega;
+  const double source = 1.0 - 0.5 * omega, source_minus = 1.0 - 0.5 * omega_minus;
   // The rest population: Omega^s_0 = feq_0(u_s) - feq_0(u).
   out[0] = f[0] - fluid * (f[0] - L::w[0] * e0) + share * source * L::w[0] * (-3.0 * uF) +
            B * L::w[0] * (e0s - e0);
@@ -70,10 +75,18 @@ template <class L, bool Incompressible, class T>
     const T feq_q = w * (even + odd), feq_o = w * (even - odd);
     const T fs_q = w * (even_s + odd_s), fs_o = w * (even_s - odd_s);
     const T os_q = f[o] - feq_o + fs_q - f[q], os_o = f[q] - feq_q + fs_o - f[o];
-    const T s_even = 9.0 * eu * eF - 3.0 * uF, s_q = source * w * (s_even + 3.0 * eF),
-            s_o = source * w * (s_even - 3.0 * eF);
-    out[q] = f[q] - fluid * (f[q] - feq_q) + share * s_q + B * os_q;
-    out[o] = f[o] - fluid * (f[o] - feq_o) + share * s_o + B * os_o;
+    const T s_even = 9.0 * eu * eF - 3.0 * uF;
+    if (omega_minus == omega) {  // BGK
+      const T s_q = source * w * (s_even + 3.0 * eF), s_o = source * w * (s_even - 3.0 * eF);
+      out[q] = f[q] - fluid * (f[q] - feq_q) + share * s_q + B * os_q;
+      out[o] = f[o] - fluid * (f[o] - feq_o) + share * s_o + B * os_o;
+    } else {  // TRT: the fluid share's even and odd parts
+      const T plus = 0.5 * (f[q] + f[o]) - w * even, minus = 0.5 * (f[q] - f[o]) - w * odd;
+      const T ev = share * (omega * plus - source * w * s_even);
+      const T od = share * (omega_minus * minus - source_minus * w * 3.0 * eF);
+      out[q] = f[q] - ev - od + B * os_q;
+      out[o] = f[o] - ev + od + B * os_o;
+    }
     for (int d = 0; d < 3; ++d) g[d] += B * (os_q - os_o) * L::e[q][d];
   }
   // The solid takes the body force's share B of the cell, which the fluid's
@@ -83,9 +96,9 @@ template <class L, bool Incompressible, class T>
 }
 
 template <class L, bool Incompressible>
-inline double psm_collide(const double* f, const double* F, double omega, double tau, double eps,
-                          const double* us, double* out, double* gain) {
-  return psm_collide_lanes<L, Incompressible, double>(f, F, omega, tau, eps, us, out, gain);
+inline double psm_collide(const double* f, const double* F, double omega, double omega_minus, double tau,
+                          double eps, const double* us, double* out, double* gain) {
+  return psm_collide_lanes<L, Incompressible, double>(f, F, omega, omega_minus, tau, eps, us, out, gain);
 }
 
 // A partially saturated cell in two fluids (coflow's extension of eq. 2.66;

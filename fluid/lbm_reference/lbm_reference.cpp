@@ -115,7 +115,8 @@ void LbmReference::collide(double* f, const double* F, double tau) const {
 void LbmReference::collide_psm(double* f, const double* F, Solid& s) const {
   double rho, u[3];
   fluid_velocity(f, F, rho, u);
-  const double tau = s_.tau, omega = 1.0 / tau;
+  const double tau = s_.tau;
+  const double tau_minus = s_.trt ? 0.5 + s_.magic / (tau - 0.5) : tau;  // TRT: odd parts (collide())
   const double B = s.fraction * (tau - 0.5) / ((1.0 - s.fraction) + (tau - 0.5));  // eq. 2.67
   std::vector<double> feq(Q_), feq_s(Q_), out(Q_);
   for (int q = 0; q < Q_; ++q) {
@@ -131,8 +132,17 @@ void LbmReference::collide_psm(double* f, const double* F, Solid& s) const {
       eF += e_[q][d] * F[d];
       uF += u[d] * F[d];
     }
-    const double S = (1.0 - 0.5 * omega) * w_[q] * (3.0 * (eF - uF) + 9.0 * eu * eF);
-    out[q] = f[q] - (1.0 - B) * omega * (f[q] - feq[q]) + (1.0 - B) * S + B * omega_s;  // eq. 2.66
+    if (!s_.trt) {  // BGK
+      const double omega = 1.0 / tau;
+      const double S = (1.0 - 0.5 * omega) * w_[q] * (3.0 * (eF - uF) + 9.0 * eu * eF);
+      out[q] = f[q] - (1.0 - B) * omega * (f[q] - feq[q]) + (1.0 - B) * S + B * omega_s;  // eq. 2.66
+    } else {  // TRT: the fluid's even and odd parts apart, as collide() has them
+      const double even = 0.5 * (f[q] + f[o]) - 0.5 * (feq[q] + feq[o]);
+      const double odd = 0.5 * (f[q] - f[o]) - 0.5 * (feq[q] - feq[o]);
+      const double S =
+          (1.0 - 0.5 / tau) * w_[q] * (9.0 * eu * eF - 3.0 * uF) + (1.0 - 0.5 / tau_minus) * w_[q] * 3.0 * eF;
+      out[q] = f[q] + (1.0 - B) * (-even / tau - odd / tau_minus + S) + B * omega_s;  // eq. 2.66
+    }
     for (int d = 0; d < 3; ++d) s.gain[d] += B * omega_s * e_[q][d];
   }
   // The solid takes the body force's share B, which the fluid's source leaves

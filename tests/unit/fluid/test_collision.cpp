@@ -1,11 +1,11 @@
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
 
 #include "coflow/memory.hpp"
 #include "fluid/lbm/collision.hpp"
+#include "fluid/lbm/psm_kernel.hpp"
 
 using namespace coflow::fluid::lbm;
 
@@ -116,4 +116,42 @@ TEST_CASE("lean BGK line kernel equals the one-cell collision without force", "[
   lean_matches_one_cell<D3Q19, true, true>(0.8);
   lean_matches_one_cell<D2Q9, false, true>(0.55);
   lean_matches_one_cell<D2Q9, true, false>(1.7);
+}
+
+namespace {
+
+// A partially saturated cell with no solid (eps = 0: B = 0) is a fluid cell:
+// psm_collide must give collide()'s populations, with BGK and with TRT (the
+// odd parts relaxing with omega_minus), a force on, both formulations. A
+// fully covered cell (eps = 1: B = 1) takes Omega^s alone, whatever the
+// fluid's relaxation.
+template <class L, bool Incompressible>
+void psm_is_the_fluid_collision_without_solid(double tau, bool trt) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const CollisionParams p = collision_params(tau, trt, 0.1875);
+  const double F[3] = {1e-3 * unit(rng), 1e-3 * unit(rng), L::D == 3 ? 1e-3 * unit(rng) : 0.0};
+  const double u[3] = {0.05 * unit(rng), 0.04 * unit(rng), L::D == 3 ? 0.03 * unit(rng) : 0.0};
+  const double us[3] = {0.01, -0.02, 0.0};
+  double f[L::Q], fluid[L::Q], out[L::Q], covered[L::Q], bgk_covered[L::Q];
+  for (int q = 0; q < L::Q; ++q)  // zero-centred, off equilibrium
+    f[q] = equilibrium<L, Incompressible>(q, 1.01, u) + 1e-3 * L::w[q] * unit(rng);
+  std::copy(f, f + L::Q, fluid);
+  collide<L, Incompressible>(fluid, p, F);
+  double gain[3] = {0, 0, 0};
+  psm_collide<L, Incompressible>(f, F, p.omega, p.omega_minus, tau, 0.0, us, out, gain);
+  for (int q = 0; q < L::Q; ++q) CHECK(std::abs(out[q] - fluid[q]) < 1e-15);
+  psm_collide<L, Incompressible>(f, F, p.omega, p.omega_minus, tau, 1.0, us, covered, gain);
+  psm_collide<L, Incompressible>(f, F, p.omega, p.omega, tau, 1.0, us, bgk_covered, gain);
+  for (int q = 0; q < L::Q; ++q) CHECK(covered[q] == bgk_covered[q]);
+}
+
+}  // namespace
+
+TEST_CASE("a partially saturated cell without solid collides as a fluid cell (BGK and TRT)", "[lbm][psm]") {
+  psm_is_the_fluid_collision_without_solid<D3Q19, false>(0.8, true);
+  psm_is_the_fluid_collision_without_solid<D3Q19, true>(0.6, true);
+  psm_is_the_fluid_collision_without_solid<D3Q19, false>(0.9, false);
+  psm_is_the_fluid_collision_without_solid<D2Q9, false>(0.55, true);
+  psm_is_the_fluid_collision_without_solid<D2Q9, true>(1.7, false);
 }

@@ -46,17 +46,31 @@ std::vector<double> my_share(const std::vector<double>& t, int rank, int size, u
   return mine;
 }
 
-}  // namespace
-
-TEST_CASE("reproducible sums: the same bits on 1 rank and on N, in any order", "[coupler][mpi]") {
+// sum(comm, terms) on the terms of all_terms(10001): all of them on this rank
+// alone in order, then dealt out to the world's ranks and shuffled, twice.
+struct Layouts {
+  std::vector<double> terms, one, split, again;
+};
+template <class Sum>
+Layouts three_layouts(Sum sum) {
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
-  const std::size_t n = 10001;
-  const std::vector<double> t = all_terms(n);
-  const auto one = reproducible_sums(MPI_COMM_SELF, t, 3);  // every term on this rank alone, in order
-  const auto split = reproducible_sums(MPI_COMM_WORLD, my_share(t, rank, size, 7), 3);
-  const auto again = reproducible_sums(MPI_COMM_WORLD, my_share(t, size - 1 - rank, size, 99), 3);
+  Layouts l;
+  l.terms = all_terms(10001);
+  l.one = sum(MPI_COMM_SELF, l.terms);
+  l.split = sum(MPI_COMM_WORLD, my_share(l.terms, rank, size, 7));
+  l.again = sum(MPI_COMM_WORLD, my_share(l.terms, size - 1 - rank, size, 99));
+  return l;
+}
+
+}  // namespace
+
+TEST_CASE("reproducible sums: the same bits on 1 rank and on N, in any order", "[coupler][mpi]") {
+  const Layouts l =
+      three_layouts([](MPI_Comm c, const std::vector<double>& t) { return reproducible_sums(c, t, 3); });
+  const auto &t = l.terms, &one = l.one, &split = l.split, &again = l.again;
+  const std::size_t n = t.size() / 3;
   std::int64_t exact = 0;  // column 1's exact sum
   for (std::size_t r = 0; r < n; ++r) exact += static_cast<std::int64_t>(t[3 * r + 1]);
   double plain[3] = {0, 0, 0};  // left to right: round-off in column 0, the 0.5s lost in column 2
@@ -104,14 +118,9 @@ std::vector<double> exact_sums(MPI_Comm comm, const std::vector<double>& terms) 
 }  // namespace
 
 TEST_CASE("exact sums: the same bits on 1 rank and on N, exact where the sum is a double", "[coupler][mpi]") {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  const std::size_t n = 10001;
-  const std::vector<double> t = all_terms(n);
-  const auto one = exact_sums(MPI_COMM_SELF, t);
-  const auto split = exact_sums(MPI_COMM_WORLD, my_share(t, rank, size, 7));
-  const auto again = exact_sums(MPI_COMM_WORLD, my_share(t, size - 1 - rank, size, 99));
+  const Layouts l = three_layouts(exact_sums);
+  const auto &t = l.terms, &one = l.one, &split = l.split, &again = l.again;
+  const std::size_t n = t.size() / 3;
   std::int64_t exact = 0;
   for (std::size_t r = 0; r < n; ++r) exact += static_cast<std::int64_t>(t[3 * r + 1]);
   const auto reproducible = reproducible_sums(MPI_COMM_SELF, t, 3);

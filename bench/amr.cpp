@@ -143,7 +143,7 @@ Result run(bool adaptive, int steps, const std::string& out_dir) {
   return r;
 }
 
-// (b) The cylinder of configs/validation/ibm_cylinder_amr.yaml (Re 40 in a
+// (b) The cylinder of configs/validation/ibm_cylinder_amr.yaml (Re 20 in a
 // 16 x 16 box, 3 levels, the finest 128^2 around the body and its wake; an
 // immersed boundary, so three executables) through the launcher, and the
 // same case on fv's uniform grid of the finest level (fluid.fv.refinement:

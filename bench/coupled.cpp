@@ -43,9 +43,10 @@ struct Split {
   double fluid_waiting = 0;  // the fluid's own (summary.json: the largest over its ranks)
 };
 
-// The launcher binary sits next to this one.
-std::string launcher(const char* argv0) {
-  return (std::filesystem::absolute(argv0).parent_path() / "coflow").string();
+// The launcher binary sits next to this one (found through /proc/self/exe:
+// argv[0] holds no directory when the bench is run from the PATH).
+std::string launcher(const char*) {
+  return (std::filesystem::canonical("/proc/self/exe").parent_path() / "coflow").string();
 }
 
 Split run(const std::string& coflow, const std::string& config, const std::string& out, double end_time,
@@ -64,19 +65,18 @@ Split run(const std::string& coflow, const std::string& config, const std::strin
     const std::string name = c.first.as<std::string>();
     const auto& v = c.second;
     const double ranks = v["ranks"].as<double>();
-    // exchange_s is the time inside exchange calls not spent waiting; wait_s the
-    // time blocked on a partner.
-    const double compute = v["wall_s"].as<double>() - v["exchange_s"].as<double>() - v["wait_s"].as<double>() -
-                           v["io_s"].as<double>();
-    const double overhead = v["exchange_s"].as<double>();
-    if (name == "fluid") r.fluid = compute, r.fluid_waiting = v["wait_s"].as<double>();  // per rank (the largest)
+    // compute_s: the busiest rank's own wall less its exchange, waiting and
+    // I/O; exchange (inside exchange calls, not waiting) and waiting (blocked
+    // on a partner) as the means over the component's ranks.
+    const double compute = v["compute_s"].as<double>();
+    if (name == "fluid") r.fluid = compute, r.fluid_waiting = v["wait_s"].as<double>();  // the largest
     if (name == "particles") r.particles = compute;
     if (name == "immersed") r.immersed = compute;
-    r.coupling += overhead * ranks;
-    r.waiting += v["wait_s"].as<double>() * ranks;
+    r.coupling += v["exchange_mean_s"].as<double>() * ranks;
+    r.waiting += v["wait_mean_s"].as<double>() * ranks;
     ranks_total += ranks;
   }
-  r.coupling /= ranks_total;  // per rank on average
+  r.coupling /= ranks_total;  // per rank on average over all ranks
   r.waiting /= ranks_total;
   return r;
 }

@@ -144,7 +144,8 @@ double mesh_speedup() {
 int main(int argc, char** argv) {
   int steps = 50;
   CLI::App app{"bench-dpm: point-particle throughput (see bench/dpm.cpp)"};
-  coflow::bench::add_steps(app, steps, "timed steps per case");
+  coflow::bench::add_steps(
+      app, steps, "timed steps of (a) and of (b)'s cell lists ((b)'s all pairs: a fifth; (c) a fixed 200)");
   coflow::bench::parse_args(app, argc, argv);
   MPI_Init(&argc, &argv);
   log::init("bench", 1);  // warnings only

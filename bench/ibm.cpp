@@ -114,7 +114,8 @@ int main(int argc, char** argv) {
     app.add_option("plate", plate_file, "the plate's STL")->check(CLI::ExistingFile)->capture_default_str();
     coflow::bench::parse_args(app, argc, argv);
     const std::string plate = std::filesystem::absolute(plate_file);
-    const std::string coflow = (std::filesystem::absolute(argv[0]).parent_path() / "coflow").string();
+    const std::string coflow =
+        (std::filesystem::canonical("/proc/self/exe").parent_path() / "coflow").string();
     std::printf("bench-ibm: the jet plate (%s) in %d^3 fv cells, 5 windows of 2 ms\n", plate.c_str(), cells);
     const Figures fixed = run(coflow, cells, plate, false), moving = run(coflow, cells, plate, true);
     for (const auto& [name, f] : {std::pair{"fixed", fixed}, std::pair{"moving", moving}})

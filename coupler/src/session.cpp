@@ -107,24 +107,30 @@ void Session::set_final(const std::string& key, double value) {
 }
 
 // This component's entry of summary.json (component rank 0; "" elsewhere):
-// the maximum of each time over its ranks, the sum of bytes, the finals.
+// the maximum of each time over its ranks (compute: the busiest rank's own
+// wall less its exchange, waiting and I/O, not a difference of maxima from
+// different ranks), the means of exchange and waiting, the sum of bytes, the
+// finals.
 std::string Session::summary_entry() {
   const Trace& t = trace();
   const double wall = now() - start_;
-  double times[5] = {wall, t.exchange_s, t.wait_s, t.io_s, t.halo_s}, tmax[5];
+  double times[6] = {wall, t.exchange_s, t.wait_s, t.io_s, t.halo_s, wall - t.exchange_s - t.wait_s - t.io_s},
+         tmax[6], mean[2] = {t.exchange_s, t.wait_s}, msum[2];
   unsigned long long counts[4] = {t.bytes_sent, t.bytes_received, t.exchanges, t.steps}, csum[4];
-  MPI_Reduce(times, tmax, 5, MPI_DOUBLE, MPI_MAX, 0, comm());
+  MPI_Reduce(times, tmax, 6, MPI_DOUBLE, MPI_MAX, 0, comm());
+  MPI_Reduce(mean, msum, 2, MPI_DOUBLE, MPI_SUM, 0, comm());
   MPI_Reduce(counts, csum, 4, MPI_UNSIGNED_LONG_LONG, MPI_SUM, 0, comm());
   if (rank() != 0) return "";
   const int n = size();
-  const double compute = std::max(0.0, tmax[0] - tmax[1] - tmax[2] - tmax[3]);
+  const double compute = std::max(0.0, tmax[5]);
   const auto& info = cfg_.has(component_) ? cfg_.component(component_) : config::ComponentInfo{};
   std::string entry = fmt::format(
       "{}: {{\"variant\": {}, \"ranks\": {}, \"steps\": {}, \"wall_s\": {:.6f}, \"compute_s\": "
       "{:.6f}, \"exchange_s\": {:.6f}, \"wait_s\": {:.6f}, \"io_s\": {:.6f}, \"halo_s\": {:.6f}, "
-      "\"bytes_sent\": {}, \"bytes_received\": {}, \"exchanges\": {}",
-      output::json_quote(component_), output::json_quote(info.variant), n, csum[3] / n, tmax[0], compute, tmax[1],
-      tmax[2], tmax[3], tmax[4], csum[0], csum[1], csum[2]);
+      "\"exchange_mean_s\": {:.6f}, \"wait_mean_s\": {:.6f}, \"bytes_sent\": {}, \"bytes_received\": {}, "
+      "\"exchanges\": {}",
+      output::json_quote(component_), output::json_quote(info.variant), n, csum[3] / n, tmax[0], compute,
+      tmax[1], tmax[2], tmax[3], tmax[4], msum[0] / n, msum[1] / n, csum[0], csum[1], csum[2]);
   entry += ", \"final\": {";
   for (std::size_t i = 0; i < finals_.size(); ++i)
     entry += fmt::format("{}{}: {}", i ? ", " : "", output::json_quote(finals_[i].first),

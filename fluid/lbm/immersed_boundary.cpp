@@ -48,8 +48,7 @@ void LbmSolver::force_immersed() {
   }
   const double scale = std::sqrt(core_->max_u2());
   ibm_->apply({ibm_u_[0].data(), ibm_u_[1].data(), ibm_u_[2].data()}, t, scale,
-              2.0 * s_.units.force_density(), s_.units.dt,
-              ibm_density_.empty() ? nullptr : ibm_density_.data());
+              2.0 * s_.units.force_density(), s_.units.dt, s_.incompressible ? nullptr : ibm_density_.data());
   ibm_force_.resize(3 * n);
   for (std::size_t m = 0; m < n; ++m)
     for (std::size_t d = 0; d < 3; ++d)

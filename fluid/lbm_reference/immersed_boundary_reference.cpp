@@ -49,8 +49,7 @@ void LbmReference::force_immersed(const std::function<double(long, int)>& pop) {
     if (!ibm_density_.empty()) ibm_density_[static_cast<std::size_t>(c)] = rho[m];
   }
   ibm_->apply({ibm_u_[0].data(), ibm_u_[1].data(), ibm_u_[2].data()}, t, std::sqrt(max_u2_),
-              2.0 * s_.units.force_density(), s_.units.dt,
-              ibm_density_.empty() ? nullptr : ibm_density_.data());
+              2.0 * s_.units.force_density(), s_.units.dt, s_.incompressible ? nullptr : ibm_density_.data());
   std::fill(ibm_force_.begin(), ibm_force_.end(), 0.0);
   for (std::size_t m = 0; m < cells.size(); ++m)
     for (std::size_t d = 0; d < 3; ++d) {

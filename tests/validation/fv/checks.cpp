@@ -75,7 +75,7 @@ int cavity(const std::string& dir) {
     dv = nan_max(dv, std::abs(on_line(u, nx, ny, 1, 0, g.at, 0.0, 0.0) / U - ref));
   }
   std::printf("reynolds=%.6g\nmax_deviation_u=%.6e\nmax_deviation_v=%.6e\nmax_deviation=%.6e\n", re, du, dv,
-              std::max(du, dv));
+              nan_max(du, dv));
   return 0;
 }
 

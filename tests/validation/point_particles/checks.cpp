@@ -192,10 +192,11 @@ int granular_gas_bidisperse(const std::string& dir) {
                 names[c], theory[c], names[c], std::abs(f / theory[c] - 1.0), names[c], counts[c]);
   }
   std::printf("frequency_pq_eq_5_12=%.6e\n", 0.5 * theory[1]);
-  std::printf("energy_ratio_p_initial=%.4f\nenergy_ratio_q_initial=%.4f\nenergy_ratio_p=%.4f\nenergy_ratio_q=%.4f\n"
-              "energy_ratio_p_theory=%.4f\nenergy_ratio_q_theory=%.4f\nenergy_ratio_error=%.4e\n",
-              ratio0[p], ratio0[q], ratio_late[p], ratio_late[q], predicted[p], predicted[q],
-              std::max(std::abs(ratio_late[p] / predicted[p] - 1.0), std::abs(ratio_late[q] / predicted[q] - 1.0)));
+  std::printf(
+      "energy_ratio_p_initial=%.4f\nenergy_ratio_q_initial=%.4f\nenergy_ratio_p=%.4f\nenergy_ratio_q=%.4f\n"
+      "energy_ratio_p_theory=%.4f\nenergy_ratio_q_theory=%.4f\nenergy_ratio_error=%.4e\n",
+      ratio0[p], ratio0[q], ratio_late[p], ratio_late[q], predicted[p], predicted[q],
+      nan_max(std::abs(ratio_late[p] / predicted[p] - 1.0), std::abs(ratio_late[q] / predicted[q] - 1.0)));
   return 0;
 }
 

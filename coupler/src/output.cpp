@@ -341,30 +341,6 @@ bool has_dataset(const std::string& path, const std::string& name) {
   return found;
 }
 
-std::vector<double> read_dataset(const std::string& path, const std::string& name,
-                                 std::vector<std::size_t>* dims) {
-  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0) throw std::runtime_error(fmt::format("cannot open HDF5 file '{}'", path));
-  hid_t ds = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
-  if (ds < 0) {
-    H5Fclose(f);
-    throw std::runtime_error(fmt::format("'{}' has no dataset '{}'", path, name));
-  }
-  hid_t sp = H5Dget_space(ds);
-  const int r = H5Sget_simple_extent_ndims(sp);
-  std::vector<hsize_t> d(r);
-  H5Sget_simple_extent_dims(sp, d.data(), nullptr);
-  std::size_t n = 1;
-  for (auto x : d) n *= x;
-  std::vector<double> out(n);
-  if (n) h5check(H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), "reading");
-  if (dims) dims->assign(d.begin(), d.end());
-  H5Sclose(sp);
-  H5Dclose(ds);
-  H5Fclose(f);
-  return out;
-}
-
 namespace {
 
 // An open dataset (closed with its file).
@@ -395,6 +371,18 @@ struct OpenDataset {
 };
 
 }  // namespace
+
+std::vector<double> read_dataset(const std::string& path, const std::string& name,
+                                 std::vector<std::size_t>* dims) {
+  OpenDataset ds(path, name);
+  const auto d = ds.shape();
+  std::size_t n = 1;
+  for (auto x : d) n *= x;
+  std::vector<double> out(n);
+  if (n) h5check(H5Dread(ds.set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), "reading");
+  if (dims) dims->assign(d.begin(), d.end());
+  return out;
+}
 
 std::vector<std::size_t> dataset_shape(const std::string& path, const std::string& name) {
   const auto d = OpenDataset(path, name).shape();

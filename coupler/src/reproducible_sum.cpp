@@ -111,32 +111,26 @@ void ExactSums::add(std::size_t i, double x) {
   if (++adds_ == (std::int64_t{1} << 28)) carry();  // each digit moves by < 2^33 an add
 }
 
-void ExactSums::carry() {
-  for (std::size_t i = 0; i < size(); ++i) {
-    std::int64_t* d = &digits_[kDigits * i];
-    for (int k = 0; k + 1 < kDigits; ++k) {
-      const std::int64_t c = d[k] >> 32;  // floor(d / 2^32)
-      d[k] -= c * (std::int64_t{1} << 32);
-      d[k + 1] += c;
-    }
-  }
-  adds_ = 0;
-}
-
 namespace {
 
-// The canonical digits (all but the top one in [0, 2^32)) of a value as a
-// double: its magnitude from the top digit down, then its sign. The same
-// digits give the same bits; the error is a few units in the last place.
+// One value's n digits carried into canonical form: each but the top one in
+// [0, 2^32), the top one signed.
+void carry_digits(std::int64_t* d, int n) {
+  for (int k = 0; k + 1 < n; ++k) {
+    const std::int64_t c = d[k] >> 32;  // floor(d / 2^32)
+    d[k] -= c * (std::int64_t{1} << 32);
+    d[k + 1] += c;
+  }
+}
+
+// The canonical digits of a value as a double: its magnitude from the top
+// digit down, then its sign. The same digits give the same bits; the error
+// is a few units in the last place.
 double to_double(std::int64_t* d, int n) {
   const bool negative = d[n - 1] < 0;
   if (negative) {  // the digits of -value, canonical again
     for (int k = 0; k < n; ++k) d[k] = -d[k];
-    for (int k = 0; k + 1 < n; ++k) {
-      const std::int64_t c = d[k] >> 32;
-      d[k] -= c * (std::int64_t{1} << 32);
-      d[k + 1] += c;
-    }
+    carry_digits(d, n);
   }
   double r = 0.0;
   for (int k = n - 1; k >= 0; --k)
@@ -145,6 +139,11 @@ double to_double(std::int64_t* d, int n) {
 }
 
 }  // namespace
+
+void ExactSums::carry() {
+  for (std::size_t i = 0; i < size(); ++i) carry_digits(&digits_[kDigits * i], kDigits);
+  adds_ = 0;
+}
 
 std::vector<double> ExactSums::reduce(MPI_Comm comm) {
   carry();

@@ -265,8 +265,6 @@ void FluidWindows::open_exchanges() {
 }
 
 void FluidWindows::receive_solids() {
-  solid_cells_.clear();
-  solid_values_.clear();
   solid_in_->receive_sparse(solid_cells_, solid_values_);
   const std::size_t n = solid_cells_.size();
   const int nc = solid_in_->spec().components;  // one fluid: no wetting sent (0 here: no interface to wet)
@@ -287,7 +285,7 @@ void FluidWindows::send_solid_force() {
   solver_->take_solid_force(force_);
   if (source_scale_ != 1.0)
     for (double& f : force_) f /= source_scale_;
-  solid_in_->reply_sparse(force_, 3);
+  solid_in_->reply_sparse(std::move(force_), 3);  // force_ comes back as another buffer
 }
 
 void FluidWindows::send_flow() {

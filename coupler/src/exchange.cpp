@@ -8,6 +8,7 @@
 #include <cstring>
 #include <exception>
 #include <stdexcept>
+#include <type_traits>
 
 #include "coflow/session.hpp"
 #include "coflow/trace.hpp"
@@ -41,6 +42,25 @@ void for_cells(const Box& b, F&& f) {
 }
 
 Index3 sub(const Index3& a, const Index3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+
+// Calls f(std::integral_constant<int, N>{}) with N the values per cell where
+// the components use 3 to 5, else with N = 0 (f then takes the count at run
+// time): with N known the per-cell copies of the sparse records are inlined
+// instead of a library call each (perf put the sand demo's immersed and fluid
+// ranks' largest exchange items on those calls).
+template <class F>
+void with_components(int nc, F&& f) {
+  switch (nc) {
+    case 3:
+      return f(std::integral_constant<int, 3>{});
+    case 4:
+      return f(std::integral_constant<int, 4>{});
+    case 5:
+      return f(std::integral_constant<int, 5>{});
+    default:
+      return f(std::integral_constant<int, 0>{});
+  }
+}
 
 }  // namespace
 
@@ -279,15 +299,14 @@ void FieldExchange::pack_sparse(std::span<const Index3> cells, std::span<const d
     p.sparse_used = 0, p.sent_count = 0;
   }
   sparse_sent_ = cells.size();
-  bool outside = false;  // every cell tested without a branch; the first one outside named
-  for (const Index3& c : cells)
-    for (int d = 0; d < 3; ++d) outside |= (c[d] < local_box_.lo[d]) | (c[d] >= local_box_.hi[d]);
-  if (outside)
+  const auto check_inside = [&] {
     for (const Index3& c : cells)
       if (!local_box_.contains(c))
         throw std::invalid_argument(fmt::format("field '{}': sparse cell ({}, {}, {}) outside the local box",
                                                 spec_.name, c[0], c[1], c[2]));
+  };
   if (spec_.transfer == Transfer::conservative) {
+    check_inside();
     for (std::size_t n = 0; n < cells.size(); ++n) {
       const Index3& c = cells[n];
       if (mine_.clip(Box{c, {c[0] + 1, c[1] + 1, c[2] + 1}}).empty()) continue;  // outside a wall
@@ -298,11 +317,7 @@ void FieldExchange::pack_sparse(std::span<const Index3> cells, std::span<const d
     return;
   }
   build_routes();  // consistent: only owned values are sent, to every image in a peer's reach
-  for (std::size_t i = 0, r = 0; i < peers_.size(); ++i) {
-    const std::size_t first = r;
-    while (r < routes_.size() && routes_[r].peer == static_cast<int>(i)) ++r;
-    if (r > first) pack_routes(peers_[i], {routes_.data() + first, r - first}, cells, values);
-  }
+  if (pack_routes(cells, values)) check_inside();  // names the first cell outside
 }
 
 // The record {int32 index in the receiver's local box, nc values} of input
@@ -323,36 +338,70 @@ void FieldExchange::append_sparse(Peer& p, const Index3& cell, std::size_t n,
   std::memcpy(p.sparse.data() + at + sizeof index, values.data() + n * nc, nc * sizeof(double));
 }
 
-// One peer's message along its routes: the same records in the same order as
-// append_sparse cell by cell (cells in input order, each along the routes in
-// order), written through cursors held in registers (perf put a third of the
-// packing on the vectors' end pointers, loaded and stored per record).
-void FieldExchange::pack_routes(Peer& p, std::span<const Route> routes, std::span<const Index3> cells,
-                                std::span<const double> values) {
-  const int nc = spec_.components;
-  const std::size_t rec = sizeof(std::int32_t) + nc * sizeof(double), vbytes = nc * sizeof(double);
-  const Box& b = p.remote_local;
-  const long e0 = b.extent(0), e1 = b.extent(1);
-  std::size_t used = 0, count = 0;
-  for (std::size_t n = 0; n < cells.size(); ++n) {
-    const Index3& c = cells[n];
-    for (const Route& r : routes) {
-      if (!r.from.contains(c)) continue;
-      if (used + rec > p.sparse.size())
-        p.sparse.resize(std::max(used + rec, p.sparse.size() + p.sparse.size() / 2));
-      if (count == p.sent.size()) p.sent.resize(std::max(cells.size(), count + count / 2 + 1));
-      const auto index = static_cast<std::int32_t>(
-          ((c[2] + r.shift[2] - b.lo[2]) * e1 + (c[1] + r.shift[1] - b.lo[1])) * e0 +
-          (c[0] + r.shift[0] - b.lo[0]));
-      std::byte* out = p.sparse.data() + used;
-      std::memcpy(out, &index, sizeof index);
-      std::memcpy(out + sizeof index, values.data() + n * nc, vbytes);
-      p.sent[count++] = static_cast<std::int32_t>(n);
-      used += rec;
+// Every peer's message along the routes, in one pass over the cells: for each
+// peer the same records in the same order as append_sparse cell by cell
+// (cells in input order, each along that peer's routes in order). Each
+// peer's write position is held in `cursors_` (the records are byte copies,
+// after which the compiler would reload a Peer's members). Returns whether a
+// cell lies outside the local box (tested on the way, without a branch).
+bool FieldExchange::pack_routes(std::span<const Index3> cells, std::span<const double> values) {
+  bool outside = false;
+  with_components(spec_.components, [&]<int N>(std::integral_constant<int, N>) {
+    const std::size_t nc = N > 0 ? N : spec_.components, rec = sizeof(std::int32_t) + nc * sizeof(double);
+    cursors_.resize(peers_.size());
+    for (std::size_t i = 0; i < peers_.size(); ++i) reserve_records(i, 0, rec);
+    const Box local = local_box_;
+    for (std::size_t n = 0; n < cells.size(); ++n) {
+      const Index3& c = cells[n];
+      for (int d = 0; d < 3; ++d) outside |= (c[d] < local.lo[d]) | (c[d] >= local.hi[d]);
+      for (const Route& r : routes_) {
+        if (!r.from.contains(c)) continue;
+        Cursor& k = cursors_[static_cast<std::size_t>(r.peer)];
+        if (k.out == k.end) k = grow_records(static_cast<std::size_t>(r.peer), rec);
+        const auto index = static_cast<std::int32_t>(
+            ((c[2] + k.shift_lo[2] + r.shift[2]) * k.extent[1] + (c[1] + k.shift_lo[1] + r.shift[1])) *
+                k.extent[0] +
+            (c[0] + k.shift_lo[0] + r.shift[0]));
+        std::memcpy(k.out, &index, sizeof index);
+        std::memcpy(k.out + sizeof index, values.data() + n * nc, nc * sizeof(double));
+        k.out += rec;
+        *k.sent++ = static_cast<std::int32_t>(n);
+        if (routes_disjoint_) break;  // no cell goes two ways
+      }
     }
-  }
-  p.sent_count = count;
-  p.sparse_used = used;
+    for (std::size_t i = 0; i < peers_.size(); ++i) {
+      peers_[i].sparse_used = static_cast<std::size_t>(cursors_[i].out - peers_[i].sparse.data());
+      peers_[i].sent_count = static_cast<std::size_t>(cursors_[i].sent - peers_[i].sent.data());
+    }
+  });
+  return outside;
+}
+
+// Peer i's buffers with room for at least `records` records of `rec` bytes
+// from its current end (they only grow, and keep the room of earlier
+// windows), and its cursor there.
+void FieldExchange::reserve_records(std::size_t i, std::size_t records, std::size_t rec) {
+  Peer& p = peers_[i];
+  const std::size_t used = p.sparse_used, count = p.sent_count;
+  if (p.sparse.size() < used + records * rec) p.sparse.resize(used + records * rec);
+  if (p.sent.size() < count + records) p.sent.resize(count + records);
+  const Box& b = p.remote_local;
+  Cursor& k = cursors_[i];
+  const std::size_t room = std::min((p.sparse.size() - used) / rec, p.sent.size() - count);
+  k.out = p.sparse.data() + used;
+  k.end = k.out + room * rec;
+  k.sent = p.sent.data() + count;
+  k.shift_lo = {-b.lo[0], -b.lo[1], -b.lo[2]};
+  k.extent = {b.extent(0), b.extent(1), b.extent(2)};
+}
+
+// Peer i's cursor at the end of its full buffers, with room for as many records again.
+FieldExchange::Cursor FieldExchange::grow_records(std::size_t i, std::size_t rec) {
+  Peer& p = peers_[i];
+  p.sparse_used = static_cast<std::size_t>(cursors_[i].out - p.sparse.data());
+  p.sent_count = static_cast<std::size_t>(cursors_[i].sent - p.sent.data());
+  reserve_records(i, std::max<std::size_t>(p.sent_count, 16), rec);
+  return cursors_[i];
 }
 
 // The consistent sparse routes (Route), once: what pack_sparse tested per
@@ -368,6 +417,10 @@ void FieldExchange::build_routes() {
       if (!from.empty()) routes_.push_back({static_cast<int>(i), sh, from});
     }
   }
+  routes_disjoint_ = true;
+  for (std::size_t a = 0; a < routes_.size(); ++a)
+    for (std::size_t b = a + 1; b < routes_.size(); ++b)
+      routes_disjoint_ = routes_disjoint_ && intersect(routes_[a].from, routes_[b].from).empty();
   routes_built_ = true;
 }
 
@@ -375,7 +428,7 @@ void FieldExchange::receive_sparse(std::vector<long>& cells, std::vector<double>
   if (role_ != Role::receiver) throw std::logic_error("receive_sparse() on the sending side");
   const int nc = spec_.components;
   const std::size_t rec = sizeof(std::int32_t) + nc * sizeof(double);
-  const long volume = local_box_.volume();
+  std::size_t total = 0;
   for (auto& p : peers_) {
     MPI_Status st = wait_probe(p.rank, tag_ + 1, inter_, fmt::format("sparse field '{}'", spec_.name));
     Timer t(trace().exchange_s);
@@ -389,12 +442,31 @@ void FieldExchange::receive_sparse(std::vector<long>& cells, std::vector<double>
                       "records (the two sides disagree on the values per cell)",
                       spec_.name, bytes, p.rank, rec));
     trace().bytes_received += bytes;
-    const std::size_t n = bytes / rec, first = cells.size();
-    p.received = n;
-    cells.resize(first + n);
-    values.resize((first + n) * nc);
+    p.received = bytes / rec;
+    total += p.received;
+  }
+  Timer t(trace().exchange_s);
+  // Resized, not cleared first: a vector of last window's length is not
+  // zero-filled again before every element is written.
+  cells.resize(total);
+  values.resize(total * nc);
+  std::size_t first = 0;
+  for (const auto& p : peers_) {
+    unpack_sparse(p, cells.data() + first, values.data() + first * nc);
+    first += p.received;
+  }
+  ++trace().exchanges;
+}
+
+// Peer p's received records into `cells` (local indices, checked) and
+// `values` (nc a cell).
+void FieldExchange::unpack_sparse(const Peer& p, long* cells, double* values) const {
+  with_components(spec_.components, [&]<int N>(std::integral_constant<int, N>) {
+    const int nc = N > 0 ? N : spec_.components;
+    const std::size_t rec = sizeof(std::int32_t) + nc * sizeof(double);
+    const long volume = local_box_.volume();
     const std::byte* in = p.sparse.data();
-    for (std::size_t i = 0; i < n; ++i, in += rec) {
+    for (std::size_t i = 0; i < p.received; ++i, in += rec) {
       std::int32_t index = 0;
       std::memcpy(&index, in, sizeof index);
       if (index < 0 || index >= volume)
@@ -402,11 +474,10 @@ void FieldExchange::receive_sparse(std::vector<long>& cells, std::vector<double>
             fmt::format("sparse field '{}': cell index {} from rank {} outside the local "
                         "array of {} cells (the two sides disagree on the layout)",
                         spec_.name, index, p.rank, volume));
-      cells[first + i] = index;
-      std::memcpy(values.data() + (first + i) * nc, in + sizeof index, nc * sizeof(double));
+      cells[i] = index;
+      std::memcpy(values + i * nc, in + sizeof index, (N > 0 ? N : nc) * sizeof(double));
     }
-  }
-  ++trace().exchanges;
+  });
 }
 
 void FieldExchange::check_replies(const char* call, int components) const {
@@ -422,24 +493,41 @@ void FieldExchange::check_replies(const char* call, int components) const {
 
 // One message per peer that sent a sparse message (empty ones too), tag + 2.
 void FieldExchange::reply_sparse(std::span<const double> results, int components) {
+  start_replies(results.size(), components);
+  Timer t(trace().exchange_s);
+  reply_out_.assign(results.begin(), results.end());
+  send_replies(components);
+}
+
+// The same without the copy: `results` is sent from where it is, and comes
+// back holding an earlier buffer.
+void FieldExchange::reply_sparse(std::vector<double>&& results, int components) {
+  start_replies(results.size(), components);
+  Timer t(trace().exchange_s);
+  std::swap(reply_out_, results);
+  send_replies(components);
+}
+
+void FieldExchange::start_replies(std::size_t values, int components) {
   if (role_ != Role::receiver) throw std::logic_error("reply_sparse() on the sending side");
   check_replies("reply_sparse()", components);
   std::size_t total = 0;
   for (const auto& p : peers_) total += p.received;
-  if (results.size() != total * components)
+  if (values != total * components)
     throw std::invalid_argument(
-        fmt::format("field '{}': {} reply values for {} cells received", spec_.name, results.size(), total));
-  flush();  // the last replies' buffers
-  Timer t(trace().exchange_s);
+        fmt::format("field '{}': {} reply values for {} cells received", spec_.name, values, total));
+  flush();  // the last replies' buffer
+}
+
+void FieldExchange::send_replies(int components) {
   reply_requests_.resize(peers_.size());
-  const double* from = results.data();
+  const double* from = reply_out_.data();
   for (std::size_t i = 0; i < peers_.size(); ++i) {
-    auto& p = peers_[i];
-    p.reply.assign(from, from + p.received * components);
-    from += p.received * components;
-    MPI_Isend(p.reply.data(), mpi_count(p.reply.size(), "replies of field", spec_.name), MPI_DOUBLE, p.rank,
-              tag_ + 2, inter_, &reply_requests_[i]);
-    trace().bytes_sent += p.reply.size() * sizeof(double);
+    const std::size_t n = peers_[i].received * components;
+    MPI_Isend(from, mpi_count(n, "replies of field", spec_.name), MPI_DOUBLE, peers_[i].rank, tag_ + 2,
+              inter_, &reply_requests_[i]);
+    from += n;
+    trace().bytes_sent += n * sizeof(double);
   }
   ++trace().exchanges;
 }
@@ -465,16 +553,20 @@ void FieldExchange::receive_replies(std::span<double> results, int components) {
     MPI_Recv(p.reply.data(), count, MPI_DOUBLE, p.rank, tag_ + 2, inter_, MPI_STATUS_IGNORE);
   }
   Timer t(trace().exchange_s);
-  std::fill(results.begin(), results.end(), 0.0);
-  for (const auto& p : peers_) {
-    trace().bytes_received += p.reply.size() * sizeof(double);
-    const double* in = p.reply.data();
-    for (std::size_t i = 0; i < p.sent_count; ++i) {
-      const std::int32_t n = p.sent[i];
-      std::copy(in, in + components, results.begin() + static_cast<std::ptrdiff_t>(n) * components);
-      in += components;
+  // A cell reaches one rank at most (check_replies), so where as many cells
+  // went out as were given, every one has its reply and no zeros are needed.
+  std::size_t answered = 0;
+  for (const auto& p : peers_) answered += p.sent_count;
+  if (answered != sparse_sent_) std::fill(results.begin(), results.end(), 0.0);
+  with_components(components, [&]<int N>(std::integral_constant<int, N>) {
+    const std::size_t nc = N > 0 ? N : components;
+    for (const auto& p : peers_) {
+      trace().bytes_received += p.reply.size() * sizeof(double);
+      const double* in = p.reply.data();
+      for (std::size_t i = 0; i < p.sent_count; ++i, in += nc)
+        std::memcpy(results.data() + static_cast<std::size_t>(p.sent[i]) * nc, in, nc * sizeof(double));
     }
-  }
+  });
   ++trace().exchanges;
 }
 

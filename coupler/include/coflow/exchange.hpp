@@ -61,7 +61,8 @@ class FieldExchange {
   // Sparse: only listed cells travel. `cells` are global (possibly unwrapped)
   // indices within the sender's local box; `values` holds `components` per cell.
   void send_sparse(std::span<const Index3> cells, std::span<const double> values);
-  // Appends received cells (as local-array cell indices) and their values.
+  // The received cells (as local-array cell indices) and their values, in
+  // place of what the two vectors held.
   void receive_sparse(std::vector<long>& cells, std::vector<double>& values);
 
   // Replies to a sparse message, without cell indices (like PointExchange's
@@ -72,6 +73,8 @@ class FieldExchange {
   // Each cell must reach one rank at most: conservative, or consistent
   // without a ghost layer.
   void reply_sparse(std::span<const double> results, int components);
+  // The same without copying `results`, which comes back holding another buffer.
+  void reply_sparse(std::vector<double>&& results, int components);
   void receive_replies(std::span<double> results, int components);
 
   void flush();  // complete outstanding sends
@@ -89,7 +92,7 @@ class FieldExchange {
     std::vector<std::int32_t> sent;  // send_sparse: the input cells sent to this rank, in message order
     std::size_t sent_count = 0;      // (its first sent_count entries; it only grows)
     std::size_t received = 0;        // receive_sparse: the cells that came from this rank
-    std::vector<double> reply;       // replies sent or received
+    std::vector<double> reply;       // receive_replies: the replies received
     MPI_Request request = MPI_REQUEST_NULL;
   };
   // send_sparse, consistent: where an owned cell goes. A cell in `from` goes
@@ -102,11 +105,22 @@ class FieldExchange {
     Box from;
   };
   void check_replies(const char* call, int components) const;
+  void start_replies(std::size_t values, int components);
+  void send_replies(int components);
   void pack_sparse(std::span<const Index3> cells, std::span<const double> values);
+  void unpack_sparse(const Peer& p, long* cells, double* values) const;
   void build_routes();
   void append_sparse(Peer& p, const Index3& cell, std::size_t n, std::span<const double> values);
-  void pack_routes(Peer& p, std::span<const Route> routes, std::span<const Index3> cells,
-                   std::span<const double> values);
+  // Where pack_routes() writes a peer's next record.
+  struct Cursor {
+    std::byte* out = nullptr;      // the next record
+    std::byte* end = nullptr;      // the end of the room for whole records
+    std::int32_t* sent = nullptr;  // the next entry of Peer::sent
+    Index3 shift_lo{}, extent{};   // minus the peer's local box's lower corner; its extents
+  };
+  bool pack_routes(std::span<const Index3> cells, std::span<const double> values);
+  void reserve_records(std::size_t i, std::size_t records, std::size_t rec);
+  Cursor grow_records(std::size_t i, std::size_t rec);
   void build(const Decomposition& mine, int my_rank, const Decomposition& remote);
 
   MPI_Comm inter_;
@@ -125,6 +139,9 @@ class FieldExchange {
   std::size_t sparse_sent_ = 0;  // cells given to the last send_sparse()
   std::vector<Route> routes_;
   bool routes_built_ = false;
+  std::vector<double> reply_out_;  // the replies in flight (reply_sparse)
+  bool routes_disjoint_ = false;   // no two routes' `from` boxes overlap: a cell takes one route at most
+  std::vector<Cursor> cursors_;    // pack_routes(): one per peer
   bool sends_pending_ = false;
 };
 

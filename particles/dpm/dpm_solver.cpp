@@ -575,16 +575,16 @@ void DpmSolver::save_msd(const std::string& dir) const {
   }
   const std::vector<double> all = coupler::gather_to_root<double>(comm_, mine, MPI_DOUBLE);
   if (rank_ != 0) return;
-  std::ofstream out(dir + "/dpm_msd.csv");
-  out << "totals";
-  for (double v : totals) out << fmt::format(",{:.17g}", v);
-  out << "\n";
+  std::string out = "totals";
+  for (double v : totals) out += fmt::format(",{:.17g}", v);
+  out += "\n";
   for (std::size_t q = 0; q + 1 + dpm::Msd::kTrack <= all.size(); q += 1 + dpm::Msd::kTrack) {
-    out << "track," << static_cast<std::int64_t>(all[q]);
-    for (int k = 0; k < dpm::Msd::kTrack; ++k) out << fmt::format(",{:.17g}", all[q + 1 + static_cast<std::size_t>(k)]);
-    out << "\n";
+    out += fmt::format("track,{}", static_cast<std::int64_t>(all[q]));
+    for (int k = 0; k < dpm::Msd::kTrack; ++k)
+      out += fmt::format(",{:.17g}", all[q + 1 + static_cast<std::size_t>(k)]);
+    out += "\n";
   }
-  if (!out) throw std::runtime_error("cannot write " + dir + "/dpm_msd.csv");
+  output::atomic_write(dir + "/dpm_msd.csv", out);
 }
 
 void DpmSolver::load_msd(const std::string& dir) {

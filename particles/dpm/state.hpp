@@ -9,6 +9,8 @@
 // Numbers are written with 17 significant digits (bit-identical restart).
 #pragma once
 
+#include <fmt/format.h>
+
 #include <cstdint>
 #include <fstream>
 #include <map>
@@ -17,8 +19,7 @@
 #include <string>
 #include <vector>
 
-#include <fmt/format.h>
-
+#include "coflow/output.hpp"
 #include "particles/dpm/injection.hpp"
 
 namespace coflow::particles::dpm {
@@ -30,14 +31,14 @@ struct Fluctuation {
 
 inline void save_extra(const std::string& dir, double time, std::int64_t next_id, const std::vector<Inlet>& inlets,
                        const std::map<std::int64_t, Fluctuation>& uprime) {
-  std::ofstream out(dir + "/dpm.csv");
-  out << fmt::format("time,{:.17g}\n", time);
-  out << fmt::format("next_id,{}\n", next_id);
+  std::string out = fmt::format("time,{:.17g}\n", time);
+  out += fmt::format("next_id,{}\n", next_id);
   for (std::size_t k = 0; k < inlets.size(); ++k)
-    out << fmt::format("inlet,{},{:.17g},{},{}\n", k, inlets[k].owed, inlets[k].serial, inlets[k].tries);
+    out += fmt::format("inlet,{},{:.17g},{},{}\n", k, inlets[k].owed, inlets[k].serial, inlets[k].tries);
   for (const auto& [id, f] : uprime)
-    out << fmt::format("uprime,{},{:.17g},{:.17g},{:.17g},{}\n", id, f.u[0], f.u[1], f.u[2], f.started ? 1 : 0);
-  if (!out) throw std::runtime_error("cannot write " + dir + "/dpm.csv");
+    out +=
+        fmt::format("uprime,{},{:.17g},{:.17g},{:.17g},{}\n", id, f.u[0], f.u[1], f.u[2], f.started ? 1 : 0);
+  output::atomic_write(dir + "/dpm.csv", out);  // judged after the close (a full disk shows there)
 }
 
 // Reads dpm.csv back (absent in checkpoints of runs without it: nothing changes).

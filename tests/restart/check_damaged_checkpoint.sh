@@ -123,6 +123,12 @@ sed -i '2s/,[^,]*$/,nan/' "$out/nan_load/particles/hydrodynamic.csv"
 restart psm_nan_load psm_momentum.yaml "$out/nan_load" \
   "$out/nan_load/particles/hydrodynamic.csv: the load on particle" "${psm[@]}"
 grep -qF "is not finite: the checkpoint is damaged" "$out/psm_nan_load.log" || fail "psm_nan_load: no 'not finite'"
+# The same file cut short to its header: the particles without a row took no
+# load in the first window after the restart (before 2026-12-05).
+rm -rf "$out/short_load"; cp -r "$(first psm)" "$out/short_load"
+sed -i '2,$d' "$out/short_load/particles/hydrodynamic.csv"
+restart psm_short_load psm_momentum.yaml "$out/short_load" \
+  "$out/short_load/particles/hydrodynamic.csv: 0 rows, 0 of them for the checkpoint's" "${psm[@]}"
 
 # fv on the adaptive grid (the vortex on 3 levels): the flow's face velocities.
 checkpointed amr fv_amr_vortex.yaml --set run.end_time=0.04 --set run.checkpoint.every=0.02

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "coflow/log.hpp"
+#include "coflow/output.hpp"
 #include "fluid/fv/amr/composite_output.hpp"
 #include "fluid/fv/amr/refinement_criteria.hpp"
 #include "fluid/fv/fv_solver.hpp"
@@ -408,10 +409,8 @@ static std::string spec_text(const ForestSpec& s) {
 void AmrFvSolver::save(const std::string& dir) {
   flow_->save(dir);
   if (rank_ != 0) return;
-  std::ofstream f(dir + "/amr.txt");
-  f << fmt::format("{} {:a} {:a} {} {}\n", steps_, time_, dt_prev_, regrids_, window_steps_);
-  f << spec_text(forest_spec()) << "\n";
-  if (!f) throw std::runtime_error("fv (refinement): cannot write " + dir + "/amr.txt");
+  output::atomic_write(dir + "/amr.txt", fmt::format("{} {:a} {:a} {} {}\n{}\n", steps_, time_, dt_prev_,
+                                                     regrids_, window_steps_, spec_text(forest_spec())));
 }
 
 // The steps and time come from the checkpoint: the driver's count is of

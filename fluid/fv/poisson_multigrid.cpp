@@ -430,6 +430,8 @@ void PoissonMultigrid::solve(std::span<const double> b, std::span<double> x) {
     }
   });
   const double bb = dot(L, b_, b_, comm_);
+  if (!std::isfinite(bb))  // NaN would skip the iterations below and report a residual of 0
+    throw std::runtime_error(opt_.name + ": the right-hand side is not finite");
   if (bb == 0.0) std::fill(x_.begin(), x_.end(), 0.0);  // as hypre's PCG: x = 0 for b = 0
   apply(x_);
   for_rows(L, [&](long row, long, long) {

@@ -103,11 +103,28 @@ inline double next_step(double limit, double last, double remaining) {
   return remaining / n;
 }
 
+// The steps of length dt left to `remaining` (s), at least 1. A step that
+// would need more than 1e12 of them to end the window is a flow blowing up
+// (or a max_step too small): an error, rather than a count beyond a long that
+// would end the window in one sliver of a step.
+inline long steps_left(double remaining, double dt, const char* who) {
+  const double steps = remaining / dt;
+  if (!(steps < 1e12))
+    throw std::runtime_error(
+        fmt::format("{}: a step of {:.3g} s would take {:.3g} steps to the end of the window: the flow is "
+                    "blowing up, or fluid.fv.max_step is too small",
+                    who, dt, steps));
+  return std::max(1L, std::lround(steps));
+}
+
 // Steps through a window of length `window` from `time` (which `step`
 // advances): each step's length from next_step(limit(), last, what is left),
 // recomputed when the limit falls below it, the last step landing on the
 // window's end exactly. step(dt, t) takes one step of dt that ends at t and
-// sets `time` to t and `last` to dt. fv and fv on the adaptive grid.
+// sets `time` to t and `last` to dt. limit() is called once more at the
+// window's end: it checks the velocity (throws where it is not finite), so
+// that a step gone wrong stops the run before the window's output,
+// checkpoint and exchanges. fv and fv on the adaptive grid.
 template <class Limit, class Step>
 void step_window(const double& time, const double& last, double window, Limit&& limit, Step&& step) {
   const double end = time + window;
@@ -117,11 +134,12 @@ void step_window(const double& time, const double& last, double window, Limit&& 
     const double most = limit();
     if (left == 0 || dt > most) {
       dt = next_step(most, last, end - time);
-      left = std::max(1L, std::lround((end - time) / dt));
+      left = steps_left(end - time, dt, "fv");
     }
     step(dt, left == 1 ? end : time + dt);
     if (--left == 0) break;
   }
+  limit();
 }
 
 // A box without a pressure or outflow face: its velocity faces must let in

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "coflow/output.hpp"
 #include "fluid/fv/fv_solver.hpp"
 #include "fluid/grid/cell_fields.hpp"
 
@@ -472,20 +473,13 @@ void FvReference::advance(double window) {
   double dt = 0.0;
   while (end - time_ > 1e-12 * window) {
     double umax[3] = {0, 0, 0};
-    for (int c = 0; c < dims_; ++c)
-      each_cell([&](const long*, std::size_t n) {
-        const auto& q = u_[static_cast<std::size_t>(c)];
-        umax[c] = std::max({umax[c], std::abs(q[n]), std::abs(q[n + static_cast<std::size_t>(step_of(c))])});
-      });
-    if (!std::isfinite(umax[0] + umax[1] + umax[2]))
-      throw std::runtime_error(
-          fmt::format("fv-reference: the velocity is not finite at t = {:.6g} s", time_));
+    velocity_maxima(umax);
     velocity_scale_ = std::max({umax[0], umax[1], umax[2]});
     double limit = fv::cfl_step(opt_.cfl, umax, h_, dims_);
     if (opt_.max_step > 0) limit = std::min(limit, opt_.max_step);
     if (left == 0 || dt > limit) {
       dt = fv::next_step(limit, dt_prev_, end - time_);
-      left = std::max(1L, std::lround((end - time_) / dt));
+      left = fv::steps_left(end - time_, dt, "fv-reference");
     }
     const double omega = dt_prev_ > 0 ? dt / dt_prev_ : 1.0;
     const fv::Imex s = steps_ == 0            ? fv::Imex::first()
@@ -504,6 +498,22 @@ void FvReference::advance(double window) {
     ++window_steps_;
     if (--left == 0) break;
   }
+  double umax[3] = {0, 0, 0};
+  velocity_maxima(umax);  // the window's last step checked before its output
+}
+
+// The largest |u_c| over the faces; throws where a value is not finite.
+void FvReference::velocity_maxima(double umax[3]) const {
+  bool finite = true;
+  for (int c = 0; c < dims_; ++c)
+    each_cell([&](const long*, std::size_t n) {
+      const auto& q = u_[static_cast<std::size_t>(c)];
+      const double a = std::abs(q[n]), b = std::abs(q[n + static_cast<std::size_t>(step_of(c))]);
+      finite = finite && std::isfinite(a) && std::isfinite(b);
+      umax[c] = std::max({umax[c], a, b});
+    });
+  if (!finite)
+    throw std::runtime_error(fmt::format("fv-reference: the velocity is not finite at t = {:.6g} s", time_));
 }
 
 std::vector<output::GridField> FvReference::fields(const config::StringList& names) {
@@ -616,9 +626,8 @@ void FvReference::save(const std::string& dir) {
     grid::save_cell_fields(comm_, dir + "/fv_turbulence.h5", time_, steps_, {n_[0], n_[1], n_[2]}, box_,
                            {{"k", 1, k}, {"epsilon", 1, e}, {"k_change", 1, none}, {"epsilon_change", 1, none}});
   }
-  std::ofstream clock(dir + "/fv_clock.txt");
-  clock << fmt::format("{} {:a} {:a} {:a}\n", steps_, time_, dt_prev_, dt_prev2_);
-  if (!clock) throw std::runtime_error(fmt::format("fv-reference: cannot write {}/fv_clock.txt", dir));
+  output::atomic_write(dir + "/fv_clock.txt",
+                       fmt::format("{} {:a} {:a} {:a}\n", steps_, time_, dt_prev_, dt_prev2_));
 }
 
 void FvReference::load(const std::string& dir, long, double) {

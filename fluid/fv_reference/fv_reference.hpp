@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -63,6 +64,7 @@ class FvReference final : public FluidSolver {
   long step_of(int d) const { return d == 0 ? 1 : d == 1 ? m_[0] : m_[0] * m_[1]; }
   template <class F>
   void each_cell(F&& f) const;  // f(x, n) over the cells
+  void velocity_maxima(double umax[3]) const;  // the largest |u_c| on the faces; throws on one not finite
   template <class F>
   void for_lines(int a, F&& f) const;
   Vec3 side_velocity(int face, double t) const;
@@ -188,6 +190,8 @@ void FvReference::conjugate_gradients(Apply&& apply, const std::vector<long>& ro
     rr += r[I] * r[I];
     bb += b[I] * b[I];
   }
+  if (!std::isfinite(bb + rr))
+    throw std::runtime_error(fmt::format("fv-reference: the {}'s right-hand side is not finite", what));
   if (bb == 0.0) {  // as hypre: the solution of A x = 0 is 0
     for (long i : rows) x[static_cast<std::size_t>(i)] = 0.0;
     return;
@@ -212,6 +216,8 @@ void FvReference::conjugate_gradients(Apply&& apply, const std::vector<long>& ro
     for (long i : rows)
       d[static_cast<std::size_t>(i)] =
           r[static_cast<std::size_t>(i)] + rr_new / rr * d[static_cast<std::size_t>(i)];
+    if (!std::isfinite(rr_new))
+      throw std::runtime_error(fmt::format("fv-reference: the {} broke down (a residual not finite)", what));
     rr = rr_new;
   }
 }

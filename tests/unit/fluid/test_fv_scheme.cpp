@@ -2,6 +2,7 @@
 // must reproduce exactly, at variable steps (omega = dt / dt_prev).
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <stdexcept>
 
 #include "fluid/fv/scheme.hpp"
 
@@ -23,4 +24,40 @@ TEST_CASE("fv IMEX: the extrapolation to the new time is exact for a linear func
   const Imex f = Imex::first();
   CHECK(f.e0 == 1.0);
   CHECK(f.e1 == 0.0);
+}
+
+TEST_CASE("fv step_window: checks the window's last step, refuses a step that collapses", "[fv]") {
+  double time = 0.0, last = 0.0;
+  int checks = 0, steps = 0;
+  const auto step = [&](double dt, double t) {
+    time = t, last = dt;
+    ++steps;
+  };
+  SECTION("the velocity is checked after the last step (limit() throws there on a value not finite)") {
+    bool broken = false;
+    const auto limit = [&] {
+      ++checks;
+      if (broken) throw std::runtime_error("not finite");
+      return 0.25;
+    };
+    CHECK_THROWS_WITH(coflow::fluid::fv::step_window(time, last, 1.0, limit,
+                                                     [&](double dt, double t) {
+                                                       step(dt, t);
+                                                       broken = steps == 4;  // the last step goes wrong
+                                                     }),
+                      "not finite");
+    // Before 2026-12-05 the loop stopped after the fourth step without a
+    // check: the NaN went on to the window's output and checkpoint.
+    CHECK(steps == 4);
+    CHECK(broken);
+    CHECK(checks == 5);
+  }
+  SECTION("a step too small for the window is an error, not one sliver of a step") {
+    // (end - time) / dt = 1e21 is beyond a long: lround gave LONG_MIN, so one
+    // step of 2e-21 s ended the window at t = 1.
+    CHECK_THROWS_WITH(coflow::fluid::fv::step_window(
+                          time, last, 1.0, [] { return 1e-21; }, step),
+                      Catch::Contains("blowing up"));
+    CHECK(steps == 0);
+  }
 }

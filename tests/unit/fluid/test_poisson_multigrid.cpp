@@ -203,3 +203,19 @@ TEST_CASE("poisson multigrid: 1 rank equals N ranks", "[fv][mpi]") {
   INFO("max difference " << diff << " of " << norm);
   CHECK(diff <= 5e-15 * norm);  // 5.6e-16 on 4 ranks, 6.7e-16 on 2 (relative)
 }
+
+// A right-hand side that is not finite made dot(b, b) NaN, which skipped the
+// iterations (NaN > 0 is false) and reported a residual of 0: the solve
+// returned its first guess as converged.
+TEST_CASE("poisson multigrid: a right-hand side not finite is an error", "[fv][mpi]") {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const Decomposition dec({16, 16, 16}, size, {0, 0, 0}, {false, false, false});
+  const auto n = static_cast<std::size_t>(dec.block(rank).volume());
+  std::vector<double> b(n, 0.0), x(n, 0.0);
+  if (rank == 0) b[0] = std::nan("");
+  PoissonMultigrid mg(dec, rank, MPI_COMM_WORLD, {0.1, 0.1, 0.1}, {true, false, false, false, false, false},
+                      {1e-10, 400, 3, "test"});
+  CHECK_THROWS_WITH(mg.solve(b, x), Catch::Contains("not finite"));
+}

@@ -32,6 +32,28 @@ void check_box(config::Visitor& v, const config::Numbers& lo, const config::Numb
              fmt::format("upper[{}] = {} is not above lower[{}] = {}", d, hi.values[d], d, lo.values[d]));
 }
 
+// The labels of dataset ds (rank 2 or 3, extents dims) as 0 (fluid) or 1
+// (solid, any nonzero label), read plane by plane as 64-bit integers: read
+// straight into bytes, HDF5 would clamp a negative label to 0 (fluid).
+bool read_labels(hid_t ds, hid_t space, int rank, const hsize_t dims[3], std::vector<std::uint8_t>& out) {
+  const hsize_t planes = rank == 3 ? dims[0] : 1, plane = dims[rank - 2] * dims[rank - 1];
+  out.resize(static_cast<std::size_t>(planes * plane));
+  std::vector<std::int64_t> buf(static_cast<std::size_t>(plane));
+  const hid_t mem = H5Screate_simple(1, &plane, nullptr);
+  bool ok = true;
+  for (hsize_t k = 0; k < planes && ok; ++k) {
+    const hsize_t start[3] = {k, 0, 0}, count[3] = {1, dims[rank - 2], dims[rank - 1]};
+    const hsize_t* st = rank == 3 ? start : start + 1;
+    const hsize_t* ct = rank == 3 ? count : count + 1;
+    ok = H5Sselect_hyperslab(space, H5S_SELECT_SET, st, nullptr, ct, nullptr) >= 0 &&
+         H5Dread(ds, H5T_NATIVE_INT64, mem, space, H5P_DEFAULT, buf.data()) >= 0;
+    for (hsize_t n = 0; ok && n < plane; ++n)
+      out[static_cast<std::size_t>(k * plane + n)] = buf[n] != 0 ? 1 : 0;
+  }
+  H5Sclose(mem);
+  return ok;
+}
+
 // Reads an HDF5 image into `out` (or only its shape when out is null).
 std::string read_hdf5(const SolidParams& s, std::vector<std::uint8_t>* out, std::array<long, 3>& shape) {
   H5E_auto2_t func;
@@ -50,11 +72,14 @@ std::string read_hdf5(const SolidParams& s, std::vector<std::uint8_t>* out, std:
     const int rank = H5Sget_simple_extent_ndims(sp);
     hsize_t dims[3] = {1, 1, 1};
     const hid_t type = H5Dget_type(ds);
-    const bool integers = H5Tget_class(type) == H5T_INTEGER;
+    const H5T_class_t kind = H5Tget_class(type);
     H5Tclose(type);
-    if (!integers) {
-      err = fmt::format("dataset '{}' is not of integers: a voxel image is labels (0 fluid, nonzero solid)",
-                        s.dataset);
+    if (kind != H5T_INTEGER) {
+      err = fmt::format("dataset '{}' is not of integers: a voxel image is labels (0 fluid, nonzero solid){}",
+                        s.dataset,
+                        kind == H5T_ENUM ? " (h5py stores a numpy bool array as an enum: write it with "
+                                           ".astype('uint8'))"
+                                         : "");
     } else if (rank < 2 || rank > 3) {
       err = fmt::format("dataset '{}' has {} dimensions; a voxel image has 2 or 3 ([nz,] ny, nx)", s.dataset,
                         rank);
@@ -62,11 +87,8 @@ std::string read_hdf5(const SolidParams& s, std::vector<std::uint8_t>* out, std:
       H5Sget_simple_extent_dims(sp, dims, nullptr);
       shape = {static_cast<long>(dims[rank - 1]), static_cast<long>(dims[rank - 2]),
                rank == 3 ? static_cast<long>(dims[0]) : 1L};
-      if (out) {
-        out->resize(static_cast<std::size_t>(shape[0] * shape[1] * shape[2]));
-        if (H5Dread(ds, H5T_NATIVE_UINT8, H5S_ALL, H5S_ALL, H5P_DEFAULT, out->data()) < 0)
-          err = fmt::format("cannot read dataset '{}' of {} as integers", s.dataset, s.file.path);
-      }
+      if (out && !read_labels(ds, sp, rank, dims, *out))
+        err = fmt::format("cannot read dataset '{}' of {} as integers", s.dataset, s.file.path);
     }
     H5Sclose(sp);
     H5Dclose(ds);

@@ -65,6 +65,13 @@ TEST_CASE("solids: raw and HDF5 voxel images, spheres", "[fluid][solids]") {
     const hid_t ds = H5Dcreate2(f, "rock", H5T_NATIVE_UINT8, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     H5Dwrite(ds, H5T_NATIVE_UINT8, H5S_ALL, H5S_ALL, H5P_DEFAULT, img.data());
     H5Dclose(ds);
+    // The same solids labelled -1 and 300 in 16-bit integers: read straight
+    // into bytes, HDF5 clamped -1 to 0 (fluid) and 300 to 255.
+    std::vector<std::int16_t> signed_labels(img.size());
+    for (std::size_t c = 0; c < img.size(); ++c) signed_labels[c] = img[c] ? (c % 2 ? -1 : 300) : 0;
+    const hid_t ds16 = H5Dcreate2(f, "signed", H5T_NATIVE_INT16, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Dwrite(ds16, H5T_NATIVE_INT16, H5S_ALL, H5S_ALL, H5P_DEFAULT, signed_labels.data());
+    H5Dclose(ds16);
     H5Sclose(sp);
     H5Fclose(f);
   }
@@ -80,6 +87,8 @@ TEST_CASE("solids: raw and HDF5 voxel images, spheres", "[fluid][solids]") {
   }
   CHECK(solid > 0);
   CHECK(from_h5 == from_raw);
+  CHECK(solids_of(fmt::format("[{{voxels: {{file: {}, dataset: signed, shape: [{}, {}, {}]}}}}]", h5, nx, ny,
+                              nz)) == from_raw);
 
   // A sphere of radius 1.5 mm at a cell corner holds the 8 centres around it
   // (at sqrt(3)/2 mm) and the 24 at sqrt(11)/2 mm = 1.66 mm are outside; the

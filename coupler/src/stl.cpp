@@ -17,6 +17,9 @@ TriangleMesh read(const std::string& path) {
   std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   TriangleMesh m;
   auto add = [&](const V3& a, const V3& b, const V3& c) {
+    if (!(a.allFinite() && b.allFinite() && c.allFinite()))
+      throw std::runtime_error(
+          fmt::format("{}: triangle {} has a vertex that is not finite", path, m.triangles.size() + 1));
     const int base = static_cast<int>(m.vertices.size());
     m.vertices.insert(m.vertices.end(), {a, b, c});
     m.triangles.push_back({base, base + 1, base + 2});
@@ -77,16 +80,21 @@ MeshSummary summarize(const TriangleMesh& m) {
     const auto& x = m.vertices[static_cast<std::size_t>(v)];
     return id.emplace(std::array<double, 3>{x[0], x[1], x[2]}, static_cast<int>(id.size())).first->second;
   };
-  std::map<std::pair<int, int>, int> edges;
+  // Each edge: the triangles that hold it, and the sum of the ways they run
+  // along it (+1 from the lower vertex id to the higher, -1 back).
+  std::map<std::pair<int, int>, std::array<int, 2>> edges;
   for (const auto& t : m.triangles)
     for (int e = 0; e < 3; ++e) {
       const int a = key(t[e]), b = key(t[(e + 1) % 3]);
-      ++edges[{std::min(a, b), std::max(a, b)}];
+      auto& [count, way] = edges[{std::min(a, b), std::max(a, b)}];
+      ++count;
+      way += a < b ? 1 : -1;
     }
   bool two = !edges.empty();
-  for (const auto& [edge, count] : edges) {
-    two = two && count == 2;
-    if (count == 1) ++s.open_edges;
+  for (const auto& [edge, c] : edges) {
+    two = two && c[0] == 2;
+    if (c[0] == 1) ++s.open_edges;
+    if (c[0] == 2 && c[1] != 0) ++s.same_way_edges;
   }
   s.closed = two;
   return s;

@@ -102,10 +102,13 @@ void IbmParams::visit(config::Visitor& v) {
     "point does, in the same windows (the flow around a body carrying particles, seed 003 §5.3; "
     "serial-explicit)",
     config::one_of({"none", "point"}));
-  v.list("bodies", "the immersed bodies, each a closed triangle mesh", [&](config::Visitor& s) {
-    bodies.emplace_back();
-    bodies.back().visit(s);
-  });
+  v.list("bodies",
+         "the immersed bodies, each a closed triangle mesh wound counter-clockwise seen from outside (every "
+         "edge shared by two triangles that run along it in opposite directions)",
+         [&](config::Visitor& s) {
+           bodies.emplace_back();
+           bodies.back().visit(s);
+         });
 }
 
 stl::TriangleMesh load_body_mesh(const BodyParams& b) {
@@ -209,7 +212,15 @@ void IbmParams::check(config::Visitor& v, const config::Config& cfg) const {
         v.fail("bodies", fmt::format("bodies[{}] ({}): the mesh {} is open ({} edges of one triangle); a body needs a "
                                      "closed surface (every edge shared by two triangles), whose inside is the body",
                                      n, b.name, b.mesh.path, m.open_edges));
-      if (m.closed && ibm::mesh_volume(mesh).volume < 0.0)
+      if (m.closed && m.same_way_edges > 0)
+        v.fail(
+            "bodies",
+            fmt::format("bodies[{}] ({}): the mesh {} has triangles wound against their neighbours ({} edges "
+                        "run the same way in both of their triangles), so some of its normals point "
+                        "inward and its volume and inertia are wrong: wind every triangle the same way "
+                        "round (counter-clockwise seen from outside)",
+                        n, b.name, b.mesh.path, m.same_way_edges));
+      else if (m.closed && ibm::mesh_volume(mesh).volume < 0.0)
         v.fail("bodies",
                fmt::format("bodies[{}] ({}): the mesh's triangles face inward (their winding encloses a "
                            "negative volume), so its markers would retract into the fluid and its "

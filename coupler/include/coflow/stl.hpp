@@ -17,7 +17,8 @@ struct TriangleMesh {
   std::vector<std::array<int, 3>> triangles;
 };
 
-// Reads an STL file; throws std::runtime_error naming the file and the problem.
+// Reads an STL file; throws std::runtime_error naming the file and the problem
+// (a vertex that is not finite among them).
 TriangleMesh read(const std::string& path);
 
 // x -> scale x + shift for every vertex (a mesh in other units or frame).
@@ -30,6 +31,10 @@ struct MeshSummary {
   V3 lower = V3::Zero(), upper = V3::Zero();
   bool closed = false;
   std::size_t open_edges = 0;  // edges of one triangle only
+  // Edges whose two triangles run along them the same way: one of the two is
+  // wound the other way round (0 for a consistently wound surface, whose
+  // neighbours run along a shared edge in opposite directions).
+  std::size_t same_way_edges = 0;
 };
 MeshSummary summarize(const TriangleMesh& m);
 

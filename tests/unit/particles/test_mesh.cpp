@@ -1,9 +1,9 @@
 #include <catch2/catch.hpp>
-
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <string>
 
 #include "particles/dem/mesh.hpp"
@@ -50,6 +50,10 @@ TEST_CASE("malformed STL files are rejected with the file name", "[mesh]") {
   std::ofstream(bad) << "solid t\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0\n";
   CHECK_THROWS(read_stl(bad));
   CHECK_THROWS_WITH(read_stl(temp("coflow-no-such-file.stl")), Catch::Contains("cannot open"));
+  // A binary vertex that is not finite (before 2026-12-05 it went through,
+  // and the checks after it compared NaN, which is false either way).
+  write_binary(bad, {{0, 0, 0, 1, 0, 0, 0, std::numeric_limits<float>::quiet_NaN(), 0}});
+  CHECK_THROWS_WITH(read_stl(bad), Catch::Contains("triangle 1 has a vertex that is not finite"));
   std::remove(bad.c_str());
 }
 
@@ -94,6 +98,15 @@ TEST_CASE("mesh summary: triangles, box, closedness; scale and translate", "[mes
   CHECK(s.triangles == 4);
   CHECK(s.closed);
   CHECK(s.open_edges == 0);
+  CHECK(s.same_way_edges == 0);
+  // One face wound the other way round: its three edges run the same way as
+  // in the faces next to it (before 2026-12-05 only the volume's sign was
+  // checked, and a face through the origin adds no volume).
+  tet.triangles[0] = {0, 1, 2};
+  s = summarize(tet);
+  CHECK(s.closed);
+  CHECK(s.same_way_edges == 3);
+  tet.triangles[0] = {0, 2, 1};
   // Without one face it is open: the three edges of the missing face are single.
   tet.triangles.pop_back();
   s = summarize(tet);

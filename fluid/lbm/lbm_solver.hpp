@@ -118,6 +118,7 @@ class LbmSolver final : public FluidSolver {
   long steps_ = 0;
   bool mach_warned_ = false;
   std::vector<double> out_u_, out_rho_, out_p_, out_solid_, out_phase_;
+  std::vector<double> out_grain_;       // the psm grains' fraction of each owned cell, for the phase series
   std::vector<double> solid_momentum_;  // interior solids' momentum of the window (take_wall_impulse)
   // PSM: covered cells, fraction, solid velocity (lattice units), and the fluid's
   // momentum gain summed over the steps since the last take_solid_force().

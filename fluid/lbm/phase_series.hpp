@@ -5,6 +5,7 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <array>
 #include <span>
 #include <vector>
@@ -22,25 +23,29 @@ inline std::vector<output::Series::Column> phase_columns() {
 
 // Owned cells, lattice units: density rho, velocity u (3 per cell), colour
 // fraction phase = (rho_r - rho_b) / rho, solid mask (nonzero: solid, left
-// out). A phase's flow rate along an axis is its volume flux averaged over
-// the domain's length on that axis, Q = (1/L) sum u psi dV with psi = (1 +/-
-// phase)/2: in steady incompressible flow, the rate through every section.
-// Collective over comm.
+// out), and the psm grains' solid fraction eps of each cell (empty: no
+// grains). A cell's pore volume is (1 - eps) dV: the saturation is the red
+// share of the pore volume, and a phase's flow rate along an axis its volume
+// flux averaged over the domain's length on that axis, Q = (1/L) sum u psi (1
+// - eps) dV with psi = (1 +/- phase)/2: in steady incompressible flow, the
+// rate through every section. The masses are of all the populations (a
+// grain's cells keep theirs). Collective over comm.
 inline std::vector<double> phase_values(const Units& units, const std::array<long, 3>& cells,
                                         std::span<const double> rho, std::span<const double> u,
                                         std::span<const double> phase, std::span<const double> solid,
-                                        MPI_Comm comm) {
-  std::array<double, 10> s{};  // mass r, mass b, sum psi_r, fluid cells, flux r (3), flux b (3)
+                                        std::span<const double> grain, MPI_Comm comm) {
+  std::array<double, 10> s{};  // mass r, mass b, red pore volume, pore volume, flux r (3), flux b (3)
   for (std::size_t c = 0; c < rho.size(); ++c) {
     if (solid[c] != 0.0) continue;
     const double red = 0.5 * (1.0 + phase[c]), blue = 0.5 * (1.0 - phase[c]);
+    const double pore = grain.empty() ? 1.0 : 1.0 - std::min(1.0, grain[c]);
     s[0] += rho[c] * red;
     s[1] += rho[c] * blue;
-    s[2] += red;
-    s[3] += 1.0;
+    s[2] += red * pore;
+    s[3] += pore;
     for (int d = 0; d < 3; ++d) {
-      s[4 + d] += u[3 * c + d] * red;
-      s[7 + d] += u[3 * c + d] * blue;
+      s[4 + d] += u[3 * c + d] * red * pore;
+      s[7 + d] += u[3 * c + d] * blue * pore;
     }
   }
   std::array<double, 10> g{};

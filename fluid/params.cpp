@@ -12,12 +12,14 @@
 namespace coflow::fluid {
 
 void BoundaryParams::visit(config::Visitor& v) {
-  v.required("type", type,
-             "wall (lbm: half-way bounce-back, the wall half a cell beyond the centres of the face's cells; fv: on "
-             "the face), pressure or velocity (lbm: imposed at the centres of the face's cells; fv: on the face), "
-             "outflow (zero gradient; fv: convective, du/dt + U du/dn = 0 with U the face's mean outward velocity, "
-             "at the reference pressure), or symmetry (fv: no flow through the face, no shear on it)",
-             config::one_of({"wall", "pressure", "velocity", "outflow", "symmetry"}));
+  v.required(
+      "type", type,
+      "wall (lbm: half-way bounce-back, the wall half a cell beyond the centres of the face's cells; fv: on "
+      "the face), pressure or velocity (lbm: imposed at the centres of the face's cells; fv: on the face), "
+      "outflow (zero gradient; fv: the normal velocity convective, du/dt + U du/dn = 0 with U the face's "
+      "mean outward velocity, the tangential ones of zero gradient, at the reference pressure), or symmetry "
+      "(fv: no flow through the face, no shear on it)",
+      config::one_of({"wall", "pressure", "velocity", "outflow", "symmetry"}));
   v("value", value,
     "pressure in Pa, relative to the reference pressure (type pressure), or velocity [u, v, w] in m/s (type "
     "velocity)");

@@ -2,6 +2,7 @@
 
 #include <cstdlib>
 
+#include "coflow/mpi_count.hpp"
 #include "coflow/protocol.hpp"
 #include "coflow/trace.hpp"
 #include "coflow/wait.hpp"
@@ -13,7 +14,8 @@ using coupler::trace;
 // The count goes first: the payload's size, negative when it is the last.
 void send_markers(MPI_Comm fluid, int rank, bool last, const std::vector<double>& packed) {
   const int root = rank == 0 ? MPI_ROOT : MPI_PROC_NULL;
-  const long count = rank == 0 ? static_cast<long>(packed.size()) : 0;
+  // (checked before anything is sent: more than an MPI int count is an error here, not a wrapped count)
+  const long count = rank == 0 ? coupler::mpi_count(packed.size(), "ibm markers") : 0;
   long sent = last ? -count : count;
   MPI_Request r;
   {
@@ -52,7 +54,8 @@ void send_loads(MPI_Comm immersed, const std::vector<double>& values) {
   MPI_Request r;
   {
     coupler::Timer t(trace().exchange_s);
-    MPI_Isend(values.data(), static_cast<int>(values.size()), MPI_DOUBLE, 0, protocol::kTagBodyLoads, immersed, &r);
+    MPI_Isend(values.data(), coupler::mpi_count(values.size(), "ibm body loads"), MPI_DOUBLE, 0,
+              protocol::kTagBodyLoads, immersed, &r);
   }
   coupler::wait_one(r, "ibm loads to immersed");
   trace().bytes_sent += values.size() * sizeof(double);
@@ -61,7 +64,8 @@ void send_loads(MPI_Comm immersed, const std::vector<double>& values) {
 
 void receive_loads(MPI_Comm fluid, std::vector<double>& values) {
   MPI_Request r;
-  MPI_Irecv(values.data(), static_cast<int>(values.size()), MPI_DOUBLE, 0, protocol::kTagBodyLoads, fluid, &r);
+  MPI_Irecv(values.data(), coupler::mpi_count(values.size(), "ibm body loads"), MPI_DOUBLE, 0,
+            protocol::kTagBodyLoads, fluid, &r);
   coupler::wait_one(r, "ibm loads from the fluid");
   trace().bytes_received += values.size() * sizeof(double);
   ++trace().exchanges;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "coflow/mpi_count.hpp"
 
@@ -189,6 +190,10 @@ DirectForcing::Result DirectForcing::apply(const std::array<double*, 3>& u, doub
   if (!(scale > 0)) scale = 1.0;
   std::vector<double> total(3 * x_.size(), 0.0);
   r = p_.conjugate_gradients ? solve_cg(u, scale, total) : iterate_mdf(u, scale, total);
+  if (!std::isfinite(r.slip))  // a NaN slip read as converged, and the maxima below dropped it
+    throw std::runtime_error(
+        "ibm: the fluid velocity at the body markers is not finite (the flow has blown up; lower the fluid's "
+        "time step)");
   add_loads(total, factor, dt, density);
   worst_.iterations = std::max(worst_.iterations, r.iterations);
   worst_.slip = std::max(worst_.slip, r.slip);
@@ -205,7 +210,8 @@ double DirectForcing::slip(const std::vector<double>& at, std::vector<double>& b
       b[3 * m + c] = target_[m][c] / unit_ - at[3 * m + c];
       s2 += b[3 * m + c] * b[3 * m + c];
     }
-    worst = std::max(worst, std::sqrt(s2));
+    const double s = std::sqrt(s2);
+    worst = s > worst || std::isnan(s) ? s : worst;  // NaN kept: it stops the forcing (apply)
   }
   return worst;
 }

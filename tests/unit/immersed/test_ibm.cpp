@@ -265,8 +265,10 @@ TEST_CASE("conjugate gradients stop where markers sharing a stencil ask for oppo
   const auto gr = ring_grid(n);
   ibm::MarkerSet s;
   s.bodies = {{{0, 0, 0}, {0, 0, 0}}};
-  s.markers.push_back({{0.013, 0.007, 0}, {1, 0, 0}, 1.0, 0});
-  s.markers.push_back({{0.013, 0.007, 0}, {-1, 0, 0}, 1.0, 0});
+  // (Inside the grid, which spans -0.5 to -0.1: before 2026-12-05 the two
+  // markers sat outside it, where their stencils were empty.)
+  s.markers.push_back({{-0.313, -0.307, 0}, {1, 0, 0}, 1.0, 0});
+  s.markers.push_back({{-0.313, -0.307, 0}, {-1, 0, 0}, 1.0, 0});
   ibm::DirectForcing f(gr, {Kernel::roma3, 50, 1e-6, true}, MPI_COMM_WORLD);
   f.set_markers(s);
   std::vector<double> u(static_cast<std::size_t>(n * n), 0.0), v(u.size(), 0.0);
@@ -275,6 +277,25 @@ TEST_CASE("conjugate gradients stop where markers sharing a stencil ask for oppo
   for (double x : u) CHECK(x == 0.0);
   const auto loads = f.take_loads();
   for (double l : loads) CHECK(std::isfinite(l));
+}
+
+// A fluid velocity that is not finite at the markers: the slip, NaN, read as
+// converged (!(NaN > tolerance)) and the series' maxima dropped it; the
+// forcing went on without a word until the fluid's own check (found by
+// review, 2026-12-05). It now stops there, with both solvers.
+TEST_CASE("the forcing stops on a fluid velocity that is not finite", "[immersed][ibm]") {
+  const long n = 20;
+  const auto gr = ring_grid(n);
+  for (bool cg : {false, true}) {
+    ibm::MarkerSet s;
+    s.bodies = {{{0, 0, 0}, {0, 0, 0}}};
+    s.markers.push_back({{-0.313, -0.307, 0}, {1, 0, 0}, 1.0, 0});  // inside the grid, -0.5 to -0.1
+    ibm::DirectForcing f(gr, {Kernel::roma3, 50, 1e-6, cg}, MPI_COMM_WORLD);
+    f.set_markers(s);
+    std::vector<double> u(static_cast<std::size_t>(n * n), std::nan("")), v(u.size(), 0.0);
+    CHECK_THROWS_WITH(f.apply({u.data(), v.data(), nullptr}, 0.0, 1.0, 1.0, 1.0),
+                      Catch::Contains("not finite"));
+  }
 }
 
 namespace {

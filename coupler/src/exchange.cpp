@@ -84,6 +84,7 @@ FieldExchange::~FieldExchange() {
   // (as it could be during the wait before).
   if (std::uncaught_exceptions() > 0) {
     [[maybe_unused]] auto* left = new std::vector<Peer>(std::move(peers_));
+    [[maybe_unused]] auto* replies = new std::vector<double>(std::move(reply_out_));
     return;
   }
   // Outstanding sends must complete before their buffers go away.

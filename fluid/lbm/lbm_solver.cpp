@@ -884,9 +884,7 @@ Diagnostics LbmSolver::diagnostics() {
   if (s_.tp.on) {
     core_->phase(out_phase_);
     if (!solids) out_solid_.assign(rho.size(), 0.0);
-    out_grain_.assign(solid_cells_.empty() ? 0 : rho.size(), 0.0);
-    for (std::size_t n = 0; n < solid_cells_.size(); ++n)
-      out_grain_[static_cast<std::size_t>(solid_cells_[n])] = solid_fraction_[n];
+    if (solid_cells_.empty() || !core_->grain_fractions(out_grain_)) out_grain_.clear();
     d.extra = lbm::phase_values(s_.units, s_.cells, rho, u, out_phase_, out_solid_, out_grain_, comm_);
   }
   return d;

@@ -76,6 +76,13 @@ class LbmCore {
     (void)out;
     return false;
   }
+  // Owned cells' grain fraction as the two-fluid collision takes it (set_psm's,
+  // 0 where it leaves a grain out: next to open faces and in solids); false:
+  // no grains in this core's two-fluid step.
+  virtual bool grain_fractions(std::vector<double>& out) const {
+    (void)out;
+    return false;
+  }
 };
 
 class LbmSolver final : public FluidSolver {

@@ -23,8 +23,9 @@ inline std::vector<output::Series::Column> phase_columns() {
 
 // Owned cells, lattice units: density rho, velocity u (3 per cell), colour
 // fraction phase = (rho_r - rho_b) / rho, solid mask (nonzero: solid, left
-// out), and the psm grains' solid fraction eps of each cell (empty: no
-// grains). A cell's pore volume is (1 - eps) dV: the saturation is the red
+// out), and the psm grains' solid fraction eps of each cell as the two-fluid
+// collision takes it (empty: no grains; 0 next to open faces, where the
+// collision leaves grains out). A cell's pore volume is (1 - eps) dV: the saturation is the red
 // share of the pore volume, and a phase's flow rate along an axis its volume
 // flux averaged over the domain's length on that axis, Q = (1/L) sum u psi (1
 // - eps) dV with psi = (1 +/- phase)/2: in steady incompressible flow, the

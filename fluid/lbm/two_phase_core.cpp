@@ -143,6 +143,12 @@ class TwoPhaseCore final : public LbmCore {
     for_owned([&](long, long, long, long x) { out[c++] = solid_[x] ? 1.0 : 0.0; });
     return true;
   }
+  bool grain_fractions(std::vector<double>& out) const override {
+    out.assign(static_cast<std::size_t>(owned_cells()), 0.0);
+    for (std::size_t n = 0; n < grains_.size(); ++n)
+      out[static_cast<std::size_t>(grain_cells_[n])] = grains_[n].eps;
+    return true;
+  }
 
   double max_u2() const override { return max_u2_; }
   void set_max_u2(double u2) override { max_u2_ = u2; }
@@ -178,11 +184,13 @@ class TwoPhaseCore final : public LbmCore {
                std::span<const double> wetting) override {
     for (const Grain& m : grains_) special_[m.x] = static_special_[m.x], grain_[m.x] = 0;
     grains_.clear();
+    grain_cells_.clear();
     for (std::size_t n = 0; n < cells.size(); ++n) {
       const long x = block_index(cells[n]);
       bool open = false;
       for (int q = 1; q < L::Q; ++q) open = open || open_[x + off_[q]];
-      if (!solid_[x] && !open) grains_.push_back({x, fraction[n], wetting[n]});
+      if (!solid_[x] && !open)
+        grains_.push_back({x, fraction[n], wetting[n]}), grain_cells_.push_back(cells[n]);
     }
     if (s_.tp.geometric) find_grain_wetted();
     // Grain cells take the one-cell passes: the streaming stores their pulled
@@ -791,6 +799,7 @@ class TwoPhaseCore final : public LbmCore {
     double eps, wetting;  // solid fraction, cos(theta)
   };
   std::vector<Grain> grains_;
+  std::vector<long> grain_cells_;    // their owned-cell indices, as set_psm got them
   std::vector<std::uint8_t> grain_;  // per cell: 1 in grains_ (collided by psm() only)
   std::vector<double> eps_, grain_cos_;  // geometric wetting: per cell of the block and ghosts
   std::vector<int> grain_wet_index_;     // per cell, into grain_wet_ (-1: no grain in or next to it)

@@ -497,9 +497,9 @@ Diagnostics LbmReference::diagnostics() {
     std::vector<double> rho(cells), u(3 * cells), phase, solid;
     for (long c = 0; c < cells; ++c) moments(c, rho[c], &u[3 * c]);
     phase_fields(phase, solid);
-    std::vector<double> grain(solid_.empty() ? 0 : static_cast<std::size_t>(cells), 0.0);
-    for (const auto& [c, s] : solid_) grain[static_cast<std::size_t>(c)] = s.fraction;
-    d.extra = lbm::phase_values(s_.units, s_.cells, rho, u, phase, solid, grain, comm_);
+    // The grains as the two-fluid collision takes them (set_solid's grain_eps_:
+    // none in solids or next to open faces).
+    d.extra = lbm::phase_values(s_.units, s_.cells, rho, u, phase, solid, grain_eps_, comm_);
   }
   return d;
 }

@@ -220,7 +220,8 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
     "s, or auto: dem, the smaller of time_step_fraction x the critical step 2 sqrt(m/K) and half the "
     "critical step of a grain in 12 contacts, shortened as grains crush; dpm, 0.2 x the smallest of "
     "the time to cross the fluid cells' narrowest side, the response time, the mean time between "
-    "collisions and, with dispersion, the Lagrangian integral time T_L (seed 003 eq. 4.15)",
+    "collisions and, with dispersion, the Lagrangian integral time T_L (seed 003 eq. 4.15), and above "
+    "Re_p 55 5 tau_p / (d(f Re_p)/dRe_p), which keeps RK4 stable on the drag",
     config::positive());
   v("time_step_fraction", time_step_fraction, "fraction of the critical step 2 sqrt(m/K) that dem takes with time_step: auto", config::in_range(1e-6, 1.0));
   v.entries("species", "particle kinds by name", [&](const std::string& name, Visitor& s) {

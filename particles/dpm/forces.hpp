@@ -41,6 +41,11 @@ inline double drag_correction(double re_p) {
   return re_p <= 1000.0 ? 1.0 + 0.15 * std::pow(re_p, 0.687) : 0.44 * re_p / 24.0;
 }
 inline double drag_coefficient(double re_p) { return 24.0 / re_p * drag_correction(re_p); }  // eq. 3.31
+// d(f Re_p) / dRe_p: the drag's linear rate (its Jacobian with respect to the
+// slip) in units of 1 / tau_p; 1 in Stokes flow, 30 at Re_p 1000.
+inline double drag_rate(double re_p) {
+  return re_p <= 1000.0 ? 1.0 + 0.15 * 1.687 * std::pow(re_p, 0.687) : 2.0 * 0.44 * re_p / 24.0;
+}
 
 // Saffman lift with Mei's correction, eq. 3.32; beta = Re_s / (2 Re_p).
 inline double saffman_coefficient(double re_p, double re_s) {

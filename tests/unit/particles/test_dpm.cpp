@@ -69,6 +69,33 @@ TEST_CASE("lift and torque limits: Rubinow-Keller and Stokes", "[dpm]") {
   CHECK(S.saffman[1] > 0.0);  // (u - v) x omega = (-0.01 x) x (50 z) = +0.5 y
 }
 
+// A particle at rest in a 15 m/s stream, Re_p = 500: the drag relaxes the
+// slip at d(f Re)/dRe / tau_p = 19 / tau_p. Eq. 4.15's 0.2 tau_p alone gave h
+// lambda = 3.8, beyond RK4's stability limit of 2.785 for the linearised drag
+// (found by review, 2026-12-05); the step now keeps h lambda <= 1.
+TEST_CASE("the automatic step keeps RK4 stable at large Re_p", "[dpm]") {
+  DpmSetup s;
+  s.cell = 1.0;
+  FluidSample f;
+  f.u = V3(15.0, 0, 0);
+  f.rho = 1.2;
+  f.mu = 1.8e-5;
+  const double D = 5e-4, rho_p = 2500.0, tau = response_time(rho_p, D, f.mu);
+  const double h = lagrangian_step(s, D, rho_p, V3::Zero(), f);
+  const double rate = drag_rate(500.0);
+  CHECK_THAT(rate, WithinRel(1.0 + 0.25305 * std::pow(500.0, 0.687), 1e-12));
+  CHECK_THAT(h * rate / tau, WithinRel(1.0, 1e-12));
+  const double m = rho_p * std::numbers::pi * D * D * D / 6.0, I = m * D * D / 10.0;
+  const Motion after = rk4({V3::Zero(), V3::Zero(), V3::Zero()}, D, m, I, rho_p, f, s, h);
+  CHECK(after.v[0] > 0.0);
+  CHECK(after.v[0] < 15.0);
+  // Newton's regime (Re_p 2000): C_d = 0.44, d(f Re)/dRe = 0.88 Re / 24.
+  CHECK_THAT(drag_rate(2000.0), WithinRel(0.88 * 2000.0 / 24.0, 1e-14));
+  // At small Re_p eq. 4.15's response time is what binds, as before.
+  f.u = V3(0.01, 0, 0);  // Re_p 0.33
+  CHECK(lagrangian_step(s, D, rho_p, V3::Zero(), f) == 0.2 * tau);
+}
+
 TEST_CASE("contact time along straight trajectories, eq. 4.28", "[dpm]") {
   // Head-on at 2 m/s closing speed, gap 1 mm: touch after 0.5 ms.
   CHECK_THAT(contact_time(V3(3e-3, 0, 0), V3(-2.0, 0, 0), 2e-3, 1e-3), WithinRel(5e-4, 1e-12));

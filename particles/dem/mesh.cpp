@@ -122,16 +122,33 @@ void MeshWall::contacts_all(const V3& x, double r, std::vector<MeshContact>& out
   finish(x, r, out);
 }
 
+// The contacts are the closest points that are local minima of the distance
+// over the whole surface. A point inside a face always is. A point on an edge
+// or a vertex is one only where every triangle that holds it has its own
+// closest point there too: where one of them comes closer elsewhere (a
+// coplanar or concave neighbour, the other triangle of a face cut in two),
+// that neighbour's point is the contact. Every triangle holding such a point
+// is within r of the centre, so among the candidates. One contact per
+// distinct point.
 void MeshWall::finish(const V3& x, double r, std::vector<MeshContact>& out) const {
   std::erase_if(out, [&](const MeshContact& m) { return (x - m.point).norm() >= r; });
   std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.triangle < b.triangle; });
-  const bool any_face = std::any_of(out.begin(), out.end(), [](const auto& m) { return m.face; });
+  const double tol = 1e-12 * r;
+  const auto holds = [&](const MeshContact& other, const V3& q) {  // q on other's triangle
+    const auto& t = mesh_.triangles[static_cast<std::size_t>(other.triangle)];
+    bool face = false;
+    const V3 c =
+        closest_on_triangle(q, mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]], face);
+    return (c - q).norm() <= tol + 1e-12 * q.lpNorm<Eigen::Infinity>();
+  };
   std::vector<MeshContact> kept;
   for (const auto& m : out) {
-    if (any_face && !m.face) continue;
+    const bool minimum = m.face || std::none_of(out.begin(), out.end(), [&](const MeshContact& o) {
+                           return (o.point - m.point).norm() > tol && holds(o, m.point);
+                         });
     const bool dup = std::any_of(kept.begin(), kept.end(),
-                                 [&](const auto& k) { return (k.point - m.point).norm() <= 1e-12 * r; });
-    if (!dup) kept.push_back(m);
+                                 [&](const auto& k) { return (k.point - m.point).norm() <= tol; });
+    if (minimum && !dup) kept.push_back(m);
   }
   out.swap(kept);
 }

@@ -23,10 +23,12 @@ class MeshWall {
   MeshWall(TriangleMesh mesh, double friction);
   double friction() const { return friction_; }
   std::size_t size() const { return mesh_.triangles.size(); }
-  // The triangles a sphere (centre x, radius r) touches, sorted by triangle. A
-  // contact inside a face wins: edge and vertex contacts count only where the
-  // sphere touches no face (a convex rim), one per distinct point, so a flat
-  // mesh acts like one plane whichever triangles it is cut into.
+  // The triangles a sphere (centre x, radius r) touches, sorted by triangle:
+  // the closest points that are local minima of the distance over the mesh
+  // (a point inside a face; an edge or a vertex point only where every
+  // triangle holding it is closest there: a convex rim), one per distinct
+  // point, so a flat mesh acts like one plane whichever triangles it is cut
+  // into, and a sphere on a floor still meets a post's edge.
   void contacts(const V3& x, double r, std::vector<MeshContact>& out) const;      // FCL broad phase
   void contacts_all(const V3& x, double r, std::vector<MeshContact>& out) const;  // every triangle (oracle)
   // The triangles that a sphere of radius r moving from x0 to x1 may touch

@@ -118,3 +118,52 @@ TEST_CASE("mesh summary: triangles, box, closedness; scale and translate", "[mes
   CHECK(s.lower.isApprox(V3(1, 2, 3), 1e-15));
   CHECK(s.upper.isApprox(V3(1.001, 2.001, 3.001), 1e-15));
 }
+
+// Found by a read-only review (2026-12-05). Before, a face contact anywhere on
+// the mesh dropped every edge and vertex contact (a sphere on a floor went
+// through the edge of a post of the same mesh), and with no face contact every
+// distinct edge or vertex point counted (the corner of a square cut in two
+// triangles gave a second, vertex contact beside the edge's).
+TEST_CASE("mesh contacts: a post's edge beside a floor's face; one contact at a cut square's rim", "[mesh]") {
+  // A floor cut along its diagonal, and a cube [0, 0.2]^3 standing on it
+  // (its four side faces, two triangles each, outward).
+  TriangleMesh m;
+  m.vertices = {V3(-1, -1, 0), V3(1, -1, 0), V3(1, 1, 0), V3(-1, 1, 0)};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  const auto quad = [&](V3 a, V3 b, V3 c, V3 d) {  // a b c d counter-clockwise seen from outside
+    const int n = static_cast<int>(m.vertices.size());
+    m.vertices.insert(m.vertices.end(), {a, b, c, d});
+    m.triangles.push_back({n, n + 1, n + 2});
+    m.triangles.push_back({n, n + 2, n + 3});
+  };
+  const double s = 0.2;
+  quad(V3(0, 0, 0), V3(0, 0, s), V3(0, s, s), V3(0, s, 0));  // x = 0, outward -x
+  quad(V3(0, 0, 0), V3(s, 0, 0), V3(s, 0, s), V3(0, 0, s));  // y = 0, outward -y
+  const MeshWall wall(m, 0.3);
+  std::vector<MeshContact> hits, all;
+  // Sphere r = 0.05 at (-0.03, -0.03, 0.049): the floor's face 0.049 below,
+  // the post's vertical edge x = y = 0 at 0.0424.
+  const V3 x(-0.03, -0.03, 0.049);
+  wall.contacts(x, 0.05, hits);
+  wall.contacts_all(x, 0.05, all);
+  REQUIRE(hits.size() == 2);
+  REQUIRE(all.size() == 2);
+  V3 push = V3::Zero();
+  for (const auto& h : hits) push += (0.05 - (x - h.point).norm()) * (x - h.point).normalized();
+  CHECK(std::abs(push.z() - 0.001) < 1e-12);  // the floor's overlap
+  const double edge = 0.05 - std::sqrt(2.0) * 0.03;
+  CHECK(std::abs(push.x() + edge / std::sqrt(2.0)) < 1e-12);  // the edge's, along (-1, -1, 0) / sqrt 2
+  CHECK(std::abs(push.y() + edge / std::sqrt(2.0)) < 1e-12);
+
+  // A square cut along its diagonal, a sphere beyond its edge y = 0 near the
+  // corner (0, 0, 0): one contact, on the edge.
+  TriangleMesh sq;
+  sq.vertices = {V3(0, 0, 0), V3(1, 0, 0), V3(1, 1, 0), V3(0, 1, 0)};
+  sq.triangles = {{0, 1, 2}, {0, 2, 3}};
+  const MeshWall flat(sq, 0.3);
+  flat.contacts(V3(0.05, -0.05, 0.05), 0.1, hits);
+  flat.contacts_all(V3(0.05, -0.05, 0.05), 0.1, all);
+  REQUIRE(hits.size() == 1);
+  REQUIRE(all.size() == 1);
+  CHECK((hits[0].point - V3(0.05, 0, 0)).norm() < 1e-15);
+}

@@ -67,14 +67,23 @@ void SpeciesParams::visit(Visitor& v) {
 }
 
 void BondParams::visit(Visitor& v) {
-  v("compressive_strength", compressive_strength, "compressive strength sigma_cC of a bond: it fails when its compressive stress exceeds this, Pa", config::non_negative());
-  v("tensile_strength", tensile_strength, "tensile strength sigma_cT of a bond: it fails when its tensile stress exceeds this, Pa", config::non_negative());
-  v("shear_strength", shear_strength, "shear strength tau_c of a bond: it fails when its shear stress exceeds this, Pa", config::non_negative());
+  v("compressive_strength", compressive_strength,
+    "compressive strength sigma_cC of a bond: it fails when its compressive normal force exceeds sigma_cC "
+    "(R1 + R2)^2 (seed 000 eq. 2.15: the square of the radii's sum, not the bond's area), Pa",
+    config::non_negative());
+  v("tensile_strength", tensile_strength,
+    "tensile strength sigma_cT of a bond: it fails when its tensile normal force exceeds sigma_cT (R1 + "
+    "R2)^2, Pa",
+    config::non_negative());
+  v("shear_strength", shear_strength,
+    "shear strength tau_c of a bond: it fails when its shear force exceeds tau_c (R1 + R2)^2, Pa",
+    config::non_negative());
   v("crush_fraction", crush_fraction, "radius fraction lost by both grains on compressive failure",
     config::in_range(0.0, 0.5));
   v("gap", gap,
     "pairs whose surfaces are closer than this at the start are bonded (with pairs: the largest gap a listed "
-    "pair may have), m",
+    "pair may have), m; the normal spring is measured from contact, so a pair bonded across a gap g starts "
+    "pulled together by K_N g",
     config::non_negative());
   v("pairs", pairs,
     "CSV file of the bonded pairs (header i,j; particle ids, numbered from 0 in the order of initial), relative "
@@ -85,7 +94,11 @@ void ContactParams::visit(Visitor& v) {
   v("normal_stiffness", normal_stiffness, "K_N, stiffness of the linear normal spring of a contact (Cundall & Strack 1979), N/m", config::positive());
   v("shear_stiffness", shear_stiffness, "k_S, stiffness of the tangential spring of a contact (Cundall & Strack 1979), N/m", config::non_negative());
   v("friction", friction, "Coulomb friction coefficient mu: the tangential force is at most mu times the normal one", config::non_negative());
-  v("local_damping", local_damping, "alpha of the local non-viscous damping: a force -alpha |F| sign(v) on each component of a grain's motion, 0 for none", config::in_range(0.0, 0.99));
+  v("local_damping", local_damping,
+    "alpha of the local non-viscous damping: a force -alpha |F| sign(v) on each component of a grain's "
+    "motion, F the resultant of the contacts, the fluid and gravity (as PFC and Yade by default; seed 000 "
+    "eq. 2.7 leaves gravity out of F, so a free grain falls at (1 - alpha) g here), 0 for none",
+    config::in_range(0.0, 0.99));
   v.section("bond", "cementation of the initial contacts (bonds that carry tension and shear until they fail); omit for none",
             [&](Visitor& s) { bond.visit(s); }, &bonded);
 }

@@ -132,6 +132,23 @@ class EventRecorder {
 };
 
 // Inward unit normal and position of a face's plane.
+// A contact without a direction: two grains with one centre (an initial
+// placement that put two grains in one place), or a centre on a mesh wall (a
+// grain passed into it). Both variants stop alike, rather than take a NaN
+// normal (the run then blamed the step).
+[[noreturn]] inline void coincident_centres(std::int64_t a, std::int64_t b, double t) {
+  throw std::runtime_error(
+      fmt::format("dem: particles {} and {} have the same centre at t = {:.6g} s: two grains "
+                  "were placed in one place (particles.initial), or the step is far too large",
+                  a, b, t));
+}
+[[noreturn]] inline void centre_on_mesh(std::int64_t a, std::size_t mesh, double t) {
+  throw std::runtime_error(
+      fmt::format("dem: particle {}'s centre lies on mesh wall {} at t = {:.6g} s: the grain "
+                  "has passed into the wall; lower particles.time_step",
+                  a, mesh + 1, t));
+}
+
 inline V3 face_normal(int f) {
   V3 n = V3::Zero();
   n[f / 2] = f % 2 == 0 ? 1.0 : -1.0;

@@ -25,6 +25,8 @@ check fv_k_epsilon_blow_up \
   "fv: k and epsilon would need 3.2e+09 advection sub-steps at t = 0.01 s (the velocity is far above the step's CFL limit); lower fluid.fv.cfl or fluid.fv.max_step"
 check lbm_too_many_windows \
   "run.end_time: 1e+300 s is 2.56e+300 coupling windows of"
+check dem_coincident_grains "dem: particles 0 and 8 have the same centre at t = 0 s: two grains were placed in one place"
+check dem_coincident_grains "dem: particles 0 and 8 have the same centre at t = 0 s" --set particles.solver=dem-reference
 check dem_crushed_past_fixed_step \
   "the particle step 2e-05 s (particles.time_step) now exceeds the critical step 8.329e-06 s (seed 000 eq. 2.19) of the lightest grain"
 # On 3 fluid ranks every rank fails. Each rank writes its own files: rank 0

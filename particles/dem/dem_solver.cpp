@@ -91,8 +91,10 @@ void DemSolver::add_ghosts() {
 void DemSolver::drop_ghosts() {
   invalidate_list();  // local indices change
   store_.keep(owned_);
-  // Histories that no longer involve a particle of this rank.
-  if (size_ > 1) {
+  // Histories that no longer involve a particle of this rank (on one rank:
+  // those of grains gone through an outlet, which a checkpoint written before
+  // the next contact list would otherwise keep; dem-reference erases them).
+  {
     std::unordered_map<std::int64_t, char> mine;
     for (auto id : p_.id) mine[id] = 1;
     for (auto it = contacts_.begin(); it != contacts_.end();)

@@ -19,20 +19,38 @@ using coflow::coupler::FieldExchange;
 
 namespace {
 
+// The world split in halves joined by an intercommunicator: the lower half
+// sends, the upper receives.
+struct Halves {
+  int size = 1, half = 0, local_rank = 0;
+  bool sender = false;
+  MPI_Comm local = MPI_COMM_NULL, inter = MPI_COMM_NULL;
+  explicit Halves(int tag) {
+    int rank = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    half = size / 2;
+    sender = rank < half;
+    MPI_Comm_split(MPI_COMM_WORLD, sender ? 0 : 1, rank, &local);
+    MPI_Intercomm_create(local, 0, MPI_COMM_WORLD, sender ? half : 0, tag, &inter);
+    MPI_Comm_rank(local, &local_rank);
+  }
+  ~Halves() {
+    MPI_Comm_free(&inter);
+    MPI_Comm_free(&local);
+  }
+  Halves(const Halves&) = delete;
+  Halves& operator=(const Halves&) = delete;
+};
+
 // One half of the world sends a field of 64 x 64 x 64 cells to the other,
 // then fails; the other half receives only after that. Returns how long the
 // failing side took to unwind (0 on the receiving side).
 double fail_while_sending(int ghost) {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  const int half = size / 2;
-  const bool sender = rank < half;
-  MPI_Comm local = MPI_COMM_NULL, inter = MPI_COMM_NULL;
-  MPI_Comm_split(MPI_COMM_WORLD, sender ? 0 : 1, rank, &local);
-  MPI_Intercomm_create(local, 0, MPI_COMM_WORLD, sender ? half : 0, 77, &inter);
-  int local_rank = 0;
-  MPI_Comm_rank(local, &local_rank);
+  const Halves w(77);
+  const int size = w.size, half = w.half, local_rank = w.local_rank;
+  const bool sender = w.sender;
+  const MPI_Comm inter = w.inter;
   const Decomposition senders({64, 64, 64}, half, {1, 1, half}),
       receivers({64, 64, 64}, size - half, {1, 1, size - half});
   // Without a ghost layer each message is one contiguous run of the sender's
@@ -66,8 +84,6 @@ double fail_while_sending(int ghost) {
         for (long i = owned.lo[0]; i < owned.hi[0]; ++i) wrong += got[ex.local_index({i, j, k})] != 1.5;
   }
   MPI_Barrier(MPI_COMM_WORLD);
-  MPI_Comm_free(&inter);
-  MPI_Comm_free(&local);
   CHECK(wrong == 0);
   return unwound;
 }
@@ -107,7 +123,7 @@ namespace {
 // the receiver's own vector (reply_sparse(std::vector&&), which hands back
 // the buffer of the window before), and a cell beyond a wall (conservative
 // transfer: it goes nowhere, and its reply is 0).
-void sparse_round_trip(int rank, int half, bool sender, MPI_Comm inter, int local_rank) {
+void sparse_round_trip(int half, bool sender, MPI_Comm inter, int local_rank) {
   const Decomposition senders({8, 8, 8}, half, {1, 1, half}), receivers({8, 8, 8}, 1, {1, 1, 1});
   const coflow::coupler::FieldSpec spec{"solid", 5, coflow::coupler::Transfer::conservative, 1};
   if (sender) {
@@ -150,26 +166,16 @@ void sparse_round_trip(int rank, int half, bool sender, MPI_Comm inter, int loca
     CHECK(answer.size() == (window == 0 ? 0u : 3 * cells.size()));
   }
   ex.flush();
-  (void)rank;
 }
 
 }  // namespace
 
 TEST_CASE("sparse messages: values replaced, replies from the caller's vector, none for a cell beyond a wall",
           "[mpi][coupler]") {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  int size = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   if (size < 2) return;  // needs a partner (ctest unit.mpi_4_ranks)
-  const int half = size / 2;
-  const bool sender = rank < half;
-  MPI_Comm local = MPI_COMM_NULL, inter = MPI_COMM_NULL;
-  MPI_Comm_split(MPI_COMM_WORLD, sender ? 0 : 1, rank, &local);
-  MPI_Intercomm_create(local, 0, MPI_COMM_WORLD, sender ? half : 0, 78, &inter);
-  int local_rank = 0;
-  MPI_Comm_rank(local, &local_rank);
-  sparse_round_trip(rank, half, sender, inter, local_rank);
+  const Halves w(78);
+  sparse_round_trip(w.half, w.sender, w.inter, w.local_rank);
   MPI_Barrier(MPI_COMM_WORLD);
-  MPI_Comm_free(&inter);
-  MPI_Comm_free(&local);
 }

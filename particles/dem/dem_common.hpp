@@ -143,10 +143,10 @@ class EventRecorder {
                   a, b, t));
 }
 [[noreturn]] inline void centre_on_mesh(std::int64_t a, std::size_t mesh, double t) {
-  throw std::runtime_error(
-      fmt::format("dem: particle {}'s centre lies on mesh wall {} at t = {:.6g} s: the grain "
-                  "has passed into the wall; lower particles.time_step",
-                  a, mesh + 1, t));
+  throw std::runtime_error(fmt::format(
+      "dem: particle {}'s centre lies on mesh wall {} at t = {:.6g} s: the grain "
+      "was placed there (particles.initial) or has passed into the wall (lower particles.time_step)",
+      a, mesh + 1, t));
 }
 
 inline V3 face_normal(int f) {

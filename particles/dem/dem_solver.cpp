@@ -366,7 +366,7 @@ void DemSolver::pair_contact(std::size_t i, std::size_t j, long k, double h) {
       events_.collision(time_, p_.id[i], p_.id[j], d / dist, V3(&p_.v[3 * i]) - V3(&p_.v[3 * j]));
     }
   }
-  if (!(dist > 0.0)) dem::coincident_centres(p_.id[i], p_.id[j], time_);
+  if (dist == 0.0) dem::coincident_centres(p_.id[i], p_.id[j], time_);  // (NaN: the state check's)
   const V3 nrm = d / dist;
   const double a1 = ri - 0.5 * overlap, a2 = rj - 0.5 * overlap;
   const V3 vi(&p_.v[3 * i]), vj(&p_.v[3 * j]), wi(&p_.w[3 * i]), wj(&p_.w[3 * j]);
@@ -445,7 +445,7 @@ void DemSolver::mesh_contacts(double h) {
       for (const auto& hit : mesh_hits_) {
         const V3 d = xi - hit.point;
         const double dist = d.norm();
-        if (!(dist > 0.0)) dem::centre_on_mesh(p_.id[i], m, time_);
+        if (dist == 0.0) dem::centre_on_mesh(p_.id[i], m, time_);
         const V3 nrm = d / dist;
         const int slot = dem::mesh_history_slot(nrm, steps_, [&](int k) -> const dem::ContactState* {
           auto f = walls_.find(key(p_.id[i], dem::mesh_wall_key(m, k)));

@@ -129,17 +129,21 @@ void MeshWall::contacts_all(const V3& x, double r, std::vector<MeshContact>& out
 // coplanar or concave neighbour, the other triangle of a face cut in two),
 // that neighbour's point is the contact. Every triangle holding such a point
 // is within r of the centre, so among the candidates. One contact per
-// distinct point.
+// distinct point. "Holds" and "there" are within 1e-6 r: the two triangles of
+// an edge compute its points from opposite ends (last bits apart), and a
+// vertex of a mesh not conforming at a seam (a T-junction) sits a float's
+// rounding off its neighbour's edge.
 void MeshWall::finish(const V3& x, double r, std::vector<MeshContact>& out) const {
-  std::erase_if(out, [&](const MeshContact& m) { return (x - m.point).norm() >= r; });
+  std::erase_if(out,
+                [&](const MeshContact& m) { return !((x - m.point).norm() < r); });  // NaN too (a sliver)
   std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.triangle < b.triangle; });
-  const double tol = 1e-12 * r;
+  const double tol = 1e-6 * r;
   const auto holds = [&](const MeshContact& other, const V3& q) {  // q on other's triangle
     const auto& t = mesh_.triangles[static_cast<std::size_t>(other.triangle)];
     bool face = false;
     const V3 c =
         closest_on_triangle(q, mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]], face);
-    return (c - q).norm() <= tol + 1e-12 * q.lpNorm<Eigen::Infinity>();
+    return (c - q).norm() <= tol;
   };
   std::vector<MeshContact> kept;
   for (const auto& m : out) {

@@ -56,7 +56,7 @@ void DemReference::pair_forces(double h, std::vector<std::size_t>& crushed) {
         ++collisions_;
         events_.collision(time_, a.id, b.id, d / dist, a.v - b.v);
       }
-      if (!(dist > 0.0)) dem::coincident_centres(a.id, b.id, time_);
+      if (dist == 0.0) dem::coincident_centres(a.id, b.id, time_);  // (NaN: the state check's)
       const V3 n = d / dist;
       const double a1 = a.r - 0.5 * overlap, a2 = b.r - 0.5 * overlap;
       const V3 vrel = (a.v + a.w.cross(-a1 * n)) - (b.v + b.w.cross(a2 * n));
@@ -117,7 +117,7 @@ void DemReference::mesh_forces(double h) {
       for (const auto& hit : hits) {
         const V3 d = a.x - hit.point;
         const double dist = d.norm();
-        if (!(dist > 0.0)) dem::centre_on_mesh(a.id, m, time_);
+        if (dist == 0.0) dem::centre_on_mesh(a.id, m, time_);
         const V3 n = d / dist;
         // One history per contact direction (so coplanar triangles act as one plane).
         const int slot = dem::mesh_history_slot(n, steps_, [&](int k) -> const dem::ContactState* {

@@ -167,3 +167,45 @@ TEST_CASE("mesh contacts: a post's edge beside a floor's face; one contact at a 
   REQUIRE(all.size() == 1);
   CHECK((hits[0].point - V3(0.05, 0, 0)).norm() < 1e-15);
 }
+
+// The rule's tolerance (a second read, 2026-12-05): the two triangles of a
+// ridge compute its points from opposite ends, last bits apart; with a
+// tolerance of 1e-12 r each saw the other's point "elsewhere" and the ridge
+// had no contact at all. A vertex a float's rounding off its neighbour's edge
+// (a T-junction) must not give a second contact beside the face's; a
+// zero-area triangle (a common STL defect) gives a NaN closest point, which
+// must not count.
+TEST_CASE("mesh contacts: a ridge's edge from both sides, a T-junction, a sliver", "[mesh]") {
+  std::vector<MeshContact> hits, all;
+  TriangleMesh ridge;
+  ridge.vertices = {V3(0, 0, 0), V3(16, 0, 0), V3(8, 16, -16), V3(16, 0, 0), V3(0, 0, 0), V3(8, -16, -16)};
+  ridge.triangles = {{0, 1, 2}, {3, 4, 5}};
+  const MeshWall r(ridge, 0.3);
+  for (double x0 : {4.8, 1.3, 7.7, 12.9}) {
+    const V3 x(x0, 0, 7.9e-4);
+    r.contacts(x, 8e-4, hits);
+    r.contacts_all(x, 8e-4, all);
+    INFO("x = " << x0);
+    REQUIRE(hits.size() == 1);
+    REQUIRE(all.size() == 1);
+    CHECK(std::abs(hits[0].point.z()) < 1e-15);
+  }
+  TriangleMesh t;
+  const V3 M(0.5, 0.5 + 1e-9, 0);
+  t.vertices = {V3(0, 0, 0), V3(1, 1, 0), V3(1, 0, 0), V3(0, 0, 0), M,
+                V3(0, 1, 0), M,           V3(1, 1, 0), V3(0, 1, 0)};
+  t.triangles = {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}};
+  const MeshWall tj(t, 0.3);
+  tj.contacts(V3(0.5005, 0.4995, 0.0099), 0.01, hits);
+  tj.contacts_all(V3(0.5005, 0.4995, 0.0099), 0.01, all);
+  CHECK(hits.size() == 1);
+  CHECK(all.size() == 1);
+  TriangleMesh s;
+  s.vertices = {V3(-1, -1, 0), V3(1, -1, 0), V3(1, 1, 0), V3(-1, 1, 0),
+                V3(0, 0, 0),   V3(0, 0, 0),  V3(1, 1, 0)};
+  s.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}};
+  const MeshWall sliver(s, 0.3);
+  sliver.contacts_all(V3(0.5, 0.25, 0.049), 0.05, all);
+  REQUIRE(all.size() == 1);
+  CHECK(all[0].point.allFinite());
+}

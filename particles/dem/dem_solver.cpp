@@ -513,17 +513,26 @@ void DemSolver::integrate_owned(double h) {
 // Outlets: particles whose centre left the box are no longer this rank's
 // (nor anyone's); the same compaction as for ghosts drops them, order kept.
 void DemSolver::drop_outlets() {
-  bool leaving = false;
   bool outlets = false;
   for (int f = 0; f < 6; ++f) outlets = outlets || s_.faces[f] == dem::Face::outlet;
+  std::unordered_map<std::int64_t, char> gone;  // owned or ghosts: gone from the run
   for (std::size_t i = 0; i < p_.size() && outlets; ++i)
     for (int q = 0; q < 3; ++q)
       if ((p_.x[3 * i + q] < s_.lower[q] && s_.faces[2 * q] == dem::Face::outlet) ||
           (p_.x[3 * i + q] > s_.upper[q] && s_.faces[2 * q + 1] == dem::Face::outlet)) {
         owned_[i] = 0;
-        leaving = true;
+        gone[p_.id[i]] = 1;
       }
-  if (leaving) drop_ghosts();
+  if (gone.empty()) return;
+  // Their histories with any partner (drop_ghosts keeps a pair while one of
+  // its grains is here; dem-reference erases them at once), once the list's
+  // states are back in contacts_.
+  invalidate_list();
+  std::erase_if(contacts_, [&](const auto& c) {
+    return gone.count(static_cast<std::int64_t>(c.first >> 32)) ||
+           gone.count(static_cast<std::int64_t>(c.first & 0xffffffffu));
+  });
+  drop_ghosts();
 }
 
 void DemSolver::step(double h) {

@@ -430,8 +430,7 @@ void ParticleParams::check_initial_overlaps(Visitor& v) const {
   auto largest = [&](const std::string& name) {
     const int k = species_index(name);
     if (k < 0) return 0.0;
-    const auto& d = species[k].second.diameter;
-    return d.kind == config::Distribution::Kind::uniform ? d.b : d.a;
+    return largest_diameter(species[k].second.diameter);  // a log-normal's cut-off, not its mean
   };
   for (std::size_t n = 0; n < initial.size(); ++n) {
     const auto& it = initial[n];
@@ -439,6 +438,17 @@ void ParticleParams::check_initial_overlaps(Visitor& v) const {
       v.fail("initial", fmt::format("item {}: lattice spacing {:.4g} m is smaller than the diameter {:.4g} m of '{}': "
                                     "the particles would overlap; enlarge the spacing",
                                     n, it.spacing, largest(it.species), it.species));
+    for (std::size_t m = n + 1; m < initial.size() && it.kind == "lattice"; ++m) {
+      const auto& jt = initial[m];  // two lattices filling one place: grains on top of each other
+      bool apart = jt.kind != "lattice";
+      for (int k = 0; k < 3; ++k)
+        apart = apart || std::min(it.upper[k], jt.upper[k]) <= std::max(it.lower[k], jt.lower[k]);
+      if (!apart)
+        v.fail("initial",
+               fmt::format("items {} and {}: the two lattices' regions overlap, so their grains would "
+                           "be placed on (or into) each other; make the regions meet at a face at most",
+                           n, m));
+    }
     if (it.kind != "single") continue;
     for (std::size_t m = n + 1; m < initial.size(); ++m) {
       const auto& jt = initial[m];

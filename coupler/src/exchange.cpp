@@ -476,7 +476,7 @@ void FieldExchange::unpack_sparse(const Peer& p, long* cells, double* values) co
                         "array of {} cells (the two sides disagree on the layout)",
                         spec_.name, index, p.rank, volume));
       cells[i] = index;
-      std::memcpy(values + i * nc, in + sizeof index, (N > 0 ? N : nc) * sizeof(double));
+      std::memcpy(values + i * nc, in + sizeof index, nc * sizeof(double));
     }
   });
 }

@@ -91,10 +91,9 @@ void DemSolver::add_ghosts() {
 void DemSolver::drop_ghosts() {
   invalidate_list();  // local indices change
   store_.keep(owned_);
-  // Histories that no longer involve a particle of this rank (on one rank:
-  // those of grains gone through an outlet, which a checkpoint written before
-  // the next contact list would otherwise keep; dem-reference erases them).
-  {
+  // Histories that no longer involve a particle of this rank (grains gone
+  // through an outlet take theirs along in drop_outlets).
+  if (size_ > 1) {
     std::unordered_map<std::int64_t, char> mine;
     for (auto id : p_.id) mine[id] = 1;
     for (auto it = contacts_.begin(); it != contacts_.end();)
@@ -524,14 +523,15 @@ void DemSolver::drop_outlets() {
         gone[p_.id[i]] = 1;
       }
   if (gone.empty()) return;
-  // Their histories with any partner (drop_ghosts keeps a pair while one of
-  // its grains is here; dem-reference erases them at once), once the list's
-  // states are back in contacts_.
+  // Their histories, with any partner and with walls, on any rank count (a
+  // checkpoint written before the next contact list kept them; dem-reference
+  // erases them at once), once the list's states are back in contacts_.
   invalidate_list();
   std::erase_if(contacts_, [&](const auto& c) {
     return gone.count(static_cast<std::int64_t>(c.first >> 32)) ||
            gone.count(static_cast<std::int64_t>(c.first & 0xffffffffu));
   });
+  std::erase_if(walls_, [&](const auto& c) { return gone.count(static_cast<std::int64_t>(c.first >> 32)); });
   drop_ghosts();
 }
 

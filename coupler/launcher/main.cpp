@@ -409,6 +409,41 @@ bool start_overdue(Watch& w, double since, double limit, pid_t pid) {
   return true;
 }
 
+// Reads the launch's output until it ends (every process that holds the
+// pipe is gone). The start watchdog's SIGTERM is escalated: a launch still
+// there kStopGrace s after it (an mpirun or srun stuck itself, or a process
+// that ignores SIGTERM and outlives it) is killed as a whole, its process
+// group (the child leads one), and kStopGrace s after that the pipe is
+// abandoned, so that nothing keeps the launcher waiting. Returns whether
+// the watchdog stopped the launch.
+bool read_child_output(int fd, Watch& w, std::string& buf, double since, double start_limit, pid_t pid) {
+  constexpr double kStopGrace = 10.0;
+  double stopped_at = -1, killed_at = -1;
+  char chunk[4096];
+  for (;;) {
+    pollfd p{fd, POLLIN, 0};
+    if (poll(&p, 1, 1000) > 0) {
+      const ssize_t n = read(fd, chunk, sizeof chunk);
+      if (n < 0 && errno == EINTR) continue;  // a signal (forwarded to the child) is no end of its output
+      if (n <= 0) break;
+      buf.append(chunk, static_cast<std::size_t>(n));
+      for (std::size_t nl; (nl = buf.find('\n')) != std::string::npos; buf.erase(0, nl + 1))
+        take_line(buf.substr(0, nl), w);
+    }
+    const double t = coflow::coupler::now();
+    if (stopped_at < 0) {
+      if (start_overdue(w, since, start_limit, pid)) stopped_at = t;
+    } else if (killed_at < 0 && t - stopped_at > kStopGrace) {
+      std::fprintf(stderr, "coflow: the launch did not end %.0f s after SIGTERM: killing it\n", kStopGrace);
+      kill(-pid, SIGKILL);
+      killed_at = t;
+    } else if (killed_at >= 0 && t - killed_at > kStopGrace) {
+      break;  // a process outside the group still holds the pipe
+    }
+  }
+  return stopped_at >= 0;
+}
+
 // Runs argv with stdout+stderr piped to us; returns the exit status.
 int run_child(const std::vector<std::string>& argv, const Launch& launch, Progress& progress, Failure& failure,
               double start_limit) {
@@ -417,7 +452,7 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
   std::vector<char*> cargv;
   for (const auto& a : argv) cargv.push_back(const_cast<char*>(a.c_str()));
   cargv.push_back(nullptr);
-  // The handlers come first, with SIGINT and SIGTERM blocked over the fork
+  // The handlers come first, with SIGINT, SIGTERM and SIGHUP blocked over the fork
   // and g_child's assignment: one sent meanwhile waits and is then forwarded
   // (it would otherwise end the launcher and leave the child running). The
   // child takes the default actions back, unblocked, before its exec.
@@ -425,21 +460,27 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
   sigemptyset(&stop);
   sigaddset(&stop, SIGINT);
   sigaddset(&stop, SIGTERM);
+  sigaddset(&stop,
+            SIGHUP);  // the child leads its own process group: a closed terminal's hangup is forwarded too
   sigprocmask(SIG_BLOCK, &stop, &old);
   signal(SIGINT, forward_signal);
   signal(SIGTERM, forward_signal);
+  signal(SIGHUP, forward_signal);
   const pid_t pid = fork();
   if (pid < 0) {
     signal(SIGINT, SIG_DFL);  // no child to forward to: Ctrl-C ends the launcher
     signal(SIGTERM, SIG_DFL);
+    signal(SIGHUP, SIG_DFL);
     sigprocmask(SIG_SETMASK, &old, nullptr);
     close(fds[0]);
     close(fds[1]);
     throw std::runtime_error("fork failed");
   }
   if (pid == 0) {
+    setpgid(0, 0);  // the launch leads a process group, which the watchdog can kill whole
     signal(SIGINT, SIG_DFL);
     signal(SIGTERM, SIG_DFL);
+    signal(SIGHUP, SIG_DFL);
     sigprocmask(SIG_SETMASK, &old, nullptr);
     // Components read no input: mpirun would otherwise forward the terminal
     // to rank 0.
@@ -455,25 +496,14 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
     std::fprintf(stderr, "coflow: cannot start %s: %s\n", cargv[0], std::strerror(errno));
     _exit(127);
   }
+  setpgid(pid, pid);  // also here: whichever of the two runs first
   g_child = pid;
   sigprocmask(SIG_SETMASK, &old, nullptr);  // a signal that waited is forwarded now
   close(fds[1]);
   Watch w{launch, progress, failure, {}};
   const double since = coflow::coupler::now();
-  bool stopped = false;
   std::string buf;
-  char chunk[4096];
-  for (;;) {
-    pollfd p{fds[0], POLLIN, 0};
-    if (poll(&p, 1, 1000) > 0) {
-      const ssize_t n = read(fds[0], chunk, sizeof chunk);
-      if (n < 0 && errno == EINTR) continue;  // a signal (forwarded to the child) is no end of its output
-      if (n <= 0) break;
-      buf.append(chunk, static_cast<std::size_t>(n));
-      for (std::size_t nl; (nl = buf.find('\n')) != std::string::npos; buf.erase(0, nl + 1)) take_line(buf.substr(0, nl), w);
-    }
-    if (!stopped) stopped = start_overdue(w, since, start_limit, pid);
-  }
+  const bool stopped = read_child_output(fds[0], w, buf, since, start_limit, pid);
   if (!buf.empty()) take_line(buf, w);
   close(fds[0]);
   int status = 0;

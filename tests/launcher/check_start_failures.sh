@@ -4,7 +4,8 @@
 # naming it, within run.launch.start_timeout (not hang, and not wait for
 # coupling.timeout, which bounds the ranks' waits once started), and summary.json must say
 # why: one that exits 0 at once (/bin/true: the others wait in MPI start-up)
-# and one that fails at once (/bin/false).
+# and one that fails at once (/bin/false); and a launch that ignores the
+# watchdog's SIGTERM (an mpirun that hangs, and its child) is killed whole.
 set -u
 bin=$1 cfg=$2 out=$3
 rm -rf "$out"; mkdir -p "$out"
@@ -34,4 +35,19 @@ tail -n 2 "$out/false.log"
 grep -q "before any component started" "$out/false.log" || fail "/bin/false: no message"
 grep -q "see $out/false/logs/" "$out/false.log" && fail "/bin/false: points at a logs directory that does not exist"
 grep -q '"reason": ""' "$out/false/summary.json" && fail "/bin/false: empty reason in summary.json"
-echo "ok: stopped in $took s"
+# An mpirun that hangs and ignores SIGTERM, whose child holds the output pipe:
+# the watchdog kills the launch's process group 10 s after its SIGTERM.
+mkdir -p "$out/fake"
+printf '#!/bin/bash\ntrap "" TERM\nsleep 100\n' >"$out/fake/mpirun"
+chmod +x "$out/fake/mpirun"
+start=$(date +%s)
+PATH="$out/fake:$PATH" timeout 60 "$bin/coflow" run "$cfg" --set run.launch.start_timeout=2 \
+  --set run.output.dir="$out/stuck" >"$out/stuck.log" 2>&1; rc=$?
+stuck=$(( $(date +%s) - start ))
+tail -n 3 "$out/stuck.log"
+[ $rc -ne 124 ] || fail "a launch ignoring SIGTERM: the launcher hung (killed after 60 s)"
+[ $rc -ne 0 ] || fail "a launch ignoring SIGTERM: exit status 0"
+[ $stuck -le 30 ] || fail "a launch ignoring SIGTERM: took $stuck s (start_timeout 2 + 10 s grace)"
+grep -q "the launch did not end 10 s after SIGTERM: killing it" "$out/stuck.log" || fail "no kill message"
+grep -q '"reason": "fluid, immersed, particles did not start' "$out/stuck/summary.json" || fail "stuck: summary.json reason"
+echo "ok: stopped in $took s; a launch ignoring SIGTERM killed in $stuck s"

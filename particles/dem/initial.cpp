@@ -71,8 +71,9 @@ void add_random(ParticleArrays& a, const ParticleParams& p, const InitialItem& i
   const double target_volume = it.volume_fraction * volume;
   double placed_volume = 0.0;
   long placed = 0;
-  const double dmax =
-      sp.diameter.kind == config::Distribution::Kind::uniform ? sp.diameter.b : sp.diameter.a * 3.0;
+  // The largest diameter the species draws (a log-normal's cut-off, mean + 6
+  // standard deviations: the draws are not clamped below it).
+  const double dmax = largest_diameter(sp.diameter);
   // Overlap search grid: cells of at least the largest diameter here (this
   // item's or an earlier particle's), at most 128 per axis; the particles of
   // earlier items within reach of the region go in first (those outside it
@@ -103,7 +104,7 @@ void add_random(ParticleArrays& a, const ParticleParams& p, const InitialItem& i
           "particles.initial: random fill of species '{}' placed only {} particles (solid fraction {:.3f}) before "
           "running out of room; use fewer particles, a larger region, or a lattice",
           it.species, placed, placed_volume / volume));
-    const double diam = std::min(sample_diameter(sp.diameter, rng), dmax);
+    const double diam = sample_diameter(sp.diameter, rng);
     V3 x;
     for (int d = 0; d < 3; ++d)
       x[d] = std::uniform_real_distribution<double>(lo[d] + 0.5 * diam, hi[d] - 0.5 * diam)(rng);

@@ -47,3 +47,43 @@ particles:
   INFO(overlaps << " overlapping pairs, the deepest " << deepest << " m");
   CHECK(overlaps == 0);
 }
+
+TEST_CASE("a random fill of a log-normal species draws up to its cut-off, not 3 x the mean", "[particles]") {
+  // Mean 1 mm, std 1 mm: sigma^2 = ln 2, mu = ln(1e-3) - ln(2) / 2 (seed 003
+  // eqs. 4.20-4.21), cut-off mean + 6 std = 7 mm. P(d > 3 mm) = P(Z > (ln 3 +
+  // ln(2) / 2) / sqrt(ln 2)) = P(Z > 1.7359) = 0.04129, renormalised by P(d
+  // <= 7 mm) = P(Z < 2.7527) = 0.99704: 0.04113 (the normal tail from the
+  // complementary error function, computed here). The fill is dilute (solid
+  // fraction about 0.2 %), so that a rejected draw (which draws its size
+  // anew) hardly favours small grains. Clamping at 3 mm, as before, put none above it.
+  const char* text = R"(
+run: {name: fill, end_time: 1.0e-3, seed: 7}
+domain: {lower: [0, 0, 0], upper: [0.2, 0.2, 0.2], cells: [4, 4, 4]}
+particles:
+  solver: dem
+  species:
+    sand: {density: 2650.0, diameter: {lognormal: {mean: 1.0e-3, std: 1.0e-3}}}
+  initial:
+    - {random: {species: sand, count: 4000, region: {lower: [0, 0, 0], upper: [0.2, 0.2, 0.2]}}}
+)";
+  const auto cfg = coflow::config::parse_config_node(YAML::Load(text), "fill.yaml", coflow::catalog());
+  coflow::particles::ParticleParams params;
+  coflow::config::Reader r(cfg.resolved["particles"], "fill.yaml", "particles");
+  params.visit(r, cfg);
+  const auto a = coflow::particles::dem::make_initial(params, cfg);
+  REQUIRE(a.size() == 4000);
+  long above = 0;
+  double largest = 0.0;
+  for (double radius : a.radius) {
+    above += 2.0 * radius > 3.0e-3;
+    largest = std::max(largest, 2.0 * radius);
+  }
+  const double tail =
+      0.5 * std::erfc((std::log(3.0) + 0.5 * std::log(2.0)) / std::sqrt(std::log(2.0)) / std::sqrt(2.0));
+  const double kept = 1.0 - 0.5 * std::erfc((std::log(7.0) + 0.5 * std::log(2.0)) / std::sqrt(std::log(2.0)) /
+                                            std::sqrt(2.0));
+  const double p = tail / kept, n = 4000.0;
+  INFO(above << " of 4000 above 3 mm, expected " << p * n << "; the largest " << largest << " m");
+  CHECK(std::abs(above - p * n) <= 4.0 * std::sqrt(n * p * (1.0 - p)));  // 4 binomial standard deviations
+  CHECK(largest <= 7.0e-3);
+}

@@ -425,6 +425,26 @@ void ParticleParams::check_references(Visitor& v) const {
       if (sp.fixed) v.fail("species", fmt::format("species '{}' is fixed: fixed particles are for dem, not dpm", name));
 }
 
+namespace {
+
+// The distance from x to the nearest grain of a lattice item (its centres at
+// lower + (i + 1/2) spacing, i < n along each axis, as dem places them): the
+// nearest point of a product of grids is the nearest along each axis.
+double lattice_distance(const InitialItem& lattice, const std::array<double, 3>& x) {
+  double d2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double h = lattice.spacing;
+    const long n =
+        std::max(1L, static_cast<long>(std::floor((lattice.upper[k] - lattice.lower[k]) / h + 1e-9)));
+    const long i = std::clamp(std::lround((x[k] - lattice.lower[k]) / h - 0.5), 0L, n - 1);
+    const double c = lattice.lower[k] + (static_cast<double>(i) + 0.5) * h;
+    d2 += (x[k] - c) * (x[k] - c);
+  }
+  return std::sqrt(d2);
+}
+
+}  // namespace
+
 // Initial particles may not overlap unless they are to be cemented.
 void ParticleParams::check_initial_overlaps(Visitor& v) const {
   auto largest = [&](const std::string& name) {
@@ -450,6 +470,18 @@ void ParticleParams::check_initial_overlaps(Visitor& v) const {
                            n, m));
     }
     if (it.kind != "single") continue;
+    for (std::size_t m = 0; m < initial.size() && !contact.bonded; ++m) {
+      const auto& jt = initial[m];  // a single grain in (or next to) a lattice's grains
+      if (jt.kind != "lattice") continue;
+      const double gap = lattice_distance(jt, it.position),
+                   touch = 0.5 * (largest(it.species) + largest(jt.species));
+      if (gap < touch)
+        v.fail("initial",
+               fmt::format("items {} and {}: the single grain overlaps a grain of the lattice (centres "
+                           "{:.4g} m apart, contact at {:.4g} m); move it, or take the lattice's region "
+                           "clear of it",
+                           std::min(n, m), std::max(n, m), gap, touch));
+    }
     for (std::size_t m = n + 1; m < initial.size(); ++m) {
       const auto& jt = initial[m];
       if (jt.kind != "single") continue;

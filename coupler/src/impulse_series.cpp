@@ -2,9 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
+#include "coflow/log.hpp"
 #include "coflow/mpi_count.hpp"
 
 namespace coflow::coupler {
@@ -14,8 +16,14 @@ ImpulseSeries::ImpulseSeries(Session& s, const std::string& file, std::vector<st
     : s_(s), file_(file), names_(std::move(names)), slots_(std::move(slots)) {
   sum_.assign(3 * slot_count, 0.0);
   since_ = static_cast<double>(w0) * s.window();
-  if (w0 > 0) {
-    const std::string path = s.restart_dir() + "/" + file_ + ".csv";
+  const std::string path = w0 > 0 ? s.restart_dir() + "/" + file_ + ".csv" : std::string();
+  // A checkpoint of a variant that keeps no such series (lbm-reference has no
+  // fluid_walls.csv): the series starts at the checkpoint's time.
+  const bool resumed = w0 > 0 && std::filesystem::exists(path);
+  if (w0 > 0 && !resumed && s.rank() == 0 && !empty())
+    log::info("{}: the checkpoint holds no {} (its variant keeps none): series/{}.csv starts at t = {:.6g} s",
+              path, file_, file_, since_);
+  if (resumed) {
     std::ifstream in(path);
     if (!(in >> since_)) throw std::runtime_error(path + ": cannot read the time of the last row");
     for (double& v : sum_)
@@ -30,7 +38,7 @@ ImpulseSeries::ImpulseSeries(Session& s, const std::string& file, std::vector<st
   std::vector<output::Series::Column> columns{{"time", "s"}};
   for (const auto& n : names_)
     for (const char* c : {"_fx", "_fy", "_fz"}) columns.push_back({n + c, "N"});
-  series_ = output::Series(s.output_dir() + "/series/" + file_ + ".csv", columns, w0 > 0);
+  series_ = output::Series(s.output_dir() + "/series/" + file_ + ".csv", columns, resumed);
 }
 
 void ImpulseSeries::add(std::vector<double> window) {

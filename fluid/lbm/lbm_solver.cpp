@@ -240,6 +240,9 @@ class Core final : public LbmCore {
         for (long i = 0; i < lay_.extent[0]; ++i)
           for (int q = 0; q < L::Q; ++q) out[o++] = pop_.f[q * lay_.stride + idx(i, j, k)];
   }
+  std::vector<double> stored_offset() const override {
+    return {L::w, L::w + L::Q};
+  }
   void set_populations(const std::vector<double>& in) override {
     std::size_t o = 0;
     for (long k = 0; k < lay_.extent[2]; ++k)
@@ -816,11 +819,18 @@ void LbmSolver::save(const std::string& dir) {
   double u2 = core_->max_u2();
   MPI_Allreduce(MPI_IN_PLACE, &u2, 1, MPI_DOUBLE, MPI_MAX, comm_);
   grid::save_number(comm_, dir + "/lbm_max_u2.txt", u2);
+  grid::save_number(comm_, dir + "/lbm_offset.txt", core_->stored_offset().empty() ? 0.0 : 1.0);
 }
 
 void LbmSolver::load(const std::string& dir, long steps, double) {
   const auto& c = s_.cells;
-  core_->set_populations(grid::load_cell_field(dir + "/lbm.h5", "populations", {c[0], c[1], c[2]}, owned_, core_->q()));
+  auto f = grid::load_cell_field(dir + "/lbm.h5", "populations", {c[0], c[1], c[2]}, owned_, core_->q());
+  // lbm-reference's checkpoint holds the whole populations f (lbm_offset.txt
+  // 0); one written before that file was is this variant's own.
+  const std::vector<double> w = core_->stored_offset();
+  if (!w.empty() && grid::load_number(dir + "/lbm_offset.txt", 1.0) == 0.0)
+    for (std::size_t n = 0; n < f.size(); ++n) f[n] -= w[n % w.size()];
+  core_->set_populations(f);
   core_->set_max_u2(grid::load_number(dir + "/lbm_max_u2.txt", 0.0));
   steps_ = steps;
 }

@@ -30,6 +30,10 @@ class LbmCore {
   // Owned cells' populations, cell after cell (x fastest), q innermost.
   virtual void get_populations(std::vector<double>& out) const = 0;
   virtual void set_populations(const std::vector<double>& in) = 0;
+  // The rest weights w_q that the stored populations are offset by (one fluid:
+  // zero-centred, g = f - w, collision.hpp), or none where they are f itself
+  // (two fluids, and lbm-reference's): a checkpoint says which it holds.
+  virtual std::vector<double> stored_offset() const { return {}; }
   // Collide the listed owned cells of the last step as partially saturated
   // cells (lattice units: us per cell), adding each cell's fluid momentum gain
   // sum_q B Omega^s_q e_q to `gain` (3 per cell). The step left these cells

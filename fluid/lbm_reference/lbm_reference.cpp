@@ -393,6 +393,7 @@ void LbmReference::save(const std::string& dir) {
   grid::save_cell_fields(comm_, dir + "/lbm.h5", time(), steps_, {n_[0], n_[1], n_[2]}, box_,
                          {{"populations", colours() ? 2 * Q_ : Q_, p}});
   grid::save_number(comm_, dir + "/lbm_max_u2.txt", max_u2_);  // the immersed boundaries' scale (as lbm's)
+  grid::save_number(comm_, dir + "/lbm_offset.txt", 0.0);      // whole populations (lbm's one fluid: f - w)
 }
 
 void LbmReference::load(const std::string& dir, long steps, double) {
@@ -400,8 +401,10 @@ void LbmReference::load(const std::string& dir, long steps, double) {
                                        colours() ? 2 * Q_ : Q_);
   steps_ = steps;
   max_u2_ = grid::load_number(dir + "/lbm_max_u2.txt", 0.0);
-  if (!colours()) {
+  if (!colours()) {  // lbm's one-fluid checkpoint holds f - w (lbm_offset.txt 1)
     f_ = p;
+    if (grid::load_number(dir + "/lbm_offset.txt", 0.0) != 0.0)
+      for (std::size_t n = 0; n < f_.size(); ++n) f_[n] += w_[n % Q_];
     return;
   }
   for (std::size_t c = 0; c < f_.size() / Q_; ++c)

@@ -137,3 +137,10 @@ coflow_validation(lbm_poiseuille_one_colour_phase profile lbm_poiseuille_2d_pres
 coflow_validation(lbm_walls_duct fluid_walls lbm_duct_3d_force.yaml 1 --set run.output.series_every=30.0)
 coflow_validation(lbm_walls_duct_4_ranks fluid_walls lbm_duct_3d_force.yaml 1 --set run.output.series_every=30.0
   --set fluid.ranks=4)
+# lbm keeps its one-fluid populations as f - w, lbm-reference as f: each
+# restarts from the other's first checkpoint (lbm_offset.txt says which it
+# holds) and ends where its own straight run ends, to round-off.
+coflow_validation(lbm_restart_from_reference restart_from lbm_all_boundaries_3d.yaml 1
+  10.0 "fluid.solver=lbm-reference" "fluid.solver=lbm")
+coflow_validation(lbm_reference_restart_from_lbm restart_from lbm_all_boundaries_3d.yaml 1
+  10.0 "fluid.solver=lbm" "fluid.solver=lbm-reference")

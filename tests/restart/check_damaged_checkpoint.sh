@@ -136,6 +136,12 @@ damage "$(first amr)" "$out/nan_mac" flow.h5 mac 10 nan
 restart amr_nan_mac fv_amr_vortex.yaml "$out/nan_mac" \
   "refinement: $out/nan_mac/fluid/flow.h5 holds a value that is not finite in 'mac': the checkpoint is damaged" \
   --set run.end_time=0.04
+# Its clock (amr.txt: steps, time and last step as hexadecimal floats): a
+# time that is not a number was read as 0 before 2026-12-05.
+rm -rf "$out/amr_time"; cp -r "$(first amr)" "$out/amr_time"
+sed -i '1s/^\([0-9]*\) [^ ]*/\1 0xzz/' "$out/amr_time/fluid/amr.txt"
+restart amr_bad_time fv_amr_vortex.yaml "$out/amr_time" \
+  "refinement): $out/amr_time/fluid/amr.txt holds a time 0xzz or a last step" --set run.end_time=0.04
 
 # fv on the adaptive grid with k-epsilon (homogeneous decay on 2 levels): the
 # forest's k. The p4est file holds the cells' values as raw doubles; the bits

@@ -403,14 +403,23 @@ static std::string spec_text(const ForestSpec& s) {
                      s.trees[0], s.trees[1], s.trees[2], s.min_level, s.max_level, s.patch, s.components);
 }
 
+// The periodic axes, which p4est keeps in the forest's connectivity.
+static std::string periodic_text(const ForestSpec& s) {
+  std::string axes;
+  for (int a = 0; a < s.dims; ++a)
+    if (s.periodic[static_cast<std::size_t>(a)]) axes += std::string(axes.empty() ? "" : " ") + "xyz"[a];
+  return "periodic along " + (axes.empty() ? std::string("no axis") : axes);
+}
+
 // The forest and the flow (composite_flow.hpp), then the solver's own state
 // in dir/amr.txt: steps, time, last step (hexadecimal floats: exact),
 // regrids, the last window's steps.
 void AmrFvSolver::save(const std::string& dir) {
   flow_->save(dir);
   if (rank_ != 0) return;
-  output::atomic_write(dir + "/amr.txt", fmt::format("{} {:a} {:a} {} {}\n{}\n", steps_, time_, dt_prev_,
-                                                     regrids_, window_steps_, spec_text(forest_spec())));
+  output::atomic_write(dir + "/amr.txt",
+                       fmt::format("{} {:a} {:a} {} {}\n{}\n{}\n", steps_, time_, dt_prev_, regrids_,
+                                   window_steps_, spec_text(forest_spec()), periodic_text(forest_spec())));
 }
 
 // The steps and time come from the checkpoint: the driver's count is of
@@ -420,19 +429,37 @@ void AmrFvSolver::load(const std::string& dir, long, double) {
   std::string time_text, dt_text;
   if (!(f >> steps_ >> time_text >> dt_text >> regrids_ >> window_steps_))
     throw std::runtime_error("fv (refinement): " + dir + "/amr.txt is missing or unreadable");
-  time_ = std::strtod(time_text.c_str(), nullptr);
-  dt_prev_ = std::strtod(dt_text.c_str(), nullptr);
+  auto number = [](const std::string& t) {  // the whole text, or NaN
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    return end == t.c_str() + t.size() ? v : std::nan("");
+  };
+  time_ = number(time_text);
+  dt_prev_ = number(dt_text);
+  if (!(std::isfinite(time_) && time_ >= 0 && std::isfinite(dt_prev_) && dt_prev_ >= 0))
+    throw std::runtime_error(
+        fmt::format("fv (refinement): {}/amr.txt holds a time {} or a last step {} that is not "
+                    "a finite number of zero or more: the checkpoint is damaged",
+                    dir, time_text, dt_text));
   // The forest must be this run's (p4est aborts the job on another patch or
   // field count, and another brick misplaces the leaves): a checkpoint from
   // before 2026-12-05 does not say, and is taken as it is.
-  std::string saved;
+  // Nor may its periodic axes differ (a stencil would wrap where p4est keeps
+  // no ghosts): a checkpoint from before 2026-12-06 does not say.
+  std::string saved, periodic;
   std::getline(f >> std::ws, saved);
+  std::getline(f >> std::ws, periodic);
   if (const std::string mine = spec_text(forest_spec()); !saved.empty() && saved != mine)
     throw std::runtime_error(fmt::format(
         "fv (refinement): {}/forest.p4est holds an adaptive grid of {}, but this run's is {}: restart with "
         "the "
         "domain.cells, fluid.fv.refinement (levels, patch) and fluid.turbulence of the run that wrote it",
         dir, saved, mine));
+  if (const std::string mine = periodic_text(forest_spec()); !periodic.empty() && periodic != mine)
+    throw std::runtime_error(
+        fmt::format("fv (refinement): {}/forest.p4est holds an adaptive grid {}, but this "
+                    "run's is {}: restart with the domain.periodic of the run that wrote it",
+                    dir, periodic, mine));
   flow_.reset();
   view_.reset();
   forest_ = std::make_unique<Forest>(comm_, forest_spec(), dir + "/forest.p4est");

@@ -242,6 +242,28 @@ static void check_lbm_open_edges(config::Visitor& v, const config::Config& cfg,
       }
 }
 
+// D2Q9 has no velocities along z: a z body force, initial velocity or
+// velocity face would enter its equilibria (u^2, u.F) and show in the output
+// without moving anything. D3Q19 with one periodic cell along z carries them.
+static void check_lbm_planar(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
+  if (variant.rfind("lbm", 0) != 0 || config::resolved_text(cfg, {"fluid", "lbm", "lattice"}) != "D2Q9")
+    return;
+  FluidParams p;
+  config::Reader r(cfg.resolved["fluid"], cfg.file, "fluid");
+  p.visit(r, cfg);  // the resolved file: its own problems were reported by the visit
+  const char* fix =
+      "D2Q9 has no velocities along z: set it to 0, or take lattice D3Q19 with one periodic cell "
+      "along z, which carries a flow across the plane";
+  if (p.body_force[2] != 0.0)
+    v.fail("fluid.body_force", fmt::format("body_force[2] is {:g} N/m^3: {}", p.body_force[2], fix));
+  if (p.initial_velocity[2] != 0.0)
+    v.fail("fluid.initial.velocity", fmt::format("velocity[2] is {:g} m/s: {}", p.initial_velocity[2], fix));
+  for (const auto& [face, b] : p.boundaries)
+    if (b.type == "velocity" && b.value.values.size() == 3 && b.value.values[2] != 0.0)
+      v.fail("fluid.boundaries." + face + ".value",
+             fmt::format("value[2] is {:g} m/s: {}", b.value.values[2], fix));
+}
+
 // The key that gives a face's own inlet k and epsilon (null: none), and what it gives.
 static std::pair<const char*, const char*> inlet_turbulence_key(const BoundaryParams& b) {
   if (b.k > 0.0) return {"k", "k and epsilon"};
@@ -439,6 +461,7 @@ static void check(config::Visitor& v, const config::Config& cfg, const std::stri
   check_lbm_window(v, cfg, variant);
   check_lbm_blue_tau(v, cfg, variant);
   check_lbm_solids(v, cfg, variant);
+  check_lbm_planar(v, cfg, variant);
 }
 
 config::ComponentSchema schema() {

@@ -445,6 +445,13 @@ void LbmReference::advance(double dt) {
   const Diagnostics d = diagnostics();
   if (!std::isfinite(d.mass))
     throw coupler::SolverError(fmt::format("lbm-reference: density is not finite at step {}", steps_));
+  // Mach number (seed 000 eqs. 2.38 and 2.52), at the window's end: stop
+  // above 0.3, as lbm does (it checks every step, and warns above 0.1).
+  if (!(d.max_mach <= 0.3))
+    throw coupler::SolverError(
+        fmt::format("lbm-reference: Mach number {:.3f} at step {} exceeds 0.3 (max velocity "
+                    "{:.4g} m/s); the lattice Boltzmann method is invalid there",
+                    d.max_mach, steps_, d.max_velocity));
 }
 
 std::vector<output::GridField> LbmReference::fields(const config::StringList& names) {

@@ -27,29 +27,30 @@ namespace {
 // A periodic 16^3 box, 1 mm cells, nu = 1e-6 m^2/s, tau = 0.8: dt = 0.1 s, so
 // a velocity of A m/s is 100 A in lattice units and Mach = 100 A sqrt(3).
 // BGK without force takes the vectorised kernel; a source takes the per-cell one.
-std::string box_config(double amplitude) {
+std::string box_config(double amplitude, const std::string& solver = "lbm") {
   return fmt::format(R"(
 run: {{name: safety, end_time: 1.0}}
 domain: {{lower: [0, 0, 0], upper: [0.016, 0.016, 0.016], cells: [16, 16, 16], periodic: [true, true, true]}}
 fluid:
-  solver: lbm
+  solver: {}
   density: 1000.0
   viscosity: 1.0e-6
   initial: {{field: taylor-green, amplitude: {}}}
   lbm: {{lattice: D3Q19, formulation: standard, tau: 0.8}}
 )",
-                     amplitude);
+                     solver, amplitude);
 }
 
 struct Box {  // the solver with the configuration it was built from (in place: it may refer to both)
   config::Config cfg;
   fluid::FluidParams params;
   std::unique_ptr<fluid::FluidSolver> solver;
-  explicit Box(double amplitude)
-      : cfg(config::parse_config_node(YAML::Load(box_config(amplitude)), "safety", catalog())),
+  explicit Box(double amplitude, const std::string& solver = "lbm")
+      : cfg(config::parse_config_node(YAML::Load(box_config(amplitude, solver)), "safety", catalog())),
         params(fluid::read_params(cfg)),
-        solver(fluid::make_solver({cfg, params, coupler::Decomposition({16, 16, 16}, 1, {1, 1, 1}, {true, true, true}),
-                                   0, MPI_COMM_SELF})) {}
+        solver(fluid::make_solver({cfg, params,
+                                   coupler::Decomposition({16, 16, 16}, 1, {1, 1, 1}, {true, true, true}), 0,
+                                   MPI_COMM_SELF})) {}
   Box(const Box&) = delete;
   fluid::FluidSolver* operator->() { return solver.get(); }
 };
@@ -101,4 +102,16 @@ TEST_CASE("lbm stops on non-finite populations, naming the step, cell and field"
   INFO(e);
   CHECK(e.find("not finite at step 3 in cell (5, 9, 12)") != std::string::npos);
   CHECK(e.find("field: distribution functions") != std::string::npos);
+}
+
+TEST_CASE("lbm-reference stops above Mach 0.3 too", "[lbm]") {
+  // The case above: Mach 0.19 at step 3 runs on; 0.367 at step 1 stops (before
+  // 2026-12-05 the oracle ran on without a word).
+  Box slow(1.2e-3, "lbm-reference");
+  CHECK(error_of(slow, 3).empty());
+  Box fast(2.3e-3, "lbm-reference");
+  const std::string e = error_of(fast, 1);
+  INFO(e);
+  CHECK(e.find("lbm-reference: Mach number 0.36") != std::string::npos);
+  CHECK(e.find("at step 1 exceeds 0.3") != std::string::npos);
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "coflow/clock.hpp"
 #include "coflow/decomposition.hpp"
 #include "fluid/analytic/params.hpp"
 #include "fluid/fv/params.hpp"
@@ -455,6 +456,38 @@ static void check_wall_functions(config::Visitor& v, const config::Config& cfg) 
                                     "the bodies)");
 }
 
+// A pressure face whose lattice density 1 + p / (rho c_s^2) is not positive
+// (at the step the run takes, with the window's shortening) has no meaning
+// in the standard formulation: its closure divides by it.
+static void check_lbm_pressure_faces(config::Visitor& v, const config::Config& cfg,
+                                     const std::string& variant) {
+  if (variant.rfind("lbm", 0) != 0) return;
+  const auto lp = config::read_section<lbm::LbmParams>(cfg, "fluid.lbm", "fluid.lbm");
+  if (lp.formulation != "standard") return;  // He-Luo's density is a pressure: any offset holds
+  FluidParams p;
+  config::Reader r(cfg.resolved["fluid"], cfg.file, "fluid");
+  p.visit(r, cfg);
+  const double dx = cfg.domain.spacing()[0];
+  const double natural = lbm::Units::from(dx, p.viscosity, p.density, lp.tau).dt;
+  const double window = coupler::output_window(natural, cfg);
+  const double tau = cfg.coupling.window.is_auto && window < natural * (1 - 1e-12)
+                         ? lbm::tau_for_step(lp.tau, window, dx, p.viscosity)
+                         : lp.tau;
+  const lbm::Units units = lbm::Units::from(dx, p.viscosity, p.density, tau);
+  for (const auto& [face, b] : p.boundaries) {
+    if (b.type != "pressure" || b.value.values.empty() || units.lattice_density(b.value.values[0]) > 0.0)
+      continue;
+    v.fail("fluid.boundaries." + face + ".value",
+           fmt::format(
+               "{} Pa gives the face a lattice density of {} (1 + p / (rho c_s^2), with rho c_s^2 = {} Pa "
+               "at this step): the standard formulation needs it positive, and within about 0.1 of 1; give "
+               "pressures relative to "
+               "a reference (the gauge pressure), or a shorter step (a smaller fluid.lbm.tau)",
+               config::number(b.value.values[0]), config::number(units.lattice_density(b.value.values[0])),
+               config::number(units.pressure() / 3.0)));
+  }
+}
+
 static void check(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
   check_wall_functions(v, cfg);
   check_refinement(v, cfg, variant);
@@ -462,6 +495,7 @@ static void check(config::Visitor& v, const config::Config& cfg, const std::stri
   check_lbm_blue_tau(v, cfg, variant);
   check_lbm_solids(v, cfg, variant);
   check_lbm_planar(v, cfg, variant);
+  check_lbm_pressure_faces(v, cfg, variant);
 }
 
 config::ComponentSchema schema() {

@@ -16,8 +16,14 @@ void BoundaryParams::visit(config::Visitor& v) {
       "type", type,
       "wall (lbm: half-way bounce-back, the wall half a cell beyond the centres of the face's cells; fv: on "
       "the face), pressure or velocity (lbm: imposed at the centres of the face's cells; fv: on the face), "
-      "outflow (zero gradient; fv: the normal velocity convective, du/dt + U du/dn = 0 with U the face's "
-      "mean outward velocity, the tangential ones of zero gradient, at the reference pressure), or symmetry "
+      "outflow (zero gradient; lbm: the populations entering copied from the next cell in, post-collision, "
+      "which holds no pressure level: behind a velocity inlet the fluid's mass and pressure level drift as "
+      "the "
+      "run goes, where a pressure face would hold them; fv: the normal velocity convective, du/dt + U du/dn "
+      "= 0 with U "
+      "the face's mean outward velocity, the tangential ones of zero gradient, at the reference pressure), "
+      "or "
+      "symmetry "
       "(fv: no flow through the face, no shear on it)",
       config::one_of({"wall", "pressure", "velocity", "outflow", "symmetry"}));
   v("value", value,

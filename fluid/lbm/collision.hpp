@@ -23,6 +23,14 @@
 
 namespace coflow::fluid::lbm {
 
+// Half a force density F's momentum in population q, 3 w_q (e_q . F) / 2: the
+// post-collision populations of a state of velocity u hold rho u + F/2 (Guo,
+// Zheng & Shi 2002), so an initial equilibrium at u takes it added.
+template <class L>
+inline double half_force(int q, const double* F) {
+  return 1.5 * L::w[q] * (L::e[q][0] * F[0] + L::e[q][1] * F[1] + L::e[q][2] * F[2]);
+}
+
 // Two-relaxation-time collision (Ginzburg 2008): even (symmetric) parts relax
 // with tau, fixing the viscosity as BGK does; odd parts with tau_minus, chosen
 // from the magic parameter Lambda = (tau - 1/2)(tau_minus - 1/2). BGK is

@@ -111,7 +111,11 @@ class Core final : public LbmCore {
         for (long i = 0; i < lay_.extent[0]; ++i) {
           double rho, u[3];
           s.initial(lay_.origin[0] + i, lay_.origin[1] + j, lay_.origin[2] + k, rho, u);
-          for (int q = 0; q < L::Q; ++q) pop_.f[q * lay_.stride + idx(i, j, k)] = lbm::equilibrium<L, Incompressible>(q, rho, u);
+          // Stored populations are post-collision, their momentum rho u + F/2
+          // (Guo): the body force's half is added, so that u is the one given.
+          for (int q = 0; q < L::Q; ++q)
+            pop_.f[q * lay_.stride + idx(i, j, k)] =
+                lbm::equilibrium<L, Incompressible>(q, rho, u) + lbm::half_force<L>(q, s.force.data());
         }
   }
 

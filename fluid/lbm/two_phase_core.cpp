@@ -453,7 +453,8 @@ class TwoPhaseCore final : public LbmCore {
     special_ = static_special_;
   }
 
-  // Each colour at the equilibrium of its share of the cell's density.
+  // Each colour at the equilibrium of its share of the cell's density, with
+  // its share of the body force's half (post-collision momentum rho u + F/2).
   void initialise() {
     for_owned([&](long i, long j, long k, long x) {
       if (solid_[x]) return;
@@ -462,7 +463,8 @@ class TwoPhaseCore final : public LbmCore {
       s_.initial(g[0], g[1], g[2], rho, u);
       const double psi = s_.tp.on ? s_.tp.initial_phase(g[0], g[1], g[2]) : 1.0;
       for (int q = 0; q < L::Q; ++q) {
-        const double feq = equilibrium<L, Incompressible>(q, rho, u) + L::w[q];
+        const double feq =
+            equilibrium<L, Incompressible>(q, rho, u) + L::w[q] + half_force<L>(q, s_.force.data());
         pop_.f[at(q, x)] = 0.5 * (1.0 + psi) * feq;
         pop_.f[at(q, x) + 1] = 0.5 * (1.0 - psi) * feq;
       }

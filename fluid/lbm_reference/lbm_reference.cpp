@@ -42,7 +42,12 @@ LbmReference::LbmReference(const Setup& setup, const Params& p)
       for (long i = 0; i < n_[0]; ++i) {
         double rho, u[3];
         s_.initial(i, j, k, rho, u);
-        for (int q = 0; q < Q_; ++q) f_[index(i, j, k) * Q_ + q] = equilibrium(q, rho, u);
+        // Stored f is post-collision, its momentum rho u + F/2 (Guo): the body
+        // force's half, 3 w e.F / 2, is added so that u is the one given.
+        for (int q = 0; q < Q_; ++q) {
+          const double eF = e_[q][0] * s_.force[0] + e_[q][1] * s_.force[1] + e_[q][2] * s_.force[2];
+          f_[index(i, j, k) * Q_ + q] = equilibrium(q, rho, u) + 1.5 * w_[q] * eF;
+        }
       }
   if (colours()) init_colours();
   log::info("lbm-reference {} {}: {}", s_.d3 ? "D3Q19" : "D2Q9",

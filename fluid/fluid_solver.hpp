@@ -13,6 +13,7 @@
 #include "coflow/config.hpp"
 #include "coflow/decomposition.hpp"
 #include "coflow/output.hpp"
+#include "coflow/reproducible_sum.hpp"
 #include "coflow/run_config.hpp"
 #include "fluid/params.hpp"
 #include "immersed/ibm/markers.hpp"
@@ -100,10 +101,12 @@ class FluidSolver {
   // most forcing iterations of a step and the largest slip (m/s) they left.
   virtual std::vector<double> take_body_loads() { return {}; }
 
-  // The impulse (N s, 3 per face x- ... z+) this rank's fluid gave the wall
-  // faces since the last call, relative to the reference pressure; empty for
-  // a solver that does not keep it (series/fluid_walls.csv is then not written).
-  virtual std::vector<double> take_wall_impulse() { return {}; }
+  // The impulse (N s, 3 per face x- ... z+, then 3 per interior solid) this
+  // rank's fluid gave the wall faces and solids since the last call, relative
+  // to the reference pressure, as exact sums (1 rank gives the bits of N);
+  // empty for a solver that does not keep it (series/fluid_walls.csv is then
+  // not written).
+  virtual coupler::ExactSums take_wall_impulse() { return coupler::ExactSums(0); }
   virtual bool keeps_wall_impulse() const { return false; }
 
   virtual void save(const std::string& dir) = 0;

@@ -327,6 +327,45 @@ static void check_turbulence(config::Visitor& v, const config::Config& cfg, cons
 // What fv's adaptive grid does not take yet (fluid/fv/amr, issue 25): the
 // uniform oracle, ramps, a pressure face other than the reference
 // pressure 0; immersed boundaries need the `bodies` criterion.
+// Criteria that could never mark a leaf in this run: bodies without immersed
+// bodies, particles without point particles, walls in a box without walls, a
+// box that misses the domain.
+static void check_refinement_criteria(config::Visitor& v, const config::Config& cfg) {
+  const std::string key = "fluid.fv.refinement.criteria";
+  const auto& d = cfg.domain;
+  const int dims = d.cells[2] == 1 ? 2 : 3;
+  for (const auto& c : config::resolved_node(cfg, key)) {
+    if (!c.IsMap()) continue;
+    if (c["bodies"] && !(cfg.has("immersed") && cfg.component("immersed").variant == "ibm"))
+      v.fail(key,
+             "the criterion bodies refines around immersed bodies, and this run has none (immersed.method "
+             "ibm): remove it, or refine by another criterion");
+    if (c["particles"] && !config::point_coupling(cfg))
+      v.fail(key,
+             "the criterion particles refines where point particles put their momentum (immersed.method "
+             "point), and this run has none: remove it, or refine by another criterion");
+    bool walls = false;
+    for (int a = 0; a < dims; ++a) walls = walls || !d.periodic[a];
+    if (c["walls"] && !walls)
+      v.fail(key,
+             "the criterion walls refines near the box's non-periodic faces, and every axis is periodic: "
+             "remove it, or refine by another criterion");
+    const YAML::Node box = c["box"];
+    if (!box || !box["lower"].IsSequence() || !box["upper"].IsSequence() || box["lower"].size() != 3 ||
+        box["upper"].size() != 3)
+      continue;
+    bool meets = true;
+    for (int a = 0; a < dims; ++a) {
+      const double lo = box["lower"][a].as<double>(), hi = box["upper"][a].as<double>();
+      meets = meets && std::isfinite(lo) && std::isfinite(hi) && hi > d.lower[a] && lo < d.upper[a];
+    }
+    if (!meets)
+      v.fail(key,
+             "the criterion box does not meet the domain (or a bound is not a finite number): no leaf would "
+             "refine by it; give a box inside domain.lower .. domain.upper");
+  }
+}
+
 static void check_refinement(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
   if (!refined(cfg)) return;
   const std::string key = "fluid.fv.refinement";
@@ -334,6 +373,7 @@ static void check_refinement(config::Visitor& v, const config::Config& cfg, cons
     v.fail(key, fmt::format("solver {} is the uniform-grid oracle and does not refine; use solver: fv", variant));
     return;
   }
+  check_refinement_criteria(v, cfg);
   FluidParams p;
   config::Reader r(config::resolved_node(cfg, "fluid"), cfg.file, "fluid");
   p.visit(r, cfg);

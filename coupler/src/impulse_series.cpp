@@ -2,19 +2,19 @@
 
 #include <fmt/format.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include "coflow/log.hpp"
-#include "coflow/mpi_count.hpp"
 
 namespace coflow::coupler {
 
 ImpulseSeries::ImpulseSeries(Session& s, const std::string& file, std::vector<std::string> names,
                              std::vector<std::size_t> slots, std::size_t slot_count, long w0)
-    : s_(s), file_(file), names_(std::move(names)), slots_(std::move(slots)) {
-  sum_.assign(3 * slot_count, 0.0);
+    : s_(s), file_(file), names_(std::move(names)), slots_(std::move(slots)), sum_(3 * slot_count) {
   since_ = static_cast<double>(w0) * s.window();
   const std::string path = w0 > 0 ? s.restart_dir() + "/" + file_ + ".csv" : std::string();
   // A checkpoint of a variant that keeps no such series (lbm-reference has no
@@ -23,17 +23,7 @@ ImpulseSeries::ImpulseSeries(Session& s, const std::string& file, std::vector<st
   if (w0 > 0 && !resumed && s.rank() == 0 && !empty())
     log::info("{}: the checkpoint holds no {} (its variant keeps none): series/{}.csv starts at t = {:.6g} s",
               path, file_, file_, since_);
-  if (resumed) {
-    std::ifstream in(path);
-    if (!(in >> since_)) throw std::runtime_error(path + ": cannot read the time of the last row");
-    for (double& v : sum_)
-      if (!(in >> v)) throw std::runtime_error(path + ": cannot read the wall impulses of the checkpoint");
-    if (double more = 0.0; in >> more)
-      throw std::runtime_error(
-          path + ": the checkpoint holds the impulses of more walls than this run has (" +
-          std::to_string(sum_.size() / 3) +
-          " slots): restart with the walls, meshes and fluid.solids of the run that wrote it");
-  }
+  if (resumed) load(path);
   if (s.rank() != 0 || empty()) return;
   std::vector<output::Series::Column> columns{{"time", "s"}};
   for (const auto& n : names_)
@@ -41,33 +31,66 @@ ImpulseSeries::ImpulseSeries(Session& s, const std::string& file, std::vector<st
   series_ = output::Series(s.output_dir() + "/series/" + file_ + ".csv", columns, resumed);
 }
 
-void ImpulseSeries::add(std::vector<double> window) {
-  if (window.size() != sum_.size()) throw std::logic_error("wall impulses for another number of walls");
-  MPI_Allreduce(MPI_IN_PLACE, window.data(), mpi_count(window.size(), "wall impulses"), MPI_DOUBLE, MPI_SUM,
-                s_.comm());
-  for (std::size_t k = 0; k < sum_.size(); ++k) sum_[k] += window[k];
+// The checkpoint's sums, on rank 0 (the others start from zero): a line per
+// value, the plain sum of its non-finite terms and then its 68 digits; a
+// checkpoint written before 2026-12-05 holds one number a line, the sums
+// rounded, which are added exactly.
+void ImpulseSeries::load(const std::string& path) {
+  std::ifstream in(path);
+  if (!(in >> since_)) throw std::runtime_error(path + ": cannot read the time of the last row");
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> lines;
+  while (std::getline(in, line))
+    if (line.find_first_not_of(" \t\r") != std::string::npos) lines.push_back(line);
+  if (lines.size() > sum_.size())
+    throw std::runtime_error(
+        path + ": the checkpoint holds the impulses of more walls than this run has (" +
+        std::to_string(sum_.size() / 3) +
+        " slots): restart with the walls, meshes and fluid.solids of the run that wrote it");
+  if (lines.size() < sum_.size())
+    throw std::runtime_error(path + ": cannot read the wall impulses of the checkpoint");
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    std::istringstream is(lines[i]);
+    double special = 0.0;
+    std::vector<std::int64_t> digits;
+    if (!(is >> special))
+      throw std::runtime_error(path + ": cannot read the wall impulses of the checkpoint");
+    for (std::int64_t d = 0; is >> d;) digits.push_back(d);
+    if (!is.eof() || (!digits.empty() && digits.size() != static_cast<std::size_t>(ExactSums::kDigits)))
+      throw std::runtime_error(path + ": cannot read the wall impulses of the checkpoint");
+    if (s_.rank() != 0) continue;
+    if (digits.empty())
+      sum_.add(i, special);  // the old format: the rounded sum
+    else
+      sum_.set(i, digits, special);
+  }
 }
 
 void ImpulseSeries::add(ExactSums window) {
   if (window.size() != sum_.size()) throw std::logic_error("wall impulses for another number of walls");
-  const std::vector<double> all = window.reduce(s_.comm());
-  for (std::size_t k = 0; k < sum_.size(); ++k) sum_[k] += all[k];
+  sum_.merge(std::move(window));
 }
 
 void ImpulseSeries::row(double t) {
   const double span = t - since_;
+  const std::vector<double> all = sum_.reduce(s_.comm());  // zeroes the sums
   std::vector<double> values{t};
   for (const std::size_t slot : slots_)
-    for (int q = 0; q < 3; ++q) values.push_back(span > 0.0 ? sum_[3 * slot + q] / span : 0.0);
+    for (int q = 0; q < 3; ++q) values.push_back(span > 0.0 ? all[3 * slot + q] / span : 0.0);
   if (s_.rank() == 0 && !empty()) series_.row(values);
-  std::fill(sum_.begin(), sum_.end(), 0.0);
   since_ = t;
 }
 
-void ImpulseSeries::save(const std::string& dir) const {
+void ImpulseSeries::save(const std::string& dir) {
+  sum_.to_root(s_.comm());  // rank 0 holds them all, exactly; a later row reduces the same
   if (s_.rank() != 0) return;
   std::string text = fmt::format("{:.17g}\n", since_);  // the last row's time: sums run from there
-  for (const double v : sum_) text += fmt::format("{:.17g}\n", v);
+  for (std::size_t i = 0; i < sum_.size(); ++i) {
+    text += fmt::format("{:.17g}", sum_.special(i));
+    for (const std::int64_t d : sum_.canonical(i)) text += fmt::format(" {}", d);
+    text += "\n";
+  }
   output::atomic_write(dir + "/" + file_ + ".csv", text);
 }
 

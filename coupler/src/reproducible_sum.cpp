@@ -90,25 +90,32 @@ void ExactSums::add(std::size_t i, double x) {
     return;
   }
   if (x == 0.0) return;
-  // x = m 2^(p - 1074) with m < 2^53 a whole number and p >= 0.
-  int e = 0;
-  const double f = std::frexp(std::fabs(x), &e);  // |x| = f 2^e, f in [0.5, 1)
-  int p = e - 53 + 1074;
-  auto m = static_cast<std::uint64_t>(std::ldexp(f, 53));
-  if (p < 0) {  // a subnormal: its bits below 2^-1074 are zero
-    m >>= -p;
-    p = 0;
-  }
+  // x = m 2^(p - 1074) with m < 2^53 a whole number and p >= 0, read from
+  // its bits: a normal number's biased exponent b gives p = b - 1 and the
+  // hidden bit; a subnormal's (b = 0) is m 2^-1074 as it stands.
+  const auto bits = std::bit_cast<std::uint64_t>(x);
+  const int biased = static_cast<int>((bits >> 52) & 0x7ff);
+  std::uint64_t m = bits & ((std::uint64_t{1} << 52) - 1);
+  int p = 0;
+  if (biased > 0) m |= std::uint64_t{1} << 52, p = biased - 1;
   // m's two 32-bit halves shifted into place: each below 2^64, the low one
   // reaching digits k and k + 1, the high one k + 1 and k + 2.
   const int shift = p % 32;
   const std::uint64_t low = (m & 0xffffffffu) << shift, high = (m >> 32) << shift;
   const std::int64_t sign = x < 0 ? -1 : 1;
-  std::int64_t* d = &digits_.at(kDigits * i + static_cast<std::size_t>(p / 32));
+  std::int64_t* d = &digits_[kDigits * i + static_cast<std::size_t>(p / 32)];
   d[0] += sign * static_cast<std::int64_t>(low & 0xffffffffu);
   d[1] += sign * static_cast<std::int64_t>((low >> 32) + (high & 0xffffffffu));
   d[2] += sign * static_cast<std::int64_t>(high >> 32);
   if (++adds_ == (std::int64_t{1} << 28)) carry();  // each digit moves by < 2^33 an add
+}
+
+void ExactSums::merge(ExactSums other) {
+  if (other.size() != size()) throw std::logic_error("exact sums of another size merged");
+  other.carry();  // every digit but the top one in [0, 2^32): as one add of < 2^33 a digit
+  for (std::size_t k = 0; k < digits_.size(); ++k) digits_[k] += other.digits_[k];
+  for (std::size_t i = 0; i < size(); ++i) special_[i] += other.special_[i];
+  if (++adds_ == (std::int64_t{1} << 28)) carry();
 }
 
 namespace {
@@ -143,6 +150,35 @@ double to_double(std::int64_t* d, int n) {
 void ExactSums::carry() {
   for (std::size_t i = 0; i < size(); ++i) carry_digits(&digits_[kDigits * i], kDigits);
   adds_ = 0;
+}
+
+void ExactSums::to_root(MPI_Comm comm) {
+  carry();
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  const int n = mpi_count(digits_.size(), "exact sums"), m = mpi_count(special_.size(), "exact sums");
+  MPI_Reduce(rank == 0 ? MPI_IN_PLACE : digits_.data(), digits_.data(), n, MPI_INT64_T, MPI_SUM, 0, comm);
+  MPI_Reduce(rank == 0 ? MPI_IN_PLACE : special_.data(), special_.data(), m, MPI_DOUBLE, MPI_SUM, 0, comm);
+  if (rank == 0) {
+    carry();
+    return;
+  }
+  std::fill(digits_.begin(), digits_.end(), 0);
+  std::fill(special_.begin(), special_.end(), 0.0);
+}
+
+std::vector<std::int64_t> ExactSums::canonical(std::size_t i) {
+  carry();
+  return {digits_.begin() + static_cast<std::ptrdiff_t>(kDigits * i),
+          digits_.begin() + static_cast<std::ptrdiff_t>(kDigits * (i + 1))};
+}
+
+void ExactSums::set(std::size_t i, const std::vector<std::int64_t>& digits, double special) {
+  if (digits.size() != static_cast<std::size_t>(kDigits))
+    throw std::invalid_argument("exact sums: not 68 digits");
+  std::copy(digits.begin(), digits.end(), digits_.begin() + static_cast<std::ptrdiff_t>(kDigits * i));
+  special_.at(i) = special;
+  carry();
 }
 
 std::vector<double> ExactSums::reduce(MPI_Comm comm) {

@@ -10,6 +10,7 @@
 #include "fluid/lbm/collision.hpp"
 #include "fluid/lbm/layout.hpp"
 #include "fluid/lbm/setup.hpp"
+#include "fluid/lbm/wall_tally.hpp"
 
 namespace coflow::fluid::lbm {
 
@@ -141,7 +142,7 @@ inline void post_collision_velocity(const double* g, long stride, const double* 
 // of a block: the population a boundary node pulls from beyond a wall is the
 // one it sent towards the wall, reversed. f: the current populations (the
 // ghosts beyond the walls are written); off: streaming offsets in cells.
-// momentum (3 per face): += the momentum each wall takes, 2 e_o g_o per
+// momentum (per cell and face, wall_tally.hpp): += the momentum each wall takes, 2 e_o g_o per
 // population g_o bounced (Ladd's momentum exchange), relative to the fluid at
 // rest (zero-centred populations: the reference pressure's share is left out).
 // A population bounced at an edge of two walls counts for the first face; one
@@ -152,7 +153,7 @@ inline void post_collision_velocity(const double* g, long stride, const double* 
 // too, but from their non-equilibrium stress: those stay the wall's.)
 template <class L>
 inline void fill_walls(double* f, const Layout& lay, const long* off, const bool* wall, const bool* open,
-                       int face0, int face1, double* momentum) {
+                       int face0, int face1, WallTally& momentum) {
   for (int face = face0; face < face1; ++face) {
     if (!wall[face]) continue;
     const int axis = face / 2, s = face % 2 == 0 ? 1 : -1;
@@ -164,6 +165,7 @@ inline void fill_walls(double* f, const Layout& lay, const long* off, const bool
         for (long i = lo[0]; i < hi[0]; ++i) {
           const long x = lay.idx(i, j, k);
           const long at[3] = {i, j, k};
+          double* m = momentum.at((k * lay.extent[1] + j) * lay.extent[0] + i, face);
           for (int q = 0; q < L::Q; ++q) {
             if (s * L::e[q][axis] <= 0) continue;
             const double g = f[L::opp[q] * lay.stride + x];
@@ -180,7 +182,7 @@ inline void fill_walls(double* f, const Layout& lay, const long* off, const bool
                   !(open[other] && so * L::e[q][a] > 0 && at[a] == (other % 2 == 0 ? 0 : lay.extent[a] - 1));
             }
             if (first && kept)
-              for (int d = 0; d < 3; ++d) momentum[3 * face + d] += 2.0 * L::e[L::opp[q]][d] * g;
+              for (int d = 0; d < 3; ++d) m[d] += 2.0 * L::e[L::opp[q]][d] * g;
           }
         }
   }

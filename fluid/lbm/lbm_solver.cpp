@@ -73,6 +73,7 @@ class Core final : public LbmCore {
       wall_[f] = at_face && t == FaceType::wall;
     }
     pop_.halo.build(lay_, dec_, rank, comm_);
+    build_tally();
     x_local_ = pop_.halo.x_local();
     // The interior pass's rows: whole rows when no other rank borders the block
     // along x (its x ghosts are then ready before the pass), less the cells on
@@ -569,10 +570,19 @@ class Core final : public LbmCore {
 
   // Bounce-back on this block's wall faces [face0, face1) (boundaries.hpp).
   void fill_walls(int face0, int face1) {
-    lbm::fill_walls<L>(pop_.f.data(), lay_, off_, wall_, open_, face0, face1, wall_momentum_);
+    lbm::fill_walls<L>(pop_.f.data(), lay_, off_, wall_, open_, face0, face1, tally_);
   }
-  void take_wall_momentum(double* out) override {
-    for (int k = 0; k < 18; ++k) out[k] = wall_momentum_[k], wall_momentum_[k] = 0.0;
+  coupler::ExactSums take_wall_momentum(double unit) override {
+    return tally_.take(unit);
+  }
+  // The tally's slots: each owned cell on a wall face's layer, that face.
+  void build_tally() {
+    tally_.build(lay_.extent[0] * lay_.extent[1] * lay_.extent[2], 6, [&](long c, std::vector<int>& out) {
+      const long at[3] = {c % lay_.extent[0], (c / lay_.extent[0]) % lay_.extent[1],
+                          c / (lay_.extent[0] * lay_.extent[1])};
+      for (int f = 0; f < 6; ++f)
+        if (wall_[f] && at[f / 2] == (f % 2 == 0 ? 0 : lay_.extent[f / 2] - 1)) out.push_back(f);
+    });
   }
 
   const lbm::Setup& s_;
@@ -598,7 +608,7 @@ class Core final : public LbmCore {
   CellMask forced_;  // the cells with such a force
   CellMask psm_;     // partially saturated cells (set_psm), collided by psm() only
   double max_u2_ = 0.0;
-  double wall_momentum_[18] = {};  // lattice momentum each wall face took since the last take
+  lbm::WallTally tally_;  // lattice momentum each wall took since the last take, per cell
   bool open_[6], wall_[6];
   bool x_local_ = false;    // no other rank borders the block along x
   long row_i0_ = 0, row_i1_ = 0;  // cells of the interior pass's rows
@@ -785,19 +795,13 @@ void LbmSolver::set_source(std::span<const double> force_density) {
   core_->set_source(lattice);
 }
 
-// Ladd's momentum exchange at the walls (boundaries.hpp), summed by the core
-// over the steps since the last call: one lattice momentum unit is
-// rho dx^3 dx/dt of impulse.
-std::vector<double> LbmSolver::take_wall_impulse() {
-  double m[18];
-  core_->take_wall_momentum(m);
-  core_->take_solid_momentum(solid_momentum_);
+// Ladd's momentum exchange at the walls and interior solids (boundaries.hpp,
+// the two-fluid core), summed by the core per cell over the steps since the
+// last call and added exactly: one lattice momentum unit is rho dx^3 dx/dt of
+// impulse.
+coupler::ExactSums LbmSolver::take_wall_impulse() {
   const auto& u = s_.units;
-  const double unit = u.rho * u.dx * u.dx * u.dx * u.velocity();
-  std::vector<double> out(18 + solid_momentum_.size());
-  for (int k = 0; k < 18; ++k) out[k] = unit * m[k];
-  for (std::size_t k = 0; k < solid_momentum_.size(); ++k) out[18 + k] = unit * solid_momentum_[k];
-  return out;
+  return core_->take_wall_momentum(u.rho * u.dx * u.dx * u.dx * u.velocity());
 }
 
 void LbmSolver::take_solid_force(std::vector<double>& force) {

@@ -64,12 +64,10 @@ class LbmCore {
     (void)cells, (void)u, (void)rho;
   }
   virtual void set_cell_forces(std::span<const long> cells, std::span<const double> force) { (void)cells, (void)force; }
-  // The lattice momentum each face's wall took since the last call (3 per
-  // face, x- ... z+; this rank's walls), and zero it.
-  virtual void take_wall_momentum(double* out) = 0;
-  // The same for each interior solid (3 per solid of fluid.solids, in order);
-  // none without them.
-  virtual void take_solid_momentum(std::vector<double>& out) { out.clear(); }
+  // The momentum each wall face (3 per face, x- ... z+) and each interior
+  // solid (3 per solid of fluid.solids, in order) took since the last call,
+  // times `unit`, this rank's cells' as exact sums; zeroed.
+  virtual coupler::ExactSums take_wall_momentum(double unit) = 0;
   // Owned cells' colour fraction (rho_r - rho_b) / (rho_r + rho_b) and solid
   // mask (1 in interior solids); false: one fluid, no solids (all red, fluid).
   virtual bool phase(std::vector<double>& out) const {
@@ -110,7 +108,7 @@ class LbmSolver final : public FluidSolver {
   void set_source(std::span<const double> force_density) override;
   void set_markers(ibm::MarkerSet markers) override;
   std::vector<double> take_body_loads() override;
-  std::vector<double> take_wall_impulse() override;
+  coupler::ExactSums take_wall_impulse() override;
   bool keeps_wall_impulse() const override { return true; }
 
   const lbm::Setup& setup() const { return s_; }
@@ -129,8 +127,7 @@ class LbmSolver final : public FluidSolver {
   long steps_ = 0;
   bool mach_warned_ = false;
   std::vector<double> out_u_, out_rho_, out_p_, out_solid_, out_phase_;
-  std::vector<double> out_grain_;       // the psm grains' fraction of each owned cell, for the phase series
-  std::vector<double> solid_momentum_;  // interior solids' momentum of the window (take_wall_impulse)
+  std::vector<double> out_grain_;  // the psm grains' fraction of each owned cell, for the phase series
   // PSM: covered cells, fraction, solid velocity (lattice units), and the fluid's
   // momentum gain summed over the steps since the last take_solid_force().
   std::vector<long> solid_cells_;

@@ -13,6 +13,7 @@
 #include "fluid/lbm/colour_gradient.hpp"
 #include "fluid/lbm/populations.hpp"
 #include "fluid/lbm/psm_kernel.hpp"
+#include "fluid/lbm/wall_tally.hpp"
 
 namespace coflow::fluid::lbm {
 
@@ -68,7 +69,7 @@ class TwoPhaseCore final : public LbmCore {
     pop_.halo.build(lay_, dec_, rank, comm);
     phi_.assign(static_cast<std::size_t>(cells_), 0.0);
     mark_solids();
-    solid_momentum_.assign(3 * (s.tp.solid_phase.size() - 1), 0.0);
+    build_tally();
     if (s.tp.geometric) find_wetted();
     find_plain();
     grain_.assign(static_cast<std::size_t>(cells_), 0);
@@ -266,13 +267,7 @@ class TwoPhaseCore final : public LbmCore {
       forced_cell_[static_cast<std::size_t>(block_index(cells[n]))] = 1;
     }
   }
-  void take_solid_momentum(std::vector<double>& out) override {
-    out = solid_momentum_;
-    std::fill(solid_momentum_.begin(), solid_momentum_.end(), 0.0);
-  }
-  void take_wall_momentum(double* out) override {
-    for (int k = 0; k < 18; ++k) out[k] = wall_momentum_[k], wall_momentum_[k] = 0.0;
-  }
+  coupler::ExactSums take_wall_momentum(double unit) override { return tally_.take(unit); }
 
  private:
   long owned_cells() const { return lay_.extent[0] * lay_.extent[1] * lay_.extent[2]; }
@@ -597,6 +592,8 @@ class TwoPhaseCore final : public LbmCore {
   void stream_cell(long i, long j, long k, long x) {
     {
       bool unknown[L::Q], any = false;
+      int last_slot = -1;  // the wall tally's sums of this cell for last_slot
+      double* m = nullptr;
       for (int q = 0; q < L::Q; ++q) {
         const long src = x - off_[q];
         double r = 0.0, b = 0.0;
@@ -608,11 +605,11 @@ class TwoPhaseCore final : public LbmCore {
           // Ladd's momentum exchange, relative to the fluid at rest at the
           // reference density (whose push on a closed solid sums to zero).
           const double moved = r + b - L::w[q];
-          if (solid_[src] == kWall) {
-            wall_take(i, j, k, q, moved);
-          } else {
-            for (int a = 0; a < 3; ++a)
-              solid_momentum_[3 * (solid_[src] - 1) + a] -= 2.0 * moved * L::e[q][a];
+          const int slot = solid_[src] == kWall ? wall_face(i, j, k, q) : 5 + solid_[src];
+          if (slot >= 0) {
+            if (slot != last_slot)  // most cells border one wall or solid: looked up once
+              m = tally_.at((k * lay_.extent[1] + j) * lay_.extent[0] + i, slot), last_slot = slot;
+            for (int a = 0; a < 3; ++a) m[a] -= 2.0 * moved * L::e[q][a];
           }
         } else if (!unknown[q]) {
           r = pop_.f[at(q, src)];
@@ -692,12 +689,13 @@ class TwoPhaseCore final : public LbmCore {
     }
   }
 
-  // Ladd's momentum exchange: population opp(q) of mass f went into the wall
-  // and came back as q; the wall took 2 f e_opp(q). Credited to the first wall
-  // face the link crosses (a diagonal link also crosses periodic or open faces).
-  // Not counted where q is unknown to an open face at this cell (where a wall
-  // meets an inlet or outlet), as lbm's fill_walls: the face's condition sets it.
-  void wall_take(long i, long j, long k, int q, double f) {
+  // Ladd's momentum exchange: population opp(q) went into the wall and came
+  // back as q; the wall took 2 f e_opp(q). The face it is credited to: the
+  // first wall face the link crosses (a diagonal link also crosses periodic
+  // or open faces); -1 where q is unknown to an open face at this cell (where
+  // a wall meets an inlet or outlet), as lbm's fill_walls: the face's
+  // condition sets it.
+  [[gnu::noinline]] int wall_face(long i, long j, long k, int q) const {
     const long cell[3] = {lay_.origin[0] + i, lay_.origin[1] + j, lay_.origin[2] + k};
     for (int face = 0; face < 6; ++face) {
       const int axis = face / 2, s = face % 2 == 0 ? 1 : -1;
@@ -705,16 +703,35 @@ class TwoPhaseCore final : public LbmCore {
       const bool open = t == FaceType::pressure || t == FaceType::velocity || t == FaceType::outflow;
       if (open && s_.cells[axis] > 1 && cell[axis] == (s > 0 ? 0 : s_.cells[axis] - 1) &&
           s * L::e[q][axis] > 0)
-        return;
+        return -1;
     }
     const long loc[3] = {cell[0] - L::e[q][0], cell[1] - L::e[q][1], cell[2] - L::e[q][2]};
     for (int d = 0; d < 3; ++d) {
       if (loc[d] >= 0 && loc[d] < s_.cells[d]) continue;
       const int face = 2 * d + (loc[d] < 0 ? 0 : 1);
-      if (s_.faces[face].type != FaceType::wall) continue;  // a periodic or open axis: the wall is another
-      for (int a = 0; a < 3; ++a) wall_momentum_[3 * face + a] -= 2.0 * f * L::e[q][a];
-      return;
+      if (s_.faces[face].type == FaceType::wall)
+        return face;  // else a periodic or open axis: the wall is another
     }
+    return -1;
+  }
+
+  // The wall tally's slots of each owned fluid cell (wall_tally.hpp): the
+  // wall faces its links are credited to (wall_face), 6 + n - 1 for each
+  // interior solid n it borders.
+  void build_tally() {
+    const int solids = static_cast<int>(s_.tp.solid_phase.size()) - 1;
+    tally_.build(owned_cells(), 6 + std::max(solids, 0), [&](long c, std::vector<int>& out) {
+      const long i = c % lay_.extent[0], j = (c / lay_.extent[0]) % lay_.extent[1],
+                 k = c / (lay_.extent[0] * lay_.extent[1]);
+      const long x = lay_.idx(i, j, k);
+      if (solid_[x]) return;
+      for (int q = 0; q < L::Q; ++q) {
+        const long src = x - off_[q];
+        if (!solid_[src]) continue;
+        const int slot = solid_[src] == kWall ? wall_face(i, j, k, q) : 5 + solid_[src];
+        if (slot >= 0 && std::find(out.begin(), out.end(), slot) == out.end()) out.push_back(slot);
+      }
+    });
   }
 
   // The colour gradient of eq. 2.56 at fluid cell x; with geometric wetting,
@@ -810,8 +827,7 @@ class TwoPhaseCore final : public LbmCore {
   std::vector<long> ghost_cells_;
   std::vector<Wet> grain_wet_;
   double max_u2_ = 0.0;
-  double wall_momentum_[18] = {};
-  std::vector<double> solid_momentum_;  // 3 per interior solid, lattice units
+  lbm::WallTally tally_;  // the walls' and solids' momentum of the window, per fluid cell, lattice units
 };
 
 template <class L>

@@ -117,7 +117,7 @@ case "$mode" in
       grep -q "spaced population layout" "$out/b/logs/fluid.log" && sb=1 || sb=0
       printf 'layout_a_packed=%s\nlayout_b_spaced=%s\n' "$pa" "$sb" | tee -a "$metrics"
     fi
-    series_difference particles; series_difference walls
+    series_difference particles; series_difference walls; series_difference fluid_walls
     # Event logs, when written, must be the same line for line.
     for f in events/collisions.csv events/bonds.csv events/impacts.csv; do
       if [ -f "$out/a/$f" ] || [ -f "$out/b/$f" ]; then

@@ -1,10 +1,10 @@
 // A series of mean forces on walls (series/<file>.csv): a component hands in,
-// every window, this rank's impulse on each wall slot; the series sums the
-// ranks (so the sums are the same on every rank), writes at each series row
-// the mean force since the previous row for the named slots (columns time,
-// <name>_fx, _fy, _fz, in N), and keeps its sums in checkpoints so that a
-// restart continues them bit for bit. Used for the particles' forces on walls
-// (walls.csv) and the fluid's (fluid_walls.csv).
+// every window, this rank's impulse on each wall slot as exact sums; the
+// series adds them exactly and, at each series row, over the ranks, and
+// writes the mean force since the previous row for the named slots (columns
+// time, <name>_fx, _fy, _fz, in N); it keeps its exact sums in checkpoints so
+// that a restart continues them bit for bit. Used for the particles' forces
+// on walls (walls.csv) and the fluid's (fluid_walls.csv).
 #pragma once
 
 #include <string>
@@ -24,22 +24,25 @@ class ImpulseSeries {
   ImpulseSeries(Session& s, const std::string& file, std::vector<std::string> names, std::vector<std::size_t> slots,
                 std::size_t slot_count, long w0);
   bool empty() const { return names_.empty(); }
-  // Every window (collective): this rank's impulses of the window, N s;
-  // exact sums give the same bits for any number of ranks.
-  void add(std::vector<double> window);
+  // Every window: this rank's impulses of the window, N s, as exact sums,
+  // added exactly to those since the last row (no message).
   void add(ExactSums window);
-  // A series row at time t: the mean forces since the previous row.
+  // A series row at time t (collective): the mean forces since the previous
+  // row, from the ranks' exact sums (the same bits for any number of ranks,
+  // and whatever the windows).
   void row(double t);
-  // Into this component's part of a checkpoint (component rank 0).
-  void save(const std::string& dir) const;
+  // Into this component's part of a checkpoint (collective; rank 0 writes
+  // the exact sums, so that a restart continues them bit for bit).
+  void save(const std::string& dir);
 
  private:
+  void load(const std::string& path);
   Session& s_;
   std::string file_;
   std::vector<std::string> names_;
   std::vector<std::size_t> slots_;
-  std::vector<double> sum_;  // impulse since the last row, all slots
-  double since_ = 0.0;       // time of the last row
+  ExactSums sum_;       // this rank's impulse since the last row, all slots
+  double since_ = 0.0;  // time of the last row
   output::Series series_;
 };
 

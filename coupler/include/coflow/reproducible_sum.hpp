@@ -39,9 +39,20 @@ class ExactSums {
   explicit ExactSums(std::size_t n = 0);
   std::size_t size() const { return special_.size(); }
   void add(std::size_t i, double x);
+  // Adds another's sums (of the same size), exactly.
+  void merge(ExactSums other);
   // Collective over comm: the sums of every rank's terms, rounded to
   // doubles, the same bits on every rank. Zeroes these sums.
   std::vector<double> reduce(MPI_Comm comm);
+  // Collective over comm: every rank's sums gathered, exactly, on rank 0;
+  // the other ranks' zeroed (a later reduce gives the same doubles).
+  void to_root(MPI_Comm comm);
+  // Value i's digits in their canonical form (each but the top one in
+  // [0, 2^32)), and the plain sum of its non-finite terms; set() puts them
+  // back (a checkpoint's).
+  std::vector<std::int64_t> canonical(std::size_t i);
+  double special(std::size_t i) const { return special_.at(i); }
+  void set(std::size_t i, const std::vector<std::int64_t>& digits, double special);
   static constexpr int kDigits = 68;  // 2^-1074 to past 2^1100 in 32-bit digits
 
  private:

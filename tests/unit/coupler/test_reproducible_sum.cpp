@@ -161,3 +161,45 @@ TEST_CASE("exact sums: the whole range of doubles, signs, NaN and infinity", "[c
   const auto zero = s.reduce(MPI_COMM_WORLD);  // reduce zeroed the sums
   CHECK(zero == std::vector<double>(6, 0.0));
 }
+
+TEST_CASE("exact sums: merged, gathered on rank 0 and written out, the same sums as added at once",
+          "[coupler][mpi]") {
+  // Terms spread over 2^-1074 .. 1e300 with both signs, a subnormal among them.
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  const std::vector<double> terms{1e300, -3.5e-310, 0.1,      -1e-300, 7.25,
+                                  1e300, -1e300,    4.9e-324, -0.3,    2.0 / 3.0};
+  coflow::coupler::ExactSums once(2), merged(2), part(2);
+  for (std::size_t k = 0; k < terms.size(); ++k) {
+    once.add(k % 2, std::ldexp(terms[k], rank));  // times 2^rank: exact
+    part.add(k % 2, std::ldexp(terms[k], rank));
+    if (k % 3 == 2) {  // merged in pieces, as windows are
+      merged.merge(part);
+      part = coflow::coupler::ExactSums(2);
+    }
+  }
+  merged.merge(part);
+  coflow::coupler::ExactSums gathered = merged;
+  gathered.to_root(MPI_COMM_WORLD);
+  // Written out and read back (a checkpoint), on rank 0 only, as ImpulseSeries does.
+  coflow::coupler::ExactSums restored(2);
+  if (rank == 0)
+    for (std::size_t i = 0; i < 2; ++i) restored.set(i, gathered.canonical(i), gathered.special(i));
+  const auto a = once.reduce(MPI_COMM_WORLD), b = merged.reduce(MPI_COMM_WORLD),
+             c = gathered.reduce(MPI_COMM_WORLD), d = restored.reduce(MPI_COMM_WORLD);
+  for (std::size_t i = 0; i < 2; ++i) {
+    INFO("value " << i << ": " << a[i] << " " << b[i] << " " << c[i] << " " << d[i]);
+    CHECK(std::fabs(b[i] - a[i]) <= 0);
+    CHECK(std::fabs(c[i] - a[i]) <= 0);
+    CHECK(std::fabs(d[i] - a[i]) <= 0);
+  }
+  // Column 0 holds (1e300 + 0.1 + 7.25 - 1e300 - 0.3) (2^size - 1): the exact
+  // sum of 0.1, 7.25 and -0.3 (58 bits, exact in x86's 64-bit long double, as
+  // is its product by 2^size - 1), rounded once.
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const long double exact = (static_cast<long double>(0.1) + 7.25L - static_cast<long double>(0.3)) *
+                            static_cast<long double>((1 << size) - 1);
+  CHECK(a[0] == static_cast<double>(exact));
+  CHECK_THROWS_AS(merged.merge(coflow::coupler::ExactSums(3)), std::logic_error);
+}

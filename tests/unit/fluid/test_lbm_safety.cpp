@@ -45,8 +45,8 @@ struct Box {  // the solver with the configuration it was built from (in place: 
   config::Config cfg;
   fluid::FluidParams params;
   std::unique_ptr<fluid::FluidSolver> solver;
-  explicit Box(double amplitude, const std::string& solver = "lbm")
-      : cfg(config::parse_config_node(YAML::Load(box_config(amplitude, solver)), "safety", catalog())),
+  explicit Box(double amplitude, const std::string& variant = "lbm")
+      : cfg(config::parse_config_node(YAML::Load(box_config(amplitude, variant)), "safety", catalog())),
         params(fluid::read_params(cfg)),
         solver(fluid::make_solver({cfg, params,
                                    coupler::Decomposition({16, 16, 16}, 1, {1, 1, 1}, {true, true, true}), 0,

@@ -12,6 +12,19 @@
 #include "particles/particles_interface.hpp"
 #include "particles/schema.hpp"
 
+namespace {
+
+// The initial particles dem places for a configuration's text.
+coflow::particles::ParticleArrays initial_particles(const char* text) {
+  const auto cfg = coflow::config::parse_config_node(YAML::Load(text), "fill.yaml", coflow::catalog());
+  coflow::particles::ParticleParams params;
+  coflow::config::Reader r(cfg.resolved["particles"], "fill.yaml", "particles");
+  params.visit(r, cfg);
+  return coflow::particles::dem::make_initial(params, cfg);
+}
+
+}  // namespace
+
 TEST_CASE("random fills keep clear of the particles of earlier items", "[particles]") {
   // dem_crosscheck's two fills in one region: 1 mm grains, then 1.5 mm ones
   // (wider than the first fill's grid cells), and a 3 mm single among them.
@@ -29,11 +42,7 @@ particles:
     - {random: {species: small, count: 200, region: {lower: [0, 0, 0], upper: [0.012, 0.012, 0.016]}}}
     - {random: {species: large, count: 100, region: {lower: [0, 0, 0], upper: [0.012, 0.012, 0.016]}}}
 )";
-  const auto cfg = coflow::config::parse_config_node(YAML::Load(text), "fill.yaml", coflow::catalog());
-  coflow::particles::ParticleParams params;
-  coflow::config::Reader r(cfg.resolved["particles"], "fill.yaml", "particles");
-  params.visit(r, cfg);
-  const auto a = coflow::particles::dem::make_initial(params, cfg);
+  const auto a = initial_particles(text);
   REQUIRE(a.size() == 301);
   long overlaps = 0;
   double deepest = 0.0;
@@ -66,11 +75,7 @@ particles:
   initial:
     - {random: {species: sand, count: 4000, region: {lower: [0, 0, 0], upper: [0.2, 0.2, 0.2]}}}
 )";
-  const auto cfg = coflow::config::parse_config_node(YAML::Load(text), "fill.yaml", coflow::catalog());
-  coflow::particles::ParticleParams params;
-  coflow::config::Reader r(cfg.resolved["particles"], "fill.yaml", "particles");
-  params.visit(r, cfg);
-  const auto a = coflow::particles::dem::make_initial(params, cfg);
+  const auto a = initial_particles(text);
   REQUIRE(a.size() == 4000);
   long above = 0;
   double largest = 0.0;

@@ -324,9 +324,6 @@ static void check_turbulence(config::Visitor& v, const config::Config& cfg, cons
   }
 }
 
-// What fv's adaptive grid does not take yet (fluid/fv/amr, issue 25): the
-// uniform oracle, ramps, a pressure face other than the reference
-// pressure 0; immersed boundaries need the `bodies` criterion.
 // Criteria that could never mark a leaf in this run: bodies without immersed
 // bodies, particles without point particles, walls in a box without walls, a
 // box that misses the domain.
@@ -366,6 +363,9 @@ static void check_refinement_criteria(config::Visitor& v, const config::Config& 
   }
 }
 
+// What fv's adaptive grid does not take yet (fluid/fv/amr, issue 25): the
+// uniform oracle, ramps, a pressure face other than the reference
+// pressure 0; immersed boundaries need the `bodies` criterion.
 static void check_refinement(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
   if (!refined(cfg)) return;
   const std::string key = "fluid.fv.refinement";

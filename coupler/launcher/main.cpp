@@ -410,12 +410,12 @@ bool start_overdue(Watch& w, double since, double limit, pid_t pid) {
 }
 
 // Reads the launch's output until it ends (every process that holds the
-// pipe is gone). The start watchdog's SIGTERM is escalated: a launch still
-// there kStopGrace s after it (an mpirun or srun stuck itself, or a process
-// that ignores SIGTERM and outlives it) is killed as a whole, its process
-// group (the child leads one), and kStopGrace s after that the pipe is
-// abandoned, so that nothing keeps the launcher waiting. Returns whether
-// the watchdog stopped the launch.
+// pipe is gone). The start watchdog's SIGTERM is escalated: a launcher (mpirun
+// or srun) still there kStopGrace s after it is killed (SIGKILL; the ranks,
+// which Open MPI starts in process groups of their own, lose their server),
+// and kStopGrace s after that the pipe is abandoned, whatever still holds it,
+// so that nothing keeps the launcher waiting. Returns whether the watchdog
+// stopped the launch.
 bool read_child_output(int fd, Watch& w, std::string& buf, double since, double start_limit, pid_t pid) {
   constexpr double kStopGrace = 10.0;
   double stopped_at = -1, killed_at = -1;
@@ -435,10 +435,10 @@ bool read_child_output(int fd, Watch& w, std::string& buf, double since, double 
       if (start_overdue(w, since, start_limit, pid)) stopped_at = t;
     } else if (killed_at < 0 && t - stopped_at > kStopGrace) {
       std::fprintf(stderr, "coflow: the launch did not end %.0f s after SIGTERM: killing it\n", kStopGrace);
-      kill(-pid, SIGKILL);
+      kill(pid, SIGKILL);
       killed_at = t;
     } else if (killed_at >= 0 && t - killed_at > kStopGrace) {
-      break;  // a process outside the group still holds the pipe
+      break;  // a process that outlived the launcher still holds the pipe
     }
   }
   return stopped_at >= 0;
@@ -452,7 +452,7 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
   std::vector<char*> cargv;
   for (const auto& a : argv) cargv.push_back(const_cast<char*>(a.c_str()));
   cargv.push_back(nullptr);
-  // The handlers come first, with SIGINT, SIGTERM and SIGHUP blocked over the fork
+  // The handlers come first, with SIGINT and SIGTERM blocked over the fork
   // and g_child's assignment: one sent meanwhile waits and is then forwarded
   // (it would otherwise end the launcher and leave the child running). The
   // child takes the default actions back, unblocked, before its exec.
@@ -460,27 +460,21 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
   sigemptyset(&stop);
   sigaddset(&stop, SIGINT);
   sigaddset(&stop, SIGTERM);
-  sigaddset(&stop,
-            SIGHUP);  // the child leads its own process group: a closed terminal's hangup is forwarded too
   sigprocmask(SIG_BLOCK, &stop, &old);
   signal(SIGINT, forward_signal);
   signal(SIGTERM, forward_signal);
-  signal(SIGHUP, forward_signal);
   const pid_t pid = fork();
   if (pid < 0) {
     signal(SIGINT, SIG_DFL);  // no child to forward to: Ctrl-C ends the launcher
     signal(SIGTERM, SIG_DFL);
-    signal(SIGHUP, SIG_DFL);
     sigprocmask(SIG_SETMASK, &old, nullptr);
     close(fds[0]);
     close(fds[1]);
     throw std::runtime_error("fork failed");
   }
   if (pid == 0) {
-    setpgid(0, 0);  // the launch leads a process group, which the watchdog can kill whole
     signal(SIGINT, SIG_DFL);
     signal(SIGTERM, SIG_DFL);
-    signal(SIGHUP, SIG_DFL);
     sigprocmask(SIG_SETMASK, &old, nullptr);
     // Components read no input: mpirun would otherwise forward the terminal
     // to rank 0.
@@ -496,7 +490,6 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
     std::fprintf(stderr, "coflow: cannot start %s: %s\n", cargv[0], std::strerror(errno));
     _exit(127);
   }
-  setpgid(pid, pid);  // also here: whichever of the two runs first
   g_child = pid;
   sigprocmask(SIG_SETMASK, &old, nullptr);  // a signal that waited is forwarded now
   close(fds[1]);

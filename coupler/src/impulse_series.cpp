@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -18,17 +19,20 @@ ImpulseSeries::ImpulseSeries(Session& s, const std::string& file, std::vector<st
   since_ = static_cast<double>(w0) * s.window();
   const std::string path = w0 > 0 ? s.restart_dir() + "/" + file_ + ".csv" : std::string();
   // A checkpoint of a variant that keeps no such series (lbm-reference has no
-  // fluid_walls.csv): the series starts at the checkpoint's time.
+  // fluid_walls.csv; or a damaged one): the sums start at the checkpoint's
+  // time, and the series file, where there is one, keeps its rows.
   const bool resumed = w0 > 0 && std::filesystem::exists(path);
   if (w0 > 0 && !resumed && s.rank() == 0 && !empty())
-    log::info("{}: the checkpoint holds no {} (its variant keeps none): series/{}.csv starts at t = {:.6g} s",
-              path, file_, file_, since_);
+    log::warn(
+        "{}: the checkpoint holds no {}.csv (its variant keeps none, or it is damaged): the next row of "
+        "series/{}.csv is the mean from t = {:.6g} s",
+        path, file_, file_, since_);
   if (resumed) load(path);
   if (s.rank() != 0 || empty()) return;
   std::vector<output::Series::Column> columns{{"time", "s"}};
   for (const auto& n : names_)
     for (const char* c : {"_fx", "_fy", "_fz"}) columns.push_back({n + c, "N"});
-  series_ = output::Series(s.output_dir() + "/series/" + file_ + ".csv", columns, resumed);
+  series_ = output::Series(s.output_dir() + "/series/" + file_ + ".csv", columns, w0 > 0);
 }
 
 // The checkpoint's sums, on rank 0 (the others start from zero): a line per
@@ -52,9 +56,11 @@ void ImpulseSeries::load(const std::string& path) {
     throw std::runtime_error(path + ": cannot read the wall impulses of the checkpoint");
   for (std::size_t i = 0; i < lines.size(); ++i) {
     std::istringstream is(lines[i]);
-    double special = 0.0;
+    std::string first;  // the non-finite part (nan, inf or -inf, which >> does not read) or the old sum
     std::vector<std::int64_t> digits;
-    if (!(is >> special))
+    char* end = nullptr;
+    const double special = (is >> first) ? std::strtod(first.c_str(), &end) : 0.0;
+    if (first.empty() || end != first.c_str() + first.size())
       throw std::runtime_error(path + ": cannot read the wall impulses of the checkpoint");
     for (std::int64_t d = 0; is >> d;) digits.push_back(d);
     if (!is.eof() || (!digits.empty() && digits.size() != static_cast<std::size_t>(ExactSums::kDigits)))

@@ -103,7 +103,7 @@ void ExactSums::add(std::size_t i, double x) {
   const int shift = p % 32;
   const std::uint64_t low = (m & 0xffffffffu) << shift, high = (m >> 32) << shift;
   const std::int64_t sign = x < 0 ? -1 : 1;
-  std::int64_t* d = &digits_[kDigits * i + static_cast<std::size_t>(p / 32)];
+  std::int64_t* d = &digits_.at(kDigits * i + static_cast<std::size_t>(p / 32));  // p / 32 <= 65
   d[0] += sign * static_cast<std::int64_t>(low & 0xffffffffu);
   d[1] += sign * static_cast<std::int64_t>((low >> 32) + (high & 0xffffffffu));
   d[2] += sign * static_cast<std::int64_t>(high >> 32);

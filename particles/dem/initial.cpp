@@ -105,6 +105,8 @@ void add_random(ParticleArrays& a, const ParticleParams& p, const InitialItem& i
           "running out of room; use fewer particles, a larger region, or a lattice",
           it.species, placed, placed_volume / volume));
     const double diam = sample_diameter(sp.diameter, rng);
+    if (((hi - lo).array() < diam).any())
+      continue;  // wider than the region: drawn again (counted as an attempt)
     V3 x;
     for (int d = 0; d < 3; ++d)
       x[d] = std::uniform_real_distribution<double>(lo[d] + 0.5 * diam, hi[d] - 0.5 * diam)(rng);

@@ -20,7 +20,8 @@ class ImpulseSeries {
  public:
   // names[k] is slot slots[k] of the `slot_count` (3 values each) a window
   // hands in; w0: the window restarted from (0: none; the sums are read from
-  // the checkpoint's <file>.csv otherwise).
+  // the checkpoint's <file>.csv otherwise, from zero with a warning where it
+  // has none).
   ImpulseSeries(Session& s, const std::string& file, std::vector<std::string> names, std::vector<std::size_t> slots,
                 std::size_t slot_count, long w0);
   bool empty() const { return names_.empty(); }

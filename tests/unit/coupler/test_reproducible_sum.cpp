@@ -193,7 +193,8 @@ TEST_CASE("exact sums: merged, gathered on rank 0 and written out, the same sums
     CHECK(std::fabs(c[i] - a[i]) <= 0);
     CHECK(std::fabs(d[i] - a[i]) <= 0);
   }
-  // Column 0 holds (1e300 + 0.1 + 7.25 - 1e300 - 0.3) (2^size - 1): the exact
+  // Column 0 holds (1e300 + 0.1 + 7.25 - 1e300 - 0.3) (2^size - 1) (up to 6
+  // ranks; the tests run on 1, 2 and 4): the exact
   // sum of 0.1, 7.25 and -0.3 (58 bits, exact in x86's 64-bit long double, as
   // is its product by 2^size - 1), rounded once.
   int size = 1;

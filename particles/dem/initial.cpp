@@ -250,6 +250,14 @@ DemSetup make_setup(const ParticleParams& p, const config::Config& cfg, const Pa
       throw std::runtime_error(fmt::format("particles.time_step {:.4g} s exceeds the critical step {:.4g} s "
                                            "(seed 000 eq. 2.19): use auto or a smaller step",
                                            s.dt, crit));
+    // Two free grains in contact vibrate with their reduced mass, m/2 for a
+    // pair of the lightest: eq. 2.19 with it is 1/sqrt(2) of the step above.
+    if (const double pair = critical_step(0.5 * lightest, k); s.dt > pair)
+      log::warn(
+          "particles.time_step {:.4g} s exceeds the critical step {:.4g} s of two of the lightest grains in "
+          "contact (seed 000 eq. 2.19 with their reduced mass, m/2): such a contact is unstable; use auto "
+          "or a step below it",
+          s.dt, pair);
   }
   if (parts.size() == 0) s.dt = 1e-3;
   return s;

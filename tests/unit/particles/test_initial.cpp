@@ -2,12 +2,17 @@
 // clear of the particles of earlier items in the same region, as it does of
 // its own (two overlapping grains at t = 0 push apart with forces of order
 // K_N times a radius).
+#include <fmt/format.h>
+#include <spdlog/sinks/ringbuffer_sink.h>
 #include <yaml-cpp/yaml.h>
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <memory>
+#include <string>
 
 #include "coflow/catalog.hpp"
+#include "coflow/log.hpp"
 #include "particles/dem/initial.hpp"
 #include "particles/particles_interface.hpp"
 #include "particles/schema.hpp"
@@ -91,4 +96,42 @@ particles:
   INFO(above << " of 4000 above 3 mm, expected " << p * n << "; the largest " << largest << " m");
   CHECK(std::abs(above - p * n) <= 4.0 * std::sqrt(n * p * (1.0 - p)));  // 4 binomial standard deviations
   CHECK(largest <= 7.0e-3);
+}
+
+TEST_CASE("a fixed DEM step past a free pair's critical step is warned of", "[particles]") {
+  // 1 mm grains of 2650 kg/m^3 (m = 1.3875e-6 kg), K = max(K_N, k_S) = 1e4 N/m:
+  // eq. 2.19 gives 2 sqrt(m / K) = 2.356e-5 s (refused above); a pair in
+  // contact vibrates with the reduced mass m/2: 2 sqrt(m / 2K) = 1.666e-5 s.
+  auto warned = [](double step) {
+    const std::string text = fmt::format(R"(
+run: {{name: step, end_time: 1.0e-3}}
+domain: {{lower: [0, 0, 0], upper: [0.004, 0.004, 0.004], cells: [4, 4, 4]}}
+particles:
+  solver: dem
+  time_step: {}
+  species:
+    grain: {{density: 2650.0, diameter: 1.0e-3}}
+  contact: {{normal_stiffness: 1.0e4, shear_stiffness: 5.0e3, friction: 0.5}}
+  initial:
+    - {{single: {{species: grain, position: [0.002, 0.002, 0.001]}}}}
+)",
+                                         step);
+    const auto cfg = coflow::config::parse_config_node(YAML::Load(text), "step.yaml", coflow::catalog());
+    coflow::particles::ParticleParams params;
+    coflow::config::Reader r(cfg.resolved["particles"], "step.yaml", "particles");
+    params.visit(r, cfg);
+    const auto a = coflow::particles::dem::make_initial(params, cfg);
+    auto sink = std::make_shared<spdlog::sinks::ringbuffer_sink_mt>(16);
+    coflow::log::get()->sinks().push_back(sink);
+    const auto setup = coflow::particles::dem::make_setup(params, cfg, a);
+    coflow::log::get()->sinks().pop_back();
+    CHECK(setup.dt == step);
+    bool found = false;
+    for (const auto& line : sink->last_formatted())
+      found = found || line.find("exceeds the critical step 1.666e-05 s of two of the lightest grains") !=
+                           std::string::npos;
+    return found;
+  };
+  CHECK(warned(2.0e-5));
+  CHECK(!warned(1.5e-5));
 }

@@ -695,7 +695,7 @@ class TwoPhaseCore final : public LbmCore {
   // or open faces); -1 where q is unknown to an open face at this cell (where
   // a wall meets an inlet or outlet), as lbm's fill_walls: the face's
   // condition sets it.
-  [[gnu::noinline]] int wall_face(long i, long j, long k, int q) const {
+  int wall_face(long i, long j, long k, int q) const {
     const long cell[3] = {lay_.origin[0] + i, lay_.origin[1] + j, lay_.origin[2] + k};
     for (int face = 0; face < 6; ++face) {
       const int axis = face / 2, s = face % 2 == 0 ? 1 : -1;

@@ -42,22 +42,24 @@ void BoundaryParams::visit(config::Visitor& v) {
     "imbibition); omitted: what enters takes the colour of the face's cell, as at an outlet",
     config::one_of({"", "red", "blue"}));
   v("profile", profile,
-    "velocity faces: uniform, or parabolic (fv): the value at the face's centre, falling as 4 s (1 - s) to "
-    "zero "
-    "at the faces across each of its other axes that is not periodic (a channel's or, as a product, a duct's "
-    "inlet), table (profile_file) or expression (profile_expression)",
+    "velocity faces: uniform, or parabolic: the value at the face's centre, falling as 4 s (1 - s) to zero "
+    "at "
+    "the faces across each of its other axes that is not periodic (a channel's or, as a product, a duct's "
+    "inlet), table (profile_file) or expression (profile_expression); fv takes the factor at its face's "
+    "points, lbm at the centres of the cells on the face (s = (i + 1/2) / cells)",
     config::one_of({"uniform", "parabolic", "table", "expression"}));
   v("profile_file", profile_file,
-    "profile: table (fv): a text file of rows `coordinate, factor`, the coordinate in m along profile_axis and the "
+    "profile: table: a text file of rows `coordinate, factor`, the coordinate in m along profile_axis and "
+    "the "
     "factor on `value` there; linear between rows, the end rows' factor beyond them; relative to this file");
   v("profile_axis", profile_axis,
     "profile: table, and turbulence_file: the axis of the tables' coordinate, across the face",
     config::one_of({"x", "y", "z"}));
   v("profile_expression", profile_expression,
-    "profile: expression (fv): the factor on `value` as a formula in x, y, z (m, the point on the face) and "
+    "profile: expression: the factor on `value` as a formula in x, y, z (m, the point on the face) and "
     "t "
     "(s), e.g. `4*y*(1-y)` or `cos(2*pi*t/0.5)`; constants pi and e, muParser's functions (sin, cos, exp, "
-    "sqrt, abs, min, max, ...) and `c ? a : b`; quote it in YAML");
+    "sqrt, abs, min, max, ...) and `c ? a : b`; quote it in YAML; lbm evaluates t at each step's end");
   v("k", k,
     "velocity faces with fluid.turbulence (fv): k of the fluid entering here, m^2/s^2, with epsilon; 0: "
     "turbulence.inlet's",

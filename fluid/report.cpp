@@ -35,8 +35,25 @@ FluidParams read_fluid(const config::Config& cfg) {
   return p;
 }
 
+// The largest |factor| of a velocity face's profile over the centres of the
+// cells on the face at t = 0 (1 for a uniform face).
+static double largest_factor(int face, const BoundaryParams& b, const config::Config& cfg) {
+  if (b.profile == "uniform") return 1.0;
+  const int axis = face / 2, ta = axis == 0 ? 1 : 0, tb = axis == 2 ? 1 : 2;
+  const auto& n = cfg.domain.cells;
+  double largest = 0.0, s[3] = {0.5, 0.5, 0.5};
+  s[axis] = face % 2 == 0 ? 0.0 : 1.0;
+  for (long c = 0; c < n[tb]; ++c)
+    for (long a = 0; a < n[ta]; ++a) {
+      s[ta] = (a + 0.5) / n[ta], s[tb] = (c + 0.5) / n[tb];
+      largest = std::max(largest, std::abs(b.profile_factor(face, s, cfg, 0.0)));
+    }
+  return largest;
+}
+
 // The largest speed the configuration gives: initial velocity (or Taylor-Green
-// amplitude) and velocity faces. 0 when a force or a pressure drop drives the flow.
+// amplitude) and velocity faces (their profiles' largest factor at the start).
+// 0 when a force or a pressure drop drives the flow.
 double velocity_scale(const FluidParams& p, const config::Config& cfg) {
   double u = std::sqrt(p.initial_velocity[0] * p.initial_velocity[0] + p.initial_velocity[1] * p.initial_velocity[1] +
                        p.initial_velocity[2] * p.initial_velocity[2]);
@@ -46,7 +63,7 @@ double velocity_scale(const FluidParams& p, const config::Config& cfg) {
     if (b.type != "velocity") continue;
     double s = 0.0;
     for (double x : b.value.values) s += x * x;
-    u = std::max(u, std::sqrt(s));
+    u = std::max(u, std::sqrt(s) * largest_factor(f, b, cfg));
   }
   return u;
 }

@@ -555,17 +555,12 @@ config::ComponentSchema schema() {
     FluidParams p;
     p.visit(v, cfg);
     if (v.reading() && info.variant.rfind("fv", 0) != 0)
-      for (const auto& [face, b] : p.boundaries) {
+      for (const auto& [face, b] : p.boundaries)
         if (b.type == "symmetry")
-          v.fail("boundaries." + face, fmt::format("solver {} has no symmetry faces (fv has); use a wall, or a "
-                                                   "periodic axis, or solver: fv",
-                                                   info.variant));
-        else if (b.profile != "uniform")
-          v.fail("boundaries." + face + ".profile",
-                 fmt::format("solver {} takes uniform velocity faces only (fv takes parabolic, table and "
-                             "expression ones)",
+          v.fail("boundaries." + face,
+                 fmt::format("solver {} has no symmetry faces (fv has); use a wall, or a "
+                             "periodic axis, or solver: fv",
                              info.variant));
-      }
     if (v.reading() && info.variant.rfind("lbm", 0) != 0) {
       if (p.two_phase.on) v.fail("two_phase", fmt::format("solver {} has one fluid; two_phase needs solver: lbm", info.variant));
       if (!p.solids.empty()) v.fail("solids", fmt::format("solver {} takes no interior solids; use solver: lbm", info.variant));

@@ -208,6 +208,11 @@ template <class L, bool Incompressible>
       const int s = face % 2 == 0 ? 1 : -1;
       const Face& fc = faces[face];
       if ((fc.type == FaceType::outflow) != (pass == 0)) continue;
+      double ug[3] = {0.0, 0.0, 0.0};
+      if (fc.type == FaceType::velocity) {
+        const long g[3] = {lay.origin[0] + i, lay.origin[1] + j, lay.origin[2] + k};
+        fc.velocity(g, axis, ug);
+      }
       if (fc.type == FaceType::outflow) {
         const long inner = x + s * (axis == 0 ? 1 : axis == 1 ? lay.padded[0] : lay.padded[0] * lay.padded[1]);
         for (int q = 0; q < L::Q; ++q)
@@ -217,10 +222,9 @@ template <class L, bool Incompressible>
         in[axis] += s;
         double uin[3];
         post_collision_velocity<L, Incompressible>(&cur[lay.idx(in[0], in[1], in[2])], lay.stride, F, uin);
-        regularized<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data(), uin,
-                                       F);
+        regularized<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, ug, uin, F);
       } else {
-        zou_he<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data(), F);
+        zou_he<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, ug, F);
       }
     }
 }

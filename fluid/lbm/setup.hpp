@@ -31,6 +31,30 @@ struct Face {
   bool regularized = false;         // pressure/velocity: Latt et al. (2008) instead of Zou-He
   double phase = 0.0;               // two fluids: the colour fraction (rho_r - rho_b) / rho that enters
   bool phase_given = false;         // else what enters takes the colour of the face's cell
+  // A velocity face's profile (parabolic, table, expression): the factor on u
+  // at each of its nodes, by global index along its other two axes (the lower
+  // one fastest; factor_n nodes along it); empty: uniform.
+  std::vector<double> factor;
+  long factor_n = 1;
+  // A formula in time: the factor at node (a, b) and time t in s, and the
+  // step's length in s; ramp_faces sets `factor` again at each step.
+  std::function<double(long a, long b, double t)> factor_at;
+  double dt = 0.0;
+
+  // The face's velocity (lattice units, now) at the node with global indices g.
+  void velocity(const long g[3], int axis, double out[3]) const {
+    double c = 1.0;
+    if (!factor.empty())
+      c = factor[static_cast<std::size_t>(g[axis == 0 ? 1 : 0] + factor_n * g[axis == 2 ? 1 : 2])];
+    for (int d = 0; d < 3; ++d) out[d] = factor.empty() ? u[d] : c * u[d];
+  }
+  // The factors at time t (s): every node of the face.
+  void set_factors(double t) {
+    const long n = static_cast<long>(factor.size()) / factor_n;
+    for (long b = 0; b < n; ++b)
+      for (long a = 0; a < factor_n; ++a)
+        factor[static_cast<std::size_t>(a + factor_n * b)] = factor_at(a, b, t);
+  }
 };
 
 // Pressure and velocity faces at the step that ends at time (step + 1) dt:
@@ -40,6 +64,7 @@ inline void ramp_faces(std::array<Face, 6>& faces, long step) {
     const double a = f.ramp_steps > 0.0 ? std::min(1.0, (step + 1) / f.ramp_steps) : 1.0;
     f.rho = 1.0 + a * (f.rho_full - 1.0);
     for (int d = 0; d < 3; ++d) f.u[d] = a * f.u_full[d];
+    if (f.factor_at) f.set_factors((step + 1) * f.dt);
   }
 }
 
@@ -108,6 +133,27 @@ inline void set_two_phase(Setup& s, const config::Config& cfg, const FluidParams
 
 // time_step > 0: the step the coupling window asks for (coupler::output_window),
 // taken by adjusting tau at the same viscosity.
+// A velocity face's profile at its nodes, the cells' centres along its other
+// axes (BoundaryParams::profile_factor at their fractions of the box; on the
+// face itself along its normal). A formula in t is set again at each step's
+// end time (ramp_faces); the configuration outlives the solvers that read it.
+inline void set_profile(Face& face, int f, const BoundaryParams& b, const config::Config& cfg, double dt) {
+  const int axis = f / 2, ta = axis == 0 ? 1 : 0, tb = axis == 2 ? 1 : 2;
+  const auto& n = cfg.domain.cells;
+  face.factor_n = n[ta];
+  face.factor.assign(static_cast<std::size_t>(n[ta] * n[tb]), 1.0);
+  face.dt = dt;
+  face.factor_at = [b, f, ta, tb, &cfg](long a, long c, double t) {
+    double s[3] = {0.5, 0.5, 0.5};
+    s[f / 2] = f % 2 == 0 ? 0.0 : 1.0;
+    s[ta] = (a + 0.5) / cfg.domain.cells[ta];
+    s[tb] = (c + 0.5) / cfg.domain.cells[tb];
+    return b.profile_factor(f, s, cfg, t);
+  };
+  face.set_factors(0.0);
+  if (b.profile != "expression" || !b.formula.uses_time()) face.factor_at = nullptr;
+}
+
 inline Setup make_setup(const config::Config& cfg, const FluidParams& fp, const LbmParams& lp, double time_step = 0.0) {
   Setup s;
   const auto h = cfg.domain.spacing();
@@ -135,6 +181,7 @@ inline Setup make_setup(const config::Config& cfg, const FluidParams& fp, const 
       face.type = FaceType::velocity;
       for (int d = 0; d < 3; ++d) face.u_full[d] = b.value.values.at(d) / s.units.velocity();
     }
+    if (b.type == "velocity" && b.profile != "uniform") set_profile(face, f, b, cfg, s.units.dt);
     face.ramp_steps = b.ramp / s.units.dt;
     face.regularized = b.closure == "regularized";
     face.phase_given = !b.phase.empty();

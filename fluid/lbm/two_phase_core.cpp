@@ -664,6 +664,8 @@ class TwoPhaseCore final : public LbmCore {
       if ((fc.type != FaceType::pressure && fc.type != FaceType::velocity) || !on(face)) continue;
       const int axis = face / 2, s = face % 2 == 0 ? 1 : -1;
       if (fc.phase_given) psi = 0.5 * (1.0 + fc.phase);
+      double ug[3] = {0.0, 0.0, 0.0};
+      if (fc.type == FaceType::velocity) fc.velocity(loc, axis, ug);
       if (fc.regularized) {
         double uin[3], rho_in = 0.0, m[3] = {0.0, 0.0, 0.0};
         for (int q = 0; q < L::Q; ++q) {
@@ -672,11 +674,10 @@ class TwoPhaseCore final : public LbmCore {
           for (int d = 0; d < 3; ++d) m[d] += L::e[q][d] * v;
         }
         for (int d = 0; d < 3; ++d) uin[d] = (m[d] - 0.5 * F[d]) / (Incompressible ? 1.0 : rho_in);
-        regularized<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data(), uin,
-                                       F);
+        regularized<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, ug, uin, F);
         rebuilt = true;
       } else {
-        zou_he<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, fc.u.data(), F);
+        zou_he<L, Incompressible>(f, axis, s, fc.type == FaceType::velocity, fc.rho, ug, F);
       }
       for (int q = 0; q < L::Q; ++q) set[q] = set[q] || s * L::e[q][axis] > 0;
     }

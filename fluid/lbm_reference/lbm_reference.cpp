@@ -288,7 +288,8 @@ void LbmReference::apply_face(int face, std::vector<double>& fs, const std::vect
         }
         double rho, u[3] = {0, 0, 0}, Fc[3];
         force_at(index(i, j, k), Fc);
-        face_state(f, axis, s, F, Fc, rho, u);
+        const long at[3] = {i, j, k};
+        face_state(f, axis, s, F, at, Fc, rho, u);
         if (F.regularized && F.type == FaceType::pressure) {
           // The mean of the mass-balance velocity and that of the next node
           // in, from its post-collision populations of the last step (momentum
@@ -316,8 +317,8 @@ void LbmReference::apply_face(int face, std::vector<double>& fs, const std::vect
 // (Zou & He 1997): a velocity face gives u, a pressure face rho. The
 // populations hold the momentum rho_m u - Fc/2 (Guo's forcing, Fc the node's
 // force density): the mass balance takes its normal part.
-void LbmReference::face_state(const double* f, int axis, int s, const lbm::Face& F, const double Fc[3],
-                              double& rho, double u[3]) const {
+void LbmReference::face_state(const double* f, int axis, int s, const lbm::Face& F, const long at[3],
+                              const double Fc[3], double& rho, double u[3]) const {
   double s0 = 0, sout = 0;
   for (int q = 0; q < Q_; ++q) {
     if (e_[q][axis] == 0) s0 += f[q];
@@ -325,7 +326,7 @@ void LbmReference::face_state(const double* f, int axis, int s, const lbm::Face&
   }
   const double known = s0 + 2 * sout - 0.5 * s * Fc[axis];
   if (F.type == FaceType::velocity) {
-    for (int d = 0; d < 3; ++d) u[d] = F.u[d];
+    F.velocity(at, axis, u);  // the face's value times its profile's factor at this node
     const double un = s * u[axis];
     rho = s_.incompressible ? known + un : known / (1.0 - un);
   } else {

@@ -94,8 +94,8 @@ class LbmReference final : public FluidSolver {
                      Solid& s);
   bool on_open_face(long cell) const;
   void apply_face(int face, std::vector<double>& fs, const std::vector<double>& post);
-  void face_state(const double* f, int axis, int s, const lbm::Face& F, const double Fc[3], double& rho,
-                  double u[3]) const;
+  void face_state(const double* f, int axis, int s, const lbm::Face& F, const long at[3], const double Fc[3],
+                  double& rho, double u[3]) const;
   void zou_he(double* f, int axis, int s, double rho, const double u[3], const double Fc[3]) const;
   void regularize(double* f, int axis, int s, double rho, const double u[3], const double Fc[3]) const;
 

@@ -173,7 +173,7 @@ void LbmReference::close_colours(long i, long j, long k, std::vector<bool>& unkn
     if (F.phase_given) psi = 0.5 * (1.0 + F.phase);
     double rho, u[3] = {0, 0, 0}, Fc[3];
     force_at(c, Fc);
-    face_state(f.data(), axis, s, F, Fc, rho, u);
+    face_state(f.data(), axis, s, F, x, Fc, rho, u);
     if (F.regularized && F.type == FaceType::pressure) {  // with the next cell in (apply_face)
       double rho_in = 0.0, m[3] = {0, 0, 0};
       for (int q = 0; q < Q_; ++q) {

@@ -37,6 +37,38 @@ coflow_validation(lbm_poiseuille_2d_pressure_ma009 profile lbm_poiseuille_2d_pre
 coflow_validation(lbm_pressure_outlet_zou_he profile lbm_poiseuille_2d_pressure_ma009.yaml 1
   --set fluid.boundaries.x-.closure=zou-he --set fluid.boundaries.x+.closure=zou-he)
 coflow_validation(lbm_couette profile lbm_couette.yaml 1)
+# Velocity faces with a profile (parabolic, table, expression; since session
+# 67): a parabolic inlet feeds plane Poiseuille flow from the inlet on; the
+# same parabola as a table and as a formula; lbm against lbm-reference (Zou-He
+# and regularized inlets, developing) and 1 rank against 2 (the inlet cut
+# between blocks); a D3Q19 duct fed by the parabolas' product on 4 ranks and
+# against lbm-reference; Stokes' oscillating wall (a formula in t) against
+# the gap's exact periodic solution, its order, and lbm-reference.
+coflow_validation(lbm_channel_inlet profile lbm_channel_inlet.yaml 1)
+coflow_validation(lbm_channel_inlet_table profile lbm_channel_inlet.yaml 1
+  --set fluid.boundaries.x-.profile=table --set fluid.boundaries.x-.profile_file=profiles/channel_parabola_32.csv)
+coflow_validation(lbm_channel_inlet_expression profile lbm_channel_inlet.yaml 1
+  --set fluid.boundaries.x-.profile=expression --set "fluid.boundaries.x-.profile_expression=4*(y/0.032)*(1-y/0.032)*(1+100*x)")
+set(lbm_inlet_sets "run.end_time=400.0 run.output.every=400.0")
+coflow_validation(lbm_vs_reference_inlet compare lbm_channel_inlet.yaml 1
+  "${lbm_inlet_sets}" "${lbm_inlet_sets} fluid.solver=lbm-reference")
+coflow_validation(lbm_vs_reference_inlet_regularized compare lbm_channel_inlet.yaml 1
+  "${lbm_inlet_sets} fluid.boundaries.x-.closure=regularized"
+  "${lbm_inlet_sets} fluid.boundaries.x-.closure=regularized fluid.solver=lbm-reference")
+coflow_validation(lbm_ranks_1_vs_2_inlet compare lbm_channel_inlet.yaml 2
+  "${lbm_inlet_sets}" "${lbm_inlet_sets} fluid.ranks=2 fluid.decomposition=[1,2,1]")
+set(lbm_duct_inlet_sets "run.end_time=60.0 run.output.every=60.0 fluid.boundaries.x-={\"type\":\"velocity\",\"value\":[5.0e-4,0,0],\"profile\":\"parabolic\"} fluid.lbm.collision=trt")
+coflow_validation(lbm_vs_reference_duct_inlet compare lbm_duct_3d_pressure.yaml 1
+  "${lbm_duct_inlet_sets} fluid.ranks=1" "${lbm_duct_inlet_sets} fluid.ranks=1 fluid.solver=lbm-reference")
+coflow_validation(lbm_ranks_1_vs_4_duct_inlet compare lbm_duct_3d_pressure.yaml 2
+  "${lbm_duct_inlet_sets} fluid.ranks=1" "${lbm_duct_inlet_sets} fluid.ranks=4 fluid.decomposition=[1,2,2]")
+coflow_validation(lbm_stokes_layer stokes_layer lbm_stokes_layer.yaml 1)
+coflow_validation(lbm_stokes_layer_order order_stokes lbm_stokes_layer.yaml 1
+  "domain.cells=[4,16,1] domain.upper=[0.05,0.2,0.0125]"
+  "domain.cells=[4,32,1] domain.upper=[0.025,0.2,0.00625]"
+  "domain.cells=[4,64,1] domain.upper=[0.0125,0.2,0.003125]")
+coflow_validation(lbm_vs_reference_stokes_layer compare lbm_stokes_layer.yaml 1
+  "run.end_time=2.25 run.output.every=2.25" "run.end_time=2.25 run.output.every=2.25 fluid.solver=lbm-reference")
 coflow_validation(lbm_taylor_green decay lbm_taylor_green.yaml 2)
 coflow_validation(lbm_mass_conservation mass lbm_mass_conservation.yaml 2)
 coflow_validation(lbm_vs_reference compare lbm_all_boundaries_3d.yaml 1

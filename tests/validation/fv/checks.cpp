@@ -103,13 +103,17 @@ int stokes_layer(const std::string& dir) {
   }
   const auto h = d.spacing();
   const auto [t, u, nx, ny] = last_velocity(dir);
-  const double H = d.upper[1] - d.lower[1], delta = std::sqrt(2 * fp.viscosity / omega);
+  // fv's moving wall is the face y = 0; lbm's Zou-He face moves the centres
+  // of the first cells, y = h/2 (its resting wall, half-way bounce-back, is
+  // at y = H for both).
+  const double y0 = cfg.component("fluid").variant.rfind("lbm", 0) == 0 ? 0.5 * h[1] : 0.0;
+  const double H = d.upper[1] - d.lower[1] - y0, delta = std::sqrt(2 * fp.viscosity / omega);
   const std::complex<double> k(1.0 / delta, 1.0 / delta),
       phase = std::exp(std::complex<double>(0.0, omega * t));
   double e2 = 0.0;
   for (long j = 0; j < ny; ++j)
     for (long i = 0; i < nx; ++i) {
-      const double y = (j + 0.5) * h[1];
+      const double y = (j + 0.5) * h[1] - y0;
       const double ua = U * (phase * std::sinh(k * (H - y)) / std::sinh(k * H)).imag();
       const double un = u[static_cast<std::size_t>((j * nx + i) * 3)];
       e2 += (un - ua) * (un - ua);

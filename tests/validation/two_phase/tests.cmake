@@ -80,6 +80,13 @@ coflow_validation(two_phase_outflow_vs_reference compare two_phase_injection.yam
 coflow_validation(two_phase_injection_ranks_1_vs_4 compare two_phase_injection.yaml 2
   "fluid.ranks=1 run.end_time=60.0 run.output.every=60.0"
   "fluid.ranks=4 fluid.decomposition=[2,2,1] run.end_time=60.0 run.output.every=60.0")
+# The red inlet with a parabolic profile (since session 67).
+coflow_validation(two_phase_injection_profile_vs_reference compare two_phase_injection.yaml 1
+  "fluid.solver=lbm run.end_time=30.0 run.output.every=30.0 fluid.boundaries.x-.profile=parabolic"
+  "fluid.solver=lbm-reference run.end_time=30.0 run.output.every=30.0 fluid.boundaries.x-.profile=parabolic")
+coflow_validation(two_phase_injection_profile_ranks_1_vs_4 compare two_phase_injection.yaml 2
+  "fluid.ranks=1 run.end_time=60.0 run.output.every=60.0 fluid.boundaries.x-.profile=parabolic"
+  "fluid.ranks=4 fluid.decomposition=[2,2,1] run.end_time=60.0 run.output.every=60.0 fluid.boundaries.x-.profile=parabolic")
 # One fluid with an interior solid and open faces.
 coflow_validation(solids_channel_vs_reference compare solids_channel.yaml 1 "fluid.solver=lbm" "fluid.solver=lbm-reference")
 coflow_validation(solids_channel_ranks_1_vs_4 compare solids_channel.yaml 2

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
       if (!std::ifstream(std::string(argv[a]) + "/config.yaml"))
         throw std::runtime_error(std::string(argv[a]) + " is not a run directory (no config.yaml in it)");
     if (what == "profile" && argc == 3) return profile(argv[2]);
+    if (what == "dfg_cylinder" && argc == 3) return dfg_cylinder(argv[2]);
     if (what == "probes" && argc == 3) return probes(argv[2]);
     if (what == "hydrostatic" && argc == 3) return hydrostatic(argv[2]);
     if (what == "fluid_walls" && argc == 3) return fluid_walls(argv[2]);

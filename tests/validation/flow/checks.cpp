@@ -305,4 +305,70 @@ int mass(const std::string& dir) {
   return 0;
 }
 
+// The DFG benchmark 2D-1 (configs/validation/lbm_dfg_cylinder.yaml; Schäfer &
+// Turek 1996): a cylinder of diameter D = 0.1 m centred at (0.2, 0.2) in a
+// channel fed by a parabolic inlet of mean speed U = 2/3 of its peak.
+// - c_D, c_L = 2 F / (rho U^2 D W), W the domain's depth, F the solid1
+//   columns of series/fluid_walls.csv averaged over the rows of the last 5 s
+//   (each row is already the mean since the one before): two periods of
+//   the channel's slowest acoustic mode (4 L / c_s = 2.5 s at the
+//   config's step), which the lattice hardly damps at Re 20.
+// - L_a = x_r - 0.25, x_r where u_x on the line y = 0.2 behind the cylinder
+//   turns from backward to forward (the mean of the two rows of centres
+//   beside the line; linear between columns).
+// - dp = p(0.15, 0.2) - p(0.25, 0.2), each extrapolated linearly along x from
+//   the two fluid cells (solid_fraction 0) outside the voxelised surface, on
+//   the same two rows.
+int dfg_cylinder(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  const auto& d = cfg.domain;
+  const auto h = d.spacing();
+  const auto b = fp.boundary(0, cfg);
+  const double U = 2.0 / 3.0 * b.value.values.at(0), D = 0.1, W = d.upper[2] - d.lower[2];
+  const auto rows = read_series(dir + "/series/fluid_walls.csv");
+  const LastRow names(dir + "/series/fluid_walls.csv");
+  const std::size_t cx = names.column("solid1_fx"), cy = names.column("solid1_fy");
+  double fx = 0.0, fy = 0.0;
+  int n = 0;
+  for (const auto& r : rows)
+    if (r[0] > rows.back()[0] - 5.0 + 1e-9) fx += r[cx], fy += r[cy], ++n;
+  const double q = 0.5 * fp.density * U * U * D * W;
+  std::vector<std::size_t> dims;
+  const std::string last = last_snapshot(dir);
+  const auto u = output::read_dataset(last, "velocity", &dims);
+  const auto p = output::read_dataset(last, "pressure");
+  const auto solid = output::read_dataset(last, "solid_fraction");
+  const long nx = static_cast<long>(dims[2]);
+  const long j0 = std::lround(0.2 / h[1]) - 1;  // the rows of centres below and above y = 0.2
+  const auto on_line = [&](const std::vector<double>& f, long i, int stride, int c) {
+    return 0.5 * (f[static_cast<std::size_t>((j0 * nx + i) * stride + c)] +
+                  f[static_cast<std::size_t>(((j0 + 1) * nx + i) * stride + c)]);
+  };
+  const auto x = [&](long i) { return (i + 0.5) * h[0]; };
+  double xr = std::nan("");
+  const long back = std::lround(0.25 / h[0]);
+  for (long i = back; i + 1 < nx && xr != xr; ++i)
+    if (on_line(solid, i, 1, 0) == 0.0 && on_line(u, i, 3, 0) < 0.0 && on_line(u, i + 1, 3, 0) >= 0.0) {
+      const double a = on_line(u, i, 3, 0), c = on_line(u, i + 1, 3, 0);
+      xr = x(i) + h[0] * a / (a - c);
+    }
+  long front = std::lround(0.15 / h[0]);
+  while (front > 0 && on_line(solid, front, 1, 0) != 0.0) --front;
+  long rear = back;
+  while (rear < nx && on_line(solid, rear, 1, 0) != 0.0) ++rear;
+  const auto pf = on_line(p, front, 1, 0), pf2 = on_line(p, front - 1, 1, 0);
+  const auto pr = on_line(p, rear, 1, 0), pr2 = on_line(p, rear + 1, 1, 0);
+  const double dp =
+      (pf + (pf - pf2) * (0.15 - x(front)) / h[0]) - (pr - (pr2 - pr) * (x(rear) - 0.25) / h[0]);
+  const double cd = fx / n / q, cl = fy / n / q;
+  std::printf("rows_averaged=%d\nc_D=%.6f\nc_L=%.6f\nL_a=%.6f\ndelta_p=%.6f\n", n, cd, cl, xr - 0.25, dp);
+  // Against the middle of the benchmark's intervals (Schäfer & Turek 1996):
+  // c_D 5.57-5.59, L_a 0.0842-0.0852 m, dp 0.1172-0.1176 Pa; c_L 0.0104-0.0110.
+  std::printf("c_D_error=%.6e\nL_a_error=%.6e\ndelta_p_error=%.6e\nc_L_error=%.6e\n",
+              std::abs(cd - 5.58) / 5.58, std::abs(xr - 0.25 - 0.0847) / 0.0847,
+              std::abs(dp - 0.1174) / 0.1174, std::abs(cl - 0.0107) / 0.0107);
+  return 0;
+}
+
 }  // namespace coflow::check

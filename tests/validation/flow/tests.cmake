@@ -69,6 +69,10 @@ coflow_validation(lbm_stokes_layer_order order_stokes lbm_stokes_layer.yaml 1
   "domain.cells=[4,64,1] domain.upper=[0.0125,0.2,0.003125]")
 coflow_validation(lbm_vs_reference_stokes_layer compare lbm_stokes_layer.yaml 1
   "run.end_time=2.25 run.output.every=2.25" "run.end_time=2.25 run.output.every=2.25 fluid.solver=lbm-reference")
+# The DFG benchmark 2D-1 (Schäfer & Turek 1996): a cylinder in a channel fed
+# by a parabolic inlet, Re 20; c_D, c_L, the recirculation length and the
+# pressure difference against the benchmark's intervals (about 30 s).
+coflow_validation(lbm_dfg_cylinder dfg_cylinder lbm_dfg_cylinder.yaml 1)
 coflow_validation(lbm_taylor_green decay lbm_taylor_green.yaml 2)
 coflow_validation(lbm_mass_conservation mass lbm_mass_conservation.yaml 2)
 coflow_validation(lbm_vs_reference compare lbm_all_boundaries_3d.yaml 1

@@ -46,7 +46,8 @@ void BoundaryParams::visit(config::Visitor& v) {
     "at "
     "the faces across each of its other axes that is not periodic (a channel's or, as a product, a duct's "
     "inlet), table (profile_file) or expression (profile_expression); fv takes the factor at its face's "
-    "points, lbm at the centres of the cells on the face (s = (i + 1/2) / cells)",
+    "points, lbm at its face nodes, the centres of the cells on the face (s = (i + 1/2) / cells; a formula "
+    "there, h/2 inside the box)",
     config::one_of({"uniform", "parabolic", "table", "expression"}));
   v("profile_file", profile_file,
     "profile: table: a text file of rows `coordinate, factor`, the coordinate in m along profile_axis and "
@@ -56,7 +57,8 @@ void BoundaryParams::visit(config::Visitor& v) {
     "profile: table, and turbulence_file: the axis of the tables' coordinate, across the face",
     config::one_of({"x", "y", "z"}));
   v("profile_expression", profile_expression,
-    "profile: expression: the factor on `value` as a formula in x, y, z (m, the point on the face) and "
+    "profile: expression: the factor on `value` as a formula in x, y, z (m, the point on the face; lbm: its "
+    "node) and "
     "t "
     "(s), e.g. `4*y*(1-y)` or `cos(2*pi*t/0.5)`; constants pi and e, muParser's functions (sin, cos, exp, "
     "sqrt, abs, min, max, ...) and `c ? a : b`; quote it in YAML; lbm evaluates t at each step's end");

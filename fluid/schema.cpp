@@ -135,9 +135,11 @@ static bool fluid_blocks(const config::Config& cfg, const config::ComponentInfo&
   return true;
 }
 
-// An outflow face, and a regularized pressure face, read the next cell in,
-// but the halo carries only the populations that stream inwards: lbm's block
-// at such a face must be two cells thick or more along the face's axis.
+// An outflow face, a regularized pressure face, and a pressure or velocity
+// face that meets another one (its edge nodes are rebuilt from the next
+// cell in: lbm/boundaries.hpp, close_corner) read the next cell in, but the
+// halo carries only the populations that stream inwards: lbm's block at such
+// a face must be two cells thick or more along the face's axis.
 static void check_open_face_blocks(config::Visitor& v, const config::Config& cfg, const config::ComponentInfo& info,
                             const FluidParams& p) {
   if (!v.reading() || info.variant.rfind("lbm", 0) != 0 || info.ranks < 2) return;
@@ -147,7 +149,15 @@ static void check_open_face_blocks(config::Visitor& v, const config::Config& cfg
   for (int f = 0; f < 6; ++f) {
     const BoundaryParams b = p.boundary(f, cfg);
     const int a = f / 2;
-    if ((b.type != "outflow" && !(b.type == "pressure" && b.closure == "regularized")) || d.cells[a] == 1) continue;
+    const auto pv = [&](int g) {
+      const std::string t = p.boundary(g, cfg).type;
+      return d.cells[g / 2] > 1 && !d.periodic[g / 2] && (t == "pressure" || t == "velocity");
+    };
+    bool meets = false;
+    for (int g = 0; g < 6; ++g) meets = meets || (g / 2 != a && pv(f) && pv(g));
+    if ((b.type != "outflow" && !(b.type == "pressure" && b.closure == "regularized") && !meets) ||
+        d.cells[a] == 1)
+      continue;
     for (int r = 0; r < info.ranks; ++r) {
       const auto& blk = dec.block(r);
       if ((f % 2 == 0 ? blk.lo[a] != 0 : blk.hi[a] != d.cells[a]) || blk.hi[a] - blk.lo[a] >= 2) continue;
@@ -215,16 +225,14 @@ static void check_closed_box(config::Visitor& v, const config::Config& cfg, cons
             (through % 2 == 0) == (normal_velocity(p.boundary(through, cfg), through) > 0) ? "out" : "in"));
 }
 
-// lbm's open-face closures (Zou-He, regularized) set one face's unknown
-// populations from the others at its nodes; at an edge where two velocity or
-// pressure faces meet, each face's closure reads populations that the other
-// face alone could set and that nothing sets (the ghost beyond the other
-// face), and the later face overwrites the earlier one's result. Such edges
-// are refused until a corner closure exists; an outflow face (a copy from
-// the node within) or a wall next to an open face is sound.
+// lbm closes a node where two or three pressure or velocity faces meet
+// whole (lbm/boundaries.hpp, close_corner) for one fluid. With two fluids the
+// colour of what enters there is not defined (each face's phase, or the
+// node's own colour, could colour it): such edges are refused. An outflow
+// face or a wall next to an open face is sound.
 static void check_lbm_open_edges(config::Visitor& v, const config::Config& cfg,
                                  const config::ComponentInfo& info, const FluidParams& p) {
-  if (!v.reading() || info.variant.rfind("lbm", 0) != 0) return;
+  if (!v.reading() || info.variant.rfind("lbm", 0) != 0 || !p.two_phase.on) return;
   auto open = [&](int f) {
     if (cfg.domain.cells[f / 2] == 1 || cfg.domain.periodic[f / 2]) return false;
     const std::string type = p.boundary(f, cfg).type;
@@ -235,9 +243,9 @@ static void check_lbm_open_edges(config::Visitor& v, const config::Config& cfg,
       if (f / 2 != g / 2 && open(f) && open(g)) {
         v.fail(
             "boundaries." + face_names()[g],
-            fmt::format("the {} face {} meets the {} face {} along an edge: lbm closes one open face at a "
-                        "time and cannot close the cells on both; make one of them a wall or an outflow "
-                        "face, or its axis periodic (fv takes such edges)",
+            fmt::format("the {} face {} meets the {} face {} along an edge: with two fluids lbm cannot "
+                        "colour what enters the cells on both (one fluid it closes there); make one of "
+                        "them a wall or an outflow face, or its axis periodic",
                         p.boundary(g, cfg).type, face_names()[g], p.boundary(f, cfg).type, face_names()[f]));
         return;
       }

@@ -138,6 +138,84 @@ inline void post_collision_velocity(const double* g, long stride, const double* 
   for (int d = 0; d < 3; ++d) u[d] = (m[d] - 0.5 * F[d]) / rho_m;
 }
 
+// A node where two or three pressure or velocity faces meet (an edge or a
+// corner of the box). No face's closure applies there: each face's unknowns
+// include populations that only the other face could set, and some links
+// are buried (both a population and its opposite unknown). The node is
+// rebuilt whole instead, through the regularized closure's reconstruction
+// (Latt et al. 2008): f = f^eq(rho, u) + w / (2 c_s^4) Q : Pi, with
+// - u the first velocity face's value in face order, else the velocity of
+//   the next node inwards along the diagonal (its last step's populations);
+//   rho the first pressure face's value, else that node's density;
+// - Pi's components between the meeting faces' normal axes, where the buried
+//   links would enter, the first-order (Chapman-Enskog) stress -rho_m c_s^2
+//   tau (du_b/dx_a + du_a/dx_b) with the derivatives one-sided into the box
+//   (Skordos 1993, Phys. Rev. E 48, 4823: the stress from finite differences
+//   of the velocity), from the node's u and the last step's velocity of the
+//   next node inwards along each normal (inside the block: validate keeps
+//   such blocks two cells thick);
+// - its components along an axis that no meeting face is normal to (3D
+//   edges) the regularized face closure's: the known populations'
+//   non-equilibrium parts, an unknown one's from its opposite.
+// Everything it reads lies in the node's block, so N ranks give 1 rank's bits.
+template <class L, bool Incompressible>
+inline void close_corner(double* f, const double* cur, const Layout& lay, const long loc[3],
+                         const std::array<Face, 6>& faces, const bool* open, const double* F, double tau) {
+  const long g[3] = {lay.origin[0] + loc[0], lay.origin[1] + loc[1], lay.origin[2] + loc[2]};
+  bool meets[6], normal[3] = {false, false, false};
+  long in[3] = {loc[0], loc[1], loc[2]};
+  for (int face = 0; face < 6; ++face) {
+    const int a = face / 2;
+    meets[face] = open[face] && faces[face].type != FaceType::outflow &&
+                  loc[a] == (face % 2 == 0 ? 0 : lay.extent[a] - 1);
+    if (meets[face]) normal[a] = true, in[a] += face % 2 == 0 ? 1 : -1;
+  }
+  const auto velocity_at = [&](const long c[3], double* u) {
+    post_collision_velocity<L, Incompressible>(&cur[lay.idx(c[0], c[1], c[2])], lay.stride, F, u);
+  };
+  double u[3], rho = 1.0;
+  velocity_at(in, u);
+  for (int q = 0; q < L::Q; ++q) rho += cur[q * lay.stride + lay.idx(in[0], in[1], in[2])];
+  for (int face = 5; face >= 0; --face)  // the first in face order wins
+    if (meets[face] && faces[face].type == FaceType::velocity) faces[face].velocity(g, face / 2, u);
+  for (int face = 5; face >= 0; --face)
+    if (meets[face] && faces[face].type == FaceType::pressure) rho = faces[face].rho;
+  double feq[L::Q], pi[3][3] = {};
+  for (int q = 0; q < L::Q; ++q)
+    feq[q] = equilibrium<L, Incompressible>(q, rho, u) -
+             1.5 * L::w[q] * (L::e[q][0] * F[0] + L::e[q][1] * F[1] + L::e[q][2] * F[2]);
+  const auto unknown = [&](int q) {
+    for (int face = 0; face < 6; ++face)
+      if (meets[face] && (face % 2 == 0 ? 1 : -1) * L::e[q][face / 2] > 0) return true;
+    return false;
+  };
+  for (int q = 0; q < L::Q; ++q) {  // the known populations' estimate
+    const int k = unknown(q) ? L::opp[q] : q;
+    const double neq = unknown(k) ? 0.0 : f[k] - feq[k];  // buried: lie between normal axes only
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) pi[a][b] += L::e[q][a] * L::e[q][b] * neq;
+  }
+  double du[3][3] = {};  // du[a][b] = d u_b / d x_a along the normal axes
+  for (int a = 0; a < 3; ++a) {
+    if (!normal[a]) continue;
+    long next[3] = {loc[0], loc[1], loc[2]};
+    next[a] = in[a];
+    double un[3];
+    velocity_at(next, un);
+    for (int b = 0; b < 3; ++b) du[a][b] = (un[b] - u[b]) * static_cast<double>(in[a] - loc[a]);
+  }
+  const double rho_m = Incompressible ? 1.0 : rho;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b)
+      if (normal[a] && normal[b]) pi[a][b] = -rho_m * tau / 3.0 * (du[a][b] + du[b][a]);
+  for (int q = 0; q < L::Q; ++q) {
+    double qpi = 0.0;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) qpi += (L::e[q][a] * L::e[q][b] - (a == b ? 1.0 / 3.0 : 0.0)) * pi[a][b];
+    f[q] = feq[q] + 4.5 * L::w[q] * qpi;  // 1 / (2 c_s^4) = 9 / 2
+  }
+}
+
 // Half-way bounce-back (seed 000 eq. 2.44) on the wall faces [face0, face1)
 // of a block: the population a boundary node pulls from beyond a wall is the
 // one it sent towards the wall, reversed. f: the current populations (the
@@ -197,12 +275,22 @@ inline void fill_walls(double* f, const Layout& lay, const long* off, const bool
 // multiply-adds in the caller's context, as it did before this function was
 // split out of the solver (compare_builds: the same bits).
 template <class L, bool Incompressible>
-[[gnu::always_inline]] inline void close_open_faces(double* f, const double* cur, const Layout& lay, long i, long j, long k,
-                             const bool* open, const std::array<Face, 6>& faces, const double* F) {
+[[gnu::always_inline]] inline void close_open_faces(double* f, const double* cur, const Layout& lay, long i,
+                                                    long j, long k, const bool* open,
+                                                    const std::array<Face, 6>& faces, const double* F,
+                                                    double tau) {
   const long loc[3] = {i, j, k};
   const long x = lay.idx(i, j, k);
+  int meeting = 0;  // pressure and velocity faces at this node
+  for (int face = 0; face < 6; ++face)
+    meeting += open[face] && faces[face].type != FaceType::outflow &&
+               loc[face / 2] == (face % 2 == 0 ? 0 : lay.extent[face / 2] - 1);
   for (int pass = 0; pass < 2; ++pass)
     for (int face = 0; face < 6; ++face) {
+      if (pass == 1 && meeting > 1) {
+        close_corner<L, Incompressible>(f, cur, lay, loc, faces, open, F, tau);
+        return;
+      }
       const int axis = face / 2;
       if (!open[face] || loc[axis] != (face % 2 == 0 ? 0 : lay.extent[axis] - 1)) continue;
       const int s = face % 2 == 0 ? 1 : -1;

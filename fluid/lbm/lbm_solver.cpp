@@ -562,7 +562,8 @@ class Core final : public LbmCore {
     const long x = idx(i, j, k);
     double f[L::Q];
     for (int q = 0; q < L::Q; ++q) f[q] = pop_.f[q * lay_.stride + x - off_[q]];
-    lbm::close_open_faces<L, Incompressible>(f, pop_.f.data(), lay_, i, j, k, open_, s_.faces, Fc);
+    lbm::close_open_faces<L, Incompressible>(f, pop_.f.data(), lay_, i, j, k, open_, s_.faces, Fc,
+                                             collision_.tau);
     const double uu = lbm::collide<L, Incompressible>(f, collision_, F);
     max_u2_ = lbm::nan_max(max_u2_, uu);
     for (int q = 0; q < L::Q; ++q) pop_.next[q * lay_.stride + x] = f[q];

@@ -133,9 +133,11 @@ inline void set_two_phase(Setup& s, const config::Config& cfg, const FluidParams
 
 // time_step > 0: the step the coupling window asks for (coupler::output_window),
 // taken by adjusting tau at the same viscosity.
-// A velocity face's profile at its nodes, the cells' centres along its other
-// axes (BoundaryParams::profile_factor at their fractions of the box; on the
-// face itself along its normal). A formula in t is set again at each step's
+// A velocity face's profile at its nodes, the centres of the face's cells,
+// where lbm imposes the face's value: BoundaryParams::profile_factor at their
+// fractions of the box (a parabola or a table across the face), and a formula
+// at the node itself (h/2 inside the box along the normal, unlike fv, whose
+// faces lie on the box's planes). A formula in t is set again at each step's
 // end time (ramp_faces); the configuration outlives the solvers that read it.
 inline void set_profile(Face& face, int f, const BoundaryParams& b, const config::Config& cfg, double dt) {
   const int axis = f / 2, ta = axis == 0 ? 1 : 0, tb = axis == 2 ? 1 : 2;
@@ -144,11 +146,15 @@ inline void set_profile(Face& face, int f, const BoundaryParams& b, const config
   face.factor.assign(static_cast<std::size_t>(n[ta] * n[tb]), 1.0);
   face.dt = dt;
   face.factor_at = [b, f, ta, tb, &cfg](long a, long c, double t) {
+    const auto& d = cfg.domain;
     double s[3] = {0.5, 0.5, 0.5};
-    s[f / 2] = f % 2 == 0 ? 0.0 : 1.0;
-    s[ta] = (a + 0.5) / cfg.domain.cells[ta];
-    s[tb] = (c + 0.5) / cfg.domain.cells[tb];
-    return b.profile_factor(f, s, cfg, t);
+    s[f / 2] = (f % 2 == 0 ? 0.5 : d.cells[f / 2] - 0.5) / d.cells[f / 2];
+    s[ta] = (a + 0.5) / d.cells[ta];
+    s[tb] = (c + 0.5) / d.cells[tb];
+    if (b.profile != "expression") return b.profile_factor(f, s, cfg, t);
+    double x[3];
+    for (int k = 0; k < 3; ++k) x[k] = d.lower[k] + s[k] * (d.upper[k] - d.lower[k]);
+    return b.formula(x, t);
   };
   face.set_factors(0.0);
   if (b.profile != "expression" || !b.formula.uses_time()) face.factor_at = nullptr;

@@ -243,6 +243,7 @@ void LbmReference::step() {
     if (s_.faces[face].type == FaceType::outflow) apply_face(face, fs, post);
   for (int face = 0; face < 6; ++face)
     if (s_.faces[face].type != FaceType::outflow) apply_face(face, fs, post);
+  close_corners(fs, post);
   if (ibm_) force_immersed([&](long c, int q) { return fs[c * Q_ + q]; });
   step_u2_ = 0.0;
   for (long c = 0; c < n_[0] * n_[1] * n_[2]; ++c) {
@@ -276,6 +277,8 @@ void LbmReference::apply_face(int face, std::vector<double>& fs, const std::vect
     for (long j = lo[1]; j < hi[1]; ++j)
       for (long i = lo[0]; i < hi[0]; ++i) {
         double* f = &fs[index(i, j, k) * Q_];
+        const long at_node[3] = {i, j, k};
+        if (F.type != FaceType::outflow && meeting_faces(at_node) > 1) continue;  // close_corners
         if (F.type == FaceType::outflow) {
           // Zero gradient: the unknowns are the next node's populations of the
           // previous step (post-collision), which depend on no other face.
@@ -311,6 +314,101 @@ void LbmReference::apply_face(int face, std::vector<double>& fs, const std::vect
         else
           zou_he(f, axis, s, rho, u, Fc);
       }
+}
+
+// Where two or three pressure or velocity faces meet (an edge or a corner
+// of the box), apply_face leaves the node alone: each face's unknowns
+// include populations only the other face could set. The node is rebuilt
+// whole here (lbm/boundaries.hpp, close_corner): f = f^eq(rho, u) + w / (2
+// c_s^4) Q : Pi; u the first velocity face's value, else the next node's
+// inwards along the diagonal; rho the first pressure face's, else that
+// node's; Pi between the faces' normal axes -rho_m c_s^2 tau (du_b/dx_a +
+// du_a/dx_b) (Skordos 1993), one-sided from the next node inwards along
+// each normal, and along the other axes the known populations'
+// non-equilibrium parts (an unknown one's from its opposite).
+void LbmReference::close_corners(std::vector<double>& fs, const std::vector<double>& post) const {
+  for (long k = 0; k < n_[2]; ++k)
+    for (long j = 0; j < n_[1]; ++j)
+      for (long i = 0; i < n_[0]; ++i) {
+        const long x[3] = {i, j, k};
+        if (meeting_faces(x) < 2) continue;
+        double F[3];
+        force_at(index(i, j, k), F);
+        // The density and velocity of cell c from its last step's (post-collision) populations.
+        const auto state = [&](const long c[3], double u[3]) {
+          const double* g = &post[index(c[0], c[1], c[2]) * Q_];
+          double rho = 0.0, m[3] = {0, 0, 0};
+          for (int q = 0; q < Q_; ++q) {
+            rho += g[q];
+            for (int d = 0; d < 3; ++d) m[d] += e_[q][d] * g[q];
+          }
+          for (int d = 0; d < 3; ++d) u[d] = (m[d] - 0.5 * F[d]) / (s_.incompressible ? 1.0 : rho);
+          return rho;
+        };
+        bool meets[6], normal[3] = {false, false, false};
+        long in[3] = {i, j, k};
+        for (int face = 0; face < 6; ++face) {
+          meets[face] = open_face_at(x, face);
+          if (meets[face]) normal[face / 2] = true, in[face / 2] += face % 2 == 0 ? 1 : -1;
+        }
+        double u[3];
+        double rho = state(in, u);
+        for (int face = 5; face >= 0; --face)  // the first in face order wins
+          if (meets[face] && s_.faces[face].type == FaceType::velocity)
+            s_.faces[face].velocity(x, face / 2, u);
+        for (int face = 5; face >= 0; --face)
+          if (meets[face] && s_.faces[face].type == FaceType::pressure) rho = s_.faces[face].rho;
+        double* f = &fs[index(i, j, k) * Q_];
+        std::vector<double> feq(Q_);
+        for (int q = 0; q < Q_; ++q)
+          feq[q] =
+              equilibrium(q, rho, u) - 1.5 * w_[q] * (e_[q][0] * F[0] + e_[q][1] * F[1] + e_[q][2] * F[2]);
+        const auto unknown = [&](int q) {
+          bool u_q = false;
+          for (int face = 0; face < 6; ++face)
+            u_q = u_q || (meets[face] && (face % 2 == 0 ? 1 : -1) * e_[q][face / 2] > 0);
+          return u_q;
+        };
+        double pi[3][3] = {};
+        for (int q = 0; q < Q_; ++q) {
+          const int src = unknown(q) ? opp_[q] : q;
+          const double neq = unknown(src) ? 0.0 : f[src] - feq[src];
+          for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b) pi[a][b] += e_[q][a] * e_[q][b] * neq;
+        }
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b) {
+            if (!normal[a] || !normal[b]) continue;
+            // d u_b / d x_a and d u_a / d x_b, one-sided into the box
+            double ua[3], ub[3];
+            long na[3] = {i, j, k}, nb[3] = {i, j, k};
+            na[a] = in[a], nb[b] = in[b];
+            state(na, ua), state(nb, ub);
+            const double dab = (ua[b] - u[b]) * (in[a] - x[a]), dba = (ub[a] - u[a]) * (in[b] - x[b]);
+            pi[a][b] = -(s_.incompressible ? 1.0 : rho) * s_.tau / 3.0 * (dab + dba);
+          }
+        for (int q = 0; q < Q_; ++q) {
+          double qpi = 0.0;
+          for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b) qpi += (e_[q][a] * e_[q][b] - (a == b ? 1.0 / 3.0 : 0.0)) * pi[a][b];
+          f[q] = feq[q] + 4.5 * w_[q] * qpi;
+        }
+      }
+}
+
+// Whether face is a pressure or velocity face of the box at cell x.
+bool LbmReference::open_face_at(const long x[3], int face) const {
+  const int a = face / 2;
+  const FaceType t = s_.faces[face].type;
+  return n_[a] > 1 && (t == FaceType::pressure || t == FaceType::velocity) &&
+         x[a] == (face % 2 == 0 ? 0 : n_[a] - 1);
+}
+
+// How many pressure or velocity faces of the box meet at cell x.
+int LbmReference::meeting_faces(const long x[3]) const {
+  int n = 0;
+  for (int face = 0; face < 6; ++face) n += open_face_at(x, face);
+  return n;
 }
 
 // rho and u of a face node from its known populations and the face's value

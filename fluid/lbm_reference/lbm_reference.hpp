@@ -94,6 +94,9 @@ class LbmReference final : public FluidSolver {
                      Solid& s);
   bool on_open_face(long cell) const;
   void apply_face(int face, std::vector<double>& fs, const std::vector<double>& post);
+  void close_corners(std::vector<double>& fs, const std::vector<double>& post) const;
+  bool open_face_at(const long x[3], int face) const;
+  int meeting_faces(const long x[3]) const;
   void face_state(const double* f, int axis, int s, const lbm::Face& F, const long at[3], const double Fc[3],
                   double& rho, double u[3]) const;
   void zou_he(double* f, int axis, int s, double rho, const double u[3], const double Fc[3]) const;

@@ -127,6 +127,8 @@ inline std::vector<std::pair<long, double>> snapshots(const std::string& dir, co
 // lbm.cpp
 int profile(const std::string& dir);
 int dfg_cylinder(const std::string& dir);
+int uniform_stream(const std::string& dir);
+int inlet_profile(const std::string& dir);
 int probes(const std::string& dir);
 int hydrostatic(const std::string& dir);
 int fluid_walls(const std::string& dir);

@@ -48,7 +48,7 @@ coflow_validation(lbm_channel_inlet profile lbm_channel_inlet.yaml 1)
 coflow_validation(lbm_channel_inlet_table profile lbm_channel_inlet.yaml 1
   --set fluid.boundaries.x-.profile=table --set fluid.boundaries.x-.profile_file=profiles/channel_parabola_32.csv)
 coflow_validation(lbm_channel_inlet_expression profile lbm_channel_inlet.yaml 1
-  --set fluid.boundaries.x-.profile=expression --set "fluid.boundaries.x-.profile_expression=4*(y/0.032)*(1-y/0.032)*(1+100*x)")
+  --set fluid.boundaries.x-.profile=expression --set "fluid.boundaries.x-.profile_expression=4*(y/0.032)*(1-y/0.032)*(1+100*(x-0.0005))")
 set(lbm_inlet_sets "run.end_time=400.0 run.output.every=400.0")
 coflow_validation(lbm_vs_reference_inlet compare lbm_channel_inlet.yaml 1
   "${lbm_inlet_sets}" "${lbm_inlet_sets} fluid.solver=lbm-reference")
@@ -69,6 +69,29 @@ coflow_validation(lbm_stokes_layer_order order_stokes lbm_stokes_layer.yaml 1
   "domain.cells=[4,64,1] domain.upper=[0.0125,0.2,0.003125]")
 coflow_validation(lbm_vs_reference_stokes_layer compare lbm_stokes_layer.yaml 1
   "run.end_time=2.25 run.output.every=2.25" "run.end_time=2.25 run.output.every=2.25 fluid.solver=lbm-reference")
+# Open faces that meet (close_corner, since session 67): a uniform stream
+# through velocity faces on three sides and a pressure face (2D corners; 3D
+# edges and corners with velocity faces z- and z+ too), held exactly; the
+# middle of a Poiseuille flow bounded by velocity faces with the parabola
+# (profile: expression) against the exact profile; lbm against lbm-reference
+# and 1 rank against 4 (every corner on another rank) for both.
+set(lbm_corners_3d "fluid.lbm.lattice=D3Q19 domain.cells=[16,8,8] domain.upper=[0.016,0.008,0.008] fluid.boundaries.z-={\"type\":\"velocity\",\"value\":[5.0e-4,0,0]} fluid.boundaries.z+={\"type\":\"velocity\",\"value\":[5.0e-4,0,0]}")
+coflow_validation(lbm_open_corners uniform_stream lbm_open_corners.yaml 1)
+coflow_validation(lbm_open_corners_3d uniform_stream lbm_open_corners.yaml 1
+  --set fluid.lbm.lattice=D3Q19 --set "domain.cells=[16,8,8]" --set "domain.upper=[0.016,0.008,0.008]"
+  --set "fluid.boundaries.z-={\"type\":\"velocity\",\"value\":[5.0e-4,0,0]}"
+  --set "fluid.boundaries.z+={\"type\":\"velocity\",\"value\":[5.0e-4,0,0]}" --set run.end_time=600.0 --set run.output.every=600.0)
+coflow_validation(lbm_vs_reference_open_corners_3d compare lbm_open_corners.yaml 1
+  "${lbm_corners_3d} run.end_time=60.0 run.output.every=60.0"
+  "${lbm_corners_3d} run.end_time=60.0 run.output.every=60.0 fluid.solver=lbm-reference")
+coflow_validation(lbm_ranks_1_vs_4_open_corners_3d compare lbm_open_corners.yaml 2
+  "${lbm_corners_3d} run.end_time=60.0 run.output.every=60.0"
+  "${lbm_corners_3d} run.end_time=60.0 run.output.every=60.0 fluid.ranks=4 fluid.decomposition=[2,2,1]")
+coflow_validation(lbm_channel_window inlet_profile lbm_channel_window.yaml 1)
+coflow_validation(lbm_vs_reference_window compare lbm_channel_window.yaml 1
+  "run.end_time=400.0 run.output.every=400.0" "run.end_time=400.0 run.output.every=400.0 fluid.solver=lbm-reference")
+coflow_validation(lbm_ranks_1_vs_4_window compare lbm_channel_window.yaml 2
+  "run.end_time=400.0 run.output.every=400.0" "run.end_time=400.0 run.output.every=400.0 fluid.ranks=4 fluid.decomposition=[2,2,1]")
 # The DFG benchmark 2D-1 (Schäfer & Turek 1996): a cylinder in a channel fed
 # by a parabolic inlet, Re 20; c_D, c_L, the recirculation length and the
 # pressure difference against the benchmark's intervals (about 30 s).

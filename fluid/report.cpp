@@ -37,7 +37,9 @@ FluidParams read_fluid(const config::Config& cfg) {
 
 // The largest |factor| of a velocity face's profile over the centres of the
 // cells on the face (1 for a uniform face); a formula in t at up to 65 times
-// from 0 to the end (fewer on a large face: about 2e5 evaluations at most).
+// in [0, end] (fewer on a large face: about 2e5 evaluations at most), spread
+// by the golden ratio's fractional parts so that no periodic formula is
+// sampled only at its zeros. NaN if the formula gives one.
 static double largest_factor(int face, const BoundaryParams& b, const config::Config& cfg) {
   if (b.profile == "uniform") return 1.0;
   const int axis = face / 2, ta = axis == 0 ? 1 : 0, tb = axis == 2 ? 1 : 2;
@@ -47,12 +49,12 @@ static double largest_factor(int face, const BoundaryParams& b, const config::Co
   double largest = 0.0, s[3] = {0.5, 0.5, 0.5};
   s[axis] = face % 2 == 0 ? 0.0 : 1.0;
   for (long k = 0; k < times; ++k) {
-    const double t =
-        times > 1 ? cfg.run.end_time * static_cast<double>(k) / static_cast<double>(times - 1) : 0.0;
+    const double t = cfg.run.end_time * std::fmod(0.6180339887498949 * static_cast<double>(k), 1.0);
     for (long c = 0; c < n[tb]; ++c)
       for (long a = 0; a < n[ta]; ++a) {
         s[ta] = (a + 0.5) / n[ta], s[tb] = (c + 0.5) / n[tb];
-        largest = std::max(largest, std::abs(b.profile_factor(face, s, cfg, t)));
+        const double v = std::abs(b.profile_factor(face, s, cfg, t));
+        largest = v > largest || v != v ? v : largest;
       }
   }
   return largest;

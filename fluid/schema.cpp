@@ -225,33 +225,6 @@ static void check_closed_box(config::Visitor& v, const config::Config& cfg, cons
             (through % 2 == 0) == (normal_velocity(p.boundary(through, cfg), through) > 0) ? "out" : "in"));
 }
 
-// lbm closes a node where two or three pressure or velocity faces meet
-// whole (lbm/boundaries.hpp, close_corner) in its single-fluid kernels. The
-// two-fluid core, which also runs one fluid with interior solids
-// (fluid.solids), closes one face at a time: such edges are refused there.
-// An outflow face or a wall next to an open face is sound.
-static void check_lbm_open_edges(config::Visitor& v, const config::Config& cfg,
-                                 const config::ComponentInfo& info, const FluidParams& p) {
-  if (!v.reading() || info.variant.rfind("lbm", 0) != 0 || (!p.two_phase.on && p.solids.empty())) return;
-  auto open = [&](int f) {
-    if (cfg.domain.cells[f / 2] == 1 || cfg.domain.periodic[f / 2]) return false;
-    const std::string type = p.boundary(f, cfg).type;
-    return type == "velocity" || type == "pressure";
-  };
-  for (int f = 0; f < 6; ++f)
-    for (int g = f + 1; g < 6; ++g)
-      if (f / 2 != g / 2 && open(f) && open(g)) {
-        v.fail("boundaries." + face_names()[g],
-               fmt::format("the {} face {} meets the {} face {} along an edge: with {} lbm closes one open "
-                           "face at a time and cannot close the cells on both (one fluid without "
-                           "fluid.solids it closes there); make one of them a wall or an outflow face, or "
-                           "its axis periodic",
-                           p.boundary(g, cfg).type, face_names()[g], p.boundary(f, cfg).type, face_names()[f],
-                           p.two_phase.on ? "two fluids" : "interior solids (fluid.solids)"));
-        return;
-      }
-}
-
 // D2Q9 has no velocities along z: a z body force, initial velocity or
 // velocity face would enter its equilibria (u^2, u.F) and show in the output
 // without moving anything. D3Q19 with one periodic cell along z carries them.
@@ -577,7 +550,6 @@ config::ComponentSchema schema() {
     check_open_face_blocks(v, cfg, info, p);
     check_fv_blocks(v, cfg, info);
     check_closed_box(v, cfg, info, p);
-    check_lbm_open_edges(v, cfg, info, p);
     check_turbulence(v, cfg, info, p);
     visit_variant_sections(v, cfg, info);
   };

@@ -158,24 +158,29 @@ inline void post_collision_velocity(const double* g, long stride, const double* 
 //   edges) the regularized face closure's: the known populations'
 //   non-equilibrium parts, an unknown one's from its opposite.
 // Everything it reads lies in the node's block, so N ranks give 1 rank's bits.
-template <class L, bool Incompressible>
-inline void close_corner(double* f, const double* cur, const Layout& lay, const long loc[3],
-                         const std::array<Face, 6>& faces, const bool* open, const double* F, double tau) {
-  const long g[3] = {lay.origin[0] + loc[0], lay.origin[1] + loc[1], lay.origin[2] + loc[2]};
-  bool meets[6], normal[3] = {false, false, false};
-  long in[3] = {loc[0], loc[1], loc[2]};
-  for (int face = 0; face < 6; ++face) {
-    const int a = face / 2;
-    meets[face] = open[face] && faces[face].type != FaceType::outflow &&
-                  loc[a] == (face % 2 == 0 ? 0 : lay.extent[a] - 1);
-    if (meets[face]) normal[a] = true, in[a] += face % 2 == 0 ? 1 : -1;
-  }
-  const auto velocity_at = [&](const long c[3], double* u) {
-    post_collision_velocity<L, Incompressible>(&cur[lay.idx(c[0], c[1], c[2])], lay.stride, F, u);
-  };
-  double u[3], rho = 1.0;
-  velocity_at(in, u);
-  for (int q = 0; q < L::Q; ++q) rho += cur[q * lay.stride + lay.idx(in[0], in[1], in[2])];
+// The unknown populations of a corner node: those entering through a face
+// that meets there (meets[face]).
+template <class L>
+inline bool corner_unknown(const bool* meets, int q) {
+  for (int face = 0; face < 6; ++face)
+    if (meets[face] && (face % 2 == 0 ? 1 : -1) * L::e[q][face / 2] > 0) return true;
+  return false;
+}
+
+// The rebuild itself, for any storage: f the node's zero-centred populations
+// (the known ones as pulled), g its global indices, meets[face] the faces
+// that meet there; state(d, u) gives the full density and the velocity of the
+// node at offset d from this one (its last step's populations, d towards the
+// box along the normals only).
+template <class L, bool Incompressible, class State>
+inline void rebuild_corner(double* f, const long g[3], const bool* meets, const std::array<Face, 6>& faces,
+                           const double* F, double tau, State state) {
+  bool normal[3] = {false, false, false};
+  long in[3] = {0, 0, 0};
+  for (int face = 0; face < 6; ++face)
+    if (meets[face]) normal[face / 2] = true, in[face / 2] = face % 2 == 0 ? 1 : -1;
+  double u[3];
+  double rho = state(in, u);
   for (int face = 5; face >= 0; --face)  // the first in face order wins
     if (meets[face] && faces[face].type == FaceType::velocity) faces[face].velocity(g, face / 2, u);
   for (int face = 5; face >= 0; --face)
@@ -184,25 +189,20 @@ inline void close_corner(double* f, const double* cur, const Layout& lay, const 
   for (int q = 0; q < L::Q; ++q)
     feq[q] = equilibrium<L, Incompressible>(q, rho, u) -
              1.5 * L::w[q] * (L::e[q][0] * F[0] + L::e[q][1] * F[1] + L::e[q][2] * F[2]);
-  const auto unknown = [&](int q) {
-    for (int face = 0; face < 6; ++face)
-      if (meets[face] && (face % 2 == 0 ? 1 : -1) * L::e[q][face / 2] > 0) return true;
-    return false;
-  };
   for (int q = 0; q < L::Q; ++q) {  // the known populations' estimate
-    const int k = unknown(q) ? L::opp[q] : q;
-    const double neq = unknown(k) ? 0.0 : f[k] - feq[k];  // buried: lie between normal axes only
+    const int k = corner_unknown<L>(meets, q) ? L::opp[q] : q;
+    const double neq = corner_unknown<L>(meets, k) ? 0.0 : f[k] - feq[k];  // buried: between normal axes only
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) pi[a][b] += L::e[q][a] * L::e[q][b] * neq;
   }
   double du[3][3] = {};  // du[a][b] = d u_b / d x_a along the normal axes
   for (int a = 0; a < 3; ++a) {
     if (!normal[a]) continue;
-    long next[3] = {loc[0], loc[1], loc[2]};
-    next[a] = in[a];
+    long d[3] = {0, 0, 0};
+    d[a] = in[a];
     double un[3];
-    velocity_at(next, un);
-    for (int b = 0; b < 3; ++b) du[a][b] = (un[b] - u[b]) * static_cast<double>(in[a] - loc[a]);
+    state(d, un);
+    for (int b = 0; b < 3; ++b) du[a][b] = (un[b] - u[b]) * static_cast<double>(in[a]);
   }
   const double rho_m = Incompressible ? 1.0 : rho;
   for (int a = 0; a < 3; ++a)
@@ -214,6 +214,25 @@ inline void close_corner(double* f, const double* cur, const Layout& lay, const 
       for (int b = 0; b < 3; ++b) qpi += (L::e[q][a] * L::e[q][b] - (a == b ? 1.0 / 3.0 : 0.0)) * pi[a][b];
     f[q] = feq[q] + 4.5 * L::w[q] * qpi;  // 1 / (2 c_s^4) = 9 / 2
   }
+}
+
+// lbm's single-fluid storage: cur the last step's zero-centred populations
+// of the block laid out by lay, loc the node's indices in the block.
+template <class L, bool Incompressible>
+inline void close_corner(double* f, const double* cur, const Layout& lay, const long loc[3],
+                         const std::array<Face, 6>& faces, const bool* open, const double* F, double tau) {
+  const long g[3] = {lay.origin[0] + loc[0], lay.origin[1] + loc[1], lay.origin[2] + loc[2]};
+  bool meets[6];
+  for (int face = 0; face < 6; ++face)
+    meets[face] = open[face] && faces[face].type != FaceType::outflow &&
+                  loc[face / 2] == (face % 2 == 0 ? 0 : lay.extent[face / 2] - 1);
+  rebuild_corner<L, Incompressible>(f, g, meets, faces, F, tau, [&](const long d[3], double* u) {
+    const long x = lay.idx(loc[0] + d[0], loc[1] + d[1], loc[2] + d[2]);
+    post_collision_velocity<L, Incompressible>(&cur[x], lay.stride, F, u);
+    double rho = 1.0;
+    for (int q = 0; q < L::Q; ++q) rho += cur[q * lay.stride + x];
+    return rho;
+  });
 }
 
 // Half-way bounce-back (seed 000 eq. 2.44) on the wall faces [face0, face1)

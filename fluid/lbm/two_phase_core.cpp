@@ -659,6 +659,7 @@ class TwoPhaseCore final : public LbmCore {
       if (!unknown[q]) known_r += r[q], known += r[q] + b[q];
     bool set[L::Q] = {}, rebuilt = false;
     for (int q = 0; q < L::Q; ++q) f[q] = r[q] + b[q] - L::w[q];
+    if (close_corner(x, loc, on, f, F, set, known > 0.0 ? known_r / known : 0.5, r, b)) return;
     for (int face = 0; face < 6; ++face) {
       const Face& fc = s_.faces[face];
       if ((fc.type != FaceType::pressure && fc.type != FaceType::velocity) || !on(face)) continue;
@@ -688,6 +689,49 @@ class TwoPhaseCore final : public LbmCore {
       pop_.next[at(q, x)] = set[q] || rebuilt ? red : r[q];
       pop_.next[at(q, x) + 1] = set[q] || rebuilt ? total - red : b[q];
     }
+  }
+
+  // A cell where two or three pressure or velocity faces meet: rebuilt whole
+  // (boundaries.hpp, rebuild_corner) from the colours' sums, with the red
+  // fluid's tau in its stress estimate. A population entering through the
+  // faces takes the phase of the first of them (face order) that gives one,
+  // else the colour fraction of the cell's known populations (psi_known); the
+  // rebuilt known ones keep their own fractions. Returns false elsewhere.
+  template <class On>
+  bool close_corner(long x, const long* loc, On on, double* f, const double* F, bool* set, double psi_known,
+                    const double* r, const double* b) {
+    bool meets[6];
+    int meeting = 0;
+    for (int face = 0; face < 6; ++face) {
+      const FaceType t = s_.faces[face].type;
+      meets[face] = on(face) && (t == FaceType::pressure || t == FaceType::velocity);
+      meeting += meets[face];
+    }
+    if (meeting < 2) return false;
+    const long step[3] = {1, lay_.padded[0], lay_.padded[0] * lay_.padded[1]};
+    rebuild_corner<L, Incompressible>(f, loc, meets, s_.faces, F, s_.tau, [&](const long d[3], double* u) {
+      const long c = x + d[0] * step[0] + d[1] * step[1] + d[2] * step[2];
+      double rho = 0.0, m[3] = {0.0, 0.0, 0.0};
+      for (int q = 0; q < L::Q; ++q) {
+        const double v = pop_.f[at(q, c)] + pop_.f[at(q, c) + 1];
+        rho += v;
+        for (int a = 0; a < 3; ++a) m[a] += L::e[q][a] * v;
+      }
+      for (int a = 0; a < 3; ++a) u[a] = (m[a] - 0.5 * F[a]) / (Incompressible ? 1.0 : rho);
+      return rho;
+    });
+    for (int q = 0; q < L::Q; ++q) {
+      set[q] = corner_unknown<L>(meets, q);
+      double psi = psi_known;
+      for (int face = 5; face >= 0; --face)
+        if (meets[face] && s_.faces[face].phase_given && (face % 2 == 0 ? 1 : -1) * L::e[q][face / 2] > 0)
+          psi = 0.5 * (1.0 + s_.faces[face].phase);
+      const double total = f[q] + L::w[q];
+      const double red = set[q] ? psi * total : total * r[q] / (r[q] + b[q]);
+      pop_.next[at(q, x)] = red;
+      pop_.next[at(q, x) + 1] = total - red;
+    }
+    return true;
   }
 
   // Ladd's momentum exchange: population opp(q) went into the wall and came

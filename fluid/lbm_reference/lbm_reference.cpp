@@ -1,15 +1,15 @@
 #include "fluid/lbm_reference/lbm_reference.hpp"
-#include "fluid/lbm/phase_series.hpp"
-
-#include "fluid/grid/cell_fields.hpp"
-
-#include <cmath>
-#include <stdexcept>
 
 #include <fmt/format.h>
 
+#include <cmath>
+#include <functional>
+#include <stdexcept>
+
 #include "coflow/log.hpp"
 #include "coflow/session.hpp"
+#include "fluid/grid/cell_fields.hpp"
+#include "fluid/lbm/phase_series.hpp"
 
 namespace coflow::fluid {
 
@@ -331,69 +331,74 @@ void LbmReference::close_corners(std::vector<double>& fs, const std::vector<doub
     for (long j = 0; j < n_[1]; ++j)
       for (long i = 0; i < n_[0]; ++i) {
         const long x[3] = {i, j, k};
-        if (meeting_faces(x) < 2) continue;
-        double F[3];
-        force_at(index(i, j, k), F);
-        // The density and velocity of cell c from its last step's (post-collision) populations.
-        const auto state = [&](const long c[3], double u[3]) {
-          const double* g = &post[index(c[0], c[1], c[2]) * Q_];
-          double rho = 0.0, m[3] = {0, 0, 0};
-          for (int q = 0; q < Q_; ++q) {
-            rho += g[q];
-            for (int d = 0; d < 3; ++d) m[d] += e_[q][d] * g[q];
-          }
-          for (int d = 0; d < 3; ++d) u[d] = (m[d] - 0.5 * F[d]) / (s_.incompressible ? 1.0 : rho);
-          return rho;
-        };
-        bool meets[6], normal[3] = {false, false, false};
-        long in[3] = {i, j, k};
-        for (int face = 0; face < 6; ++face) {
-          meets[face] = open_face_at(x, face);
-          if (meets[face]) normal[face / 2] = true, in[face / 2] += face % 2 == 0 ? 1 : -1;
-        }
-        double u[3];
-        double rho = state(in, u);
-        for (int face = 5; face >= 0; --face)  // the first in face order wins
-          if (meets[face] && s_.faces[face].type == FaceType::velocity)
-            s_.faces[face].velocity(x, face / 2, u);
-        for (int face = 5; face >= 0; --face)
-          if (meets[face] && s_.faces[face].type == FaceType::pressure) rho = s_.faces[face].rho;
-        double* f = &fs[index(i, j, k) * Q_];
-        std::vector<double> feq(Q_);
-        for (int q = 0; q < Q_; ++q)
-          feq[q] =
-              equilibrium(q, rho, u) - 1.5 * w_[q] * (e_[q][0] * F[0] + e_[q][1] * F[1] + e_[q][2] * F[2]);
-        const auto unknown = [&](int q) {
-          bool u_q = false;
-          for (int face = 0; face < 6; ++face)
-            u_q = u_q || (meets[face] && (face % 2 == 0 ? 1 : -1) * e_[q][face / 2] > 0);
-          return u_q;
-        };
-        double pi[3][3] = {};
-        for (int q = 0; q < Q_; ++q) {
-          const int src = unknown(q) ? opp_[q] : q;
-          const double neq = unknown(src) ? 0.0 : f[src] - feq[src];
-          for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b) pi[a][b] += e_[q][a] * e_[q][b] * neq;
-        }
-        for (int a = 0; a < 3; ++a)
-          for (int b = 0; b < 3; ++b) {
-            if (!normal[a] || !normal[b]) continue;
-            // d u_b / d x_a and d u_a / d x_b, one-sided into the box
-            double ua[3], ub[3];
-            long na[3] = {i, j, k}, nb[3] = {i, j, k};
-            na[a] = in[a], nb[b] = in[b];
-            state(na, ua), state(nb, ub);
-            const double dab = (ua[b] - u[b]) * (in[a] - x[a]), dba = (ub[a] - u[a]) * (in[b] - x[b]);
-            pi[a][b] = -(s_.incompressible ? 1.0 : rho) * s_.tau / 3.0 * (dab + dba);
-          }
-        for (int q = 0; q < Q_; ++q) {
-          double qpi = 0.0;
-          for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b) qpi += (e_[q][a] * e_[q][b] - (a == b ? 1.0 / 3.0 : 0.0)) * pi[a][b];
-          f[q] = feq[q] + 4.5 * w_[q] * qpi;
-        }
+        if (meeting_faces(x) >= 2)
+          rebuild_corner(x, &fs[index(i, j, k) * Q_], [&](long c, int q) { return post[c * Q_ + q]; });
       }
+}
+
+// The corner node x's populations f (full; the known ones as pulled) rebuilt
+// whole (close_corners); post(c, q): the last step's population q of cell c.
+void LbmReference::rebuild_corner(const long x[3], double* f,
+                                  const std::function<double(long, int)>& post) const {
+  double F[3];
+  force_at(index(x[0], x[1], x[2]), F);
+  // The density and velocity of cell c from its last step's (post-collision) populations.
+  const auto state = [&](const long c[3], double u[3]) {
+    const long at = index(c[0], c[1], c[2]);
+    double rho = 0.0, m[3] = {0, 0, 0};
+    for (int q = 0; q < Q_; ++q) {
+      rho += post(at, q);
+      for (int d = 0; d < 3; ++d) m[d] += e_[q][d] * post(at, q);
+    }
+    for (int d = 0; d < 3; ++d) u[d] = (m[d] - 0.5 * F[d]) / (s_.incompressible ? 1.0 : rho);
+    return rho;
+  };
+  bool meets[6], normal[3] = {false, false, false};
+  long in[3] = {x[0], x[1], x[2]};
+  for (int face = 0; face < 6; ++face) {
+    meets[face] = open_face_at(x, face);
+    if (meets[face]) normal[face / 2] = true, in[face / 2] += face % 2 == 0 ? 1 : -1;
+  }
+  double u[3];
+  double rho = state(in, u);
+  for (int face = 5; face >= 0; --face)  // the first in face order wins
+    if (meets[face] && s_.faces[face].type == FaceType::velocity) s_.faces[face].velocity(x, face / 2, u);
+  for (int face = 5; face >= 0; --face)
+    if (meets[face] && s_.faces[face].type == FaceType::pressure) rho = s_.faces[face].rho;
+  std::vector<double> feq(Q_);
+  for (int q = 0; q < Q_; ++q)
+    feq[q] = equilibrium(q, rho, u) - 1.5 * w_[q] * (e_[q][0] * F[0] + e_[q][1] * F[1] + e_[q][2] * F[2]);
+  double pi[3][3] = {};
+  for (int q = 0; q < Q_; ++q) {
+    const int src = corner_unknown(meets, q) ? opp_[q] : q;
+    const double neq = corner_unknown(meets, src) ? 0.0 : f[src] - feq[src];
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) pi[a][b] += e_[q][a] * e_[q][b] * neq;
+  }
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      if (!normal[a] || !normal[b]) continue;
+      // d u_b / d x_a and d u_a / d x_b, one-sided into the box
+      double ua[3], ub[3];
+      long na[3] = {x[0], x[1], x[2]}, nb[3] = {x[0], x[1], x[2]};
+      na[a] = in[a], nb[b] = in[b];
+      state(na, ua), state(nb, ub);
+      const double dab = (ua[b] - u[b]) * (in[a] - x[a]), dba = (ub[a] - u[a]) * (in[b] - x[b]);
+      pi[a][b] = -(s_.incompressible ? 1.0 : rho) * s_.tau / 3.0 * (dab + dba);
+    }
+  for (int q = 0; q < Q_; ++q) {
+    double qpi = 0.0;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) qpi += (e_[q][a] * e_[q][b] - (a == b ? 1.0 / 3.0 : 0.0)) * pi[a][b];
+    f[q] = feq[q] + 4.5 * w_[q] * qpi;
+  }
+}
+
+// Whether population q enters a corner node through one of the faces that meet there.
+bool LbmReference::corner_unknown(const bool meets[6], int q) const {
+  for (int face = 0; face < 6; ++face)
+    if (meets[face] && (face % 2 == 0 ? 1 : -1) * e_[q][face / 2] > 0) return true;
+  return false;
 }
 
 // Whether face is a pressure or velocity face of the box at cell x.

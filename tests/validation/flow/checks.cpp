@@ -318,7 +318,8 @@ int mass(const std::string& dir) {
 //   columns of series/fluid_walls.csv (each row the mean since the last);
 // - L_a = x_r - 0.25, x_r where u_x on the line y = 0.2 behind the cylinder
 //   turns from backward to forward (the mean of the two rows of centres
-//   beside the line; linear between columns), in each snapshot of the window;
+//   beside the line; linear between columns), in each snapshot of the window
+//   (the config writes one a second: five);
 // - dp = p(0.15, 0.2) - p(0.25, 0.2), each extrapolated linearly along x from
 //   the two fluid cells (solid_fraction 0) outside the voxelised surface, on
 //   the same two rows, in each snapshot of the window.
@@ -403,11 +404,13 @@ int dfg_cylinder(const std::string& dir) {
 int uniform_stream(const std::string& dir) {
   const auto cfg = load(dir);
   const auto fp = fluid_params(cfg);
+  if (fp.boundary(0, cfg).type != "velocity") throw std::runtime_error("the x- face must be a velocity face");
   const auto U = fp.boundary(0, cfg).value.values;
   const double speed = std::sqrt(U.at(0) * U[0] + U.at(1) * U[1] + U.at(2) * U[2]);
   const std::string last = last_snapshot(dir);
   const auto u = output::read_dataset(last, "velocity");
   const auto p = output::read_dataset(last, "pressure");
+  if (p.empty() || u.size() != 3 * p.size()) throw std::runtime_error(last + ": no velocity or pressure");
   double du = 0.0, dp = 0.0;
   for (std::size_t c = 0; c < p.size(); ++c) {
     for (std::size_t d = 0; d < 3; ++d) du = nan_max(du, std::abs(u[3 * c + d] - U[d]) / speed);
@@ -421,7 +424,10 @@ int uniform_stream(const std::string& dir) {
 // (configs/validation/lbm_channel_window.yaml): u_x at every cell against the
 // face's value times the formula at the cell's y and z (and at the face's x:
 // fv's plane, lbm's nodes h/2 in); the relative L2 error and the largest
-// error over the largest reference value.
+// error over the largest reference value. The formula must be quadratic in y
+// and free of x, z and t: any such u(y) is an exact steady plane flow (its
+// pressure gradient mu times its second derivative), so the reference is
+// analytic.
 int inlet_profile(const std::string& dir) {
   const auto cfg = load(dir);
   const auto fp = fluid_params(cfg);
@@ -431,6 +437,18 @@ int inlet_profile(const std::string& dir) {
   if (b.type != "velocity" || b.profile != "expression")
     throw std::runtime_error("the x- face must be a velocity face with profile: expression");
   const bool fv = cfg.component("fluid").variant.rfind("fv", 0) == 0;
+  if (b.formula.uses_time()) throw std::runtime_error("the x- face's formula must not depend on t");
+  const auto at = [&](double xx, double yy, double zz) {
+    const double pt[3] = {xx, yy, zz};
+    return b.formula(pt, 0.0);
+  };
+  for (int n = 0; n < 4; ++n) {  // third differences vanish; no change along x or z
+    const double hy = 0.1 * (d.upper[1] - d.lower[1]), y = d.lower[1] + n * hy;
+    const double third = at(0, y + 3 * hy, 0) - 3 * at(0, y + 2 * hy, 0) + 3 * at(0, y + hy, 0) - at(0, y, 0);
+    const double shift = std::abs(at(0.01, y, 0.01) - at(0, y, 0));
+    if (!(std::abs(third) < 1e-12 && shift < 1e-12))
+      throw std::runtime_error("the x- face's formula must be quadratic in y and free of x and z");
+  }
   std::vector<std::size_t> dims;
   const auto u = output::read_dataset(last_snapshot(dir), "velocity", &dims);
   const long nz = static_cast<long>(dims[0]), ny = static_cast<long>(dims[1]),

@@ -92,6 +92,25 @@ coflow_validation(lbm_vs_reference_window compare lbm_channel_window.yaml 1
   "run.end_time=400.0 run.output.every=400.0" "run.end_time=400.0 run.output.every=400.0 fluid.solver=lbm-reference")
 coflow_validation(lbm_ranks_1_vs_4_window compare lbm_channel_window.yaml 2
   "run.end_time=400.0 run.output.every=400.0" "run.end_time=400.0 run.output.every=400.0 fluid.ranks=4 fluid.decomposition=[2,2,1]")
+# Regularized velocity faces beside the corners (the stream again); and the
+# 3D box with a pressure face y+ (a corner of two pressure faces with x+,
+# where u comes from the diagonal node) and an outflow face z+ (filled first
+# at the nodes it shares), against lbm-reference and on 4 ranks.
+coflow_validation(lbm_open_corners_regularized uniform_stream lbm_open_corners.yaml 1
+  --set fluid.boundaries.x-.closure=regularized --set fluid.boundaries.y-.closure=regularized
+  --set fluid.boundaries.y+.closure=regularized)
+set(lbm_corners_mixed "fluid.lbm.lattice=D3Q19 domain.cells=[16,8,8] domain.upper=[0.016,0.008,0.008] fluid.boundaries.y+={\"type\":\"pressure\",\"value\":0.0} fluid.boundaries.z-={\"type\":\"velocity\",\"value\":[5.0e-4,0,0]} fluid.boundaries.z+={\"type\":\"outflow\"} run.end_time=60.0 run.output.every=60.0")
+coflow_validation(lbm_vs_reference_open_corners_mixed compare lbm_open_corners.yaml 1
+  "${lbm_corners_mixed}" "${lbm_corners_mixed} fluid.solver=lbm-reference")
+coflow_validation(lbm_ranks_1_vs_4_open_corners_mixed compare lbm_open_corners.yaml 2
+  "${lbm_corners_mixed}" "${lbm_corners_mixed} fluid.ranks=4 fluid.decomposition=[2,2,1]")
+# The same corners with an interior solid (one fluid with fluid.solids runs
+# the two-fluid core, whose close_cell rebuilds them the same way).
+set(lbm_corners_solid "fluid.solids=[{\"box\":{\"lower\":[0.012,0.006,0],\"upper\":[0.016,0.010,0.001]}}] run.end_time=300.0 run.output.every=300.0")
+coflow_validation(lbm_vs_reference_open_corners_solid compare lbm_open_corners.yaml 1
+  "${lbm_corners_solid}" "${lbm_corners_solid} fluid.solver=lbm-reference")
+coflow_validation(lbm_ranks_1_vs_4_open_corners_solid compare lbm_open_corners.yaml 2
+  "${lbm_corners_solid}" "${lbm_corners_solid} fluid.ranks=4 fluid.decomposition=[2,2,1]")
 # The DFG benchmark 2D-1 (Schäfer & Turek 1996): a cylinder in a channel fed
 # by a parabolic inlet, Re 20; c_D, c_L, the recirculation length and the
 # pressure difference against the benchmark's intervals (about 30 s).

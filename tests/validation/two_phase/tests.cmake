@@ -80,6 +80,21 @@ coflow_validation(two_phase_outflow_vs_reference compare two_phase_injection.yam
 coflow_validation(two_phase_injection_ranks_1_vs_4 compare two_phase_injection.yaml 2
   "fluid.ranks=1 run.end_time=60.0 run.output.every=60.0"
   "fluid.ranks=4 fluid.decomposition=[2,2,1] run.end_time=60.0 run.output.every=60.0")
+# Open faces that meet with two fluids (since session 67): a stream of red
+# alone through velocity faces on three sides carrying red, held exactly;
+# the red inlet under an open top (a pressure face y+ meeting the inlet x-
+# and the outlet x+), against lbm-reference and on 4 ranks.
+coflow_validation(two_phase_open_corners uniform_stream lbm_open_corners.yaml 1
+  --set "fluid.two_phase={\"surface_tension\":1.0e-6,\"beta\":0.7}"
+  --set "fluid.initial={\"phase\":[{\"fill\":{\"phase\":\"red\"}}]}"
+  --set fluid.boundaries.x-.phase=red --set fluid.boundaries.y-.phase=red --set fluid.boundaries.y+.phase=red)
+set(tp_open_top "fluid.boundaries.y+={\"type\":\"pressure\",\"value\":0.0}")
+coflow_validation(two_phase_open_top_vs_reference compare two_phase_injection.yaml 1
+  "fluid.solver=lbm run.end_time=30.0 run.output.every=30.0 ${tp_open_top}"
+  "fluid.solver=lbm-reference run.end_time=30.0 run.output.every=30.0 ${tp_open_top}")
+coflow_validation(two_phase_open_top_ranks_1_vs_4 compare two_phase_injection.yaml 2
+  "fluid.ranks=1 run.end_time=60.0 run.output.every=60.0 ${tp_open_top}"
+  "fluid.ranks=4 fluid.decomposition=[2,2,1] run.end_time=60.0 run.output.every=60.0 ${tp_open_top}")
 # The red inlet with a parabolic profile (since session 67).
 coflow_validation(two_phase_injection_profile_vs_reference compare two_phase_injection.yaml 1
   "fluid.solver=lbm run.end_time=30.0 run.output.every=30.0 fluid.boundaries.x-.profile=parabolic"

@@ -74,6 +74,18 @@ inline void zou_he(double* f, int axis, int s, bool velocity_face, double rho_gi
   }
 }
 
+// f = f^eq + w / (2 c_s^4) (e e - c_s^2 I) : Pi, the regularized
+// reconstruction (Latt et al. 2008) from an equilibrium and a stress.
+template <class L>
+inline void reconstruct(double* f, const double* feq, const double (&pi)[3][3]) {
+  for (int q = 0; q < L::Q; ++q) {
+    double qpi = 0.0;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) qpi += (L::e[q][a] * L::e[q][b] - (a == b ? 1.0 / 3.0 : 0.0)) * pi[a][b];
+    f[q] = feq[q] + 4.5 * L::w[q] * qpi;  // 1 / (2 c_s^4) = 9 / 2
+  }
+}
+
 // Regularized closure (Latt, Chopard, Malaspinas, Deville & Michler 2008, Phys.
 // Rev. E 77, 056703, §III.B): rho and u as Zou-He; the unknown populations'
 // non-equilibrium parts by bounce-back of the opposite ones' (f_q^neq =
@@ -115,12 +127,7 @@ inline void regularized(double* f, int axis, int s, bool velocity_face, double r
   for (int q = 0; q < L::Q; ++q)
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) pi[a][b] += L::e[q][a] * L::e[q][b] * neq[q];
-  for (int q = 0; q < L::Q; ++q) {
-    double qpi = 0.0;
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) qpi += (L::e[q][a] * L::e[q][b] - (a == b ? 1.0 / 3.0 : 0.0)) * pi[a][b];
-    f[q] = feq[q] + 4.5 * L::w[q] * qpi;  // 1 / (2 c_s^4) = 9 / 2
-  }
+  reconstruct<L>(f, feq, pi);
 }
 
 // The velocity of a node from its post-collision populations g (zero-centred,
@@ -208,12 +215,7 @@ inline void rebuild_corner(double* f, const long g[3], const bool* meets, const 
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b)
       if (normal[a] && normal[b]) pi[a][b] = -rho_m * tau / 3.0 * (du[a][b] + du[b][a]);
-  for (int q = 0; q < L::Q; ++q) {
-    double qpi = 0.0;
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) qpi += (L::e[q][a] * L::e[q][b] - (a == b ? 1.0 / 3.0 : 0.0)) * pi[a][b];
-    f[q] = feq[q] + 4.5 * L::w[q] * qpi;  // 1 / (2 c_s^4) = 9 / 2
-  }
+  reconstruct<L>(f, feq, pi);
 }
 
 // lbm's single-fluid storage: cur the last step's zero-centred populations

@@ -104,6 +104,13 @@ coflow_validation(lbm_vs_reference_open_corners_mixed compare lbm_open_corners.y
   "${lbm_corners_mixed}" "${lbm_corners_mixed} fluid.solver=lbm-reference")
 coflow_validation(lbm_ranks_1_vs_4_open_corners_mixed compare lbm_open_corners.yaml 2
   "${lbm_corners_mixed}" "${lbm_corners_mixed} fluid.ranks=4 fluid.decomposition=[2,2,1]")
+# A parabolic inlet on a z face (D3Q19; it meets the pressure faces x- and
+# x+ along edges), against lbm-reference and on 4 ranks cut along y and z.
+set(lbm_z_inlet "domain.cells=[16,16,24] domain.upper=[0.016,0.016,0.024] fluid.boundaries.x-={\"type\":\"pressure\",\"value\":1.0e-4} fluid.boundaries.x+={\"type\":\"pressure\",\"value\":0.0} fluid.boundaries.z-={\"type\":\"velocity\",\"value\":[0,0,5.0e-4],\"profile\":\"parabolic\"} fluid.boundaries.z+={\"type\":\"pressure\",\"value\":0.0} run.end_time=30.0 run.output.every=30.0")
+coflow_validation(lbm_vs_reference_z_inlet compare lbm_duct_3d_pressure.yaml 1
+  "${lbm_z_inlet} fluid.ranks=1" "${lbm_z_inlet} fluid.ranks=1 fluid.solver=lbm-reference")
+coflow_validation(lbm_ranks_1_vs_4_z_inlet compare lbm_duct_3d_pressure.yaml 2
+  "${lbm_z_inlet} fluid.ranks=1" "${lbm_z_inlet} fluid.ranks=4 fluid.decomposition=[1,2,2]")
 # The same corners with an interior solid (one fluid with fluid.solids runs
 # the two-fluid core, whose close_cell rebuilds them the same way).
 set(lbm_corners_solid "fluid.solids=[{\"box\":{\"lower\":[0.012,0.006,0],\"upper\":[0.016,0.010,0.001]}}] run.end_time=300.0 run.output.every=300.0")

@@ -692,8 +692,8 @@ class TwoPhaseCore final : public LbmCore {
   }
 
   // A cell where two or three pressure or velocity faces meet: rebuilt whole
-  // (boundaries.hpp, rebuild_corner) from the colours' sums, with the red
-  // fluid's tau in its stress estimate. A population entering through the
+  // (boundaries.hpp, rebuild_corner) from the colours' sums, the stress
+  // with the relaxation time of the known populations' colour fraction. A population entering through the
   // faces takes the phase of the first of them (face order) that gives one,
   // else the colour fraction of the cell's known populations (psi_known); the
   // rebuilt known ones keep their own fractions. Returns false elsewhere.
@@ -709,7 +709,9 @@ class TwoPhaseCore final : public LbmCore {
     }
     if (meeting < 2) return false;
     const long step[3] = {1, lay_.padded[0], lay_.padded[0] * lay_.padded[1]};
-    rebuild_corner<L, Incompressible>(f, loc, meets, s_.faces, F, s_.tau, [&](const long d[3], double* u) {
+    // the stress with the relaxation time of the node's known colour fraction
+    const double tau = mixed_tau(2.0 * psi_known - 1.0, colour_.tau_red, colour_.tau_blue);
+    rebuild_corner<L, Incompressible>(f, loc, meets, s_.faces, F, tau, [&](const long d[3], double* u) {
       const long c = x + d[0] * step[0] + d[1] * step[1] + d[2] * step[2];
       double rho = 0.0, m[3] = {0.0, 0.0, 0.0};
       for (int q = 0; q < L::Q; ++q) {

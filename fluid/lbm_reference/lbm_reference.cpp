@@ -332,13 +332,15 @@ void LbmReference::close_corners(std::vector<double>& fs, const std::vector<doub
       for (long i = 0; i < n_[0]; ++i) {
         const long x[3] = {i, j, k};
         if (meeting_faces(x) >= 2)
-          rebuild_corner(x, &fs[index(i, j, k) * Q_], [&](long c, int q) { return post[c * Q_ + q]; });
+          rebuild_corner(x, &fs[index(i, j, k) * Q_], s_.tau,
+                         [&](long c, int q) { return post[c * Q_ + q]; });
       }
 }
 
 // The corner node x's populations f (full; the known ones as pulled) rebuilt
-// whole (close_corners); post(c, q): the last step's population q of cell c.
-void LbmReference::rebuild_corner(const long x[3], double* f,
+// whole (close_corners), tau in the stress; post(c, q): the last step's
+// population q of cell c.
+void LbmReference::rebuild_corner(const long x[3], double* f, double tau,
                                   const std::function<double(long, int)>& post) const {
   double F[3];
   force_at(index(x[0], x[1], x[2]), F);
@@ -384,7 +386,7 @@ void LbmReference::rebuild_corner(const long x[3], double* f,
       na[a] = in[a], nb[b] = in[b];
       state(na, ua), state(nb, ub);
       const double dab = (ua[b] - u[b]) * (in[a] - x[a]), dba = (ub[a] - u[a]) * (in[b] - x[b]);
-      pi[a][b] = -(s_.incompressible ? 1.0 : rho) * s_.tau / 3.0 * (dab + dba);
+      pi[a][b] = -(s_.incompressible ? 1.0 : rho) * tau / 3.0 * (dab + dba);
     }
   for (int q = 0; q < Q_; ++q) {
     double qpi = 0.0;

@@ -96,7 +96,8 @@ class LbmReference final : public FluidSolver {
   void apply_face(int face, std::vector<double>& fs, const std::vector<double>& post);
   void close_corners(std::vector<double>& fs, const std::vector<double>& post) const;
   bool open_face_at(const long x[3], int face) const;
-  void rebuild_corner(const long x[3], double* f, const std::function<double(long, int)>& post) const;
+  void rebuild_corner(const long x[3], double* f, double tau,
+                      const std::function<double(long, int)>& post) const;
   bool corner_unknown(const bool meets[6], int q) const;
   int meeting_faces(const long x[3]) const;
   void face_state(const double* f, int axis, int s, const lbm::Face& F, const long at[3], const double Fc[3],

@@ -167,17 +167,19 @@ void LbmReference::close_colours(long i, long j, long k, std::vector<bool>& unkn
     if (!unknown[q]) known_r += r[q], known += r[q] + b[q];
   }
   // Where pressure or velocity faces meet: the colours' sum rebuilt whole
-  // (rebuild_corner, lbm's red tau); what enters through the faces takes the
-  // first of them that gives a phase, else the known populations' colour
-  // fraction; the known populations keep their own.
+  // (rebuild_corner; the stress with the known colour fraction's tau); what
+  // enters through the faces takes the first of them that gives a phase,
+  // else the known populations' colour fraction; the known populations keep
+  // their own.
   bool meets[6];
   int meeting = 0;
   for (int face = 0; face < 6; ++face) meeting += meets[face] = open_face_at(x, face);
   if (meeting >= 2) {
-    rebuild_corner(x, f.data(),
+    const double psi_known = known > 0.0 ? known_r / known : 0.5;
+    rebuild_corner(x, f.data(), colour_tau(2.0 * psi_known - 1.0),
                    [&](long cell, int q) { return post_r[cell * Q_ + q] + post_b[cell * Q_ + q]; });
     for (int q = 0; q < Q_; ++q) {
-      double psi_q = known > 0.0 ? known_r / known : 0.5;
+      double psi_q = psi_known;
       for (int face = 5; face >= 0; --face)
         if (meets[face] && s_.faces[face].phase_given && (face % 2 == 0 ? 1 : -1) * e_[q][face / 2] > 0)
           psi_q = 0.5 * (1.0 + s_.faces[face].phase);

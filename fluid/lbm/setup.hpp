@@ -131,8 +131,6 @@ inline void set_two_phase(Setup& s, const config::Config& cfg, const FluidParams
   };
 }
 
-// time_step > 0: the step the coupling window asks for (coupler::output_window),
-// taken by adjusting tau at the same viscosity.
 // A velocity face's profile at its nodes, the centres of the face's cells,
 // where lbm imposes the face's value: BoundaryParams::profile_factor at their
 // fractions of the box (a parabola or a table across the face), and a formula
@@ -160,6 +158,8 @@ inline void set_profile(Face& face, int f, const BoundaryParams& b, const config
   if (b.profile != "expression" || !b.formula.uses_time()) face.factor_at = nullptr;
 }
 
+// time_step > 0: the step the coupling window asks for (coupler::output_window),
+// taken by adjusting tau at the same viscosity.
 inline Setup make_setup(const config::Config& cfg, const FluidParams& fp, const LbmParams& lp, double time_step = 0.0) {
   Setup s;
   const auto h = cfg.domain.spacing();

@@ -344,7 +344,8 @@ void FvReference::turbulence_step(double dt) {
   eddy_viscosity();
 }
 
-// y+ at the centres of the cells next to walls (fv's eddy_viscosity.cpp).
+// y+ at the centres of the cells next to walls, the largest of a corner
+// cell's walls' (fv's eddy_viscosity.cpp).
 std::vector<double> FvReference::y_plus() const {
   std::vector<double> out(static_cast<std::size_t>(n_[0] * n_[1] * n_[2]), 0.0);
   if (!turbulent_) return out;
@@ -357,7 +358,7 @@ std::vector<double> FvReference::y_plus() const {
     each_cell([&](const long* x, std::size_t n) {
       if (x[a] == (f % 2 == 0 ? 0 : n_[a] - 1) && log_law_) {  // u_tau from the wall functions' shear
         const double y = 0.5 * h_[a];
-        out[o] = y * std::sqrt(wf.nu_wall(y, k_[n]) * wall_speed(f, x, n, time_) / y) / nu_;
+        fv::keep_largest(out[o], y * std::sqrt(wf.nu_wall(y, k_[n]) * wall_speed(f, x, n, time_) / y) / nu_);
       } else if (x[a] == (f % 2 == 0 ? 0 : n_[a] - 1)) {
         double shear2 = 0.0;
         for (int c = 0; c < dims_; ++c) {
@@ -369,7 +370,7 @@ std::vector<double> FvReference::y_plus() const {
           const double slope = (9 * u0 - u1) / (3 * h_[a]);
           shear2 += slope * slope;
         }
-        out[o] = 0.5 * h_[a] * std::sqrt(nu_ * std::sqrt(shear2)) / nu_;
+        fv::keep_largest(out[o], 0.5 * h_[a] * std::sqrt(nu_ * std::sqrt(shear2)) / nu_);
       }
       ++o;
     });

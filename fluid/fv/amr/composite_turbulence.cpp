@@ -383,7 +383,8 @@ double CompositeTurbulence::smallest_eddy_viscosity() const {
 // theorem (the wall's velocity on its face, the interpolated one on the
 // opposite face: (u_face - U_wall) / h, below the wall's own shear, which fv
 // on its uniform grid takes from a parabola through the wall and two cells),
-// over the tangential components; y+ at the centre, h / 2 from the wall.
+// over the tangential components; y+ at the centre, h / 2 from the wall (a
+// cell on two walls shows the larger).
 std::vector<double> CompositeTurbulence::y_plus() {
   const auto grad = flow_.velocity_gradients();
   const auto& faces = flow_.faces();
@@ -394,7 +395,7 @@ std::vector<double> CompositeTurbulence::y_plus() {
       double shear2 = 0.0;
       for (int q = 0; q < flow_.grid().dims(); ++q)
         if (q != f.axis) shear2 += grad[c][q][f.axis] * grad[c][q][f.axis];
-      out[c] = 0.5 * flow_.spacing(c) * std::sqrt(nu_ * std::sqrt(shear2)) / nu_;
+      keep_largest(out[c], 0.5 * flow_.spacing(c) * std::sqrt(nu_ * std::sqrt(shear2)) / nu_);
     }
   return out;
 }

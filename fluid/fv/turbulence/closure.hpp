@@ -125,6 +125,12 @@ struct Closure {
   }
 };
 
+// y+ of a cell that borders several walls: the largest (the wall that limits
+// the resolution); a NaN is kept, so that no check reads past it.
+inline void keep_largest(double& y_plus, double candidate) {
+  if (candidate > y_plus || candidate != candidate) y_plus = candidate;
+}
+
 // Wall functions (wall: log-law; Launder & Spalding 1974, in the k-based
 // form that stays defined where the wall's shear vanishes, at separation and
 // reattachment): in a cell whose centre lies y from a wall, y* = C_mu^1/4

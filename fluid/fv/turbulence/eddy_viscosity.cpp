@@ -78,7 +78,8 @@ void FvSolver::add_stress_transpose(const Faces& u, Faces& out) const {
 // y+ = y u_tau / nu (seed 003 eqs. 3.26-3.27) at the centres of the cells next
 // to a wall, u_tau from the wall's shear (the slope at the wall of the
 // parabola through the wall's velocity and the first two cells); zero in the
-// other cells (a cell in a corner shows its last wall's). With the wall
+// other cells (a cell in a corner shows the largest of its walls': the one
+// that limits the resolution; a NaN is kept). With the wall
 // functions (wall: log-law) u_tau from their shear, sqrt(nu_w U / y).
 std::vector<double> FvSolver::y_plus() const {
   std::vector<double> out(static_cast<std::size_t>(blk_.owned_cells()), 0.0);
@@ -92,7 +93,7 @@ std::vector<double> FvSolver::y_plus() const {
     if (log_law_) {
       const double utau =
           std::sqrt(wf.nu_wall(y, k_[static_cast<std::size_t>(n)]) * wall_speed(f, at, n, time_) / y);
-      out[static_cast<std::size_t>(o)] = y * utau / nu_;
+      fv::keep_largest(out[static_cast<std::size_t>(o)], y * utau / nu_);
       return;
     }
     const Face& face = faces_[static_cast<std::size_t>(f)];
@@ -108,7 +109,7 @@ std::vector<double> FvSolver::y_plus() const {
       shear2 += slope * slope;
     }
     const double utau = std::sqrt(nu_ * std::sqrt(shear2));
-    out[static_cast<std::size_t>(o)] = 0.5 * h_[a] * utau / nu_;
+    fv::keep_largest(out[static_cast<std::size_t>(o)], 0.5 * h_[a] * utau / nu_);
   });
   return out;
 }

@@ -233,7 +233,12 @@ template <class L, bool Incompressible, class T>
   const auto some = gg > zero;  // lanes with a gradient; the others are only split
   const T gn = vsqrt(gg), inv_gg = some ? 1.0 / gg : zero;
   const T A = perturbation_amplitude<L>(p.gamma, omega);
-  const T share = rho_r * inv_rho, recolour = some ? p.beta * rho_r * rho_b * inv_rho / gn : zero;
+  // Red's share, exactly 1 where there is no blue (one fluid with solids runs
+  // as red alone: rho_r / rho_r by the reciprocal can miss 1 by an ulp and
+  // make blue of round-off, which a boundary that does not keep mass, as
+  // the interpolated bounce-back, would let grow).
+  const T share = rho_b == zero ? splat<T>(1.0) : rho_r * inv_rho,
+          recolour = some ? p.beta * rho_r * rho_b * inv_rho / gn : zero;
   T sr = zero, sb = zero;
 #pragma GCC unroll 32
   for (int q = 1; q < L::Q; ++q) {

@@ -5,7 +5,7 @@ Turek 1996: c_D 5.57-5.59).
 
 Usage: plot_dfg_cylinder.py OUT_PNG RUN [RUN ...]
   RUN: a run directory (coflow run ... --set run.output.dir=DIR), labelled
-  by its cells across the cylinder
+  by its cells across the cylinder and its fluid.lbm.bounce_back
 """
 import glob
 import sys
@@ -32,6 +32,14 @@ def depth_and_cells(run):
     return 0.41 / ny, round(D / (0.41 / ny))  # the runs' depth is one cell
 
 
+def bounce_back(run):
+    with open(f"{run}/config.yaml") as f:
+        for line in f:
+            if line.strip().startswith("bounce_back:"):
+                return line.split(":", 1)[1].strip()
+    return "halfway"
+
+
 def main(out, runs):
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6.5), gridspec_kw={"height_ratios": [1, 1.2]})
     with h5py.File(sorted(glob.glob(f"{runs[0]}/fluid/step_*.h5"))[-1]) as f:
@@ -45,11 +53,11 @@ def main(out, runs):
     top.set_xlabel("x (m)")
     top.set_ylabel("y (m)")
     fig.colorbar(im, ax=top, label="|u| (m/s)", shrink=0.8)
-    top.set_title("DFG 2D-1 on lbm: speed at the end (first 1 m of the channel)")
+    top.set_title(f"DFG 2D-1 on lbm: speed at the end (first 1 m of the channel; {bounce_back(runs[0])} bounce-back)")
     bottom.axhspan(5.57, 5.59, color="0.85", label="Schäfer & Turek 1996: 5.57-5.59")
     for run in runs:
         t, cd, across = drag(run)
-        bottom.plot(t, cd, label=f"{across} cells across the cylinder")
+        bottom.plot(t, cd, label=f"{across} cells across the cylinder, {bounce_back(run)} bounce-back")
     bottom.set_ylim(5.3, 6.0)
     bottom.set_xlabel("t (s)")
     bottom.set_ylabel("c_D (each row: the mean since the last)")

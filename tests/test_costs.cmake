@@ -9,6 +9,8 @@
 # 2026-11-28, in ctest -j2 beside others). Included by tests/CMakeLists.txt after every
 # test is defined; a name that is no test is reported.
 set(coflow_test_costs
+  validation.lbm_dfg_cylinder 30
+  validation.lbm_dfg_cylinder_halfway 30
   validation.ibm_cylinder_re20 80
   validation.two_phase_laplace_3d 50
   unit.mpi 28

@@ -18,6 +18,7 @@ struct LbmParams {
   std::string collision = "bgk";
   double magic = 0.1875;
   std::string layout = "auto";
+  std::string bounce_back = "halfway";
   void visit(config::Visitor& v) {
     v("lattice", lattice, "velocity set", config::one_of({"D2Q9", "D3Q19"}));
     v("formulation", formulation,
@@ -36,6 +37,14 @@ struct LbmParams {
       "block fits it, so that the kernels reach them from a few registers; packed: one after another "
       "(the layout of larger blocks; same results)",
       config::one_of({"auto", "packed"}));
+    v("bounce_back", bounce_back,
+      "at the surfaces of fluid.solids: halfway (the wall half-way between a fluid and a solid cell's "
+      "centres: "
+      "a curved surface as a staircase) or interpolated (Bouzidi, Firdaouss & Lallemand 2001, linear: the "
+      "wall "
+      "where the link crosses the sphere, box or mesh; voxel images and the box's walls stay halfway; the "
+      "fluid's mass is then kept only to the interpolation's error)",
+      config::one_of({"halfway", "interpolated"}));
   }
   // Checks against the rest of the configuration.
   void check(config::Visitor& v, const config::Config& cfg) const {

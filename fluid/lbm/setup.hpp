@@ -5,17 +5,18 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <numbers>
-#include <vector>
-#include <functional>
 #include <string>
+#include <vector>
 
 #include "coflow/log.hpp"
 #include "fluid/fluid_solver.hpp"
 #include "fluid/lbm/lattice.hpp"
 #include "fluid/lbm/params.hpp"
 #include "fluid/lbm/units.hpp"
+#include "fluid/solid_surface.hpp"
 
 namespace coflow::fluid::lbm {
 
@@ -81,6 +82,8 @@ struct TwoPhase {
   std::vector<double> solid_phase;  // cos(theta) of solid n at index n (0: unused)
   // Solid id per global cell (x fastest; 0 fluid); empty: no interior solids.
   std::shared_ptr<const std::vector<std::uint8_t>> solids;
+  // fluid.lbm.bounce_back: interpolated: where the links cross the solids' surfaces; null: halfway.
+  std::shared_ptr<const SolidSurface> surface;
   // Initial colour (+1 red, -1 blue) of the cell with global index (i, j, k).
   std::function<double(long i, long j, long k)> initial_phase;
   bool any_solid() const { return solids && !solids->empty(); }
@@ -200,6 +203,8 @@ inline Setup make_setup(const config::Config& cfg, const FluidParams& fp, const 
     s.force[d] = fp.body_force[d] / s.units.force_density();
   }
   set_two_phase(s, cfg, fp);
+  if (!fp.solids.empty() && lp.bounce_back == "interpolated")
+    s.tp.surface = std::make_shared<const SolidSurface>(cfg, fp.solids);
   const Units units = s.units;
   const config::DomainParams dom = cfg.domain;
   s.initial = [&cfg, fp, units, dom](long i, long j, long k, double& rho, double* u) {

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -69,6 +70,7 @@ class TwoPhaseCore final : public LbmCore {
     pop_.halo.build(lay_, dec_, rank, comm);
     phi_.assign(static_cast<std::size_t>(cells_), 0.0);
     mark_solids();
+    if (s.tp.surface) find_links();
     build_tally();
     if (s.tp.geometric) find_wetted();
     find_plain();
@@ -216,6 +218,8 @@ class TwoPhaseCore final : public LbmCore {
         const bool back = solid_[src] != 0;
         r[q] = back ? pop_.next[at(L::opp[q], x)] : pop_.next[at(q, src)];
         b[q] = back ? pop_.next[at(L::opp[q], x) + 1] : pop_.next[at(q, src) + 1];
+        if (const double delta = back ? link_delta(x, q) : -1.0; delta >= 0.0)
+          interpolate(pop_.next.data(), x, q, delta, r[q], b[q]);  // as stream_cell
       }
       gradient(x, g);
       force(c, F);
@@ -335,6 +339,27 @@ class TwoPhaseCore final : public LbmCore {
   // gives one, else the face cell's (no gradient across the face).
   void fill_open_ghosts() {
     for (const auto& g : open_ghosts_) phi_[g.x] = g.source >= 0 ? phi_[g.source] : g.phase;
+  }
+
+  // Interpolated bounce-back: where each link of an owned fluid cell into an
+  // interior solid crosses the solids' surface (fluid/solid_surface.hpp), for
+  // the population q that the link brings in from x - e_q.
+  void find_links() {
+    link_index_.assign(static_cast<std::size_t>(cells_), -1);
+    for_owned([&](long i, long j, long k, long x) {
+      if (solid_[x]) return;
+      const std::array<long, 3> g{lay_.origin[0] + i, lay_.origin[1] + j, lay_.origin[2] + k};
+      for (int q = 1; q < L::Q; ++q) {
+        const std::uint8_t id = solid_[x - off_[q]];
+        if (id == 0 || id == kWall) continue;
+        if (link_index_[x] < 0) {
+          link_index_[x] = static_cast<int>(link_delta_.size());
+          link_delta_.resize(link_delta_.size() + L::Q, -1.0);
+        }
+        const int toward[3] = {-L::e[q][0], -L::e[q][1], -L::e[q][2]};
+        link_delta_[static_cast<std::size_t>(link_index_[x] + q)] = s_.tp.surface->fraction(g, toward, id);
+      }
+    });
   }
 
   // The owned fluid cells next to solids (geometric wetting): the solid's unit
@@ -467,7 +492,8 @@ class TwoPhaseCore final : public LbmCore {
   }
 
   // Pull streaming of both colours into `next` (seed 000 eqs. 2.64-2.65), with
-  // half-way bounce-back from solid cells (eq. 2.44), and the colour field of
+  // half-way bounce-back from solid cells (eq. 2.44; interpolated at interior
+  // solids with fluid.lbm.bounce_back: interpolated), and the colour field of
   // the pulled populations.
   void stream() {
     const auto one = [&](long i, long j, long k, long x) {
@@ -604,7 +630,9 @@ class TwoPhaseCore final : public LbmCore {
           b = pop_.f[at(L::opp[q], x) + 1];
           // Ladd's momentum exchange, relative to the fluid at rest at the
           // reference density (whose push on a closed solid sums to zero).
-          const double moved = r + b - L::w[q];
+          double moved = r + b - L::w[q];
+          if (const double delta = link_delta(x, q); delta >= 0.0)
+            moved = interpolate(pop_.f.data(), x, q, delta, r, b);
           const int slot = solid_[src] == kWall ? wall_face(i, j, k, q) : 5 + solid_[src];
           if (slot >= 0) {
             if (slot != last_slot)  // most cells border one wall or solid: looked up once
@@ -623,6 +651,31 @@ class TwoPhaseCore final : public LbmCore {
       for (int q = 0; q < L::Q; ++q) rr += pop_.next[at(q, x)], bb += pop_.next[at(q, x) + 1];
       phi_[x] = colour_field(rr, bb, s_.tp.phase_field);
     }
+  }
+
+  // Interpolated bounce-back (Bouzidi, Firdaouss & Lallemand 2001, linear):
+  // population q entering fluid cell x from a solid whose surface lies at
+  // `delta` of the link from x's centre (r, b: on entry the half-way values
+  // f*_opp(q)(x)), from the post-collision populations of x and, where delta <
+  // 1/2, of the next cell away from the solid (half-way where that cell is not
+  // fluid). Returns the momentum exchange's share, (out + in) / 2 - w_q.
+  double interpolate(const double* f, long x, int q, double delta, double& r, double& b) const {
+    const double out = r + b;
+    if (delta >= 0.5) {
+      const double w = 0.5 / delta;
+      r = w * r + (1.0 - w) * f[at(q, x)];
+      b = w * b + (1.0 - w) * f[at(q, x) + 1];
+    } else if (const long ahead = x + off_[q]; !solid_[ahead] && !open_[ahead]) {
+      r = 2.0 * delta * r + (1.0 - 2.0 * delta) * f[at(L::opp[q], ahead)];
+      b = 2.0 * delta * b + (1.0 - 2.0 * delta) * f[at(L::opp[q], ahead) + 1];
+    }
+    return 0.5 * (out + r + b) - L::w[q];
+  }
+  // The fraction of link q (towards x - e_q) of cell x where it enters an
+  // interior solid, or < 0: half-way (no such link, or bounce_back halfway).
+  double link_delta(long x, int q) const {
+    const int l = link_index_.empty() ? -1 : link_index_[x];
+    return l < 0 ? -1.0 : link_delta_[static_cast<std::size_t>(l + q)];
   }
 
   // The unknown populations of a cell on open faces, as lbm-reference does:
@@ -850,6 +903,11 @@ class TwoPhaseCore final : public LbmCore {
   };
   std::vector<OpenGhost> open_ghosts_;
   std::vector<int> wet_index_;  // geometric wetting: per cell, into wet_ (-1: no solid neighbour)
+  // Interpolated bounce-back: per cell, where its L::Q link fractions start in
+  // link_delta_ (-1: no link into an interior solid; empty: half-way); a
+  // fraction < 0: no such link.
+  std::vector<int> link_index_;
+  std::vector<double> link_delta_;
   std::vector<Wet> wet_;
   std::vector<double> src_;
   std::function<void()> hook_;                // immersed boundaries: runs between streaming and collision

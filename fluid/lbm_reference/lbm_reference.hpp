@@ -73,6 +73,8 @@ class LbmReference final : public FluidSolver {
     const lbm::Face* open = nullptr;
   };
   Beyond beyond(long x[3]) const;
+  void bounce_interpolated(long i, long j, long k, int q, int id, const std::vector<double>& post_r,
+                           const std::vector<double>& post_b);
   double phi_at(long i, long j, long k) const;  // colour field, solids' colour, wrapped
   bool solid_at(long i, long j, long k) const;
   void colour_gradient(long i, long j, long k, double g[3]) const;

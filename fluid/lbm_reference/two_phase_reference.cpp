@@ -52,6 +52,31 @@ LbmReference::Beyond LbmReference::beyond(long x[3]) const {
   return b;
 }
 
+// Interpolated bounce-back at an interior solid (Bouzidi, Firdaouss &
+// Lallemand 2001, linear; fluid.lbm.bounce_back: interpolated): population q
+// of fluid cell (i, j, k), which comes from solid `id`, from the post-collision
+// populations of the cell and, where the surface lies nearer than half the
+// link, of the next cell away from the solid (half-way if that is not fluid).
+void LbmReference::bounce_interpolated(long i, long j, long k, int q, int id,
+                                       const std::vector<double>& post_r, const std::vector<double>& post_b) {
+  const long c = index(i, j, k);
+  const int toward[3] = {-e_[q][0], -e_[q][1], -e_[q][2]};
+  const double delta = s_.tp.surface->fraction({i, j, k}, toward, id);
+  const long out = c * Q_ + opp_[q];
+  if (delta >= 0.5) {
+    const double w = 0.5 / delta;
+    r_[c * Q_ + q] = w * post_r[out] + (1.0 - w) * post_r[c * Q_ + q];
+    b_[c * Q_ + q] = w * post_b[out] + (1.0 - w) * post_b[c * Q_ + q];
+    return;
+  }
+  long a[3] = {i + e_[q][0], j + e_[q][1], k + e_[q][2]};
+  const Beyond at = beyond(a);
+  if (at.wall || at.open || solid_id_[index(a[0], a[1], a[2])]) return;
+  const long far = index(a[0], a[1], a[2]) * Q_ + opp_[q];
+  r_[c * Q_ + q] = 2.0 * delta * post_r[out] + (1.0 - 2.0 * delta) * post_r[far];
+  b_[c * Q_ + q] = 2.0 * delta * post_b[out] + (1.0 - 2.0 * delta) * post_b[far];
+}
+
 double LbmReference::phi_at(long i, long j, long k) const {
   long x[3] = {i, j, k};
   const Beyond b = beyond(x);
@@ -81,6 +106,7 @@ void LbmReference::step_colours() {
           if (wall || (!open && solid_id_[s])) {
             r_[c * Q_ + q] = post_r[c * Q_ + opp_[q]];
             b_[c * Q_ + q] = post_b[c * Q_ + opp_[q]];
+            if (!wall && s_.tp.surface) bounce_interpolated(i, j, k, q, solid_id_[s], post_r, post_b);
           } else if (!open) {
             r_[c * Q_ + q] = post_r[s * Q_ + q];
             b_[c * Q_ + q] = post_b[s * Q_ + q];

@@ -397,6 +397,43 @@ int dfg_cylinder(const std::string& dir) {
   return 0;
 }
 
+// Plane Poiseuille flow between two interior solids, boxes across the domain
+// in x and z (configs/validation/lbm_poiseuille_offgrid.yaml): the walls are
+// the lower box's top and the upper box's bottom, anywhere between the cells'
+// centres; u = G (y - y0)(y1 - y) / (2 mu) at the fluid cells (solid_fraction
+// 0). l2_error relative; max_error the largest over the peak G (y1 - y0)^2 / (8 mu).
+int solid_channel(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  if (fp.solids.size() != 2 || fp.solids[0].kind != "box" || fp.solids[1].kind != "box")
+    throw std::runtime_error(
+        "the check is for a channel between two boxes of fluid.solids, the lower one first");
+  const double y0 = fp.solids[0].upper.values.at(1), y1 = fp.solids[1].lower.values.at(1);
+  const double G = fp.body_force[0], mu = fp.density * fp.viscosity,
+               peak = G * (y1 - y0) * (y1 - y0) / (8 * mu);
+  const auto& d = cfg.domain;
+  const auto h = d.spacing();
+  std::vector<std::size_t> dims;
+  const auto u = output::read_dataset(last_snapshot(dir), "velocity", &dims);
+  const auto solid = output::read_dataset(last_snapshot(dir), "solid_fraction");
+  const long nz = static_cast<long>(dims[0]), ny = static_cast<long>(dims[1]),
+             nx = static_cast<long>(dims[2]);
+  double err2 = 0.0, ref2 = 0.0, worst = 0.0;
+  for (long k = 0; k < nz; ++k)
+    for (long j = 0; j < ny; ++j)
+      for (long i = 0; i < nx; ++i) {
+        const long c = (k * ny + j) * nx + i;
+        if (solid[static_cast<std::size_t>(c)] != 0.0) continue;
+        const double y = d.lower[1] + (j + 0.5) * h[1], ua = G * (y - y0) * (y1 - y) / (2 * mu);
+        const double e = u[static_cast<std::size_t>(3 * c)] - ua;
+        err2 += e * e;
+        ref2 += ua * ua;
+        worst = std::max(worst, std::isnan(e) ? INFINITY : std::abs(e) / peak);
+      }
+  std::printf("l2_error=%.6e\nmax_error=%.6e\n", std::sqrt(err2 / ref2), worst);
+  return 0;
+}
+
 // A uniform stream (configs/validation/lbm_open_corners.yaml): the x- face's
 // velocity U everywhere at the reference pressure. Prints the largest
 // departure of any velocity component from U's, over |U|, and the largest

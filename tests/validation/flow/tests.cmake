@@ -120,8 +120,17 @@ coflow_validation(lbm_ranks_1_vs_4_open_corners_solid compare lbm_open_corners.y
   "${lbm_corners_solid}" "${lbm_corners_solid} fluid.ranks=4 fluid.decomposition=[2,2,1]")
 # The DFG benchmark 2D-1 (Schäfer & Turek 1996): a cylinder in a channel fed
 # by a parabolic inlet, Re 20; c_D, c_L, the recirculation length and the
-# pressure difference against the benchmark's intervals (about 30 s).
+# pressure difference against the benchmark's intervals (about 30 s each),
+# with the interpolated bounce-back of the config and with half-way bounce-back.
 coflow_validation(lbm_dfg_cylinder dfg_cylinder lbm_dfg_cylinder.yaml 1)
+coflow_validation(lbm_dfg_cylinder_halfway dfg_cylinder lbm_dfg_cylinder.yaml 1 --set fluid.lbm.bounce_back=halfway)
+# Plane Poiseuille flow between interior solids whose faces lie between the
+# cells' centres (the interpolated bounce-back of Bouzidi et al. 2001): BGK,
+# TRT, and against lbm-reference.
+coflow_validation(lbm_poiseuille_offgrid solid_channel lbm_poiseuille_offgrid.yaml 1)
+coflow_validation(lbm_poiseuille_offgrid_trt solid_channel lbm_poiseuille_offgrid.yaml 1 --set fluid.lbm.collision=trt)
+coflow_validation(lbm_poiseuille_offgrid_vs_reference compare lbm_poiseuille_offgrid.yaml 1
+  "fluid.solver=lbm" "fluid.solver=lbm-reference")
 coflow_validation(lbm_taylor_green decay lbm_taylor_green.yaml 2)
 coflow_validation(lbm_mass_conservation mass lbm_mass_conservation.yaml 2)
 coflow_validation(lbm_vs_reference compare lbm_all_boundaries_3d.yaml 1

@@ -53,7 +53,7 @@ def main(out, runs):
     top.set_xlabel("x (m)")
     top.set_ylabel("y (m)")
     fig.colorbar(im, ax=top, label="|u| (m/s)", shrink=0.8)
-    top.set_title(f"DFG 2D-1 on lbm: speed at the end (first 1 m of the channel; {bounce_back(runs[0])} bounce-back)")
+    top.set_title(f"DFG 2D-1 on lbm, {bounce_back(runs[0])} bounce-back: speed at the end (first 1 m)")
     bottom.axhspan(5.57, 5.59, color="0.85", label="Schäfer & Turek 1996: 5.57-5.59")
     for run in runs:
         t, cd, across = drag(run)

@@ -185,15 +185,8 @@ std::vector<std::array<std::array<double, 3>, 3>> uv_sphere(std::array<double, 3
   return t;
 }
 
-}  // namespace
-
-TEST_CASE("solids: STL meshes voxelised", "[fluid][solids]") {
-  const auto dir = std::filesystem::temp_directory_path() / ("coflow-mesh-" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const std::string cube = (dir / "cube.stl").string(), ball = (dir / "ball.stl").string();
-  const std::string open = (dir / "open.stl").string();
-  // The cube [1, 4] x [2, 4] x [1, 3] mm (cell faces), 12 triangles.
-  const double lo[3] = {0.001, 0.002, 0.001}, hi[3] = {0.004, 0.004, 0.003};
+// The box [lo, hi] as 12 triangles, wound outwards.
+std::vector<std::array<std::array<double, 3>, 3>> box_triangles(const double lo[3], const double hi[3]) {
   std::vector<std::array<std::array<double, 3>, 3>> t;
   const auto v = [&](int m) {
     return std::array<double, 3>{m & 1 ? hi[0] : lo[0], m & 2 ? hi[1] : lo[1], m & 4 ? hi[2] : lo[2]};
@@ -203,6 +196,19 @@ TEST_CASE("solids: STL meshes voxelised", "[fluid][solids]") {
     t.push_back({v(q[0]), v(q[1]), v(q[2])});
     t.push_back({v(q[0]), v(q[2]), v(q[3])});
   }
+  return t;
+}
+
+}  // namespace
+
+TEST_CASE("solids: STL meshes voxelised", "[fluid][solids]") {
+  const auto dir = std::filesystem::temp_directory_path() / ("coflow-mesh-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string cube = (dir / "cube.stl").string(), ball = (dir / "ball.stl").string();
+  const std::string open = (dir / "open.stl").string();
+  // The cube [1, 4] x [2, 4] x [1, 3] mm (cell faces), 12 triangles.
+  const double lo[3] = {0.001, 0.002, 0.001}, hi[3] = {0.004, 0.004, 0.003};
+  auto t = box_triangles(lo, hi);
   write_stl(cube, t);
   const auto from_mesh = solids_of(fmt::format("[{{mesh: {{file: {}}}}}]", cube));
   const auto from_box = solids_of("[{box: {lower: [0.001, 0.002, 0.001], upper: [0.004, 0.004, 0.003]}}]");
@@ -282,16 +288,7 @@ TEST_CASE("solids: where the lattice links enter them", "[fluid][solids]") {
   // 2.0e-3 mm, against the analytic sphere's (links that both maps share).
   const auto dir = std::filesystem::temp_directory_path() / ("coflow-links-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  std::vector<std::array<std::array<double, 3>, 3>> t;
-  const auto v = [&](int m) {
-    return std::array<double, 3>{m & 1 ? hi[0] : lo[0], m & 2 ? hi[1] : lo[1], m & 4 ? hi[2] : lo[2]};
-  };
-  for (const auto& f : std::vector<std::array<int, 4>>{
-           {0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}}) {
-    t.push_back({v(f[0]), v(f[1]), v(f[2])});
-    t.push_back({v(f[0]), v(f[2]), v(f[3])});
-  }
-  write_stl((dir / "box.stl").string(), t);
+  write_stl((dir / "box.stl").string(), box_triangles(lo, hi));
   write_stl((dir / "ball.stl").string(), uv_sphere({3.1, 2.4, 1.9}, 1.7, 64));
   const Surface box_mesh(fmt::format("[{{mesh: {{file: {}}}}}]", (dir / "box.stl").string()));
   const Surface ball_mesh(fmt::format("[{{mesh: {{file: {}, scale: 0.001}}}}]", (dir / "ball.stl").string()));

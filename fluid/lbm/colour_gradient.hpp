@@ -117,6 +117,14 @@ inline void wet_gradient(double g[3], const double ns[3], double cos_theta) {
   for (int d = 0; d < 3; ++d) g[d] = gn * (-cos_theta * ns[d] + sin_theta * t[d] / tl);
 }
 
+// Red's part of a rebuilt population `total` whose old value was red r and
+// blue b: total r / (r + b), exactly total where there is no blue (one fluid
+// with solids runs as red alone, and (total r) / r can miss total by an ulp:
+// blue of round-off, which the interpolated bounce-back lets grow).
+inline double share_red(double total, double r, double b) {
+  return b == 0.0 ? total : total * r / (r + b);
+}
+
 // 1 / |e_q| (1 or 1/sqrt(2) on these lattices; 0 for the rest population).
 template <class L>
 constexpr double inverse_length(int q) {

@@ -738,7 +738,7 @@ class TwoPhaseCore final : public LbmCore {
     if (psi < 0.0) psi = known > 0.0 ? known_r / known : 0.5;
     for (int q = 0; q < L::Q; ++q) {
       const double total = f[q] + L::w[q];
-      const double red = set[q] ? psi * total : rebuilt ? total * r[q] / (r[q] + b[q]) : r[q];
+      const double red = set[q] ? psi * total : rebuilt ? share_red(total, r[q], b[q]) : r[q];
       pop_.next[at(q, x)] = set[q] || rebuilt ? red : r[q];
       pop_.next[at(q, x) + 1] = set[q] || rebuilt ? total - red : b[q];
     }
@@ -782,7 +782,7 @@ class TwoPhaseCore final : public LbmCore {
         if (meets[face] && s_.faces[face].phase_given && (face % 2 == 0 ? 1 : -1) * L::e[q][face / 2] > 0)
           psi = 0.5 * (1.0 + s_.faces[face].phase);
       const double total = f[q] + L::w[q];
-      const double red = set[q] ? psi * total : total * r[q] / (r[q] + b[q]);
+      const double red = set[q] ? psi * total : share_red(total, r[q], b[q]);
       pop_.next[at(q, x)] = red;
       pop_.next[at(q, x) + 1] = total - red;
     }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fluid/lbm/colour_gradient.hpp"
 #include "fluid/lbm_reference/lbm_reference.hpp"
 
 namespace coflow::fluid {
@@ -209,7 +210,7 @@ void LbmReference::close_colours(long i, long j, long k, std::vector<bool>& unkn
       for (int face = 5; face >= 0; --face)
         if (meets[face] && s_.faces[face].phase_given && (face % 2 == 0 ? 1 : -1) * e_[q][face / 2] > 0)
           psi_q = 0.5 * (1.0 + s_.faces[face].phase);
-      const double red = corner_unknown(meets, q) ? psi_q * f[q] : f[q] * r[q] / (r[q] + b[q]);
+      const double red = corner_unknown(meets, q) ? psi_q * f[q] : lbm::share_red(f[q], r[q], b[q]);
       r[q] = red;
       b[q] = f[q] - red;
     }
@@ -243,7 +244,7 @@ void LbmReference::close_colours(long i, long j, long k, std::vector<bool>& unkn
   if (psi < 0.0) psi = known > 0.0 ? known_r / known : 0.5;
   for (int q = 0; q < Q_; ++q) {
     if (!set[q] && !rebuilt) continue;
-    const double red = set[q] ? psi * f[q] : f[q] * r[q] / (r[q] + b[q]);
+    const double red = set[q] ? psi * f[q] : lbm::share_red(f[q], r[q], b[q]);
     r[q] = red;
     b[q] = f[q] - red;
   }

@@ -121,6 +121,36 @@ void report_pressure_faces(config::Report& r, const FluidParams& fp, const confi
                        config::number(off)));
 }
 
+// fluid.solids and how their surfaces are taken (fluid.lbm.bounce_back).
+void report_solids(config::Report& r, const FluidParams& fp, const lbm::LbmParams& lp,
+                   const config::Config& cfg) {
+  const bool interpolated = lp.bounce_back == "interpolated";
+  long voxels = 0;
+  for (const auto& s : fp.solids) voxels += s.kind == "voxels" ? 1 : 0;
+  if (fp.solids.empty()) {
+    if (interpolated)
+      r.warn("fluid",
+             "fluid.lbm.bounce_back: interpolated has no effect without fluid.solids (the box's walls are "
+             "half-way bounce-back)");
+    return;
+  }
+  bool open = false;
+  for (int f = 0; f < 6; ++f) {
+    const std::string t = fp.boundary(f, cfg).type;
+    open = open || t == "pressure" || t == "velocity" || t == "outflow";
+  }
+  r.add(
+      "fluid", "solids",
+      fmt::format("{} ({} voxel images), {} bounce-back{}", fp.solids.size(), voxels, lp.bounce_back,
+                  interpolated && !open ? ": it does not keep mass exactly, and this box has no open face to "
+                                          "take the difference (docs/validation.md)"
+                                        : ""));
+  if (interpolated && voxels == static_cast<long>(fp.solids.size()))
+    r.warn("fluid",
+           "fluid.lbm.bounce_back: interpolated has no effect on voxel images (their surface is their "
+           "voxels' faces, half-way between the centres); it needs spheres, boxes or meshes");
+}
+
 void report_lbm(const config::Config& cfg, config::Report& r) {
   const FluidParams fp = read_fluid(cfg);
   const auto lp = config::read_section<lbm::LbmParams>(cfg, "fluid.lbm", "fluid.lbm");
@@ -154,6 +184,7 @@ void report_lbm(const config::Config& cfg, config::Report& r) {
   const double u = velocity_scale(fp, cfg);
   report_mach(r, u, units, tau, dx);
   report_pressure_faces(r, fp, cfg, units, lp.formulation == "standard");
+  report_solids(r, fp, lp, cfg);
   if (fp.two_phase.on) {
     const double nu_b = fp.two_phase.viscosity_blue > 0.0 ? fp.two_phase.viscosity_blue : fp.viscosity;
     const double tau_b = 0.5 + 3.0 * nu_b * units.dt / (dx * dx);

@@ -10,6 +10,7 @@
 # test is defined; a name that is no test is reported.
 set(coflow_test_costs
   validation.lbm_dfg_cylinder 30
+  validation.lbm_dfg_cylinder_2d2 60
   validation.lbm_dfg_cylinder_halfway 30
   validation.ibm_cylinder_re20 80
   validation.two_phase_laplace_3d 50

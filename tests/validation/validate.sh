@@ -105,7 +105,7 @@ case "$mode" in
         { echo "FAIL: $f after the restart differs from the straight run's"; exit 1; }
       echo "${f#events/}: $n events after the restart, identical"
     done ;;
-  profile|probes|hydrostatic|channel|walls|fluid_walls|walls_pressure_drop|decay|mass|ramp|impact|pour|crush|momentum|drag|buoyancy|settling|dpm_settling|granular_gas|two_way|dispersion|grid_turbulence|injection|jet|pair_into_mesh|inlet_stream|inlet_mass|rotation|contact_angle|layered|colour_mass|permeability|washburn|injection_phase|grain_interface|bridge|cavity|tg_error|stokes_layer|dfg_cylinder|solid_channel|uniform_stream|inlet_profile|divergence|ke_decay|ke_grid|ke_grid_levels|ke_channel|ke_backward_step|grid_turbulence_fv|ibm_steady|ibm_couette|ibm_couette_oscillating|ibm_shedding|ibm_oscillating|ibm_particles|ibm_balance|vortex)
+  profile|probes|hydrostatic|channel|walls|fluid_walls|walls_pressure_drop|decay|mass|ramp|impact|pour|crush|momentum|drag|buoyancy|settling|dpm_settling|granular_gas|two_way|dispersion|grid_turbulence|injection|jet|pair_into_mesh|inlet_stream|inlet_mass|rotation|contact_angle|layered|colour_mass|permeability|washburn|injection_phase|grain_interface|bridge|cavity|tg_error|stokes_layer|dfg_cylinder|dfg_cylinder_unsteady|solid_channel|uniform_stream|inlet_profile|divergence|ke_decay|ke_grid|ke_grid_levels|ke_channel|ke_backward_step|grid_turbulence_fv|ibm_steady|ibm_couette|ibm_couette_oscillating|ibm_shedding|ibm_oscillating|ibm_particles|ibm_balance|vortex)
     run "$out/run" "$@"
     check "$mode" "$out/run" | tee -a "$metrics" || exit 1 ;;
   compare|layouts)

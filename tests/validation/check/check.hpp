@@ -127,6 +127,7 @@ inline std::vector<std::pair<long, double>> snapshots(const std::string& dir, co
 // lbm.cpp
 int profile(const std::string& dir);
 int dfg_cylinder(const std::string& dir);
+int dfg_cylinder_unsteady(const std::string& dir);
 int solid_channel(const std::string& dir);
 int uniform_stream(const std::string& dir);
 int inlet_profile(const std::string& dir);

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
         throw std::runtime_error(std::string(argv[a]) + " is not a run directory (no config.yaml in it)");
     if (what == "profile" && argc == 3) return profile(argv[2]);
     if (what == "dfg_cylinder" && argc == 3) return dfg_cylinder(argv[2]);
+    if (what == "dfg_cylinder_unsteady" && argc == 3) return dfg_cylinder_unsteady(argv[2]);
     if (what == "solid_channel" && argc == 3) return solid_channel(argv[2]);
     if (what == "uniform_stream" && argc == 3) return uniform_stream(argv[2]);
     if (what == "inlet_profile" && argc == 3) return inlet_profile(argv[2]);

@@ -397,6 +397,73 @@ int dfg_cylinder(const std::string& dir) {
   return 0;
 }
 
+// The largest value of a sampled signal near sample i, from the parabola
+// through it and its neighbours (the peak between the samples).
+static double peak_of(const std::vector<double>& v, std::size_t i) {
+  const double a = v[i - 1], b = v[i], c = v[i + 1], curve = a - 2 * b + c;
+  return curve < 0.0 ? b - 0.125 * (c - a) * (c - a) / curve : b;
+}
+
+// The DFG benchmark 2D-2 (configs/validation/lbm_dfg_cylinder_2d2.yaml;
+// Schäfer & Turek 1996): the same channel and cylinder as 2D-1 at Re 100
+// (inlet peak 1.5 m/s, mean U = 1 m/s), where vortices shed periodically.
+// Over the last `window` s of series/fluid_walls.csv (each row the mean force
+// since the last; rows a small fraction of a period apart): c_D,max and
+// c_L,max (c = 2 F / (rho U^2 D W)) from the parabola through each local
+// maximum and its neighbours, the Strouhal number St = D f / U from the mean
+// period between upward zero crossings of c_L - mean(c_L) (linear between
+// rows; a row's time is the middle of its interval), and cl_peak_spread,
+// the spread of c_L's maxima over their mean (0 once the shedding is periodic).
+int dfg_cylinder_unsteady(const std::string& dir) {
+  const auto cfg = load(dir);
+  const auto fp = fluid_params(cfg);
+  const auto& d = cfg.domain;
+  if (d.lower[0] != 0.0 || d.lower[1] != 0.0 || d.upper[0] != 2.2 || d.upper[1] != 0.41 ||
+      fp.solids.size() != 1)
+    throw std::runtime_error(
+        "the check is for the DFG channel, 2.2 x 0.41 m from the origin, with one solid");
+  const double U = 2.0 / 3.0 * fp.boundary(0, cfg).value.values.at(0), D = 0.1, W = d.upper[2] - d.lower[2];
+  const double q = 0.5 * fp.density * U * U * D * W, window = 3.0;
+  const auto rows = read_series(dir + "/series/fluid_walls.csv");
+  const LastRow names(dir + "/series/fluid_walls.csv");
+  const std::size_t cx = names.column("solid1_fx"), cy = names.column("solid1_fy");
+  const double end = rows.back()[0];
+  std::vector<double> t, cd, cl;
+  double last = 0.0;
+  for (const auto& r : rows) {
+    if (r[0] > end - window + 1e-9)
+      t.push_back(0.5 * (r[0] + last)), cd.push_back(r[cx] / q), cl.push_back(r[cy] / q);
+    last = r[0];
+  }
+  if (t.size() < 20)
+    throw std::runtime_error("fewer than 20 force rows in the last 3 s: write series more often");
+  double cd_max = -1e300, cl_max = -1e300, mean = 0.0, peak_lo = 1e300, peak_hi = -1e300, peak_sum = 0.0;
+  for (double v : cl) mean += v / static_cast<double>(cl.size());
+  std::vector<double> ups;
+  int peaks = 0;
+  for (std::size_t i = 1; i + 1 < t.size(); ++i) {
+    if (cd[i] >= cd[i - 1] && cd[i] > cd[i + 1]) cd_max = std::max(cd_max, peak_of(cd, i));
+    if (cl[i] >= cl[i - 1] && cl[i] > cl[i + 1]) {
+      const double p = peak_of(cl, i);
+      cl_max = std::max(cl_max, p), peak_lo = std::min(peak_lo, p), peak_hi = std::max(peak_hi, p);
+      peak_sum += p, ++peaks;
+    }
+    const double a = cl[i - 1] - mean, b = cl[i] - mean;
+    if (a < 0.0 && b >= 0.0) ups.push_back(t[i - 1] + (t[i] - t[i - 1]) * a / (a - b));
+  }
+  if (ups.size() < 3 || peaks < 2)
+    throw std::runtime_error("c_L does not oscillate in the last 3 s: no shedding");
+  const double period = (ups.back() - ups.front()) / static_cast<double>(ups.size() - 1),
+               st = D / (period * U);
+  std::printf("periods=%zu\nc_D_max=%.6f\nc_L_max=%.6f\nstrouhal=%.6f\ncl_peak_spread=%.3e\n", ups.size() - 1,
+              cd_max, cl_max, st, (peak_hi - peak_lo) / (peak_sum / peaks));
+  // Against the middles of the benchmark's intervals (Schäfer & Turek 1996):
+  // c_D,max 3.22-3.24, c_L,max 0.99-1.01, St 0.295-0.305.
+  std::printf("c_D_max_error=%.6e\nc_L_max_error=%.6e\nstrouhal_error=%.6e\n", std::abs(cd_max - 3.23) / 3.23,
+              std::abs(cl_max - 1.0), std::abs(st - 0.3) / 0.3);
+  return 0;
+}
+
 // Plane Poiseuille flow between two interior solids, boxes across the domain
 // in x and z (configs/validation/lbm_poiseuille_offgrid.yaml): the walls are
 // the lower box's top and the upper box's bottom, anywhere between the cells'

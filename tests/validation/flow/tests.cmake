@@ -124,6 +124,9 @@ coflow_validation(lbm_ranks_1_vs_4_open_corners_solid compare lbm_open_corners.y
 # with the interpolated bounce-back of the config and with half-way bounce-back.
 coflow_validation(lbm_dfg_cylinder dfg_cylinder lbm_dfg_cylinder.yaml 1)
 coflow_validation(lbm_dfg_cylinder_halfway dfg_cylinder lbm_dfg_cylinder.yaml 1 --set fluid.lbm.bounce_back=halfway)
+# The DFG benchmark 2D-2 (Re 100, periodic shedding): c_D,max, c_L,max and the
+# Strouhal number over the last 3 s of 10 s (about a minute on two ranks).
+coflow_validation(lbm_dfg_cylinder_2d2 dfg_cylinder_unsteady lbm_dfg_cylinder_2d2.yaml 2)
 # Plane Poiseuille flow between interior solids whose faces lie between the
 # cells' centres (the interpolated bounce-back of Bouzidi et al. 2001): BGK,
 # TRT, and against lbm-reference.

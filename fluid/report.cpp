@@ -122,8 +122,7 @@ void report_pressure_faces(config::Report& r, const FluidParams& fp, const confi
 }
 
 // fluid.solids and how their surfaces are taken (fluid.lbm.bounce_back).
-void report_solids(config::Report& r, const FluidParams& fp, const lbm::LbmParams& lp,
-                   const config::Config& cfg) {
+void report_solids(config::Report& r, const FluidParams& fp, const lbm::LbmParams& lp) {
   const bool interpolated = lp.bounce_back == "interpolated";
   long voxels = 0;
   for (const auto& s : fp.solids) voxels += s.kind == "voxels" ? 1 : 0;
@@ -134,19 +133,10 @@ void report_solids(config::Report& r, const FluidParams& fp, const lbm::LbmParam
              "half-way bounce-back)");
     return;
   }
-  bool open = false;  // a face that lets mass in or out (a 2D run's z faces are periodic)
-  for (int f = 0; f < 6; ++f) {
-    const std::string t = fp.boundary(f, cfg).type;
-    open = open || (cfg.domain.cells[f / 2] > 1 && (t == "pressure" || t == "velocity" || t == "outflow"));
-  }
   const bool shapes = voxels < static_cast<long>(fp.solids.size());  // spheres, boxes or meshes
   r.add("fluid", "solids",
-        fmt::format("{} of fluid.solids ({} of them voxel images), {} bounce-back{}", fp.solids.size(),
-                    voxels, lp.bounce_back,
-                    interpolated && shapes && !open
-                        ? ": it does not keep mass exactly, and no face of this box lets mass in or out "
-                          "(docs/validation.md)"
-                        : ""));
+        fmt::format("{} of fluid.solids ({} of them voxel images), {} bounce-back", fp.solids.size(), voxels,
+                    lp.bounce_back));
   if (interpolated && !shapes)
     r.warn("fluid",
            "fluid.lbm.bounce_back: interpolated has no effect on voxel images (their surface is their "
@@ -186,7 +176,7 @@ void report_lbm(const config::Config& cfg, config::Report& r) {
   const double u = velocity_scale(fp, cfg);
   report_mach(r, u, units, tau, dx);
   report_pressure_faces(r, fp, cfg, units, lp.formulation == "standard");
-  report_solids(r, fp, lp, cfg);
+  report_solids(r, fp, lp);
   if (fp.two_phase.on) {
     const double nu_b = fp.two_phase.viscosity_blue > 0.0 ? fp.two_phase.viscosity_blue : fp.viscosity;
     const double tau_b = 0.5 + 3.0 * nu_b * units.dt / (dx * dx);

@@ -42,8 +42,9 @@ struct LbmParams {
       "centres: "
       "a curved surface as a staircase) or interpolated (Bouzidi, Firdaouss & Lallemand 2001, linear: the "
       "wall "
-      "where the link crosses the sphere, box or mesh; voxel images and the box's walls stay halfway; the "
-      "fluid's mass is then kept only to the interpolation's error)",
+      "where the link crosses the sphere, box or mesh; voxel images and the box's walls stay halfway; what a "
+      "cell's links bring back short of what left goes into its rest population, colour by colour, so each "
+      "colour's mass is kept)",
       config::one_of({"halfway", "interpolated"}));
   }
   // Checks against the rest of the configuration.

@@ -212,15 +212,19 @@ class TwoPhaseCore final : public LbmCore {
       bool open = false;
       for (int q = 1; q < L::Q; ++q) open = open || open_[x + off_[q]];
       if (solid_[x] || open) continue;
-      double r[L::Q], b[L::Q], g[3], F[3];
+      double r[L::Q], b[L::Q], g[3], F[3], kept[2] = {0.0, 0.0};
       for (int q = 0; q < L::Q; ++q) {
         const long src = x - off_[q];
         const bool back = solid_[src] != 0;
         r[q] = back ? pop_.next[at(L::opp[q], x)] : pop_.next[at(q, src)];
         b[q] = back ? pop_.next[at(L::opp[q], x) + 1] : pop_.next[at(q, src) + 1];
-        if (const double delta = back ? link_delta(x, q) : -1.0; delta >= 0.0)
-          interpolate(pop_.next.data(), x, q, delta, r[q], b[q]);  // as stream_cell
+        if (const double delta = back ? link_delta(x, q) : -1.0; delta >= 0.0) {  // as stream_cell
+          kept[0] += r[q], kept[1] += b[q];
+          interpolate(pop_.next.data(), x, q, delta, r[q], b[q]);
+          kept[0] -= r[q], kept[1] -= b[q];
+        }
       }
+      r[0] += kept[0], b[0] += kept[1];
       gradient(x, g);
       force(c, F);
       const double uu =
@@ -620,6 +624,7 @@ class TwoPhaseCore final : public LbmCore {
       bool unknown[L::Q], any = false;
       int last_slot = -1;  // the wall tally's sums of this cell for last_slot
       double* m = nullptr;
+      double kept[2] = {0.0, 0.0};  // what the interpolated links took from each colour
       for (int q = 0; q < L::Q; ++q) {
         const long src = x - off_[q];
         double r = 0.0, b = 0.0;
@@ -631,8 +636,11 @@ class TwoPhaseCore final : public LbmCore {
           // Ladd's momentum exchange, relative to the fluid at rest at the
           // reference density (whose push on a closed solid sums to zero).
           double moved = r + b - L::w[q];
-          if (const double delta = link_delta(x, q); delta >= 0.0)
+          if (const double delta = link_delta(x, q); delta >= 0.0) {
+            kept[0] += r, kept[1] += b;
             moved = interpolate(pop_.f.data(), x, q, delta, r, b);
+            kept[0] -= r, kept[1] -= b;
+          }
           const int slot = solid_[src] == kWall ? wall_face(i, j, k, q) : 5 + solid_[src];
           if (slot >= 0) {
             if (slot != last_slot)  // most cells border one wall or solid: looked up once
@@ -646,6 +654,8 @@ class TwoPhaseCore final : public LbmCore {
         pop_.next[at(q, x)] = r;
         pop_.next[at(q, x) + 1] = b;
       }
+      pop_.next[at(0, x)] += kept[0];  // each colour's mass kept (see interpolate)
+      pop_.next[at(0, x) + 1] += kept[1];
       if (any) close_cell(i, j, k, x, unknown);
       double rr = 0.0, bb = 0.0;
       for (int q = 0; q < L::Q; ++q) rr += pop_.next[at(q, x)], bb += pop_.next[at(q, x) + 1];
@@ -659,6 +669,9 @@ class TwoPhaseCore final : public LbmCore {
   // f*_opp(q)(x)), from the post-collision populations of x and, where delta <
   // 1/2, of the next cell away from the solid (half-way where that cell is not
   // fluid). Returns the momentum exchange's share, (out + in) / 2 - w_q.
+  // The interpolation does not return what left (half-way bounce-back does):
+  // the callers add the difference, colour by colour, to the cell's rest
+  // population, which keeps each colour's mass and carries no momentum.
   double interpolate(const double* f, long x, int q, double delta, double& r, double& b) const {
     const double out = r + b;
     if (delta >= 0.5) {

@@ -58,6 +58,8 @@ LbmReference::Beyond LbmReference::beyond(long x[3]) const {
 // of fluid cell (i, j, k), which comes from solid `id`, from the post-collision
 // populations of the cell and, where the surface lies nearer than half the
 // link, of the next cell away from the solid (half-way if that is not fluid).
+// step_colours adds what it falls short of the half-way value to the cell's
+// rest population of the same colour (each colour's mass kept).
 void LbmReference::bounce_interpolated(long i, long j, long k, int q, int id,
                                        const std::vector<double>& post_r, const std::vector<double>& post_b) {
   const long c = index(i, j, k);
@@ -98,6 +100,7 @@ void LbmReference::step_colours() {
         if (solid_id_[c]) continue;
         std::vector<bool> unknown(Q_, false);
         bool any = false;
+        double kept_r = 0.0, kept_b = 0.0;  // what interpolated links took from each colour
         for (int q = 0; q < Q_; ++q) {
           long src[3] = {i - e_[q][0], j - e_[q][1], k - e_[q][2]};
           const Beyond at = beyond(src);
@@ -107,7 +110,11 @@ void LbmReference::step_colours() {
           if (wall || (!open && solid_id_[s])) {
             r_[c * Q_ + q] = post_r[c * Q_ + opp_[q]];
             b_[c * Q_ + q] = post_b[c * Q_ + opp_[q]];
-            if (!wall && s_.tp.surface) bounce_interpolated(i, j, k, q, solid_id_[s], post_r, post_b);
+            if (!wall && s_.tp.surface) {
+              bounce_interpolated(i, j, k, q, solid_id_[s], post_r, post_b);
+              kept_r += post_r[c * Q_ + opp_[q]] - r_[c * Q_ + q];
+              kept_b += post_b[c * Q_ + opp_[q]] - b_[c * Q_ + q];
+            }
           } else if (!open) {
             r_[c * Q_ + q] = post_r[s * Q_ + q];
             b_[c * Q_ + q] = post_b[s * Q_ + q];
@@ -115,6 +122,8 @@ void LbmReference::step_colours() {
           unknown[q] = open && !wall;
           any = any || unknown[q];
         }
+        r_[c * Q_] += kept_r;  // into the rest populations: each colour's mass kept
+        b_[c * Q_] += kept_b;
         if (any) close_colours(i, j, k, unknown, post_r, post_b);
         double red = 0.0, blue = 0.0;
         for (int q = 0; q < Q_; ++q) red += r_[c * Q_ + q], blue += b_[c * Q_ + q];

@@ -119,9 +119,15 @@ coflow_validation(solids_channel_interpolated_ranks_1_vs_4 compare solids_channe
 # The box of the config and a sphere 0.3 of a link from the first fluid
 # centres beside it and beside the wall y = 0, where the interpolation's
 # second cell is solid or beyond the wall (half-way there).
-set(offgrid_sphere "${interpolated} fluid.solids=[{\"box\":{\"lower\":[0.004,0.0,0.0],\"upper\":[0.009,0.005,0.006],\"contact_angle\":120.0}},{\"sphere\":{\"centre\":[0.0125,0.0035,0.004],\"radius\":0.0027,\"contact_angle\":60.0}}]")
+set(offgrid_solids "fluid.solids=[{\"box\":{\"lower\":[0.004,0.0,0.0],\"upper\":[0.009,0.005,0.006],\"contact_angle\":120.0}},{\"sphere\":{\"centre\":[0.0125,0.0035,0.004],\"radius\":0.0027,\"contact_angle\":60.0}}]")
+set(offgrid_sphere "${interpolated} ${offgrid_solids}")
 coflow_validation(two_phase_interpolated_vs_reference compare two_phase_crosscheck_3d.yaml 1
   "fluid.solver=lbm ${offgrid_sphere}" "fluid.solver=lbm-reference ${offgrid_sphere}")
+# Each colour's mass over 10^4 steps with the interpolated bounce-back at
+# both solids: what the links take from a colour goes back into the cell's
+# rest population.
+coflow_validation(two_phase_interpolated_colour_mass colour_mass two_phase_crosscheck_3d.yaml 1
+  --set run.end_time=1000.0 --set run.output.every=1000.0 --set ${interpolated} --set ${offgrid_solids})
 coflow_validation(two_phase_interpolated_ranks_1_vs_4 compare two_phase_crosscheck_3d.yaml 2
   "fluid.ranks=1 ${offgrid_sphere}" "fluid.ranks=4 fluid.decomposition=[2,2,1] ${offgrid_sphere}")
 set(grain_sphere "${interpolated} fluid.solids=[{\"sphere\":{\"centre\":[0.0031,0.0047,0.0079],\"radius\":0.0033,\"contact_angle\":110.0}}]")

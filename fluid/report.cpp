@@ -123,24 +123,28 @@ void report_pressure_faces(config::Report& r, const FluidParams& fp, const confi
 
 // fluid.solids and how their surfaces are taken (fluid.lbm.bounce_back).
 void report_solids(config::Report& r, const FluidParams& fp, const lbm::LbmParams& lp) {
-  const bool interpolated = lp.bounce_back == "interpolated";
+  const bool interpolated = lp.bounce_back != "halfway";  // interpolated or central
   long voxels = 0;
   for (const auto& s : fp.solids) voxels += s.kind == "voxels" ? 1 : 0;
   if (fp.solids.empty()) {
     if (interpolated)
-      r.warn("fluid",
-             "fluid.lbm.bounce_back: interpolated has no effect without fluid.solids (the box's walls are "
-             "half-way bounce-back)");
+      r.warn("fluid", fmt::format("fluid.lbm.bounce_back: {} has no effect without fluid.solids (the box's "
+                                  "walls are half-way bounce-back)",
+                                  lp.bounce_back));
     return;
   }
   const bool shapes = voxels < static_cast<long>(fp.solids.size());  // spheres, boxes or meshes
   r.add("fluid", "solids",
-        fmt::format("{} of fluid.solids ({} of them voxel images), {} bounce-back", fp.solids.size(), voxels,
-                    lp.bounce_back));
+        fmt::format("{} of fluid.solids ({} of them voxel images), {} bounce-back{}", fp.solids.size(),
+                    voxels, lp.bounce_back,
+                    lp.bounce_back == "interpolated" && lp.collision == "trt"
+                        ? " (with TRT its wall moves with tau; central's does not: docs/validation.md)"
+                        : ""));
   if (interpolated && !shapes)
-    r.warn("fluid",
-           "fluid.lbm.bounce_back: interpolated has no effect on voxel images (their surface is their "
-           "voxels' faces, half-way between the centres); it needs spheres, boxes or meshes");
+    r.warn("fluid", fmt::format("fluid.lbm.bounce_back: {} has no effect on voxel images (their surface is "
+                                "their voxels' faces, half-way between the centres); it needs spheres, boxes "
+                                "or meshes",
+                                lp.bounce_back));
 }
 
 void report_lbm(const config::Config& cfg, config::Report& r) {

@@ -44,8 +44,10 @@ struct LbmParams {
       "wall "
       "where the link crosses the sphere, box or mesh; voxel images and the box's walls stay halfway; what a "
       "cell's links bring back short of what left goes into its rest population, colour by colour, so each "
-      "colour's mass is kept)",
-      config::one_of({"halfway", "interpolated"}));
+      "colour's mass is kept) or central (the central linear interpolation of Ginzburg, Verhaeghe & "
+      "d'Humieres 2008 at the same crossings: with collision: trt its wall does not move with tau, as "
+      "halfway's does not, where interpolated's does)",
+      config::one_of({"halfway", "interpolated", "central"}));
   }
   // Checks against the rest of the configuration.
   void check(config::Visitor& v, const config::Config& cfg) const {

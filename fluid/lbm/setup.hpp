@@ -82,8 +82,10 @@ struct TwoPhase {
   std::vector<double> solid_phase;  // cos(theta) of solid n at index n (0: unused)
   // Solid id per global cell (x fastest; 0 fluid); empty: no interior solids.
   std::shared_ptr<const std::vector<std::uint8_t>> solids;
-  // fluid.lbm.bounce_back: interpolated: where the links cross the solids' surfaces; null: halfway.
+  // fluid.lbm.bounce_back interpolated or central: where the links cross the solids' surfaces; null:
+  // halfway.
   std::shared_ptr<const SolidSurface> surface;
+  bool central = false;  // central: Ginzburg's central linear interpolation, else Bouzidi's
   // Initial colour (+1 red, -1 blue) of the cell with global index (i, j, k).
   std::function<double(long i, long j, long k)> initial_phase;
   bool any_solid() const { return solids && !solids->empty(); }
@@ -203,8 +205,9 @@ inline Setup make_setup(const config::Config& cfg, const FluidParams& fp, const 
     s.force[d] = fp.body_force[d] / s.units.force_density();
   }
   set_two_phase(s, cfg, fp);
-  if (!fp.solids.empty() && lp.bounce_back == "interpolated")
+  if (!fp.solids.empty() && lp.bounce_back != "halfway")
     s.tp.surface = std::make_shared<const SolidSurface>(cfg, fp.solids);
+  s.tp.central = lp.bounce_back == "central";
   const Units units = s.units;
   const config::DomainParams dom = cfg.domain;
   s.initial = [&cfg, fp, units, dom](long i, long j, long k, double& rho, double* u) {

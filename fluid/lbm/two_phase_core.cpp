@@ -668,13 +668,23 @@ class TwoPhaseCore final : public LbmCore {
   // `delta` of the link from x's centre (r, b: on entry the half-way values
   // f*_opp(q)(x)), from the post-collision populations of x and, where delta <
   // 1/2, of the next cell away from the solid (half-way where that cell is not
-  // fluid). Returns the momentum exchange's share, (out + in) / 2 - w_q.
+  // fluid). With fluid.lbm.bounce_back: central, Ginzburg, Verhaeghe &
+  // d'Humieres' (2008) central linear interpolation from the same three
+  // populations at every delta: f*_opp(q)(x) + (1 - 2 delta) / (1 + 2 delta)
+  // (f*_opp(q)(x + e_q) - f*_q(x)) (half-way where x + e_q is not fluid).
+  // Returns the momentum exchange's share, (out + in) / 2 - w_q.
   // The interpolation does not return what left (half-way bounce-back does):
   // the callers add the difference, colour by colour, to the cell's rest
   // population, which keeps each colour's mass and carries no momentum.
   double interpolate(const double* f, long x, int q, double delta, double& r, double& b) const {
     const double out = r + b;
-    if (delta >= 0.5) {
+    if (s_.tp.central) {  // fluid.lbm.bounce_back: central
+      if (const long ahead = x + off_[q]; !solid_[ahead] && !open_[ahead]) {
+        const double k = (1.0 - 2.0 * delta) / (1.0 + 2.0 * delta);
+        r += k * (f[at(L::opp[q], ahead)] - f[at(q, x)]);
+        b += k * (f[at(L::opp[q], ahead) + 1] - f[at(q, x) + 1]);
+      }
+    } else if (delta >= 0.5) {
       const double w = 0.5 / delta;
       r = w * r + (1.0 - w) * f[at(q, x)];
       b = w * b + (1.0 - w) * f[at(q, x) + 1];

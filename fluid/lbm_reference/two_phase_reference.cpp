@@ -57,24 +57,36 @@ LbmReference::Beyond LbmReference::beyond(long x[3]) const {
 // Lallemand 2001, linear; fluid.lbm.bounce_back: interpolated): population q
 // of fluid cell (i, j, k), which comes from solid `id`, from the post-collision
 // populations of the cell and, where the surface lies nearer than half the
-// link, of the next cell away from the solid (half-way if that is not fluid).
-// step_colours adds what it falls short of the half-way value to the cell's
-// rest population of the same colour (each colour's mass kept).
+// link, of the next cell away from the solid (half-way if that is not fluid);
+// with fluid.lbm.bounce_back: central, the central linear interpolation of
+// Ginzburg, Verhaeghe & d'Humieres (2008), f*_opp(q) + (1 - 2 delta) / (1 +
+// 2 delta) (f*_opp(q) of the next cell - f*_q), from the same populations at
+// every delta (half-way if the next cell is not fluid). step_colours adds what it falls short of the half-way
+// value to the cell's rest population of the same colour (each colour's mass kept).
 void LbmReference::bounce_interpolated(long i, long j, long k, int q, int id,
                                        const std::vector<double>& post_r, const std::vector<double>& post_b) {
   const long c = index(i, j, k);
   const int toward[3] = {-e_[q][0], -e_[q][1], -e_[q][2]};
   const double delta = s_.tp.surface->fraction({i, j, k}, toward, id);
   const long out = c * Q_ + opp_[q];
+  long a[3] = {i + e_[q][0], j + e_[q][1], k + e_[q][2]};
+  const Beyond at = beyond(a);
+  const bool ahead_fluid = !at.wall && !at.open && !solid_id_[index(a[0], a[1], a[2])];
+  if (s_.tp.central) {  // fluid.lbm.bounce_back: central (Ginzburg, Verhaeghe & d'Humieres 2008)
+    if (!ahead_fluid) return;
+    const long far = index(a[0], a[1], a[2]) * Q_ + opp_[q], own = c * Q_ + q;
+    const double kappa = (1.0 - 2.0 * delta) / (1.0 + 2.0 * delta);
+    r_[c * Q_ + q] = post_r[out] + kappa * (post_r[far] - post_r[own]);
+    b_[c * Q_ + q] = post_b[out] + kappa * (post_b[far] - post_b[own]);
+    return;
+  }
   if (delta >= 0.5) {
     const double w = 0.5 / delta;
     r_[c * Q_ + q] = w * post_r[out] + (1.0 - w) * post_r[c * Q_ + q];
     b_[c * Q_ + q] = w * post_b[out] + (1.0 - w) * post_b[c * Q_ + q];
     return;
   }
-  long a[3] = {i + e_[q][0], j + e_[q][1], k + e_[q][2]};
-  const Beyond at = beyond(a);
-  if (at.wall || at.open || solid_id_[index(a[0], a[1], a[2])]) return;
+  if (!ahead_fluid) return;
   const long far = index(a[0], a[1], a[2]) * Q_ + opp_[q];
   r_[c * Q_ + q] = 2.0 * delta * post_r[out] + (1.0 - 2.0 * delta) * post_r[far];
   b_[c * Q_ + q] = 2.0 * delta * post_b[out] + (1.0 - 2.0 * delta) * post_b[far];

@@ -134,6 +134,13 @@ coflow_validation(lbm_poiseuille_offgrid solid_channel lbm_poiseuille_offgrid.ya
 coflow_validation(lbm_poiseuille_offgrid_trt solid_channel lbm_poiseuille_offgrid.yaml 1 --set fluid.lbm.collision=trt)
 coflow_validation(lbm_poiseuille_offgrid_vs_reference compare lbm_poiseuille_offgrid.yaml 1
   "fluid.solver=lbm" "fluid.solver=lbm-reference")
+# The same with the central linear interpolation (Ginzburg et al. 2008) and
+# TRT, at tau 3 (its wall does not move with tau), and against lbm-reference.
+set(central_trt "fluid.lbm.bounce_back=central fluid.lbm.collision=trt")
+coflow_validation(lbm_poiseuille_offgrid_central solid_channel lbm_poiseuille_offgrid.yaml 1
+  --set fluid.lbm.bounce_back=central --set fluid.lbm.collision=trt --set fluid.lbm.tau=3.0)
+coflow_validation(lbm_poiseuille_offgrid_central_vs_reference compare lbm_poiseuille_offgrid.yaml 1
+  "fluid.solver=lbm ${central_trt}" "fluid.solver=lbm-reference ${central_trt}")
 coflow_validation(lbm_taylor_green decay lbm_taylor_green.yaml 2)
 coflow_validation(lbm_mass_conservation mass lbm_mass_conservation.yaml 2)
 coflow_validation(lbm_vs_reference compare lbm_all_boundaries_3d.yaml 1

@@ -694,6 +694,11 @@ class TwoPhaseCore final : public LbmCore {
     }
     return 0.5 * (out + r + b) - L::w[q];
   }
+  // The red share of a closure's populations where the cell's known ones sum
+  // to nothing: even with two fluids, all red with one (no blue of round-off).
+  double fallback_red() const {
+    return s_.tp.on ? 0.5 : 1.0;
+  }
   // The fraction of link q (towards x - e_q) of cell x where it enters an
   // interior solid, or < 0: half-way (no such link, or bounce_back halfway).
   double link_delta(long x, int q) const {
@@ -735,7 +740,7 @@ class TwoPhaseCore final : public LbmCore {
       if (!unknown[q]) known_r += r[q], known += r[q] + b[q];
     bool set[L::Q] = {}, rebuilt = false;
     for (int q = 0; q < L::Q; ++q) f[q] = r[q] + b[q] - L::w[q];
-    if (close_corner(x, loc, on, f, F, set, known > 0.0 ? known_r / known : 0.5, r, b)) return;
+    if (close_corner(x, loc, on, f, F, set, known > 0.0 ? known_r / known : fallback_red(), r, b)) return;
     for (int face = 0; face < 6; ++face) {
       const Face& fc = s_.faces[face];
       if ((fc.type != FaceType::pressure && fc.type != FaceType::velocity) || !on(face)) continue;
@@ -758,7 +763,7 @@ class TwoPhaseCore final : public LbmCore {
       }
       for (int q = 0; q < L::Q; ++q) set[q] = set[q] || s * L::e[q][axis] > 0;
     }
-    if (psi < 0.0) psi = known > 0.0 ? known_r / known : 0.5;
+    if (psi < 0.0) psi = known > 0.0 ? known_r / known : fallback_red();
     for (int q = 0; q < L::Q; ++q) {
       const double total = f[q] + L::w[q];
       const double red = set[q] ? psi * total : rebuilt ? share_red(total, r[q], b[q]) : r[q];

@@ -223,7 +223,7 @@ void LbmReference::close_colours(long i, long j, long k, std::vector<bool>& unkn
   int meeting = 0;
   for (int face = 0; face < 6; ++face) meeting += meets[face] = open_face_at(x, face);
   if (meeting >= 2) {
-    const double psi_known = known > 0.0 ? known_r / known : 0.5;
+    const double psi_known = known > 0.0 ? known_r / known : (s_.tp.on ? 0.5 : 1.0);
     rebuild_corner(x, f.data(), colour_tau(2.0 * psi_known - 1.0),
                    [&](long cell, int q) { return post_r[cell * Q_ + q] + post_b[cell * Q_ + q]; });
     for (int q = 0; q < Q_; ++q) {
@@ -262,7 +262,7 @@ void LbmReference::close_colours(long i, long j, long k, std::vector<bool>& unkn
     rebuilt = rebuilt || F.regularized;
     for (int q = 0; q < Q_; ++q) set[q] = set[q] || s * e_[q][axis] > 0;
   }
-  if (psi < 0.0) psi = known > 0.0 ? known_r / known : 0.5;
+  if (psi < 0.0) psi = known > 0.0 ? known_r / known : (s_.tp.on ? 0.5 : 1.0);
   for (int q = 0; q < Q_; ++q) {
     if (!set[q] && !rebuilt) continue;
     const double red = set[q] ? psi * f[q] : lbm::share_red(f[q], r[q], b[q]);

@@ -137,7 +137,7 @@ void report_solids(config::Report& r, const FluidParams& fp, const lbm::LbmParam
   r.add("fluid", "solids",
         fmt::format("{} of fluid.solids ({} of them voxel images), {} bounce-back{}", fp.solids.size(),
                     voxels, lp.bounce_back,
-                    lp.bounce_back == "interpolated" && lp.collision == "trt"
+                    shapes && lp.bounce_back == "interpolated" && lp.collision == "trt"
                         ? " (with TRT its wall moves with tau; central's does not: docs/validation.md)"
                         : ""));
   if (interpolated && !shapes)

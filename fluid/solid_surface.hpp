@@ -1,7 +1,8 @@
 // Where the lattice links of fluid.solids' surfaces cross them: the fraction
 // of a link from a fluid cell's centre to a solid cell's centre at which it
 // enters a solid, the q of the interpolated bounce-back of Bouzidi, Firdaouss
-// & Lallemand (2001) (fluid.lbm.bounce_back: interpolated). Spheres (discs in
+// & Lallemand (2001) and of Ginzburg et al.'s (2008) central linear
+// interpolation (fluid.lbm.bounce_back: interpolated, central). Spheres (discs in
 // 2D) and boxes exactly, meshes by their triangles, voxel images at the
 // half (their voxels' faces). Part of the fluid schema library.
 #pragma once

@@ -261,7 +261,8 @@ void visit_solids(config::Visitor& v, const config::Config& cfg, std::vector<Sol
       "solids",
       "interior solids of the fluid (half-way bounce-back at the faces of solid cells, or where the links "
       "cross "
-      "the solid's surface with fluid.lbm.bounce_back: interpolated): a cell is solid when its centre is "
+      "the solid's surface with fluid.lbm.bounce_back: interpolated or central): a cell is solid when its "
+      "centre is "
       "inside "
       "one; a later item's contact angle wins where they overlap",
       {{"voxels", "an image on the fluid grid, one voxel per cell, nonzero = solid",

@@ -46,6 +46,10 @@ set(coflow_test_costs
   unit.amr_cavity_implicit 20
   validation.dpm_jet_plate 20
   validation.solids_sphere_array 20
+  validation.solids_sphere_array_interpolated 20
+  validation.solids_sphere_array_central 20
+  validation.solids_sphere_array_tau_central 22
+  validation.psm_walls_variants 27
   validation.dpm_mesh_vs_reference 19
   validation.ibm_ranks_1_vs_16_moving 19
   validation.dem_outlet_vs_reference 18

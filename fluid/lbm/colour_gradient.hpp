@@ -120,7 +120,8 @@ inline void wet_gradient(double g[3], const double ns[3], double cos_theta) {
 // Red's part of a rebuilt population `total` whose old value was red r and
 // blue b: total r / (r + b), exactly total where there is no blue (one fluid
 // with solids runs as red alone, and (total r) / r can miss total by an ulp:
-// blue of round-off, which the interpolated bounce-back lets grow).
+// blue of round-off, which the interpolated bounce-back let grow before it
+// kept each colour's mass).
 inline double share_red(double total, double r, double b) {
   return b == 0.0 ? total : total * r / (r + b);
 }
@@ -243,8 +244,8 @@ template <class L, bool Incompressible, class T>
   const T A = perturbation_amplitude<L>(p.gamma, omega);
   // Red's share, exactly 1 where there is no blue (one fluid with solids runs
   // as red alone: rho_r / rho_r by the reciprocal can miss 1 by an ulp and
-  // make blue of round-off, which a boundary that does not keep mass, as
-  // the interpolated bounce-back, would let grow).
+  // make blue of round-off, which a boundary that does not keep each
+  // colour's mass, as the interpolated bounce-back once did, lets grow).
   const T share = rho_b == zero ? splat<T>(1.0) : rho_r * inv_rho,
           recolour = some ? p.beta * rho_r * rho_b * inv_rho / gn : zero;
   T sr = zero, sb = zero;

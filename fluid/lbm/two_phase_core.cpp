@@ -497,7 +497,7 @@ class TwoPhaseCore final : public LbmCore {
 
   // Pull streaming of both colours into `next` (seed 000 eqs. 2.64-2.65), with
   // half-way bounce-back from solid cells (eq. 2.44; interpolated at interior
-  // solids with fluid.lbm.bounce_back: interpolated), and the colour field of
+  // solids with fluid.lbm.bounce_back: interpolated or central), and the colour field of
   // the pulled populations.
   void stream() {
     const auto one = [&](long i, long j, long k, long x) {

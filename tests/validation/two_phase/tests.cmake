@@ -157,6 +157,8 @@ coflow_validation(two_phase_central_colour_mass colour_mass two_phase_crosscheck
   --set run.end_time=1000.0 --set run.output.every=1000.0 --set ${central} --set ${offgrid_solids})
 coflow_validation(two_phase_grains_central_vs_reference compare two_phase_grains_crosscheck.yaml 1
   "fluid.solver=lbm ${central} ${grain_solids}" "fluid.solver=lbm-reference ${central} ${grain_solids}")
+coflow_validation(two_phase_grains_central_ranks_1_vs_4 compare two_phase_grains_crosscheck.yaml 2
+  "fluid.ranks=1 ${central} ${grain_solids}" "fluid.ranks=4 fluid.decomposition=[2,2,1] ${central} ${grain_solids}")
 # Laplace in 3D (D3Q19), one droplet of 18 cells in a 56-cell box on 2 ranks
 # (the issue's 2 % needs R = 18: 5.7 % at 10 cells, 2.6 % at 14). tau = 1 at
 # the same time step (the viscosity 5/3 of the 2D case's): the pressure waves

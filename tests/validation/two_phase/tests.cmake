@@ -116,6 +116,14 @@ coflow_validation(solids_channel_interpolated_vs_reference compare solids_channe
   "fluid.solver=lbm ${interpolated}" "fluid.solver=lbm-reference ${interpolated}")
 coflow_validation(solids_channel_interpolated_ranks_1_vs_4 compare solids_channel.yaml 2
   "fluid.ranks=1 ${interpolated}" "fluid.ranks=4 fluid.decomposition=[2,2,1] ${interpolated}")
+# The disc in the channel on D3Q19 one cell deep (periodic z: the links (±1,
+# 0, ±1) stream in the plane, and the fractions and the central
+# interpolation's second cell follow them), against lbm-reference and on 4 ranks.
+set(flat_central "fluid.lbm.lattice=D3Q19 fluid.lbm.collision=trt fluid.lbm.bounce_back=central")
+coflow_validation(solids_channel_central_flat_d3q19_vs_reference compare solids_channel.yaml 1
+  "fluid.solver=lbm ${flat_central}" "fluid.solver=lbm-reference ${flat_central}")
+coflow_validation(solids_channel_central_flat_d3q19_ranks_1_vs_4 compare solids_channel.yaml 2
+  "fluid.ranks=1 ${flat_central}" "fluid.ranks=4 fluid.decomposition=[2,2,1] ${flat_central}")
 # The box of the config and a sphere 0.3 of a link from the first fluid
 # centres beside it and beside the wall y = 0, where the interpolation's
 # second cell is solid or beyond the wall (half-way there).

@@ -6,7 +6,8 @@ MONO_RUN: a run of configs/validation/dpm_granular_gas.yaml (collision-angle and
 relative-speed PDFs against eqs 5.7-5.8); BIDISPERSE_RUN: a run of
 configs/validation/dpm_granular_gas_bidisperse.yaml (energy ratios k_p/k_m and
 k_q/k_m against eqs 5.18-5.19). OUT_DIR defaults to docs/img. The ctest runs
-leave them in build/tests/val-dpm_granular_gas*/run. Uses Debian's python3 with
+leave them in build/tests/val-dpm_granular_gas*/run when run with
+COFLOW_KEEP_TEST_OUTPUT=1 (a passing test removes its snapshots). Uses Debian's python3 with
 h5py, numpy and matplotlib.
 """
 import csv

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Plots of the validation cases for docs/validation.md.
 
-Run the validation tests first (scripts/test -L validation), then
+Run the validation tests first, keeping their snapshots (a passing test
+removes them otherwise): COFLOW_KEEP_TEST_OUTPUT=1 scripts/test -L validation; then
     scripts/plot_validation.py [build/tests] [docs/img] [out/cases]
 The third directory, when it exists, holds runs of the full-size settling-sphere
 configs, each in a folder named after the case (e1 ... e4):

@@ -5,6 +5,7 @@
 # then finishes the run.
 set -u
 bin=$1 cfg=$2 out=$3
+trap '[ $? -ne 0 ] || "$(dirname "$0")/../clean_passed.sh" "$out"' EXIT  # a failure keeps its snapshots
 rm -rf "$out"; mkdir -p "$out"
 fail() { echo "FAIL: $*"; tail -n 20 "$out/run.log"; exit 1; }
 # mpirun --tag-output puts "[1,N]<stdout>:" before each line of the ranks: the

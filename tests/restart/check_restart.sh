@@ -10,6 +10,7 @@
 # still end exactly where the straight run ends.
 set -u
 bin=$1 cfg=$2 out=$3 every=$4; shift 4
+trap '[ $? -ne 0 ] || "$(dirname "$0")/../clean_passed.sh" "$out"' EXIT  # a failure keeps its snapshots
 rm -rf "$out"; mkdir -p "$out"
 run() { local dir=$1; shift; "$bin/coflow" run "$cfg" --set run.output.dir="$dir" "$@" >"$dir.log" 2>&1 || { tail -n 20 "$dir.log"; echo "FAIL: $dir"; exit 1; }; }
 run "$out/straight" "$@"

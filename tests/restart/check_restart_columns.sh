@@ -6,6 +6,7 @@
 # the old header; into a new directory the same restart runs.
 set -u
 bin=$1 cfg=$2 out=$3
+trap '[ $? -ne 0 ] || "$(dirname "$0")/../clean_passed.sh" "$out"' EXIT  # a failure keeps its snapshots
 rm -rf "$out"; mkdir -p "$out"
 one='run.output.probes=[{name: a, point: [0.016, 0.016, 0.03]}]'
 two='run.output.probes=[{name: a, point: [0.016, 0.016, 0.03]}, {name: b, point: [0.01, 0.01, 0.01]}]'

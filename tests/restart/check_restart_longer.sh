@@ -8,6 +8,7 @@
 # written once, and the final state bit for bit.
 set -u
 bin=$1 cfg=$2 out=$3 end=$4 every=$5 longer=$6; shift 6
+trap '[ $? -ne 0 ] || "$(dirname "$0")/../clean_passed.sh" "$out"' EXIT  # a failure keeps its snapshots
 fail() { echo "FAIL: $*"; exit 1; }
 rm -rf "$out"; mkdir -p "$out"
 run() { local dir=$1; shift; "$bin/coflow" run "$cfg" --set run.output.dir="$dir" --set run.output.every="$every" "$@" >"$dir.log" 2>&1 || { tail -n 20 "$dir.log"; fail "$dir"; }; }

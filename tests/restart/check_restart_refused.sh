@@ -10,6 +10,7 @@
 # run's own settings then goes on.
 set -u
 bin=$1 cfg=$2 out=$3
+trap '[ $? -ne 0 ] || "$(dirname "$0")/../clean_passed.sh" "$out"' EXIT  # a failure keeps its snapshots
 rm -rf "$out"; mkdir -p "$out"
 short=(--set run.end_time=0.03 --set run.output.every=0.01 --set run.checkpoint.every=0.01 --set run.checkpoint.keep=3)
 "$bin/coflow" run "$cfg" --set run.output.dir="$out/run" "${short[@]}" >"$out/run.log" 2>&1 ||

@@ -7,6 +7,7 @@
 # into its own directory): its rows must equal the straight run's last rows.
 set -u
 bin=$1 cfg=$2 out=$3 every=$4 series=$5; shift 5
+trap '[ $? -ne 0 ] || "$(dirname "$0")/../clean_passed.sh" "$out"' EXIT  # a failure keeps its snapshots
 after=0
 if [ "${1:-}" = --rows-after ]; then after=1; shift; fi
 rm -rf "$out"; mkdir -p "$out"

@@ -8,6 +8,7 @@
 # other files byte by byte).
 set -u
 bin=$1 cfg=$2 out=$3 comp=$4 a=$5 b=$6 every=$7; shift 7
+trap '[ $? -ne 0 ] || "$(dirname "$0")/../clean_passed.sh" "$out"' EXIT  # a failure keeps its snapshots
 rm -rf "$out"; mkdir -p "$out"
 fail() { echo "FAIL: $*"; exit 1; }
 for v in "$a" "$b"; do

@@ -279,4 +279,5 @@ while IFS=, read -r c metric op bound source; do
   fi
 done < "$here/references.csv"
 [ $n -gt 0 ] || { echo "FAIL: no reference rows for case $case_name"; exit 1; }
+[ $status -ne 0 ] || "$here/../clean_passed.sh" "$out"  # a failure keeps its snapshots
 exit $status

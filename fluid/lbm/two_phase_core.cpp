@@ -218,11 +218,8 @@ class TwoPhaseCore final : public LbmCore {
         const bool back = solid_[src] != 0;
         r[q] = back ? pop_.next[at(L::opp[q], x)] : pop_.next[at(q, src)];
         b[q] = back ? pop_.next[at(L::opp[q], x) + 1] : pop_.next[at(q, src) + 1];
-        if (const double delta = back ? link_delta(x, q) : -1.0; delta >= 0.0) {  // as stream_cell
-          kept[0] += r[q], kept[1] += b[q];
-          interpolate(pop_.next.data(), x, q, delta, r[q], b[q]);
-          kept[0] -= r[q], kept[1] -= b[q];
-        }
+        if (const double delta = back ? link_delta(x, q) : -1.0; delta >= 0.0)  // as stream_cell
+          interpolate(pop_.next.data(), x, q, delta, r[q], b[q], kept);
       }
       r[0] += kept[0], b[0] += kept[1];
       gradient(x, g);
@@ -636,11 +633,8 @@ class TwoPhaseCore final : public LbmCore {
           // Ladd's momentum exchange, relative to the fluid at rest at the
           // reference density (whose push on a closed solid sums to zero).
           double moved = r + b - L::w[q];
-          if (const double delta = link_delta(x, q); delta >= 0.0) {
-            kept[0] += r, kept[1] += b;
-            moved = interpolate(pop_.f.data(), x, q, delta, r, b);
-            kept[0] -= r, kept[1] -= b;
-          }
+          if (const double delta = link_delta(x, q); delta >= 0.0)
+            moved = interpolate(pop_.f.data(), x, q, delta, r, b, kept);
           const int slot = solid_[src] == kWall ? wall_face(i, j, k, q) : 5 + solid_[src];
           if (slot >= 0) {
             if (slot != last_slot)  // most cells border one wall or solid: looked up once
@@ -674,10 +668,12 @@ class TwoPhaseCore final : public LbmCore {
   // (f*_opp(q)(x + e_q) - f*_q(x)) (half-way where x + e_q is not fluid).
   // Returns the momentum exchange's share, (out + in) / 2 - w_q.
   // The interpolation does not return what left (half-way bounce-back does):
-  // the callers add the difference, colour by colour, to the cell's rest
-  // population, which keeps each colour's mass and carries no momentum.
-  double interpolate(const double* f, long x, int q, double delta, double& r, double& b) const {
+  // what it falls short of the half-way values, colour by colour, is added to
+  // `kept`, which the caller adds to the cell's rest population once all links
+  // are pulled; that keeps each colour's mass and carries no momentum.
+  double interpolate(const double* f, long x, int q, double delta, double& r, double& b, double* kept) const {
     const double out = r + b;
+    kept[0] += r, kept[1] += b;
     if (s_.tp.central) {  // fluid.lbm.bounce_back: central
       if (const long ahead = x + off_[q]; !solid_[ahead] && !open_[ahead]) {
         const double k = (1.0 - 2.0 * delta) / (1.0 + 2.0 * delta);
@@ -692,6 +688,7 @@ class TwoPhaseCore final : public LbmCore {
       r = 2.0 * delta * r + (1.0 - 2.0 * delta) * f[at(L::opp[q], ahead)];
       b = 2.0 * delta * b + (1.0 - 2.0 * delta) * f[at(L::opp[q], ahead) + 1];
     }
+    kept[0] -= r, kept[1] -= b;
     return 0.5 * (out + r + b) - L::w[q];
   }
   // The red share of a closure's populations where the cell's known ones sum

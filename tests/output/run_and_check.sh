@@ -2,6 +2,7 @@
 # run_and_check.sh COFLOW CONFIG OUTDIR PVPYTHON SCRIPT
 set -eu
 coflow=$1 cfg=$2 out=$3 pv=$4 script=$5
+trap '[ $? -ne 0 ] || "$(dirname "$0")/../clean_passed.sh" "$out"' EXIT  # a failure keeps its snapshots
 rm -rf "$out"
 "$coflow" run "$cfg" --set run.output.dir="$out" >"$out.log" 2>&1 || { cat "$out.log"; exit 1; }
 [ -f "$out/run.xdmf" ] && [ -f "$out/summary.json" ] || { echo "FAIL: run.xdmf or summary.json missing"; exit 1; }

@@ -76,8 +76,10 @@ echo "fluid: a failure of an earlier run" >"$out/checkpointed/logs/FAILED"
 run "$out/checkpointed" --restart latest --set run.checkpoint.every="$every" --set run.checkpoint.keep=2 "$@"
 [ ! -e "$out/checkpointed/logs/FAILED" ] || { echo "FAIL: the restart kept the earlier run's logs/FAILED"; exit 1; }
 # A fresh run into the directory removes the earlier run's checkpoints and
-# says so (they would be pruned in place of its own, and be its `latest`).
-run "$out/checkpointed" "$@" --set run.checkpoint.every=0
+# says so (they would be pruned in place of its own, and be its `latest`). The
+# removal comes before the first step: the run ends at the first checkpoint's
+# time (a whole number of windows), its results unread.
+run "$out/checkpointed" "$@" --set run.checkpoint.every=0 --set run.end_time="$every"
 grep -q "checkpoint(s) of the run before it in $out/checkpointed/checkpoints are removed" "$out/checkpointed.log" ||
   { echo "FAIL: a fresh run did not report the earlier checkpoints' removal"; exit 1; }
 left=$(ls -d "$out"/checkpointed/checkpoints/window_* 2>/dev/null | wc -l)

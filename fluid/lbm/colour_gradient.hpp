@@ -264,6 +264,33 @@ template <class L, bool Incompressible, class T>
   return uu;
 }
 
+// colour_collide_lanes where there is no blue (b = +0 in every population)
+// and no surface tension (one fluid with interior solids): its perturbation
+// and recolouring then add zeros, so red becomes the collided total and its
+// rest population what the moving ones leave, blue stays +0, whatever the
+// colour gradient. The same operations on red in the same order, so the same
+// bits; blue is not read or written.
+template <class L, bool Incompressible, class T>
+[[gnu::always_inline]] inline T red_collide_lanes(T* r, const ColourParams& p, const double* F) {
+  T rho_r = r[0], f[L::Q];
+#pragma GCC unroll 32
+  for (int q = 1; q < L::Q; ++q) rho_r += r[q];
+#pragma GCC unroll 32
+  for (int q = 0; q < L::Q; ++q) f[q] = r[q] - L::w[q];  // zero-centred
+  const T psi = rho_r * (1.0 / rho_r);                   // (rho_r - 0) / (rho_r + 0)
+  const T tau = mixed_tau(psi, p.tau_red, p.tau_blue), omega = 1.0 / tau;
+  const T omega_minus = p.trt ? 1.0 / (0.5 + p.magic / (tau - 0.5)) : omega;
+  const T uu = collide_lanes<L, Incompressible>(f, omega, omega_minus, F);
+  T sr = splat<T>(0.0);
+#pragma GCC unroll 32
+  for (int q = 1; q < L::Q; ++q) {
+    r[q] = f[q] + L::w[q];
+    sr += r[q];
+  }
+  r[0] = rho_r - sr;
+  return uu;
+}
+
 template <class L, bool Incompressible>
 inline double colour_collide(double* r, double* b, const double g[3], const ColourParams& p, const double* F) {
   return colour_collide_lanes<L, Incompressible, double>(r, b, g, p, F);

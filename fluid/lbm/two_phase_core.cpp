@@ -90,7 +90,7 @@ class TwoPhaseCore final : public LbmCore {
     stream();
     if (hook_) hook_();  // immersed boundaries: the streamed populations are in `next`
     colour_grains();
-    ghosts_.exchange(phi_);
+    if (!one_colour_) ghosts_.exchange(phi_);  // one colour: the gradient changes nothing (red_collide_lanes)
     fill_open_ghosts();
     max_u2_ = 0.0;
     const auto one = [&](long i, long j, long k, long x) {
@@ -100,7 +100,8 @@ class TwoPhaseCore final : public LbmCore {
       for_rows([&](long x) { return plain_pull_[x] && !special_[x] && !forced_cell_[x]; },
                [&](long x) { collide4<false>(x); }, one);
     else
-      for_rows([&](long x) { return plain(x); }, [&](long x) { collide4<true>(x); }, one);
+      for_rows([&](long x) { return plain(x); },
+               [&](long x) { one_colour_ ? collide4_red(x) : collide4<true>(x); }, one);
     pop_.swap();
   }
 
@@ -502,6 +503,8 @@ class TwoPhaseCore final : public LbmCore {
     };
     if (hook_ && src_.empty())  // immersed boundaries: every cell's populations into `next`
       for_rows([&](long x) { return plain_pull_[x] && !special_[x]; }, [&](long x) { stream4(x); }, one);
+    else if (one_colour_)  // the four-cell collision reads no colour field
+      for_rows([&](long x) { return plain(x); }, [](long) {}, one);
     else
       for_rows([&](long x) { return plain(x); }, [&](long x) { colour4(x); }, one);
   }
@@ -605,6 +608,37 @@ class TwoPhaseCore final : public LbmCore {
     for (int q = 0; q < L::Q; ++q) {
       Vec4 lo, hi;
       join_pairs(r[q], b[q], lo, hi);
+      detail::put<false>(next + 2 * (q * n + x), lo);
+      detail::put<false>(next + 2 * (q * n + x) + 4, hi);
+    }
+  }
+
+  // collide4<true> in one fluid (no blue, no surface tension; interior solids
+  // and immersed bodies do not run together): red_collide_lanes, without the
+  // colour field and its gradient; blue stored as the +0 that
+  // colour_collide_lanes makes of it.
+  void collide4_red(long x) {
+    const long n = cells_;  // locals: see colour4
+    const double* f = pop_.f.data();
+    double* next = pop_.next.data();
+    const long* off = off_;
+    Vec4 r[L::Q], blue;
+    const double F[3] = {s_.force[0] + 0.0, s_.force[1] + 0.0, s_.force[2] + 0.0};  // as collide4
+#pragma GCC unroll 32
+    for (int q = 0; q < L::Q; ++q) {
+      const double* p = f + 2 * (q * n + x - off[q]);
+      split_pairs(detail::get(p), detail::get(p + 4), r[q], blue);
+      prefetch_pulled(p + prefetch_ahead);
+    }
+    const Vec4 uu = red_collide_lanes<L, Incompressible, Vec4>(r, colour_, F);
+    double most = max_u2_;
+    for (int m = 0; m < 4; ++m) most = nan_max(most, uu[m]);
+    max_u2_ = most;
+    const Vec4 zero = splat<Vec4>(0.0);
+#pragma GCC unroll 32
+    for (int q = 0; q < L::Q; ++q) {
+      Vec4 lo, hi;
+      join_pairs(r[q], zero, lo, hi);
       detail::put<false>(next + 2 * (q * n + x), lo);
       detail::put<false>(next + 2 * (q * n + x) + 4, hi);
     }
@@ -897,8 +931,14 @@ class TwoPhaseCore final : public LbmCore {
 
   void collide_cell(long i, long j, long k, long x) {
     double g[3], r[L::Q], b[L::Q], F[3];
-    gradient(x, g);
     force((k * lay_.extent[1] + j) * lay_.extent[0] + i, F);
+    if (one_colour_) {  // as collide4_red: blue stays +0
+      for (int q = 0; q < L::Q; ++q) r[q] = pop_.next[at(q, x)];
+      max_u2_ = nan_max(max_u2_, red_collide_lanes<L, Incompressible, double>(r, colour_, F));
+      for (int q = 0; q < L::Q; ++q) pop_.next[at(q, x)] = r[q], pop_.next[at(q, x) + 1] = 0.0;
+      return;
+    }
+    gradient(x, g);
     for (int q = 0; q < L::Q; ++q) r[q] = pop_.next[at(q, x)], b[q] = pop_.next[at(q, x) + 1];
     const double uu = colour_collide<L, Incompressible>(r, b, g, colour_, F);
     max_u2_ = nan_max(max_u2_, uu);
@@ -936,6 +976,9 @@ class TwoPhaseCore final : public LbmCore {
   std::vector<Wet> wet_;
   std::vector<double> src_;
   std::function<void()> hook_;                // immersed boundaries: runs between streaming and collision
+  // One fluid with interior solids: blue is +0 everywhere and there is no
+  // surface tension (the two-fluid arithmetic leaves it so to the bit).
+  bool one_colour_ = !s_.tp.on;
   bool fused_ = true;  // neither a source nor a hook: plain cells take the fused four-cell passes
   std::vector<double> cell_force_;            // their force, 3 per owned cell (lattice units)
   std::vector<long> forced_;                  // the owned cells cell_force_ holds forces on

@@ -6,12 +6,13 @@
 # validations, and those shortened on 2026-11-28: unit.amr, the grain
 # interface, the capillary bridge and E4, timed alone or scaled by their
 # steps; the k-epsilon tests of the adaptive grid and unit.mpi with them,
-# 2026-11-28, in ctest -j2 beside others). Included by tests/CMakeLists.txt after every
+# 2026-11-28, in ctest -j2 beside others; the DFG tests and the Slurm test
+# from the whole-suite run of 2026-12-06, session 71). Included by tests/CMakeLists.txt after every
 # test is defined; a name that is no test is reported.
 set(coflow_test_costs
-  validation.lbm_dfg_cylinder 30
-  validation.lbm_dfg_cylinder_2d2 60
-  validation.lbm_dfg_cylinder_halfway 30
+  validation.lbm_dfg_cylinder 23
+  validation.lbm_dfg_cylinder_2d2 31
+  validation.lbm_dfg_cylinder_halfway 23
   validation.ibm_cylinder_re20 80
   validation.two_phase_laplace_3d 50
   unit.mpi 28
@@ -35,7 +36,7 @@ set(coflow_test_costs
   validation.lbm_duct_3d_pressure 28
   validation.dpm_grid_turbulence_ct026 28
   validation.dpm_grid_turbulence 27
-  cluster.srun_quickstart 26
+  cluster.srun_quickstart 14
   unit 25
   validation.dem_gravity_pour 25
   validation.ibm_cylinder_re20_lbm 24

@@ -78,7 +78,7 @@ run "$out/checkpointed" --restart latest --set run.checkpoint.every="$every" --s
 # A fresh run into the directory removes the earlier run's checkpoints and
 # says so (they would be pruned in place of its own, and be its `latest`). The
 # removal comes before the first step: the run ends at the first checkpoint's
-# time (a whole number of windows), its results unread.
+# time, its results unread.
 run "$out/checkpointed" "$@" --set run.checkpoint.every=0 --set run.end_time="$every"
 grep -q "checkpoint(s) of the run before it in $out/checkpointed/checkpoints are removed" "$out/checkpointed.log" ||
   { echo "FAIL: a fresh run did not report the earlier checkpoints' removal"; exit 1; }

@@ -218,26 +218,13 @@ template <class L, bool Incompressible, class T>
   return uu;
 }
 
-// One cell (T = double) or four (T = Vec4, the lanes independent, the same
-// arithmetic, so that a cell gets the same bits either way): red r and blue b
-// pulled (pre-collision); g the colour gradient of eq. 2.56; F the force
-// density. Writes the post-collision, recoloured populations back into r and
-// b. Returns u^2. Incompressible: the equilibrium of He & Luo (reference
-// density 1 in the velocity terms).
-template <class L, bool Incompressible, class T>
-[[gnu::always_inline]] inline T colour_collide_lanes(T* r, T* b, const T g[3], const ColourParams& p,
-                                                     const double* F) {
-  T rho_r = r[0], rho_b = b[0], f[L::Q];
-#pragma GCC unroll 32
-  for (int q = 1; q < L::Q; ++q) rho_r += r[q], rho_b += b[q];
-#pragma GCC unroll 32
-  for (int q = 0; q < L::Q; ++q) f[q] = r[q] + b[q] - L::w[q];  // zero-centred
-  const T rho = rho_r + rho_b, inv_rho = 1.0 / rho, psi = (rho_r - rho_b) * inv_rho;
-  const T tau = mixed_tau(psi, p.tau_red, p.tau_blue), omega = 1.0 / tau;
-  const T omega_minus = p.trt ? 1.0 / (0.5 + p.magic / (tau - 0.5)) : omega;
-  const T uu = collide_lanes<L, Incompressible>(f, omega, omega_minus, F);
-#pragma GCC unroll 32
-  for (int q = 0; q < L::Q; ++q) f[q] += L::w[q];
+// The perturbation and recolouring of the collided total f (post-collision,
+// not zero-centred) into red r and blue b (rest populations included), for
+// colour_collide_lanes: g the colour gradient, omega the mixed rate, rho_r and
+// rho_b the colours' pre-collision densities, inv_rho their sum's reciprocal.
+template <class L, class T>
+[[gnu::always_inline]] inline void recolour_lanes(T* f, T* r, T* b, const T g[3], const ColourParams& p,
+                                                  T omega, T rho_r, T rho_b, T inv_rho) {
   const T zero = splat<T>(0.0), gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
   const auto some = gg > zero;  // lanes with a gradient; the others are only split
   const T gn = vsqrt(gg), inv_gg = some ? 1.0 / gg : zero;
@@ -261,6 +248,44 @@ template <class L, bool Incompressible, class T>
   // that each colour's mass is kept to round-off.
   r[0] = rho_r - sr;
   b[0] = rho_b - sb;
+}
+
+// One cell (T = double) or four (T = Vec4, the lanes independent, the same
+// arithmetic, so that a cell gets the same bits either way): red r and blue b
+// pulled (pre-collision); g the colour gradient of eq. 2.56; F the force
+// density. Writes the post-collision, recoloured populations back into r and
+// b. Returns u^2. Incompressible: the equilibrium of He & Luo (reference
+// density 1 in the velocity terms). Blue false: red alone (red_collide_lanes
+// below); b and g are not read.
+template <class L, bool Incompressible, class T, bool Blue = true>
+[[gnu::always_inline]] inline T colour_collide_lanes(T* r, T* b, const T g[3], const ColourParams& p,
+                                                     const double* F) {
+  T rho_r = r[0], rho_b = splat<T>(0.0), f[L::Q];
+  if constexpr (Blue) rho_b = b[0];
+#pragma GCC unroll 32
+  for (int q = 1; q < L::Q; ++q) {
+    rho_r += r[q];
+    if constexpr (Blue) rho_b += b[q];
+  }
+#pragma GCC unroll 32
+  for (int q = 0; q < L::Q; ++q) f[q] = (Blue ? r[q] + b[q] : r[q]) - L::w[q];  // zero-centred
+  const T rho = rho_r + rho_b, inv_rho = 1.0 / rho, psi = (rho_r - rho_b) * inv_rho;
+  const T tau = mixed_tau(psi, p.tau_red, p.tau_blue), omega = 1.0 / tau;
+  const T omega_minus = p.trt ? 1.0 / (0.5 + p.magic / (tau - 0.5)) : omega;
+  const T uu = collide_lanes<L, Incompressible>(f, omega, omega_minus, F);
+#pragma GCC unroll 32
+  for (int q = 0; q < L::Q; ++q) f[q] += L::w[q];
+  if constexpr (Blue) {
+    recolour_lanes<L>(f, r, b, g, p, omega, rho_r, rho_b, inv_rho);
+  } else {  // red becomes the collided total, its rest population what the moving ones leave
+    T sr = splat<T>(0.0);
+#pragma GCC unroll 32
+    for (int q = 1; q < L::Q; ++q) {
+      r[q] = f[q];
+      sr += r[q];
+    }
+    r[0] = rho_r - sr;
+  }
   return uu;
 }
 
@@ -269,26 +294,10 @@ template <class L, bool Incompressible, class T>
 // and recolouring then add zeros, so red becomes the collided total and its
 // rest population what the moving ones leave, blue stays +0, whatever the
 // colour gradient. The same operations on red in the same order, so the same
-// bits; blue is not read or written.
+// bits (rho_r + 0 and rho_r - 0 are rho_r); blue is not read or written.
 template <class L, bool Incompressible, class T>
 [[gnu::always_inline]] inline T red_collide_lanes(T* r, const ColourParams& p, const double* F) {
-  T rho_r = r[0], f[L::Q];
-#pragma GCC unroll 32
-  for (int q = 1; q < L::Q; ++q) rho_r += r[q];
-#pragma GCC unroll 32
-  for (int q = 0; q < L::Q; ++q) f[q] = r[q] - L::w[q];  // zero-centred
-  const T psi = rho_r * (1.0 / rho_r);                   // (rho_r - 0) / (rho_r + 0)
-  const T tau = mixed_tau(psi, p.tau_red, p.tau_blue), omega = 1.0 / tau;
-  const T omega_minus = p.trt ? 1.0 / (0.5 + p.magic / (tau - 0.5)) : omega;
-  const T uu = collide_lanes<L, Incompressible>(f, omega, omega_minus, F);
-  T sr = splat<T>(0.0);
-#pragma GCC unroll 32
-  for (int q = 1; q < L::Q; ++q) {
-    r[q] = f[q] + L::w[q];
-    sr += r[q];
-  }
-  r[0] = rho_r - sr;
-  return uu;
+  return colour_collide_lanes<L, Incompressible, T, false>(r, nullptr, nullptr, p, F);
 }
 
 template <class L, bool Incompressible>

@@ -66,13 +66,13 @@ void check_red_alone(bool trt) {
   const double F[3] = {1e-5, -2e-6, 3e-6};
   double worst = 0.0;
   int compared = 0;
+  const auto population = [](int cell, int q) {
+    const double eu = 0.05 * L::e[q][0] - 0.03 * L::e[q][1] + 0.02 * L::e[q][2];
+    return L::w[q] * (1.0 + 0.01 * std::sin(1.7 * cell + q) + 3.0 * eu);
+  };
   for (int cell = 0; cell < 64; ++cell) {
     double r[L::Q], b[L::Q], red[L::Q];
-    for (int q = 0; q < L::Q; ++q) {
-      const double eu = 0.05 * L::e[q][0] - 0.03 * L::e[q][1] + 0.02 * L::e[q][2];
-      r[q] = red[q] = L::w[q] * (1.0 + 0.01 * std::sin(1.7 * cell + q) + 3.0 * eu);
-      b[q] = 0.0;
-    }
+    for (int q = 0; q < L::Q; ++q) r[q] = red[q] = population(cell, q), b[q] = 0.0;
     const double g[3] = {0.3 * std::cos(cell), -0.2 + 0.01 * cell, 0.1 * std::sin(2.0 * cell)};
     const double uu = colour_collide<L, Incompressible>(r, b, g, p, F);
     const double uu_red = red_collide_lanes<L, Incompressible, double>(red, p, F);
@@ -83,12 +83,7 @@ void check_red_alone(bool trt) {
     }
     // The same on four lanes.
     Vec4 rl[L::Q];
-    double again[L::Q];
-    for (int q = 0; q < L::Q; ++q) {
-      const double eu = 0.05 * L::e[q][0] - 0.03 * L::e[q][1] + 0.02 * L::e[q][2];
-      again[q] = L::w[q] * (1.0 + 0.01 * std::sin(1.7 * cell + q) + 3.0 * eu);
-      rl[q] = Vec4{again[q], again[q], again[q], again[q]};
-    }
+    for (int q = 0; q < L::Q; ++q) rl[q] = splat<Vec4>(population(cell, q));
     red_collide_lanes<L, Incompressible, Vec4>(rl, p, F);
     for (int q = 0; q < L::Q; ++q) compared += rl[q][2] == r[q];
   }

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 
 #include "coflow/session.hpp"
@@ -101,7 +102,8 @@ class TwoPhaseCore final : public LbmCore {
                [&](long x) { collide4<false>(x); }, one);
     else
       for_rows([&](long x) { return plain(x); },
-               [&](long x) { one_colour_ ? collide4_red(x) : collide4<true>(x); }, one);
+               [&](long x) { one_colour_ ? collide4_red(x) : collide4<true>(x); },
+               [&](long i, long j, long k, long x) { return collide4_cells(i, j, k, x); }, one);
     pop_.swap();
   }
 
@@ -513,8 +515,15 @@ class TwoPhaseCore final : public LbmCore {
   // all four, else (and for the row's last cells) `one` per cell. A cell's
   // arithmetic is the same either way (the lanes are independent), so that
   // the results do not depend on where a block starts.
+  // `group`, where given, may take four cells that are not all plain at once
+  // (it returns false where it does not).
   template <class Plain, class Four, class One>
   void for_rows(Plain&& plain, Four&& four, One&& one) {
+    for_rows(
+        plain, four, [](long, long, long, long) { return false; }, one);
+  }
+  template <class Plain, class Four, class Group, class One>
+  void for_rows(Plain&& plain, Four&& four, Group&& group, One&& one) {
     const long nx = lay_.extent[0];
     for (long k = 0; k < lay_.extent[2]; ++k)
       for (long j = 0; j < lay_.extent[1]; ++j) {
@@ -525,6 +534,7 @@ class TwoPhaseCore final : public LbmCore {
             four(x);
             continue;
           }
+          if (group(i, j, k, x)) continue;
           for (long m = 0; m < 4; ++m) one(i + m, j, k, x + m);
         }
         for (; i < nx; ++i) one(i, j, k, lay_.idx(i, j, k));
@@ -927,6 +937,58 @@ class TwoPhaseCore final : public LbmCore {
       if (s_.tp.phase_field) rho = 1.0;
       phi_[m.x] = (1.0 - m.eps) * phi_[m.x] + m.eps * rho * m.wetting;
     }
+  }
+
+  // Four neighbouring cells off the plain path (next to solids or open faces,
+  // wetted), already streamed into `next`: collide_cell's colour gradient and
+  // force of each fluid one, then its collision on four lanes (the same bits
+  // per cell: the lanes are independent and the file has no fused
+  // multiply-adds). Solid and grain cells ride along at rest and are not
+  // stored. False, touching nothing, where fewer than two are fluid or their
+  // forces differ.
+  bool collide4_cells(long i, long j, long k, long x) {
+    const long c = (k * lay_.extent[1] + j) * lay_.extent[0] + i;
+    bool fluid[4];
+    double F[3], Fm[3], g[3][4] = {}, is_fluid[4];  // g: none in one colour (red_collide_lanes reads none)
+    int count = 0;
+    for (int m = 0; m < 4; ++m) {
+      fluid[m] = !solid_[x + m] && !grain_[x + m];
+      is_fluid[m] = fluid[m] ? 1.0 : 0.0;
+      if (!fluid[m]) continue;
+      force(c + m, count == 0 ? F : Fm);
+      if (count++ > 0 && std::memcmp(Fm, F, sizeof F) != 0) return false;  // the same bits, -0 included
+    }
+    if (count < 2) return false;
+    for (int m = 0; m < 4 && !one_colour_; ++m) {
+      double gm[3] = {0.0, 0.0, 0.0};
+      if (fluid[m]) gradient(x + m, gm);
+      for (int d = 0; d < 3; ++d) g[d][m] = gm[d];
+    }
+    const long n = cells_;
+    double* next = pop_.next.data();
+    const Vec4 zero = splat<Vec4>(0.0);
+    const auto keep = swap_middle(Vec4{is_fluid[0], is_fluid[1], is_fluid[2], is_fluid[3]}) > zero;
+    Vec4 r[L::Q], b[L::Q], gl[3];
+    for (int d = 0; d < 3; ++d) gl[d] = swap_middle(Vec4{g[d][0], g[d][1], g[d][2], g[d][3]});
+    for (int q = 0; q < L::Q; ++q) {
+      split_pairs(detail::get(next + 2 * (q * n + x)), detail::get(next + 2 * (q * n + x) + 4), r[q], b[q]);
+      r[q] = keep ? r[q] : splat<Vec4>(L::w[q]);
+      b[q] = keep ? b[q] : zero;
+    }
+    const Vec4 uu = one_colour_ ? red_collide_lanes<L, Incompressible, Vec4>(r, colour_, F)
+                                : colour_collide_lanes<L, Incompressible, Vec4>(r, b, gl, colour_, F);
+    const Vec4 uu_cells = swap_middle(uu);
+    for (int m = 0; m < 4; ++m)
+      if (fluid[m]) max_u2_ = nan_max(max_u2_, uu_cells[m]);
+    for (int q = 0; q < L::Q; ++q) {
+      Vec4 lo, hi;
+      join_pairs(r[q], one_colour_ ? zero : b[q], lo, hi);  // cells 0 1 in lo, 2 3 in hi
+      double* p = next + 2 * (q * n + x);
+      for (int m = 0; m < 4; ++m)
+        if (fluid[m])
+          p[2 * m] = (m < 2 ? lo : hi)[2 * (m % 2)], p[2 * m + 1] = (m < 2 ? lo : hi)[2 * (m % 2) + 1];
+    }
+    return true;
   }
 
   void collide_cell(long i, long j, long k, long x) {

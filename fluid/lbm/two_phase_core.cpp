@@ -695,6 +695,7 @@ class TwoPhaseCore final : public LbmCore {
       pop_.next[at(0, x)] += kept[0];  // each colour's mass kept (see interpolate)
       pop_.next[at(0, x) + 1] += kept[1];
       if (any) close_cell(i, j, k, x, unknown);
+      if (one_colour_) return;  // nothing reads the colour field (the plain cells store none either)
       double rr = 0.0, bb = 0.0;
       for (int q = 0; q < L::Q; ++q) rr += pop_.next[at(q, x)], bb += pop_.next[at(q, x) + 1];
       phi_[x] = colour_field(rr, bb, s_.tp.phase_field);

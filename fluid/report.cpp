@@ -22,7 +22,7 @@ constexpr double kCellUpdatesPerRankPerSecond = 30e6;
 // The colour-gradient kernel (two fluids or interior solids), one core of the
 // same VM (2026-12-06, session 72): D3Q19 7.2e6 (two fluids, 64^3) and 8.3e6
 // (one fluid around a sphere, 64^3); D2Q9 2.8e7 (two fluids, 256^2) and 3.8e7
-// (the DFG cylinder, 440 x 82). The lower of each.
+// (the DFG cylinder, 440 x 82). The lower of each, rounded down.
 constexpr double kColourCellUpdatesPerRankPerSecondD3Q19 = 7e6;
 constexpr double kColourCellUpdatesPerRankPerSecondD2Q9 = 25e6;
 // and a coupled window costs a few milliseconds of exchanges, waiting and the

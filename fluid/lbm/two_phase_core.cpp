@@ -497,8 +497,8 @@ class TwoPhaseCore final : public LbmCore {
 
   // Pull streaming of both colours into `next` (seed 000 eqs. 2.64-2.65), with
   // half-way bounce-back from solid cells (eq. 2.44; interpolated at interior
-  // solids with fluid.lbm.bounce_back: interpolated or central), and the colour field of
-  // the pulled populations.
+  // solids with fluid.lbm.bounce_back: interpolated or central), and (two
+  // fluids) the colour field of the pulled populations.
   void stream() {
     const auto one = [&](long i, long j, long k, long x) {
       if (!solid_[x]) stream_cell(i, j, k, x);
@@ -1018,7 +1018,7 @@ class TwoPhaseCore final : public LbmCore {
   // Red and blue side by side: red population q of cell x at at(q, x), blue
   // right after it (one stream per velocity for both colours).
   Populations<L, 2> pop_;
-  std::vector<double> phi_;          // rho_r - rho_b of the pulled populations; solids: their colour
+  std::vector<double> phi_;          // rho_r - rho_b of the pulled populations (two fluids); solids: their colour
   std::vector<std::uint8_t> solid_;  // 0 fluid, solid id, or kWall
   struct Wet {
     double ns[3];

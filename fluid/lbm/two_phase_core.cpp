@@ -102,7 +102,7 @@ class TwoPhaseCore final : public LbmCore {
                [&](long x) { collide4<false>(x); }, one);
     else
       for_rows([&](long x) { return plain(x); },
-               [&](long x) { one_colour_ ? collide4_red(x) : collide4<true>(x); },
+               [&](long x) { one_colour_ ? collide4<true, false>(x) : collide4<true>(x); },
                [&](long i, long j, long k, long x) { return collide4_cells(i, j, k, x); }, one);
     pop_.swap();
   }
@@ -588,21 +588,26 @@ class TwoPhaseCore final : public LbmCore {
   // `next`: pulled from the current populations (Pulled), or already streamed
   // into `next` by stream4 (with immersed boundaries stream() stores every
   // cell there, for the forcing to read; these cells take no cell force). The
-  // lanes run in the order 0 2 1 3 of the cells (split_pairs).
-  template <bool Pulled>
+  // lanes run in the order 0 2 1 3 of the cells (split_pairs). Blue false: one
+  // fluid (no blue, no surface tension; interior solids and immersed bodies do
+  // not run together): red_collide_lanes, without the colour field and its
+  // gradient; blue stored as the +0 that colour_collide_lanes makes of it.
+  template <bool Pulled, bool Blue = true>
   void collide4(long x) {
     const long n = cells_;  // locals: see colour4
     const double *f = pop_.f.data(), *phi = phi_.data();
     double* next = pop_.next.data();
     const long* off = off_;
-    Vec4 r[L::Q], b[L::Q], g[3];
-    g[0] = g[1] = g[2] = splat<Vec4>(0.0);
+    const Vec4 zero = splat<Vec4>(0.0);
+    Vec4 r[L::Q], b[L::Q], g[3] = {zero, zero, zero};
+    if constexpr (Blue) {
 #pragma GCC unroll 32
-    for (int q = 1; q < L::Q; ++q) {
-      const Vec4 ph = detail::get(phi + x + off[q]);
-      for (int d = 0; d < 3; ++d) g[d] += L::e[q][d] * ph;
+      for (int q = 1; q < L::Q; ++q) {
+        const Vec4 ph = detail::get(phi + x + off[q]);
+        for (int d = 0; d < 3; ++d) g[d] += L::e[q][d] * ph;
+      }
+      for (int d = 0; d < 3; ++d) g[d] = swap_middle(g[d]);
     }
-    for (int d = 0; d < 3; ++d) g[d] = swap_middle(g[d]);
     const double F[3] = {s_.force[0] + 0.0, s_.force[1] + 0.0, s_.force[2] + 0.0};  // as force() without a source
 #pragma GCC unroll 32
     for (int q = 0; q < L::Q; ++q) {
@@ -610,45 +615,15 @@ class TwoPhaseCore final : public LbmCore {
       split_pairs(detail::get(p), detail::get(p + 4), r[q], b[q]);
       if constexpr (Pulled) prefetch_pulled(p + prefetch_ahead);
     }
-    const Vec4 uu = colour_collide_lanes<L, Incompressible, Vec4>(r, b, g, colour_, F);
+    const Vec4 uu = Blue ? colour_collide_lanes<L, Incompressible, Vec4>(r, b, g, colour_, F)
+                         : red_collide_lanes<L, Incompressible, Vec4>(r, colour_, F);
     double most = max_u2_;
     for (int m = 0; m < 4; ++m) most = nan_max(most, uu[m]);
     max_u2_ = most;
 #pragma GCC unroll 32
     for (int q = 0; q < L::Q; ++q) {
       Vec4 lo, hi;
-      join_pairs(r[q], b[q], lo, hi);
-      detail::put<false>(next + 2 * (q * n + x), lo);
-      detail::put<false>(next + 2 * (q * n + x) + 4, hi);
-    }
-  }
-
-  // collide4<true> in one fluid (no blue, no surface tension; interior solids
-  // and immersed bodies do not run together): red_collide_lanes, without the
-  // colour field and its gradient; blue stored as the +0 that
-  // colour_collide_lanes makes of it.
-  void collide4_red(long x) {
-    const long n = cells_;  // locals: see colour4
-    const double* f = pop_.f.data();
-    double* next = pop_.next.data();
-    const long* off = off_;
-    Vec4 r[L::Q], blue;
-    const double F[3] = {s_.force[0] + 0.0, s_.force[1] + 0.0, s_.force[2] + 0.0};  // as collide4
-#pragma GCC unroll 32
-    for (int q = 0; q < L::Q; ++q) {
-      const double* p = f + 2 * (q * n + x - off[q]);
-      split_pairs(detail::get(p), detail::get(p + 4), r[q], blue);
-      prefetch_pulled(p + prefetch_ahead);
-    }
-    const Vec4 uu = red_collide_lanes<L, Incompressible, Vec4>(r, colour_, F);
-    double most = max_u2_;
-    for (int m = 0; m < 4; ++m) most = nan_max(most, uu[m]);
-    max_u2_ = most;
-    const Vec4 zero = splat<Vec4>(0.0);
-#pragma GCC unroll 32
-    for (int q = 0; q < L::Q; ++q) {
-      Vec4 lo, hi;
-      join_pairs(r[q], zero, lo, hi);
+      join_pairs(r[q], Blue ? b[q] : zero, lo, hi);
       detail::put<false>(next + 2 * (q * n + x), lo);
       detail::put<false>(next + 2 * (q * n + x) + 4, hi);
     }
@@ -995,7 +970,7 @@ class TwoPhaseCore final : public LbmCore {
   void collide_cell(long i, long j, long k, long x) {
     double g[3], r[L::Q], b[L::Q], F[3];
     force((k * lay_.extent[1] + j) * lay_.extent[0] + i, F);
-    if (one_colour_) {  // as collide4_red: blue stays +0
+    if (one_colour_) {  // as collide4<true, false>: blue stays +0
       for (int q = 0; q < L::Q; ++q) r[q] = pop_.next[at(q, x)];
       max_u2_ = nan_max(max_u2_, red_collide_lanes<L, Incompressible, double>(r, colour_, F));
       for (int q = 0; q < L::Q; ++q) pop_.next[at(q, x)] = r[q], pop_.next[at(q, x) + 1] = 0.0;

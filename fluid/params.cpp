@@ -392,6 +392,8 @@ static bool read_row(std::string line, double& x, std::vector<double>& values, b
 
 std::vector<ProfileTable> read_profile_columns(const std::string& path, int axis,
                                                const std::vector<std::string>& names) {
+  if (const std::string why = config::file_problem(path); !why.empty())
+    throw std::runtime_error(fmt::format("the profile table {}: {}", path, why));
   std::ifstream in(path);
   if (!in) throw std::runtime_error(fmt::format("cannot open the profile table {}", path));
   std::vector<ProfileTable> t(names.size());

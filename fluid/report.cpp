@@ -1,8 +1,9 @@
 // The fluid's part of the pre-run report (coflow/report.hpp).
+#include <fmt/format.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <fmt/format.h>
 
 #include "coflow/clock.hpp"
 #include "coflow/decomposition.hpp"
@@ -150,6 +151,18 @@ void report_solids(config::Report& r, const FluidParams& fp, const lbm::LbmParam
                                 lp.bounce_back));
 }
 
+// The fluid's ranks would need more memory than this machine has: say so (a
+// run on a cluster's nodes may still fit; there, check the nodes' memory).
+void warn_memory(config::Report& r, double bytes_per_rank, int ranks) {
+  const double host = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+  if (!(host > 0.0) || !(bytes_per_rank * ranks > host)) return;
+  r.warn("fluid",
+         fmt::format("the fluid's {} rank{} need about {} GiB, more than this machine's {} GiB: use fewer "
+                     "cells, or run on nodes that hold about {} GiB per rank",
+                     ranks, ranks == 1 ? "" : "s", config::number(bytes_per_rank * ranks / (1 << 30)),
+                     config::number(host / (1 << 30)), config::number(bytes_per_rank / (1 << 30))));
+}
+
 void report_lbm(const config::Config& cfg, config::Report& r) {
   const FluidParams fp = read_fluid(cfg);
   const auto lp = config::read_section<lbm::LbmParams>(cfg, "fluid.lbm", "fluid.lbm");
@@ -209,10 +222,12 @@ void report_lbm(const config::Config& cfg, config::Report& r) {
   const double colour_rate =
       Q == 9 ? kColourCellUpdatesPerRankPerSecondD2Q9 : kColourCellUpdatesPerRankPerSecondD3Q19;
   const double copies = colours ? 4.0 : 2.0, rate = colours ? colour_rate : kCellUpdatesPerRankPerSecond;
+  const double bytes = (copies * Q + (colours ? 1.2 : 0.0)) * 8.0 * block * 1.1;
   r.add("fluid", "memory",
         fmt::format("about {} MiB per rank ({} copies of {} populations per cell{})",
-                    config::number((copies * Q + (colours ? 1.2 : 0.0)) * 8.0 * block * 1.1 / (1 << 20)),
-                    colours ? "four" : "two", Q, colours ? ": red and blue" : ""));
+                    config::number(bytes / (1 << 20)), colours ? "four" : "two", Q,
+                    colours ? ": red and blue" : ""));
+  warn_memory(r, bytes, info.ranks);
   const double windows = cfg.components.size() > 1 ? std::ceil(cfg.run.end_time / window - 1e-9) : 0.0;
   const double hours = (steps * block / rate + windows * kSecondsPerCoupledWindow) / 3600.0;
   r.estimate_wall(hours * 3600.0);

@@ -1,4 +1,5 @@
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -336,21 +337,21 @@ void ParticleParams::check_wall_faces(Visitor& v, const config::Config& cfg) con
   for (std::size_t n = 0; n < walls.size(); ++n)
     for (std::size_t m = 0; m < n; ++m)
       if (!walls[n].face.empty() && walls[m].face == walls[n].face)
-        v.fail("walls",
-               fmt::format("item {}: face {} is item {} too; give each face once", n, walls[n].face, m));
+        v.fail(fmt::format("walls[{}].face", n),
+               fmt::format("face {} is item {} too; give each face once", walls[n].face, m));
   for (std::size_t n = 0; n < walls.size(); ++n)
     for (int f = 0; f < 6; ++f) {
       if (walls[n].face != faces[f]) continue;
       if (cfg.domain.periodic[f / 2])
-        v.fail("walls",
-               fmt::format("item {}: face {} is periodic (domain.periodic): it has no wall; remove the item "
+        v.fail(fmt::format("walls[{}].face", n),
+               fmt::format("face {} is periodic (domain.periodic): it has no wall; remove the item "
                            "or make axis {} non-periodic",
-                           n, faces[f], "xyz"[f / 2]));
+                           faces[f], "xyz"[f / 2]));
       else if (!boundaries[f].empty() && boundaries[f] != "wall")
-        v.fail("walls",
-               fmt::format("item {}: face {} is a wall here and {} {} in particles.boundaries; give the "
+        v.fail(fmt::format("walls[{}].face", n),
+               fmt::format("face {} is a wall here and {} {} in particles.boundaries; give the "
                            "face one kind",
-                           n, faces[f], boundaries[f] == "outlet" ? "an" : "a", boundaries[f]));
+                           faces[f], boundaries[f] == "outlet" ? "an" : "a", boundaries[f]));
     }
 }
 
@@ -392,7 +393,9 @@ void ParticleParams::visit_initial(Visitor& v) {
                 s("velocity", it.velocity, "mean velocity, m/s");
                 s("velocity_std", it.velocity_std, "standard deviation of each velocity component, m/s",
                   config::non_negative());
-                if (s.reading() && (it.count > 0) == (it.volume_fraction > 0))
+                // (A negative count or fraction is refused by its own rule.)
+                if (s.reading() && it.count >= 0 && it.volume_fraction >= 0 &&
+                    (it.count > 0) == (it.volume_fraction > 0))
                   s.fail("", "give exactly one of count or volume_fraction");
               }},
              {"file", "particles from an HDF5 snapshot written by coflow",
@@ -403,18 +406,29 @@ void ParticleParams::visit_initial(Visitor& v) {
               }}});
 }
 
+std::string ParticleParams::initial_key(std::size_t n, const std::string& field) const {
+  return fmt::format("initial[{}].{}{}", n, initial[n].kind, field.empty() ? "" : "." + field);
+}
+
+std::string ParticleParams::unknown_species(const std::string& name) const {
+  std::vector<std::string> names;
+  for (const auto& sp : species) names.push_back(sp.first);
+  const std::string near = config::closest(name, names);
+  return fmt::format("unknown species '{}'{}; the species defined are: {}", name,
+                     near.empty() ? "" : fmt::format("; did you mean '{}'?", near), fmt::join(names, ", "));
+}
+
 // Every species a key names is defined; fixed particles and injection belong
 // to one model each.
 void ParticleParams::check_references(Visitor& v) const {
   for (std::size_t n = 0; n < injection.size(); ++n) {
     if (species_index(injection[n].species) < 0)
-      v.fail("injection", fmt::format("item {} uses species '{}', which is not defined under species", n,
-                                      injection[n].species));
+      v.fail(fmt::format("injection[{}].species", n), unknown_species(injection[n].species));
   }
   for (std::size_t n = 0; n < initial.size(); ++n) {
     const auto& it = initial[n];
     if (it.kind != "file" && species_index(it.species) < 0)
-      v.fail("initial", fmt::format("item {} uses species '{}', which is not defined under species", n, it.species));
+      v.fail(initial_key(n, "species"), unknown_species(it.species));
   }
   for (std::size_t n = 0; n < collision.pairs.size(); ++n)
     for (const auto& name : collision.pairs[n].species)
@@ -455,16 +469,17 @@ void ParticleParams::check_initial_overlaps(Visitor& v) const {
   for (std::size_t n = 0; n < initial.size(); ++n) {
     const auto& it = initial[n];
     if (it.kind == "lattice" && it.spacing < largest(it.species) && !contact.bonded)
-      v.fail("initial", fmt::format("item {}: lattice spacing {:.4g} m is smaller than the diameter {:.4g} m of '{}': "
-                                    "the particles would overlap; enlarge the spacing",
-                                    n, it.spacing, largest(it.species), it.species));
+      v.fail(initial_key(n, "spacing"),
+             fmt::format("lattice spacing {:.4g} m is smaller than the diameter {:.4g} m of '{}': "
+                         "the particles would overlap; enlarge the spacing",
+                         it.spacing, largest(it.species), it.species));
     for (std::size_t m = n + 1; m < initial.size() && it.kind == "lattice"; ++m) {
       const auto& jt = initial[m];  // two lattices filling one place: grains on top of each other
       bool apart = jt.kind != "lattice";
       for (int k = 0; k < 3; ++k)
         apart = apart || std::min(it.upper[k], jt.upper[k]) <= std::max(it.lower[k], jt.lower[k]);
       if (!apart)
-        v.fail("initial",
+        v.fail(initial_key(m, ""),
                fmt::format("items {} and {}: the two lattices' regions overlap, so their grains would "
                            "be placed on (or into) each other; make the regions meet at a face at most",
                            n, m));
@@ -476,7 +491,7 @@ void ParticleParams::check_initial_overlaps(Visitor& v) const {
       const double gap = lattice_distance(jt, it.position),
                    touch = 0.5 * (largest(it.species) + largest(jt.species));
       if (gap < touch)
-        v.fail("initial",
+        v.fail(initial_key(n, "position"),
                fmt::format("items {} and {}: the single grain overlaps a grain of the lattice (centres "
                            "{:.4g} m apart, contact at {:.4g} m); move it, or take the lattice's region "
                            "clear of it",
@@ -489,27 +504,29 @@ void ParticleParams::check_initial_overlaps(Visitor& v) const {
       for (int k = 0; k < 3; ++k) d2 += (it.position[k] - jt.position[k]) * (it.position[k] - jt.position[k]);
       const double touch = 0.5 * (largest(it.species) + largest(jt.species));
       if (std::sqrt(d2) < touch && !contact.bonded)
-        v.fail("initial", fmt::format("items {} and {} overlap (centres {:.4g} m apart, contact at {:.4g} m); move "
-                                      "them apart, or add contact.bond to cement touching grains",
-                                      n, m, std::sqrt(d2), touch));
+        v.fail(initial_key(m, "position"),
+               fmt::format("items {} and {} overlap (centres {:.4g} m apart, contact at {:.4g} m); move "
+                           "them apart, or add contact.bond to cement touching grains",
+                           n, m, std::sqrt(d2), touch));
     }
   }
 }
 
 // The mesh and bond files named must be readable and well formed.
 void ParticleParams::check_files(Visitor& v) const {
-  for (const auto& w : walls) {
+  for (std::size_t i = 0; i < walls.size(); ++i) {
+    const auto& w = walls[i];
     if (w.mesh.empty()) continue;
-    if (!std::ifstream(w.mesh.path)) {
-      v.fail("walls", fmt::format("cannot read the mesh file (relative paths are relative to the configuration "
-                                  "file): {}",
-                                  w.mesh.path));
+    const std::string key = fmt::format("walls[{}].mesh", i);
+    if (const std::string why = config::file_problem(w.mesh.path); !why.empty()) {
+      v.fail(key,
+             fmt::format("{}: {} (relative paths are relative to the configuration file)", w.mesh.path, why));
       continue;
     }
     try {
       load_mesh(w);
     } catch (const std::exception& e) {
-      v.fail("walls", fmt::format("not a usable STL mesh: {}", e.what()));
+      v.fail(key, fmt::format("not a usable STL mesh: {}", e.what()));
     }
   }
   if (contact.bonded && !contact.bond.pairs.empty()) {
@@ -599,10 +616,10 @@ static std::string emptied_folder(const std::string& file, const std::string& ou
 void ParticleParams::check_file_inside(Visitor& v, const config::Config& cfg, std::size_t n) const {
   const auto& it = initial[n];
   if (const std::string folder = emptied_folder(it.path.path, cfg.output_dir()); !folder.empty()) {
-    v.fail("initial",
-           fmt::format("item {}: {} lies in {}, which a fresh run into {} empties before it starts: copy "
+    v.fail(initial_key(n, "path"),
+           fmt::format("{} lies in {}, which a fresh run into {} empties before it starts: copy "
                        "the file elsewhere, or give this run another run.output.dir",
-                       n, it.path.path, folder, cfg.output_dir()));
+                       it.path.path, folder, cfg.output_dir()));
     return;
   }
   std::vector<double> x, r, sp;
@@ -611,26 +628,27 @@ void ParticleParams::check_file_inside(Visitor& v, const config::Config& cfg, st
     r = output::read_dataset(it.path.path, "radius");
     sp = output::read_dataset(it.path.path, "species");
   } catch (const std::exception& e) {
-    v.fail("initial", fmt::format("item {}: cannot read the particles of {}: {}; give a particles/step_*.h5 "
-                                  "snapshot written by coflow",
-                                  n, it.path.path, e.what()));
+    v.fail(initial_key(n, "path"),
+           fmt::format("cannot read the particles of {}: {}; give a particles/step_*.h5 "
+                       "snapshot written by coflow",
+                       it.path.path, e.what()));
     return;
   }
   for (std::size_t k = 0; k < r.size() && k < sp.size(); ++k) {
     if (!(sp[k] >= 0 && sp[k] < static_cast<double>(species.size()))) {
-      v.fail("initial",
-             fmt::format("item {}: particle {} of {} has species {}, but this run defines {} (0 to {}): "
+      v.fail(initial_key(n, "path"),
+             fmt::format("particle {} of {} has species {}, but this run defines {} (0 to {}): "
                          "define the species of the run that wrote it, in its order",
-                         n, k, it.path.path, sp[k], species.size(), species.size() - 1));
+                         k, it.path.path, sp[k], species.size(), species.size() - 1));
       return;
     }
     const auto& [name, s] = species[static_cast<std::size_t>(sp[k])];
     const double largest = particles::largest_diameter(s.diameter);
     if (!(r[k] > 0 && 2.0 * r[k] <= largest * (1.0 + 1e-12))) {
-      v.fail("initial",
-             fmt::format("item {}: particle {} of {} has a diameter of {} m, but species '{}' is at most "
+      v.fail(initial_key(n, "path"),
+             fmt::format("particle {} of {} has a diameter of {} m, but species '{}' is at most "
                          "{} m: give the species that diameter (or the file smaller grains)",
-                         n, k, it.path.path, config::number(2.0 * r[k]), name, config::number(largest)));
+                         k, it.path.path, config::number(2.0 * r[k]), name, config::number(largest)));
       return;
     }
   }
@@ -638,11 +656,11 @@ void ParticleParams::check_file_inside(Visitor& v, const config::Config& cfg, st
   for (std::size_t k = 0; 3 * k + 2 < x.size(); ++k)
     if (!inside({x[3 * k], x[3 * k + 1], x[3 * k + 2]}, cfg) && out++ == 0) first = k;
   if (out > 0)
-    v.fail("initial",
-           fmt::format("item {}: {} of the {} particles of {} lie outside the domain ({}), e.g. particle "
+    v.fail(initial_key(n, "path"),
+           fmt::format("{} of the {} particles of {} lie outside the domain ({}), e.g. particle "
                        "{} at {}; is the file a snapshot of another domain? Give domain its box, or "
                        "move them inside",
-                       n, out, x.size() / 3, it.path.path, domain_text(cfg), first,
+                       out, x.size() / 3, it.path.path, domain_text(cfg), first,
                        point_text({x[3 * first], x[3 * first + 1], x[3 * first + 2]})));
 }
 
@@ -677,26 +695,28 @@ void ParticleParams::check_geometry(Visitor& v, const config::Config& cfg, const
   for (std::size_t n = 0; n < initial.size(); ++n) {
     const auto& it = initial[n];
     if (it.kind == "single" && !inside(it.position, cfg))
-      v.fail("initial", fmt::format("item {}: position {} is outside the domain ({}); move it inside", n,
-                                    point_text(it.position), domain_text(cfg)));
+      v.fail(initial_key(n, "position"), fmt::format("position {} is outside the domain ({}); move it inside",
+                                                     point_text(it.position), domain_text(cfg)));
     if ((it.kind == "lattice" || it.kind == "random") &&
         !(it.lower[0] < it.upper[0] && it.lower[1] < it.upper[1] && it.lower[2] < it.upper[2]))
-      v.fail("initial",
-             fmt::format("item {}: region {} to {} is empty: each of upper's coordinates must exceed "
+      v.fail(initial_key(n, "upper"),
+             fmt::format("region {} to {} is empty: each of upper's coordinates must exceed "
                          "lower's",
-                         n, point_text(it.lower), point_text(it.upper)));
+                         point_text(it.lower), point_text(it.upper)));
     else if ((it.kind == "lattice" || it.kind == "random") &&
              (!inside(it.lower, cfg) || !inside(it.upper, cfg)))
-      v.fail("initial", fmt::format("item {}: region {} to {} reaches outside the domain ({}); keep it inside", n,
-                                    point_text(it.lower), point_text(it.upper), domain_text(cfg)));
+      v.fail(initial_key(n, "lower"),
+             fmt::format("region {} to {} reaches outside the domain ({}); keep it inside",
+                         point_text(it.lower), point_text(it.upper), domain_text(cfg)));
     if (it.kind == "file") check_file_inside(v, cfg, n);
   }
   for (std::size_t n = 0; n < injection.size(); ++n) {
     int a = 0;
     const double over = inlet_overhang(injection[n], cfg, a);
     if (!inside(injection[n].center, cfg))
-      v.fail("injection", fmt::format("item {}: centre {} is outside the domain ({}); particles would enter nowhere",
-                                      n, point_text(injection[n].center), domain_text(cfg)));
+      v.fail(fmt::format("injection[{}].{}.center", n, injection[n].disk ? "disk" : "rectangle"),
+             fmt::format("centre {} is outside the domain ({}); particles would enter nowhere",
+                         point_text(injection[n].center), domain_text(cfg)));
     else if (over > 1e-9 * (cfg.domain.upper[a] - cfg.domain.lower[a]))
       v.fail("injection",
              fmt::format("item {}: the {} reaches {:.4g} m past the domain ({}) along {}, which is not "
@@ -733,9 +753,10 @@ void ParticleParams::check_meshes_inside(Visitor& v, const config::Config& cfg) 
     bool overlaps = !m.vertices.empty();
     for (int a = 0; a < 3; ++a) overlaps = overlaps && hi[a] >= cfg.domain.lower[a] && lo[a] <= cfg.domain.upper[a];
     if (!overlaps)
-      v.fail("walls", fmt::format("item {}: the mesh {} spans {} to {}, entirely outside the domain ({}); is it in "
-                                  "other units or another frame?",
-                                  n, walls[n].mesh.path, point_text(lo), point_text(hi), domain_text(cfg)));
+      v.fail(fmt::format("walls[{}].mesh", n),
+             fmt::format("the mesh {} spans {} to {}, entirely outside the domain ({}); is it in "
+                         "other units or another frame?",
+                         walls[n].mesh.path, point_text(lo), point_text(hi), domain_text(cfg)));
   }
 }
 

@@ -148,6 +148,11 @@ struct ParticleParams {
   void check_file_inside(config::Visitor& v, const config::Config& cfg,
                          std::size_t n) const;  // initial item n
   int species_index(const std::string& name) const;
+  // Where a message about initial item n (its `field`; "" the item) points:
+  // initial[n].<kind>.<field>.
+  std::string initial_key(std::size_t n, const std::string& field) const;
+  // "unknown species 'x'" with the closest defined name, and how to fix it.
+  std::string unknown_species(const std::string& name) const;
   bool point_particles = false;  // a dpm variant (set from particles.solver)
 };
 

@@ -138,6 +138,12 @@ void report(const config::Config& cfg, const std::string& variant, config::Repor
       }
     }
   if (cfg.has("fluid")) report_resolution(p, cfg, method, r);
+  // (Point particles alone see the fluid section's fluid at rest, by design:
+  // the settling and dispersion checks run that way.)
+  if (cfg.has("fluid") && method.empty() && !p.point_particles)
+    r.warn("particles",
+           "the run has a fluid but no immersed section, so nothing couples them: the grains feel no "
+           "fluid force and the fluid no grains; add immersed.method: psm");
 }
 
 }  // namespace coflow::particles

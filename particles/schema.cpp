@@ -48,9 +48,16 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
     c.provides = {f::particle_state, f::impulse};
     c.needs = {{f::fluid_at_particle, key, "immersed", "or, with immersed.method: ibm, immersed.ibm.particles: point"}};
     c.schemes = {config::Scheme::serial_explicit};
-    if (config::resolved_text(cfg, {"particles", "dispersion", "model"}) == "langevin")
+    // The fluid's k and epsilon reach the particles through the point
+    // coupling: a run without it (the particles alone) cannot disperse them.
+    if (config::resolved_text(cfg, {"particles", "dispersion", "model"}) == "langevin") {
       for (const auto& field : {f::k, f::epsilon})
         c.needs.push_back({field, "particles.dispersion.model", "", "or fluid.solver: fv with fluid.turbulence (k-epsilon), or dispersion.model: none"});
+      c.needs.push_back(
+          {f::fluid_at_particle, "particles.dispersion.model", "",
+           "or dispersion.model: none (the fluid's k and epsilon reach the particles through the "
+           "point coupling)"});
+    }
   }
   // A species' contact angle: grains wetted by two fluids (dem through psm;
   // point particles are not wetted, so nothing provides it to dpm).

@@ -1,13 +1,14 @@
 #include "coflow/config.hpp"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-
-#include <fmt/format.h>
-#include <fmt/ranges.h>
 
 namespace coflow::config {
 
@@ -290,6 +291,32 @@ bool scalar_int(const YAML::Node& n, I& out) {
   }
 }
 
+// Why a scalar that is not a usable number of this kind fails, when the
+// reason is not its type: empty (null), not finite, or beyond the range of
+// the integer asked for. "" when it is simply not a number.
+template <class I = double>
+std::string number_range_problem(const YAML::Node& n) {
+  if (n.IsNull()) return "is empty (null): give a value";
+  if (!n.IsScalar()) return "";
+  const std::string t = n.Scalar();
+  char* end = nullptr;
+  errno = 0;
+  const double d = std::strtod(t.c_str(), &end);
+  if (end == t.c_str() || *end != '\0')
+    return non_finite(n) ? fmt::format("must be finite (got '{}')", t) : "";
+  if (errno == ERANGE && std::abs(d) > 1.0)
+    return fmt::format("is beyond the range of a double (got '{}')", t);
+  if (!std::isfinite(d)) return fmt::format("must be finite (got '{}')", t);
+  if constexpr (std::is_integral_v<I>) {
+    if (d != std::floor(d) || (std::is_unsigned_v<I> && d < 0.0)) return "";  // the caller's message says it
+    if (d > static_cast<double>(std::numeric_limits<I>::max()) ||
+        d < static_cast<double>(std::numeric_limits<I>::lowest()))
+      return fmt::format("is out of range: {} to {} (got '{}')", std::numeric_limits<I>::lowest(),
+                         std::numeric_limits<I>::max(), t);
+  }
+  return "";
+}
+
 template <class T, std::size_t N, class Parse>
 std::string parse_array(const YAML::Node& n, std::array<T, N>& out, Parse parse,
                         const char* what, const char* one) {
@@ -298,9 +325,12 @@ std::string parse_array(const YAML::Node& n, std::array<T, N>& out, Parse parse,
                        N == 3 ? (std::is_same_v<T, bool> ? "true, false, false" : "1, 2, 3") : "...");
   std::array<T, N> tmp{};
   for (std::size_t i = 0; i < N; ++i)
-    if (!parse(n[i], tmp[i]))
+    if (!parse(n[i], tmp[i])) {
+      if (const std::string why = number_range_problem<T>(n[i]); !why.empty() && !std::is_same_v<T, bool>)
+        return fmt::format("entry {} {}", i, why);
       return fmt::format("entry {} must be {} (got '{}')", i, one,
                          n[i].IsScalar() ? n[i].Scalar() : "a collection");
+    }
   out = tmp;
   return {};
 }
@@ -309,15 +339,19 @@ std::string parse_array(const YAML::Node& n, std::array<T, N>& out, Parse parse,
 struct Parser {
   const YAML::Node& n;
   std::string operator()(double* p) const {
-    return scalar_double(n, *p)
-               ? ""
-               : fmt::format("expected a {}number (got '{}')", non_finite(n) ? "finite " : "", text());
+    if (scalar_double(n, *p)) return "";
+    if (const std::string why = number_range_problem(n); !why.empty()) return why;
+    return fmt::format("expected a number (got '{}')", text());
   }
   std::string operator()(int* p) const {
-    return scalar_int(n, *p) ? "" : fmt::format("expected an integer (got '{}')", text());
+    if (scalar_int(n, *p)) return "";
+    if (const std::string why = number_range_problem<int>(n); !why.empty()) return why;
+    return fmt::format("expected an integer (got '{}')", text());
   }
   std::string operator()(std::uint64_t* p) const {
-    return scalar_int(n, *p) ? "" : fmt::format("expected a non-negative integer (got '{}')", text());
+    if (scalar_int(n, *p)) return "";
+    if (const std::string why = number_range_problem<std::uint64_t>(n); !why.empty()) return why;
+    return fmt::format("expected a non-negative integer (got '{}')", text());
   }
   std::string operator()(bool* p) const {
     if (n.IsScalar()) {
@@ -330,6 +364,7 @@ struct Parser {
     return fmt::format("expected true or false (got '{}')", text());
   }
   std::string operator()(std::string* p) const {
+    if (n.IsNull()) return "is empty (null): give a value";
     if (!n.IsScalar()) return "expected a single word or string, not a list or mapping";
     *p = n.Scalar();
     return {};
@@ -502,6 +537,7 @@ YAML::Node to_yaml(const ValueRef& ref) {
 struct Reader::Shared {
   std::string file;
   std::vector<Problem> problems;
+  bool quiet = false;  // cross-key checks silenced (quiet_cross_checks)
 };
 
 Reader::Reader(YAML::Node node, std::string file, std::string path)
@@ -524,6 +560,12 @@ Reader::Reader(YAML::Node node, std::shared_ptr<Shared> shared, std::string path
 Reader::~Reader() = default;
 
 const std::vector<Problem>& Reader::problems() const { return shared_->problems; }
+std::size_t Reader::problem_count() const {
+  return shared_->problems.size();
+}
+void Reader::quiet_cross_checks() {
+  shared_->quiet = true;
+}
 
 void Reader::check() const {
   if (!shared_->problems.empty()) throw ConfigError(shared_->problems);
@@ -741,6 +783,7 @@ void Reader::choices(std::string_view name, std::string_view doc,
 }
 
 void Reader::fail(std::string_view key, const std::string& message) {
+  if (shared_->quiet) return;
   const std::string k(key);
   // A dotted key (a.b.c) points into subsections: report the deepest node given.
   // (YAML::Node's operator= writes into the node: move with reset().)
@@ -788,6 +831,12 @@ void Reader::finish() {
     std::string msg = fmt::format("unknown key '{}'", k);
     const std::string near = closest(k, allowed);
     if (!near.empty()) msg += fmt::format("; did you mean '{}'?", near);
+    // A misspelt required key: the "did you mean" says it all, not also "missing".
+    auto& list = shared_->problems;
+    if (!near.empty())
+      std::erase_if(list, [&](const Problem& p) {
+        return p.path == key_path(near) && p.message.rfind("missing required key", 0) == 0;
+      });
     if (allowed.empty())
       msg += " (this section takes no keys)";
     else
@@ -853,9 +902,22 @@ void Describer::choices(std::string_view name, std::string_view doc,
 
 // -------------------------------------------------------------- load/set --
 
+std::string file_problem(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (!fs::exists(st)) return "no such file";
+  if (fs::is_directory(st)) return "is a directory, not a file";
+  if (!fs::is_regular_file(st)) return "is not a regular file";
+  if (!std::ifstream(path)) return "cannot be read (check its permissions)";
+  return "";
+}
+
 YAML::Node load_yaml_file(const std::string& path) {
+  if (const std::string why = file_problem(path); !why.empty())
+    throw ConfigError(
+        {Problem{path, 0, 0, "", why == "no such file" ? "cannot open the file (does it exist?)" : why}});
   std::ifstream in(path);
-  if (!in) throw ConfigError({Problem{path, 0, 0, "", "cannot open the file (does it exist?)"}});
   try {
     YAML::Node n = YAML::Load(in);
     if (!n || n.IsNull()) throw ConfigError({Problem{path, 1, 1, "", "the file is empty"}});

@@ -16,6 +16,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "coflow/config.hpp"
+
 namespace coflow::output {
 
 namespace fs = std::filesystem;
@@ -333,9 +335,23 @@ void write_tables(MPI_Comm comm, const std::string& path, double time, long step
   finish_file(comm, f, tmp, path);
 }
 
+// Opens an existing HDF5 file read-only, with HDF5's own error stack kept off
+// stderr (a missing or foreign file is reported once, by the caller's message).
+static hid_t open_for_reading(const std::string& path) {
+  if (const std::string why = config::file_problem(path); !why.empty())
+    throw std::runtime_error(fmt::format("cannot open HDF5 file '{}': {}", path, why));
+  H5E_auto2_t func = nullptr;
+  void* data = nullptr;
+  H5Eget_auto2(H5E_DEFAULT, &func, &data);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  H5Eset_auto2(H5E_DEFAULT, func, data);
+  if (f < 0) throw std::runtime_error(fmt::format("cannot open HDF5 file '{}': not an HDF5 file", path));
+  return f;
+}
+
 bool has_dataset(const std::string& path, const std::string& name) {
-  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0) throw std::runtime_error(fmt::format("cannot open HDF5 file '{}'", path));
+  hid_t f = open_for_reading(path);
   const bool found = H5Lexists(f, name.c_str(), H5P_DEFAULT) > 0;
   H5Fclose(f);
   return found;
@@ -347,8 +363,7 @@ namespace {
 struct OpenDataset {
   hid_t file = -1, set = -1, space = -1;
   OpenDataset(const std::string& path, const std::string& name) {
-    file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-    if (file < 0) throw std::runtime_error(fmt::format("cannot open HDF5 file '{}'", path));
+    file = open_for_reading(path);
     set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
     if (set < 0) {
       H5Fclose(file);
@@ -413,8 +428,7 @@ std::vector<double> read_block(const std::string& path, const std::string& name,
 }
 
 long read_step(const std::string& path) {
-  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0) throw std::runtime_error(fmt::format("cannot open HDF5 file '{}'", path));
+  hid_t f = open_for_reading(path);
   long step = -1;
   if (H5Aexists(f, "step") > 0) {
     hid_t a = H5Aopen(f, "step", H5P_DEFAULT);
@@ -426,8 +440,7 @@ long read_step(const std::string& path) {
 }
 
 double read_time(const std::string& path) {
-  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0) throw std::runtime_error(fmt::format("cannot open HDF5 file '{}'", path));
+  hid_t f = open_for_reading(path);
   double t = 0;
   hid_t a = H5Aopen(f, "time", H5P_DEFAULT);
   if (a >= 0) {

@@ -159,6 +159,14 @@ void DomainParams::visit(Visitor& v) {
   v.required("cells", cells, "fluid grid cells per axis; 2D runs use cells[2] = 1", positive());
   v("periodic", periodic, "periodicity per axis");
   if (v.reading()) {
+    // 2^53: every cell count (the grid's, a block's, an offset into a field)
+    // stays exact in a double and far inside a 64-bit integer.
+    constexpr double kMostCells = 9007199254740992.0;
+    if (const double total = double(cells[0]) * cells[1] * cells[2]; total > kMostCells)
+      v.fail("cells",
+             fmt::format("{} x {} x {} = {:.3g} cells is more than any machine holds (at most 2^53 = "
+                         "{:.3g}); check the numbers",
+                         cells[0], cells[1], cells[2], total, kMostCells));
     for (int d = 0; d < 3; ++d)
       if (!(upper[d] > lower[d])) {
         v.fail("upper", fmt::format("must exceed lower on every axis (axis {}: lower {} upper {})",
@@ -208,7 +216,16 @@ void visit_component_common(Visitor& v, const ComponentSchema& schema, Component
 static void visit_top(Visitor& v, Config& cfg, const Catalog& catalog) {
   v.section("run", "the run: name, end time, output", [&](Visitor& s) { cfg.run.visit(s); });
   v.section("coupling", "how components exchange data", [&](Visitor& s) { cfg.coupling.visit(s); });
-  v.section("domain", "the global box and the fluid grid", [&](Visitor& s) { cfg.domain.visit(s); });
+  const std::size_t before = v.problem_count();
+  if (v.reading() && !v.given("domain"))  // one line, not one per missing key
+    v.fail("domain",
+           "missing required section (the global box and the fluid grid); add 'domain: {lower: [x, y, z], "
+           "upper: [x, y, z], cells: [i, j, k]}'");
+  else
+    v.section("domain", "the global box and the fluid grid", [&](Visitor& s) { cfg.domain.visit(s); });
+  // A broken domain (no cells, a NaN corner) sets off the components' checks
+  // against it (one-cell axes, cubic cells, 3D only): report it alone.
+  if (v.problem_count() > before) v.quiet_cross_checks();
   v("gravity", cfg.gravity, "gravitational acceleration, m/s^2");
   for (const auto& schema : catalog) {
     ComponentInfo info;
@@ -238,6 +255,15 @@ static void check_decompositions(Reader& r, const Config& cfg) {
     try {
       coupler::Decomposition(cells, info.ranks, dims, d.periodic);
     } catch (const std::invalid_argument& e) {
+      if (!info.decomposition.is_auto) {  // the blocks given do not fit: say so, not a rank count
+        r.fail(
+            section + ".decomposition",
+            fmt::format(
+                "{} x {} x {} blocks cannot split the {}x{}x{} grid ({}); give fewer blocks along that axis "
+                "(their product is the rank count) or leave decomposition out",
+                dims[0], dims[1], dims[2], cells[0], cells[1], cells[2], e.what()));
+        continue;
+      }
       int most = static_cast<int>(std::min<long>(info.ranks - 1, cells[0] * cells[1] * cells[2]));
       for (; most > 1; --most) {
         try {

@@ -1,5 +1,7 @@
 #include "coflow/stl.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cstring>
 #include <fstream>
@@ -7,11 +9,13 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <fmt/format.h>
+#include "coflow/config.hpp"
 
 namespace coflow::stl {
 
 TriangleMesh read(const std::string& path) {
+  if (const std::string why = config::file_problem(path); !why.empty())
+    throw std::runtime_error(fmt::format("{}: {} (an STL mesh file was expected)", path, why));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open the mesh file", path));
   std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -100,13 +100,20 @@ long RefinementParams::base_cells(const config::Config& cfg, int axis) const {
 void RefinementParams::check(config::Visitor& v, const config::Config& cfg) const {
   const auto& d = cfg.domain;
   const int dims = d.cells[2] == 1 ? 2 : 3;
+  // levels or patch out of range is reported by visit(); checked against
+  // them, the grid would only get a second, misleading message.
+  if (levels < 1 || levels > 8 || patch < 4 || patch > 64 || patch % 2 != 0) return;
   const long block = static_cast<long>(patch) << (levels - 1);
   for (int a = 0; a < dims; ++a)
     if (d.cells[a] % block != 0) {
-      v.fail("refinement.levels", fmt::format("domain.cells[{}] = {} is not a multiple of patch x 2^(levels - 1) = {}: the "
-                                   "finest level must cut into whole patches of the base level; use {} or {} cells",
-                                   a, d.cells[a], block, std::max(block, d.cells[a] / block * block),
-                                   (d.cells[a] / block + 1) * block));
+      const long below = d.cells[a] / block * block, above = below + block;
+      v.fail(
+          "refinement.levels",
+          fmt::format(
+              "domain.cells[{}] = {} is not a multiple of patch x 2^(levels - 1) = {}: the finest level must "
+              "cut into whole patches of the base level; use {} cells, or fewer levels or a smaller patch",
+              a, d.cells[a], block,
+              below > 0 ? fmt::format("{} or {}", below, above) : std::to_string(above)));
       return;
     }
   const auto h = d.spacing();

@@ -200,59 +200,63 @@ void IbmParams::check(config::Visitor& v, const config::Config& cfg) const {
   const int dims = cfg.domain.two_dimensional() ? 2 : 3;
   for (std::size_t n = 0; n < bodies.size(); ++n) {
     const BodyParams& b = bodies[n];
-    if (!names.insert(b.name).second) v.fail("bodies", fmt::format("bodies[{}]: the name '{}' is taken twice", n, b.name));
+    if (!names.insert(b.name).second)
+      v.fail(fmt::format("bodies[{}]", n), fmt::format("the name '{}' is taken twice", b.name));
     if (b.name.empty() || b.name.find_first_of(", \t\"") != std::string::npos)
-      v.fail("bodies", fmt::format("bodies[{}]: the name '{}' is not a plain word (it names the columns of "
-                                   "series/immersed.csv, <name>_fx ...)",
-                                   n, b.name));
+      v.fail(fmt::format("bodies[{}]", n),
+             fmt::format("the name '{}' is not a plain word (it names the columns of "
+                         "series/immersed.csv, <name>_fx ...)",
+                         b.name));
     try {
       const stl::TriangleMesh mesh = load_body_mesh(b);
       const stl::MeshSummary m = stl::summarize(mesh);
       if (!m.closed)
-        v.fail("bodies", fmt::format("bodies[{}] ({}): the mesh {} is open ({} edges of one triangle); a body needs a "
-                                     "closed surface (every edge shared by two triangles), whose inside is the body",
-                                     n, b.name, b.mesh.path, m.open_edges));
+        v.fail(fmt::format("bodies[{}].mesh", n),
+               fmt::format("body '{}': the mesh {} is open ({} edges of one triangle); a body needs a "
+                           "closed surface (every edge shared by two triangles), whose inside is the body",
+                           b.name, b.mesh.path, m.open_edges));
       if (m.closed && m.same_way_edges > 0)
-        v.fail(
-            "bodies",
-            fmt::format("bodies[{}] ({}): the mesh {} has triangles wound against their neighbours ({} edges "
-                        "run the same way in both of their triangles), so some of its normals point "
-                        "inward and its volume and inertia are wrong: wind every triangle the same way "
-                        "round (counter-clockwise seen from outside)",
-                        n, b.name, b.mesh.path, m.same_way_edges));
+        v.fail(fmt::format("bodies[{}].mesh", n),
+               fmt::format("body '{}': the mesh {} has triangles wound against their neighbours ({} edges "
+                           "run the same way in both of their triangles), so some of its normals point "
+                           "inward and its volume and inertia are wrong: wind every triangle the same way "
+                           "round (counter-clockwise seen from outside)",
+                           b.name, b.mesh.path, m.same_way_edges));
       else if (m.closed && ibm::mesh_volume(mesh).volume < 0.0)
-        v.fail("bodies",
-               fmt::format("bodies[{}] ({}): the mesh's triangles face inward (their winding encloses a "
+        v.fail(fmt::format("bodies[{}]", n),
+               fmt::format("body '{}': the mesh's triangles face inward (their winding encloses a "
                            "negative volume), so its markers would retract into the fluid and its "
                            "inertia change sign: reverse the order of each triangle's vertices",
-                           n, b.name));
+                           b.name));
       const auto& mo = b.motion;
       if (dims == 2 &&
           (mo.angular_velocity[0] != 0.0 || mo.angular_velocity[1] != 0.0 || mo.angular_amplitude[0] != 0.0 ||
            mo.angular_amplitude[1] != 0.0 || mo.velocity[2] != 0.0 || mo.amplitude[2] != 0.0))
-        v.fail("bodies",
-               fmt::format("bodies[{}] ({}): the fluid is 2D: a body moves in the x-y plane and turns "
+        v.fail(fmt::format("bodies[{}]", n),
+               fmt::format("body '{}': the fluid is 2D: a body moves in the x-y plane and turns "
                            "about z; give its velocity and amplitude no z component and its "
                            "angular_velocity and angular_amplitude only a z component",
-                           n, b.name));
+                           b.name));
       if (dims == 2 && !(m.upper[2] > m.lower[2]))
-        v.fail("bodies", fmt::format("bodies[{}] ({}): the fluid is 2D and this mesh is flat in z; give a prism "
-                                     "along z (any length)",
-                                     n, b.name));
+        v.fail(fmt::format("bodies[{}]", n),
+               fmt::format("body '{}': the fluid is 2D and this mesh is flat in z; give a prism "
+                           "along z (any length)",
+                           b.name));
       stl::V3 lo, hi;
       swept_box(b, m, mesh, cfg.run.end_time, dims, lo, hi);
       for (int d = 0; d < dims; ++d) {
         if (cfg.domain.periodic[d]) continue;
         const double margin = (radius + 1.0) * h[d];
         if (lo[d] < cfg.domain.lower[d] + margin || hi[d] > cfg.domain.upper[d] - margin)
-          v.fail("bodies", fmt::format("bodies[{}] ({}) spans {:.6g} to {:.6g} m along {} until end_time; it must "
-                                       "stay {:.3g} m ({} cells: the kernel's support and one) inside the domain "
-                                       "[{:.6g}, {:.6g}] m: move it (translate, motion) or widen the domain",
-                                       n, b.name, lo[d], hi[d], "xyz"[d], margin, radius + 1.0,
-                                       cfg.domain.lower[d], cfg.domain.upper[d]));
+          v.fail(fmt::format("bodies[{}]", n),
+                 fmt::format("body '{}' spans {:.6g} to {:.6g} m along {} until end_time; it must "
+                             "stay {:.3g} m ({} cells: the kernel's support and one) inside the domain "
+                             "[{:.6g}, {:.6g}] m: move it (translate, motion) or widen the domain",
+                             b.name, lo[d], hi[d], "xyz"[d], margin, radius + 1.0, cfg.domain.lower[d],
+                             cfg.domain.upper[d]));
       }
     } catch (const std::runtime_error& e) {
-      v.fail("bodies", fmt::format("bodies[{}] ({}): {}", n, b.name, e.what()));
+      v.fail(fmt::format("bodies[{}].mesh", n), fmt::format("body '{}': {}", b.name, e.what()));
     }
   }
 }

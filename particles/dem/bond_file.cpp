@@ -1,16 +1,20 @@
 #include "particles/dem/bond_file.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <fstream>
 #include <stdexcept>
 
-#include <fmt/format.h>
+#include "coflow/config.hpp"
 
 namespace coflow::particles::dem {
 
 std::vector<BondPair> read_bond_csv(const std::string& path) {
+  if (const std::string why = config::file_problem(path); !why.empty())
+    throw std::runtime_error(fmt::format("{}: {} (a bond file was expected)", path, why));
   std::ifstream in(path);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open the bond file", path));
   std::vector<BondPair> pairs;

@@ -6,12 +6,14 @@
 # message of its first line ("# expect: :LINE:COL: key.path: message"), and the
 # launcher must neither crash nor trip a sanitizer. Lines "# also: TEXT" right
 # after it name more text the message must hold (past a part that varies, such
-# as an absolute path).
+# as an absolute path); a line "# lines: N" there, how many lines the whole
+# report must have (one problem must not set off others).
 set -u
 cfg=$1; shift
 expect=$(head -n 1 "$cfg" | sed -n 's/^# expect: //p')
 [ -n "$expect" ] || { echo "FAIL: $cfg has no '# expect:' first line"; exit 1; }
 mapfile -t also < <(sed -n '2,/^[^#]/s/^# also: //p' "$cfg")
+lines=$(sed -n '2,/^[^#]/s/^# lines: //p' "$cfg")
 dir=$(dirname "$cfg"); base=$(basename "$cfg")
 export ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 status=0
@@ -24,13 +26,16 @@ for bin in "$@"; do
     *"$base$expect"*) ;;
     *) echo "FAIL ($bin): message not found"; echo "  expected: $base$expect"; echo "  got:      $out"; status=1 ;;
   esac
+  if [ -n "$lines" ] && [ "$(printf '%s\n' "$out" | wc -l)" -ne "$lines" ]; then
+    echo "FAIL ($bin): expected $lines line(s) of report, got:"; echo "$out"; status=1
+  fi
   for text in "${also[@]}"; do
     case "$out" in
       *"$text"*) ;;
       *) echo "FAIL ($bin): message lacks '$text'"; echo "  got:      $out"; status=1 ;;
     esac
   done
-  case "$out" in *Sanitizer*|*"runtime error"*|*terminate*) echo "FAIL ($bin): crash or sanitizer report"; echo "$out"; status=1 ;; esac
+  case "$out" in *Sanitizer*|*"runtime error"*|*terminate*|*HDF5-DIAG*) echo "FAIL ($bin): crash, sanitizer report or a library's raw error stack"; echo "$out"; status=1 ;; esac
 done
 [ $status -eq 0 ] && [ $skipped -eq 1 ] && exit 77
 exit $status

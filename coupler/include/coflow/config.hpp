@@ -131,6 +131,12 @@ class Visitor {
   // names in a configuration are relative to it.
   virtual std::string base_dir() const { return ""; }
 
+  // Problems found so far (0 while describing), and a switch that keeps the
+  // checks spanning several keys (fail()) quiet from now on: after a broken
+  // domain they would only repeat it in other words.
+  virtual std::size_t problem_count() const { return 0; }
+  virtual void quiet_cross_checks() {}
+
   // True while reading a user's file; false while describing.
   virtual bool reading() const = 0;
   // Whether the user wrote this key in the current section.
@@ -184,6 +190,8 @@ class Reader final : public Visitor {
                const std::vector<Alternative>& alternatives) override;
   void fail(std::string_view key, const std::string& message) override;
   bool reading() const override { return true; }
+  std::size_t problem_count() const override;
+  void quiet_cross_checks() override;
   bool given(std::string_view key) const override;
   void accept_other_keys() override;
   std::string base_dir() const override;
@@ -253,6 +261,11 @@ class Describer final : public Visitor {
 
 // Closest candidate by edit distance, or "" when nothing is close.
 std::string closest(std::string_view word, const std::vector<std::string>& candidates);
+
+// What keeps a named input file from being read, "" when nothing does: "no
+// such file", "is a directory, not a file", "is not a regular file" or "cannot
+// be read (check its permissions)".
+std::string file_problem(const std::string& path);
 
 // Load a YAML file; syntax errors become ConfigError with the file position.
 YAML::Node load_yaml_file(const std::string& path);

@@ -51,7 +51,7 @@ TEST_CASE("pre-run report: initial file radii against the species diameter", "[r
   // as wide as the species' largest diameter; before 2026-12-05 a warning,
   // and the particles stopped at the start).
   CHECK_THROWS_WITH(report_for(file, 0.01),
-                    Catch::Contains("particles.initial: item 0: particle 2 of " + file +
+                    Catch::Contains("particles.initial[0].file.path: particle 2 of " + file +
                                     " has a diameter of 0.012 m, but species 'grain' is at most 0.01 m"));
   std::filesystem::remove(file);
 }
@@ -66,10 +66,12 @@ TEST_CASE("an initial file with another run's species, unreadable, or in the run
   output::write_points(
       MPI_COMM_SELF, file, 0.0, 0, 2, id, species,
       {{"position", 3, x}, {"velocity", 3, zero}, {"angular_velocity", 3, zero}, {"radius", 1, radius}});
-  CHECK_THROWS_WITH(report_for(file, 0.01), Catch::Contains("item 0: particle 1 of " + file +
+  CHECK_THROWS_WITH(report_for(file, 0.01), Catch::Contains("initial[0].file.path: particle 1 of " + file +
                                                             " has species 1, but this run defines 1"));
   std::filesystem::remove(file);
-  CHECK_THROWS_WITH(report_for(file, 0.01), Catch::Contains("item 0: cannot read the particles of " + file));
+  CHECK_THROWS_WITH(report_for(file, 0.01),
+                    Catch::Contains("initial[0].file.path: cannot read the particles of " + file +
+                                    ": cannot open HDF5 file '" + file + "': no such file"));
   // The run's own snapshot: a fresh run empties out/r/particles/ first.
   const std::string own = (std::filesystem::absolute("out/r/particles") / "step_000004.h5").string();
   CHECK_THROWS_WITH(report_for(own, 0.01),
@@ -90,7 +92,7 @@ TEST_CASE("an initial file whose particles lie outside the box is bad input", "[
       {{"position", 3, x}, {"velocity", 3, zero}, {"angular_velocity", 3, zero}, {"radius", 1, radius}});
   CHECK_THROWS_WITH(
       report_for(file, 0.01),
-      Catch::Contains("particles.initial: item 0: 1 of the 3 particles of " + file) &&
+      Catch::Contains("particles.initial[0].file.path: 1 of the 3 particles of " + file) &&
           Catch::Contains("lie outside the domain ((0, 0, 0) to (0.1, 0.1, 0.1)), e.g. particle 2 at "
                           "(0.15, 0.08, 0.08)"));
   std::filesystem::remove(file);

@@ -74,6 +74,15 @@ inline std::vector<std::vector<double>> read_series(const std::string& path) {
   return rows;
 }
 
+// A check's input with a NaN or an infinity in it (a run gone unstable) must
+// fail, not pass through comparisons and max/min that drop NaN: throws.
+inline void require_finite(const std::vector<double>& values, const std::string& what) {
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (!std::isfinite(values[i]))
+      throw std::runtime_error(what + ": value " + std::to_string(i) +
+                               " is not finite (the run went unstable?)");
+}
+
 // The last row of a series, by column name.
 class LastRow {
  public:

@@ -29,6 +29,7 @@ double odd_even(const std::vector<double>& u, long nx, long ny, long nz) {
         peak = nan_max(peak, std::abs(at(i)));
         if (i > 0 && i + 1 < nx) worst = nan_max(worst, std::abs(at(i) - 0.5 * (at(i - 1) + at(i + 1))));
       }
+  if (!(peak >= 0.0) || !(worst >= 0.0)) return std::numeric_limits<double>::quiet_NaN();  // fails any bound
   return peak > 0.0 ? worst / peak : 0.0;
 }
 
@@ -437,6 +438,7 @@ int dfg_cylinder_unsteady(const std::string& dir) {
   }
   if (t.size() < 20)
     throw std::runtime_error("fewer than 20 force rows in the last 3 s: write series more often");
+  require_finite(cd, "c_D"), require_finite(cl, "c_L");
   double cd_max = -1e300, cl_max = -1e300, mean = 0.0, peak_lo = 1e300, peak_hi = -1e300, peak_sum = 0.0;
   for (double v : cl) mean += v / static_cast<double>(cl.size());
   std::vector<double> ups;

@@ -244,6 +244,7 @@ int ke_backward_step(const std::string& dir) {
     return row;
   };
   const auto floor = floor_row(u, 3);
+  require_finite(floor, "ke_backward_step: the floor cells' u");
   double xr = std::numeric_limits<double>::quiet_NaN(), umin = 0.0;
   for (long i = 0; i + 1 < nx; ++i) {
     const double a = floor[static_cast<std::size_t>(i)], b = floor[static_cast<std::size_t>(i + 1)];
@@ -253,6 +254,7 @@ int ke_backward_step(const std::string& dir) {
   // k of the floor's first cells at x = 20 H (linear between cell centres):
   // where the wall function sets the wall cells' k.
   const auto floor_k = floor_row(output::read_dataset(last_snapshot(dir), "k"), 1);
+  require_finite(floor_k, "ke_backward_step: the floor cells' k");
   const double at = 20.0 * height / dx - 0.5, w = at - std::floor(at);
   const auto i0 = static_cast<std::size_t>(std::max(0.0, std::floor(at)));
   const double k20 = i0 + 1 < floor_k.size() ? (1.0 - w) * floor_k[i0] + w * floor_k[i0 + 1]

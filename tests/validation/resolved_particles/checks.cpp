@@ -149,6 +149,8 @@ int settling(const std::string& dir) {
   const auto rows = read_series(dir + "/series/particles.csv");
   double vmax = 0.0, tmax = 0.0;
   for (const auto& r : rows)
+    require_finite({r.at(4)}, "series/particles.csv: the sphere's momentum at t = " + std::to_string(r[0]));
+  for (const auto& r : rows)
     if (-r[4] / m > vmax) {
       vmax = -r[4] / m;
       tmax = r[0];

@@ -58,6 +58,7 @@ int laplace(const std::string& dir) {
   const auto& d = cfg.domain;
   const double dx = d.spacing()[0];
   const auto s = read_last(dir);
+  require_finite(s.phase, dir + ": the phase field");
   const bool d3 = s.nz > 1;
   const auto& drop = fp.initial_phase.back();
   double red = 0.0;
@@ -106,6 +107,7 @@ int contact_angle(const std::string& dir) {
   const auto& d = cfg.domain;
   const double dx = d.spacing()[0];
   const auto s = read_last(dir);
+  require_finite(s.phase, dir + ": the phase field");
   std::vector<std::array<double, 2>> pts;
   const auto at = [&](long i, long j) { return s.phase[j * s.nx + i]; };
   for (long j = 0; j < s.ny; ++j)
@@ -310,6 +312,7 @@ int grain_interface(const std::string& dir) {
   double c[3];
   for (int k = 0; k < 3; ++k) c[k] = (centre.at(k) - d.lower[k]) / dx - 0.5;  // in cell-centre units
   const auto s = read_last(dir);
+  require_finite(s.phase, dir + ": the phase field");
   double sum = 0.0;
   long columns = 0;
   for (long j = 0; j < s.ny; ++j)

@@ -667,9 +667,31 @@ void Reader::section(std::string_view name, std::string_view doc,
   }
   YAML::Node out(YAML::NodeType::Map);
   Reader r = child(sub, k, out);
+  const std::size_t before = shared_->problems.size();
   body(r);
   r.finish();
+  if (!here) collapse_missing(before, key_path(k));
   if (here || present == nullptr) out_[k] = out;
+}
+
+// A section left out whose required keys each said "missing required key":
+// one line for the section instead, naming its keys.
+void Reader::collapse_missing(std::size_t first, const std::string& path) {
+  auto& list = shared_->problems;
+  const std::string prefix = path + ".", missing = "missing required key";
+  std::vector<std::string> keys;
+  for (std::size_t i = first; i < list.size(); ++i) {
+    const Problem& p = list[i];
+    if (p.path.rfind(prefix, 0) != 0 || p.message.rfind(missing, 0) != 0) return;  // another kind: keep all
+    keys.push_back(p.path.substr(prefix.size()));
+  }
+  if (keys.size() < 2) return;
+  Problem one = list[first];
+  one.path = path;
+  one.message = fmt::format("missing required section; add '{}: {{{}: ...}}'",
+                            path.substr(path.rfind('.') + 1), fmt::join(keys, ": ..., "));
+  list.resize(first);
+  list.push_back(one);
 }
 
 void Reader::entries(std::string_view name, std::string_view doc,
@@ -828,6 +850,12 @@ void Reader::finish() {
     std::vector<std::string> allowed = visited_;
     std::sort(allowed.begin(), allowed.end());
     allowed.erase(std::unique(allowed.begin(), allowed.end()), allowed.end());
+    if (k == "<<") {  // yaml-cpp reads a merge key as a plain key
+      problem_at(it->first, key_path(k),
+                 "YAML merge keys ('<<: *anchor') are not supported here: write the keys out (an anchor "
+                 "with '*alias' as a whole value works)");
+      continue;
+    }
     std::string msg = fmt::format("unknown key '{}'", k);
     const std::string near = closest(k, allowed);
     if (!near.empty()) msg += fmt::format("; did you mean '{}'?", near);
@@ -913,11 +941,54 @@ std::string file_problem(const std::string& path) {
   return "";
 }
 
+namespace {
+
+// A YAML syntax error in words a newcomer can act on, where the parser's own
+// ("end of sequence flow not found", "illegal map value") names only where it
+// gave up: a tab in an indentation, a bracket never closed, or the indentation.
+Problem syntax_problem(const std::string& path, const std::string& text, const YAML::ParserException& e) {
+  std::istringstream lines(text);
+  std::string line;
+  std::vector<std::string> all;
+  while (std::getline(lines, line)) all.push_back(line);
+  for (std::size_t i = 0; i < all.size(); ++i) {  // tabs first: they confuse every other reading
+    const std::size_t indent = all[i].find_first_not_of(" \t");
+    const std::size_t tab = all[i].find('\t');
+    if (tab != std::string::npos && (indent == std::string::npos || tab < indent))
+      return {path, int(i) + 1, int(tab) + 1, "",
+              "YAML syntax error: a tab in the indentation; YAML indents with spaces only"};
+  }
+  const bool flow = e.msg.find("flow not found") != std::string::npos;
+  for (std::size_t i = 0; flow && i < all.size(); ++i) {
+    const std::string code = all[i].substr(0, all[i].find(" #"));
+    long depth = 0;
+    std::size_t first = std::string::npos;
+    for (std::size_t c = 0; c < code.size(); ++c) {
+      if (code[c] == '[' || code[c] == '{') first = depth++ == 0 ? c : first;
+      if (code[c] == ']' || code[c] == '}') --depth;
+    }
+    if (depth > 0)
+      return {path, int(i) + 1, int(first) + 1, "",
+              fmt::format("YAML syntax error: this '{}' is not closed on its line; close it with '{}'",
+                          code[first], code[first] == '[' ? ']' : '}')};
+  }
+  std::string msg = "YAML syntax error: " + e.msg;
+  if (e.msg.find("map") != std::string::npos)
+    msg +=
+        " (check the indentation: the keys of one section start in the same column, and a key's value "
+        "follows ': ')";
+  return {path, e.mark.line + 1, e.mark.column + 1, "", msg};
+}
+
+}  // namespace
+
 YAML::Node load_yaml_file(const std::string& path) {
   if (const std::string why = file_problem(path); !why.empty())
     throw ConfigError(
         {Problem{path, 0, 0, "", why == "no such file" ? "cannot open the file (does it exist?)" : why}});
-  std::ifstream in(path);
+  std::ifstream file(path);
+  const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  std::istringstream in(text);
   try {
     YAML::Node n = YAML::Load(in);
     if (!n || n.IsNull()) throw ConfigError({Problem{path, 1, 1, "", "the file is empty"}});
@@ -926,8 +997,7 @@ YAML::Node load_yaml_file(const std::string& path) {
                                  "the top level must be a mapping (run:, domain:, fluid:, ...)"}});
     return n;
   } catch (const YAML::ParserException& e) {
-    throw ConfigError({Problem{path, e.mark.line + 1, e.mark.column + 1, "",
-                               "YAML syntax error: " + e.msg}});
+    throw ConfigError({syntax_problem(path, text, e)});
   }
 }
 

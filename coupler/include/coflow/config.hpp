@@ -212,6 +212,7 @@ class Reader final : public Visitor {
   std::string key_path(std::string_view key) const;
   void problem_at(const YAML::Node& where, const std::string& path, const std::string& msg);
   void check_duplicates();
+  void collapse_missing(std::size_t first, const std::string& path);
 
   YAML::Node node_;
   YAML::Node anchor_;  // nearest written ancestor, for positions of absent sections

@@ -151,16 +151,16 @@ void report_solids(config::Report& r, const FluidParams& fp, const lbm::LbmParam
                                 lp.bounce_back));
 }
 
-// The fluid's ranks would need more memory than this machine has: say so (a
-// run on a cluster's nodes may still fit; there, check the nodes' memory).
-void warn_memory(config::Report& r, double bytes_per_rank, int ranks) {
+// One fluid rank would need more memory than this whole machine has: say so.
+// (All ranks together are not compared: a cluster job spreads them over
+// nodes, and the launcher cannot tell how many share one.)
+void warn_memory(config::Report& r, double bytes_per_rank) {
   const double host = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
-  if (!(host > 0.0) || !(bytes_per_rank * ranks > host)) return;
+  if (!(host > 0.0) || !(bytes_per_rank > host)) return;
   r.warn("fluid",
-         fmt::format("the fluid's {} rank{} need about {} GiB, more than this machine's {} GiB: use fewer "
-                     "cells, or run on nodes that hold about {} GiB per rank",
-                     ranks, ranks == 1 ? "" : "s", config::number(bytes_per_rank * ranks / (1 << 30)),
-                     config::number(host / (1 << 30)), config::number(bytes_per_rank / (1 << 30))));
+         fmt::format("each fluid rank needs about {} GiB, more than this machine's {} GiB in all: use "
+                     "fewer cells or more ranks (fluid.ranks), on nodes that hold it",
+                     config::number(bytes_per_rank / (1 << 30)), config::number(host / (1 << 30))));
 }
 
 void report_lbm(const config::Config& cfg, config::Report& r) {
@@ -227,7 +227,7 @@ void report_lbm(const config::Config& cfg, config::Report& r) {
         fmt::format("about {} MiB per rank ({} copies of {} populations per cell{})",
                     config::number(bytes / (1 << 20)), colours ? "four" : "two", Q,
                     colours ? ": red and blue" : ""));
-  warn_memory(r, bytes, info.ranks);
+  warn_memory(r, bytes);
   const double windows = cfg.components.size() > 1 ? std::ceil(cfg.run.end_time / window - 1e-9) : 0.0;
   const double hours = (steps * block / rate + windows * kSecondsPerCoupledWindow) / 3600.0;
   r.estimate_wall(hours * 3600.0);

@@ -421,7 +421,7 @@ std::string ParticleParams::unknown_species(const std::string& name) const {
   for (const auto& sp : species) names.push_back(sp.first);
   const std::string near = config::closest(name, names);
   return fmt::format("unknown species '{}'{}; the species defined are: {}", name,
-                     near.empty() ? "" : fmt::format("; did you mean '{}'?", near), fmt::join(names, ", "));
+                     near.empty() ? "" : fmt::format(" (did you mean '{}'?)", near), fmt::join(names, ", "));
 }
 
 // Every species a key names is defined; fixed particles and injection belong
@@ -705,13 +705,13 @@ void ParticleParams::check_geometry(Visitor& v, const config::Config& cfg, const
                                                      point_text(it.position), domain_text(cfg)));
     if ((it.kind == "lattice" || it.kind == "random") &&
         !(it.lower[0] < it.upper[0] && it.lower[1] < it.upper[1] && it.lower[2] < it.upper[2]))
-      v.fail(initial_key(n, "upper"),
+      v.fail(initial_key(n, "region.upper"),
              fmt::format("region {} to {} is empty: each of upper's coordinates must exceed "
                          "lower's",
                          point_text(it.lower), point_text(it.upper)));
     else if ((it.kind == "lattice" || it.kind == "random") &&
              (!inside(it.lower, cfg) || !inside(it.upper, cfg)))
-      v.fail(initial_key(n, "lower"),
+      v.fail(initial_key(n, "region.lower"),
              fmt::format("region {} to {} reaches outside the domain ({}); keep it inside",
                          point_text(it.lower), point_text(it.upper), domain_text(cfg)));
     if (it.kind == "file") check_file_inside(v, cfg, n);

@@ -272,6 +272,22 @@ bool non_finite(const YAML::Node& n) {
   }
 }
 
+// Whether the integral value d lies outside I (its max as a double rounds up
+// to 2^digits, itself out of range: compare against that power exactly).
+// The text value() gives a required key the file leaves out (and the test
+// for it: other checks may say "missing required key" in other words).
+constexpr const char* kMissingKey = "missing required key";
+bool is_missing_key(const std::string& m) {
+  return m.starts_with(std::string(kMissingKey) + " (") ||
+         m.starts_with(std::string(kMissingKey) + "; add '");
+}
+
+template <class I>
+bool integer_out_of_range(double d) {
+  return d >= std::ldexp(1.0, std::numeric_limits<I>::digits) ||
+         d < static_cast<double>(std::numeric_limits<I>::lowest());
+}
+
 template <class I>
 bool scalar_int(const YAML::Node& n, I& out) {
   if (!n.IsScalar()) return false;
@@ -281,9 +297,7 @@ bool scalar_int(const YAML::Node& n, I& out) {
   } catch (const YAML::Exception&) {
     // Accept integral floating literals such as 1e4.
     double d = 0;
-    if (scalar_double(n, d) && std::isfinite(d) && d == std::floor(d) &&
-        d >= static_cast<double>(std::numeric_limits<I>::lowest()) &&
-        d <= static_cast<double>(std::numeric_limits<I>::max())) {
+    if (scalar_double(n, d) && std::isfinite(d) && d == std::floor(d) && !integer_out_of_range<I>(d)) {
       out = static_cast<I>(d);
       return true;
     }
@@ -309,8 +323,7 @@ std::string number_range_problem(const YAML::Node& n) {
   if (!std::isfinite(d)) return fmt::format("must be finite (got '{}')", t);
   if constexpr (std::is_integral_v<I>) {
     if (d != std::floor(d) || (std::is_unsigned_v<I> && d < 0.0)) return "";  // the caller's message says it
-    if (d > static_cast<double>(std::numeric_limits<I>::max()) ||
-        d < static_cast<double>(std::numeric_limits<I>::lowest()))
+    if (integer_out_of_range<I>(d))
       return fmt::format("is out of range: {} to {} (got '{}')", std::numeric_limits<I>::lowest(),
                          std::numeric_limits<I>::max(), t);
   }
@@ -425,7 +438,9 @@ struct Parser {
     }
     Int3 v{};
     std::string e = (*this)(&v);
-    if (!e.empty()) return "expected 'auto' or " + e.substr(std::string("expected ").size());
+    if (!e.empty())
+      return e.starts_with("expected ") ? "expected 'auto' or " + e.substr(std::string("expected ").size())
+                                        : e + " (or give 'auto')";
     p->is_auto = false;
     p->value = v;
     return {};
@@ -563,6 +578,12 @@ const std::vector<Problem>& Reader::problems() const { return shared_->problems;
 std::size_t Reader::problem_count() const {
   return shared_->problems.size();
 }
+bool Reader::problems_since(std::size_t since, const std::vector<std::string>& paths) const {
+  const auto& list = shared_->problems;
+  for (std::size_t i = since; i < list.size(); ++i)
+    if (std::find(paths.begin(), paths.end(), list[i].path) != paths.end()) return true;
+  return false;
+}
 void Reader::quiet_cross_checks() {
   shared_->quiet = true;
 }
@@ -623,7 +644,7 @@ void Reader::value(const Key& key, ValueRef ref) {
   const std::string path = key_path(name);
   if (!given(name)) {
     if (key.required) {
-      std::string msg = "missing required key";
+      std::string msg = kMissingKey;
       if (!key.doc.empty()) msg += fmt::format(" ({})", key.doc);
       msg += fmt::format("; add '{}: <{}>'", name, std::visit(TypeName{}, ref));
       problem_at(node_, path, msg);
@@ -678,11 +699,11 @@ void Reader::section(std::string_view name, std::string_view doc,
 // one line for the section instead, naming its keys.
 void Reader::collapse_missing(std::size_t first, const std::string& path) {
   auto& list = shared_->problems;
-  const std::string prefix = path + ".", missing = "missing required key";
+  const std::string prefix = path + ".";
   std::vector<std::string> keys;
   for (std::size_t i = first; i < list.size(); ++i) {
     const Problem& p = list[i];
-    if (p.path.rfind(prefix, 0) != 0 || p.message.rfind(missing, 0) != 0) return;  // another kind: keep all
+    if (p.path.rfind(prefix, 0) != 0 || !is_missing_key(p.message)) return;  // another kind: keep all
     keys.push_back(p.path.substr(prefix.size()));
   }
   if (keys.size() < 2) return;
@@ -859,11 +880,13 @@ void Reader::finish() {
     std::string msg = fmt::format("unknown key '{}'", k);
     const std::string near = closest(k, allowed);
     if (!near.empty()) msg += fmt::format("; did you mean '{}'?", near);
-    // A misspelt required key: the "did you mean" says it all, not also "missing".
+    // A misspelt required key or section: the "did you mean" says it all, not
+    // also "missing".
     auto& list = shared_->problems;
     if (!near.empty())
       std::erase_if(list, [&](const Problem& p) {
-        return p.path == key_path(near) && p.message.rfind("missing required key", 0) == 0;
+        return p.path == key_path(near) &&
+               (is_missing_key(p.message) || p.message.starts_with("missing required section;"));
       });
     if (allowed.empty())
       msg += " (this section takes no keys)";
@@ -934,8 +957,11 @@ std::string file_problem(const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory)
+    return ec.message();  // e.g. a folder on the way unreadable
   if (!fs::exists(st)) return "no such file";
   if (fs::is_directory(st)) return "is a directory, not a file";
+  if (fs::is_fifo(st)) return "";  // a pipe (<(...)): opening it here would take its writer's data
   if (!fs::is_regular_file(st)) return "is not a regular file";
   if (!std::ifstream(path)) return "cannot be read (check its permissions)";
   return "";
@@ -945,32 +971,47 @@ namespace {
 
 // A YAML syntax error in words a newcomer can act on, where the parser's own
 // ("end of sequence flow not found", "illegal map value") names only where it
-// gave up: a tab in an indentation, a bracket never closed, or the indentation.
+// gave up: a tab in the indentation of a line up to that point, a bracket or
+// brace opened before it and never closed, or the indentation.
 Problem syntax_problem(const std::string& path, const std::string& text, const YAML::ParserException& e) {
-  std::istringstream lines(text);
-  std::string line;
-  std::vector<std::string> all;
-  while (std::getline(lines, line)) all.push_back(line);
-  for (std::size_t i = 0; i < all.size(); ++i) {  // tabs first: they confuse every other reading
-    const std::size_t indent = all[i].find_first_not_of(" \t");
-    const std::size_t tab = all[i].find('\t');
-    if (tab != std::string::npos && (indent == std::string::npos || tab < indent))
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  const std::size_t last = std::min<std::size_t>(lines.size(), static_cast<std::size_t>(e.mark.line) + 1);
+  for (std::size_t i = 0; i < last; ++i) {  // tabs first: they confuse every other reading
+    const std::size_t content = lines[i].find_first_not_of(" \t");
+    if (content == std::string::npos || lines[i][content] == '#') continue;  // blank or comment: tabs allowed
+    if (const std::size_t tab = lines[i].find('\t'); tab < content)
       return {path, int(i) + 1, int(tab) + 1, "",
               "YAML syntax error: a tab in the indentation; YAML indents with spaces only"};
   }
-  const bool flow = e.msg.find("flow not found") != std::string::npos;
-  for (std::size_t i = 0; flow && i < all.size(); ++i) {
-    const std::string code = all[i].substr(0, all[i].find(" #"));
-    long depth = 0;
-    std::size_t first = std::string::npos;
-    for (std::size_t c = 0; c < code.size(); ++c) {
-      if (code[c] == '[' || code[c] == '{') first = depth++ == 0 ? c : first;
-      if (code[c] == ']' || code[c] == '}') --depth;
+  if (e.msg.find("flow not found") != std::string::npos) {
+    struct Open {
+      char c;
+      int line, column;
+    };
+    std::vector<Open> open;  // brackets still open, outside quotes and comments
+    for (std::size_t i = 0; i < last; ++i) {
+      char quote = 0;
+      for (std::size_t c = 0; c < lines[i].size(); ++c) {
+        const char ch = lines[i][c];
+        if (quote) {
+          if (ch == quote) quote = 0;
+        } else if (ch == '\'' || ch == '"') {
+          quote = ch;
+        } else if (ch == '#' && (c == 0 || lines[i][c - 1] == ' ')) {
+          break;
+        } else if (ch == '[' || ch == '{') {
+          open.push_back({ch, int(i) + 1, int(c) + 1});
+        } else if ((ch == ']' || ch == '}') && !open.empty()) {
+          open.pop_back();
+        }
+      }
     }
-    if (depth > 0)
-      return {path, int(i) + 1, int(first) + 1, "",
-              fmt::format("YAML syntax error: this '{}' is not closed on its line; close it with '{}'",
-                          code[first], code[first] == '[' ? ']' : '}')};
+    if (!open.empty())
+      return {path, open.front().line, open.front().column, "",
+              fmt::format("YAML syntax error: this '{}' is never closed; close it with '{}'", open.front().c,
+                          open.front().c == '[' ? ']' : '}')};
   }
   std::string msg = "YAML syntax error: " + e.msg;
   if (e.msg.find("map") != std::string::npos)

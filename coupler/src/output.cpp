@@ -346,7 +346,9 @@ static hid_t open_for_reading(const std::string& path) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   H5Eset_auto2(H5E_DEFAULT, func, data);
-  if (f < 0) throw std::runtime_error(fmt::format("cannot open HDF5 file '{}': not an HDF5 file", path));
+  if (f < 0)
+    throw std::runtime_error(fmt::format(
+        "cannot open HDF5 file '{}': not an HDF5 file, truncated, or locked by a process writing it", path));
   return f;
 }
 
@@ -364,7 +366,7 @@ struct OpenDataset {
   hid_t file = -1, set = -1, space = -1;
   OpenDataset(const std::string& path, const std::string& name) {
     file = open_for_reading(path);
-    set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+    set = H5Lexists(file, name.c_str(), H5P_DEFAULT) > 0 ? H5Dopen2(file, name.c_str(), H5P_DEFAULT) : -1;
     if (set < 0) {
       H5Fclose(file);
       throw std::runtime_error(fmt::format("'{}' has no dataset '{}'", path, name));
@@ -442,7 +444,7 @@ long read_step(const std::string& path) {
 double read_time(const std::string& path) {
   hid_t f = open_for_reading(path);
   double t = 0;
-  hid_t a = H5Aopen(f, "time", H5P_DEFAULT);
+  hid_t a = H5Aexists(f, "time") > 0 ? H5Aopen(f, "time", H5P_DEFAULT) : -1;
   if (a >= 0) {
     H5Aread(a, H5T_NATIVE_DOUBLE, &t);
     H5Aclose(a);

@@ -217,15 +217,12 @@ static void visit_top(Visitor& v, Config& cfg, const Catalog& catalog) {
   v.section("run", "the run: name, end time, output", [&](Visitor& s) { cfg.run.visit(s); });
   v.section("coupling", "how components exchange data", [&](Visitor& s) { cfg.coupling.visit(s); });
   const std::size_t before = v.problem_count();
-  if (v.reading() && !v.given("domain"))  // one line, not one per missing key
-    v.fail("domain",
-           "missing required section (the global box and the fluid grid); add 'domain: {lower: [x, y, z], "
-           "upper: [x, y, z], cells: [i, j, k]}'");
-  else
-    v.section("domain", "the global box and the fluid grid", [&](Visitor& s) { cfg.domain.visit(s); });
-  // A broken domain (no cells, a NaN corner) sets off the components' checks
-  // against it (one-cell axes, cubic cells, 3D only): report it alone.
-  if (v.problem_count() > before) v.quiet_cross_checks();
+  v.section("domain", "the global box and the fluid grid", [&](Visitor& s) { cfg.domain.visit(s); });
+  // A domain whose box or grid is unusable (no cells, a NaN corner, left out)
+  // sets off the components' checks against it (one-cell axes, cubic cells,
+  // 3D only): report it alone. (An unknown key beside a usable box does not.)
+  if (v.problems_since(before, {"domain", "domain.lower", "domain.upper", "domain.cells"}))
+    v.quiet_cross_checks();
   v("gravity", cfg.gravity, "gravitational acceleration, m/s^2");
   for (const auto& schema : catalog) {
     ComponentInfo info;
@@ -464,14 +461,16 @@ Config parse_config_node(YAML::Node root, const std::string& file, const Catalog
     r.fail("immersed", cfg.has("fluid") ? "the immersed component couples a fluid and particles: add both sections "
                                           "(or method: ibm, immersed bodies for the fluid alone)"
                                         : "the immersed component acts on a fluid: add the fluid section");
+  // Whether the components can work together at all comes first: a field
+  // they do not write or a probe they cannot serve follows from that.
+  cfg.resolved = r.resolved();
+  if (r.problems().empty()) check_contracts(r, cfg, catalog);
   if (r.problems().empty()) check_output_fields(r, cfg, catalog);
   if (r.problems().empty()) check_probes(r, cfg, catalog);
   if (r.problems().empty()) check_decompositions(r, cfg);
   if (r.problems().empty()) check_window_count(r, cfg);
   if (r.problems().empty()) check_window_divides(r, cfg);
   if (r.problems().empty()) check_output_dir(r, cfg);
-  cfg.resolved = r.resolved();
-  if (r.problems().empty()) check_contracts(r, cfg, catalog);
   for (const auto& schema : catalog)
     if (r.problems().empty() && schema.check && cfg.has(schema.section))
       schema.check(r, cfg, cfg.component(schema.section).variant);

@@ -135,6 +135,8 @@ class Visitor {
   // checks spanning several keys (fail()) quiet from now on: after a broken
   // domain they would only repeat it in other words.
   virtual std::size_t problem_count() const { return 0; }
+  // Whether a problem found since the count `since` sits at one of `paths`.
+  virtual bool problems_since(std::size_t, const std::vector<std::string>&) const { return false; }
   virtual void quiet_cross_checks() {}
 
   // True while reading a user's file; false while describing.
@@ -191,6 +193,7 @@ class Reader final : public Visitor {
   void fail(std::string_view key, const std::string& message) override;
   bool reading() const override { return true; }
   std::size_t problem_count() const override;
+  bool problems_since(std::size_t since, const std::vector<std::string>& paths) const override;
   void quiet_cross_checks() override;
   bool given(std::string_view key) const override;
   void accept_other_keys() override;
@@ -264,8 +267,8 @@ class Describer final : public Visitor {
 std::string closest(std::string_view word, const std::vector<std::string>& candidates);
 
 // What keeps a named input file from being read, "" when nothing does: "no
-// such file", "is a directory, not a file", "is not a regular file" or "cannot
-// be read (check its permissions)".
+// such file", "is a directory, not a file", "is not a regular file", "cannot
+// be read (check its permissions)" or the system's reason (a pipe reads).
 std::string file_problem(const std::string& path);
 
 // Load a YAML file; syntax errors become ConfigError with the file position.

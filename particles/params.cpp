@@ -724,18 +724,18 @@ void ParticleParams::check_geometry(Visitor& v, const config::Config& cfg, const
              fmt::format("centre {} is outside the domain ({}); particles would enter nowhere",
                          point_text(injection[n].center), domain_text(cfg)));
     else if (over > 1e-9 * (cfg.domain.upper[a] - cfg.domain.lower[a]))
-      v.fail("injection",
-             fmt::format("item {}: the {} reaches {:.4g} m past the domain ({}) along {}, which is not "
+      v.fail(fmt::format("injection[{}].{}", n, injection[n].disk ? "disk" : "rectangle"),
+             fmt::format("the {} reaches {:.4g} m past the domain ({}) along {}, which is not "
                          "periodic: particles would enter outside it; move the inlet or make it smaller",
-                         n, injection[n].disk ? "disk" : "rectangle", over, domain_text(cfg), "xyz"[a]));
+                         injection[n].disk ? "disk" : "rectangle", over, domain_text(cfg), "xyz"[a]));
     for (int k = 0; k < 3; ++k) {
       const double L = cfg.domain.upper[k] - cfg.domain.lower[k],
                    span = 2.0 * inlet_half_extent(injection[n], k);
       if (cfg.domain.periodic[k] && span > L * (1.0 + 1e-9))
-        v.fail("injection",
-               fmt::format("item {}: the {} spans {:.4g} m along {}, more than the domain's period "
+        v.fail(fmt::format("injection[{}].{}", n, injection[n].disk ? "disk" : "rectangle"),
+               fmt::format("the {} spans {:.4g} m along {}, more than the domain's period "
                            "({:.4g} m): parts of it would fall on each other; make it smaller",
-                           n, injection[n].disk ? "disk" : "rectangle", span, "xyz"[k], L));
+                           injection[n].disk ? "disk" : "rectangle", span, "xyz"[k], L));
     }
   }
   check_meshes_inside(v, cfg);

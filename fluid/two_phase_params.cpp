@@ -8,6 +8,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "coflow/config.hpp"
 #include "coflow/stl.hpp"
 #include "fluid/mesh_voxels.hpp"
 
@@ -100,8 +101,10 @@ std::string read_hdf5(const SolidParams& s, std::vector<std::uint8_t>* out, std:
 
 // Reads a voxel image; "" or what is wrong.
 std::string read_voxels(const SolidParams& s, std::vector<std::uint8_t>* out) {
-  if (!std::filesystem::exists(s.file.path)) return fmt::format("no such file: {}", s.file.path);
-  if (!std::filesystem::is_regular_file(s.file.path)) return fmt::format("not a file: {}", s.file.path);
+  if (const std::string why = config::file_problem(s.file.path); !why.empty())
+    return fmt::format("{}: {}", s.file.path, why);
+  if (!std::filesystem::is_regular_file(s.file.path))  // a pipe: an image is read by its size
+    return fmt::format("{}: not a regular file", s.file.path);
   std::array<long, 3> want{}, got{};
   for (int d = 0; d < 3; ++d) want[d] = std::lround(s.shape.values.at(d));
   if (!s.dataset.empty()) {

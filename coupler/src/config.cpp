@@ -272,8 +272,6 @@ bool non_finite(const YAML::Node& n) {
   }
 }
 
-// Whether the integral value d lies outside I (its max as a double rounds up
-// to 2^digits, itself out of range: compare against that power exactly).
 // The text value() gives a required key the file leaves out (and the test
 // for it: other checks may say "missing required key" in other words).
 constexpr const char* kMissingKey = "missing required key";
@@ -282,6 +280,8 @@ bool is_missing_key(const std::string& m) {
          m.starts_with(std::string(kMissingKey) + "; add '");
 }
 
+// Whether the integral value d lies outside I (its max as a double rounds up
+// to 2^digits, itself out of range: compare against that power exactly).
 template <class I>
 bool integer_out_of_range(double d) {
   return d >= std::ldexp(1.0, std::numeric_limits<I>::digits) ||

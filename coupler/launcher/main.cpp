@@ -411,13 +411,14 @@ bool start_overdue(Watch& w, double since, double limit, pid_t pid) {
 
 // Reads the launch's output until it ends (every process that holds the
 // pipe is gone). The start watchdog's SIGTERM is escalated: a launcher (mpirun
-// or srun) still there kStopGrace s after it is killed (SIGKILL; the ranks,
-// which Open MPI starts in process groups of their own, lose their server),
-// and kStopGrace s after that the pipe is abandoned, whatever still holds it,
-// so that nothing keeps the launcher waiting. Returns whether the watchdog
-// stopped the launch.
-bool read_child_output(int fd, Watch& w, std::string& buf, double since, double start_limit, pid_t pid) {
-  constexpr double kStopGrace = 10.0;
+// or srun) still there run.launch.stop_grace s after it is killed (SIGKILL;
+// the ranks, which Open MPI starts in process groups of their own, lose their
+// server), and stop_grace s after that the pipe is abandoned, whatever still
+// holds it, so that nothing keeps the launcher waiting. Returns whether the
+// watchdog stopped the launch.
+bool read_child_output(int fd, Watch& w, std::string& buf, double since,
+                       const coflow::config::LaunchParams& limits, pid_t pid) {
+  const double grace = limits.stop_grace;
   double stopped_at = -1, killed_at = -1;
   char chunk[4096];
   for (;;) {
@@ -432,12 +433,14 @@ bool read_child_output(int fd, Watch& w, std::string& buf, double since, double 
     }
     const double t = coflow::coupler::now();
     if (stopped_at < 0) {
-      if (start_overdue(w, since, start_limit, pid)) stopped_at = t;
-    } else if (killed_at < 0 && t - stopped_at > kStopGrace) {
-      std::fprintf(stderr, "coflow: the launch did not end %.0f s after SIGTERM: killing it\n", kStopGrace);
+      if (start_overdue(w, since, limits.start_timeout, pid)) stopped_at = t;
+    } else if (killed_at < 0 && t - stopped_at > grace) {
+      std::fprintf(stderr,
+                   "coflow: the launch did not end %g s after SIGTERM (run.launch.stop_grace): killing it\n",
+                   grace);
       kill(pid, SIGKILL);
       killed_at = t;
-    } else if (killed_at >= 0 && t - killed_at > kStopGrace) {
+    } else if (killed_at >= 0 && t - killed_at > grace) {
       break;  // a process that outlived the launcher still holds the pipe
     }
   }
@@ -445,8 +448,8 @@ bool read_child_output(int fd, Watch& w, std::string& buf, double since, double 
 }
 
 // Runs argv with stdout+stderr piped to us; returns the exit status.
-int run_child(const std::vector<std::string>& argv, const Launch& launch, Progress& progress, Failure& failure,
-              double start_limit) {
+int run_child(const std::vector<std::string>& argv, const Launch& launch, Progress& progress,
+              Failure& failure, const coflow::config::LaunchParams& limits) {
   int fds[2];
   if (pipe(fds) != 0) throw std::runtime_error("pipe failed");
   std::vector<char*> cargv;
@@ -496,7 +499,7 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
   Watch w{launch, progress, failure, {}};
   const double since = coflow::coupler::now();
   std::string buf;
-  const bool stopped = read_child_output(fds[0], w, buf, since, start_limit, pid);
+  const bool stopped = read_child_output(fds[0], w, buf, since, limits, pid);
   if (!buf.empty()) take_line(buf, w);
   close(fds[0]);
   int status = 0;
@@ -1015,7 +1018,7 @@ int run(const Config& cfg, RunOptions o) {
   Progress progress(isatty(STDOUT_FILENO));
   Failure failure;
   const double t0 = coflow::coupler::now();
-  const int rc = run_child(argv_launch, launch, progress, failure, cfg.run.launch.start_timeout);
+  const int rc = run_child(argv_launch, launch, progress, failure, cfg.run.launch);
   const double wall = coflow::coupler::now() - t0;
   if (rc == 0) {
     print_summary(dir);

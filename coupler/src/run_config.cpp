@@ -110,6 +110,11 @@ void LaunchParams::visit(Visitor& v) {
     "seconds the launcher waits for every component's ranks to start (MPI start-up on many nodes can take "
     "minutes) before it stops the launch and names those missing; coupling.timeout bounds the waits after it",
     positive());
+  v("stop_grace", stop_grace,
+    "seconds a launch stopped by the start watchdog gets to end after SIGTERM before it is killed (SIGKILL), "
+    "and the killed launch to let go of its output before the launcher stops reading it (as Slurm's "
+    "KillWait)",
+    positive());
 }
 
 void RunParams::visit(Visitor& v) {

@@ -37,18 +37,21 @@ grep -q "before any component started" "$out/false.log" || fail "/bin/false: no 
 grep -q "see $out/false/logs/" "$out/false.log" && fail "/bin/false: points at a logs directory that does not exist"
 grep -q '"reason": ""' "$out/false/summary.json" && fail "/bin/false: empty reason in summary.json"
 # An mpirun that hangs and ignores SIGTERM, whose child holds the output pipe:
-# the watchdog kills it 10 s after its SIGTERM and leaves the pipe 10 s later.
+# the watchdog kills it run.launch.stop_grace (here 2 s, 10 by default) after
+# its SIGTERM and leaves the pipe 2 s later.
 mkdir -p "$out/fake"
 printf '#!/bin/bash\ntrap "" TERM\nsleep 100\n' >"$out/fake/mpirun"
 chmod +x "$out/fake/mpirun"
 start=$(date +%s)
 PATH="$out/fake:$PATH" timeout 60 "$bin/coflow" run "$cfg" --set run.launch.start_timeout=2 \
-  --set run.output.dir="$out/stuck" >"$out/stuck.log" 2>&1; rc=$?
+  --set run.launch.stop_grace=2 --set run.output.dir="$out/stuck" >"$out/stuck.log" 2>&1; rc=$?
 stuck=$(( $(date +%s) - start ))
 tail -n 3 "$out/stuck.log"
 [ $rc -ne 124 ] || fail "a launch ignoring SIGTERM: the launcher hung (killed after 60 s)"
 [ $rc -ne 0 ] || fail "a launch ignoring SIGTERM: exit status 0"
-[ $stuck -le 40 ] || fail "a launch ignoring SIGTERM: took $stuck s (start_timeout 2 + twice 10 s of grace)"
-grep -q "the launch did not end 10 s after SIGTERM: killing it" "$out/stuck.log" || fail "no kill message"
+[ $stuck -ge 5 ] || fail "a launch ignoring SIGTERM: ended after $stuck s, before start_timeout 2 + twice 2 s of grace"
+[ $stuck -le 16 ] || fail "a launch ignoring SIGTERM: took $stuck s (start_timeout 2 + twice 2 s of grace)"
+grep -q "the launch did not end 2 s after SIGTERM (run.launch.stop_grace): killing it" "$out/stuck.log" ||
+  fail "no kill message"
 grep -q '"reason": "fluid, immersed, particles did not start' "$out/stuck/summary.json" || fail "stuck: summary.json reason"
 echo "ok: stopped in $took s; a launch ignoring SIGTERM killed in $stuck s"

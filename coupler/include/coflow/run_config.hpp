@@ -60,6 +60,7 @@ struct LaunchParams {
   std::string bind = "auto";  // auto | none | core
   StringList mpi_args;
   double start_timeout = 300.0;  // s: the launcher's start watchdog (coupling.timeout is the ranks' own)
+  double stop_grace = 10.0;      // s: SIGTERM -> SIGKILL of a stopped launch, and SIGKILL -> the pipe left
   void visit(Visitor& v);
 };
 

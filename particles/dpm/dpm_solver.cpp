@@ -189,6 +189,14 @@ void DpmSolver::sort_into_cells(double h) {
     }
   }
   start_.push_back(static_cast<long>(n));
+  const long total = nc_[0] * nc_[1] * nc_[2];
+  slot_of_.clear();
+  if (total <= 64 * static_cast<long>(n) &&
+      keys_.size() < static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+    slot_of_.assign(static_cast<std::size_t>(total), 0);
+    for (std::size_t c = 0; c < keys_.size(); ++c)
+      slot_of_[static_cast<std::size_t>(keys_[c])] = static_cast<int>(c) + 1;
+  }
 }
 
 // The occupied neighbour cells (slots in keys_) of occupied cell c, itself
@@ -203,6 +211,14 @@ int DpmSolver::neighbour_cells(std::size_t c, long* cursor, long* nb) const {
   int count = 0;
   bool inner = !small;
   for (int k = 0; k < 3; ++k) inner = inner && cc[k] > 0 && cc[k] < nc[k] - 1;
+  const int* dense = slot_of_.empty() ? nullptr : slot_of_.data();
+  if (inner && dense) {  // the same slots in the same order as the walk below
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (long k = key + (dz * nc[1] + dy) * nc[0] - 1, e = k + 3; k < e; ++k)
+          if (const int s = dense[k]; s > 0) nb[count++] = s - 1;
+    return count;
+  }
   if (inner) {
     int r = 0;
     for (int dz = -1; dz <= 1; ++dz)
@@ -229,9 +245,14 @@ int DpmSolver::neighbour_cells(std::size_t c, long* cursor, long* nb) const {
         }
         if (!ok) continue;
         const long k2 = (q[2] * nc[1] + q[1]) * nc[0] + q[0];
-        const auto it = std::lower_bound(keys_.begin(), keys_.end(), k2);
-        if (it == keys_.end() || *it != k2) continue;
-        const long slot = static_cast<long>(it - keys_.begin());
+        long slot = -1;
+        if (dense) {
+          slot = dense[k2] - 1;
+        } else if (const auto it = std::lower_bound(keys_.begin(), keys_.end(), k2);
+                   it != keys_.end() && *it == k2) {
+          slot = static_cast<long>(it - keys_.begin());
+        }
+        if (slot < 0) continue;
         if (!small || std::find(nb, nb + count, slot) == nb + count) nb[count++] = slot;
       }
   return count;

@@ -7,7 +7,8 @@
 # interface, the capillary bridge and E4, timed alone or scaled by their
 # steps; the k-epsilon tests of the adaptive grid and unit.mpi with them,
 # 2026-11-28, in ctest -j2 beside others; the DFG tests and the Slurm test
-# from the whole-suite run of 2026-12-06, session 71). Included by tests/CMakeLists.txt after every
+# from the whole-suite run of 2026-12-06, session 71; those changed on
+# 2026-12-06, session 74, in ctest -j2 beside each other). Included by tests/CMakeLists.txt after every
 # test is defined; a name that is no test is reported.
 set(coflow_test_costs
   validation.lbm_dfg_cylinder 23
@@ -17,19 +18,19 @@ set(coflow_test_costs
   validation.two_phase_laplace_3d 50
   unit.mpi 28
   unit.mpi_4_ranks 16
-  validation.psm_settling_sphere_e4 55
-  validation.ibm_cylinder_re100 45
+  validation.psm_settling_sphere_e4 68
+  validation.ibm_cylinder_re100 62
   validation.two_phase_grain_interface_120 50
   validation.two_phase_grain_interface_60 50
-  validation.dpm_granular_gas_bidisperse 46
+  validation.dpm_granular_gas_bidisperse 28
   validation.fv_ke_channel 46
   validation.fv_ke_backward_step 40
-  validation.fv_ke_backward_step_openfoam 28
+  validation.fv_ke_backward_step_openfoam 24
   validation.two_phase_capillary_bridge 45
-  validation.psm_settling_sphere_e3 45
+  validation.psm_settling_sphere_e3 56
   validation.psm_settling_sphere_e2 42
-  validation.psm_settling_sphere_e1 42
-  validation.fv_cavity_re1000 40
+  validation.psm_settling_sphere_e1 46
+  validation.fv_cavity_re1000 28
   validation.ibm_sphere_re100 43
   validation.dpm_grid_turbulence_fv 32
   unit.amr_cavity 30
@@ -40,7 +41,7 @@ set(coflow_test_costs
   unit 25
   validation.dem_gravity_pour 25
   validation.ibm_cylinder_re20_lbm 24
-  validation.fv_cavity_re100 23
+  validation.fv_cavity_re100 16
   validation.ibm_cylinder_oscillating 23
   validation.dpm_dispersion 23
   validation.solids_sphere_array_tau 22

@@ -439,7 +439,7 @@ void ParticleParams::check_references(Visitor& v) const {
   for (std::size_t n = 0; n < collision.pairs.size(); ++n)
     for (const auto& name : collision.pairs[n].species)
       if (species_index(name) < 0)
-        v.fail("collision", fmt::format("pairs item {} names species '{}', which is not defined under species", n, name));
+        v.fail(fmt::format("collision.pairs[{}].species", n), unknown_species(name));
   if (point_particles)
     for (const auto& [name, sp] : species)
       if (sp.fixed) v.fail("species", fmt::format("species '{}' is fixed: fixed particles are for dem, not dpm", name));

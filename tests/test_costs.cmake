@@ -15,7 +15,7 @@ set(coflow_test_costs
   validation.lbm_dfg_cylinder_2d2 31
   validation.lbm_dfg_cylinder_halfway 23
   validation.ibm_cylinder_re20 80
-  validation.two_phase_laplace_3d 50
+  validation.two_phase_laplace_3d 35
   unit.mpi 28
   unit.mpi_4_ranks 16
   validation.psm_settling_sphere_e4 68
@@ -34,7 +34,7 @@ set(coflow_test_costs
   validation.ibm_sphere_re100 43
   validation.dpm_grid_turbulence_fv 32
   unit.amr_cavity 30
-  validation.lbm_duct_3d_pressure 28
+  validation.lbm_duct_3d_pressure 20
   validation.dpm_grid_turbulence_ct026 28
   validation.dpm_grid_turbulence 27
   cluster.srun_quickstart 14

@@ -167,13 +167,14 @@ coflow_validation(two_phase_grains_central_vs_reference compare two_phase_grains
   "fluid.solver=lbm ${central} ${grain_solids}" "fluid.solver=lbm-reference ${central} ${grain_solids}")
 coflow_validation(two_phase_grains_central_ranks_1_vs_4 compare two_phase_grains_crosscheck.yaml 2
   "fluid.ranks=1 ${central} ${grain_solids}" "fluid.ranks=4 fluid.decomposition=[2,2,1] ${central} ${grain_solids}")
-# Laplace in 3D (D3Q19), one droplet of 18 cells in a 56-cell box on 2 ranks
+# Laplace in 3D (D3Q19), one droplet of 18 cells in a 56-cell box on 1 rank
+# (2 ranks took 1.45x the core-seconds, 2026-12-06; the same bits)
 # (the issue's 2 % needs R = 18: 5.7 % at 10 cells, 2.6 % at 14). tau = 1 at
 # the same time step (the viscosity 5/3 of the 2D case's): the pressure waves
 # of the start die faster, and 2000 steps give 1.45 % (tau = 0.8: 2.1 % after
 # 2000 steps, 1.2 % after 3000). Laplace's law does not hold the viscosity.
-coflow_validation(two_phase_laplace_3d laplace two_phase_droplet_2d.yaml 2
-  [=[fluid.lbm.lattice=D3Q19 fluid.ranks=2 fluid.lbm.tau=1.0 fluid.viscosity=1.6666666666666667e-6 domain.cells=[56,56,56] domain.upper=[0.056,0.056,0.056] run.end_time=200.0 run.output.every=200.0 run.output.series_every=40.0 fluid.initial.phase=[{"fill":{"phase":"blue"}},{"sphere":{"centre":[0.028,0.028,0.028],"phase":"red","radius":0.018}}]]=])
+coflow_validation(two_phase_laplace_3d laplace two_phase_droplet_2d.yaml 1
+  [=[fluid.lbm.lattice=D3Q19 fluid.ranks=1 fluid.lbm.tau=1.0 fluid.viscosity=1.6666666666666667e-6 domain.cells=[56,56,56] domain.upper=[0.056,0.056,0.056] run.end_time=200.0 run.output.every=200.0 run.output.series_every=40.0 fluid.initial.phase=[{"fill":{"phase":"blue"}},{"sphere":{"centre":[0.028,0.028,0.028],"phase":"red","radius":0.018}}]]=])
 # The fluid's force on the walls of the layered flow (two fluids; diagonal
 # links at the periodic x faces): momentum balance row to row, and at steady
 # state the walls carry the body force.

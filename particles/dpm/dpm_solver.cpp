@@ -95,8 +95,9 @@ double DpmSolver::stable_step() const {
 
 // Pairs that touch within the step: |d| <= (D_i + D_j) / 2 + |u_i - u_j| h at
 // the start, so a cell edge of D_max + 2 u_max h puts them in neighbouring cells.
-// O(N log N): the sort by cell and one binary search per occupied cell and
-// neighbour.
+// O(N log N): the sort by cell, then each occupied cell's neighbours by a
+// table read (slot_of_, on grids of at most 32 cells a particle) or by walks
+// and binary searches over the sorted keys.
 void DpmSolver::find_pair_events(double h, std::vector<dpm::Event>& out) {
   const std::size_t n = near_.size(), owned = p_.size();
   if (all_pairs_) {
@@ -136,9 +137,10 @@ void DpmSolver::find_pair_events(double h, std::vector<dpm::Event>& out) {
 
 // Cells of edge D_max + 2 u_max h (the same on every rank), stored sparsely:
 // particles sorted by cell key into a packed copy (position, trajectory
-// velocity, diameter, id, index), occupied cells found by binary search. The
-// cost does not depend on the box or on how the particles cluster (a jet packs
-// thousands into a column a few particles wide).
+// velocity, diameter, id, index), occupied cells found by binary search, or
+// by a dense key -> slot table where the grid has at most 32 cells a particle
+// (4 bytes a cell). The cost does not depend on the box or on how the particles
+// cluster (a jet packs thousands into a column a few particles wide).
 void DpmSolver::sort_into_cells(double h) {
   const std::size_t n = near_.size();
   double dmax = 0.0, umax = 0.0;
@@ -191,7 +193,9 @@ void DpmSolver::sort_into_cells(double h) {
   start_.push_back(static_cast<long>(n));
   const long total = nc_[0] * nc_[1] * nc_[2];
   slot_of_.clear();
-  if (total <= 64 * static_cast<long>(n) &&
+  if (total > 32 * static_cast<long>(n))
+    slot_of_.shrink_to_fit();  // a sparse grid: give the table's memory back
+  if (total <= 32 * static_cast<long>(n) &&
       keys_.size() < static_cast<std::size_t>(std::numeric_limits<int>::max())) {
     slot_of_.assign(static_cast<std::size_t>(total), 0);
     for (std::size_t c = 0; c < keys_.size(); ++c)

@@ -132,7 +132,7 @@ class DpmSolver final : public ParticleSolver {
   };
   long nc_[3] = {1, 1, 1};  // collision cells per axis
   std::vector<long> start_, keys_, cell_;  // per occupied cell: first packed row; its key; per particle: key
-  // Where the grid has at most 64 cells per particle: key -> occupied slot + 1
+  // Where the grid has at most 32 cells per particle: key -> occupied slot + 1
   // (0: empty), so that a cell's 27 neighbours are 27 reads (else the sorted
   // keys are searched: a jet's column can span millions of empty cells).
   std::vector<int> slot_of_;

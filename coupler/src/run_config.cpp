@@ -113,7 +113,7 @@ void LaunchParams::visit(Visitor& v) {
   v("stop_grace", stop_grace,
     "seconds a launch stopped by the start watchdog gets to end after SIGTERM before it is killed (SIGKILL), "
     "and the killed launch to let go of its output before the launcher stops reading it (as Slurm's "
-    "KillWait)",
+    "KillWait; checked about once a second)",
     positive());
 }
 

@@ -247,9 +247,10 @@ case "$mode" in
     # their relative difference, and how far each code's moved. Skipped (77)
     # where OpenFOAM is not installed.
     nx=$1 ny=$2 its=$3 t1=$4 t2=$5; shift 5
-    awk -v a="$t1" -v b="$t2" 'BEGIN { exit !(a + 0 == a && b + 0 == b && a > 0 && b > a && a % (b - a) == 0) }' ||
+    awk -v a="$t1" -v b="$t2" 'BEGIN { r = b > a ? a / (b - a) : 0.5  # T1 / (T2 - T1), a whole number
+      exit !(a + 0 == a && b + 0 == b && a > 0 && b > a && (r - int(r + 0.5)) ^ 2 < 1e-18) }' ||
       { echo "FAIL: openfoam_backward_step needs numbers 0 < T1 < T2, T1 a multiple of T2 - T1 (given $t1, $t2)"; exit 1; }
-    every=$(awk -v a="$t1" -v b="$t2" 'BEGIN { print b - a }')
+    every=$(awk -v a="$t1" -v b="$t2" 'BEGIN { printf "%.17g", b - a }')
     command -v simpleFoam >/dev/null || { echo "SKIP: simpleFoam not found (Debian package openfoam; scripts/setup installs it)"; exit 77; }
     # The run to T2 goes on from the run to T1's checkpoint at T1 (a restart
     # ends where the straight run ends, bit for bit: restart.fv_k_epsilon_log_law;
@@ -257,7 +258,7 @@ case "$mode" in
     run "$out/early" --set "domain.cells=[$nx,$ny,1]" --set run.end_time="$t1" --set run.output.every="$every" \
       --set run.checkpoint.every="$t1" "$@"
     check ke_backward_step "$out/early" | sed 's/^/early_/' | tee -a "$metrics" || exit 1
-    at_t1=$(ls -d "$out"/early/checkpoints/window_* 2>/dev/null | tail -n 1)
+    at_t1=$(ls -d "$out"/early/checkpoints/window_*[0-9] 2>/dev/null | tail -n 1)
     [ -n "$at_t1" ] || { echo "FAIL: the run to T1 wrote no checkpoint"; exit 1; }
     run "$out/run" --restart "$at_t1" --set "domain.cells=[$nx,$ny,1]" --set run.end_time="$t2" \
       --set run.output.every="$every" "$@"

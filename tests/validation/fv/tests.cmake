@@ -173,7 +173,8 @@ coflow_validation(fv_ke_backward_step ke_backward_step fv_ke_backward_step.yaml 
 # The same step on 160 x 72 cells against OpenFOAM's simpleFoam with the
 # same model on the same grid (scripts/openfoam_backward_step.sh, 600 SIMPLE
 # iterations): a second implementation of the standard k-epsilon model and
-# its wall functions; fv to t = 160 and 240 H/U (settled). Skipped where
+# its wall functions; fv to t = 160, and on from its checkpoint there to
+# 240 H/U (settled). Skipped where
 # OpenFOAM is not installed.
 coflow_validation(fv_ke_backward_step_openfoam openfoam_backward_step fv_ke_backward_step.yaml 1 160 72 600 160 240)
 set_tests_properties(validation.fv_ke_backward_step_openfoam PROPERTIES SKIP_RETURN_CODE 77)

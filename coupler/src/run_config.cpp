@@ -384,17 +384,17 @@ static void check_probes(Reader& r, const Config& cfg, const Catalog& catalog) {
   };
   // A line probe's columns are <name>_<k>_ux ...: a point probe named so
   // would write the same columns (series/probes.csv with two of each).
-  std::map<std::string, std::string> lines;  // <name>_<k> -> the line's key
+  std::map<std::string, std::size_t> lines;  // <name>_<k>, k = 0 .. points - 1 -> the line's index
   for (std::size_t i = 0; i < o.probes.size(); ++i)
-    for (int k = 1; k <= o.probes[i].points; ++k)
-      lines.emplace(fmt::format("{}_{}", o.probes[i].name, k), fmt::format("run.output.probes[{}]", i));
+    for (int k = 0; k < o.probes[i].points; ++k) lines.emplace(fmt::format("{}_{}", o.probes[i].name, k), i);
   for (std::size_t i = 0; i < o.probes.size(); ++i) {
     const std::string key = fmt::format("run.output.probes[{}]", i);
     check_name(key, o.probes[i].name);
     if (const auto l = lines.find(o.probes[i].name); o.probes[i].points == 0 && l != lines.end())
       r.fail(key + ".name", fmt::format("'{}' is also a column prefix of the line probe {} (its points are "
-                                        "<name>_1 to <name>_N): give this probe another name",
-                                        o.probes[i].name, l->second));
+                                        "<name>_0 to <name>_{}): give this probe another name",
+                                        o.probes[i].name, fmt::format("run.output.probes[{}]", l->second),
+                                        o.probes[l->second].points - 1));
     // The domain is a box: a line lies in it when both its ends do.
     const ProbeParams& p = o.probes[i];
     const std::vector<Vec3> xs = p.samples();

@@ -35,7 +35,7 @@ struct Field {
   std::string units;
 };
 
-// The fields the components exchange (docs/protocol.md §3). A contract names
+// The fields the components exchange (docs/config.md, "Coupling contracts"). A contract names
 // them by these constants, so that provider and consumer spell them alike.
 namespace fields {
 inline const Field velocity{"velocity", Location::cell, "m/s"};

@@ -1,5 +1,5 @@
 // What the built-in components exchange each coupling window (docs/protocol.md,
-// ARCHITECTURE.md "Data per coupling window"): record layouts and message tags.
+// ../shared/design/ARCHITECTURE.md "Data per coupling window"): record layouts and message tags.
 #pragma once
 
 #include <cstddef>

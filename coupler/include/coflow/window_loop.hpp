@@ -1,4 +1,4 @@
-// The one window loop every component runs (docs/protocol.md §2). A component
+// The one window loop every component runs (docs/protocol.md §4). A component
 // hands run_windows() an object with the parts of a window; the loop calls
 //
 //   start(w0)                      once, after a restart from window w0 or w0 = 0

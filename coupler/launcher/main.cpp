@@ -44,9 +44,11 @@ namespace {
 volatile sig_atomic_t g_child = 0;
 volatile sig_atomic_t g_interrupted = 0;  // the signal the user sent (Ctrl-C: SIGINT)
 
+// A hangup (the terminal or the ssh session closed) stops the run as SIGTERM
+// does: mpirun takes SIGTERM to end its job.
 void forward_signal(int sig) {
   g_interrupted = sig;
-  if (g_child > 0) kill(g_child, sig);
+  if (g_child > 0) kill(g_child, sig == SIGHUP ? SIGTERM : sig);
 }
 
 std::string self_dir() {
@@ -463,21 +465,20 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
   sigemptyset(&stop);
   sigaddset(&stop, SIGINT);
   sigaddset(&stop, SIGTERM);
+  sigaddset(&stop, SIGHUP);
   sigprocmask(SIG_BLOCK, &stop, &old);
-  signal(SIGINT, forward_signal);
-  signal(SIGTERM, forward_signal);
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) signal(sig, forward_signal);
   const pid_t pid = fork();
   if (pid < 0) {
-    signal(SIGINT, SIG_DFL);  // no child to forward to: Ctrl-C ends the launcher
-    signal(SIGTERM, SIG_DFL);
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP})
+      signal(sig, SIG_DFL);  // no child: Ctrl-C ends the launcher
     sigprocmask(SIG_SETMASK, &old, nullptr);
     close(fds[0]);
     close(fds[1]);
     throw std::runtime_error("fork failed");
   }
   if (pid == 0) {
-    signal(SIGINT, SIG_DFL);
-    signal(SIGTERM, SIG_DFL);
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) signal(sig, SIG_DFL);
     sigprocmask(SIG_SETMASK, &old, nullptr);
     // Components read no input: mpirun would otherwise forward the terminal
     // to rank 0.
@@ -522,13 +523,15 @@ std::string split_advice(const YAML::Node& s) {
   return coflow::coupler::rank_advice(loads, s["scheme"].as<std::string>() == "parallel-explicit");
 }
 
-void print_summary(const std::string& dir) {
+// A finished run's table; false where no summary of a finished run is there
+// (the launch ended with status 0, but no component finished the run).
+bool print_summary(const std::string& dir) {
   YAML::Node s;
   try {
     s = YAML::LoadFile(dir + "/summary.json");
+    if (s["status"].as<std::string>() != "ok") return false;
   } catch (const std::exception&) {
-    std::printf("coflow: finished, but %s/summary.json is missing or unreadable\n", dir.c_str());
-    return;
+    return false;
   }
   std::printf("\ncoflow: run '%s' %s in %.2f s wall (%ld windows of %.4g s, %s)\n",
               s["name"].as<std::string>().c_str(), s["status"].as<std::string>() == "ok" ? "finished" : "FAILED",
@@ -547,6 +550,7 @@ void print_summary(const std::string& dir) {
   }
   std::printf("  output: %s  (open %s/run.xdmf in ParaView)\n", dir.c_str(), dir.c_str());
   if (const std::string advice = split_advice(s); !advice.empty()) std::printf("  ranks: %s\n", advice.c_str());
+  return true;
 }
 
 // `coflow validate`: the split the last run of this configuration suggests.
@@ -571,7 +575,8 @@ void write_failed_summary(const Config& cfg, const Failure& f, int code, double 
       coflow::output::json_quote(f.rank), coflow::output::json_quote(f.reason), code, wall);
   try {
     coflow::output::atomic_write(dir + "/summary.json", json);
-  } catch (const std::exception&) {
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "coflow: the failed run's summary could not be written: %s\n", e.what());
   }
 }
 
@@ -807,7 +812,10 @@ void gather_failures(const std::string& dir) {
     std::ifstream in(path);
     all += std::string(std::istreambuf_iterator<char>(in), {});
   }
-  std::ofstream(dir + "/logs/FAILED", std::ios::app) << all;
+  std::ofstream out(dir + "/logs/FAILED", std::ios::app);
+  out << all;
+  out.close();
+  if (!out) return;  // the pieces stay (a full disk): report_failure reads them below
   for (const auto& [when, path] : pieces) fs::remove(path, ec);
 }
 
@@ -827,7 +835,9 @@ int report_failure(const Config& cfg, const std::string& dir, Failure failure, i
   if (failure.reason.empty())
     failure.reason = fmt::format("the launch ended with exit status {} and no component reported why", rc);
   write_failed_summary(cfg, failure, rc, wall);
-  if (failure.component.empty() && fs::exists(dir + "/logs"))
+  if (failure.component.empty() && rc == 0)
+    std::fprintf(stderr, "\ncoflow: run failed: %s\n", failure.reason.c_str());
+  else if (failure.component.empty() && fs::exists(dir + "/logs"))
     std::fprintf(stderr, "\ncoflow: run failed (exit status %d); see %s/logs/\n", rc, dir.c_str());
   else if (failure.component.empty())
     std::fprintf(stderr, "\ncoflow: run failed (exit status %d) before any component started (no logs were "
@@ -1020,10 +1030,12 @@ int run(const Config& cfg, RunOptions o) {
   const double t0 = coflow::coupler::now();
   const int rc = run_child(argv_launch, launch, progress, failure, cfg.run.launch);
   const double wall = coflow::coupler::now() - t0;
-  if (rc == 0) {
-    print_summary(dir);
-    return 0;
-  }
+  if (rc == 0 && print_summary(dir)) return 0;
+  if (rc == 0)  // every process exited 0, but none finished the run: not a success
+    failure.reason = fmt::format(
+        "the launch ended with exit status 0, but {}/summary.json does not hold a finished run: a component "
+        "exited without finishing it (an --exe program that does not run coflow's session?)",
+        dir);
   if (g_interrupted) {
     // The rest of the command line the restart needs: the executables, the
     // launcher and --strict (paths absolute, as the restart may run elsewhere).

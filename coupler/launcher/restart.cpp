@@ -24,21 +24,26 @@ namespace fs = std::filesystem;
 namespace {
 
 // Keep the header, a units line and the rows whose first column passes `keep`; returns
-// how many rows went.
+// how many rows went. A last row without its newline was cut short (a full
+// disk, a killed run: a row is written with its newline in one piece) and
+// goes too: the restarted run's rows would be appended to it.
 template <class Keep>
 long cut_csv(const fs::path& path, Keep keep) {
   std::ifstream in(path);
+  const std::string all{std::istreambuf_iterator<char>(in), {}};
+  in.close();
+  std::istringstream lines(all);
   std::string line, text;
   long cut = 0;
-  if (std::getline(in, line)) text = line + "\n";
-  while (std::getline(in, line)) {
+  if (std::getline(lines, line)) text = line + "\n";
+  while (std::getline(lines, line)) {
     if (line.empty()) continue;
-    if (line.starts_with("#") || keep(std::strtod(line.c_str(), nullptr)))  // a series' units line stays
+    const bool torn = lines.eof() && !all.ends_with('\n');
+    if (!torn && (line.starts_with("#") || keep(std::strtod(line.c_str(), nullptr))))  // a units line stays
       text += line + "\n";
     else
       ++cut;
   }
-  in.close();
   if (cut > 0) output::atomic_write(path.string(), text);
   return cut;
 }
@@ -188,7 +193,16 @@ std::string rewind_run_directory(const config::Config& cfg, const std::string& d
   const double tol = 1e-9 * std::max(1.0, std::abs(t));
   std::string said;
   std::error_code ec;
-  // The failure reason of the run being restarted would be read as this one's.
+  // Later checkpoints first: a rewind cut short (a full disk, a kill) must not
+  // leave one that --restart latest would take over the cut series.
+  for (const auto& cp : coupler::complete_checkpoints(dir))
+    if (coupler::checkpoint_window(cp) > w) {
+      fs::remove_all(cp, ec);
+      said += fmt::format("  {}: a later checkpoint, removed\n", cp);
+    }
+  // The summary and the failure reason of the run being restarted would be
+  // read as this one's (a restart that fails before its end writes its own).
+  fs::remove(dir + "/summary.json", ec);
   fs::remove(dir + "/logs/FAILED", ec);
   for (const auto& e : fs::directory_iterator(dir + "/logs", ec))
     if (e.path().filename().string().rfind("FAILED.", 0) == 0) fs::remove(e.path(), ec);
@@ -232,11 +246,6 @@ std::string rewind_run_directory(const config::Config& cfg, const std::string& d
                           "restarted run writes its number at the next multiple"
                         : "");
   }
-  for (const auto& cp : coupler::complete_checkpoints(dir))
-    if (coupler::checkpoint_window(cp) > w) {
-      fs::remove_all(cp, ec);
-      said += fmt::format("  {}: a later checkpoint, removed\n", cp);
-    }
   const auto& d = cfg.domain;
   const auto h = d.spacing();
   if (!said.empty())

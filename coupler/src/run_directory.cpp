@@ -101,9 +101,10 @@ void RunDirectory::write_xdmf() const {
                             {d.cells[0], d.cells[1], d.cells[2]}});
 }
 
+// The index first: a summary says the run is complete, so it goes last.
 void RunDirectory::write_summary(const std::string& json) const {
-  output::atomic_write(dir_ + "/summary.json", json);
   write_xdmf();
+  output::atomic_write(dir_ + "/summary.json", json);
 }
 
 void RunDirectory::record_failure(int rank, const std::string& reason) const noexcept {

@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
-# check_interrupt.sh BIN_DIR CONFIG OUT
+# check_interrupt.sh BIN_DIR CONFIG OUT [SIGNAL]
 # Ctrl-C (SIGINT to the launcher) stops the run with a message saying what was
 # written and the command that restarts from the last checkpoint; that command
-# then finishes the run.
+# then finishes the run. With SIGNAL HUP (the terminal or ssh session closed):
+# the run stops the same way (mpirun gets SIGTERM), exit status 129.
 set -u
-bin=$1 cfg=$2 out=$3
+bin=$1 cfg=$2 out=$3 sig=${4:-INT}
 trap '[ $? -ne 0 ] || "$(dirname "$0")/../clean_passed.sh" "$out"' EXIT  # a failure keeps its snapshots
 rm -rf "$out"; mkdir -p "$out"
 fail() { echo "FAIL: $*"; tail -n 20 "$out/run.log"; exit 1; }
@@ -23,10 +24,17 @@ for i in $(seq 1 600); do
 done
 [ $written -eq 1 ] || { kill "$pid"; fail "no checkpoint written"; }
 sleep 0.5
-kill -INT "$pid"
+kill -"$sig" "$pid"
 wait "$pid"; rc=$?
-[ $rc -eq 130 ] || fail "exit status $rc after SIGINT, expected 130"
+number=$(kill -l "$sig")
+[ $rc -eq $((128 + number)) ] || fail "exit status $rc after SIG$sig, expected $((128 + number))"
 grep -q "coflow: interrupted after" "$out/run.log" || fail "no interruption message"
+if [ "$sig" != INT ]; then
+  grep -q "\"reason\": \"interrupted by signal $number" "$out/run/summary.json" || fail "summary.json reason"
+  pgrep -f "coflow-fluid.*$out/run" >/dev/null && fail "a component still runs after SIG$sig"
+  echo "ok: SIG$sig stopped the run (exit status $rc) and said how to restart"
+  exit 0
+fi
 grep -q "^progress:" "$out/run.log" || fail "no progress line under --tag-output"
 grep -q "@coflow progress" "$out/run.log" && fail "raw progress lines under --tag-output"
 grep -q '"reason": "interrupted by signal 2' "$out/run/summary.json" || fail "summary.json reason"

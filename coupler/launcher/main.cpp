@@ -478,7 +478,8 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
     throw std::runtime_error("fork failed");
   }
   if (pid == 0) {
-    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) signal(sig, SIG_DFL);
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP, SIGPIPE})
+      signal(sig, SIG_DFL);  // an ignored one stays so over exec
     sigprocmask(SIG_SETMASK, &old, nullptr);
     // Components read no input: mpirun would otherwise forward the terminal
     // to rank 0.
@@ -1055,6 +1056,10 @@ int run(const Config& cfg, RunOptions o) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Output to a reader that went away (coflow run ... | head) must not end
+  // the launcher and leave mpirun without its reader: the run goes on, its
+  // lines to the terminal are lost, its files are written.
+  signal(SIGPIPE, SIG_IGN);
   CLI::App app{"coflow: partitioned co-simulation of particle-laden flows"};
   app.require_subcommand(1);
 

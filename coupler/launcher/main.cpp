@@ -108,7 +108,8 @@ Launch plan(const Config& cfg, const std::map<std::string, std::string>& exe_ove
   }
   l.bind = cfg.run.launch.bind;
   // Several runs on one node at once (ctest -j) pin their ranks to the same
-  // cores: COFLOW_BIND=none in scripts/test decides what auto means there.
+  // cores: COFLOW_BIND=none in every test's environment (tests/CMakeLists.txt)
+  // decides what auto means there.
   if (const char* b = std::getenv("COFLOW_BIND"); b && l.bind == "auto") {
     if (std::string(b) == "none" || std::string(b) == "core")
       l.bind = b;

@@ -31,7 +31,8 @@ number=$(kill -l "$sig")
 grep -q "coflow: interrupted after" "$out/run.log" || fail "no interruption message"
 if [ "$sig" != INT ]; then
   grep -q "\"reason\": \"interrupted by signal $number" "$out/run/summary.json" || fail "summary.json reason"
-  pgrep -f "coflow-fluid.*$out/run" >/dev/null && fail "a component still runs after SIG$sig"
+  pgrep -f "coflow-fluid.*$out/run" >/dev/null; st=$?  # 1: none; 0: one runs; else pgrep itself failed
+  [ $st -eq 1 ] || fail "a component still runs after SIG$sig (pgrep status $st)"
   echo "ok: SIG$sig stopped the run (exit status $rc) and said how to restart"
   exit 0
 fi

@@ -93,6 +93,12 @@ double Clock::negotiate(double preferred) {
                     restart_window_length_, window_)}});
   log::info("coupling window {:.6g} s, {} windows to t = {:.6g} s ({})", window_, windows_,
             cfg_.run.end_time, config::scheme_name(cfg_.coupling.scheme));
+  // An automatic window need not divide run.end_time (a given one must): the
+  // last window then ends past it (summary.json's time_reached).
+  if (const double reached = static_cast<double>(windows_) * window_;
+      reached - cfg_.run.end_time > 1e-9 * cfg_.run.end_time)
+    log::info("run.end_time {:.12g} s is not a whole number of windows: the run ends at t = {:.12g} s",
+              cfg_.run.end_time, reached);
   return window_;
 }
 

@@ -157,6 +157,7 @@ void write_string_attr(hid_t obj, const char* name, const std::string& v) {
 std::string units_of(const std::string& name) {
   static const std::map<std::string, std::string> u{{"velocity", "m/s"},
                                                     {"pressure", "Pa"},
+                                                    {"kinematic_pressure", "m^2/s^2"},
                                                     {"density", "kg/m^3"},
                                                     {"solid_fraction", "1"},
                                                     {"vorticity", "1/s"},

@@ -316,6 +316,25 @@ static void check_window_divides(Reader& r, const Config& cfg) {
                   number(w), number(end), count, number(windows * w), number(windows * w)));
 }
 
+// A window writes at most one snapshot and one series row: a given window
+// longer than an output interval skipped snapshot numbers (every 0.004 s in
+// windows of 0.01 s wrote 0, 2, 5, 7, 10) and rows.
+static void check_window_outputs(Reader& r, const Config& cfg) {
+  if (cfg.coupling.window.is_auto) return;
+  const double w = cfg.coupling.window.value;
+  const auto& o = cfg.run.output;
+  const std::pair<const char*, double> intervals[] = {
+      {"run.output.every", o.every},
+      {"run.output.series_every", o.series_every.is_auto ? 0.0 : o.series_every.value}};
+  for (const auto& [key, e] : intervals)
+    if (e > 0 && e < w * (1 - 1e-9))
+      r.fail(key,
+             fmt::format("{} s is shorter than coupling.window = {} s: a window writes one snapshot and one "
+                         "series row at most, so some would be skipped; make it {} s or a multiple of it, "
+                         "or shorten the window",
+                         number(e), number(w), fmt::format("{:.12g}", w)));
+}
+
 // A fresh run empties its output directory's fluid/, particles/, logs/, ...
 // folders: a directory that holds files but is no coflow run's is refused, so
 // that run.output.dir: . in a source tree or a home directory deletes nothing
@@ -376,7 +395,7 @@ static void check_probes(Reader& r, const Config& cfg, const Catalog& catalog) {
     return true;
   };
   const auto check_name = [&](const std::string& at, const std::string& name) {
-    if (name.empty() || name.find_first_of(", \t\"") != std::string::npos)
+    if (name.empty() || name.find_first_of(", \t\"\n\r") != std::string::npos)
       r.fail(at + ".name", fmt::format("'{}' is not a plain word (it names CSV columns)", name));
     if (std::find(names.begin(), names.end(), name) != names.end())
       r.fail(at + ".name", fmt::format("'{}' names another probe too; give each its own name", name));
@@ -475,6 +494,7 @@ Config parse_config_node(YAML::Node root, const std::string& file, const Catalog
   if (r.problems().empty()) check_decompositions(r, cfg);
   if (r.problems().empty()) check_window_count(r, cfg);
   if (r.problems().empty()) check_window_divides(r, cfg);
+  if (r.problems().empty()) check_window_outputs(r, cfg);
   if (r.problems().empty()) check_output_dir(r, cfg);
   for (const auto& schema : catalog)
     if (r.problems().empty() && schema.check && cfg.has(schema.section))

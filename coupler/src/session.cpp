@@ -167,11 +167,13 @@ void Session::finish() {
     for (int i = 0; i < discovery_->world_size(); ++i)
       if (lens[i] > 0) comps += (comps.empty() ? "" : ",\n    ") + all.substr(displs[i], lens[i]);
     dir_->write_summary(fmt::format(
-        "{{\n  \"name\": {},\n  \"status\": \"ok\",\n  \"end_time\": {:.17g},\n  \"window\": {:.17g},\n"
-        "  \"windows\": {},\n  \"restarted_from_window\": {},\n  \"windows_run\": {},\n  \"wall_s\": {:.6f},\n"
+        "{{\n  \"name\": {},\n  \"status\": \"ok\",\n  \"end_time\": {:.17g},\n  \"time_reached\": {:.17g},\n"
+        "  \"window\": {:.17g},\n"
+        "  \"windows\": {},\n  \"restarted_from_window\": {},\n  \"windows_run\": {},\n  \"wall_s\": "
+        "{:.6f},\n"
         "  \"scheme\": {},\n  \"components\": {{\n    {}\n  }}\n}}\n",
-        output::json_quote(cfg_.run.name), cfg_.run.end_time, window(), windows(), restart_window(),
-        windows() - restart_window(), now() - start_,
+        output::json_quote(cfg_.run.name), cfg_.run.end_time, static_cast<double>(windows()) * window(),
+        window(), windows(), restart_window(), windows() - restart_window(), now() - start_,
         output::json_quote(config::scheme_name(cfg_.coupling.scheme)), comps));
   }
   all_here("world rank 0 to write summary.json");

@@ -202,7 +202,7 @@ void IbmParams::check(config::Visitor& v, const config::Config& cfg) const {
     const BodyParams& b = bodies[n];
     if (!names.insert(b.name).second)
       v.fail(fmt::format("bodies[{}]", n), fmt::format("the name '{}' is taken twice", b.name));
-    if (b.name.empty() || b.name.find_first_of(", \t\"") != std::string::npos)
+    if (b.name.empty() || b.name.find_first_of(", \t\"\n\r") != std::string::npos)
       v.fail(fmt::format("bodies[{}]", n),
              fmt::format("the name '{}' is not a plain word (it names the columns of "
                          "series/immersed.csv, <name>_fx ...)",

@@ -13,7 +13,8 @@ fail() { echo "FAIL: $*"; exit 1; }
 # to 0.083 m/s in the first window: 1.25 cells).
 # Ten such windows (a given window must divide run.end_time).
 "$bin/coflow" run "$cfg" --set run.output.dir="$out/fast" --set coupling.window=0.15022032314060624 \
-  --set run.end_time=1.5022032314060624 --set run.output.every=1.5022032314060624 >"$out/fast.log" 2>&1 || { tail -n 20 "$out/fast.log"; fail "the run failed"; }
+  --set run.end_time=1.5022032314060624 --set run.output.every=1.5022032314060624 \
+  --set run.output.series_every=1.5022032314060624 >"$out/fast.log" 2>&1 || { tail -n 20 "$out/fast.log"; fail "the run failed"; }
 n=$(grep -c "particles cross up to 1.25 fluid cells in one coupling window" "$out/fast.log")
 [ "$n" -eq 1 ] || fail "expected one warning on crossing 1.25 cells, got $n"
 grep -q "a coupling.window of at most 0.12 s keeps them within a cell" "$out/fast.log" || fail "no advice on the window"

@@ -61,7 +61,7 @@ void write_xmf(const std::string& path, const std::string& h5, int dims, double 
   std::ostringstream x;
   x << "<?xml version=\"1.0\"?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
     << "<Grid Name=\"fluid (adaptive)\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
-    << fmt::format("<Time Value=\"{:.17g}\"/>\n", time);
+    << fmt::format("<Time Value=\"{:.12g}\"/>\n", time);  // as run.xdmf and index.csv
   auto item = [&](const std::string& name, unsigned long long rows, int cols, bool integer) {
     return fmt::format(
         "<DataItem Dimensions=\"{} {}\" NumberType=\"{}\" Precision=\"8\" Format=\"HDF\">{}:/{}</DataItem>\n",

@@ -458,29 +458,33 @@ int run_child(const std::vector<std::string>& argv, const Launch& launch, Progre
   std::vector<char*> cargv;
   for (const auto& a : argv) cargv.push_back(const_cast<char*>(a.c_str()));
   cargv.push_back(nullptr);
-  // The handlers come first, with SIGINT and SIGTERM blocked over the fork
-  // and g_child's assignment: one sent meanwhile waits and is then forwarded
-  // (it would otherwise end the launcher and leave the child running). The
-  // child takes the default actions back, unblocked, before its exec.
+  // The handlers come first, with SIGINT, SIGTERM and SIGHUP blocked over the
+  // fork and g_child's assignment: one sent meanwhile waits and is then
+  // forwarded (it would otherwise end the launcher and leave the child
+  // running). The child takes the default actions back, unblocked, before its
+  // exec. A hangup ignored already (nohup coflow run ...) stays ignored, in the
+  // launcher and in its child.
+  struct sigaction hangup {};
+  sigaction(SIGHUP, nullptr, &hangup);
+  const bool nohup = hangup.sa_handler == SIG_IGN;
+  std::vector<int> forwarded{SIGINT, SIGTERM};
+  if (!nohup) forwarded.push_back(SIGHUP);
   sigset_t stop, old;
   sigemptyset(&stop);
-  sigaddset(&stop, SIGINT);
-  sigaddset(&stop, SIGTERM);
-  sigaddset(&stop, SIGHUP);
+  for (const int sig : forwarded) sigaddset(&stop, sig);
   sigprocmask(SIG_BLOCK, &stop, &old);
-  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) signal(sig, forward_signal);
+  for (const int sig : forwarded) signal(sig, forward_signal);
   const pid_t pid = fork();
   if (pid < 0) {
-    for (const int sig : {SIGINT, SIGTERM, SIGHUP})
-      signal(sig, SIG_DFL);  // no child: Ctrl-C ends the launcher
+    for (const int sig : forwarded) signal(sig, SIG_DFL);  // no child: Ctrl-C ends the launcher
     sigprocmask(SIG_SETMASK, &old, nullptr);
     close(fds[0]);
     close(fds[1]);
     throw std::runtime_error("fork failed");
   }
   if (pid == 0) {
-    for (const int sig : {SIGINT, SIGTERM, SIGHUP, SIGPIPE})
-      signal(sig, SIG_DFL);  // an ignored one stays so over exec
+    for (const int sig : forwarded) signal(sig, SIG_DFL);
+    signal(SIGPIPE, SIG_DFL);  // ignored in the launcher; an ignored signal stays so over exec
     sigprocmask(SIG_SETMASK, &old, nullptr);
     // Components read no input: mpirun would otherwise forward the terminal
     // to rank 0.
@@ -525,20 +529,31 @@ std::string split_advice(const YAML::Node& s) {
   return coflow::coupler::rank_advice(loads, s["scheme"].as<std::string>() == "parallel-explicit");
 }
 
-// A finished run's table; false where no summary of a finished run is there
-// (the launch ended with status 0, but no component finished the run).
-bool print_summary(const std::string& dir) {
+// Whether dir holds the summary of a finished run ("status": "ok"). Looked
+// for again for up to 2 s: under srun, world rank 0 may write it on another
+// node, whose file may reach this node's view of a shared directory late.
+bool finished_summary(const std::string& dir) {
+  for (int attempt = 0; attempt < 20; ++attempt) {
+    try {
+      if (YAML::LoadFile(dir + "/summary.json")["status"].as<std::string>() == "ok") return true;
+    } catch (const std::exception&) {
+    }
+    usleep(100000);
+  }
+  return false;
+}
+
+// A finished run's table (finished_summary has found it).
+void print_summary(const std::string& dir) {
   YAML::Node s;
   try {
     s = YAML::LoadFile(dir + "/summary.json");
-    if (s["status"].as<std::string>() != "ok") return false;
   } catch (const std::exception&) {
-    return false;
+    return;
   }
-  std::printf("\ncoflow: run '%s' %s in %.2f s wall (%ld windows of %.4g s, %s)\n",
-              s["name"].as<std::string>().c_str(), s["status"].as<std::string>() == "ok" ? "finished" : "FAILED",
-              s["wall_s"].as<double>(), s["windows"].as<long>(), s["window"].as<double>(),
-              s["scheme"].as<std::string>().c_str());
+  std::printf("\ncoflow: run '%s' finished in %.2f s wall (%ld windows of %.4g s, %s)\n",
+              s["name"].as<std::string>().c_str(), s["wall_s"].as<double>(), s["windows"].as<long>(),
+              s["window"].as<double>(), s["scheme"].as<std::string>().c_str());
   std::printf("  %-10s %-16s %5s %9s %10s %10s %10s %10s %12s\n", "component", "variant", "ranks", "steps",
               "wall s", "compute s", "exchange s", "wait s", "MB moved");
   for (const auto& c : coflow::config::component_order()) {
@@ -551,8 +566,8 @@ bool print_summary(const std::string& dir) {
                 (n["bytes_sent"].as<double>() + n["bytes_received"].as<double>()) / 1e6);
   }
   std::printf("  output: %s  (open %s/run.xdmf in ParaView)\n", dir.c_str(), dir.c_str());
-  if (const std::string advice = split_advice(s); !advice.empty()) std::printf("  ranks: %s\n", advice.c_str());
-  return true;
+  if (const std::string advice = split_advice(s); !advice.empty())
+    std::printf("  ranks: %s\n", advice.c_str());
 }
 
 // `coflow validate`: the split the last run of this configuration suggests.
@@ -640,7 +655,7 @@ void prepare_run_directory(const Config& cfg, const std::string& dir, const std:
   coflow::output::atomic_write(dir + "/config.yaml", YAML::Dump(cfg.resolved) + "\n");
 }
 
-// After Ctrl-C (or SIGTERM): what was written, and how to go on from it.
+// After Ctrl-C (or SIGTERM, or a hangup): what was written, and how to go on from it.
 int report_interrupted(const std::string& cfg_path, const std::vector<std::string>& overrides,
                        const std::string& extra, const std::string& dir, int rc, double wall,
                        const Config& cfg) {
@@ -1032,8 +1047,11 @@ int run(const Config& cfg, RunOptions o) {
   const double t0 = coflow::coupler::now();
   const int rc = run_child(argv_launch, launch, progress, failure, cfg.run.launch);
   const double wall = coflow::coupler::now() - t0;
-  if (rc == 0 && print_summary(dir)) return 0;
-  if (rc == 0)  // every process exited 0, but none finished the run: not a success
+  if (rc == 0 && finished_summary(dir)) {
+    print_summary(dir);
+    return 0;
+  }
+  if (rc == 0 && failure.reason.empty())  // every process exited 0, but none finished the run
     failure.reason = fmt::format(
         "the launch ended with exit status 0, but {}/summary.json does not hold a finished run: a component "
         "exited without finishing it (an --exe program that does not run coflow's session?)",

@@ -44,7 +44,8 @@ long cut_csv(const fs::path& path, Keep keep) {
     else
       ++cut;
   }
-  if (cut > 0) output::atomic_write(path.string(), text);
+  if (cut > 0 || !all.ends_with('\n'))
+    output::atomic_write(path.string(), text);  // a torn header gets its newline
   return cut;
 }
 

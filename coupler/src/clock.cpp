@@ -96,7 +96,7 @@ double Clock::negotiate(double preferred) {
   // An automatic window need not divide run.end_time (a given one must): the
   // last window then ends past it (summary.json's time_reached).
   if (const double reached = static_cast<double>(windows_) * window_;
-      reached - cfg_.run.end_time > 1e-9 * cfg_.run.end_time)
+      reached - cfg_.run.end_time > 1e-6 * cfg_.run.end_time)  // validation's tolerance for a given window
     log::info("run.end_time {:.12g} s is not a whole number of windows: the run ends at t = {:.12g} s",
               cfg_.run.end_time, reached);
   return window_;

@@ -330,9 +330,9 @@ static void check_window_outputs(Reader& r, const Config& cfg) {
     if (e > 0 && e < w * (1 - 1e-9))
       r.fail(key,
              fmt::format("{} s is shorter than coupling.window = {} s: a window writes one snapshot and one "
-                         "series row at most, so some would be skipped; make it {} s or a multiple of it, "
-                         "or shorten the window",
-                         number(e), number(w), fmt::format("{:.12g}", w)));
+                         "series row at most, so some would be skipped; make it {} s or longer, or shorten "
+                         "the window",
+                         number(e), number(w), number(w)));
 }
 
 // A fresh run empties its output directory's fluid/, particles/, logs/, ...

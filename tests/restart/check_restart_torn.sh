@@ -34,5 +34,6 @@ echo "a torn series row: cut at the rewind; series/fluid.csv after the restart i
 rc=$?
 [ $rc -ne 0 ] || { cat "$out/true.log"; fail "a restart whose fluid (/bin/true) finished nothing: exit status 0"; }
 grep -q '"status": "failed"' "$out/torn/summary.json" || fail "summary.json does not say failed: $(cat "$out/torn/summary.json")"
-grep -q "does not hold a finished run\|did not start" "$out/true.log" || { cat "$out/true.log"; fail "no message"; }
+grep -q "does not hold a finished run" "$out/true.log" || { cat "$out/true.log"; fail "no message"; }
+grep -q '"exit_code": 0' "$out/torn/summary.json" || fail "the failed summary is not the exit-0 launch's"
 echo "a restart that finished nothing: exit status $rc, summary.json failed"

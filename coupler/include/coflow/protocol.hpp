@@ -1,5 +1,5 @@
-// What the built-in components exchange each coupling window (docs/protocol.md,
-// ../shared/design/ARCHITECTURE.md "Data per coupling window"): record layouts and message tags.
+// What the built-in components exchange each coupling window (docs/protocol.md
+// §4): record layouts and message tags.
 #pragma once
 
 #include <cstddef>

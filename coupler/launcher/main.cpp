@@ -832,7 +832,7 @@ void gather_failures(const std::string& dir) {
   std::ofstream out(dir + "/logs/FAILED", std::ios::app);
   out << all;
   out.close();
-  if (!out) return;  // the pieces stay (a full disk): report_failure reads them below
+  if (!out) return;  // not written (a full disk): the pieces stay in logs/ for the user to read
   for (const auto& [when, path] : pieces) fs::remove(path, ec);
 }
 

@@ -581,6 +581,14 @@ void print_last_run_advice(const Config& cfg) {
   }
 }
 
+// The failed rank as a JSON number, or null where no rank is known (an
+// interrupted run, a partner's timeout, a start that never came).
+std::string json_rank(const std::string& rank) {
+  const bool number =
+      !rank.empty() && rank.size() < 10 && rank.find_first_not_of("0123456789") == std::string::npos;
+  return number ? std::to_string(std::stol(rank)) : "null";
+}
+
 void write_failed_summary(const Config& cfg, const Failure& f, int code, double wall) {
   const std::string dir = cfg.output_dir();
   std::error_code ec;
@@ -588,8 +596,9 @@ void write_failed_summary(const Config& cfg, const Failure& f, int code, double 
   const std::string json = fmt::format(
       "{{\n  \"name\": {},\n  \"status\": \"failed\",\n  \"failed_component\": {},\n  \"failed_rank\": {},\n"
       "  \"reason\": {},\n  \"exit_code\": {},\n  \"wall_s\": {:.6f}\n}}\n",
-      coflow::output::json_quote(cfg.run.name), coflow::output::json_quote(f.component),
-      coflow::output::json_quote(f.rank), coflow::output::json_quote(f.reason), code, wall);
+      coflow::output::json_quote(cfg.run.name),
+      f.component.empty() ? "null" : coflow::output::json_quote(f.component), json_rank(f.rank),
+      coflow::output::json_quote(f.reason), code, wall);
   try {
     coflow::output::atomic_write(dir + "/summary.json", json);
   } catch (const std::exception& e) {
@@ -844,8 +853,11 @@ int report_failure(const Config& cfg, const std::string& dir, Failure failure, i
     std::ifstream f(dir + "/logs/FAILED");
     std::string first;
     if (std::getline(f, first)) {
-      std::istringstream is(first);
-      is >> failure.component;
+      std::istringstream is(first);  // "<component> rank <N>: <reason>"
+      std::string word, rank;
+      is >> failure.component >> word >> rank;
+      if (word == "rank" && !rank.empty() && rank.back() == ':')
+        failure.rank = rank.substr(0, rank.size() - 1);
       failure.reason = first;
     }
   }

@@ -84,9 +84,44 @@ void Series::row(std::span<const double> values) {
   if (!out_) throw std::runtime_error("cannot append a row to a series file (disk full?)");
 }
 
+namespace {
+
+// The length of the well-formed UTF-8 sequence at s[i] (RFC 3629: no overlong
+// forms, no surrogates, nothing above U+10FFFF), or 0 where there is none.
+std::size_t utf8_length(const std::string& s, std::size_t i) {
+  const auto b = [&](std::size_t k) { return static_cast<unsigned char>(s[i + k]); };
+  const auto cont = [&](std::size_t k) { return i + k < s.size() && (b(k) & 0xC0) == 0x80; };
+  const unsigned char c = b(0);
+  if (c < 0x80) return 1;
+  if (c >= 0xC2 && c <= 0xDF) return cont(1) ? 2 : 0;
+  if (c >= 0xE0 && c <= 0xEF) {
+    if (!cont(1) || !cont(2)) return 0;
+    if ((c == 0xE0 && b(1) < 0xA0) || (c == 0xED && b(1) > 0x9F)) return 0;  // overlong; surrogate
+    return 3;
+  }
+  if (c >= 0xF0 && c <= 0xF4) {
+    if (!cont(1) || !cont(2) || !cont(3)) return 0;
+    if ((c == 0xF0 && b(1) < 0x90) || (c == 0xF4 && b(1) > 0x8F)) return 0;  // overlong; past U+10FFFF
+    return 4;
+  }
+  return 0;
+}
+
+}  // namespace
+
+// JSON text must be UTF-8 (RFC 8259 §8.1): a byte that starts no well-formed
+// sequence (a Latin-1 path in a failure reason) becomes U+FFFD, so that every
+// JSON reader still reads the file.
 std::string json_quote(const std::string& s) {
   std::string o = "\"";
-  for (char c : s) {
+  for (std::size_t i = 0; i < s.size();) {
+    const char c = s[i];
+    const std::size_t n = utf8_length(s, i);
+    if (n == 0) {
+      o += "\\ufffd";
+      ++i;
+      continue;
+    }
     switch (c) {
       case '"': o += "\\\""; break;
       case '\\': o += "\\\\"; break;
@@ -96,8 +131,9 @@ std::string json_quote(const std::string& s) {
         if (static_cast<unsigned char>(c) < 0x20)
           o += fmt::format("\\u{:04x}", static_cast<int>(c));
         else
-          o += c;
+          o.append(s, i, n);
     }
+    i += n;
   }
   return o + "\"";
 }

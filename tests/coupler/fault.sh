@@ -26,3 +26,9 @@ if [ "$mode" = nan ]; then
     { echo "FAIL: no message on the position"; tail -n 20 "$out.log"; exit 1; }
 fi
 grep -q '"status": "failed"' "$out/summary.json" || { echo "FAIL: summary.json does not say failed"; exit 1; }
+# The rank that misbehaved (fail_rank=1 above), as a JSON number; a partner's
+# timeout knows no rank.
+if [ "$mode" != hang ]; then
+  grep -q "\"failed_component\": \"$comp\"," "$out/summary.json" && grep -q '"failed_rank": 1,' "$out/summary.json" ||
+    { echo "FAIL: summary.json does not name $comp's rank 1"; cat "$out/summary.json"; exit 1; }
+fi

@@ -31,6 +31,9 @@ number=$(kill -l "$sig")
 grep -q "coflow: interrupted after" "$out/run.log" || fail "no interruption message"
 if [ "$sig" != INT ]; then
   grep -q "\"reason\": \"interrupted by signal $number" "$out/run/summary.json" || fail "summary.json reason"
+  # No component failed: JSON nulls, not empty strings.
+  grep -q '"failed_component": null,' "$out/run/summary.json" && grep -q '"failed_rank": null,' "$out/run/summary.json" ||
+    fail "summary.json names a failed component or rank: $(cat "$out/run/summary.json")"
   pgrep -f "coflow-fluid.*$out/run" >/dev/null; st=$?  # 1: none; 0: one runs; else pgrep itself failed
   [ $st -eq 1 ] || fail "a component still runs after SIG$sig (pgrep status $st)"
   echo "ok: SIG$sig stopped the run (exit status $rc) and said how to restart"

@@ -5,6 +5,7 @@
 #include <fmt/ranges.h>
 #include <hdf5.h>
 #include <sys/file.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -29,20 +30,42 @@ void atomic_write(const std::string& path, const std::string& content) {
   ::gethostname(host, sizeof host - 1);
   host[sizeof host - 1] = '\0';
   const std::string tmp = fmt::format("{}.tmp.{}.{}.{}", path, host, ::getpid(), ::gettid());
+  // A failed write leaves no temporary behind (a full disk kept an empty
+  // summary.json.tmp.* beside the run's files).
+  const auto give_up = [&](const std::string& what) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw std::runtime_error(what + low_space_note(fs::path(path).parent_path().string()));
+  };
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(fmt::format("cannot write '{}'", tmp));
+    if (!out) give_up(fmt::format("cannot write '{}'", tmp));
     out << content;
     out.close();  // where a network file system reports its write errors
-    if (!out) throw std::runtime_error(fmt::format("failed writing '{}' (disk full?)", tmp));
+    if (!out) give_up(fmt::format("failed writing '{}'", tmp));
   }
-  fs::rename(tmp, path);
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) give_up(fmt::format("cannot rename '{}' to '{}': {}", tmp, path, ec.message()));
+}
+
+std::string low_space_note(const std::string& dir) {
+  struct statvfs v {};
+  if (::statvfs(dir.empty() ? "." : dir.c_str(), &v) != 0) return "";
+  const double free_bytes = static_cast<double>(v.f_bavail) * static_cast<double>(v.f_frsize);
+  if (free_bytes >= 64.0 * 1024 * 1024) return "";
+  return fmt::format(
+      " (the file system holding {} has {:.0f} bytes free: the disk is full or nearly; free space or set "
+      "run.output.dir elsewhere; a run with a checkpoint goes on from it with --restart latest)",
+      dir, free_bytes);
 }
 
 std::string snapshot_name(long step) { return fmt::format("step_{:06d}.h5", step); }
 
 Series::Series(const std::string& path, const std::vector<Column>& columns, bool append)
-    : columns_(columns.size()), time_first_(!columns.empty() && columns[0].name == "time") {
+    : dir_(fs::path(path).parent_path().string()),
+      columns_(columns.size()),
+      time_first_(!columns.empty() && columns[0].name == "time") {
   std::string header;
   for (std::size_t i = 0; i < columns.size(); ++i) header += (i ? "," : "") + columns[i].name;
   if (append && fs::exists(path)) {

@@ -179,8 +179,12 @@ void Session::finish() {
   all_here("world rank 0 to write summary.json");
 }
 
-void Session::fail(const std::string& reason, int code) {
+void Session::fail(const std::string& why, int code) {
   const int r = discovery_ ? rank() : 0;
+  // HDF5's and the streams' errors do not say that the disk is full: the
+  // free space of the run directory's file system is added where it is low.
+  const std::string reason =
+      why.find("bytes free") != std::string::npos || !dir_ ? why : why + output::low_space_note(output_dir());
   log::error("{}", reason);
   std::fprintf(stderr, "%s %s %d %s\n", kFailedTag, component_.c_str(), r, reason.c_str());
   std::fflush(stderr);

@@ -19,6 +19,11 @@ namespace coflow::output {
 // reader never sees a half-written file.
 void atomic_write(const std::string& path, const std::string& content);
 
+// " (the file system holding DIR has N bytes free: ...)" where less than 64 MiB
+// is free there, else "": appended to a failed write's message, so that a
+// full disk is named (HDF5 and streams do not say why a write failed).
+std::string low_space_note(const std::string& dir);
+
 std::string snapshot_name(long step);  // "step_000042.h5"
 
 // A CSV time series; only the process that creates it writes.
@@ -41,6 +46,7 @@ class Series {
 
  private:
   std::ofstream out_;
+  std::string dir_;  // the folder of the file, for a failed write's message
   std::size_t columns_ = 0;
   bool time_first_ = false;
 };

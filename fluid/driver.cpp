@@ -196,7 +196,8 @@ void FluidWindows::output(long w) {
     output::write_grid(s_.comm(), fmt::format("{}/{}", s_.component_dir(), s_.snapshot_file(w)), time, w,
                        {c[0], c[1], c[2]}, owned_, owned_, fields);
     const std::string stem = s_.snapshot_file(w);
-    solver_->write_levels(s_.component_dir(), stem.substr(0, stem.size() - 3) + "_levels", time, w);
+    solver_->write_levels(s_.component_dir(), stem.substr(0, stem.size() - 3) + "_levels", time, w,
+                          cfg_.run.output.fields);
     std::vector<std::string> names;
     for (const auto& f : fields) names.push_back(f.name);
     s_.snapshot_written(w, 0, names);

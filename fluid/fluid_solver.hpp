@@ -57,9 +57,11 @@ class FluidSolver {
   // Fields for snapshots, as arrays over owned() (no ghost), `components` per cell.
   virtual std::vector<output::GridField> fields(const config::StringList& names) = 0;
   // A solver whose own grid is not the uniform one (fv's adaptive grid)
-  // writes it next to each snapshot: <dir>/<stem>.h5 and .xmf. Collective.
-  virtual void write_levels(const std::string& dir, const std::string& stem, double time, long step) {
-    (void)dir, (void)stem, (void)time, (void)step;
+  // writes it next to each snapshot, with the fields `names` (those of
+  // fields()): <dir>/<stem>.h5 and .xmf. Collective.
+  virtual void write_levels(const std::string& dir, const std::string& stem, double time, long step,
+                            const config::StringList& names) {
+    (void)dir, (void)stem, (void)time, (void)step, (void)names;
   }
   virtual Diagnostics diagnostics() = 0;  // collective
   // Columns of series/fluid.csv after the common ones (Diagnostics::extra).

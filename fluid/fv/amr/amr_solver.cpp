@@ -338,13 +338,26 @@ std::vector<output::GridField> AmrFvSolver::fields(const config::StringList& nam
                                         out_turbulence_[1], out_turbulence_[2], y_plus});
 }
 
-void AmrFvSolver::write_levels(const std::string& dir, const std::string& stem, double time, long step) {
+// The fields asked for, as fields() gives them on the uniform grid (pressure
+// in Pa; k, epsilon, nu_t and y_plus 0 without the turbulence model), then
+// the vorticity (the refinement's criterion) and each cell's level.
+void AmrFvSolver::write_levels(const std::string& dir, const std::string& stem, double time, long step,
+                               const config::StringList& names) {
+  const auto cells = static_cast<std::size_t>(flow_->grid().local_cells());
+  std::vector<CompositeField> out;
+  for (const auto& name : names) {
+    if (name == "velocity") out.push_back({name, 0, dims_});
+    if (name == "pressure") out.push_back({name, dims_, 1, rho_});
+    if (name == "density") out.push_back({name, 0, 1, 1.0, std::vector<double>(cells, rho_)});
+    if (name == "divergence") out.push_back({name, 0, 1, 1.0, flow_->divergence()});
+    const int q = name == "k" ? 0 : name == "epsilon" ? 1 : name == "nu_t" ? 2 : -1;
+    if (q >= 0 && turbulence_) out.push_back({name, turbulence_first() + q, 1});
+    if (name == "y_plus" && turbulence_) out.push_back({name, 0, 1, 1.0, turbulence_->y_plus()});
+    if ((q >= 0 || name == "y_plus") && !turbulence_)
+      out.push_back({name, 0, 1, 1.0, std::vector<double>(cells, 0.0)});
+  }
   flow_->vorticity(dims_ + 1);
-  std::vector<CompositeField> out{
-      {"velocity", 0, dims_}, {"kinematic_pressure", dims_, 1}, {"vorticity", dims_ + 1, 1}};
-  if (turbulence_)
-    for (const auto& [name, q] : {std::pair{"k", 0}, std::pair{"epsilon", 1}, std::pair{"nu_t", 2}})
-      out.push_back({name, turbulence_first() + q, 1});
+  out.push_back({"vorticity", dims_ + 1, 1});
   write_composite(flow_->grid(), dir, stem, time, step, out);
 }
 

@@ -38,7 +38,8 @@ class AmrFvSolver final : public FluidSolver {
   long steps() const override { return steps_; }
   const coupler::Box& owned() const override { return owned_; }
   std::vector<output::GridField> fields(const config::StringList& names) override;
-  void write_levels(const std::string& dir, const std::string& stem, double time, long step) override;
+  void write_levels(const std::string& dir, const std::string& stem, double time, long step,
+                    const config::StringList& names) override;
   Diagnostics diagnostics() override;
   std::vector<output::Series::Column> series_columns() const override;
   void set_source(std::span<const double> force_density) override;

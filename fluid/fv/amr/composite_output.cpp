@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <span>
 #include <sstream>
 #include <stdexcept>
 
@@ -21,6 +22,12 @@ struct LevelMesh {
 
 int columns(const CompositeField& f) {
   return f.components == 2 ? 3 : f.components;
+}
+
+// Local cell c's component q of field f (data: c's patch, base: c's first value in it).
+double value(const CompositeField& f, std::span<const double> data, std::size_t base, long c, int q) {
+  if (!f.values.empty()) return f.values.at(static_cast<std::size_t>(c * f.components + q));
+  return f.scale * data[base + static_cast<std::size_t>(f.first + q)];
 }
 
 LevelMesh level_mesh(const CompositeGrid& g, int level, const std::vector<CompositeField>& fields) {
@@ -44,8 +51,7 @@ LevelMesh level_mesh(const CompositeGrid& g, int level, const std::vector<Compos
     const std::size_t base = static_cast<std::size_t>(c % g.cells_per_patch()) * nc;
     for (std::size_t f = 0; f < fields.size(); ++f)
       for (int q = 0; q < columns(fields[f]); ++q)
-        m.fields[f].push_back(
-            q < fields[f].components ? data[base + static_cast<std::size_t>(fields[f].first + q)] : 0.0);
+        m.fields[f].push_back(q < fields[f].components ? value(fields[f], data, base, c, q) : 0.0);
     ++m.count;
   }
   // Node ids: this rank's nodes follow the lower ranks' (write_tables' order).

@@ -12,12 +12,15 @@
 
 namespace coflow::fluid::fv::amr {
 
-// `components` values per cell from the forest's component `first` (2D
-// vectors are written with a zero third component).
+// `components` values per cell from the forest's component `first`, times
+// `scale`, or from `values` (per local cell, `components` each) where given
+// (2D vectors are written with a zero third component).
 struct CompositeField {
   std::string name;
   int first = 0;
   int components = 1;
+  double scale = 1.0;
+  std::vector<double> values = {};
 };
 
 // Collective over the forest's ranks: writes <dir>/<stem>.h5 and

@@ -190,9 +190,16 @@ void report_lbm(const config::Config& cfg, config::Report& r) {
                                                                config::number(lp.tau),
                                                                config::number(100.0 * (1.0 - window / natural)))
                                                  : ""));
-  const double steps = std::ceil(cfg.run.end_time / units.dt - 1e-9);
-  r.add("fluid", "time step", fmt::format("dt = {} s: {} steps to {} s", config::number(units.dt),
-                                          config::number(steps), config::number(cfg.run.end_time)));
+  const double steps = std::max(1.0, std::ceil(cfg.run.end_time / units.dt - 1e-9));
+  r.add("fluid", "time step", fmt::format("dt = {} s: {} step{} to {} s", config::number(units.dt), config::number(steps),
+                                          steps == 1 ? "" : "s", config::number(cfg.run.end_time)));
+  if (units.dt > cfg.run.end_time * (1 + 1e-6))
+    r.warn("fluid",
+           fmt::format("the lattice step dt = {} s (fluid.lbm.tau {}) is longer than run.end_time {} s: "
+                       "the run makes one step and ends at t = {} s; lower tau towards 0.5, use finer "
+                       "cells, or run longer",
+                       config::number(units.dt), config::number(tau), config::number(cfg.run.end_time),
+                       config::number(units.dt)));
   const double u = velocity_scale(fp, cfg);
   report_mach(r, u, units, tau, dx);
   report_pressure_faces(r, fp, cfg, units, lp.formulation == "standard");

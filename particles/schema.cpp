@@ -64,8 +64,8 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
   if (variant == "dem" || variant == "dem-reference" || point_particles(variant)) {
     const YAML::Node species = config::resolved_node(cfg, "particles.species");
     for (const auto& sp : species.IsMap() ? species : YAML::Node()) {
-      const std::string angle = config::resolved_text(cfg, {"particles", "species", sp.first.Scalar(), "contact_angle"});
-      if (!angle.empty() && std::stod(angle) != -1.0)
+      if (config::resolved_number(cfg, {"particles", "species", sp.first.Scalar(), "contact_angle"}, -1.0) !=
+          -1.0)
         c.needs.push_back({f::grain_wetting, "particles.species." + sp.first.Scalar() + ".contact_angle", "",
                            "a contact angle needs resolved grains (particles.solver dem, immersed.method psm) in two fluids "
                            "(fluid.two_phase, fluid.solver lbm or lbm-reference): add those, or leave contact_angle out"});

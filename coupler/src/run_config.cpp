@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <stdexcept>
@@ -558,6 +559,14 @@ static YAML::Node node_at(const YAML::Node& n, const std::vector<std::string>& p
 std::string resolved_text(const Config& cfg, const std::vector<std::string>& path) {
   const YAML::Node n = node_at(cfg.resolved, path, 0);
   return n.IsScalar() ? n.Scalar() : "";
+}
+
+double resolved_number(const Config& cfg, const std::vector<std::string>& path, double fallback) {
+  const std::string text = resolved_text(cfg, path);
+  if (text.empty()) return fallback;
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  return end != text.c_str() ? v : fallback;
 }
 
 bool two_phase_fluid(const Config& cfg) {

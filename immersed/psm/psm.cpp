@@ -152,8 +152,8 @@ PsmWindows::PsmWindows(coupler::Session& s, const PsmParams& p, int ghost, std::
                  std::size_t{256} << 20, p.blend_steps),
       halo_(s.comm(), s.decomposition(), s.rank(), ghost),
       series_(s) {
-  const std::string angle = config::resolved_text(s.config(), {"fluid", "two_phase", "contact_angle"});
-  if (!angle.empty()) default_angle_ = std::stod(angle);
+  default_angle_ =
+      config::resolved_number(s.config(), {"fluid", "two_phase", "contact_angle"}, default_angle_);
   if (owned_.volume() > std::numeric_limits<std::int32_t>::max())
     throw std::runtime_error(
         fmt::format("psm: {} cells on one immersed rank (at most 2^31 - 1); run immersed on more ranks",

@@ -192,6 +192,9 @@ std::uint64_t hash_text(const std::string& text);
 
 // The scalar at a path of the resolved configuration, or "" where there is none.
 std::string resolved_text(const Config& cfg, const std::vector<std::string>& path);
+// The number there (strtod: a subnormal such as 1e-320 is read, not thrown
+// as std::stod throws it), or `fallback` where there is none.
+double resolved_number(const Config& cfg, const std::vector<std::string>& path, double fallback);
 
 // The fluid carries two phases (fluid.two_phase is given).
 bool two_phase_fluid(const Config& cfg);

@@ -38,8 +38,7 @@ BodyDistance::Grid BodyDistance::grid_of(const config::Config& cfg) {
     g.periodic[a] = d.periodic[a];
   }
   g.dims = d.two_dimensional() ? 2 : 3;
-  const std::string r = config::resolved_text(cfg, {"immersed", "ibm", "retraction"});
-  g.retraction = r.empty() ? 0.0 : std::stod(r);
+  g.retraction = config::resolved_number(cfg, {"immersed", "ibm", "retraction"}, 0.0);
   return g;
 }
 

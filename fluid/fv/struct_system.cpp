@@ -283,8 +283,7 @@ void StructSystem::solve_diagonal(std::span<const double> b, std::span<double> x
   const double bb = sums[0], limit = std::max(opt_.tolerance * opt_.tolerance * bb, floor_ * floor_);
   double rr = sums[1], rz = sums[2];
   int it = 0;
-  if (!std::isfinite(bb))
-    throw std::runtime_error(fmt::format("fv: the {} has a right-hand side that is not finite", opt_.name));
+  if (!std::isfinite(bb)) throw std::runtime_error(rhs_not_finite(opt_.name, bb));
   if (bb == 0.0) std::fill(x.begin(), x.end(), 0.0), rr = 0.0;  // as hypre: b = 0 gives x = 0
   // At least one iteration, as hypre's PCG: a first guess already within the
   // tolerance still gets closer (a steady flow's residual would otherwise
@@ -381,7 +380,9 @@ void StructSystem::solve(std::span<const double> b, std::span<double> x) {
   iterations_ = static_cast<int>(it);
   HYPRE_ClearAllErrors();  // non-convergence is judged below
   HYPRE_StructVectorGetBoxValues(h_->x, h_->lo, h_->hi, x.data());
-  if (!converged) judge_early_stop(b, x);
+  // Zero iterations: b = 0, or a b hypre could not use (a NaN or an infinite
+  // norm, which it reports as converged): the true residual decides.
+  if (!converged || iterations_ == 0) judge_early_stop(b, x);
 }
 
 // PCG also stops short of its tolerance when <p, A p> or <r, M r> is not
@@ -397,6 +398,9 @@ void StructSystem::solve(std::span<const double> b, std::span<double> x) {
 void StructSystem::judge_early_stop(std::span<const double> b, std::span<const double> x) {
   const Residual r = true_residual(b, x);
   residual_ = r.relative;
+  // A lid at 1e160 m/s squared past double's range: hypre stopped at once
+  // and the flow stayed at rest, "finished" (as the geometric multigrid's check).
+  if (!std::isfinite(r.bb)) throw std::runtime_error(rhs_not_finite(opt_.name, r.bb));
   if (r.within(opt_.tolerance, floor_)) return;
   if (iterations_ < opt_.max_iterations && r.backward <= 1.5e-8) {
     int rank = 0;
@@ -443,6 +447,14 @@ StructSystem::Residual StructSystem::true_residual(std::span<const double> b, st
   r.backward = scale > 0.0 ? std::sqrt(sums[0]) / scale : 0.0;
   if (!std::isfinite(sums[0])) r.backward = NAN;
   return r;
+}
+
+std::string rhs_not_finite(const std::string& name, double bb) {
+  return fmt::format(
+      "fv: the {}'s right-hand side is not finite (|b|^2 = {}): the flow is blowing up (lower fluid.fv.cfl), "
+      "or "
+      "a boundary, initial or force value is beyond what double precision can square (about 1e154)",
+      name, bb);
 }
 
 std::string not_converged(const std::string& name, double residual, long iterations, double tolerance) {

@@ -128,5 +128,7 @@ class StructSystem {
 
 // The message of a linear solve of fv that stopped short of its tolerance.
 std::string not_converged(const std::string& name, double residual, long iterations, double tolerance);
+// The message of a solve whose right-hand side is not finite (|b|^2 = bb).
+std::string rhs_not_finite(const std::string& name, double bb);
 
 }  // namespace coflow::fluid::fv

@@ -163,6 +163,22 @@ void warn_memory(config::Report& r, double bytes_per_rank) {
                      config::number(bytes_per_rank / (1 << 30)), config::number(host / (1 << 30))));
 }
 
+// The step and the count of steps to the end (one at least: a step longer
+// than the run, which the report warns of, still makes one), returned.
+double report_lbm_step(config::Report& r, double dt, double tau, double end) {
+  const double steps = std::max(1.0, std::ceil(end / dt - 1e-9));
+  r.add("fluid", "time step",
+        fmt::format("dt = {} s: {} step{} to {} s", config::number(dt), config::number(steps),
+                    steps == 1 ? "" : "s", config::number(end)));
+  if (dt > end * (1 + 1e-6))
+    r.warn("fluid",
+           fmt::format("the lattice step dt = {} s (fluid.lbm.tau {}) is longer than run.end_time {} s: the "
+                       "run makes one step and ends at t = {} s; lower tau towards 0.5, use finer cells, "
+                       "or run longer",
+                       config::number(dt), config::number(tau), config::number(end), config::number(dt)));
+  return steps;
+}
+
 void report_lbm(const config::Config& cfg, config::Report& r) {
   const FluidParams fp = read_fluid(cfg);
   const auto lp = config::read_section<lbm::LbmParams>(cfg, "fluid.lbm", "fluid.lbm");
@@ -190,16 +206,7 @@ void report_lbm(const config::Config& cfg, config::Report& r) {
                                                                config::number(lp.tau),
                                                                config::number(100.0 * (1.0 - window / natural)))
                                                  : ""));
-  const double steps = std::max(1.0, std::ceil(cfg.run.end_time / units.dt - 1e-9));
-  r.add("fluid", "time step", fmt::format("dt = {} s: {} step{} to {} s", config::number(units.dt), config::number(steps),
-                                          steps == 1 ? "" : "s", config::number(cfg.run.end_time)));
-  if (units.dt > cfg.run.end_time * (1 + 1e-6))
-    r.warn("fluid",
-           fmt::format("the lattice step dt = {} s (fluid.lbm.tau {}) is longer than run.end_time {} s: "
-                       "the run makes one step and ends at t = {} s; lower tau towards 0.5, use finer "
-                       "cells, or run longer",
-                       config::number(units.dt), config::number(tau), config::number(cfg.run.end_time),
-                       config::number(units.dt)));
+  const double steps = report_lbm_step(r, units.dt, lp.tau, cfg.run.end_time);
   const double u = velocity_scale(fp, cfg);
   report_mach(r, u, units, tau, dx);
   report_pressure_faces(r, fp, cfg, units, lp.formulation == "standard");

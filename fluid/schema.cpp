@@ -420,26 +420,30 @@ static void check_refinement(config::Visitor& v, const config::Config& cfg, cons
 // finite and not subnormal (a viscosity of 1e308 made it 0, and a run
 // "finished" with NaN momentum in series/fluid.csv), and few enough to count.
 // (A step longer than the run is a warning of the report: report_lbm.)
-static void check_lbm_step(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
-  if (variant.rfind("lbm", 0) != 0) return;
+static bool check_lbm_step(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
+  if (variant.rfind("lbm", 0) != 0) return true;
   const double nu = config::resolved_node(cfg, "fluid.viscosity").as<double>();
   const auto lp = config::read_section<lbm::LbmParams>(cfg, "fluid.lbm", "fluid.lbm");
   const double dx = cfg.domain.spacing()[0], dt = lbm::Units::from(dx, nu, 1.0, lp.tau).dt;
   const std::string step = fmt::format(
-      "the lattice step dt = (tau - 1/2) dx^2 / (3 nu) = {} s (fluid.lbm.tau {}, "
-      "dx {} m, fluid.viscosity {} m^2/s)",
+      "the lattice step dt = (tau - 1/2) dx^2 / (3 nu) = {} s (fluid.lbm.tau {}, dx {} m, fluid.viscosity {} "
+      "m^2/s)",
       config::number(dt), config::number(lp.tau), config::number(dx), config::number(nu));
   const double end = cfg.run.end_time;
-  if (!(dt > 0) || !std::isfinite(dt) || !std::isnormal(dt))
-    v.fail("fluid.viscosity",
-           step +
-               " is not a usable positive number: give the viscosity in m^2/s of a real fluid "
-               "(water 1e-6), and tau between 0.5 and about 2");
-  else if (end / dt > coupler::kMostWindows)
+  if (!std::isnormal(dt) || dt < 0) {  // 0, subnormal, infinite or NaN
+    v.fail("fluid.viscosity", step +
+                                  " is not a usable positive number: give the viscosity in m^2/s of a real "
+                                  "fluid (water 1e-6), and tau between 0.5 and about 2");
+    return false;
+  }
+  if (end / dt > coupler::kMostWindows) {
     v.fail("run.end_time",
            fmt::format("{} s is {:.3g} steps of {}, more than the {:.0e} a run can count: shorten "
                        "run.end_time or lengthen the step",
                        config::number(end), end / dt, step, coupler::kMostWindows));
+    return false;
+  }
+  return true;
 }
 
 // lbm steps by a fixed dt (from fluid.lbm.tau): a window the user gives must
@@ -539,7 +543,7 @@ static void check_lbm_pressure_faces(config::Visitor& v, const config::Config& c
 static void check(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
   check_wall_functions(v, cfg);
   check_refinement(v, cfg, variant);
-  check_lbm_step(v, cfg, variant);
+  if (!check_lbm_step(v, cfg, variant)) return;  // the checks below divide by dt
   check_lbm_window(v, cfg, variant);
   check_lbm_blue_tau(v, cfg, variant);
   check_lbm_solids(v, cfg, variant);

@@ -14,6 +14,7 @@
 #include "coflow/log.hpp"
 #include "coflow/output.hpp"
 #include "coflow/protocol.hpp"
+#include "coflow/run_config.hpp"
 
 namespace coflow::particles {
 
@@ -161,7 +162,7 @@ void ImmersedLink::load(const std::string& dir) {
   while (std::getline(f, line)) {
     std::istringstream in(line);
     std::string cell;
-    while (std::getline(in, cell, ',')) rows.push_back(std::stod(cell));
+    while (std::getline(in, cell, ',')) rows.push_back(config::to_number(cell));
   }
   if (rows.size() % 7 != 0) throw std::runtime_error(dir + "/hydrodynamic.csv: malformed");
   for (std::size_t k = 0; k < rows.size(); ++k)  // every rank reads all rows: all throw alike

@@ -582,7 +582,7 @@ void print_last_run_advice(const Config& cfg) {
 }
 
 // The failed rank as a JSON number, or null where no rank is known (an
-// interrupted run, a partner's timeout, a start that never came).
+// interrupted run, a start that never came).
 std::string json_rank(const std::string& rank) {
   const bool number =
       !rank.empty() && rank.size() < 10 && rank.find_first_not_of("0123456789") == std::string::npos;

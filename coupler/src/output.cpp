@@ -16,6 +16,7 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 
 #include "coflow/config.hpp"
 
@@ -35,7 +36,7 @@ void atomic_write(const std::string& path, const std::string& content) {
   const auto give_up = [&](const std::string& what) {
     std::error_code ec;
     fs::remove(tmp, ec);
-    throw std::runtime_error(what + low_space_note(fs::path(path).parent_path().string()));
+    throw WriteError(what + low_space_note(fs::path(path).parent_path().string()));
   };
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
@@ -63,7 +64,8 @@ std::string low_space_note(const std::string& dir) {
 std::string snapshot_name(long step) { return fmt::format("step_{:06d}.h5", step); }
 
 Series::Series(const std::string& path, const std::vector<Column>& columns, bool append)
-    : dir_(fs::path(path).parent_path().string()),
+    : path_(path),
+      dir_(fs::path(path).parent_path().string()),
       columns_(columns.size()),
       time_first_(!columns.empty() && columns[0].name == "time") {
   std::string header;
@@ -104,7 +106,7 @@ void Series::row(std::span<const double> values) {
   }
   out_ << line << '\n';
   out_.flush();
-  if (!out_) throw std::runtime_error("cannot append a row to a series file (disk full?)");
+  if (!out_) throw WriteError(fmt::format("cannot append a row to '{}'{}", path_, low_space_note(dir_)));
 }
 
 namespace {
@@ -165,12 +167,22 @@ std::string json_quote(const std::string& s) {
 
 namespace {
 
+// A failed HDF5 call: a WriteError unless it was reading (read_dataset,
+// read_block: "reading", "selecting"), so that a component's failure names
+// the run directory's free space only after a failed write.
+[[noreturn]] void h5fail(const char* what) {
+  const std::string m = fmt::format("HDF5 error while {}", what);
+  if (std::string_view(what).starts_with("reading") || std::string_view(what) == "selecting")
+    throw std::runtime_error(m);
+  throw WriteError(m);
+}
+
 void h5check(herr_t e, const char* what) {
-  if (e < 0) throw std::runtime_error(fmt::format("HDF5 error while {}", what));
+  if (e < 0) h5fail(what);
 }
 
 hid_t check_id(hid_t id, const char* what) {
-  if (id < 0) throw std::runtime_error(fmt::format("HDF5 error while {}", what));
+  if (id < 0) h5fail(what);
   return id;
 }
 
@@ -305,6 +317,17 @@ hid_t create_snapshot(MPI_Comm comm, const std::string& tmp, double time, long s
   return f;
 }
 
+// A snapshot's temporary, removed unless finish_file renamed it: a write that
+// failed (a full disk) leaves no step_N.h5.tmp behind.
+struct Temporary {
+  std::string path;
+  bool renamed = false;
+  ~Temporary() {
+    std::error_code ec;
+    if (!renamed) fs::remove(path, ec);
+  }
+};
+
 std::string tmp_name(MPI_Comm comm, const std::string& path) {
   // Same name on every rank of the collective.
   return path + ".tmp";
@@ -316,6 +339,7 @@ void write_grid(MPI_Comm comm, const std::string& path, double time, long step,
                 const coupler::Index3& cells, const coupler::Box& owned, const coupler::Box& local,
                 const std::vector<GridField>& fields) {
   const std::string tmp = tmp_name(comm, path);
+  Temporary guard{tmp};
   hid_t f = create_snapshot(comm, tmp, time, step);
   write_string_attr(f, "layout", "[nz][ny][nx] or [nz][ny][nx][component], x fastest; cell centres");
   const long nx = owned.extent(0), ny = owned.extent(1), nz = owned.extent(2);
@@ -342,6 +366,7 @@ void write_grid(MPI_Comm comm, const std::string& path, double time, long step,
     write_block(f, fld.name, H5T_NATIVE_DOUBLE, g, off, cnt, buf.data());
   }
   finish_file(comm, f, tmp, path);
+  guard.renamed = true;
 }
 
 void write_points(MPI_Comm comm, const std::string& path, double time, long step, std::size_t count,
@@ -351,6 +376,7 @@ void write_points(MPI_Comm comm, const std::string& path, double time, long step
   const unsigned long long offset = first_row(comm, count);
   MPI_Allreduce(&n, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
   const std::string tmp = tmp_name(comm, path);
+  Temporary guard{tmp};
   hid_t f = create_snapshot(comm, tmp, time, step);
   write_block(f, "id", H5T_NATIVE_INT64, {total}, {offset}, {n}, id.data());
   write_block(f, "species", H5T_NATIVE_INT32, {total}, {offset}, {n}, species.data());
@@ -366,6 +392,7 @@ void write_points(MPI_Comm comm, const std::string& path, double time, long step
     write_block(f, fld.name, H5T_NATIVE_DOUBLE, g, off, cnt, fld.data.data());
   }
   finish_file(comm, f, tmp, path);
+  guard.renamed = true;
 }
 
 std::size_t first_row(MPI_Comm comm, std::size_t rows) {
@@ -379,6 +406,7 @@ std::size_t first_row(MPI_Comm comm, std::size_t rows) {
 void write_tables(MPI_Comm comm, const std::string& path, double time, long step,
                   const std::vector<Table>& tables) {
   const std::string tmp = tmp_name(comm, path);
+  Temporary guard{tmp};
   hid_t f = create_snapshot(comm, tmp, time, step);
   for (const auto& t : tables) {
     const std::size_t given = t.integer ? t.integers.size() : t.values.size();
@@ -393,6 +421,7 @@ void write_tables(MPI_Comm comm, const std::string& path, double time, long step
         t.integer ? static_cast<const void*>(t.integers.data()) : static_cast<const void*>(t.values.data()));
   }
   finish_file(comm, f, tmp, path);
+  guard.renamed = true;
 }
 
 // Opens an existing HDF5 file read-only, with HDF5's own error stack kept off

@@ -561,12 +561,21 @@ std::string resolved_text(const Config& cfg, const std::vector<std::string>& pat
   return n.IsScalar() ? n.Scalar() : "";
 }
 
-double resolved_number(const Config& cfg, const std::vector<std::string>& path, double fallback) {
-  const std::string text = resolved_text(cfg, path);
-  if (text.empty()) return fallback;
+double to_number(const std::string& text) {
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
-  return end != text.c_str() ? v : fallback;
+  if (text.empty() || end != text.c_str() + text.size())
+    throw std::invalid_argument(fmt::format("'{}' is not a number", text));
+  return v;
+}
+
+double resolved_number(const Config& cfg, const std::vector<std::string>& path, double fallback) {
+  try {
+    const double v = to_number(resolved_text(cfg, path));
+    return std::isfinite(v) ? v : fallback;
+  } catch (const std::invalid_argument&) {
+    return fallback;
+  }
 }
 
 bool two_phase_fluid(const Config& cfg) {

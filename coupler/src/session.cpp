@@ -179,12 +179,8 @@ void Session::finish() {
   all_here("world rank 0 to write summary.json");
 }
 
-void Session::fail(const std::string& why, int code) {
+void Session::fail(const std::string& reason, int code) {
   const int r = discovery_ ? rank() : 0;
-  // HDF5's and the streams' errors do not say that the disk is full: the
-  // free space of the run directory's file system is added where it is low.
-  const std::string reason =
-      why.find("bytes free") != std::string::npos || !dir_ ? why : why + output::low_space_note(output_dir());
   log::error("{}", reason);
   std::fprintf(stderr, "%s %s %d %s\n", kFailedTag, component_.c_str(), r, reason.c_str());
   std::fflush(stderr);
@@ -246,6 +242,14 @@ int run_component(const std::string& component, int argc, char** argv,
     session->finish();
   } catch (const config::ConfigError& e) {
     session->fail(e.what(), 2);
+  } catch (const output::WriteError& e) {
+    // HDF5's errors do not say that the disk is full: the free space of the
+    // run directory's file system is added where it is low.
+    const std::string why = e.what();
+    session->fail(why.find("bytes free") != std::string::npos
+                      ? why
+                      : why + output::low_space_note(session->output_dir()),
+                  1);
   } catch (const std::exception& e) {
     session->fail(e.what(), 1);
   }

@@ -380,9 +380,7 @@ void StructSystem::solve(std::span<const double> b, std::span<double> x) {
   iterations_ = static_cast<int>(it);
   HYPRE_ClearAllErrors();  // non-convergence is judged below
   HYPRE_StructVectorGetBoxValues(h_->x, h_->lo, h_->hi, x.data());
-  // Zero iterations: b = 0, or a b hypre could not use (a NaN or an infinite
-  // norm, which it reports as converged): the true residual decides.
-  if (!converged || iterations_ == 0) judge_early_stop(b, x);
+  if (!converged) judge_early_stop(b, x);
 }
 
 // PCG also stops short of its tolerance when <p, A p> or <r, M r> is not
@@ -398,8 +396,9 @@ void StructSystem::solve(std::span<const double> b, std::span<double> x) {
 void StructSystem::judge_early_stop(std::span<const double> b, std::span<const double> x) {
   const Residual r = true_residual(b, x);
   residual_ = r.relative;
-  // A lid at 1e160 m/s squared past double's range: hypre stopped at once
-  // and the flow stayed at rest, "finished" (as the geometric multigrid's check).
+  // A lid at 1e160 m/s squares past double's range: hypre stops at once, and
+  // |r|^2 <= tol^2 |b|^2 read inf <= inf, so the flow stayed at rest and the
+  // run "finished" (the geometric multigrid and the diagonal path check b too).
   if (!std::isfinite(r.bb)) throw std::runtime_error(rhs_not_finite(opt_.name, r.bb));
   if (r.within(opt_.tolerance, floor_)) return;
   if (iterations_ < opt_.max_iterations && r.backward <= 1.5e-8) {

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <span>
 #include <string>
 #include <vector>
@@ -96,7 +97,7 @@ class StructSystem {
     double rr = 0.0, bb = 0.0;  // |b - A x|^2, |b|^2
     double relative = 0.0, backward = 0.0;
     bool within(double tolerance, double floor) const {
-      return rr <= std::max(tolerance * tolerance * bb, floor * floor);
+      return std::isfinite(rr) && rr <= std::max(tolerance * tolerance * bb, floor * floor);
     }
   };
   void judge_early_stop(std::span<const double> b, std::span<const double> x);

@@ -12,6 +12,7 @@
 #include "coflow/gather.hpp"
 #include "coflow/log.hpp"
 #include "coflow/output.hpp"
+#include "coflow/run_config.hpp"
 #include "particles/dem/checkpoint.hpp"
 #include "particles/dem/initial.hpp"
 #include "particles/dpm/state.hpp"
@@ -623,7 +624,7 @@ void DpmSolver::load_msd(const std::string& dir) {
     std::string kind, field;
     std::getline(ss, kind, ',');
     std::vector<double> v;
-    while (std::getline(ss, field, ',')) v.push_back(std::stod(field));
+    while (std::getline(ss, field, ',')) v.push_back(config::to_number(field));
     if (kind == "totals" && rank_ == 0) msd_.set_totals(v);
     if (kind == "track" && v.size() == 1 + dpm::Msd::kTrack)
       tracks[static_cast<std::int64_t>(v[0])] = std::vector<double>(v.begin() + 1, v.end());

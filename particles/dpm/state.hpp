@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "coflow/output.hpp"
+#include "coflow/run_config.hpp"
 #include "particles/dpm/injection.hpp"
 
 namespace coflow::particles::dpm {
@@ -57,17 +58,18 @@ inline void load_extra(const std::string& dir, double& time, std::int64_t& next_
     while (std::getline(ss, field, ',')) f.push_back(field);
     try {
       if (kind == "time" && f.size() == 1) {
-        time = std::stod(f[0]);
+        time = config::to_number(f[0]);
       } else if (kind == "next_id" && f.size() == 1) {
         next_id = std::stoll(f[0]);
       } else if (kind == "inlet" && (f.size() == 3 || f.size() == 4)) {
         const auto k = static_cast<std::size_t>(std::stoul(f[0]));
         if (k >= inlets.size()) throw std::runtime_error("inlet index beyond particles.injection");
-        inlets[k].owed = std::stod(f[1]);
+        inlets[k].owed = config::to_number(f[1]);
         inlets[k].serial = std::stoll(f[2]);
         inlets[k].tries = f.size() == 4 ? std::stoll(f[3]) : 0;
       } else if (kind == "uprime" && f.size() == 5) {
-        uprime[std::stoll(f[0])] = {V3(std::stod(f[1]), std::stod(f[2]), std::stod(f[3])), f[4] == "1"};
+        uprime[std::stoll(f[0])] = {
+            V3(config::to_number(f[1]), config::to_number(f[2]), config::to_number(f[3])), f[4] == "1"};
       } else if (!line.empty()) {
         throw std::runtime_error("unknown record");
       }

@@ -8,12 +8,20 @@
 #include <cstdint>
 #include <fstream>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "coflow/decomposition.hpp"
 
 namespace coflow::output {
+
+// A failed write of an output file (an HDF5 snapshot or checkpoint, a series
+// row, a whole file): a component that fails with it adds the run
+// directory's free space to its reason (Session::fail, low_space_note).
+struct WriteError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 // Write a whole file under a temporary name, then rename it into place, so a
 // reader never sees a half-written file.
@@ -46,7 +54,7 @@ class Series {
 
  private:
   std::ofstream out_;
-  std::string dir_;  // the folder of the file, for a failed write's message
+  std::string path_, dir_;  // the file and its folder, for a failed write's message
   std::size_t columns_ = 0;
   bool time_first_ = false;
 };

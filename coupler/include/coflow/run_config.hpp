@@ -192,9 +192,14 @@ std::uint64_t hash_text(const std::string& text);
 
 // The scalar at a path of the resolved configuration, or "" where there is none.
 std::string resolved_text(const Config& cfg, const std::vector<std::string>& path);
-// The number there (strtod: a subnormal such as 1e-320 is read, not thrown
-// as std::stod throws it), or `fallback` where there is none.
+// The finite number there (strtod: a subnormal such as 1e-320 is read, not
+// thrown as std::stod throws it), or `fallback` where there is none.
 double resolved_number(const Config& cfg, const std::vector<std::string>& path, double fallback);
+
+// The whole of `text` as a double by strtod (every double written with 17
+// digits reads back to the bit, subnormals included, where std::stod throws
+// out_of_range on them); std::invalid_argument naming it where it is not one.
+double to_number(const std::string& text);
 
 // The fluid carries two phases (fluid.two_phase is given).
 bool two_phase_fluid(const Config& cfg);

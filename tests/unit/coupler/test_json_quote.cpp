@@ -18,8 +18,11 @@ TEST_CASE("json_quote escapes quotes, backslashes and control characters", "[jso
 }
 
 TEST_CASE("json_quote keeps well-formed UTF-8", "[json]") {
-  for (const char* s : {"caf\xc3\xa9", "\xe2\x82\xac 5", "\xf0\x9f\x98\x80", "\xed\x9f\xbf",
-                        "\xf4\x8f\xbf\xbf", "\xef\xbf\xbd"}) {
+  // Each sequence's smallest and largest lead bytes and second bytes (RFC 3629
+  // table 3.7): U+0080, U+0800, U+D7FF, U+E000, U+10000, U+10FFFF, U+FFFD.
+  for (const char* s :
+       {"caf\xc3\xa9", "\xc2\x80", "\xe0\xa0\x80", "\xe2\x82\xac 5", "\xed\x9f\xbf", "\xee\x80\x80",
+        "\xf0\x90\x80\x80", "\xf0\x9f\x98\x80", "\xf4\x8f\xbf\xbf", "\xef\xbf\xbd"}) {
     std::string quoted = "\"";
     quoted += s;
     quoted += '"';
@@ -34,6 +37,8 @@ TEST_CASE("json_quote replaces bytes that start no well-formed UTF-8 sequence", 
   CHECK(json_quote("\x80") == "\"\\ufffd\"");
   CHECK(json_quote("ab\xe2\x82") == "\"ab\\ufffd\\ufffd\"");
   CHECK(json_quote("\xc0\xaf") == "\"\\ufffd\\ufffd\"");
+  CHECK(json_quote("\xc1\xbf") == "\"\\ufffd\\ufffd\"");
+  CHECK(json_quote("\xf5\x80\x80\x80") == "\"\\ufffd\\ufffd\\ufffd\\ufffd\"");
   CHECK(json_quote("\xe0\x80\xaf") == "\"\\ufffd\\ufffd\\ufffd\"");
   CHECK(json_quote("\xed\xa0\x80") == "\"\\ufffd\\ufffd\\ufffd\"");
   CHECK(json_quote("\xf4\x90\x80\x80") == "\"\\ufffd\\ufffd\\ufffd\\ufffd\"");

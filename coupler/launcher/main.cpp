@@ -602,7 +602,8 @@ void write_failed_summary(const Config& cfg, const Failure& f, int code, double 
   try {
     coflow::output::atomic_write(dir + "/summary.json", json);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "coflow: the failed run's summary could not be written: %s\n", e.what());
+    std::fprintf(stderr, "coflow: the failed run's summary could not be written: %s%s\n", e.what(),
+                 coflow::output::low_space_note(dir).c_str());
   }
 }
 

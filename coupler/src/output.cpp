@@ -36,7 +36,7 @@ void atomic_write(const std::string& path, const std::string& content) {
   const auto give_up = [&](const std::string& what) {
     std::error_code ec;
     fs::remove(tmp, ec);
-    throw WriteError(what + low_space_note(fs::path(path).parent_path().string()));
+    throw WriteError(what);
   };
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
@@ -64,10 +64,7 @@ std::string low_space_note(const std::string& dir) {
 std::string snapshot_name(long step) { return fmt::format("step_{:06d}.h5", step); }
 
 Series::Series(const std::string& path, const std::vector<Column>& columns, bool append)
-    : path_(path),
-      dir_(fs::path(path).parent_path().string()),
-      columns_(columns.size()),
-      time_first_(!columns.empty() && columns[0].name == "time") {
+    : path_(path), columns_(columns.size()), time_first_(!columns.empty() && columns[0].name == "time") {
   std::string header;
   for (std::size_t i = 0; i < columns.size(); ++i) header += (i ? "," : "") + columns[i].name;
   if (append && fs::exists(path)) {
@@ -106,7 +103,7 @@ void Series::row(std::span<const double> values) {
   }
   out_ << line << '\n';
   out_.flush();
-  if (!out_) throw WriteError(fmt::format("cannot append a row to '{}'{}", path_, low_space_note(dir_)));
+  if (!out_) throw WriteError(fmt::format("cannot append a row to '{}'", path_));
 }
 
 namespace {

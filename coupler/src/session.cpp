@@ -245,11 +245,7 @@ int run_component(const std::string& component, int argc, char** argv,
   } catch (const output::WriteError& e) {
     // HDF5's errors do not say that the disk is full: the free space of the
     // run directory's file system is added where it is low.
-    const std::string why = e.what();
-    session->fail(why.find("bytes free") != std::string::npos
-                      ? why
-                      : why + output::low_space_note(session->output_dir()),
-                  1);
+    session->fail(e.what() + output::low_space_note(session->output_dir()), 1);
   } catch (const std::exception& e) {
     session->fail(e.what(), 1);
   }

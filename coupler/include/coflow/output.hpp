@@ -18,7 +18,7 @@ namespace coflow::output {
 
 // A failed write of an output file (an HDF5 snapshot or checkpoint, a series
 // row, a whole file): a component that fails with it adds the run
-// directory's free space to its reason (Session::fail, low_space_note).
+// directory's free space to its reason (run_component, low_space_note).
 struct WriteError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
@@ -54,7 +54,7 @@ class Series {
 
  private:
   std::ofstream out_;
-  std::string path_, dir_;  // the file and its folder, for a failed write's message
+  std::string path_;  // for a failed write's message
   std::size_t columns_ = 0;
   bool time_first_ = false;
 };

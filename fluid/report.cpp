@@ -7,6 +7,7 @@
 
 #include "coflow/clock.hpp"
 #include "coflow/decomposition.hpp"
+#include "fluid/fv/params.hpp"
 #include "fluid/lbm/params.hpp"
 #include "fluid/lbm/units.hpp"
 #include "fluid/params.hpp"
@@ -31,6 +32,30 @@ constexpr double kColourCellUpdatesPerRankPerSecondD2Q9 = 25e6;
 // fluid's updates are 2.5 s).
 constexpr double kSecondsPerCoupledWindow = 3.5e-3;
 constexpr double kLongRunHours = 12.0;
+// fv on one core of the same VM (2026-12-07, session 78; compute time from
+// the log, steps from series/fluid.csv, memory the slope of the largest
+// resident size between two grids): the Re 100 cavity 128^2 7.7e6 cell steps
+// per second and 64^3 1.85e6 (32^3: 2.2e6); 2D 850 bytes per cell (128^2 to
+// 512^2), 3D 1770 (32^3 to 64^3). fv-reference (unpreconditioned conjugate
+// gradients: slower as the grid grows) 6.6e5 at 32^2 and 4.1e5 at 64^2. The
+// log-law channel 256^2 with k-epsilon against without: 2.7x the time, 1.43x
+// the memory (bench-fv's channel: 1.9x the time). Each rounded the safe way.
+constexpr double kFvCellStepsPerRankPerSecond2D = 7e6;
+constexpr double kFvCellStepsPerRankPerSecond3D = 1.8e6;
+constexpr double kFvReferenceCellStepsPerSecond = 3e5;
+constexpr double kFvKeCostFactor = 2.7;
+constexpr double kFvBytesPerCell2D = 850.0;
+constexpr double kFvBytesPerCell3D = 1800.0;
+constexpr double kFvKeMemoryFactor = 1.45;
+
+// sum_d 1 / dx_d over the grid's axes (an axis one cell across is not one).
+double inverse_spacing_sum(const config::DomainParams& d) {
+  double s = 0.0;
+  const auto h = d.spacing();
+  for (int a = 0; a < 3; ++a)
+    if (d.cells[a] > 1) s += 1.0 / h[a];
+  return s;
+}
 
 FluidParams read_fluid(const config::Config& cfg) {
   FluidParams p;
@@ -179,6 +204,46 @@ double report_lbm_step(config::Report& r, double dt, double tau, double end) {
   return steps;
 }
 
+// The grid line; returns the most cells a rank holds.
+long report_grid(const config::Config& cfg, config::Report& r) {
+  const auto& d = cfg.domain;
+  const long cells = static_cast<long>(d.cells[0]) * d.cells[1] * d.cells[2];
+  const auto& info = cfg.component("fluid");
+  std::array<int, 3> dims{0, 0, 0};
+  if (!info.decomposition.is_auto) dims = info.decomposition.value;
+  const coupler::Decomposition dec({d.cells[0], d.cells[1], d.cells[2]}, info.ranks, dims, d.periodic);
+  long block = 0;
+  for (int k = 0; k < info.ranks; ++k) block = std::max(block, dec.block(k).volume());
+  r.add("fluid", "grid",
+        fmt::format("{} x {} x {} cells of {} m ({} cells; at most {} per rank)", d.cells[0], d.cells[1],
+                    d.cells[2], config::number(d.spacing()[0]), cells, block));
+  return block;
+}
+
+void report_reynolds(const config::Config& cfg, double u, double nu, config::Report& r) {
+  const auto& d = cfg.domain;
+  double L = 1e300;
+  for (int a = 0; a < (d.two_dimensional() ? 2 : 3); ++a) L = std::min(L, d.upper[a] - d.lower[a]);
+  r.add("fluid", "Reynolds",
+        fmt::format("Re = U L / nu = {} (L = {} m, the smallest side of the box)", config::number(u * L / nu),
+                    config::number(L)));
+}
+
+// The wall-time line (`rate`: what the figure assumes) and the warning of a
+// long run, which names the keys to check.
+void report_wall(config::Report& r, double steps, long block, double rate, const std::string& assumed,
+                 const std::string& keys) {
+  const double seconds = steps * block / rate;
+  r.estimate_wall(seconds);
+  r.add("fluid", "wall time",
+        fmt::format("about {} (a rough figure: {})", config::duration(seconds), assumed));
+  if (seconds > kLongRunHours * 3600.0)
+    r.warn("fluid",
+           fmt::format("the run would take about {} ({} steps of {} cells per rank): check {}, the grid "
+                       "and run.end_time",
+                       config::duration(seconds), config::number(steps), block, keys));
+}
+
 void report_lbm(const config::Config& cfg, config::Report& r) {
   const FluidParams fp = read_fluid(cfg);
   const auto lp = config::read_section<lbm::LbmParams>(cfg, "fluid.lbm", "fluid.lbm");
@@ -190,15 +255,7 @@ void report_lbm(const config::Config& cfg, config::Report& r) {
   const bool adjusted = cfg.coupling.window.is_auto && window < natural * (1 - 1e-12);
   const double tau = adjusted ? lbm::tau_for_step(lp.tau, window, dx, fp.viscosity) : lp.tau;
   const lbm::Units units = lbm::Units::from(dx, fp.viscosity, fp.density, tau);
-  const long cells = static_cast<long>(d.cells[0]) * d.cells[1] * d.cells[2];
-  const auto& info = cfg.component("fluid");
-  std::array<int, 3> dims{0, 0, 0};
-  if (!info.decomposition.is_auto) dims = info.decomposition.value;
-  const coupler::Decomposition dec({d.cells[0], d.cells[1], d.cells[2]}, info.ranks, dims, d.periodic);
-  long block = 0;
-  for (int k = 0; k < info.ranks; ++k) block = std::max(block, dec.block(k).volume());
-  r.add("fluid", "grid", fmt::format("{} x {} x {} cells of {} m ({} cells; at most {} per rank)", d.cells[0],
-                                     d.cells[1], d.cells[2], config::number(dx), cells, block));
+  const long block = report_grid(cfg, r);
   r.add("fluid", "lattice", fmt::format("{} {}, tau {}, {}{}", lp.lattice, lp.collision, config::number(tau),
                                         lp.formulation,
                                         adjusted ? fmt::format(" (fluid.lbm.tau {} shortened the step by {}% so that "
@@ -223,12 +280,7 @@ void report_lbm(const config::Config& cfg, config::Report& r) {
                                   "0.51 the collision is close to unstable; raise fluid.lbm.tau or the viscosity",
                                   config::number(tau_b), config::number(nu_b)));
   }
-  if (u > 0.0) {
-    double L = 1e300;
-    for (int a = 0; a < (d.two_dimensional() ? 2 : 3); ++a) L = std::min(L, d.upper[a] - d.lower[a]);
-    r.add("fluid", "Reynolds", fmt::format("Re = U L / nu = {} (L = {} m, the smallest side of the box)",
-                                           config::number(u * L / fp.viscosity), config::number(L)));
-  }
+  if (u > 0.0) report_reynolds(cfg, u, fp.viscosity, r);
   const int Q = lp.lattice == "D2Q9" ? 9 : 19;
   // Two fluids, or interior solids: red and blue populations (two copies
   // each), the colour field and the solid map; the colour kernel's rate.
@@ -243,16 +295,67 @@ void report_lbm(const config::Config& cfg, config::Report& r) {
                     colours ? ": red and blue" : ""));
   warn_memory(r, bytes);
   const double windows = cfg.components.size() > 1 ? std::ceil(cfg.run.end_time / window - 1e-9) : 0.0;
-  const double hours = (steps * block / rate + windows * kSecondsPerCoupledWindow) / 3600.0;
-  r.estimate_wall(hours * 3600.0);
-  r.add("fluid", "wall time",
-        fmt::format("about {} (a rough figure: {} cell updates per second per rank{})", config::duration(hours * 3600.0),
-                    config::number(rate),
-                    windows > 0 ? fmt::format(", {} s per coupled window", kSecondsPerCoupledWindow) : ""));
-  if (hours > kLongRunHours)
-    r.warn("fluid", fmt::format("the run would take about {} ({} steps of {} cells per rank): check "
-                                "fluid.viscosity (water: 1e-6 m^2/s), fluid.lbm.tau, the grid and run.end_time",
-                                config::duration(hours * 3600.0), config::number(steps), block));
+  // The coupled windows' cost as that of more cell updates.
+  const double effective = steps * block / (steps * block / rate + windows * kSecondsPerCoupledWindow);
+  report_wall(
+      r, steps, block, effective,
+      fmt::format("{} cell updates per second per rank{}", config::number(rate),
+                  windows > 0 ? fmt::format(", {} s per coupled window", kSecondsPerCoupledWindow) : ""),
+      "fluid.viscosity (water: 1e-6 m^2/s), fluid.lbm.tau");
+}
+
+// fv and fv-reference: the grid, the speed and the step the CFL condition
+// gives at it (seed 003 eq. 4.1; the run's step follows the flow), memory and
+// a rough wall time. The adaptive grid's cells change as it runs: its grid
+// and step only.
+void report_fv(const config::Config& cfg, const std::string& variant, config::Report& r) {
+  const FluidParams fp = read_fluid(cfg);
+  const auto fv = config::read_section<fv::FvParams>(cfg, "fluid.fv", "fluid.fv");
+  const auto& d = cfg.domain;
+  const long block = report_grid(cfg, r);
+  const double u = velocity_scale(fp, cfg), end = cfg.run.end_time;
+  if (u <= 0.0) {
+    r.add("fluid", "time step",
+          fmt::format(
+              "follows the flow (seed 003 eq. 4.1, C = {}): no initial or boundary velocity to estimate "
+              "it from",
+              config::number(fv.cfl)));
+    return;
+  }
+  r.add("fluid", "velocity scale",
+        fmt::format("U = {} m/s (largest initial or boundary velocity)", config::number(u)));
+  report_reynolds(cfg, u, fp.viscosity, r);
+  double dt = fv.cfl / (u * inverse_spacing_sum(d));  // eq. 4.1 with U along every axis: the shortest at U
+  if (fv.max_step > 0) dt = std::min(dt, fv.max_step);
+  const double steps = std::max(1.0, std::ceil(end / dt));
+  r.add(
+      "fluid", "time step",
+      fmt::format("about {} s at U (C / sum_d(U / dx_d), seed 003 eq. 4.1{}; it follows the flow): about {} "
+                  "steps to {} s",
+                  config::number(dt), fv.max_step > 0 ? ", at most fluid.fv.max_step" : "",
+                  config::number(steps), config::number(end)));
+  if (fv.refinement.on) {
+    r.add("fluid", "refinement",
+          fmt::format("{} levels, the finest the grid above: the cells change as the run refines and "
+                      "coarsens, so no memory or wall-time estimate",
+                      fv.refinement.levels));
+    return;
+  }
+  const bool ke = fp.turbulence.on, flat = d.two_dimensional();
+  const double per_cell = (flat ? kFvBytesPerCell2D : kFvBytesPerCell3D) * (ke ? kFvKeMemoryFactor : 1.0);
+  const double bytes = per_cell * block;
+  r.add("fluid", "memory",
+        fmt::format("about {} MiB per rank (about {} bytes per cell{})", config::number(bytes / (1 << 20)),
+                    config::number(per_cell), ke ? " with k-epsilon" : ""));
+  warn_memory(r, bytes);
+  const double cell_rate =
+      (variant == "fv" ? (flat ? kFvCellStepsPerRankPerSecond2D : kFvCellStepsPerRankPerSecond3D)
+                       : kFvReferenceCellStepsPerSecond) /
+      (ke ? kFvKeCostFactor : 1.0);
+  report_wall(r, steps, block, cell_rate,
+              fmt::format("{} cell steps per second per rank{}", config::number(cell_rate),
+                          ke ? " (k-epsilon included)" : ""),
+              "fluid.viscosity, fluid.fv.cfl");
 }
 
 }  // namespace
@@ -260,6 +363,10 @@ void report_lbm(const config::Config& cfg, config::Report& r) {
 void report(const config::Config& cfg, const std::string& variant, config::Report& r) {
   if (variant == "lbm" || variant == "lbm-reference") {
     report_lbm(cfg, r);
+    return;
+  }
+  if (variant == "fv" || variant == "fv-reference") {
+    report_fv(cfg, variant, r);
     return;
   }
   if (variant == "analytic")

@@ -8,11 +8,14 @@
 #include <functional>
 #include <numbers>
 
+#include "coflow/clock.hpp"
 #include "coflow/decomposition.hpp"
 #include "coflow/output.hpp"
 #include "particles/dem/bond_file.hpp"
+#include "particles/dem/contact.hpp"
 #include "particles/dem/stl.hpp"
 #include "particles/dpm/injection.hpp"
+#include "particles/dpm/setup.hpp"
 #include "particles/particles_interface.hpp"
 #include "particles/size_distribution.hpp"
 
@@ -544,21 +547,89 @@ void ParticleParams::check_files(Visitor& v) const {
   }
 }
 
+// The mass of a grain of diameter d, kg.
+static double sphere_mass(double density, double d) {
+  return density * std::numbers::pi * d * d * d / 6.0;
+}
+
 // An explicit step beyond the stability limit of seed 000 eq. 2.19 cannot work.
 void ParticleParams::check_time_step(Visitor& v) const {
   if (!time_step.is_auto && contact.normal_stiffness > 0 && !point_particles) {
     double crit = 1e300;
     for (const auto& [name, sp] : species) {
-      if (sp.diameter.kind == config::Distribution::Kind::lognormal) continue;
-      const double d = sp.diameter.kind == config::Distribution::Kind::fixed ? sp.diameter.a : sp.diameter.a;
-      const double m = sp.density * std::numbers::pi * d * d * d / 6.0;
-      crit = std::min(crit, 2.0 * std::sqrt(m / std::max(contact.normal_stiffness, contact.shear_stiffness)));
+      const double d = smallest_diameter(sp.diameter);
+      if (!(d > 0)) continue;
+      crit = std::min(crit, 2.0 * std::sqrt(sphere_mass(sp.density, d) /
+                                            std::max(contact.normal_stiffness, contact.shear_stiffness)));
     }
     if (time_step.value > crit)
       v.fail("time_step", fmt::format("{:.4g} s exceeds the critical step 2 sqrt(m/k) = {:.4g} s of the lightest "
                                       "particle: the integration would be unstable; use auto",
                                       time_step.value, crit));
-  }}
+  }
+}
+
+ParticleParams read_particle_params(const config::Config& cfg, const std::string& variant) {
+  ParticleParams p;
+  p.point_particles = variant == "dpm" || variant == "dpm-reference";
+  config::Reader r(cfg.resolved["particles"], cfg.file, "particles");
+  p.visit(r, cfg);
+  return p;
+}
+
+// More steps than a run counts (coflow/clock.hpp), from a given step or the
+// automatic one, cannot run (after resolution: dpm's estimate needs the fluid).
+void check_step_count(Visitor& v, const config::Config& cfg, const std::string& variant) {
+  const ParticleParams p = read_particle_params(cfg, variant);
+  const StepEstimate e =
+      p.time_step.is_auto ? automatic_step_estimate(p, cfg) : StepEstimate{p.time_step.value, ""};
+  const double count = cfg.run.end_time / e.step;
+  if (!(e.step > 0) || count <= coupler::kMostWindows) return;
+  const std::string why =
+      !p.time_step.is_auto ? fmt::format("{} s", config::number(e.step))
+      : p.point_particles
+          ? fmt::format(
+                "auto takes at most {} s (0.2 x the response time rho_p D^2 / (18 mu) of "
+                "species '{}' in the fluid section's fluid, seed 003 eq. 4.15)",
+                config::number(e.step), e.species)
+          : fmt::format(
+                "auto takes {} s (the critical step of the grains of species '{}' with "
+                "particles.contact.normal_stiffness {} N/m, seed 000 eq. 2.19, times "
+                "particles.time_step_fraction)",
+                config::number(e.step), e.species, config::number(p.contact.normal_stiffness));
+  const std::string fix = !p.time_step.is_auto ? "lengthen the step"
+                          : p.point_particles
+                              ? "check the species' diameters and densities and fluid.viscosity"
+                              : "check the contact stiffness against the grains' masses";
+  v.fail("particles.time_step",
+         fmt::format("{}: {:.3g} steps to run.end_time {} s, more than the {:.0e} a run can count; "
+                     "{}, or shorten run.end_time",
+                     why, count, config::number(cfg.run.end_time), coupler::kMostWindows, fix));
+}
+
+StepEstimate automatic_step_estimate(const ParticleParams& p, const config::Config& cfg) {
+  StepEstimate e{std::numeric_limits<double>::infinity(), ""};
+  double mu = 0.0;
+  if (p.point_particles) {
+    const YAML::Node fl = cfg.resolved.IsMap() ? cfg.resolved["fluid"] : YAML::Node();
+    const bool drag = std::find(p.forces.begin(), p.forces.end(), "drag") != p.forces.end();
+    if (!drag || !fl || !fl.IsMap() || !fl["density"] || !fl["viscosity"]) return {};
+    mu = fl["density"].as<double>() * fl["viscosity"].as<double>();
+    if (!(mu > 0)) return {};
+  } else if (!(p.contact.normal_stiffness > 0)) {
+    return {};
+  }
+  const dem::ContactLaw law{p.contact.normal_stiffness, p.contact.shear_stiffness, 0.0, 0.0, 0.0, 0.0};
+  for (const auto& [name, sp] : p.species) {
+    const double d = smallest_diameter(sp.diameter);
+    if (!(d > 0)) continue;
+    const double step = p.point_particles
+                            ? dpm::kLagrangianStepFraction * dpm::response_time(sp.density, d, mu)
+                            : dem::automatic_step(sphere_mass(sp.density, d), law, p.time_step_fraction);
+    if (step < e.step) e = {step, name};
+  }
+  return std::isfinite(e.step) ? e : StepEstimate{};
+}
 
 namespace {
 

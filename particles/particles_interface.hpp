@@ -159,6 +159,22 @@ struct ParticleParams {
 // The largest diameter a particle of these species can have (log-normal: mean
 // + 6 standard deviations), m.
 double largest_diameter(const ParticleParams& p);
+// The automatic particle step at the start, from the species alone (validate
+// time): dem's (contact.hpp, automatic_step) for the lightest grain a species
+// declares; for dpm an upper bound, 0.2 of the smallest response time with the
+// fluid section's viscosity (seed 003 eq. 4.15; the velocities, collisions
+// and dispersion only shorten it). step 0: no estimate (only log-normal
+// species, whose grains have no smallest size; dpm without drag or fluid).
+struct StepEstimate {
+  double step = 0.0;    // s
+  std::string species;  // the species that sets it
+};
+StepEstimate automatic_step_estimate(const ParticleParams& p, const config::Config& cfg);
+// The particles section read as a variant reads it (after resolution).
+ParticleParams read_particle_params(const config::Config& cfg, const std::string& variant);
+// particles.time_step, given or auto, against the number of steps a run can
+// count (the schema's cross-section check).
+void check_step_count(config::Visitor& v, const config::Config& cfg, const std::string& variant);
 // Width, in fluid cells, of the ghost layer through which particle states reach
 // the immersed ranks: every cell a particle covers is then reached.
 int coupling_ghost_cells(const ParticleParams& p, const config::Config& cfg);

@@ -19,19 +19,21 @@ namespace {
 // assumes particles smaller than a cell.
 constexpr double kPsmCellsPerDiameter = 4.0;
 
-ParticleParams read_particles(const config::Config& cfg, const std::string& variant) {
-  ParticleParams p;
-  p.point_particles = variant == "dpm" || variant == "dpm-reference";
-  config::Reader r(cfg.resolved["particles"], cfg.file, "particles");
-  p.visit(r, cfg);
-  return p;
-}
+// Rough costs for the wall-time estimate, one core of the project's 2-core
+// VM (2026-12-07, session 78, compute time from the log): dem's gravity pour
+// (2000 grains falling into a pack) 6.1e6 particle steps per second, dpm's
+// granular gas (500 colliding particles) 3.7e6, and 1.7 us a step with 20
+// grains; rounded the safe way.
+constexpr double kDemParticleStepsPerRankPerSecond = 5e6;
+constexpr double kDpmParticleStepsPerRankPerSecond = 3e6;
+constexpr double kSecondsPerStep = 2e-6;
+// Runs longer than this are warned of (as the fluid's).
+constexpr double kLongRunHours = 12.0;
 
-// How many particles the initial items place (random fills by volume fraction
-// at the species' mean diameter; files are not opened).
-std::string initial_count(const ParticleParams& p) {
+// How many particles the initial items other than files place (random fills
+// by volume fraction at the species' mean diameter).
+double initial_number(const ParticleParams& p) {
   double n = 0.0;
-  bool files = false;
   for (const auto& it : p.initial) {
     const int s = p.species_index(it.species);
     if (it.kind == "single") n += 1;
@@ -47,9 +49,22 @@ std::string initial_count(const ParticleParams& p) {
       for (int d = 0; d < 3; ++d) volume *= it.upper[d] - it.lower[d];
       n += std::floor(it.volume_fraction * volume / (std::numbers::pi * D * D * D / 6.0));
     }
-    files = files || it.kind == "file";
   }
-  return fmt::format("{}{}", config::number(n), files ? " and those of the initial files" : "");
+  return n;
+}
+
+// How many particles the inlets bring in by run.end_time, at the species'
+// mean diameter.
+double injected_number(const ParticleParams& p, double end) {
+  double n = 0.0;
+  for (const auto& ip : p.injection) {
+    const int s = p.species_index(ip.species);
+    if (s < 0) continue;
+    const double D = p.species[s].second.diameter.mean(), stop = ip.stop < 0.0 ? end : std::min(ip.stop, end);
+    n += std::max(0.0, stop - ip.start) * ip.mass_flow /
+         (p.species[s].second.density * std::numbers::pi * D * D * D / 6.0);
+  }
+  return n;
 }
 
 void report_resolution(const ParticleParams& p, const config::Config& cfg, const std::string& method,
@@ -74,7 +89,8 @@ void report_resolution(const ParticleParams& p, const config::Config& cfg, const
 
 // initial: file takes the radii of the file; say where they differ from what
 // the species declare (the file's are used).
-void report_initial_files(const ParticleParams& p, config::Report& r) {
+double report_initial_files(const ParticleParams& p, config::Report& r) {
+  double count = 0.0;
   for (std::size_t n = 0; n < p.initial.size(); ++n) {
     const auto& it = p.initial[n];
     if (it.kind != "file") continue;
@@ -85,6 +101,7 @@ void report_initial_files(const ParticleParams& p, config::Report& r) {
     } catch (const std::exception&) {
       continue;  // refused by validation (ParticleParams::check_file_inside)
     }
+    count += static_cast<double>(radius.size());
     std::size_t off = 0;
     std::string example;
     for (std::size_t k = 0; k < radius.size() && k < species.size(); ++k) {
@@ -106,22 +123,76 @@ void report_initial_files(const ParticleParams& p, config::Report& r) {
                                       "species (e.g. {}); the file's radii are used",
                                       n, off, radius.size(), it.path.path, example));
   }
+  return count;
+}
+
+// The step and the steps it takes to run.end_time; auto: estimated from the
+// species (automatic_step_estimate), the run logs the step it takes.
+std::string step_text(const ParticleParams& p, const config::Config& cfg) {
+  const double end = cfg.run.end_time;
+  if (!p.time_step.is_auto)
+    return fmt::format("{} s: {} steps to {} s", config::number(p.time_step.value),
+                       config::number(std::ceil(end / p.time_step.value)), config::number(end));
+  const StepEstimate e = automatic_step_estimate(p, cfg);
+  if (!(e.step > 0)) return "auto (chosen at the start, logged)";
+  if (p.point_particles)
+    return fmt::format(
+        "auto: at most {} s at the start (0.2 x the response time of species '{}', seed 003 eq. 4.15), "
+        "so at least {} steps to {} s",
+        config::number(e.step), e.species, config::number(std::ceil(end / e.step)), config::number(end));
+  return fmt::format(
+      "auto: {} s at the start (the lightest grains declared, species '{}'), at least {} steps to {} s",
+      config::number(e.step), e.species, config::number(std::ceil(end / e.step)), config::number(end));
+}
+
+// A rough wall time of the particles: their steps to run.end_time (the
+// automatic step from the species) times the mean number of particles (the
+// initial ones and half of those the inlets bring), over the ranks, at a
+// measured rate; 0 where the step is not known before the start.
+double wall_estimate(const ParticleParams& p, const config::Config& cfg, double particles) {
+  const double step = p.time_step.is_auto ? automatic_step_estimate(p, cfg).step : p.time_step.value;
+  if (!(step > 0)) return 0.0;
+  const double rate =
+      p.point_particles ? kDpmParticleStepsPerRankPerSecond : kDemParticleStepsPerRankPerSecond;
+  const double steps = std::ceil(cfg.run.end_time / step);
+  const int ranks = std::max(1, cfg.component("particles").ranks);
+  return steps * (kSecondsPerStep + std::max(particles, 1.0) / (rate * ranks));
 }
 
 }  // namespace
 
 void report(const config::Config& cfg, const std::string& variant, config::Report& r) {
   if (variant == "external") return;
-  const ParticleParams p = read_particles(cfg, variant);
+  const ParticleParams p = read_particle_params(cfg, variant);
   // ibm with point particles couples them as method point does.
   const std::string method = !cfg.has("immersed")          ? ""
                              : config::point_coupling(cfg) ? "point"
                                                            : cfg.component("immersed").variant;
-  r.add("particles", "initial particles", initial_count(p));
-  report_initial_files(p, r);
-  if (!p.injection.empty()) r.add("particles", "injection", fmt::format("{} inlet(s)", p.injection.size()));
-  r.add("particles", "time step",
-        p.time_step.is_auto ? std::string("auto (chosen at start, logged)") : config::number(p.time_step.value) + " s");
+  const double placed = initial_number(p);
+  const bool files =
+      std::any_of(p.initial.begin(), p.initial.end(), [](const auto& it) { return it.kind == "file"; });
+  r.add("particles", "initial particles",
+        fmt::format("{}{}", config::number(placed), files ? " and those of the initial files" : ""));
+  const double from_files = report_initial_files(p, r), injected = injected_number(p, cfg.run.end_time);
+  if (!p.injection.empty())
+    r.add("particles", "injection",
+          fmt::format("{} inlet(s), about {} particles by {} s", p.injection.size(),
+                      config::number(std::round(injected)), config::number(cfg.run.end_time)));
+  r.add("particles", "time step", step_text(p, cfg));
+  if (const double wall = wall_estimate(p, cfg, placed + from_files + 0.5 * injected); wall > 0) {
+    r.estimate_wall(wall);
+    r.add("particles", "wall time",
+          fmt::format("about {} (a rough figure: {} particle steps per second per rank)",
+                      config::duration(wall),
+                      config::number(p.point_particles ? kDpmParticleStepsPerRankPerSecond
+                                                       : kDemParticleStepsPerRankPerSecond)));
+    if (wall > kLongRunHours * 3600.0)
+      r.warn("particles",
+             fmt::format("the run would take about {}: check particles.time_step (auto: the species' "
+                         "sizes and densities{}), the number of particles and run.end_time",
+                         config::duration(wall),
+                         p.point_particles ? " and fluid.viscosity" : " and the contact stiffness"));
+  }
   if (method == "point") {
     const std::string fluid = cfg.component("fluid").variant;
     r.add("particles", "coupling",

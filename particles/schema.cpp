@@ -96,6 +96,9 @@ config::ComponentSchema schema() {
   s.contract = contract;
   s.report = report;
   s.resolve = resolve;
+  s.check = [](config::Visitor& v, const config::Config& cfg, const std::string& variant) {
+    if (has_variant(variant_schemas(), variant)) check_step_count(v, cfg, variant);
+  };
   s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);
     if (v.reading() && !has_variant(variant_schemas(), info.variant)) {

@@ -25,6 +25,12 @@ inline double largest_diameter(const config::Distribution& d) {
   return d.a;
 }
 
+// The smallest diameter a species' distribution gives; 0 for a log-normal,
+// which has no lower bound.
+inline double smallest_diameter(const config::Distribution& d) {
+  return d.kind == config::Distribution::Kind::lognormal ? 0.0 : d.a;
+}
+
 // A diameter from the log-normal with mean D and standard deviation s
 // (sigma^2 = ln(1 + s^2 / D^2), mu = ln D - sigma^2 / 2: seed 003 eqs
 // 4.20-4.21, whose sigma formula has its parentheses misplaced), truncated at

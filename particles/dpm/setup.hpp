@@ -139,6 +139,7 @@ inline DpmSetup make_setup(const ParticleParams& p, const config::Config& cfg) {
 // diverge past Re_p of about 300: the step is also kept to h lambda <= 1,
 // with the slip of the mean flow, and with dispersion 3 sqrt(2 k) more (the
 // fluctuation the particle may see; drawn after this step is chosen).
+inline constexpr double kLagrangianStepFraction = 0.2;  // of the smallest time of eq. 4.15
 inline double lagrangian_step(const DpmSetup& s, double D, double rho_p, const V3& v, const FluidSample& f) {
   double t = std::numeric_limits<double>::infinity();
   const double speed = v.norm();
@@ -150,7 +151,7 @@ inline double lagrangian_step(const DpmSetup& s, double D, double rho_p, const V
     t = std::min({t, tau, 5.0 * tau / drag_rate(re_p)});
   }
   if (s.dispersion.on && lagrangian_time(f, s.dispersion.C_T) > 0.0) t = std::min(t, lagrangian_time(f, s.dispersion.C_T));
-  return 0.2 * t;
+  return kLagrangianStepFraction * t;
 }
 
 // The mean time between collisions tau_c of eq. 4.15, the inverse of the

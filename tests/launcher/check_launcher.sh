@@ -143,6 +143,13 @@ printf '%s\n' "$got" | grep -qx "#SBATCH --ntasks=6" || fail "sbatch script task
 printf '%s\n' "$got" | grep -q "^#SBATCH --time=00:1[0-9]:00   # the pre-run report's estimate" || fail "sbatch time limit: $got"
 printf '%s\n' "$got" | grep -q "^exec $bin/coflow run $cfgs/quickstart.yaml --launcher srun --set fluid.ranks=4$" \
   || fail "sbatch command: $got"
+# fv and dem estimate their wall time too (before 2026-12-07 only lbm did, and
+# these got 1 h): the cavity about 11 s, the pour about 16 s, so 11 min each.
+for c in validation/fv_cavity_re100.yaml validation/dem_gravity_pour.yaml; do
+  got=$("$bin/coflow" run --dry-run --launcher sbatch "$cfgs/$c")
+  printf '%s\n' "$got" | grep -q "^#SBATCH --time=00:1[0-9]:00   # the pre-run report's estimate" ||
+    fail "sbatch time limit of $c: $got"
+done
 got=$("$bin/coflow" run --dry-run --launcher sbatch --set "run.output.dir=my run%" "$cfgs/quickstart.yaml")
 printf '%s\n' "$got" | grep -qxF "#SBATCH --output=\"$PWD/my run%%/slurm-%j.out\"" || fail "sbatch --output of a path with a space and %: $got"
 [ ! -e out ] || fail "--dry-run --launcher sbatch created files"

@@ -124,10 +124,13 @@ void ParticleWindows::output(long w) {
 // finite stops the run here, named, rather than in the fluid later.
 void ParticleWindows::check_state() {
   const ParticleArrays& p = solver_->particles();
-  const std::string hint = params_.point_particles
-                               ? "the step may be too long for the particles' response time: set particles.time_step: auto"
-                               : "the step may be too large for the contact stiffness (seed 000 eq. 2.19): lower "
-                                 "particles.time_step_fraction or the stiffness";
+  const std::string hint =
+      params_.point_particles
+          ? "the step may be too long for the particles' response time: set particles.time_step: auto"
+          : "the step may be too large for the contact stiffness (seed 000 eq. 2.19): lower "
+            "particles.time_step_fraction or the stiffness; or a force too large to integrate (the "
+            "fluid's on the grains is in series/immersed.csv: check the fluid's density and "
+            "the grains' sizes)";
   coupler::check_finite(s_.comm(), {fmt::format("particles ({})", s_.config().component("particles").variant),
                                     "particle", hint},
                         solver_->steps(), solver_->time(),

@@ -582,51 +582,67 @@ ParticleParams read_particle_params(const config::Config& cfg, const std::string
 void check_step_count(Visitor& v, const config::Config& cfg, const std::string& variant) {
   const ParticleParams p = read_particle_params(cfg, variant);
   const StepEstimate e =
-      p.time_step.is_auto ? automatic_step_estimate(p, cfg) : StepEstimate{p.time_step.value, ""};
+      p.time_step.is_auto ? automatic_step_estimate(p, cfg) : StepEstimate{p.time_step.value, "", false};
   const double count = cfg.run.end_time / e.step;
   if (!(e.step > 0) || count <= coupler::kMostWindows) return;
+  const std::string when = e.arriving ? "once grains arrive through the inlets" : "at the start";
   const std::string why =
       !p.time_step.is_auto ? fmt::format("{} s", config::number(e.step))
       : p.point_particles
           ? fmt::format(
-                "auto takes at most {} s (0.2 x the response time rho_p D^2 / (18 mu) of "
-                "species '{}' in the fluid section's fluid, seed 003 eq. 4.15)",
-                config::number(e.step), e.species)
+                "auto takes at most {} s {} (0.2 x the response time rho_p D^2 / (18 mu) of the largest "
+                "grains of species '{}', mu = fluid.density x fluid.viscosity; seed 003 eq. 4.15)",
+                config::number(e.step), when, e.species)
           : fmt::format(
-                "auto takes {} s (the critical step of the grains of species '{}' with "
-                "particles.contact.normal_stiffness {} N/m, seed 000 eq. 2.19, times "
-                "particles.time_step_fraction)",
-                config::number(e.step), e.species, config::number(p.contact.normal_stiffness));
-  const std::string fix = !p.time_step.is_auto ? "lengthen the step"
-                          : p.point_particles
-                              ? "check the species' diameters and densities and fluid.viscosity"
-                              : "check the contact stiffness against the grains' masses";
+                "auto takes at most {} s {} (for the largest grains of species '{}': the smaller of "
+                "particles.time_step_fraction x 2 sqrt(m/K), seed 000 eq. 2.19, and half a dense pack's "
+                "critical step, with K = {} N/m the larger contact stiffness)",
+                config::number(e.step), when, e.species,
+                config::number(std::max(p.contact.normal_stiffness, p.contact.shear_stiffness)));
+  const std::string fix =
+      !p.time_step.is_auto ? "lengthen the step"
+      : p.point_particles  ? "check the species' diameters and densities, fluid.density and fluid.viscosity"
+                           : "check the contact stiffnesses against the grains' masses";
   v.fail("particles.time_step",
          fmt::format("{}: {:.3g} steps to run.end_time {} s, more than the {:.0e} a run can count; "
                      "{}, or shorten run.end_time",
                      why, count, config::number(cfg.run.end_time), coupler::kMostWindows, fix));
 }
 
+// The species whose grains the run starts with (initial items other than
+// files, whose radii are their own); none: those the inlets bring.
+static std::vector<int> starting_species(const ParticleParams& p, bool& arriving) {
+  std::vector<int> out;
+  for (const auto& it : p.initial)
+    if (it.kind != "file" && p.species_index(it.species) >= 0) out.push_back(p.species_index(it.species));
+  arriving = out.empty();
+  if (arriving)
+    for (const auto& ip : p.injection)
+      if (p.species_index(ip.species) >= 0) out.push_back(p.species_index(ip.species));
+  return out;
+}
+
 StepEstimate automatic_step_estimate(const ParticleParams& p, const config::Config& cfg) {
-  StepEstimate e{std::numeric_limits<double>::infinity(), ""};
+  StepEstimate e{std::numeric_limits<double>::infinity(), "", false};
   double mu = 0.0;
   if (p.point_particles) {
-    const YAML::Node fl = cfg.resolved.IsMap() ? cfg.resolved["fluid"] : YAML::Node();
     const bool drag = std::find(p.forces.begin(), p.forces.end(), "drag") != p.forces.end();
-    if (!drag || !fl || !fl.IsMap() || !fl["density"] || !fl["viscosity"]) return {};
-    mu = fl["density"].as<double>() * fl["viscosity"].as<double>();
-    if (!(mu > 0)) return {};
+    mu = config::resolved_number(cfg, {"fluid", "density"}, 0.0) *
+         config::resolved_number(cfg, {"fluid", "viscosity"}, 0.0);
+    if (!drag || !(mu > 0)) return {};
   } else if (!(p.contact.normal_stiffness > 0)) {
     return {};
   }
   const dem::ContactLaw law{p.contact.normal_stiffness, p.contact.shear_stiffness, 0.0, 0.0, 0.0, 0.0};
-  for (const auto& [name, sp] : p.species) {
-    const double d = smallest_diameter(sp.diameter);
+  bool arriving = false;
+  for (const int k : starting_species(p, arriving)) {
+    const auto& [name, sp] = p.species[static_cast<std::size_t>(k)];
+    const double d = largest_diameter(sp.diameter);
     if (!(d > 0)) continue;
     const double step = p.point_particles
                             ? dpm::kLagrangianStepFraction * dpm::response_time(sp.density, d, mu)
                             : dem::automatic_step(sphere_mass(sp.density, d), law, p.time_step_fraction);
-    if (step < e.step) e = {step, name};
+    if (step < e.step) e = {step, name, arriving};
   }
   return std::isfinite(e.step) ? e : StepEstimate{};
 }

@@ -159,15 +159,18 @@ struct ParticleParams {
 // The largest diameter a particle of these species can have (log-normal: mean
 // + 6 standard deviations), m.
 double largest_diameter(const ParticleParams& p);
-// The automatic particle step at the start, from the species alone (validate
-// time): dem's (contact.hpp, automatic_step) for the lightest grain a species
-// declares; for dpm an upper bound, 0.2 of the smallest response time with the
-// fluid section's viscosity (seed 003 eq. 4.15; the velocities, collisions
-// and dispersion only shorten it). step 0: no estimate (only log-normal
-// species, whose grains have no smallest size; dpm without drag or fluid).
+// An upper bound of the automatic particle step at the start, from the
+// species alone (validate time): each species the initial items other than
+// files place (none: those the inlets bring, `arriving`) at its largest
+// diameter, so that no grain the run starts with has a longer step. dem's
+// step is contact.hpp's automatic_step (equal to the run's for one size);
+// dpm's 0.2 of the response time with the fluid section's viscosity (seed
+// 003 eq. 4.15; velocities, collisions and dispersion only shorten it).
+// step 0: no estimate (dpm without drag or fluid, no such species).
 struct StepEstimate {
-  double step = 0.0;    // s
-  std::string species;  // the species that sets it
+  double step = 0.0;      // s
+  std::string species;    // the species that sets it
+  bool arriving = false;  // the species come through the inlets, not at the start
 };
 StepEstimate automatic_step_estimate(const ParticleParams& p, const config::Config& cfg);
 // The particles section read as a variant reads it (after resolution).

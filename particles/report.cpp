@@ -126,35 +126,41 @@ double report_initial_files(const ParticleParams& p, config::Report& r) {
   return count;
 }
 
-// The step and the steps it takes to run.end_time; auto: estimated from the
-// species (automatic_step_estimate), the run logs the step it takes.
-std::string step_text(const ParticleParams& p, const config::Config& cfg) {
+// Steps of `step` to `end` (a step that divides it makes no extra one).
+double step_count(double end, double step) {
+  return std::max(1.0, std::ceil(end / step - 1e-9));
+}
+
+// The step and the steps it takes to run.end_time; auto: `e`, estimated from
+// the species (automatic_step_estimate), the run logs the step it takes.
+std::string step_text(const ParticleParams& p, const config::Config& cfg, const StepEstimate& e) {
   const double end = cfg.run.end_time;
   if (!p.time_step.is_auto)
-    return fmt::format("{} s: {} steps to {} s", config::number(p.time_step.value),
-                       config::number(std::ceil(end / p.time_step.value)), config::number(end));
-  const StepEstimate e = automatic_step_estimate(p, cfg);
+    return fmt::format("{} s: {} steps to {} s", config::number(e.step),
+                       config::number(step_count(end, e.step)), config::number(end));
   if (!(e.step > 0)) return "auto (chosen at the start, logged)";
+  const std::string when = e.arriving ? "once grains arrive through the inlets" : "at the start";
   if (p.point_particles)
     return fmt::format(
-        "auto: at most {} s at the start (0.2 x the response time of species '{}', seed 003 eq. 4.15), "
-        "so at least {} steps to {} s",
-        config::number(e.step), e.species, config::number(std::ceil(end / e.step)), config::number(end));
+        "auto: at most {} s {} (0.2 x the response time of the largest grains of species '{}', "
+        "seed 003 eq. 4.15), so at least {} steps to {} s",
+        config::number(e.step), when, e.species, config::number(step_count(end, e.step)),
+        config::number(end));
   return fmt::format(
-      "auto: {} s at the start (the lightest grains declared, species '{}'), at least {} steps to {} s",
-      config::number(e.step), e.species, config::number(std::ceil(end / e.step)), config::number(end));
+      "auto: at most {} s {} (the largest grains of species '{}'; the lightest grain sets it), at least {} "
+      "steps to {} s",
+      config::number(e.step), when, e.species, config::number(step_count(end, e.step)), config::number(end));
 }
 
 // A rough wall time of the particles: their steps to run.end_time (the
 // automatic step from the species) times the mean number of particles (the
 // initial ones and half of those the inlets bring), over the ranks, at a
 // measured rate; 0 where the step is not known before the start.
-double wall_estimate(const ParticleParams& p, const config::Config& cfg, double particles) {
-  const double step = p.time_step.is_auto ? automatic_step_estimate(p, cfg).step : p.time_step.value;
+double wall_estimate(const ParticleParams& p, const config::Config& cfg, double step, double particles) {
   if (!(step > 0)) return 0.0;
   const double rate =
       p.point_particles ? kDpmParticleStepsPerRankPerSecond : kDemParticleStepsPerRankPerSecond;
-  const double steps = std::ceil(cfg.run.end_time / step);
+  const double steps = step_count(cfg.run.end_time, step);
   const int ranks = std::max(1, cfg.component("particles").ranks);
   return steps * (kSecondsPerStep + std::max(particles, 1.0) / (rate * ranks));
 }
@@ -178,8 +184,10 @@ void report(const config::Config& cfg, const std::string& variant, config::Repor
     r.add("particles", "injection",
           fmt::format("{} inlet(s), about {} particles by {} s", p.injection.size(),
                       config::number(std::round(injected)), config::number(cfg.run.end_time)));
-  r.add("particles", "time step", step_text(p, cfg));
-  if (const double wall = wall_estimate(p, cfg, placed + from_files + 0.5 * injected); wall > 0) {
+  const StepEstimate e =
+      p.time_step.is_auto ? automatic_step_estimate(p, cfg) : StepEstimate{p.time_step.value, "", false};
+  r.add("particles", "time step", step_text(p, cfg, e));
+  if (const double wall = wall_estimate(p, cfg, e.step, placed + from_files + 0.5 * injected); wall > 0) {
     r.estimate_wall(wall);
     r.add("particles", "wall time",
           fmt::format("about {} (a rough figure: {} particle steps per second per rank)",

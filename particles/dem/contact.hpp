@@ -142,10 +142,27 @@ inline void check_fixed_step(double h, double lightest, const ContactLaw& law) {
                     h, crit, lightest));
 }
 
+// The most parts a step is split into: as many as the windows a run counts
+// (coflow/clock.hpp's 1e15); past it the run would not end (and the count
+// would overflow a long).
+inline constexpr double kMostParts = 1e15;
+
 // Equal parts of h, each no longer than `stable` (1e-9 of slack: a step that
-// is the stable one up to round-off is not split).
-inline long split_for(double h, double stable) {
-  return std::max(1L, static_cast<long>(std::ceil(h / stable - 1e-9)));
+// is the stable one up to round-off is not split). A stable step that makes
+// more than kMostParts (or is zero or NaN) stops the run with a
+// message; `cause` says what shortened it.
+inline long split_for(
+    double h, double stable,
+    const char* cause =
+        "a grain has become too light for the contact stiffness (seed 000 "
+        "eq. 2.19): check the crushing parameters (particles.contact.bond.crush_fraction)") {
+  const double n = std::ceil(h / stable - 1e-9);
+  if (!(n <= kMostParts))
+    throw std::runtime_error(
+        fmt::format("the automatic particle step fell to {:.4g} s, {:.3g} sub-steps of the "
+                    "{:.4g} s step, more than a run can count: {}",
+                    stable, n, h, cause));
+  return std::max(1L, static_cast<long>(n));
 }
 
 }  // namespace coflow::particles::dem

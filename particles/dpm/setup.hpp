@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "coflow/log.hpp"
+#include "particles/dem/contact.hpp"
 #include "particles/dem/dem_common.hpp"
 #include "particles/dpm/collision.hpp"
 #include "particles/dpm/dispersion.hpp"
@@ -397,7 +398,11 @@ inline bool apply_faces(V3& x, const DpmSetup& s) {
 // Sub-steps of one step h so that each is no longer than the Lagrangian step
 // of eq. 4.15 (`stable`), when the step is automatic.
 inline long lagrangian_substeps(const DpmSetup& s, double h, double stable) {
-  return s.auto_step ? std::max(1L, static_cast<long>(std::ceil(h / stable - 1e-9))) : 1;
+  return s.auto_step
+             ? dem::split_for(h, stable,
+                              "a particle has become too fast or too small for eq. 4.15's step: check "
+                              "the species, the inlets' speeds and the fluid's velocity")
+             : 1;
 }
 
 }  // namespace coflow::particles::dpm

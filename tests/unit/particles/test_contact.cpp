@@ -343,3 +343,17 @@ TEST_CASE("bond failures are logged with their mode and force", "[dem]") {
   CHECK(ea[0].time == eb[0].time);
   CHECK(ea[0].normal_force == eb[0].normal_force);
 }
+
+// A step split into more parts than a run counts stops with a message (before
+// 2026-12-07 the count was cast to a long unchecked: 1e300 parts is undefined,
+// and a large positive count a run that never ends).
+TEST_CASE("split_for: equal parts, and none beyond counting", "[contact]") {
+  CHECK(split_for(1e-3, 1e-4) == 10);
+  CHECK(split_for(1e-3, 1e-3 * (1 + 1e-12)) == 1);
+  CHECK(split_for(1e-3, 2e-3) == 1);
+  CHECK(split_for(1.0, 1e-15) == 1000000000000000L);
+  CHECK_THROWS_WITH(split_for(1.0, 1e-300), Catch::Contains("more than a run can count") &&
+                                                Catch::Contains("too light for the contact stiffness"));
+  CHECK_THROWS_WITH(split_for(1.0, 0.0, "why"), Catch::Contains("sub-steps") && Catch::Contains(": why"));
+  CHECK_THROWS(split_for(1.0, std::nan("")));
+}

@@ -159,20 +159,23 @@ struct ParticleParams {
 // The largest diameter a particle of these species can have (log-normal: mean
 // + 6 standard deviations), m.
 double largest_diameter(const ParticleParams& p);
-// An upper bound of the automatic particle step at the start, from the
-// species alone (validate time): each species the initial items other than
-// files place (none: those the inlets bring, `arriving`) at its largest
-// diameter, so that no grain the run starts with has a longer step. dem's
+// The automatic particle step from the species alone (validate time), over
+// the species the initial items other than files place (none: those the
+// inlets bring, `arriving`). largest: each at its largest diameter, an upper
+// bound of the step the run starts with (no grain it starts with has a
+// longer one: the refusal of check_step_count); otherwise at its smallest, a
+// lower bound (the report's wall time; a log-normal species has none). dem's
 // step is contact.hpp's automatic_step (equal to the run's for one size);
-// dpm's 0.2 of the response time with the fluid section's viscosity (seed
-// 003 eq. 4.15; velocities, collisions and dispersion only shorten it).
-// step 0: no estimate (dpm without drag or fluid, no such species).
+// dpm's 0.2 of the response time with the fluid section's density and
+// viscosity (seed 003 eq. 4.15; velocities, collisions and dispersion only
+// shorten it). step 0: no estimate (dpm without drag or fluid, no such
+// species).
 struct StepEstimate {
   double step = 0.0;      // s
   std::string species;    // the species that sets it
   bool arriving = false;  // the species come through the inlets, not at the start
 };
-StepEstimate automatic_step_estimate(const ParticleParams& p, const config::Config& cfg);
+StepEstimate automatic_step_estimate(const ParticleParams& p, const config::Config& cfg, bool largest);
 // The particles section read as a variant reads it (after resolution).
 ParticleParams read_particle_params(const config::Config& cfg, const std::string& variant);
 // particles.time_step, given or auto, against the number of steps a run can

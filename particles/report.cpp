@@ -184,10 +184,14 @@ void report(const config::Config& cfg, const std::string& variant, config::Repor
     r.add("particles", "injection",
           fmt::format("{} inlet(s), about {} particles by {} s", p.injection.size(),
                       config::number(std::round(injected)), config::number(cfg.run.end_time)));
+  // The step's upper bound for its line; the lower (each species' smallest
+  // grains) for the wall time, which a job's time limit takes.
+  const bool given = !p.time_step.is_auto;
   const StepEstimate e =
-      p.time_step.is_auto ? automatic_step_estimate(p, cfg) : StepEstimate{p.time_step.value, "", false};
+      given ? StepEstimate{p.time_step.value, "", false} : automatic_step_estimate(p, cfg, true);
+  const double shortest = given ? p.time_step.value : automatic_step_estimate(p, cfg, false).step;
   r.add("particles", "time step", step_text(p, cfg, e));
-  if (const double wall = wall_estimate(p, cfg, e.step, placed + from_files + 0.5 * injected); wall > 0) {
+  if (const double wall = wall_estimate(p, cfg, shortest, placed + from_files + 0.5 * injected); wall > 0) {
     r.estimate_wall(wall);
     r.add("particles", "wall time",
           fmt::format("about {} (a rough figure: {} particle steps per second per rank)",

@@ -547,11 +547,6 @@ void ParticleParams::check_files(Visitor& v) const {
   }
 }
 
-// The mass of a grain of diameter d, kg.
-static double sphere_mass(double density, double d) {
-  return density * std::numbers::pi * d * d * d / 6.0;
-}
-
 // An explicit step beyond the stability limit of seed 000 eq. 2.19 cannot work.
 void ParticleParams::check_time_step(Visitor& v) const {
   if (!time_step.is_auto && contact.normal_stiffness > 0 && !point_particles) {
@@ -559,7 +554,7 @@ void ParticleParams::check_time_step(Visitor& v) const {
     for (const auto& [name, sp] : species) {
       const double d = smallest_diameter(sp.diameter);
       if (!(d > 0)) continue;
-      crit = std::min(crit, 2.0 * std::sqrt(sphere_mass(sp.density, d) /
+      crit = std::min(crit, 2.0 * std::sqrt(sp.density * sphere_volume(d) /
                                             std::max(contact.normal_stiffness, contact.shear_stiffness)));
     }
     if (time_step.value > crit)
@@ -644,7 +639,7 @@ StepEstimate automatic_step_estimate(const ParticleParams& p, const config::Conf
     if (!(d > 0)) continue;
     const double step = p.point_particles
                             ? dpm::kLagrangianStepFraction * dpm::response_time(sp.density, d, mu)
-                            : dem::automatic_step(sphere_mass(sp.density, d), law, p.time_step_fraction);
+                            : dem::automatic_step(sp.density * sphere_volume(d), law, p.time_step_fraction);
     if (step < e.step) e = {step, name, arriving};
   }
   return std::isfinite(e.step) ? e : StepEstimate{};

@@ -1,14 +1,15 @@
 // The particles' part of the pre-run report (coflow/report.hpp).
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-
-#include <fmt/format.h>
 
 #include "coflow/output.hpp"
 #include "particles/dem/stl.hpp"
 #include "particles/particles_interface.hpp"
 #include "particles/schema.hpp"
+#include "particles/size_distribution.hpp"
 
 namespace coflow::particles {
 
@@ -47,7 +48,7 @@ double initial_number(const ParticleParams& p) {
       const double D = p.species[s].second.diameter.mean();
       double volume = 1.0;
       for (int d = 0; d < 3; ++d) volume *= it.upper[d] - it.lower[d];
-      n += std::floor(it.volume_fraction * volume / (std::numbers::pi * D * D * D / 6.0));
+      n += std::floor(it.volume_fraction * volume / sphere_volume(D));
     }
   }
   return n;
@@ -61,8 +62,7 @@ double injected_number(const ParticleParams& p, double end) {
     const int s = p.species_index(ip.species);
     if (s < 0) continue;
     const double D = p.species[s].second.diameter.mean(), stop = ip.stop < 0.0 ? end : std::min(ip.stop, end);
-    n += std::max(0.0, stop - ip.start) * ip.mass_flow /
-         (p.species[s].second.density * std::numbers::pi * D * D * D / 6.0);
+    n += std::max(0.0, stop - ip.start) * ip.mass_flow / (p.species[s].second.density * sphere_volume(D));
   }
   return n;
 }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <numbers>
 
 #include "coflow/config.hpp"
 
@@ -23,6 +24,11 @@ inline double largest_diameter(const config::Distribution& d) {
       return lognormal_cutoff(d.a, d.b);
   }
   return d.a;
+}
+
+// The volume of a sphere of diameter d.
+inline double sphere_volume(double d) {
+  return std::numbers::pi * d * d * d / 6.0;
 }
 
 // The smallest diameter a species' distribution gives; 0 for a log-normal,

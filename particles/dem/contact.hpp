@@ -1,13 +1,15 @@
 // Soft-sphere contact law of seed 000 §2.2.2: one contact, no MPI, no I/O.
 #pragma once
 
+#include <fmt/format.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-#include <Eigen/Core>
-#include <Eigen/Geometry>
-#include <fmt/format.h>
+#include "coflow/clock.hpp"
 
 namespace coflow::particles::dem {
 
@@ -142,14 +144,10 @@ inline void check_fixed_step(double h, double lightest, const ContactLaw& law) {
                     h, crit, lightest));
 }
 
-// The most parts a step is split into: as many as the windows a run counts
-// (coflow/clock.hpp's 1e15); past it the run would not end (and the count
-// would overflow a long).
-inline constexpr double kMostParts = 1e15;
-
 // Equal parts of h, each no longer than `stable` (1e-9 of slack: a step that
 // is the stable one up to round-off is not split). A stable step that makes
-// more than kMostParts (or is zero or NaN) stops the run with a
+// more than a run counts (coupler::kMostWindows, 1e15: past it the run would
+// not end and the count would overflow a long; or is zero or NaN) stops the run with a
 // message; `cause` says what shortened it.
 inline long split_for(
     double h, double stable,
@@ -157,7 +155,7 @@ inline long split_for(
         "a grain has become too light for the contact stiffness (seed 000 "
         "eq. 2.19): check the crushing parameters (particles.contact.bond.crush_fraction)") {
   const double n = std::ceil(h / stable - 1e-9);
-  if (!(n <= kMostParts))
+  if (!(n <= coupler::kMostWindows))
     throw std::runtime_error(
         fmt::format("the automatic particle step fell to {:.4g} s, {:.3g} sub-steps of the "
                     "{:.4g} s step, more than a run can count: {}",

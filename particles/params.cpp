@@ -71,17 +71,19 @@ void SpeciesParams::visit(Visitor& v) {
 }
 
 void BondParams::visit(Visitor& v) {
-  v("compressive_strength", compressive_strength,
-    "compressive strength sigma_cC of a bond: it fails when its compressive normal force exceeds sigma_cC "
-    "(R1 + R2)^2 (seed 000 eq. 2.15: the square of the radii's sum, not the bond's area), Pa",
-    config::non_negative());
-  v("tensile_strength", tensile_strength,
-    "tensile strength sigma_cT of a bond: it fails when its tensile normal force exceeds sigma_cT (R1 + "
-    "R2)^2, Pa",
-    config::non_negative());
-  v("shear_strength", shear_strength,
-    "shear strength tau_c of a bond: it fails when its shear force exceeds tau_c (R1 + R2)^2, Pa",
-    config::non_negative());
+  v.required(
+      "compressive_strength", compressive_strength,
+      "compressive strength sigma_cC of a bond: it fails when its compressive normal force exceeds sigma_cC "
+      "(R1 + R2)^2 (seed 000 eq. 2.15: the square of the radii's sum, not the bond's area), Pa",
+      config::non_negative());
+  v.required(
+      "tensile_strength", tensile_strength,
+      "tensile strength sigma_cT of a bond: it fails when its tensile normal force exceeds sigma_cT (R1 + "
+      "R2)^2, Pa",
+      config::non_negative());
+  v.required("shear_strength", shear_strength,
+             "shear strength tau_c of a bond: it fails when its shear force exceeds tau_c (R1 + R2)^2, Pa",
+             config::non_negative());
   v("crush_fraction", crush_fraction, "radius fraction lost by both grains on compressive failure",
     config::in_range(0.0, 0.5));
   v("gap", gap,
@@ -103,8 +105,15 @@ void ContactParams::visit(Visitor& v) {
     "motion, F the resultant of the contacts, the fluid and gravity (as PFC and Yade by default; seed 000 "
     "eq. 2.7 leaves gravity out of F, so a free grain falls at (1 - alpha) g here), 0 for none",
     config::in_range(0.0, 0.99));
-  v.section("bond", "cementation of the initial contacts (bonds that carry tension and shear until they fail); omit for none",
-            [&](Visitor& s) { bond.visit(s); }, &bonded);
+  v.section(
+      "bond",
+      "cementation of the initial contacts (bonds that carry tension and shear until they fail); omit for "
+      "none",
+      [&](Visitor& s) {
+        if (s.reading() && !bonded) return;  // its strengths are required only when written
+        bond.visit(s);
+      },
+      &bonded);
 }
 
 void CollisionPairParams::visit(Visitor& v) {

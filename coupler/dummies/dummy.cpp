@@ -245,7 +245,7 @@ void FluidDummy::check_source(int v, long w) {
     const double* got = local_.data() + ex.local_index(c) * 3;
     for (int k = 0; k < 3; ++k) {
       const double want = cover * src[k];
-      if (std::abs(got[k] - want) > 1e-12 * std::abs(want) + 1e-300)
+      if (!(std::abs(got[k] - want) <= 1e-12 * std::abs(want) + 1e-300))  // NaN fails
         throw std::runtime_error(fmt::format("fluid: source at ({},{},{}) comp {} is {} not {} (variant {})", c[0],
                                              c[1], c[2], k, got[k], want, v));
       sum += got[k];
@@ -254,7 +254,7 @@ void FluidDummy::check_source(int v, long w) {
   });
   double both[2] = {sum, expected_sum}, total[2];
   MPI_Allreduce(both, total, 2, MPI_DOUBLE, MPI_SUM, s_.comm());
-  if (std::abs(total[0] - total[1]) > 1e-12 * std::abs(total[1]))
+  if (!(std::abs(total[0] - total[1]) <= 1e-12 * std::abs(total[1])))
     throw std::runtime_error(fmt::format("fluid: source total {} != {}", total[0], total[1]));
 }
 
@@ -524,11 +524,11 @@ void run_particles(coupler::Session& s, const DummyParams& p) {
           }
       }
       if (out.id != recs[i].id || out.copies != copies ||
-          std::abs(out.value - copies * point_value(recs[i])) >
-              1e-12 * std::abs(copies * point_value(recs[i])))
-        throw std::runtime_error(
-            fmt::format("particles: result {} came back wrong: id {} (want {}), copies {} (want {})", i,
-                        out.id, recs[i].id, out.copies, copies));
+          !(std::abs(out.value - copies * point_value(recs[i])) <=
+            1e-12 * std::abs(copies * point_value(recs[i]))))
+        throw std::runtime_error(fmt::format(
+            "particles: result {} came back wrong: id {} (want {}), copies {} (want {}), value {} (want {})",
+            i, out.id, recs[i].id, out.copies, copies, out.value, copies * point_value(recs[i])));
     }
     coupler::trace().steps = w;
     s.checkpoint(w, [](const std::string&) {});

@@ -221,7 +221,7 @@ case "$mode" in
     # under it must fall back to the packed layout, say so, and match a run
     # without the limit bit for bit.
     run "$out/free"
-    ( ulimit -v "$1" && run "$out/limited" )
+    ( ulimit -v "$1" && run "$out/limited" ) || { echo "FAIL: the run under ulimit -v $1 (or the limit itself) failed"; exit 1; }
     fallback=0; grep -q "packed layout (slower)" "$out/limited.log" && fallback=1
     echo "fallback_logged=$fallback" | tee -a "$metrics" || exit 1
     check compare "$out/limited" "$out/free" | tee -a "$metrics" || exit 1 ;;

@@ -11,6 +11,7 @@
 #include <map>
 
 #include "fluid/fv/amr/forest.hpp"
+#include "tests/unit/worst.hpp"
 
 namespace coflow::test {
 
@@ -41,12 +42,6 @@ inline bool refine_near_vortex(int level, const fluid::fv::amr::Index3& p) {
   }
   const double radius = level == 0 ? 1.2 : 0.6;
   return r2 < radius * radius;
-}
-
-// The larger of a worst value so far and a new one; a NaN makes it infinite
-// (std::max would drop it), so that a bound check sees it.
-inline double worst_of(double so_far, double value) {
-  return std::isnan(value) ? HUGE_VAL : std::max(so_far, value);
 }
 
 // The largest |a - b| over this rank's cells of `a`, reduced over `comm`

@@ -7,6 +7,7 @@
 
 #include "fluid/lbm/colour_gradient.hpp"
 #include "fluid/lbm/phase_series.hpp"
+#include "tests/unit/worst.hpp"
 
 using coflow::fluid::lbm::mixed_tau;
 using coflow::fluid::lbm::Vec4;
@@ -78,7 +79,7 @@ void check_red_alone(bool trt) {
     const double uu_red = red_collide_lanes<L, Incompressible, double>(red, p, F);
     CHECK(uu_red == uu);
     for (int q = 0; q < L::Q; ++q) {
-      worst = std::max(worst, std::abs(red[q] - r[q]));
+      worst = coflow::test::worst_of(worst, std::abs(red[q] - r[q]));
       compared += red[q] == r[q] && b[q] == 0.0 && !std::signbit(b[q]);
     }
     // The same on four lanes.

@@ -23,6 +23,7 @@
 #include "coflow/run_config.hpp"
 #include "fluid/params.hpp"
 #include "fluid/solid_surface.hpp"
+#include "tests/unit/worst.hpp"
 
 using namespace coflow;
 
@@ -296,11 +297,11 @@ TEST_CASE("solids: where the lattice links enter them", "[fluid][solids]") {
   double worst_box = 0.0, worst_ball = 0.0;
   long m = 0;
   box_mesh.links([&](const std::array<long, 3>& c, const int* e, double q) {
-    worst_box = std::max(worst_box, std::abs(q - box.surface->fraction(c, e, 1)));
+    worst_box = coflow::test::worst_of(worst_box, std::abs(q - box.surface->fraction(c, e, 1)));
   });
   ball_mesh.links([&](const std::array<long, 3>& c, const int* e, double q) {
     if (!ball.id(c[0] + e[0], c[1] + e[1], c[2] + e[2]) || ball.id(c[0], c[1], c[2])) return;
-    worst_ball = std::max(worst_ball, std::abs(q - ball.surface->fraction(c, e, 1)));
+    worst_ball = coflow::test::worst_of(worst_ball, std::abs(q - ball.surface->fraction(c, e, 1)));
     ++m;
   });
   CHECK(worst_box < 1e-12);

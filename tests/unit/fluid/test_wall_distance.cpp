@@ -9,6 +9,7 @@
 #include <random>
 
 #include "fluid/fv/turbulence/wall_distance.hpp"
+#include "tests/unit/worst.hpp"
 
 using namespace coflow;
 
@@ -54,7 +55,8 @@ TEST_CASE("body distance: a circle sampled a cell apart (2D)", "[fv][k-epsilon]"
   for (double r : {0.45, 0.93, 0.99, 1.01, 1.05, 1.3, 2.0, 4.0})
     for (int a = 0; a < 17; ++a) {
       const double th = 0.37 + 2 * kPi * a / 17;
-      worst = std::max(worst, std::abs(distance({r * std::cos(th), r * std::sin(th), 3.0}) - std::abs(r - R)));
+      worst = coflow::test::worst_of(
+          worst, std::abs(distance({r * std::cos(th), r * std::sin(th), 3.0}) - std::abs(r - R)));
     }
   // A chord's sagitta, s^2 / (8 R) = 1.2e-3, bounds the error of a tangent
   // segment over its piece of arc.
@@ -109,7 +111,7 @@ TEST_CASE("body distance: a sphere sampled a cell apart (3D)", "[fv][k-epsilon]"
     const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     const double r = 0.4 + 2.0 * (k % 20) / 20.0;
     const std::array<double, 3> x{r * d[0] / len, r * d[1] / len, r * d[2] / len};
-    worst = std::max(worst, std::abs(distance(x) - std::abs(r - R)));
+    worst = coflow::test::worst_of(worst, std::abs(distance(x) - std::abs(r - R)));
   }
   // About h^2 / R: the pieces' squares over a curved surface.
   CHECK(worst < 1e-2);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "immersed/psm/fractions.hpp"
+#include "tests/unit/worst.hpp"
 
 using coflow::immersed::cube_fraction;
 using V = std::array<double, 3>;
@@ -67,8 +68,10 @@ std::map<coflow::coupler::Index3, double> as_map(const Cells& cells) {
 double max_difference(const Cells& a, const Cells& b) {
   auto ma = as_map(a), mb = as_map(b);
   double worst = 0.0;
-  for (const auto& [c, f] : ma) worst = std::max(worst, std::abs(f - (mb.count(c) ? mb[c] : 0.0)));
-  for (const auto& [c, f] : mb) worst = std::max(worst, std::abs(f - (ma.count(c) ? ma[c] : 0.0)));
+  for (const auto& [c, f] : ma)
+    worst = coflow::test::worst_of(worst, std::abs(f - (mb.count(c) ? mb[c] : 0.0)));
+  for (const auto& [c, f] : mb)
+    worst = coflow::test::worst_of(worst, std::abs(f - (ma.count(c) ? ma[c] : 0.0)));
   return std::isfinite(worst) ? worst : 1e300;
 }
 
@@ -106,10 +109,11 @@ TEST_CASE("fractions kept on a lattice of centre offsets stay within the octree'
       truth.cover(c, radius_cells * h, t);
       kept.cover(c, radius_cells * h, k);
       const double volume = 4.0 / 3.0 * std::numbers::pi * std::pow(radius_cells, 3);
-      worst_volume = std::max(worst_volume, std::abs(sum(k) / volume - 1.0));  // the interpolation keeps it
-      worst_kept = std::max(worst_kept, max_difference(k, t));
-      worst_octree = std::max(worst_octree, max_difference(e, t));
-      worst_apart = std::max(worst_apart, max_difference(k, e));
+      worst_volume = coflow::test::worst_of(worst_volume,
+                                            std::abs(sum(k) / volume - 1.0));  // the interpolation keeps it
+      worst_kept = coflow::test::worst_of(worst_kept, max_difference(k, t));
+      worst_octree = coflow::test::worst_of(worst_octree, max_difference(e, t));
+      worst_apart = coflow::test::worst_of(worst_apart, max_difference(k, e));
     }
     INFO("radius " << radius_cells << " cells, largest error of a cell's fraction against 6 levels: kept "
                    << worst_kept << ", exact centre " << worst_octree << "; kept vs exact centre "
@@ -157,7 +161,7 @@ TEST_CASE("kept stencils dropped when their memory is full give the same fractio
     roomy.cover(c, r, a);
     tight.cover(c, r, b);
     REQUIRE(a.size() == b.size());
-    worst = std::max(worst, max_difference(a, b));
+    worst = coflow::test::worst_of(worst, max_difference(a, b));
     cells += a.size();
   }
   CHECK(worst <= 0.0);
@@ -184,7 +188,7 @@ TEST_CASE("a full memory drops the kept stencils but keeps their symmetry classe
           roomy.cover(c, 3.5, a);
           small.cover(c, 3.5, b);
           REQUIRE(a.size() == b.size());
-          worst = std::max(worst, max_difference(a, b));
+          worst = coflow::test::worst_of(worst, max_difference(a, b));
         }
   CHECK(worst <= 0.0);
   CHECK(small.stencils_computed() > roomy.stencils_computed());  // it did drop kept stencils
@@ -210,7 +214,7 @@ TEST_CASE("kept stencils taken from their symmetry class equal the octree's at e
           kept.cover(c, radius, a);
           exact.cover(c, radius, e);
           REQUIRE(a.size() == e.size());
-          worst = std::max(worst, max_difference(a, e));
+          worst = coflow::test::worst_of(worst, max_difference(a, e));
           compared += a.size();
         }
     INFO("radius " << radius << ": " << compared << " cells compared");
@@ -244,8 +248,8 @@ TEST_CASE("rounded blend weights move a cell's fraction by less than the centre'
       kept.cover(c, radius_cells * h, k);
       rounded.cover(c, radius_cells * h, r);
       const double volume = 4.0 / 3.0 * std::numbers::pi * std::pow(radius_cells, 3);
-      worst_volume = std::max(worst_volume, std::abs(sum(r) / volume - 1.0));
-      worst = std::max(worst, max_difference(k, r));
+      worst_volume = coflow::test::worst_of(worst_volume, std::abs(sum(r) / volume - 1.0));
+      worst = coflow::test::worst_of(worst, max_difference(k, r));
     }
     INFO("radius " << radius_cells << " cells: rounded vs unrounded " << worst << "; volume "
                    << worst_volume);

@@ -1,11 +1,10 @@
-#include <catch2/catch.hpp>
+#include <fmt/format.h>
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <memory>
-
-#include <fmt/format.h>
 
 #include "coflow/catalog.hpp"
 #include "particles/dem/contact.hpp"
@@ -13,6 +12,7 @@
 #include "particles/dem_reference/dem_reference.hpp"
 #include "particles/particles_interface.hpp"
 #include "particles/schema.hpp"
+#include "tests/unit/worst.hpp"
 
 using namespace coflow::particles::dem;
 
@@ -224,7 +224,7 @@ TEST_CASE("a grain on a wall sticks below mu F_N and slides above it (solver lev
     double worst = 0;
     for (int n = 0; n < steps; ++n) {
       b.dem->step(dt);
-      worst = std::max(worst, std::abs(std::abs(b.contact_fx()) - b.mu * b.fn) / (b.mu * b.fn));
+      worst = coflow::test::worst_of(worst, std::abs(std::abs(b.contact_fx()) - b.mu * b.fn) / (b.mu * b.fn));
     }
     INFO("friction error " << worst);
     CHECK(worst < 1e-9);  // Coulomb: |f_t| = mu f_n, and f_n = m g at the equilibrium overlap

@@ -59,10 +59,14 @@ inline std::string last_snapshot(const std::string& dir, const std::string& comp
   return dir + "/" + component + "/" + output::snapshot_name(std::stol(last.substr(0, last.find(','))));
 }
 
+// A series file's rows (the header and the units line skipped); a file that
+// cannot be read, or has no header, throws: a check must not see "no rows" as
+// "nothing changed".
 inline std::vector<std::vector<double>> read_series(const std::string& path) {
   std::ifstream in(path);
   std::string line;
-  std::getline(in, line);
+  if (!in || !std::getline(in, line))
+    throw std::runtime_error(path + ": cannot read the series (missing or empty)");
   std::vector<std::vector<double>> rows;
   while (std::getline(in, line)) {
     if (line.starts_with("#")) continue;  // the units line

@@ -303,6 +303,8 @@ int ramp(const std::string& dir) {
 
 int mass(const std::string& dir) {
   const auto rows = read_series(dir + "/series/fluid.csv");
+  if (rows.size() < 2)
+    throw std::runtime_error("mass: fewer than 2 rows in series/fluid.csv: nothing to compare");
   double worst = 0.0;
   for (const auto& r : rows) worst = nan_max(worst, std::abs(r[1] - rows.front()[1]) / rows.front()[1]);
   std::printf("rows=%zu\nmass_drift=%.6e\n", rows.size(), worst);

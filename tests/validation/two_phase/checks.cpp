@@ -36,6 +36,8 @@ struct LineFit {
 // The largest relative change of each colour's mass over the series' rows.
 double colour_mass_drift(const std::string& dir) {
   const auto rows = read_series(dir + "/series/fluid.csv");
+  if (rows.size() < 2)
+    throw std::runtime_error("colour mass: fewer than 2 rows in series/fluid.csv: nothing to compare");
   double worst = 0.0;
   for (const auto& r : rows)
     for (int c : {8, 9}) {  // mass_red, mass_blue

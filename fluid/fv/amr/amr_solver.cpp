@@ -97,17 +97,22 @@ void AmrFvSolver::make_flow() {
       flow_->set_outlet(f);
     } else if (b.type == "velocity") {
       const std::array<double, 3> v{b.value.values[0], b.value.values[1], dims_ == 3 ? b.value.values[2] : 0.0};
-      if (v[static_cast<std::size_t>(a)] == 0.0 && b.profile == "uniform") {
-        flow_->set_wall_velocity(f, v);  // a moving wall (a lid)
-        continue;
-      }
-      flow_->set_inlet(f, [this, b, v, f](const std::array<double, 3>& x) {
+      CompositeFlow::Inflow given = [this, b, v, f](const std::array<double, 3>& x) {
         double s[3];
-        for (int e = 0; e < 3; ++e) s[e] = (x[static_cast<std::size_t>(e)] - cfg_.domain.lower[e]) /
-                                           (cfg_.domain.upper[e] - cfg_.domain.lower[e]);
+        for (int e = 0; e < 3; ++e)
+          s[e] = (x[static_cast<std::size_t>(e)] - cfg_.domain.lower[e]) /
+                 (cfg_.domain.upper[e] - cfg_.domain.lower[e]);
         const double k = b.profile_factor(f, s, cfg_);
         return std::array<double, 3>{k * v[0], k * v[1], k * v[2]};
-      });
+      };
+      // No normal velocity: a wall, moving along itself (a lid), whatever its
+      // profile (as fv and fv-reference take it); else an inlet.
+      if (v[static_cast<std::size_t>(a)] != 0.0)
+        flow_->set_inlet(f, std::move(given));
+      else if (b.profile == "uniform")
+        flow_->set_wall_velocity(f, v);
+      else
+        flow_->set_wall_velocity(f, std::move(given));
     }
   }
   view_ = std::make_unique<UniformView>(flow_->grid(), decomposition_, rank_);

@@ -116,11 +116,12 @@ std::array<double, 3> CompositeFlow::imposed(const SubFace& f, std::size_t c, co
     v[static_cast<std::size_t>(f.axis)] = 0.0;
     return v;
   }
-  if (kinds_[k] != Boundary::inlet) return walls_[k];
+  const Inflow& given = kinds_[k] == Boundary::inlet ? inflow_[k] : walls_[k];
+  if (!given) return {0.0, 0.0, 0.0};  // a wall at rest
   const auto cell = grid_->local_cell(static_cast<long>(c));
   auto x = grid_->centre(cell);
   x[static_cast<std::size_t>(f.axis)] += 0.5 * f.side * grid_->spacing(cell.level);
-  return inflow_[k](x);
+  return given(x);
 }
 
 bool CompositeFlow::regrid(std::vector<int> marks) {
@@ -550,7 +551,7 @@ void CompositeFlow::solve_viscous(Field& b, Field& x, double theta_dt, std::size
     for (const auto& f : L.boundary) {
       const auto k = static_cast<std::size_t>(f.face);
       double g = 0.0;  // outlets and symmetry faces: no gradient, no flow through
-      if (kinds_[k] == Boundary::wall) g = walls_[k][q];
+      if (kinds_[k] == Boundary::wall && walls_[k]) g = walls_[k](f.point)[q];
       if (kinds_[k] == Boundary::inlet) g = inflow_[k](f.point)[q];
       b[q][static_cast<std::size_t>(f.cell)] += scale * f.coefficient * g;
     }

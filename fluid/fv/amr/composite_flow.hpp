@@ -54,8 +54,11 @@ class CompositeFlow {
   enum class Boundary { wall, inlet, outlet, symmetry };
   using Inflow = std::function<std::array<double, 3>(const std::array<double, 3>&)>;
   void set_wall_velocity(int face, const std::array<double, 3>& v) {
-    walls_[static_cast<std::size_t>(face)] = v;
+    set_wall_velocity(face, [v](const std::array<double, 3>&) { return v; });
   }
+  // A wall sliding at a velocity that varies along it (a profile with no
+  // normal component): still a wall for the turbulence model and y+.
+  void set_wall_velocity(int face, Inflow v) { walls_[static_cast<std::size_t>(face)] = std::move(v); }
   void set_inlet(int face, Inflow inflow);
   void set_outlet(int face);
   // A symmetry face: no flow through it, no shear along it (dp/dn = 0).
@@ -216,7 +219,7 @@ class CompositeFlow {
   std::array<std::array<std::unique_ptr<IjSystem>, 2>, 3> helmholtz_;
   std::array<std::array<double, 2>, 3> helmholtz_dt_{};
   std::vector<std::vector<double>> source_;
-  std::array<std::array<double, 3>, 6> walls_{};
+  std::array<Inflow, 6> walls_;      // a wall's velocity at a point of it (none: at rest)
   std::array<Boundary, 6> kinds_{};  // all walls
   std::array<Inflow, 6> inflow_;
   std::function<void(Field&, double, int)> forcing_;

@@ -136,9 +136,13 @@ double& CompositeTurbulence::at(std::size_t cell, int q) const {
 }
 
 // The distance from each cell centre to the nearest wall of the box (a
-// no-slip face, moving or not) and to the bodies.
+// no-slip face, moving or not) and to the bodies. A centre on a body's
+// surface would be at y = 0 (epsilon = 2 nu k / y^2 infinite there, and in
+// its neighbours' rows): no closer to a body than a quarter of the finest
+// spacing, inside the forcing's diffuse surface, as fv does.
 void CompositeTurbulence::update_distance() {
   const auto& g = flow_.grid();
+  const double floor = 0.25 * g.spacing(forest_.spec().max_level);
   y_.assign(static_cast<std::size_t>(g.local_cells()), std::numeric_limits<double>::infinity());
   for (long c = 0; c < g.local_cells(); ++c) {
     const auto x = g.centre(g.local_cell(c));
@@ -148,7 +152,7 @@ void CompositeTurbulence::update_distance() {
       if (forest_.spec().periodic[a] || flow_.boundary(f) != CompositeFlow::Boundary::wall) continue;
       y = std::min(y, f % 2 == 0 ? x[a] - lower_[a] : upper_[a] - x[a]);
     }
-    if (body_) y = std::min(y, body_(x));
+    if (body_) y = std::min(y, std::max(body_(x), floor));
   }
 }
 

@@ -332,3 +332,37 @@ TEST_CASE("amr k-epsilon: an inlet's values are read at the centres of the cells
   std::sort(h.begin(), h.end());
   CHECK(std::unique(h.begin(), h.end()) - h.begin() == 3);  // three levels line the inlet
 }
+
+// A body whose surface passes through cell centres (y = 0 there) must not
+// make epsilon of the two-layer model's one-equation layer, 2 nu k / y^2,
+// infinite: the distance to a body is held at a quarter of the finest
+// spacing, as fv holds it (before 2026-12-07 the adaptive grid had no such
+// floor and a centre on a marker's surface got epsilon = inf).
+TEST_CASE("amr k-epsilon: a body through the cell centres leaves epsilon finite", "[amr]") {
+  auto spec = coflow::test::forest_2d({2, 2, 1}, {false, false, false}, 1, 4, kComponents);
+  spec.refine = [](int level, const Index3& p) { return level == 0 && p[0] == 0; };  // levels 0 and 1
+  Forest forest(MPI_COMM_WORLD, spec);
+  CompositeFlow flow(forest, {{0.0, 0.0, 0.0}, 1.0}, 0.01);
+  coflow::fluid::TurbulenceParams params;
+  params.wall = "two-layer";
+  params.initial_k = params.initial_epsilon = 1e-3;
+  CompositeTurbulence turbulence(flow, forest, params, 0.01, kFirst, {0, 0, 0}, {2, 2, 0},
+                                 IjSystem::Options{1e-12, 100});
+  turbulence.set_body_distance([](const std::array<double, 3>&) { return 0.0; });  // every centre on it
+  turbulence.set_initial();
+  const auto& g = flow.grid();
+  const double floor = 0.25 * g.spacing(1);  // the finest level
+  // |epsilon / (2 nu k / floor^2) - 1|, NaN as infinite: eq. 3.18's epsilon
+  // at y = floor is its wall limit within O(Re_y / A_epsilon), Re_y = 0.1.
+  double worst = 0.0;
+  long cells = 0;
+  for (long c = 0; c < g.local_cells(); ++c, ++cells) {
+    const double* v = forest.data(static_cast<std::size_t>(c / g.cells_per_patch())).data() +
+                      static_cast<std::size_t>(c % g.cells_per_patch()) * kComponents;
+    for (int q = 0; q < 3; ++q) CHECK(std::isfinite(v[kFirst + q]));  // k, epsilon, nu_t
+    worst = coflow::test::worst_of(worst, std::fabs(v[kFirst + 1] / (2 * 0.01 * 1e-3 / (floor * floor)) - 1));
+  }
+  INFO("largest relative departure from 2 nu k / y^2 at y = floor: " << worst);
+  CHECK(cells > 0);
+  CHECK(worst <= 0.05);
+}

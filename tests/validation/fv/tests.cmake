@@ -236,6 +236,13 @@ coflow_validation(fv_amr_vortex_ranks compare fv_amr_vortex.yaml 2
 coflow_validation(fv_amr_ke_decay ke_decay fv_amr_ke_decay.yaml 1)
 coflow_validation(fv_amr_ke_grid_turbulence ke_grid_levels fv_amr_ke_grid_turbulence.yaml 1)
 coflow_validation(fv_amr_ke_ranks_1_vs_2 compare fv_amr_ke_inlet_walls.yaml 2 "fluid.ranks=1" "fluid.ranks=2")
+# A wall sliding along itself (y+ at 0.5 m/s) given with a profile (here the
+# formula 1) is a wall as without one: fv and fv-reference took it so, the
+# adaptive grid took it as an inlet before 2026-12-07 (k and epsilon held at
+# the inlet's values there, no two-layer cells beside it: k 4.1 apart).
+set(fv_amr_sliding "fluid.boundaries.y+.type=velocity fluid.boundaries.y+.value=[0.5,0.0,0.0]")
+coflow_validation(fv_amr_ke_profiled_sliding_wall compare fv_amr_ke_inlet_walls.yaml 1 "${fv_amr_sliding}"
+  "${fv_amr_sliding} fluid.boundaries.y+.profile=expression fluid.boundaries.y+.profile_expression=1")
 # The adaptive grid takes an inlet face's own k and epsilon (as
 # fv_ke_face_inlet_used), the inlet on x+ (not the first face, index 0).
 coflow_validation(fv_amr_ke_face_inlet_used compare fv_amr_ke_inlet_x_plus.yaml 1 "fluid.ranks=1"

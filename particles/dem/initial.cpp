@@ -258,6 +258,12 @@ DemSetup make_setup(const ParticleParams& p, const config::Config& cfg, const Pa
           "contact (seed 000 eq. 2.19 with their reduced mass, m/2): such a contact is unstable; use auto "
           "or a step below it",
           s.dt, pair);
+    else if (const double pack = pack_critical_step(lightest, s.law); s.dt > pack)
+      log::warn(
+          "particles.time_step {:.4g} s exceeds the critical step {:.4g} s of the lightest grain in a dense "
+          "pack (12 contacts; 0.109 of eq. 2.19's step when k_S = K_N): grains that pack or pile up will "
+          "blow up; use auto (half of it) or a step below it",
+          s.dt, pack);
   }
   if (parts.size() == 0) s.dt = 1e-3;
   return s;

@@ -98,11 +98,12 @@ particles:
   CHECK(largest <= 7.0e-3);
 }
 
-TEST_CASE("a fixed DEM step past a free pair's critical step is warned of", "[particles]") {
+TEST_CASE("a fixed DEM step past a free pair's or a dense pack's critical step is warned of", "[particles]") {
   // 1 mm grains of 2650 kg/m^3 (m = 1.3875e-6 kg), K = max(K_N, k_S) = 1e4 N/m:
   // eq. 2.19 gives 2 sqrt(m / K) = 2.356e-5 s (refused above); a pair in
-  // contact vibrates with the reduced mass m/2: 2 sqrt(m / 2K) = 1.666e-5 s.
-  auto warned = [](double step) {
+  // contact vibrates with the reduced mass m/2: 2 sqrt(m / 2K) = 1.666e-5 s;
+  // a grain in 12 contacts at 2 sqrt(m / (12 max(2 K_N, 7 k_S))) = 3.635e-6 s.
+  auto warned = [](double step, const std::string& what) {
     const std::string text = fmt::format(R"(
 run: {{name: step, end_time: 1.0e-3}}
 domain: {{lower: [0, 0, 0], upper: [0.004, 0.004, 0.004], cells: [4, 4, 4]}}
@@ -127,11 +128,15 @@ particles:
     coflow::log::get()->sinks().pop_back();
     CHECK(setup.dt == step);
     bool found = false;
-    for (const auto& line : sink->last_formatted())
-      found = found || line.find("exceeds the critical step 1.666e-05 s of two of the lightest grains") !=
-                           std::string::npos;
+    for (const auto& line : sink->last_formatted()) found = found || line.find(what) != std::string::npos;
     return found;
   };
-  CHECK(warned(2.0e-5));
-  CHECK(!warned(1.5e-5));
+  const std::string pair = "exceeds the critical step 1.666e-05 s of two of the lightest grains",
+                    pack = "exceeds the critical step 3.635e-06 s of the lightest grain in a dense pack";
+  CHECK(warned(2.0e-5, pair));
+  CHECK(!warned(2.0e-5, pack));  // the stronger warning alone
+  CHECK(!warned(1.5e-5, pair));
+  CHECK(warned(1.5e-5, pack));
+  CHECK(warned(4.0e-6, pack));
+  CHECK(!warned(3.5e-6, pack));
 }

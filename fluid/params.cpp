@@ -27,7 +27,8 @@ void BoundaryParams::visit(config::Visitor& v) {
       "(fv: no flow through the face, no shear on it)",
       config::one_of({"wall", "pressure", "velocity", "outflow", "symmetry"}));
   v("value", value,
-    "pressure in Pa, relative to the reference pressure (type pressure), or velocity [u, v, w] in m/s (type "
+    "pressure in Pa, relative to the reference pressure (type pressure; with fluid.turbulence the modified "
+    "pressure p + 2/3 rho k of seed 003 eq. 3.11, as OpenFOAM's), or velocity [u, v, w] in m/s (type "
     "velocity)");
   v("ramp", ramp,
     "s: the value rises linearly from zero (gauge pressure 0, fluid at rest) to `value` over this time, instead of "

@@ -84,7 +84,10 @@ void BondParams::visit(Visitor& v) {
   v.required("shear_strength", shear_strength,
              "shear strength tau_c of a bond: it fails when its shear force exceeds tau_c (R1 + R2)^2, Pa",
              config::non_negative());
-  v("crush_fraction", crush_fraction, "radius fraction lost by both grains on compressive failure",
+  v("crush_fraction", crush_fraction,
+    "radius fraction lost by both grains on compressive failure (seed 000 §2.2.2: the crumbled part leaves the "
+    "system, so each crushed grain loses 1 - (1 - c)^3 of its mass and momentum; particles.csv's momenta "
+    "step down there)",
     config::in_range(0.0, 0.5));
   v("gap", gap,
     "pairs whose surfaces are closer than this at the start are bonded (with pairs: the largest gap a listed "

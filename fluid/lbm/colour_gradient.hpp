@@ -51,7 +51,9 @@ constexpr double perturbation_shift() {
 // magnitude sums across the interface to 2 N (phi_red - phi_blue) = 4 N. So
 // gamma = 32 N A tau: A = gamma / (160 tau) on D3Q19 (the seed's eq. 2.58
 // writes 172), gamma / (96 tau) on D2Q9. The Laplace tests check it
-// (docs/validation.md).
+// (docs/validation.md). On D2Q9 this is the seed's form with C = 3/5, not Reis
+// & Phillips' (2007) B_i: the same anisotropic stress (so the same gamma), plus
+// an isotropic part inside the interface, as the seed's D3Q19 form has.
 // Written with omega = 1 / tau, per cell (T = double) or per lane (Vec4).
 template <class L, class T>
 inline T perturbation_amplitude(double gamma, T omega) {

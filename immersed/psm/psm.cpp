@@ -286,7 +286,9 @@ const double* PsmWindows::force_per_fraction(const Coverage& cov, const Share& s
 }
 
 // Each particle's share (by fraction) of the force in the cells it covers, and
-// the torque of those shares about its centre (seed 000 eqs 2.70-2.71), summed
+// the torque of those shares about its centre (seed 000 eqs 2.70-2.71; eq.
+// 2.71 as printed, v x (x_n - x_p) with a minus, is F x r: the torque here is
+// r x F, the lever from the centre to the cell crossed with its force), summed
 // by the rank owning its centre (the other ranks holding a copy return zero).
 void PsmWindows::share_forces(const Coverage& cov) {
   loads_.assign(cov.rec.size(), protocol::ParticleLoad{});

@@ -58,6 +58,9 @@ std::vector<std::vector<CompositeTurbulence::Link>> CompositeTurbulence::links(
         if (kind == CompositeFlow::Boundary::wall) {
           l.diffusion[0] = 2.0 * nu_ / (h * h);  // k = 0 on the wall; epsilon: no flux
         } else if (kind == CompositeFlow::Boundary::inlet) {
+          // The cell's nu_t across the half cell to the inlet (fv and
+          // fv-reference take the mean of the cell's and the inlet's: both
+          // first order at the face).
           for (int q = 0; q < 2; ++q) l.diffusion[q] = 2.0 * (nu_ + nut[c] * inv_sigma[q]) / (h * h);
           const auto& in = upstream_[c][s].own_inlet;
           l.boundary[0] = in[0], l.boundary[1] = in[1];

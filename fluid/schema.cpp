@@ -323,6 +323,13 @@ static void check_refinement_criteria(config::Visitor& v, const config::Config& 
       v.fail(key,
              "the criterion particles refines where point particles put their momentum (immersed.method "
              "point), and this run has none: remove it, or refine by another criterion");
+    const YAML::Node coupling = config::resolved_node(cfg, "particles.coupling");
+    if (c["particles"] && coupling && coupling.IsScalar() && coupling.as<std::string>() == "one-way")
+      v.fail(
+          key,
+          "the criterion particles refines where point particles put their momentum, and with "
+          "particles.coupling: one-way they put none (no leaf would refine): remove it and refine by a box "
+          "or another criterion, or couple two-way");
     bool walls = false;
     for (int a = 0; a < dims; ++a) walls = walls || !d.periodic[a];
     if (c["walls"] && !walls)

@@ -64,6 +64,7 @@ FvSolver::FvSolver(const Setup& s, const Params& p)
       if (b.type == "pressure") face.pressure = b.value.values[0];
     }
   }
+  boundary_speed_ = fv::boundary_speeds(fluid_, cfg_);
   const std::size_t padded = ex_.field_size(), owned = static_cast<std::size_t>(blk_.owned_cells());
   for (auto* f : {&u_, &u_old_, &ustar_, &adv_, &adv_old_, &source_, &source_old_, &top_})
     for (auto& c : *f) c.assign(padded, 0.0);
@@ -196,6 +197,7 @@ double FvSolver::stable_step() {
                     "fluid.fv.cfl or fluid.fv.max_step",
                     time_, steps_));
   velocity_scale_ = std::max({umax[0], umax[1], umax[2]});
+  fv::raise_to(umax, boundary_speed_, marker_speed_);  // a lid, an inlet, a body: before the fluid moves
   double limit = fv::cfl_step(p_.cfl, umax, h_, dims_);
   if (p_.max_step > 0) limit = std::min(limit, p_.max_step);
   return limit;
@@ -232,6 +234,7 @@ void FvSolver::step(double dt) {
 // the flow outgrows the step. Equal steps keep the implicit matrices (they
 // depend on dt) and their multigrid hierarchies from one step to the next.
 void FvSolver::advance(double window) {
+  window_ = window;
   window_steps_ = 0;
   poisson_iterations_ = viscous_iterations_ = 0;
   fv::step_window(time_, dt_prev_, window, [this] { return stable_step(); }, [this](double dt, double t) {

@@ -23,6 +23,7 @@
 #include "fluid/fv/params.hpp"
 #include "fluid/fv/poisson_multigrid.hpp"
 #include "fluid/fv/scheme.hpp"
+#include "fluid/fv/speed_bounds.hpp"
 #include "fluid/fv/struct_system.hpp"
 #include "fluid/grid/ghost_exchange.hpp"
 #include "fluid/turbulence_params.hpp"
@@ -323,6 +324,10 @@ class FvSolver final : public FluidSolver {
   std::array<Face, 6> faces_;
   bool has_open_ = false;
   double velocity_scale_ = 0.0;  // the largest |u_c| at the last step's start
+  // The speeds the CFL step allows for beside the fluid's own (speed_bounds.hpp):
+  // the velocity faces', and the immersed markers' over a window.
+  std::array<double, 3> boundary_speed_{0.0, 0.0, 0.0}, marker_speed_{0.0, 0.0, 0.0};
+  double window_ = 0.0;  // the last window's length (s)
 
   Faces u_, u_old_, ustar_, adv_, adv_old_, source_,
       source_old_;  // source: at the cells, the last step's too

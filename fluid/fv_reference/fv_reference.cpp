@@ -41,6 +41,7 @@ FvReference::FvReference(const Setup& s, const Params& p)
     side.pressure_face = b.type == "pressure";
     has_open_ = has_open_ || side.kind == Kind::open;
   }
+  boundary_speed_ = fv::boundary_speeds(fluid_, cfg_);
   const std::size_t size = static_cast<std::size_t>(m_[0] * m_[1] * m_[2]);
   for (auto* f : {&u_, &u_old_, &adv_, &adv_old_, &source_, &source_old_})
     for (auto& c : *f) c.assign(size, 0.0);
@@ -466,6 +467,7 @@ void FvReference::project(const fv::Imex& s, double dt, bool incremental) {
 }
 
 void FvReference::advance(double window) {
+  window_ = window;
   const double end = time_ + window;
   window_steps_ = 0;
   poisson_iterations_ = 0;
@@ -475,6 +477,7 @@ void FvReference::advance(double window) {
     double umax[3] = {0, 0, 0};
     velocity_maxima(umax);
     velocity_scale_ = std::max({umax[0], umax[1], umax[2]});
+    fv::raise_to(umax, boundary_speed_, marker_speed_);
     double limit = fv::cfl_step(opt_.cfl, umax, h_, dims_);
     if (opt_.max_step > 0) limit = std::min(limit, opt_.max_step);
     if (left == 0 || dt > limit) {

@@ -18,6 +18,7 @@
 #include "fluid/fluid_solver.hpp"
 #include "fluid/fv/params.hpp"
 #include "fluid/fv/scheme.hpp"
+#include "fluid/fv/speed_bounds.hpp"
 #include "fluid/turbulence_params.hpp"
 #include "immersed/ibm/direct_forcing.hpp"
 
@@ -140,6 +141,9 @@ class FvReference final : public FluidSolver {
   Field p_, phi_, phi_old_;  // phi_old_: the increment before the last, for the checkpoint only
   double time_ = 0.0, dt_prev_ = 0.0, dt_prev2_ = 0.0, last_dt_ = 0.0, next_time_ = 0.0;
   double velocity_scale_ = 0.0;  // the largest |u_c| at the step's start
+  // The velocity faces' and the markers' speeds, which the CFL step allows for (fv's).
+  std::array<double, 3> boundary_speed_{0.0, 0.0, 0.0}, marker_speed_{0.0, 0.0, 0.0};
+  double window_ = 0.0;  // the last window's length (s)
   long steps_ = 0, window_steps_ = 0;
   int poisson_iterations_ = 0;
   std::unique_ptr<ibm::DirectForcing> ibm_;  // immersed.method ibm: made at the first markers

@@ -22,6 +22,7 @@
 #include "fluid/fv/amr/composite_turbulence.hpp"
 #include "fluid/fv/amr/uniform_view.hpp"
 #include "fluid/fv/params.hpp"
+#include "fluid/fv/speed_bounds.hpp"
 #include "immersed/ibm/direct_forcing.hpp"
 
 namespace coflow::fluid::fv::amr {
@@ -104,6 +105,7 @@ class AmrFvSolver final : public FluidSolver {
   std::unique_ptr<ibm::DirectForcing> ibm_;
   std::unique_ptr<ibm::MarkerSet> markers_;  // the last set, for the stencils after a regrid
   double velocity_scale_ = 0.0;              // the largest |u| at the last step's start
+  std::array<double, 3> boundary_speed_{0.0, 0.0, 0.0};  // the velocity faces' (speed_bounds.hpp)
   std::vector<double> out_u_, out_p_, out_rho_, out_div_, out_zero_;
   std::array<std::vector<double>, 4> out_turbulence_;  // k, epsilon, nu_t, y_plus
 };

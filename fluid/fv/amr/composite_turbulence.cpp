@@ -186,13 +186,19 @@ void CompositeTurbulence::set_body_distance(std::function<double(const std::arra
   update_eddy_viscosity();
 }
 
+// A value that is not finite first (std::min passes over a NaN, and inf > 0):
+// a flow blowing up, as fv says it; then positivity, which the scheme keeps.
 void CompositeTurbulence::check_positive() const {
-  double low[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  double low[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), 0.0};
   for (std::size_t c = 0; c < y_.size(); ++c) {
     low[0] = std::min(low[0], at(c, 0));
     low[1] = std::min(low[1], at(c, 1));
+    if (!(std::isfinite(at(c, 0)) && std::isfinite(at(c, 1)) && std::isfinite(at(c, 2)))) low[2] = -1.0;
   }
-  MPI_Allreduce(MPI_IN_PLACE, low, 2, MPI_DOUBLE, MPI_MIN, forest_.comm());
+  MPI_Allreduce(MPI_IN_PLACE, low, 3, MPI_DOUBLE, MPI_MIN, forest_.comm());
+  if (low[2] < 0)
+    throw std::runtime_error(
+        "fv (refinement): k, epsilon or nu_t is not finite; lower fluid.fv.cfl or fluid.fv.max_step");
   if (!(low[0] > 0 && low[1] > 0))
     throw std::runtime_error(
         fmt::format("fv (refinement): k-epsilon lost positivity (min k {:.3g}, min epsilon "

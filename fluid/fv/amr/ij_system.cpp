@@ -21,7 +21,7 @@ struct IjSystem::Hypre {
 };
 
 IjSystem::IjSystem(MPI_Comm comm, long first_row, const std::vector<Stencil>& rows, Options opt)
-    : h_(new Hypre), opt_(opt), first_(first_row), count_(static_cast<long>(rows.size())) {
+    : h_(new Hypre), comm_(comm), opt_(opt), first_(first_row), count_(static_cast<long>(rows.size())) {
   // Debian's hypre numbers rows with int (HYPRE_BigInt): more cells would
   // wrap. Every rank learns the largest row, so all throw or none.
   long last = first_row + count_ - 1;
@@ -87,6 +87,17 @@ IjSystem::~IjSystem() {
 
 void IjSystem::solve(std::span<const double> b, std::span<double> x) {
   const auto n = static_cast<HYPRE_Int>(count_);
+  // A right-hand side that is not finite (a flow blowing up) would end as
+  // "stopped at relative residual nan": named here instead, on every rank.
+  double bad = 0.0;
+  for (const double v : b) bad += 0.0 * v;  // NaN where any value is not finite
+  int broken = bad == 0.0 ? 0 : 1;
+  MPI_Allreduce(MPI_IN_PLACE, &broken, 1, MPI_INT, MPI_MAX, comm_);
+  if (broken)
+    throw std::runtime_error(
+        fmt::format("refinement: the {} has a right-hand side that is not finite (the flow "
+                    "is blowing up); lower fluid.fv.cfl or fluid.fv.max_step",
+                    opt_.name));
   HYPRE_IJVectorSetValues(h_->b, n, h_->ids.data(), b.data());
   HYPRE_IJVectorSetValues(h_->x, n, h_->ids.data(), x.data());
   HYPRE_IJVectorAssemble(h_->b);

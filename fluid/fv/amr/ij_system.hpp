@@ -36,6 +36,7 @@ class IjSystem {
  private:
   struct Hypre;
   Hypre* h_ = nullptr;
+  MPI_Comm comm_;
   Options opt_;
   long first_ = 0, count_ = 0;
   int iterations_ = 0;

@@ -241,6 +241,11 @@ coflow_validation(fv_amr_ke_ranks_1_vs_2 compare fv_amr_ke_inlet_walls.yaml 2 "f
 # adaptive grid took it as an inlet before 2026-12-07 (k and epsilon held at
 # the inlet's values there, no two-layer cells beside it: k 4.1 apart).
 set(fv_amr_sliding "fluid.boundaries.y+.type=velocity fluid.boundaries.y+.value=[0.5,0.0,0.0]")
+# A uniform fluid.initial.pressure sets no level on the adaptive grid (its
+# implicit first step took it as the old pressure before 2026-12-07: a jump
+# of P over half a cell at the outflow face x+).
+coflow_validation(fv_amr_ke_initial_pressure_level compare fv_amr_ke_inlet_walls.yaml 1 ""
+  "fluid.initial.pressure=101325")
 coflow_validation(fv_amr_ke_profiled_sliding_wall compare fv_amr_ke_inlet_walls.yaml 1 "${fv_amr_sliding}"
   "${fv_amr_sliding} fluid.boundaries.y+.profile=expression fluid.boundaries.y+.profile_expression=1")
 # The adaptive grid takes an inlet face's own k and epsilon (as

@@ -1,5 +1,5 @@
 // fv: the momentum step to the provisional velocity u* (advection explicit,
-// diffusion implicit, the pressure of the last step; seed 003 eqs. 4.3-4.5),
+// diffusion implicit, the pressure of the last step; seed 003 eq. 4.7, its right-hand side eq. 4.4),
 // one implicit system per component.
 #include <algorithm>
 #include <array>

@@ -95,9 +95,12 @@ inline void reconstruct(double* f, const double* feq, const double (&pi)[3][3]) 
 // the non-equilibrium survives (no odd-even mode at pressure faces).
 //
 // At a pressure face the velocity is the mean of the node's mass-balance value
-// (Zou & He) and the next node's inwards (u_inner): for a smooth flow the two
-// agree (to O(dx du/dx), zero in fully developed flow), while a two-cell
-// (odd-even) mode along the flow has opposite signs in them. Alone, the
+// (Zou & He) and the next node's inwards (u_inner): for a smooth flow their
+// normal components agree (to O(dx du/dx), zero in fully developed flow),
+// while a two-cell (odd-even) mode along the flow has opposite signs in them.
+// The tangential components, which Zou & He and Latt et al. set to zero, are
+// then half the next node's: between that zero and a zero-gradient outlet
+// (a flow leaving at an angle keeps half its tangential velocity at the face). Alone, the
 // mass-balance velocity lets such a mode live in steady state, pinned at the
 // face (+-7 % at Ma 0.09, tau 0.8: docs/validation.md); the mean gives it no
 // amplitude there (3e-4).

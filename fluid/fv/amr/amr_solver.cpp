@@ -440,10 +440,19 @@ static std::string periodic_text(const ForestSpec& s) {
 // regrids, the last window's steps.
 void AmrFvSolver::save(const std::string& dir) {
   flow_->save(dir);
-  if (rank_ != 0) return;
-  output::atomic_write(dir + "/amr.txt",
-                       fmt::format("{} {:a} {:a} {} {}\n{}\n{}\n", steps_, time_, dt_prev_, regrids_,
-                                   window_steps_, spec_text(forest_spec()), periodic_text(forest_spec())));
+  int written = 1;  // rank 0 writes it; every rank learns whether it could (as fv's clock)
+  if (rank_ == 0) {
+    try {
+      output::atomic_write(
+          dir + "/amr.txt",
+          fmt::format("{} {:a} {:a} {} {}\n{}\n{}\n", steps_, time_, dt_prev_, regrids_, window_steps_,
+                      spec_text(forest_spec()), periodic_text(forest_spec())));
+    } catch (const std::exception&) {
+      written = 0;
+    }
+  }
+  MPI_Bcast(&written, 1, MPI_INT, 0, comm_);
+  if (!written) throw std::runtime_error(fmt::format("fv (refinement): cannot write {}/amr.txt", dir));
 }
 
 // The steps and time come from the checkpoint: the driver's count is of

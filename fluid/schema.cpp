@@ -376,11 +376,18 @@ static void check_refinement(config::Visitor& v, const config::Config& cfg, cons
         v.fail(key + ".criteria",
                "the criterion k needs the turbulence model: add fluid.turbulence (k-epsilon) "
                "or refine by another criterion");
+  bool open = false;
+  std::string profiled;  // a velocity face with flow through it and a profile
   for (int f = 0; f < 6; ++f) {
     const int a = f / 2;
     if (cfg.domain.periodic[a] || cfg.domain.cells[a] == 1) continue;
     const BoundaryParams b = p.boundary(f, cfg);
     const std::string at = "fluid.boundaries." + face_names()[f];
+    open = open || b.type == "pressure" || b.type == "outflow";
+    if (b.type == "velocity" && b.profile != "uniform" &&
+        b.value.values.size() > static_cast<std::size_t>(a) &&
+        b.value.values[static_cast<std::size_t>(a)] != 0.0 && profiled.empty())
+      profiled = at;
     if (b.ramp > 0)
       v.fail(at + ".ramp",
              "the adaptive grid's faces take their value from the start: remove ramp, or refinement");
@@ -393,6 +400,16 @@ static void check_refinement(config::Visitor& v, const config::Config& cfg, cons
                                         "Pa): drive the flow by an inlet or fluid.body_force",
                                         b.value.values[0]));
   }
+  // A closed box must let out what it lets in to round-off; the adaptive grid
+  // takes a profile once per leaf face (at its centre), so a profiled face's
+  // flux depends on the levels along it and would not balance.
+  if (!open && !profiled.empty())
+    v.fail(profiled + ".profile",
+           "in a box with no pressure or outflow face the inflow must balance the outflow exactly, and the "
+           "adaptive "
+           "grid takes a profile once per leaf face, so the flux through it depends on the levels along it: "
+           "give "
+           "a uniform profile, add a pressure or outflow face, or remove refinement");
   if (cfg.has("immersed") && cfg.component("immersed").variant == "ibm") {
     bool bodies = false;
     for (const auto& c : config::resolved_node(cfg, "fluid.fv.refinement.criteria"))

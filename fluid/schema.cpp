@@ -406,10 +406,9 @@ static void check_refinement(config::Visitor& v, const config::Config& cfg, cons
   if (!open && !profiled.empty())
     v.fail(profiled + ".profile",
            "in a box with no pressure or outflow face the inflow must balance the outflow exactly, and the "
-           "adaptive "
-           "grid takes a profile once per leaf face, so the flux through it depends on the levels along it: "
-           "give "
-           "a uniform profile, add a pressure or outflow face, or remove refinement");
+           "adaptive grid takes a profile once per leaf face, so the flux through it depends on the levels "
+           "along it (but for a linear profile): give a uniform profile, add a pressure or outflow face, or "
+           "remove refinement");
   if (cfg.has("immersed") && cfg.component("immersed").variant == "ibm") {
     bool bodies = false;
     for (const auto& c : config::resolved_node(cfg, "fluid.fv.refinement.criteria"))

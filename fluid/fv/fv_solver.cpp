@@ -197,7 +197,8 @@ double FvSolver::stable_step() {
                     "fluid.fv.cfl or fluid.fv.max_step",
                     time_, steps_));
   velocity_scale_ = std::max({umax[0], umax[1], umax[2]});
-  fv::raise_to(umax, boundary_speed_, marker_speed_);  // a lid, an inlet, a body: before the fluid moves
+  if (first_window_)
+    fv::raise_to(umax, boundary_speed_, marker_speed_);  // a lid, an inlet, a body at the start
   double limit = fv::cfl_step(p_.cfl, umax, h_, dims_);
   if (p_.max_step > 0) limit = std::min(limit, p_.max_step);
   return limit;
@@ -234,7 +235,8 @@ void FvSolver::step(double dt) {
 // the flow outgrows the step. Equal steps keep the implicit matrices (they
 // depend on dt) and their multigrid hierarchies from one step to the next.
 void FvSolver::advance(double window) {
-  window_ = window;
+  first_window_ = steps_ == 0;
+  marker_speed_ = markers_speed_.over(window);
   window_steps_ = 0;
   poisson_iterations_ = viscous_iterations_ = 0;
   fv::step_window(time_, dt_prev_, window, [this] { return stable_step(); }, [this](double dt, double t) {

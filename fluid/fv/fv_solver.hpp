@@ -327,7 +327,8 @@ class FvSolver final : public FluidSolver {
   // The speeds the CFL step allows for beside the fluid's own (speed_bounds.hpp):
   // the velocity faces', and the immersed markers' over a window.
   std::array<double, 3> boundary_speed_{0.0, 0.0, 0.0}, marker_speed_{0.0, 0.0, 0.0};
-  double window_ = 0.0;  // the last window's length (s)
+  fv::MarkerSpeeds markers_speed_;  // of the last set of markers
+  bool first_window_ = false;       // the run's first window (steps_ == 0 at its start)
 
   Faces u_, u_old_, ustar_, adv_, adv_old_, source_,
       source_old_;  // source: at the cells, the last step's too

@@ -35,7 +35,7 @@ void FvSolver::set_markers(ibm::MarkerSet markers) {
     ibm_in_predictor_ = immersed::read_ibm_params(cfg_).stage == "in_predictor";
   }
   if (turbulent_) set_body_wall_distance(markers);
-  marker_speed_ = fv::marker_speeds(markers, window_);
+  markers_speed_ = fv::marker_speeds(markers);
   ibm_->set_markers(std::move(markers));
 }
 

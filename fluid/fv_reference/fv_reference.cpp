@@ -467,7 +467,8 @@ void FvReference::project(const fv::Imex& s, double dt, bool incremental) {
 }
 
 void FvReference::advance(double window) {
-  window_ = window;
+  first_window_ = steps_ == 0;
+  marker_speed_ = markers_speed_.over(window);
   const double end = time_ + window;
   window_steps_ = 0;
   poisson_iterations_ = 0;
@@ -477,7 +478,7 @@ void FvReference::advance(double window) {
     double umax[3] = {0, 0, 0};
     velocity_maxima(umax);
     velocity_scale_ = std::max({umax[0], umax[1], umax[2]});
-    fv::raise_to(umax, boundary_speed_, marker_speed_);
+    if (first_window_) fv::raise_to(umax, boundary_speed_, marker_speed_);
     double limit = fv::cfl_step(opt_.cfl, umax, h_, dims_);
     if (opt_.max_step > 0) limit = std::min(limit, opt_.max_step);
     if (left == 0 || dt > limit) {

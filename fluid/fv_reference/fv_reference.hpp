@@ -143,7 +143,8 @@ class FvReference final : public FluidSolver {
   double velocity_scale_ = 0.0;  // the largest |u_c| at the step's start
   // The velocity faces' and the markers' speeds, which the CFL step allows for (fv's).
   std::array<double, 3> boundary_speed_{0.0, 0.0, 0.0}, marker_speed_{0.0, 0.0, 0.0};
-  double window_ = 0.0;  // the last window's length (s)
+  fv::MarkerSpeeds markers_speed_;  // of the last set of markers
+  bool first_window_ = false;       // the run's first window
   long steps_ = 0, window_steps_ = 0;
   int poisson_iterations_ = 0;
   std::unique_ptr<ibm::DirectForcing> ibm_;  // immersed.method ibm: made at the first markers

@@ -39,7 +39,7 @@ void FvReference::set_markers(ibm::MarkerSet markers) {
         }
     eddy_viscosity();  // nu_t of the two-layer model near the bodies
   }
-  marker_speed_ = fv::marker_speeds(markers, window_);
+  markers_speed_ = fv::marker_speeds(markers);
   ibm_->set_markers(std::move(markers));
 }
 

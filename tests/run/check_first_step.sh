@@ -2,7 +2,8 @@
 # check_first_step.sh COFLOW CONFIG OUT MAX_DT MIN_STEPS [--set ...]
 # A flow started from rest and driven by a face (a lid, an inlet) or a body
 # must take its first steps at the CFL limit of that speed (seed 003 eq. 4.1),
-# not the whole window: the first row of series/fluid.csv must show a last
+# not the whole window: the first row of series/fluid.csv (the first window:
+# the caller sets coupling.window to the output interval) must show a last
 # step of at most MAX_DT s and at least MIN_STEPS steps in the window. (Before
 # 2026-12-07 fv took the fluid's own speeds alone: a cavity at rest made its
 # first step the whole 1 s window, 160 times the CFL step.)

@@ -264,7 +264,7 @@ double AmrFvSolver::stable_step() {
     throw std::runtime_error(fmt::format("fv (refinement): the velocity is not finite at t = {:.6g} s (step {}); "
                                          "lower fluid.fv.cfl or fluid.fv.max_step",
                                          time_, steps_));
-  fv::raise_to(umax, boundary_speed_, {0.0, 0.0, 0.0});  // a lid, an inlet: before the fluid moves
+  if (first_window_) fv::raise_to(umax, boundary_speed_, {0.0, 0.0, 0.0});  // a lid, an inlet at the start
   double rate = 0.0;  // seed 003 eq. 4.1 on the finest cells
   for (int a = 0; a < dims_; ++a) rate += umax[a] / h_;
   double limit = rate > 0 ? p_.cfl / rate : std::numeric_limits<double>::infinity();
@@ -282,6 +282,7 @@ double AmrFvSolver::stable_step() {
 }
 
 void AmrFvSolver::advance(double window) {
+  first_window_ = steps_ == 0;
   window_steps_ = 0;
   poisson_iterations_ = 0;
   turbulence_substeps_ = 0;

@@ -106,6 +106,7 @@ class AmrFvSolver final : public FluidSolver {
   std::unique_ptr<ibm::MarkerSet> markers_;  // the last set, for the stencils after a regrid
   double velocity_scale_ = 0.0;              // the largest |u| at the last step's start
   std::array<double, 3> boundary_speed_{0.0, 0.0, 0.0};  // the velocity faces' (speed_bounds.hpp)
+  bool first_window_ = false;                            // the run's first window
   std::vector<double> out_u_, out_p_, out_rho_, out_div_, out_zero_;
   std::array<std::vector<double>, 4> out_turbulence_;  // k, epsilon, nu_t, y_plus
 };

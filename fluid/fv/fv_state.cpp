@@ -188,17 +188,8 @@ void FvSolver::save(const std::string& dir) {
   if (turbulent_)
     grid::save_number(comm_, dir + "/fv_turbulence_iterations.txt",
                       static_cast<double>(turbulence_iterations_));
-  int written = 1;  // rank 0 writes the clock; every rank learns whether it could
-  if (rank_ == 0) {
-    try {  // closed before it is judged: a full disk shows at the close
-      output::atomic_write(dir + "/fv_clock.txt",
-                           fmt::format("{} {:a} {:a} {:a}\n", steps_, time_, dt_prev_, dt_prev2_));
-    } catch (const std::exception&) {
-      written = 0;
-    }
-  }
-  MPI_Bcast(&written, 1, MPI_INT, 0, comm_);
-  if (!written) throw std::runtime_error(fmt::format("fv: cannot write {}/fv_clock.txt", dir));
+  grid::save_text(comm_, dir + "/fv_clock.txt",
+                  fmt::format("{} {:a} {:a} {:a}\n", steps_, time_, dt_prev_, dt_prev2_));
 }
 
 void FvSolver::load(const std::string& dir, long, double) {

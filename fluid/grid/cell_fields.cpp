@@ -9,6 +9,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "coflow/output.hpp"
+
 namespace coflow::fluid::grid {
 
 void save_cell_fields(MPI_Comm comm, const std::string& path, double time, long step, const coupler::Index3& cells,
@@ -61,17 +63,22 @@ std::vector<double> load_cell_field(const std::string& path, const std::string& 
   return out;
 }
 
-void save_number(MPI_Comm comm, const std::string& path, double value) {
+void save_text(MPI_Comm comm, const std::string& path, const std::string& text) {
   int rank = 0, written = 1;
   MPI_Comm_rank(comm, &rank);
   if (rank == 0) {
-    std::ofstream out(path);
-    out << fmt::format("{:a}\n", value);
-    out.close();  // the buffered text reaches the file (or fails) here
-    written = out ? 1 : 0;
+    try {  // closed before it is judged: a full disk shows at the close
+      output::atomic_write(path, text);
+    } catch (const std::exception&) {
+      written = 0;
+    }
   }
   MPI_Bcast(&written, 1, MPI_INT, 0, comm);
-  if (!written) throw std::runtime_error(fmt::format("cannot write {}", path));
+  if (!written) throw output::WriteError(fmt::format("cannot write {}", path));
+}
+
+void save_number(MPI_Comm comm, const std::string& path, double value) {
+  save_text(comm, path, fmt::format("{:a}\n", value));
 }
 
 double load_number(const std::string& path, double absent) {

@@ -27,6 +27,10 @@ void save_cell_fields(MPI_Comm comm, const std::string& path, double time, long 
 std::vector<double> load_cell_field(const std::string& path, const std::string& name, const coupler::Index3& cells,
                                     const coupler::Box& owned, int components);
 
+// A small file of the checkpoint, the same on every rank: rank 0 writes
+// `text` into `path` (atomically); collective, and throws (output::WriteError,
+// naming the file) on every rank when it could not.
+void save_text(MPI_Comm comm, const std::string& path, const std::string& text);
 // A number of the checkpoint beside its cell fields, the same on every rank:
 // rank 0 writes `value` exactly (a hexadecimal float) into `path`. Collective;
 // throws on every rank when it cannot be written.

@@ -17,6 +17,7 @@
 #include "fluid/fv/fv_solver.hpp"
 #include "fluid/fv/scheme.hpp"
 #include "fluid/fv/turbulence/wall_distance.hpp"
+#include "fluid/grid/cell_fields.hpp"
 #include "immersed/ibm/params.hpp"
 
 namespace coflow::fluid::fv::amr {
@@ -441,19 +442,9 @@ static std::string periodic_text(const ForestSpec& s) {
 // regrids, the last window's steps.
 void AmrFvSolver::save(const std::string& dir) {
   flow_->save(dir);
-  int written = 1;  // rank 0 writes it; every rank learns whether it could (as fv's clock)
-  if (rank_ == 0) {
-    try {
-      output::atomic_write(
-          dir + "/amr.txt",
-          fmt::format("{} {:a} {:a} {} {}\n{}\n{}\n", steps_, time_, dt_prev_, regrids_, window_steps_,
-                      spec_text(forest_spec()), periodic_text(forest_spec())));
-    } catch (const std::exception&) {
-      written = 0;
-    }
-  }
-  MPI_Bcast(&written, 1, MPI_INT, 0, comm_);
-  if (!written) throw std::runtime_error(fmt::format("fv (refinement): cannot write {}/amr.txt", dir));
+  grid::save_text(comm_, dir + "/amr.txt",
+                  fmt::format("{} {:a} {:a} {} {}\n{}\n{}\n", steps_, time_, dt_prev_, regrids_,
+                              window_steps_, spec_text(forest_spec()), periodic_text(forest_spec())));
 }
 
 // The steps and time come from the checkpoint: the driver's count is of

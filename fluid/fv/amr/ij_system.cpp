@@ -85,19 +85,18 @@ IjSystem::~IjSystem() {
   delete h_;
 }
 
-void IjSystem::solve(std::span<const double> b, std::span<double> x) {
-  const auto n = static_cast<HYPRE_Int>(count_);
-  // A right-hand side that is not finite (a flow blowing up) would end as
-  // "stopped at relative residual nan": named here instead, on every rank.
+// Whether b is finite on every rank (collective): asked only once a solve has
+// failed, which every rank sees (the residual is global), to name the cause.
+bool IjSystem::finite_everywhere(std::span<const double> b) const {
   double bad = 0.0;
   for (const double v : b) bad += 0.0 * v;  // NaN where any value is not finite
   int broken = bad == 0.0 ? 0 : 1;
   MPI_Allreduce(MPI_IN_PLACE, &broken, 1, MPI_INT, MPI_MAX, comm_);
-  if (broken)
-    throw std::runtime_error(
-        fmt::format("refinement: the {} has a right-hand side that is not finite (the flow "
-                    "is blowing up); lower fluid.fv.cfl or fluid.fv.max_step",
-                    opt_.name));
+  return broken == 0;
+}
+
+void IjSystem::solve(std::span<const double> b, std::span<double> x) {
+  const auto n = static_cast<HYPRE_Int>(count_);
   HYPRE_IJVectorSetValues(h_->b, n, h_->ids.data(), b.data());
   HYPRE_IJVectorSetValues(h_->x, n, h_->ids.data(), x.data());
   HYPRE_IJVectorAssemble(h_->b);
@@ -117,6 +116,11 @@ void IjSystem::solve(std::span<const double> b, std::span<double> x) {
   // above the tolerance at round-off (1.1e-12 against 1e-12 seen): accepted
   // within 10 times it when the solver stopped by itself.
   const bool stalled = iterations_ < opt_.max_iterations && residual_ <= 10.0 * opt_.tolerance;
+  if (!(residual_ <= opt_.tolerance) && !stalled && !finite_everywhere(b))
+    throw std::runtime_error(
+        fmt::format("refinement: the {} has a right-hand side that is not finite (the flow "
+                    "is blowing up); lower fluid.fv.cfl or fluid.fv.max_step",
+                    opt_.name));
   if (!(residual_ <= opt_.tolerance) && !stalled)
     throw std::runtime_error(
         fmt::format("refinement: the {} stopped at relative residual {:.2e} after {} iterations (tolerance "

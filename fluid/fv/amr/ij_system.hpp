@@ -35,6 +35,7 @@ class IjSystem {
 
  private:
   struct Hypre;
+  bool finite_everywhere(std::span<const double> b) const;
   Hypre* h_ = nullptr;
   MPI_Comm comm_;
   Options opt_;

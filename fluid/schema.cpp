@@ -352,6 +352,40 @@ static void check_refinement_criteria(config::Visitor& v, const config::Config& 
   }
 }
 
+// Immersed bodies on the adaptive grid: refined around by the `bodies`
+// criterion, fixed, forced after the predictor.
+static void check_refinement_bodies(config::Visitor& v, const config::Config& cfg) {
+  const std::string key = "fluid.fv.refinement";
+  bool bodies = false;
+  for (const auto& c : config::resolved_node(cfg, "fluid.fv.refinement.criteria"))
+    bodies = bodies || (c.IsMap() && c["bodies"]);
+  if (!bodies)
+    v.fail(key + ".criteria",
+           "immersed.method ibm forces the fluid on the finest level: add `- bodies: {}` to the "
+           "criteria, so that the leaves around the bodies refine to it");
+  // The leaves refine around the markers where they are set; a moving body would leave them.
+  const YAML::Node all = config::resolved_node(cfg, "immersed.ibm.bodies");
+  for (std::size_t i = 0; all.IsSequence() && i < all.size(); ++i) {
+    const YAML::Node& body = all;
+    const YAML::Node m = body[i]["motion"];
+    bool moves = false;
+    for (const char* k : {"velocity", "angular_velocity", "amplitude", "angular_amplitude"}) {
+      const YAML::Node& motion = m;
+      if (motion.IsMap() && motion[k].IsSequence())
+        for (const auto& x : motion[k]) moves = moves || x.as<double>() != 0.0;
+    }
+    if (moves)
+      v.fail(
+          fmt::format("immersed.ibm.bodies[{}].motion", i),
+          "moving bodies do not run on fv's adaptive grid yet (its leaves refine where the markers are set): "
+          "remove fluid.fv.refinement, or the motion");
+  }
+  if (config::resolved_text(cfg, {"immersed", "ibm", "stage"}) == "in_predictor")
+    v.fail("immersed.ibm.stage",
+           "the adaptive grid forces after its predictor only: use stage: after_predictor, or remove "
+           "fluid.fv.refinement");
+}
+
 // What fv's adaptive grid does not take yet (fluid/fv/amr, issue 25): the
 // uniform oracle, ramps, a pressure face other than the reference
 // pressure 0; immersed boundaries need the `bodies` criterion.
@@ -409,34 +443,7 @@ static void check_refinement(config::Visitor& v, const config::Config& cfg, cons
            "adaptive grid takes a profile once per leaf face, so the flux through it depends on the levels "
            "along it (but for a linear profile): give a uniform profile, add a pressure or outflow face, or "
            "remove refinement");
-  if (cfg.has("immersed") && cfg.component("immersed").variant == "ibm") {
-    bool bodies = false;
-    for (const auto& c : config::resolved_node(cfg, "fluid.fv.refinement.criteria"))
-      bodies = bodies || (c.IsMap() && c["bodies"]);
-    if (!bodies)
-      v.fail(key + ".criteria", "immersed.method ibm forces the fluid on the finest level: add `- bodies: {}` to the "
-                                "criteria, so that the leaves around the bodies refine to it");
-    // The leaves refine around the markers where they are set; a moving body would leave them.
-    const YAML::Node all = config::resolved_node(cfg, "immersed.ibm.bodies");
-    for (std::size_t i = 0; all.IsSequence() && i < all.size(); ++i) {
-      const YAML::Node& body = all;
-      const YAML::Node m = body[i]["motion"];
-      bool moves = false;
-      for (const char* k : {"velocity", "angular_velocity", "amplitude", "angular_amplitude"}) {
-        const YAML::Node& motion = m;
-        if (motion.IsMap() && motion[k].IsSequence())
-          for (const auto& x : motion[k]) moves = moves || x.as<double>() != 0.0;
-      }
-      if (moves)
-        v.fail(fmt::format("immersed.ibm.bodies[{}].motion", i),
-               "moving bodies do not run on fv's adaptive grid yet (its leaves refine where the markers are set): "
-               "remove fluid.fv.refinement, or the motion");
-    }
-    if (config::resolved_text(cfg, {"immersed", "ibm", "stage"}) == "in_predictor")
-      v.fail("immersed.ibm.stage",
-             "the adaptive grid forces after its predictor only: use stage: after_predictor, or remove "
-             "fluid.fv.refinement");
-  }
+  if (cfg.has("immersed") && cfg.component("immersed").variant == "ibm") check_refinement_bodies(v, cfg);
 }
 
 // lbm's step dt = (tau - 1/2) dx^2 / (3 nu) must be a usable number: positive,

@@ -65,6 +65,8 @@ class LbmReference final : public FluidSolver {
   void step_colours();
   void close_colours(long i, long j, long k, std::vector<bool>& unknown, const std::vector<double>& post_r,
                      const std::vector<double>& post_b);
+  bool close_corner_colours(const long x[3], double* r, double* b, std::vector<double>& f, double psi_known,
+                            const std::vector<double>& post_r, const std::vector<double>& post_b);
   // A cell index beyond the box: wrapped across periodic faces, clamped onto
   // the face cell across open ones; whether it lies beyond a wall (which wins)
   // and the last open face crossed.

@@ -214,29 +214,8 @@ void LbmReference::close_colours(long i, long j, long k, std::vector<bool>& unkn
     f[q] = r[q] + b[q];
     if (!unknown[q]) known_r += r[q], known += r[q] + b[q];
   }
-  // Where pressure or velocity faces meet: the colours' sum rebuilt whole
-  // (rebuild_corner; the stress with the known colour fraction's tau); what
-  // enters through the faces takes the first of them that gives a phase,
-  // else the known populations' colour fraction; the known populations keep
-  // their own.
-  bool meets[6];
-  int meeting = 0;
-  for (int face = 0; face < 6; ++face) meeting += meets[face] = open_face_at(x, face);
-  if (meeting >= 2) {
-    const double psi_known = known > 0.0 ? known_r / known : (s_.tp.on ? 0.5 : 1.0);
-    rebuild_corner(x, f.data(), colour_tau(2.0 * psi_known - 1.0),
-                   [&](long cell, int q) { return post_r[cell * Q_ + q] + post_b[cell * Q_ + q]; });
-    for (int q = 0; q < Q_; ++q) {
-      double psi_q = psi_known;
-      for (int face = 5; face >= 0; --face)
-        if (meets[face] && s_.faces[face].phase_given && (face % 2 == 0 ? 1 : -1) * e_[q][face / 2] > 0)
-          psi_q = 0.5 * (1.0 + s_.faces[face].phase);
-      const double red = corner_unknown(meets, q) ? psi_q * f[q] : lbm::share_red(f[q], r[q], b[q]);
-      r[q] = red;
-      b[q] = f[q] - red;
-    }
-    return;
-  }
+  const double psi_known = known > 0.0 ? known_r / known : (s_.tp.on ? 0.5 : 1.0);
+  if (close_corner_colours(x, r, b, f, psi_known, post_r, post_b)) return;
   for (int face = 0; face < 6; ++face) {
     const lbm::Face& F = s_.faces[face];
     if ((F.type != FaceType::pressure && F.type != FaceType::velocity) || !on(face)) continue;
@@ -262,13 +241,39 @@ void LbmReference::close_colours(long i, long j, long k, std::vector<bool>& unkn
     rebuilt = rebuilt || F.regularized;
     for (int q = 0; q < Q_; ++q) set[q] = set[q] || s * e_[q][axis] > 0;
   }
-  if (psi < 0.0) psi = known > 0.0 ? known_r / known : (s_.tp.on ? 0.5 : 1.0);
+  if (psi < 0.0) psi = psi_known;
   for (int q = 0; q < Q_; ++q) {
     if (!set[q] && !rebuilt) continue;
     const double red = set[q] ? psi * f[q] : lbm::share_red(f[q], r[q], b[q]);
     r[q] = red;
     b[q] = f[q] - red;
   }
+}
+
+// Where pressure or velocity faces meet: the colours' sum rebuilt whole
+// (rebuild_corner; the stress with the known colour fraction's tau); what
+// enters through the faces takes the first of them that gives a phase, else
+// the known populations' colour fraction psi_known; the known populations
+// keep their own. False where fewer than two such faces meet at x.
+bool LbmReference::close_corner_colours(const long x[3], double* r, double* b, std::vector<double>& f,
+                                        double psi_known, const std::vector<double>& post_r,
+                                        const std::vector<double>& post_b) {
+  bool meets[6];
+  int meeting = 0;
+  for (int face = 0; face < 6; ++face) meeting += meets[face] = open_face_at(x, face);
+  if (meeting < 2) return false;
+  rebuild_corner(x, f.data(), colour_tau(2.0 * psi_known - 1.0),
+                 [&](long cell, int q) { return post_r[cell * Q_ + q] + post_b[cell * Q_ + q]; });
+  for (int q = 0; q < Q_; ++q) {
+    double psi_q = psi_known;
+    for (int face = 5; face >= 0; --face)
+      if (meets[face] && s_.faces[face].phase_given && (face % 2 == 0 ? 1 : -1) * e_[q][face / 2] > 0)
+        psi_q = 0.5 * (1.0 + s_.faces[face].phase);
+    const double red = corner_unknown(meets, q) ? psi_q * f[q] : lbm::share_red(f[q], r[q], b[q]);
+    r[q] = red;
+    b[q] = f[q] - red;
+  }
+  return true;
 }
 
 // A neighbour of a fluid cell is solid: beyond a wall face or in an interior solid.

@@ -18,22 +18,26 @@ namespace coflow::fluid {
 const std::vector<VariantSchema>& variant_schemas() {
   static const std::vector<VariantSchema> v{
       variant_schema<lbm::LbmParams>(
-          "lbm", "lattice Boltzmann, D2Q9/D3Q19, BGK or TRT, standard or He-Luo incompressible, regularized and "
-                 "Zou-He faces, MPI",
+          "lbm",
+          "lattice Boltzmann, D2Q9/D3Q19, BGK or TRT, standard or He-Luo incompressible, regularized and "
+          "Zou-He faces, MPI",
           "lbm"),
       variant_schema<lbm::LbmParams>(
-          "lbm-reference", "plain serial lattice Boltzmann (the oracle for lbm): same physics, simplest code", "lbm"),
-      variant_schema<AnalyticParams>(
-          "analytic",
-          "prescribed fields (quiescent, uniform, poiseuille, taylor-green, grid-turbulence), exact at any time",
-          "analytic"),
+          "lbm-reference", "plain serial lattice Boltzmann (the oracle for lbm): same physics, simplest code",
+          "lbm"),
+      variant_schema<AnalyticParams>("analytic",
+                                     "prescribed fields (quiescent, uniform, poiseuille, taylor-green, "
+                                     "grid-turbulence), exact at any time",
+                                     "analytic"),
       variant_schema<fv::FvParams>(
-          "fv", "finite volumes on a staggered grid, projection, IMEX SBDF2/CNAB2 with a CFL step, hypre multigrid, "
-                "MPI (seed 003 §4.1)",
+          "fv",
+          "finite volumes on a staggered grid, projection, IMEX SBDF2/CNAB2 with a CFL step, the pressure by "
+          "coflow's geometric multigrid (hypre PFMG/SMG where it does not suit), MPI (seed 003 §4.1)",
           "fv"),
       variant_schema<fv::FvParams>(
-          "fv-reference", "plain serial finite volumes (the oracle for fv): same discretisation, simple loops, "
-                          "unpreconditioned conjugate gradients",
+          "fv-reference",
+          "plain serial finite volumes (the oracle for fv): same discretisation, simple loops, "
+          "unpreconditioned conjugate gradients",
           "fv"),
   };
   return v;

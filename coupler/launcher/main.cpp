@@ -718,10 +718,19 @@ void print_contracts() {
                   join_fields(c.provides).c_str(), needs.empty() ? "–" : needs.c_str(), schemes.c_str());
     }
   }
-  std::printf("\n`particles.dispersion.model: langevin` (dpm) also needs `k` and `epsilon` from the fluid.\n"
-              "Fields: velocity, pressure, k, epsilon, solid_fraction, solid_force and momentum_source live\n"
-              "on fluid cells; particle_state, hydrodynamic_load, fluid_at_particle and impulse at the\n"
-              "particles (docs/protocol.md).\n");
+  std::printf(
+      "\nThe table is each variant's contract without keys. Some keys add to it:\n"
+      "- `fv` and `fv-reference` with `fluid.turbulence` also provide `k` and `epsilon`;\n"
+      "- `psm` with a two-fluid `lbm` or `lbm-reference` (`fluid.two_phase`) also provides\n"
+      "  `grain_wetting` (each species' contact angle);\n"
+      "- `ibm` with `immersed.ibm.particles: point` also takes `point`'s part: provides\n"
+      "  fluid_at_particle and momentum_source, needs velocity, particle_state and impulse, and\n"
+      "  runs serial-explicit only;\n"
+      "- `particles.dispersion.model: langevin` (dpm) also needs `k` and `epsilon` from the fluid\n"
+      "  (`analytic`, or `fv` with `fluid.turbulence`).\n\n"
+      "Fields: velocity, pressure, k, epsilon, solid_fraction, solid_force and momentum_source live\n"
+      "on fluid cells; particle_state, hydrodynamic_load, fluid_at_particle and impulse at the\n"
+      "particles (docs/protocol.md).\n");
 }
 
 void print_variants(bool markdown) {

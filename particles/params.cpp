@@ -47,6 +47,20 @@ double largest_diameter(const ParticleParams& p) {
   return d;
 }
 
+std::string snapshot_shape_error(std::size_t radii, std::size_t positions, std::size_t velocities,
+                                 std::size_t angular_velocities, std::size_t species) {
+  const std::pair<const char*, std::size_t> sets[] = {
+      {"position", positions}, {"velocity", velocities}, {"angular_velocity", angular_velocities}};
+  for (const auto& [name, size] : sets)
+    if (size != 3 * radii)
+      return fmt::format("its dataset {} holds {} values, but {} radii need {} (three a particle)", name,
+                         size, radii, 3 * radii);
+  if (species != radii)
+    return fmt::format("its dataset species holds {} values, but there are {} radii (one a particle)",
+                       species, radii);
+  return "";
+}
+
 int coupling_ghost_cells(const ParticleParams& p, const config::Config& cfg) {
   const double dx = cfg.domain.spacing()[0];
   return static_cast<int>(std::ceil(0.5 * largest_diameter(p) / dx)) + 1;
@@ -730,6 +744,10 @@ void ParticleParams::check_file_inside(Visitor& v, const config::Config& cfg, st
     x = output::read_dataset(it.path.path, "position");
     r = output::read_dataset(it.path.path, "radius");
     sp = output::read_dataset(it.path.path, "species");
+    const std::string wrong =
+        snapshot_shape_error(r.size(), x.size(), output::read_dataset(it.path.path, "velocity").size(),
+                             output::read_dataset(it.path.path, "angular_velocity").size(), sp.size());
+    if (!wrong.empty()) throw std::runtime_error(wrong);
   } catch (const std::exception& e) {
     v.fail(initial_key(n, "path"),
            fmt::format("cannot read the particles of {}: {}; give a particles/step_*.h5 "

@@ -159,6 +159,10 @@ struct ParticleParams {
 // The largest diameter a particle of these species can have (log-normal: mean
 // + 6 standard deviations), m.
 double largest_diameter(const ParticleParams& p);
+// What is wrong with the datasets' lengths of a particle snapshot (n radii:
+// 3n positions, velocities and angular velocities, n species), or "".
+std::string snapshot_shape_error(std::size_t radii, std::size_t positions, std::size_t velocities,
+                                 std::size_t angular_velocities, std::size_t species);
 // The automatic particle step from the species alone (validate time), over
 // the species the initial items other than files place (none: those the
 // inlets bring, `arriving`). largest: each at its largest diameter, an upper

@@ -144,6 +144,9 @@ void add_from_file(ParticleArrays& a, const ParticleParams& p, const InitialItem
   const auto w = output::read_dataset(file, "angular_velocity");
   const auto r = output::read_dataset(file, "radius");
   const auto sp = output::read_dataset(file, "species");
+  if (const std::string wrong = snapshot_shape_error(r.size(), x.size(), v.size(), w.size(), sp.size());
+      !wrong.empty())
+    throw std::runtime_error(fmt::format("{}: {}", file, wrong));
   for (std::size_t n = 0; n < r.size(); ++n) {
     if (!(sp[n] >= 0 && sp[n] < static_cast<double>(p.species.size())))
       throw std::runtime_error(fmt::format("{}: particle {} has species {}, but only {} are defined", file, n,

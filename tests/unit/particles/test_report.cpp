@@ -4,6 +4,7 @@
 // folders is bad input.
 #include <mpi.h>
 #include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
 #include <catch2/catch.hpp>
 #include <cstdint>
@@ -11,12 +12,11 @@
 #include <string>
 #include <vector>
 
-#include <yaml-cpp/yaml.h>
-
 #include "coflow/catalog.hpp"
 #include "coflow/output.hpp"
 #include "coflow/report.hpp"
 #include "coflow/run_config.hpp"
+#include "particles/particles_interface.hpp"
 
 using namespace coflow;
 
@@ -96,4 +96,31 @@ TEST_CASE("an initial file whose particles lie outside the box is bad input", "[
           Catch::Contains("lie outside the domain ((0, 0, 0) to (0.1, 0.1, 0.1)), e.g. particle 2 at "
                           "(0.15, 0.08, 0.08)"));
   std::filesystem::remove(file);
+}
+
+TEST_CASE("an initial file without velocities, or whose datasets' lengths disagree, is bad input",
+          "[report]") {
+  const std::string file =
+      (std::filesystem::temp_directory_path() / ("coflow-shape-" + std::to_string(::getpid()) + ".h5"))
+          .string();
+  const std::vector<std::int64_t> id{0, 1};
+  const std::vector<std::int32_t> species{0, 0};
+  const std::vector<double> x{0.02, 0.02, 0.02, 0.05, 0.05, 0.05}, zero(6, 0.0), radius{0.005, 0.005};
+  // No angular velocities: the particles read them at the start (before
+  // 2026-12-07 validate did not, and the run stopped after its ranks began).
+  output::write_points(MPI_COMM_SELF, file, 0.0, 0, 2, id, species,
+                       {{"position", 3, x}, {"velocity", 3, zero}, {"radius", 1, radius}});
+  CHECK_THROWS_WITH(report_for(file, 0.01),
+                    Catch::Contains("initial[0].file.path: cannot read the particles of " + file) &&
+                        Catch::Contains("angular_velocity"));
+  std::filesystem::remove(file);
+  // Lengths that disagree (the particles indexed the arrays by the radii's
+  // count, past the end of a shorter one).
+  CHECK(particles::snapshot_shape_error(2, 6, 6, 6, 2).empty());
+  CHECK(particles::snapshot_shape_error(2, 3, 6, 6, 2) ==
+        "its dataset position holds 3 values, but 2 radii need 6 (three a particle)");
+  CHECK(particles::snapshot_shape_error(2, 6, 6, 4, 2) ==
+        "its dataset angular_velocity holds 4 values, but 2 radii need 6 (three a particle)");
+  CHECK(particles::snapshot_shape_error(2, 6, 6, 6, 1) ==
+        "its dataset species holds 1 values, but there are 2 radii (one a particle)");
 }

@@ -150,6 +150,20 @@ static std::string restart_mismatch(const config::Config& cfg, const YAML::Node&
         "coupling.window = {:.17g} s, but the checkpoint was written with windows of {:.17g} s: restart with "
         "the window of the run that wrote it",
         cfg.coupling.window.value, length.as<double>());
+  // No component had a natural step: the window came from the outputs and
+  // the end time, and a new end time may change it, which the components'
+  // clocks would refuse only after the rewind had cut the directory.
+  if (const auto length = c["window_length"]; length && c["window_from_outputs"] &&
+                                              c["window_from_outputs"].as<bool>() &&
+                                              cfg.coupling.window.is_auto) {
+    const double old = length.as<double>(), now = coupler::outputs_window(cfg);
+    if (std::abs(now - old) > 1e-12 * old)
+      return fmt::format(
+          "the checkpoint's run took windows of {} s from its outputs and end time (no component has a "
+          "natural step), and run.end_time = {} s gives windows of {} s; restart with --set "
+          "coupling.window={} and a run.end_time that is a whole number of them (e.g. {:.12g})",
+          old, cfg.run.end_time, now, old, std::ceil(cfg.run.end_time / old - 1e-9) * old);
+  }
   return {};
 }
 
@@ -201,6 +215,15 @@ std::string rewind_run_directory(const config::Config& cfg, const std::string& d
       fs::remove_all(cp, ec);
       said += fmt::format("  {}: a later checkpoint, removed\n", cp);
     }
+  // Checkpoints that an interrupted run left unfinished: begin_checkpoint
+  // would reuse their folders.
+  std::vector<fs::path> unfinished;
+  for (const auto& e : fs::directory_iterator(dir + "/checkpoints", ec))
+    if (e.path().extension() == ".partial") unfinished.push_back(e.path());
+  for (const auto& p : unfinished) {
+    fs::remove_all(p, ec);
+    said += fmt::format("  {}: an unfinished checkpoint, removed\n", p.string());
+  }
   // The summary and the failure reason of the run being restarted would be
   // read as this one's (a restart that fails before its end writes its own).
   fs::remove(dir + "/summary.json", ec);
@@ -227,6 +250,9 @@ std::string rewind_run_directory(const config::Config& cfg, const std::string& d
                                         : cut_csv(e.path(), [&](double time) { return time < t - tol; });
     if (n > 0) said += fmt::format("  {}: {} events after the checkpoint removed\n", e.path().string(), n);
   }
+  // The snapshots' files go after index.csv and run.xdmf no longer name them
+  // (a rewind cut short then leaves files unnamed, not names without files).
+  std::vector<fs::path> doomed;
   for (const char* comp : {"fluid", "immersed", "particles"}) {
     const fs::path index = fs::path(dir) / comp / "index.csv";
     if (!fs::exists(index)) continue;
@@ -237,7 +263,8 @@ std::string rewind_run_directory(const config::Config& cfg, const std::string& d
     for (const auto& e : fs::directory_iterator(index.parent_path(), ec)) {
       const std::string n = e.path().filename().string();
       long number = -1;
-      if (std::sscanf(n.c_str(), "step_%ld.h5", &number) == 1 && number > last) fs::remove(e.path(), ec), ++gone;
+      if (std::sscanf(n.c_str(), "step_%ld.h5", &number) == 1 && number > last)
+        doomed.push_back(e.path()), ++gone;
     }
     cut_index(index, last);
     if (gone > 0)
@@ -251,6 +278,7 @@ std::string rewind_run_directory(const config::Config& cfg, const std::string& d
   const auto h = d.spacing();
   if (!said.empty())
     output::write_xdmf(dir, {{d.lower[0], d.lower[1], d.lower[2]}, {h[0], h[1], h[2]}, {d.cells[0], d.cells[1], d.cells[2]}});
+  for (const auto& p : doomed) fs::remove(p, ec);
   return said;
 }
 

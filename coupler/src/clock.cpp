@@ -32,6 +32,33 @@ double output_window(double step, const config::Config& cfg) {
   return w >= 0.9 * step ? w : step;
 }
 
+double outputs_window(const config::Config& cfg) {
+  // Nobody has a natural step: one window per output interval, or the
+  // largest part of it (up to a thousandth) that also ends the run at
+  // run.end_time: series every 4 s to an end of 6 s ran two windows of 4 s,
+  // to t = 8 s, and now runs three of 2 s. Where none does, the whole
+  // number of windows that ends at run.end_time (the rows then at the first
+  // window end past each multiple, as with a step).
+  const auto& o = cfg.run.output;
+  const double series = o.series_every.is_auto ? o.every : o.series_every.value;
+  const double end = cfg.run.end_time;
+  double shortest = end;
+  for (double e : {o.every, series})
+    if (e > 0) shortest = std::min(shortest, e);
+  const auto whole = [](double x) { return x >= 1.0 - kReach && std::abs(x - std::round(x)) <= kReach; };
+  double w = end / std::max(1.0, std::ceil(end / shortest - kReach));
+  for (int n = 1; n <= 1000; ++n) {
+    const double c = shortest / n;
+    bool fits = whole(end / c);
+    for (double e : {o.every, series}) fits = fits && (e <= 0 || whole(e / c));
+    if (fits) {
+      w = c;
+      break;
+    }
+  }
+  return w;
+}
+
 double Clock::negotiate(double preferred) {
   const double offer = preferred > 0 ? preferred : std::numeric_limits<double>::infinity();
   double w = offer;
@@ -50,31 +77,8 @@ double Clock::negotiate(double preferred) {
     w = cfg_.coupling.window.value;
   else if (std::isfinite(w))
     w = output_window(w, cfg_);
-  if (!std::isfinite(w)) {
-    // Nobody has a natural step: one window per output interval, or the
-    // largest part of it (up to a thousandth) that also ends the run at
-    // run.end_time: series every 4 s to an end of 6 s ran two windows of 4 s,
-    // to t = 8 s, and now runs three of 2 s. Where none does, the whole
-    // number of windows that ends at run.end_time (the rows then at the first
-    // window end past each multiple, as with a step).
-    const auto& o = cfg_.run.output;
-    const double series = o.series_every.is_auto ? o.every : o.series_every.value;
-    const double end = cfg_.run.end_time;
-    double shortest = end;
-    for (double e : {o.every, series})
-      if (e > 0) shortest = std::min(shortest, e);
-    const auto whole = [](double x) { return x >= 1.0 - kReach && std::abs(x - std::round(x)) <= kReach; };
-    w = end / std::max(1.0, std::ceil(end / shortest - kReach));
-    for (int n = 1; n <= 1000; ++n) {
-      const double c = shortest / n;
-      bool fits = whole(end / c);
-      for (double e : {o.every, series}) fits = fits && (e <= 0 || whole(e / c));
-      if (fits) {
-        w = c;
-        break;
-      }
-    }
-  }
+  from_outputs_ = !std::isfinite(w);
+  if (from_outputs_) w = outputs_window(cfg_);
   window_ = w;
   const double count = std::ceil(cfg_.run.end_time / w - kReach);
   // Every rank has the same window, so every rank throws.

@@ -62,14 +62,20 @@ void RunDirectory::snapshot_written(long number, double time, std::size_t count,
 
 std::string RunDirectory::begin_checkpoint(long w) const {
   const std::string dir = fmt::format("{}/checkpoints/window_{:06d}.partial/{}", dir_, w, component_);
-  if (rank_ == 0) fs::create_directories(dir);
+  // What an earlier, interrupted run left in this folder goes first: its
+  // files would be promoted with this checkpoint (a file this run does not
+  // write, e.g. k and epsilon from a run with turbulence, read back later).
+  if (rank_ == 0) {
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+  }
   MPI_Request r;
   MPI_Ibarrier(comm_, &r);
   wait_one(r, "the component's rank 0 to create the checkpoint's directory");
   return dir;
 }
 
-void RunDirectory::end_checkpoint(long w, double window) const {
+void RunDirectory::end_checkpoint(long w, double window, bool from_outputs) const {
   // Every rank of every component has written its part: then the checkpoint is complete.
   MPI_Request r;
   MPI_Ibarrier(MPI_COMM_WORLD, &r);
@@ -79,8 +85,9 @@ void RunDirectory::end_checkpoint(long w, double window) const {
     const std::string base = fmt::format("{}/checkpoints/window_{:06d}", dir_, w);
     output::atomic_write(
         base + ".partial/checkpoint.yaml",
-        fmt::format("name: {}\nwindow: {}\ntime: {:.17g}\nwindow_length: {:.17g}\noutput_every: {:.17g}\n",
-                    cfg_.run.name, w, w * window, window, cfg_.run.output.every));
+        fmt::format("name: {}\nwindow: {}\ntime: {:.17g}\nwindow_length: {:.17g}\nwindow_from_outputs: {}\n"
+                    "output_every: {:.17g}\n",
+                    cfg_.run.name, w, w * window, window, from_outputs, cfg_.run.output.every));
     fs::remove_all(base);
     fs::rename(base + ".partial", base);
     // Keep the newest run.checkpoint.keep checkpoints.

@@ -128,9 +128,12 @@ void AnalyticFluid::evaluate() {
       }
 }
 
+// The time is the steps times the window (every step is one window), not a
+// running sum: a restart sets it the same way (load), so that it has the
+// same bits as the run it goes on from (ten sums of 0.1 are 0.9999999999999999).
 void AnalyticFluid::advance(double dt) {
-  time_ += dt;
   ++steps_;
+  time_ = static_cast<double>(steps_) * dt;
   evaluate();
 }
 

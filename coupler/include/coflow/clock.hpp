@@ -19,6 +19,13 @@ namespace coflow::coupler {
 // step that already makes `every` in a whole number, to 1e-6, is kept.
 double output_window(double step, const config::Config& cfg);
 
+// The window when no component has a natural step: one per output interval,
+// or the largest part of it (up to a thousandth) that also ends the run at
+// run.end_time; where none does, the whole number of windows that ends at
+// run.end_time. It depends on run.end_time: the launcher refuses a restart
+// whose end time would change it (checkpoint.yaml's window_from_outputs).
+double outputs_window(const config::Config& cfg);
+
 // The whole intervals a time x (in intervals) has reached: a window end
 // within 1e-6 of an interval short of a multiple reaches it (output_window
 // keeps a step that makes the interval in a whole number to 1e-6).
@@ -56,6 +63,8 @@ class Clock {
   bool series_due(long w) const;
   bool checkpoint_due(long w) const;
   long restart_window() const { return restart_window_; }
+  // Whether the window came from outputs_window (no natural step, none given).
+  bool window_from_outputs() const { return from_outputs_; }
 
  private:
   const config::Config& cfg_;
@@ -64,6 +73,7 @@ class Clock {
   std::string restart_file_;
   double window_ = 0.0;
   long windows_ = 0;
+  bool from_outputs_ = false;
 };
 
 }  // namespace coflow::coupler

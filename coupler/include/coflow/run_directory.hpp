@@ -35,7 +35,8 @@ class RunDirectory {
   std::string begin_checkpoint(long w) const;
   // Collective over all components: complete checkpoint w (time w x window),
   // keep the newest run.checkpoint.keep.
-  void end_checkpoint(long w, double window) const;
+  // from_outputs: the window came from outputs_window (checkpoint.yaml says so).
+  void end_checkpoint(long w, double window, bool from_outputs) const;
   // World rank 0: summary.json and the final run.xdmf.
   void write_summary(const std::string& json) const;
   // A failure's line in logs/FAILED (any rank; never throws).

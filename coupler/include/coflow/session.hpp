@@ -101,7 +101,7 @@ class Session {
   // All of it in one call: when due, save(dir) between begin and end (I/O time).
   void checkpoint(long w, const std::function<void(const std::string&)>& save);
   std::string begin_checkpoint(long w) { return dir_->begin_checkpoint(w); }  // this component's directory in it
-  void end_checkpoint(long w) { dir_->end_checkpoint(w, window()); }
+  void end_checkpoint(long w) { dir_->end_checkpoint(w, window(), clock_->window_from_outputs()); }
   // Restart: the window the checkpoint was written at (0 when not restarting),
   // and this component's directory in it.
   long restart_window() const { return restart_window_; }

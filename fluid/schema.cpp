@@ -574,8 +574,22 @@ static void check_lbm_pressure_faces(config::Visitor& v, const config::Config& c
   }
 }
 
+// fv writes k, epsilon, nu_t and y_plus only where the turbulence model
+// computes them: a laminar run wrote zeros.
+static void check_turbulence_fields(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
+  if ((variant != "fv" && variant != "fv-reference") || turbulent(cfg)) return;
+  for (const std::string& f : cfg.run.output.fields)
+    if (f == "k" || f == "epsilon" || f == "nu_t" || f == "y_plus") {
+      v.fail("run.output.fields", fmt::format("'{}' is the turbulence model's, and this fv fluid is laminar (no "
+                                              "fluid.turbulence): add fluid.turbulence, or drop '{}'",
+                                              f, f));
+      return;
+    }
+}
+
 static void check(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
   check_wall_functions(v, cfg);
+  check_turbulence_fields(v, cfg, variant);
   check_refinement(v, cfg, variant);
   if (!check_lbm_step(v, cfg, variant)) return;  // the checks below divide by dt
   check_lbm_window(v, cfg, variant);

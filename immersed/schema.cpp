@@ -1,8 +1,10 @@
 #include "immersed/schema.hpp"
 
-#include <algorithm>
-
 #include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
 
 #include "immersed/ibm/params.hpp"
 #include "immersed/point/params.hpp"
@@ -57,10 +59,34 @@ config::Contract contract(const config::Config& cfg, const std::string& variant)
 
 }  // namespace
 
+// psm, point and ibm read the fluid's density (point also its viscosity)
+// from the fluid section, which an external fluid's leaves unchecked: a
+// missing or non-numeric value stopped the immersed ranks at their start.
+static void check_external_fluid(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
+  if (!cfg.has("fluid") || cfg.component("fluid").variant != "external") return;
+  if (variant != "psm" && variant != "point" && variant != "ibm") return;
+  const bool points =
+      variant == "point" || config::resolved_text(cfg, {"immersed", "ibm", "particles"}) == "point";
+  for (const char* key : {"density", "viscosity"}) {
+    if (std::string(key) == "viscosity" && !points) continue;
+    const YAML::Node n = config::resolved_node(cfg, std::string("fluid.") + key);
+    double value = 0.0;
+    const bool number =
+        n.IsScalar() && YAML::convert<double>::decode(n, value) && value > 0.0 && std::isfinite(value);
+    if (!number)
+      v.fail(
+          "immersed.method",
+          fmt::format("method {} takes the fluid's {} from fluid.{}, which this run's external fluid "
+                      "does not give as a positive number: add fluid.{} ({})",
+                      variant, key, key, key, std::string(key) == "density" ? "kg/m^3" : "kinematic, m^2/s"));
+  }
+}
+
 config::ComponentSchema schema() {
   config::ComponentSchema s = component_schema("immersed", "method", variant_schemas(),
                                                 "the coupling between particles and the fluid grid (psm, point), or immersed bodies for the fluid (ibm)");
   s.contract = contract;
+  s.check = check_external_fluid;
   s.visit = [s](config::Visitor& v, const config::Config& cfg, config::ComponentInfo& info) {
     config::visit_component_common(v, s, info);
     if (v.reading() && !has_variant(variant_schemas(), info.variant)) {  // external, none, or a wrong name reported above
@@ -73,9 +99,13 @@ config::ComponentSchema schema() {
       if (chosen)
         v.section(e.params_section, fmt::format("parameters of method {}", e.name),
                   [&](config::Visitor& sub) { e.visit(sub, v.reading() ? &cfg : nullptr); });
-      else if (v.given(e.params_section))
-        v.fail(e.params_section, fmt::format("only used with method: {} (this run uses method: {})", e.name,
-                                             info.variant));
+      else if (v.given(e.params_section)) {
+        // Its keys are not reported again as unknown (fluid's solver sections alike).
+        v.fail(e.params_section, fmt::format("only used with method: {} (this run uses method: {}); remove "
+                                             "the section or change the method",
+                                             e.name, info.variant));
+        v.section(e.params_section, "", [](config::Visitor& sub) { sub.accept_other_keys(); });
+      }
     }
     // psm covers cells with spheres: a grid one cell deep would fold every
     // layer of a sphere into that cell, while its buoyancy and mass stay a

@@ -264,7 +264,8 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
     "critical step of a grain in 12 contacts, shortened as grains crush; dpm, 0.2 x the smallest of "
     "the time to cross the fluid cells' narrowest side, the response time, the mean time between "
     "collisions and, with dispersion, the Lagrangian integral time T_L (seed 003 eq. 4.15), and above "
-    "Re_p 55 5 tau_p / (d(f Re_p)/dRe_p), which keeps RK4 stable on the drag",
+    "Re_p 55 5 tau_p / (d(f Re_p)/dRe_p), which keeps RK4 stable on the drag; a given dpm step is not split "
+    "and must stay below RK4's limit, 2.785 tau_p (0.836 tau_p with the torque on)",
     config::positive());
   v("time_step_fraction", time_step_fraction, "fraction of the critical step 2 sqrt(m/K) that dem takes with time_step: auto", config::in_range(1e-6, 1.0));
   v.entries("species", "particle kinds by name", [&](const std::string& name, Visitor& s) {
@@ -598,10 +599,43 @@ ParticleParams read_particle_params(const config::Config& cfg, const std::string
   return p;
 }
 
+// A given dpm step is not split (only the automatic one follows seed 003
+// eq. 4.15), and the classical Runge-Kutta method on the drag, du/dt = -u /
+// tau_p, is stable only for h < 2.785 tau_p (the real-axis limit of its
+// stability region, 1 + z + z^2/2 + z^3/6 + z^4/24 = 1 at z = -2.785):
+// beyond it the particles' velocities grow without bound. With the torque
+// on, the spin relaxes faster: Stokes' torque pi mu D^3 Omega (seed 003 eq.
+// 3.34's 64 pi / Re_r) on I = m D^2 / 10 gives rho_p D^2 / (60 mu) = 0.3
+// tau_p. Nonlinear drag (Re_p > 0) only lowers the limits.
+static void check_point_step(Visitor& v, const config::Config& cfg, const ParticleParams& p) {
+  if (!p.point_particles || p.time_step.is_auto) return;
+  if (std::find(p.forces.begin(), p.forces.end(), "drag") == p.forces.end()) return;
+  const double mu = config::resolved_number(cfg, {"fluid", "density"}, 0.0) *
+                    config::resolved_number(cfg, {"fluid", "viscosity"}, 0.0);
+  if (!(mu > 0)) return;
+  constexpr double kRk4RealLimit = 2.785;
+  const bool spin = std::find(p.forces.begin(), p.forces.end(), "torque") != p.forces.end();
+  for (const auto& [name, sp] : p.species) {
+    const double d = smallest_diameter(sp.diameter);
+    const double tau = dpm::response_time(sp.density, d, mu), limit = kRk4RealLimit * (spin ? 0.3 : 1.0) * tau;
+    if (!(d > 0) || !(p.time_step.value > limit)) continue;
+    v.fail("particles.time_step",
+           fmt::format("{} s is {:.3g} times the response time tau_p = rho_p D^2 / (18 mu) = {} s of species '{}' "
+                       "(D = {} m, mu = fluid.density x fluid.viscosity): RK4 is unstable beyond 2.785 times {}, "
+                       "and a given step is not split; use auto (0.2 tau_p, seed 003 eq. 4.15) or a step below {} s",
+                       config::number(p.time_step.value), p.time_step.value / tau, config::number(tau), name,
+                       config::number(d),
+                       spin ? "the spin's response time 0.3 tau_p (the torque is on)" : "it (the drag)",
+                       config::number(limit)));
+    return;
+  }
+}
+
 // More steps than a run counts (coflow/clock.hpp), from a given step or the
 // automatic one, cannot run (after resolution: dpm's estimate needs the fluid).
 void check_step_count(Visitor& v, const config::Config& cfg, const std::string& variant) {
   const ParticleParams p = read_particle_params(cfg, variant);
+  check_point_step(v, cfg, p);
   const StepEstimate e = p.time_step.is_auto ? automatic_step_estimate(p, cfg, true)
                                              : StepEstimate{p.time_step.value, "", false};
   const double count = cfg.run.end_time / e.step;

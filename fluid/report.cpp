@@ -397,4 +397,8 @@ void report(const config::Config& cfg, const std::string& variant, config::Repor
               "), exact at any time; no time step");
 }
 
+double largest_profile_factor(int face, const BoundaryParams& b, const config::Config& cfg) {
+  return largest_factor(face, b, cfg);
+}
+
 }  // namespace coflow::fluid

@@ -545,6 +545,53 @@ static void check_wall_functions(config::Visitor& v, const config::Config& cfg) 
 // A pressure face whose lattice density 1 + p / (rho c_s^2) is not positive
 // (at the step the run takes, with the window's shortening) has no meaning
 // in the standard formulation: its closure divides by it.
+// lbm's units at the step the coupling window asks for (coupler::output_window:
+// tau adjusted), as the solver takes them.
+static lbm::Units lbm_units(const config::Config& cfg, const FluidParams& p, const lbm::LbmParams& lp) {
+  const double dx = cfg.domain.spacing()[0];
+  const double natural = lbm::Units::from(dx, p.viscosity, p.density, lp.tau).dt;
+  const double window = coupler::output_window(natural, cfg);
+  const double tau = cfg.coupling.window.is_auto && window < natural * (1 - 1e-12)
+                         ? lbm::tau_for_step(lp.tau, window, dx, p.viscosity)
+                         : lp.tau;
+  return lbm::Units::from(dx, p.viscosity, p.density, tau);
+}
+
+// A velocity face sets its cells' velocity: where that is above Mach 0.3
+// within the run (its ramp counted; a formula in t with a ramp is left to
+// the run), lbm stops at that step (LbmSolver's Mach check), so the
+// configuration cannot run. Between 0.1 and 0.3 the report warns.
+static void check_lbm_face_mach(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
+  if (variant.rfind("lbm", 0) != 0) return;
+  const auto lp = config::read_section<lbm::LbmParams>(cfg, "fluid.lbm", "fluid.lbm");
+  FluidParams p;
+  config::Reader r(cfg.resolved["fluid"], cfg.file, "fluid");
+  p.visit(r, cfg);
+  const lbm::Units units = lbm_units(cfg, p, lp);
+  for (int f = 0; f < 6; ++f) {
+    const BoundaryParams b = p.boundary(f, cfg);
+    if (b.type != "velocity" || (b.ramp > 0 && b.formula.uses_time())) continue;
+    double speed = 0.0;
+    for (double x : b.value.values) speed += x * x;
+    speed = std::sqrt(speed) * largest_profile_factor(f, b, cfg) *
+            (b.ramp > 0 ? std::min(1.0, cfg.run.end_time / b.ramp) : 1.0);
+    const double mach = speed / units.velocity() * std::sqrt(3.0);
+    if (!(mach > 0.3)) continue;
+    // With dx and nu fixed, Mach is proportional to tau - 1/2 and to dx (report_mach).
+    const double tau01 = 0.5 + (units.tau - 0.5) * 0.1 / mach, dx = cfg.domain.spacing()[0];
+    v.fail(
+        "fluid.boundaries." + face_names()[f] + ".value",
+        fmt::format(
+            "the face reaches {} m/s, Mach {} on this lattice (U dt/dx sqrt(3), dt = {} s): lbm stops "
+            "above Mach 0.3, where the method is invalid; {}, or lower the velocity",
+            config::number(speed), config::number(mach), config::number(units.dt),
+            tau01 >= 0.51 ? fmt::format("fluid.lbm.tau {} gives Mach 0.1 at this dx", config::number(tau01))
+                          : fmt::format("cells of {} m give Mach 0.1 at this tau (tau below 0.51 is "
+                                        "unstable)",
+                                        config::number(dx * 0.1 / mach))));
+  }
+}
+
 static void check_lbm_pressure_faces(config::Visitor& v, const config::Config& cfg,
                                      const std::string& variant) {
   if (variant.rfind("lbm", 0) != 0) return;
@@ -553,13 +600,7 @@ static void check_lbm_pressure_faces(config::Visitor& v, const config::Config& c
   FluidParams p;
   config::Reader r(cfg.resolved["fluid"], cfg.file, "fluid");
   p.visit(r, cfg);
-  const double dx = cfg.domain.spacing()[0];
-  const double natural = lbm::Units::from(dx, p.viscosity, p.density, lp.tau).dt;
-  const double window = coupler::output_window(natural, cfg);
-  const double tau = cfg.coupling.window.is_auto && window < natural * (1 - 1e-12)
-                         ? lbm::tau_for_step(lp.tau, window, dx, p.viscosity)
-                         : lp.tau;
-  const lbm::Units units = lbm::Units::from(dx, p.viscosity, p.density, tau);
+  const lbm::Units units = lbm_units(cfg, p, lp);
   for (const auto& [face, b] : p.boundaries) {
     if (b.type != "pressure" || b.value.values.empty() || units.lattice_density(b.value.values[0]) > 0.0)
       continue;
@@ -597,6 +638,7 @@ static void check(config::Visitor& v, const config::Config& cfg, const std::stri
   check_lbm_solids(v, cfg, variant);
   check_lbm_planar(v, cfg, variant);
   check_lbm_pressure_faces(v, cfg, variant);
+  check_lbm_face_mach(v, cfg, variant);
 }
 
 config::ComponentSchema schema() {

@@ -18,6 +18,11 @@ const std::vector<VariantSchema>& variant_schemas();
 config::ComponentSchema schema();
 // The fluid's part of the pre-run report (fluid/report.cpp).
 void report(const config::Config& cfg, const std::string& variant, config::Report& r);
+struct BoundaryParams;
+// The largest |factor| of velocity face `face`'s profile (report.cpp): over
+// the face's cell centres, and for a formula in t over up to 65 times in
+// [0, run.end_time]; 1 for a uniform face.
+double largest_profile_factor(int face, const BoundaryParams& b, const config::Config& cfg);
 
 // name -> solver factory. Every variant has one line in register_fluid_variants().
 Registry<FluidSolver>& registry();

@@ -482,7 +482,33 @@ static bool check_lbm_step(config::Visitor& v, const config::Config& cfg, const 
 
 // lbm steps by a fixed dt (from fluid.lbm.tau): a window the user gives must
 // hold a whole number of them (the fluid would refuse it at its start).
+// An automatic window is lbm's step (the only natural step offered), shortened
+// to make run.output.every a whole number of windows where that costs at most
+// 10 % (coupler::output_window): an output interval shorter than that window
+// would skip snapshots or series rows, as run_config's check refuses for a
+// given window.
+static void check_lbm_auto_window(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
+  if (variant.rfind("lbm", 0) != 0 || !cfg.coupling.window.is_auto) return;
+  const double nu = config::resolved_node(cfg, "fluid.viscosity").as<double>(), dx = cfg.domain.spacing()[0];
+  const auto lp = config::read_section<lbm::LbmParams>(cfg, "fluid.lbm", "fluid.lbm");
+  const double w = coupler::output_window(lbm::Units::from(dx, nu, 1.0, lp.tau).dt, cfg);
+  const auto& o = cfg.run.output;
+  const std::pair<const char*, double> intervals[] = {
+      {"run.output.every", o.every}, {"run.output.series_every", o.series_every.is_auto ? 0.0 : o.series_every.value}};
+  for (const auto& [key, e] : intervals)
+    if (e > 0 && e < w * (1 - 1e-9)) {
+      v.fail(key, fmt::format("{} s is shorter than the coupling window, lbm's step dt = {} s (fluid.lbm.tau {} at "
+                              "this grid and viscosity): a window writes one snapshot and one series row at most, "
+                              "so some would be skipped; make it {} s or longer, or shorten the step "
+                              "(fluid.lbm.tau {} gives dt = {} s)",
+                              config::number(e), config::number(w), config::number(lp.tau), config::number(w),
+                              config::number(0.5 + 3.0 * nu * e / (dx * dx)), config::number(e)));
+      return;
+    }
+}
+
 static void check_lbm_window(config::Visitor& v, const config::Config& cfg, const std::string& variant) {
+  check_lbm_auto_window(v, cfg, variant);
   if (variant.rfind("lbm", 0) != 0 || cfg.coupling.window.is_auto) return;
   const double nu = config::resolved_node(cfg, "fluid.viscosity").as<double>();
   const auto lp = config::read_section<lbm::LbmParams>(cfg, "fluid.lbm", "fluid.lbm");

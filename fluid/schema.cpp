@@ -667,6 +667,25 @@ static void check(config::Visitor& v, const config::Config& cfg, const std::stri
   check_lbm_face_mach(v, cfg, variant);
 }
 
+// The analytic fluid's flow is its field's (fluid.analytic) and
+// fluid.initial.pressure: boundaries, a body force or an initial flow would be
+// ignored, so they are refused.
+static void check_analytic_keys(config::Visitor& v, const FluidParams& p) {
+  const std::string why =
+      "the analytic fluid prescribes its flow by fluid.analytic.field (and "
+      "fluid.initial.pressure)";
+  if (!p.boundaries.empty())
+    v.fail("boundaries",
+           why + ", which no boundary changes: remove fluid.boundaries, or take solver lbm or fv");
+  if (p.body_force != Vec3{0, 0, 0})
+    v.fail("body_force",
+           why + ", which no body force drives: remove fluid.body_force, or take solver lbm or fv");
+  if (p.initial_velocity != Vec3{0, 0, 0} || p.initial_field != "uniform" || p.initial_amplitude != 0.0)
+    v.fail("initial", why +
+                          ": give the flow as fluid.analytic (field uniform with velocity, taylor-green "
+                          "with max_velocity, ...) and keep only initial.pressure");
+}
+
 config::ComponentSchema schema() {
   config::ComponentSchema s = component_schema("fluid", "solver", variant_schemas(),
                                                 "the fluid component (omit the section, or solver: none, for no fluid)");
@@ -694,6 +713,7 @@ config::ComponentSchema schema() {
       if (p.two_phase.on) v.fail("two_phase", fmt::format("solver {} has one fluid; two_phase needs solver: lbm", info.variant));
       if (!p.solids.empty()) v.fail("solids", fmt::format("solver {} takes no interior solids; use solver: lbm", info.variant));
     }
+    if (v.reading() && info.variant == "analytic") check_analytic_keys(v, p);
     check_open_face_blocks(v, cfg, info, p);
     check_fv_blocks(v, cfg, info);
     check_closed_box(v, cfg, info, p);

@@ -6,6 +6,8 @@
 #include <cctype>
 #include <charconv>
 #include <fstream>
+#include <map>
+#include <utility>
 #include <stdexcept>
 
 #include "coflow/config.hpp"
@@ -18,6 +20,7 @@ std::vector<BondPair> read_bond_csv(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open the bond file", path));
   std::vector<BondPair> pairs;
+  std::map<std::pair<std::int64_t, std::int64_t>, int> first_line;
   std::string line;
   int number = 0;
   bool header = false;
@@ -45,6 +48,11 @@ std::vector<BondPair> read_bond_csv(const std::string& path) {
       throw std::runtime_error(
           fmt::format("{}:{}: a bond joins two different particles with ids >= 0 (got {},{})", path, number, b.i, b.j));
     if (b.i > b.j) std::swap(b.i, b.j);
+    // A pair twice is an error of the file alone: said at validate, not by
+    // the particles after the ranks start (bonds_from_file checks it again).
+    if (const auto [at, fresh] = first_line.emplace(std::make_pair(b.i, b.j), number); !fresh)
+      throw std::runtime_error(fmt::format("{}:{}: the pair {},{} is listed twice (first on line {})", path, number,
+                                           b.i, b.j, at->second));
     pairs.push_back(b);
   }
   if (!header) throw std::runtime_error(fmt::format("{}: empty bond file (expected the header i,j)", path));

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <charconv>
 #include <fstream>
 #include <numbers>
 #include <stdexcept>
@@ -172,9 +173,23 @@ void IbmWindows::load_row(const std::string& path) {
   std::ifstream in(path);
   if (!in) return;
   if (!(in >> row_time_)) throw std::runtime_error(path + ": cannot read the time of the series row");
-  for (double& v : row_)
-    if (!(in >> v) || !std::isfinite(v))
+  std::vector<double> sums;
+  for (std::string word; in >> word;) {
+    double v = 0.0;
+    const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), v);
+    if (ec != std::errc() || end != word.data() + word.size() || !std::isfinite(v))
       throw std::runtime_error(path + ": the series row's sums are damaged: restart from another checkpoint");
+    sums.push_back(v);
+  }
+  // Six sums a body and two (forcing iterations, slip): another body count
+  // would shift the sums onto other bodies' columns.
+  if (sums.size() != row_.size())
+    throw std::runtime_error(fmt::format(
+        "{}: the checkpoint's series row holds the sums of {} immersed bodies, and this run has {}: restart with "
+        "the bodies (immersed.ibm.bodies) of the run that wrote it",
+        path, sums.size() >= 2 && (sums.size() - 2) % 6 == 0 ? fmt::format("{}", (sums.size() - 2) / 6) : "?",
+        bodies_.size()));
+  row_ = sums;
 }
 
 ibm::MarkerSet IbmWindows::markers(double t) const {

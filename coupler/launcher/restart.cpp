@@ -242,7 +242,12 @@ std::string rewind_run_directory(const config::Config& cfg, const std::string& d
   // not write) the events at t go too: dem stamps an event with the start
   // of the step that finds it, so the first step after the checkpoint stamps
   // t and the restarted run finds it again.
-  const auto sizes = event_sizes(restart);
+  // The sizes are those of the checkpoint's own run directory: for a restart
+  // into another directory (a second try, or files of another length) the
+  // events after t are cut by time instead.
+  const std::string own = (fs::absolute(dir).lexically_normal() / "checkpoints").string() + "/";
+  const auto sizes =
+      restart.rfind(own, 0) == 0 ? event_sizes(restart) : std::map<std::string, std::uintmax_t>{};
   for (const auto& e : fs::directory_iterator(dir + "/events", ec)) {
     if (e.path().extension() != ".csv") continue;
     const auto known = sizes.find(e.path().filename().string());

@@ -25,17 +25,20 @@ void AnalyticParams::visit(config::Visitor& v) {
   if (v.reading() && (k > 0.0) != (epsilon > 0.0))
     v.fail(k > 0.0 ? "epsilon" : "k", "homogeneous turbulence needs both k and epsilon > 0 (or neither)");
   if (v.reading() && k > 0.0 && field != "uniform") v.fail("k", "k and epsilon are for field: uniform");
-  // A key of another field would be ignored (field quiescent with a velocity gave fluid at rest).
+  // A key of another field set off its default would be ignored (field
+  // quiescent with a velocity gave fluid at rest). Not `given`: the resolved
+  // file the components read holds every key.
+  const AnalyticParams d;
   const std::pair<const char*, std::vector<std::string>> owners[] = {
-      {"velocity", {"uniform"}},
-      {"max_velocity", {"poiseuille", "taylor-green"}},
-      {"flow_axis", {"poiseuille", "grid-turbulence"}},
-      {"wall_axis", {"poiseuille"}},
-      {"mean_velocity", {"grid-turbulence"}},
-      {"mesh_size", {"grid-turbulence"}},
-      {"grid_position", {"grid-turbulence"}}};
+      {velocity != d.velocity ? "velocity" : "", {"uniform"}},
+      {max_velocity != d.max_velocity ? "max_velocity" : "", {"poiseuille", "taylor-green"}},
+      {flow_axis != d.flow_axis ? "flow_axis" : "", {"poiseuille", "grid-turbulence"}},
+      {wall_axis != d.wall_axis ? "wall_axis" : "", {"poiseuille"}},
+      {mean_velocity != d.mean_velocity ? "mean_velocity" : "", {"grid-turbulence"}},
+      {mesh_size != d.mesh_size ? "mesh_size" : "", {"grid-turbulence"}},
+      {grid_position != d.grid_position ? "grid_position" : "", {"grid-turbulence"}}};
   for (const auto& [key, fields] : owners)
-    if (v.reading() && v.given(key) && std::find(fields.begin(), fields.end(), field) == fields.end())
+    if (v.reading() && *key != '\0' && std::find(fields.begin(), fields.end(), field) == fields.end())
       v.fail(key, fmt::format("is for field: {} (this run's field is {}): remove it, or set the field",
                               fmt::join(fields, " or "), field));
   if (v.reading() && field == "poiseuille" && flow_axis == wall_axis)

@@ -202,6 +202,42 @@ static double normal_velocity(const BoundaryParams& b, int face) {
              : 0.0;
 }
 
+// fv: the uniform velocity faces of a closed box (check_closed_box) must let
+// in what they let out, at every time: the same net flux to round-off and the
+// same ramp (fv stopped at its first projection otherwise). Profiled faces are
+// left to the run.
+static void check_velocity_faces_balance(config::Visitor& v, const config::Config& cfg,
+                                         const FluidParams& p) {
+  double in = 0.0, out = 0.0, ramp = -1.0;
+  bool ramps_differ = false;
+  const auto& d = cfg.domain;
+  for (int f = 0; f < 6; ++f) {
+    const int a = f / 2;
+    if (d.cells[a] == 1 || d.periodic[a]) continue;
+    const BoundaryParams b = p.boundary(f, cfg);
+    const double normal = normal_velocity(b, f);
+    if (normal == 0.0) continue;
+    if (b.profile != "uniform") return;
+    double area = 1.0;
+    for (int o = 0; o < 3; ++o)
+      if (o != a) area *= d.upper[o] - d.lower[o];
+    const double q = (f % 2 == 0 ? normal : -normal) * area;  // into the box
+    (q > 0 ? in : out) += std::abs(q);
+    ramps_differ = ramps_differ || (ramp >= 0.0 && b.ramp != ramp);
+    ramp = b.ramp;
+  }
+  if (std::abs(in - out) > 1e-9 * (in + out))
+    v.fail("boundaries",
+           fmt::format("the velocity faces let in {} m^3/s and let out {} m^3/s: an incompressible "
+                       "fluid in a closed box needs the two equal; balance them, or make a face "
+                       "pressure or outflow",
+                       config::number(in), config::number(out)));
+  else if (ramps_differ)
+    v.fail("boundaries",
+           "the velocity faces that let fluid through ramp over different times, so they do not "
+           "balance while they ramp: give them the same ramp, or make a face pressure or outflow");
+}
+
 // fv: a box whose faces let fluid through only at velocity faces must balance
 // them; a single such face cannot (the projection, which takes the
 // right-hand side's mean out as round-off, would spread its flux over every
@@ -228,6 +264,7 @@ static void check_closed_box(config::Visitor& v, const config::Config& cfg, cons
             "outflow",
             face_names()[through],
             (through % 2 == 0) == (normal_velocity(p.boundary(through, cfg), through) > 0) ? "out" : "in"));
+  if (count > 1) check_velocity_faces_balance(v, cfg, p);
 }
 
 // D2Q9 has no velocities along z: a z body force, initial velocity or

@@ -340,6 +340,7 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
     fits = fits &&
            (cfg.domain.cells[a] <= 1 || largest_diameter(*this) <= cfg.domain.upper[a] - cfg.domain.lower[a]);
   if (fits) check_initial_overlaps(v);
+  check_random_fills(v);
   check_files(v);
   check_time_step(v);
 }
@@ -494,6 +495,47 @@ double lattice_distance(const InitialItem& lattice, const std::array<double, 3>&
 }
 
 }  // namespace
+
+// A random fill that cannot be placed: a region narrower than the species'
+// smallest grain (every draw was thrown away), or, for grains of one size, a
+// solid fraction (given, or count x volume over the region's) beyond the
+// 0.38278 at which random sequential addition of equal spheres jams in
+// space (Torquato, Uche & Stillinger 2006, Phys. Rev. E 74, 061308; the fill
+// keeps grains inside the region, which lowers it further). Before, the
+// particles stopped after their ranks started, having tried 1000 draws a grain.
+void ParticleParams::check_random_fills(Visitor& v) const {
+  constexpr double kRsaJamming = 0.38278;
+  for (std::size_t n = 0; n < initial.size(); ++n) {
+    const auto& it = initial[n];
+    const int k = species_index(it.species);
+    if (it.kind != "random" || k < 0) continue;
+    const auto& d = species[static_cast<std::size_t>(k)].second.diameter;
+    double volume = 1.0;
+    for (int a = 0; a < 3; ++a) {
+      const double extent = it.upper[a] - it.lower[a];
+      volume *= extent;
+      if (extent < smallest_diameter(d)) {
+        v.fail(initial_key(n, "region"),
+               fmt::format(
+                   "the region is {} m along {}, narrower than the smallest grain of species '{}' ({} m): "
+                   "no grain fits in it; widen the region",
+                   config::number(extent), "xyz"[a], it.species, config::number(smallest_diameter(d))));
+        return;
+      }
+    }
+    if (d.kind != config::Distribution::Kind::fixed || !(volume > 0)) continue;
+    const bool by_count = it.count > 0;
+    const double fraction = by_count ? it.count * sphere_volume(d.a) / volume : it.volume_fraction;
+    if (fraction > kRsaJamming)
+      v.fail(initial_key(n, by_count ? "count" : "volume_fraction"),
+             fmt::format(
+                 "{}a solid fraction of {:.3g} in the region, beyond the {} at which random sequential "
+                 "addition of equal spheres jams (and lower beside the region's faces): ask for less, or "
+                 "use a lattice",
+                 by_count ? fmt::format("{} grains of {} m make ", it.count, config::number(d.a)) : "",
+                 fraction, kRsaJamming));
+  }
+}
 
 // Initial particles may not overlap unless they are to be cemented.
 void ParticleParams::check_initial_overlaps(Visitor& v) const {

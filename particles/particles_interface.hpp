@@ -138,6 +138,7 @@ struct ParticleParams {
   void visit_initial(config::Visitor& v);
   void check_references(config::Visitor& v) const;
   void check_initial_overlaps(config::Visitor& v) const;
+  void check_random_fills(config::Visitor& v) const;
   void check_files(config::Visitor& v) const;
   void check_time_step(config::Visitor& v) const;
   // Placement against the domain and the blocks of `info`'s decomposition:

@@ -150,6 +150,32 @@ static std::string restart_mismatch(const config::Config& cfg, const YAML::Node&
         "coupling.window = {:.17g} s, but the checkpoint was written with windows of {:.17g} s: restart with "
         "the window of the run that wrote it",
         cfg.coupling.window.value, length.as<double>());
+  // The box and the scheme (checkpoints since 2026-12-07 say them): fields
+  // and particles would load onto another box (and run.xdmf place the earlier
+  // snapshots in it), and parallel-explicit's loads in flight would be dropped
+  // by serial-explicit.
+  if (const auto lo = c["domain_lower"], hi = c["domain_upper"]; lo && hi) {
+    const auto& d = cfg.domain;
+    for (int a = 0; a < 3; ++a)
+      for (const auto& [now, then] :
+           {std::pair{d.lower[a], lo[a].as<double>()}, std::pair{d.upper[a], hi[a].as<double>()}})
+        if (std::abs(now - then) > 1e-12 * std::max({1.0, std::abs(now), std::abs(then)}))
+          return fmt::format(
+              "domain.lower = [{}, {}, {}] and domain.upper = [{}, {}, {}], but the checkpoint's run had "
+              "[{}, {}, "
+              "{}] to [{}, {}, {}]: its fields and particles would load onto another box; restart with the "
+              "domain of the run that wrote it",
+              d.lower[0], d.lower[1], d.lower[2], d.upper[0], d.upper[1], d.upper[2], lo[0].as<double>(),
+              lo[1].as<double>(), lo[2].as<double>(), hi[0].as<double>(), hi[1].as<double>(),
+              hi[2].as<double>());
+  }
+  if (const auto scheme = c["scheme"];
+      scheme && scheme.as<std::string>() != config::scheme_name(cfg.coupling.scheme))
+    return fmt::format(
+        "coupling.scheme = {}, but the checkpoint was written by a {} run, whose state (the loads in flight "
+        "of "
+        "parallel-explicit) the other does not take up; restart with coupling.scheme: {}",
+        config::scheme_name(cfg.coupling.scheme), scheme.as<std::string>(), scheme.as<std::string>());
   // No component had a natural step: the window came from the outputs and
   // the end time, and a new end time may change it, which the components'
   // clocks would refuse only after the rewind had cut the directory.

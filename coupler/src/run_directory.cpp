@@ -86,8 +86,11 @@ void RunDirectory::end_checkpoint(long w, double window, bool from_outputs) cons
     output::atomic_write(
         base + ".partial/checkpoint.yaml",
         fmt::format("name: {}\nwindow: {}\ntime: {:.17g}\nwindow_length: {:.17g}\nwindow_from_outputs: {}\n"
-                    "output_every: {:.17g}\n",
-                    cfg_.run.name, w, w * window, window, from_outputs, cfg_.run.output.every));
+                    "output_every: {:.17g}\nscheme: {}\ndomain_lower: [{:.17g}, {:.17g}, {:.17g}]\n"
+                    "domain_upper: [{:.17g}, {:.17g}, {:.17g}]\n",
+                    cfg_.run.name, w, w * window, window, from_outputs, cfg_.run.output.every,
+                    config::scheme_name(cfg_.coupling.scheme), cfg_.domain.lower[0], cfg_.domain.lower[1],
+                    cfg_.domain.lower[2], cfg_.domain.upper[0], cfg_.domain.upper[1], cfg_.domain.upper[2]));
     fs::remove_all(base);
     fs::rename(base + ".partial", base);
     // Keep the newest run.checkpoint.keep checkpoints.

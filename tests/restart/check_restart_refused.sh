@@ -5,7 +5,7 @@
 # run.end_time is before the checkpoint's time (it ran no window, reported
 # success, and its summary ended before its series), and one with another
 # run.output.every (its snapshots, numbered by it, would be written over the
-# old ones). The directory is the
+# old ones), one with another box or coupling scheme. The directory is the
 # same, file for file and byte for byte, after each; the restart with the
 # run's own settings then goes on.
 set -u
@@ -32,6 +32,14 @@ second=$(ls -d "$out"/run/checkpoints/window_* | sed -n 2p)
 refused "$second" early_end "run.end_time = 0.01 s is before the checkpoint's time, 0.02 s" --set run.end_time=0.01
 refused "$first" other_every "run.output.every = 0.02 s, but the checkpoint's run wrote snapshots every 0.01 s" \
   --set run.output.every=0.02
+# Another box (the same cells, shifted) and another scheme: before
+# 2026-12-07 the first loaded the fields and grains onto the new box and
+# rewrote run.xdmf for it, the second dropped the loads in flight.
+refused "$first" other_box "but the checkpoint's run had [0, 0, 0] to [0.032, 0.032, 0.064]" \
+  --set 'domain.lower=[0.001,0,0]' --set 'domain.upper=[0.033,0.032,0.064]'
+refused "$first" other_scheme \
+  "coupling.scheme = parallel-explicit, but the checkpoint was written by a serial-explicit run" \
+  --set coupling.scheme=parallel-explicit
 "$bin/coflow" run "$cfg" --set run.output.dir="$out/run" "${short[@]}" --restart "$first" >"$out/again.log" 2>&1 ||
   { tail -n 20 "$out/again.log"; echo "FAIL: the restart with the run's own settings"; exit 1; }
 echo "restarts that cannot go on are refused before the directory is cut back: ok"

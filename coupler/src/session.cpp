@@ -191,6 +191,18 @@ void Session::fail(const std::string& reason, int code) {
 
 // ------------------------------------------------------------ run_component --
 
+namespace {
+Session* g_running = nullptr;  // the session run_component made, while its body runs
+}
+
+void fail_running(const std::string& reason) {
+  if (g_running) g_running->fail(reason + output::low_space_note(g_running->output_dir()), 1);
+  std::fprintf(stderr, "%s %s %d %s\n", kFailedTag, "component", 0, reason.c_str());
+  std::fflush(stderr);
+  MPI_Abort(MPI_COMM_WORLD, 1);
+  std::_Exit(1);
+}
+
 int run_component(const std::string& component, int argc, char** argv,
                   const config::Catalog& catalog, const std::function<void(Session&)>& body) {
   MPI_Init(&argc, &argv);
@@ -237,6 +249,7 @@ int run_component(const std::string& component, int argc, char** argv,
     std::fprintf(stderr, "%s %s %d %s\n", kFailedTag, component.c_str(), world_rank, e.what());
     MPI_Abort(MPI_COMM_WORLD, 1);
   }
+  g_running = session.get();
   try {
     body(*session);
     session->finish();
@@ -249,6 +262,7 @@ int run_component(const std::string& component, int argc, char** argv,
   } catch (const std::exception& e) {
     session->fail(e.what(), 1);
   }
+  g_running = nullptr;
   session.reset();
   MPI_Finalize();
   return 0;

@@ -144,6 +144,14 @@ sed -i '1s/^\([0-9]*\) [^ ]*/\1 0xzz/' "$out/amr_time/fluid/amr.txt"
 restart amr_bad_time fv_amr_vortex.yaml "$out/amr_time" \
   "refinement): $out/amr_time/fluid/amr.txt holds a time 0xzz or a last step" --set run.end_time=0.04
 
+# Its forest cut short (a disk that filled while it was written): p4est
+# aborts on the file, which now stops the run with a reason (before
+# 2026-12-07 its default abort raised SIGABRT, and no component said why).
+rm -rf "$out/amr_short"; cp -r "$(first amr)" "$out/amr_short"
+truncate -s 200 "$out/amr_short/fluid/forest.p4est"
+restart amr_short_forest fv_amr_vortex.yaml "$out/amr_short" \
+  "refinement: p4est stopped on the error printed above it in this component's output" --set run.end_time=0.04
+
 # fv on the adaptive grid with k-epsilon (homogeneous decay on 2 levels): the
 # forest's k. The p4est file holds the cells' values as raw doubles; the bits
 # of one k are taken from the snapshot written with the checkpoint (t = 0.1)

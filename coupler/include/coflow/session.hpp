@@ -140,6 +140,12 @@ int run_component(const std::string& component, int argc, char** argv,
 // config::open_catalog() and links libcoflow alone.
 int run_component(const std::string& component, int argc, char** argv, const std::function<void(Session&)>& body);
 
+// Fail the running component from code that cannot throw (a C library's
+// abort handler, e.g. libsc's under p4est): as Session::fail on the session
+// run_component made, with the low-space note of its output directory; before
+// or without one, the failure line and MPI_Abort. Never returns.
+[[noreturn]] void fail_running(const std::string& reason);
+
 // Format of the lines the launcher reads from the components' output.
 inline constexpr const char* kProgressTag = "@coflow progress";
 inline constexpr const char* kFailedTag = "@coflow failed";

@@ -2,10 +2,13 @@
 
 #include <fmt/format.h>
 #include <p4est_base.h>
+#include <sc.h>
 
 #include <cmath>
 #include <mutex>
 #include <stdexcept>
+
+#include "coflow/session.hpp"
 
 namespace coflow::fluid::fv::amr {
 namespace {
@@ -17,6 +20,18 @@ void quiet_p4est_once() {
   std::call_once(once, [] {
     sc_set_log_defaults(nullptr, nullptr, SC_LP_ERROR);
     p4est_init(nullptr, SC_LP_ERROR);
+    // p4est aborts on a file it cannot read or write (a truncated or foreign
+    // forest.p4est in a checkpoint, a full disk while saving one) after
+    // printing the error: the run then stops as any failing component does,
+    // with a reason (its default abort raised SIGABRT, and summary.json said
+    // only that a process was signalled).
+    sc_set_abort_handler([] {
+      coupler::fail_running(
+          "refinement: p4est stopped on the error printed above it in this component's output: a "
+          "forest.p4est "
+          "in a checkpoint that is truncated or not this run's, or one that could not be written; restart "
+          "from another checkpoint, or free space where the run writes");
+    });
   });
 }
 

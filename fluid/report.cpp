@@ -152,7 +152,8 @@ void report_pressure_faces(config::Report& r, const FluidParams& fp, const confi
 }
 
 // fluid.solids and how their surfaces are taken (fluid.lbm.bounce_back).
-void report_solids(config::Report& r, const FluidParams& fp, const lbm::LbmParams& lp) {
+void report_solids(config::Report& r, const config::Config& cfg, const FluidParams& fp,
+                   const lbm::LbmParams& lp) {
   const bool interpolated = lp.bounce_back != "halfway";  // interpolated or central
   long voxels = 0;
   for (const auto& s : fp.solids) voxels += s.kind == "voxels" ? 1 : 0;
@@ -170,6 +171,16 @@ void report_solids(config::Report& r, const FluidParams& fp, const lbm::LbmParam
                     shapes && lp.bounce_back == "interpolated" && lp.collision == "trt"
                         ? " (with TRT its wall moves with tau; central's does not: docs/validation.md)"
                         : ""));
+  // The solids are the fluid's: the particles (dem, dpm) collide with their
+  // own walls only, and psm drops a grain's cover where a solid is.
+  bool moving = false;  // a species whose grains move (fixed ones stay where they were put)
+  if (const YAML::Node species = config::resolved_node(cfg, "particles.species"); species.IsMap())
+    for (const auto& s : species) moving = moving || !(s.second["fixed"] && s.second["fixed"].as<bool>());
+  if (cfg.has("particles") && moving && !config::resolved_node(cfg, "particles.walls").IsSequence())
+    r.warn("fluid",
+           "fluid.solids are the fluid's alone: particles pass through them (they collide with the "
+           "faces and meshes of particles.walls only); give particles.walls a mesh of each solid the "
+           "grains can reach");
   if (interpolated && !shapes)
     r.warn("fluid", fmt::format("fluid.lbm.bounce_back: {} has no effect on voxel images (their surface is "
                                 "their voxels' faces, half-way between the centres); it needs spheres, boxes "
@@ -268,7 +279,7 @@ void report_lbm(const config::Config& cfg, config::Report& r) {
   const double u = velocity_scale(fp, cfg);
   report_mach(r, u, units, tau, dx);
   report_pressure_faces(r, fp, cfg, units, lp.formulation == "standard");
-  report_solids(r, fp, lp);
+  report_solids(r, cfg, fp, lp);
   if (fp.two_phase.on) {
     const double nu_b = fp.two_phase.viscosity_blue > 0.0 ? fp.two_phase.viscosity_blue : fp.viscosity;
     const double tau_b = 0.5 + 3.0 * nu_b * units.dt / (dx * dx);

@@ -877,10 +877,18 @@ int report_failure(const Config& cfg, const std::string& dir, Failure failure, i
   if (failure.component.empty() && rc == 0)
     std::fprintf(stderr, "\ncoflow: run failed: %s\n", failure.reason.c_str());
   else if (failure.component.empty() && fs::exists(dir + "/logs"))
-    std::fprintf(stderr, "\ncoflow: run failed (exit status %d); see %s/logs/\n", rc, dir.c_str());
+    // A restart keeps the earlier run's logs: mpirun's own output comes first.
+    std::fprintf(stderr,
+                 "\ncoflow: run failed (exit status %d) and no component said why: see the MPI launcher's "
+                 "output above, then %s/logs/\n",
+                 rc, dir.c_str());
   else if (failure.component.empty())
-    std::fprintf(stderr, "\ncoflow: run failed (exit status %d) before any component started (no logs were "
-                         "written): an executable exited at start (is every --exe a coflow component?)\n", rc);
+    std::fprintf(stderr,
+                 "\ncoflow: run failed (exit status %d) before any component started (no logs were "
+                 "written): the MPI launcher or an executable stopped at start; see the output above (an "
+                 "entry of run.launch.mpi_args, too few slots, or an --exe that is not a coflow "
+                 "component)\n",
+                 rc);
   else
     std::fprintf(stderr, "\ncoflow: run failed in component '%s'%s: %s\n%s\n", failure.component.c_str(),
                  failure.rank.empty() ? "" : fmt::format(" (rank {})", failure.rank).c_str(), failure.reason.c_str(),

@@ -22,12 +22,13 @@ cat "$out/true.log" | tail -n 3
 # Open MPI either holds the others in MPI start-up (then the watchdog stops
 # the run after run.launch.start_timeout and names the executable) or, now and then
 # under load, aborts the job itself when /bin/true exits without MPI_Init
-# (then the launcher says that an executable exited at start).
+# (then the launcher says that the MPI launcher or an executable stopped at
+# start).
 if grep -q "did not start within 5 s" "$out/true.log"; then
   grep -q "fluid=/bin/true" "$out/true.log" || fail "the executable is not named"
   grep -q '"reason": "fluid, immersed, particles did not start' "$out/true/summary.json" || fail "summary.json reason"
 else
-  grep -q "an executable exited at start (is every --exe a coflow component?)" "$out/true.log" ||
+  grep -q "the MPI launcher or an executable stopped at start; see the output above" "$out/true.log" ||
     fail "no start-up message"
 fi
 timeout 60 "$bin/coflow" run "$cfg" --exe fluid=/bin/false --set run.output.dir="$out/false" >"$out/false.log" 2>&1; rc=$?

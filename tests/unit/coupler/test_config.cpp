@@ -117,7 +117,7 @@ TEST_CASE("whole configuration: defaults, hash, output directory", "[config]") {
 run: {name: demo, end_time: 1.0}
 domain: {lower: [0, 0, 0], upper: [1, 1, 1], cells: [4, 4, 4]}
 fluid:
-  solver: analytic
+  solver: fv
   density: 1.0
   viscosity: 0.1
   boundaries: {x-: {type: wall}, x+: {type: pressure, value: 2.5}, y-: {type: velocity, value: [0.1, 0, 0]}}
@@ -138,7 +138,7 @@ fluid:
   Config c = parse_config_node(YAML::Clone(resolved), "c.yaml", coflow::catalog());
   Config o = parse_config_node(YAML::Clone(resolved), "c.yaml", open_catalog());
   CHECK(o.hash == c.hash);
-  CHECK(o.component("fluid").variant == "analytic");
+  CHECK(o.component("fluid").variant == "fv");
   CHECK(c.hash != a.hash);  // another text
   CHECK_FALSE(a.resolved["fluid"]["boundaries"]["x-"]["value"].IsDefined());
   CHECK(a.resolved["fluid"]["boundaries"]["x+"]["value"].as<double>() == 2.5);

@@ -264,8 +264,9 @@ void ParticleParams::visit(Visitor& v, const config::Config& cfg) {
     "critical step of a grain in 12 contacts, shortened as grains crush; dpm, 0.2 x the smallest of "
     "the time to cross the fluid cells' narrowest side, the response time, the mean time between "
     "collisions and, with dispersion, the Lagrangian integral time T_L (seed 003 eq. 4.15), and above "
-    "Re_p 55 5 tau_p / (d(f Re_p)/dRe_p), which keeps RK4 stable on the drag; a given dpm step is not split "
-    "and must stay below RK4's limit, 2.785 tau_p (0.836 tau_p with the torque on)",
+    "Re_p 55 5 tau_p / (d(f Re_p)/dRe_p), which keeps RK4 stable on the drag; the step a given dpm time_step "
+    "makes (the window in whole "
+    "steps of at most it) must stay below RK4's limit, 2.785 tau_p (0.836 tau_p with the torque on)",
     config::positive());
   v("time_step_fraction", time_step_fraction, "fraction of the critical step 2 sqrt(m/K) that dem takes with time_step: auto", config::in_range(1e-6, 1.0));
   v.entries("species", "particle kinds by name", [&](const std::string& name, Visitor& s) {
@@ -514,13 +515,13 @@ void ParticleParams::check_random_fills(Visitor& v) const {
     for (int a = 0; a < 3; ++a) {
       const double extent = it.upper[a] - it.lower[a];
       volume *= extent;
-      if (extent < smallest_diameter(d)) {
+      if (extent < smallest_diameter(d) && volume > 0) {
         v.fail(initial_key(n, "region"),
                fmt::format(
                    "the region is {} m along {}, narrower than the smallest grain of species '{}' ({} m): "
                    "no grain fits in it; widen the region",
                    config::number(extent), "xyz"[a], it.species, config::number(smallest_diameter(d))));
-        return;
+        volume = 0.0;  // said once; the next item is checked
       }
     }
     if (d.kind != config::Distribution::Kind::fixed || !(volume > 0)) continue;
@@ -641,34 +642,57 @@ ParticleParams read_particle_params(const config::Config& cfg, const std::string
   return p;
 }
 
-// A given dpm step is not split (only the automatic one follows seed 003
-// eq. 4.15), and the classical Runge-Kutta method on the drag, du/dt = -u /
+// A given dpm step is not shortened for stability (only the automatic one
+// follows seed 003 eq. 4.15; the window is cut into whole steps of at most
+// it), and the classical Runge-Kutta method on the drag, du/dt = -u /
 // tau_p, is stable only for h < 2.785 tau_p (the real-axis limit of its
 // stability region, 1 + z + z^2/2 + z^3/6 + z^4/24 = 1 at z = -2.785):
 // beyond it the particles' velocities grow without bound. With the torque
 // on, the spin relaxes faster: Stokes' torque pi mu D^3 Omega (seed 003 eq.
 // 3.34's 64 pi / Re_r) on I = m D^2 / 10 gives rho_p D^2 / (60 mu) = 0.3
 // tau_p. Nonlinear drag (Re_p > 0) only lowers the limits.
+// The coupling window the run will take, where validate knows it: given;
+// lbm's step (as coupler::output_window shortens it); with no natural step
+// (fv, analytic, no fluid), coupler::outputs_window. 0 where an external
+// component may offer a shorter step.
+static double expected_window(const config::Config& cfg) {
+  if (!cfg.coupling.window.is_auto) return cfg.coupling.window.value;
+  for (const char* c : {"fluid", "immersed", "particles"})
+    if (cfg.has(c) && cfg.component(c).variant == "external") return 0.0;
+  const std::string fluid = cfg.has("fluid") ? cfg.component("fluid").variant : "";
+  if (fluid == "lbm" || fluid == "lbm-reference") {
+    const double tau = config::resolved_number(cfg, {"fluid", "lbm", "tau"}, 0.8),
+                 nu = config::resolved_number(cfg, {"fluid", "viscosity"}, 0.0), dx = cfg.domain.spacing()[0];
+    return nu > 0 && tau > 0.5 ? coupler::output_window((tau - 0.5) * dx * dx / (3.0 * nu), cfg) : 0.0;
+  }
+  return coupler::outputs_window(cfg);
+}
+
 static void check_point_step(Visitor& v, const config::Config& cfg, const ParticleParams& p) {
   if (!p.point_particles || p.time_step.is_auto) return;
   if (std::find(p.forces.begin(), p.forces.end(), "drag") == p.forces.end()) return;
   const double mu = config::resolved_number(cfg, {"fluid", "density"}, 0.0) *
                     config::resolved_number(cfg, {"fluid", "viscosity"}, 0.0);
-  if (!(mu > 0)) return;
+  const double window = expected_window(cfg);
+  if (!(mu > 0) || !(window > 0)) return;
+  // The step taken: the window in whole steps of at most time_step (Clock::substeps).
+  const double h = window / std::ceil(window / p.time_step.value - 1e-9);
   constexpr double kRk4RealLimit = 2.785;
   const bool spin = std::find(p.forces.begin(), p.forces.end(), "torque") != p.forces.end();
   for (const auto& [name, sp] : p.species) {
     const double d = smallest_diameter(sp.diameter);
     const double tau = dpm::response_time(sp.density, d, mu), limit = kRk4RealLimit * (spin ? 0.3 : 1.0) * tau;
-    if (!(d > 0) || !(p.time_step.value > limit)) continue;
-    v.fail("particles.time_step",
-           fmt::format("{} s is {:.3g} times the response time tau_p = rho_p D^2 / (18 mu) = {} s of species '{}' "
-                       "(D = {} m, mu = fluid.density x fluid.viscosity): RK4 is unstable beyond 2.785 times {}, "
-                       "and a given step is not split; use auto (0.2 tau_p, seed 003 eq. 4.15) or a step below {} s",
-                       config::number(p.time_step.value), p.time_step.value / tau, config::number(tau), name,
-                       config::number(d),
-                       spin ? "the spin's response time 0.3 tau_p (the torque is on)" : "it (the drag)",
-                       config::number(limit)));
+    if (!(d > 0) || !(h > limit)) continue;
+    v.fail(
+        "particles.time_step",
+        fmt::format(
+            "the particles' step, {} s (the coupling window {} s in whole steps of at most this one), "
+            "is {:.3g} times the response time tau_p = rho_p D^2 / (18 mu) = {} s of species '{}' (D = {} "
+            "m, mu = fluid.density x fluid.viscosity): RK4 is unstable beyond 2.785 times {}; use auto "
+            "(0.2 tau_p, seed 003 eq. 4.15) or a step below {} s",
+            config::number(h), config::number(window), h / tau, config::number(tau), name, config::number(d),
+            spin ? "the spin's response time 0.3 tau_p (the torque is on)" : "it (the drag)",
+            config::number(limit)));
     return;
   }
 }

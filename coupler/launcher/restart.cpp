@@ -186,7 +186,8 @@ static std::string restart_mismatch(const config::Config& cfg, const YAML::Node&
     if (std::abs(now - old) > 1e-12 * old)
       return fmt::format(
           "the checkpoint's run took windows of {} s from its outputs and end time (no component has a "
-          "natural step), and run.end_time = {} s gives windows of {} s; restart with --set "
+          "natural step), and this run's (run.end_time = {} s, run.output.every and series_every) give "
+          "windows of {} s; restart with --set "
           "coupling.window={} and a run.end_time that is a whole number of them (e.g. {:.12g})",
           old, cfg.run.end_time, now, old, std::ceil(cfg.run.end_time / old - 1e-9) * old);
   }
@@ -217,6 +218,12 @@ int resolve_restart(const config::Config& cfg, std::string& restart) {
       return 2;
     }
     restart = all.back();
+  }
+  if (fs::path(restart).lexically_normal().filename().extension() == ".partial" ||
+      fs::path(restart).lexically_normal().parent_path().extension() == ".partial") {
+    std::cerr << "--restart " << restart << ": an unfinished checkpoint (a run stopped while writing it); "
+              << "restart from a complete one, window_NNNNNN without .partial, or say latest\n";
+    return 2;
   }
   if (!fs::is_regular_file(fs::path(restart) / "checkpoint.yaml")) {
     std::cerr << "--restart " << restart << ": not a checkpoint (no checkpoint.yaml); checkpoints are the "
@@ -271,9 +278,8 @@ std::string rewind_run_directory(const config::Config& cfg, const std::string& d
   // The sizes are those of the checkpoint's own run directory: for a restart
   // into another directory (a second try, or files of another length) the
   // events after t are cut by time instead.
-  const std::string own = (fs::absolute(dir).lexically_normal() / "checkpoints").string() + "/";
-  const auto sizes =
-      restart.rfind(own, 0) == 0 ? event_sizes(restart) : std::map<std::string, std::uintmax_t>{};
+  const bool own = fs::equivalent(fs::path(dir) / "checkpoints", fs::path(restart).parent_path(), ec);
+  const auto sizes = own ? event_sizes(restart) : std::map<std::string, std::uintmax_t>{};
   for (const auto& e : fs::directory_iterator(dir + "/events", ec)) {
     if (e.path().extension() != ".csv") continue;
     const auto known = sizes.find(e.path().filename().string());

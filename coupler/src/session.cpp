@@ -197,7 +197,9 @@ Session* g_running = nullptr;  // the session run_component made, while its body
 
 void fail_running(const std::string& reason) {
   if (g_running) g_running->fail(reason + output::low_space_note(g_running->output_dir()), 1);
-  std::fprintf(stderr, "%s %s %d %s\n", kFailedTag, "component", 0, reason.c_str());
+  int world_rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &world_rank);
+  std::fprintf(stderr, "%s %s %d %s\n", kFailedTag, "unknown", world_rank, reason.c_str());
   std::fflush(stderr);
   MPI_Abort(MPI_COMM_WORLD, 1);
   std::_Exit(1);

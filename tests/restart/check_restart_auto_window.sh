@@ -38,7 +38,7 @@ timeout 120 "$bin/coflow" run "$cfg" --set run.output.dir="$out/checkpointed" --
 rc=$?
 [ $rc -eq 2 ] || { tail -n 20 "$out/longer.log"; fail "a restart to 1.25 s: exit $rc, expected 2"; }
 grep -qF "took windows of 0.1 s from its outputs and end time" "$out/longer.log" &&
-  grep -qF "gives windows of 0.05 s; restart with --set coupling.window=0.1 and a run.end_time that is a whole number of them (e.g. 1.3)" "$out/longer.log" ||
+  grep -qF "give windows of 0.05 s; restart with --set coupling.window=0.1 and a run.end_time that is a whole number of them (e.g. 1.3)" "$out/longer.log" ||
   { cat "$out/longer.log"; fail "no message naming both windows"; }
 [ "$(state)" = "$before" ] || { diff <(echo "$before") <(state) | head; fail "the refused restart changed the run directory"; }
 echo "the restart to 1.25 s is refused, the directory unchanged"
@@ -46,6 +46,10 @@ echo "the restart to 1.25 s is refused, the directory unchanged"
 # reused, and a file this run does not write promoted with it) goes too.
 stale=$out/checkpointed/checkpoints/window_000012.partial
 mkdir -p "$stale/fluid" && echo stale >"$stale/fluid/fv_turbulence.h5"
+timeout 60 "$bin/coflow" run "$cfg" --set run.output.dir="$out/checkpointed" --restart "$stale" >"$out/partial.log" 2>&1
+rc=$?
+[ $rc -eq 2 ] && grep -qF "an unfinished checkpoint (a run stopped while writing it)" "$out/partial.log" ||
+  { cat "$out/partial.log"; fail "--restart of an unfinished checkpoint: exit $rc, expected 2 and a message"; }
 run "$out/checkpointed" --set run.end_time=1.3 --set coupling.window=0.1 --restart latest
 [ ! -e "$stale" ] || fail "the unfinished checkpoint $stale was left"
 grep -qF "window_000012.partial: an unfinished checkpoint, removed" "$out/checkpointed.log" ||

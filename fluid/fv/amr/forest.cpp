@@ -27,10 +27,10 @@ void quiet_p4est_once() {
     // only that a process was signalled).
     sc_set_abort_handler([] {
       coupler::fail_running(
-          "refinement: p4est stopped on the error printed above it in this component's output: a "
-          "forest.p4est "
-          "in a checkpoint that is truncated or not this run's, or one that could not be written; restart "
-          "from another checkpoint, or free space where the run writes");
+          "refinement: p4est stopped on the error printed above it in this component's output (while it "
+          "loads or saves a checkpoint: a forest.p4est that is truncated or not this run's, or one that "
+          "could "
+          "not be written; restart from another checkpoint, or free space where the run writes)");
     });
   });
 }
